@@ -1,0 +1,31 @@
+"""Shared test fixtures: the seed cases (read from ../shared, never copied by hand) and the in-process client."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("SYNTH_SHARED_DIR", REPO.parent / "shared"))
+SEED_CASES_PATH = SHARED / "reference" / "seed_cases.json"
+
+
+def load_cases() -> dict[str, dict[str, Any]]:
+    """Seed cases by id."""
+    return {c["id"]: c for c in json.loads(SEED_CASES_PATH.read_text())}
+
+
+CASES = load_cases()
+
+
+@pytest.fixture(scope="session")
+def client():  # type: ignore[no-untyped-def]
+    """In-process client of a fresh app."""
+    from api.client import SynthClient
+
+    with SynthClient.in_process() as c:
+        yield c
