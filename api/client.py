@@ -112,7 +112,7 @@ class SynthClient:
     def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
         response = self.http.post(path, json=body.model_dump(mode="json", exclude_none=True))
         self._raise_for_problem(response)
-        return out.model_validate(response.json())
+        return out.model_validate_json(response.content)
 
     def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
         query = {"format": "png", **{k: v for k, v in params.items() if v is not None}}

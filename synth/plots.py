@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import io
+from typing import Any
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from .analysis import Analysis  # noqa: E402
@@ -23,7 +25,7 @@ def figure_png(fig: Figure, dpi: int = 110) -> bytes:
     return buf.getvalue()
 
 
-def draw_mechanism(ax: plt.Axes, an: Analysis, phi: float) -> None:
+def draw_mechanism(ax: Axes, an: Analysis, phi: float) -> None:
     """The linkage at crank angle ``phi`` [rad]: links as lines between their joints, frame pivots as triangles."""
     mech = an.linkage.mechanism
     m = solve_motion(mech, np.array([phi]), an.motion.omega_crank)
@@ -48,10 +50,10 @@ def draw_mechanism(ax: plt.Axes, an: Analysis, phi: float) -> None:
     ax.grid(alpha=0.3)
 
 
-def shaking_polar(ax: plt.Axes, force: np.ndarray, label: str, **style: object) -> None:
+def shaking_polar(ax: Axes, force: np.ndarray, label: str, **style: Any) -> None:
     """Polar diagram of the shaking force: the tip of the force vector over the cycle [N]."""
     closed = np.vstack([force, force[:1]])
-    ax.plot(closed[:, 0], closed[:, 1], label=label, **style)  # type: ignore[arg-type]
+    ax.plot(closed[:, 0], closed[:, 1], label=label, **style)
     ax.plot(0, 0, "k+")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("Fx [N]")

@@ -9,7 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, SummaryOut
+from .common import FOURBAR_EXAMPLE, LinkageRequest, SummaryOut, ensure_finite
 
 
 class AnalysisIn(LinkageRequest):
@@ -88,11 +88,16 @@ class AnalysisOut(BaseModel):
 
     @classmethod
     def from_engine(cls, an: synth.Analysis) -> AnalysisOut:
-        """Schema from an engine analysis (radians become degrees here)."""
+        """Schema from an engine analysis (radians become degrees here).
+
+        Built without re-validating the engine's arrays (they are float arrays by construction), after one
+        check that nothing non-finite would reach the response.
+        """
         m, k, r = an.motion, an.kinetostatics, an.reduced
+        ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
         mech = an.linkage.mechanism
         tau = an.transmission_angle
-        return cls(
+        return cls.model_construct(
             crank_angle_deg=np.degrees(m.phi).tolist(),
             driving_torque_Nm=k.driving_torque.tolist(),
             virtual_power_torque_Nm=an.virtual_power_torque.tolist(),
@@ -105,7 +110,7 @@ class AnalysisOut(BaseModel):
             joint_reactions_N={name: v.tolist() for name, v in k.reactions.items()},
             prismatic_couples_Nm={name: v.tolist() for name, v in k.couples.items()},
             links={
-                name: LinkMotionOut(
+                name: LinkMotionOut.model_construct(
                     angle_deg=np.degrees(m.link_angle[name]).tolist(),
                     angular_velocity_rad_s=m.link_omega[name].tolist(),
                     angular_acceleration_rad_s2=m.link_alpha[name].tolist(),
@@ -113,7 +118,7 @@ class AnalysisOut(BaseModel):
                 for name in mech.topology.links
             },
             points={
-                name: PointOut(
+                name: PointOut.model_construct(
                     position_m=m.point_pos[name].tolist(),
                     velocity_m_s=m.point_vel[name].tolist(),
                     acceleration_m_s2=m.point_acc[name].tolist(),
@@ -123,7 +128,7 @@ class AnalysisOut(BaseModel):
             transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
             grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
-            checks=ChecksOut(virtual_power_torque_max_diff_Nm=an.torque_check),
+            checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
         )
 
 
