@@ -137,3 +137,14 @@ def test_openapi_documents_the_endpoint(client: SynthClient) -> None:
     spec = client.http.get("/openapi.json").json()
     assert "/v1/analysis" in spec["paths"]
     assert "image/png" in spec["paths"]["/v1/analysis"]["post"]["responses"]["200"]["content"]
+
+
+def test_trace_points_follow_their_link(client: SynthClient) -> None:
+    # A coupler point at the coupler's far joint must move exactly like joint B.
+    body = {"mechanism": FOURBAR, "samples": 24,
+            "trace_points": [{"name": "P", "link": "coupler", "position_m": [FOURBAR["coupler_length_m"], 0.0]}]}
+    out = client.analysis(AnalysisIn.model_validate(body))
+    assert np.asarray(out.points["P"].acceleration_m_s2) == pytest.approx(
+        np.asarray(out.points["B"].acceleration_m_s2), abs=1e-9)
+    bad = dict(body, trace_points=[{"name": "P", "link": "crankshaft", "position_m": [0, 0]}])
+    assert _problem(client, bad, 422, "invalid-input")["field"] == "trace_points"

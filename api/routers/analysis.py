@@ -34,6 +34,7 @@ def analysis(
         phi=body.phi(),
         crank_acceleration=body.crank_acceleration_rad_s2,
         max_samples=settings.max_samples,
+        points=body.trace(),
     )
     if wants_png(request, format):
         return png(analysis_png(result, plot_angle(body, angle_deg)))

@@ -9,11 +9,27 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, SummaryOut, ensure_finite
+from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
+
+
+class TracePointIn(StrictModel):
+    """A named point fixed in a link (a coupler point, a tool tip) whose motion is reported."""
+
+    name: str = Field(min_length=1, max_length=40)
+    link: str
+    position_m: Vec2 = Field(description="Position in the link frame [m].")
 
 
 class AnalysisIn(LinkageRequest):
     """A linkage, its speed, loads and optional counterweights, to analyse over one crank revolution."""
+
+    trace_points: list[TracePointIn] = Field(
+        default_factory=list, max_length=20, description="Extra points to report, e.g. coupler points."
+    )
+
+    def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
+        """Trace points as the engine takes them: name -> (link, position in the link frame)."""
+        return {p.name: (p.link, (p.position_m[0], p.position_m[1])) for p in self.trace_points}
 
     model_config = ConfigDict(
         json_schema_extra={
