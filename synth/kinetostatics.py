@@ -262,6 +262,15 @@ class LinearMap:
         i = self.links.index(link)
         return slice(PARAMS_PER_LINK * i, PARAMS_PER_LINK * (i + 1))
 
+    def point_mass(self, link: str, position: tuple[float, float] | FloatArray) -> FloatArray:
+        """Change of every output per kilogram of point mass at ``position`` [m] in ``link``'s frame, (N, rows).
+
+        A point mass m at r adds m·(1, x, y, x² + y²) to its link's parameters.
+        """
+        x, y = float(position[0]), float(position[1])
+        unit = np.array([1.0, x, y, x * x + y * y])
+        return np.asarray(self.y[:, :, self.columns(link)] @ unit)
+
     def evaluate(self, p: FloatArray) -> FloatArray:
         """All outputs for parameters ``p``, shape (N, rows)."""
         return np.asarray(np.einsum("nrk,k->nr", self.y, p) + self.y0)

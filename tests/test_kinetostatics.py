@@ -173,6 +173,10 @@ def test_linear_map_reproduces_the_direct_solve(linkage: synth.Linkage, gravity:
     moved = synth.analyse(full.with_counterweights([cw]), 4.0, samples=60, crank_acceleration=eps).kinetostatics
     delta = np.einsum("nrk,k->nr", lm.y[:, :, lm.columns("crank")], cw.params())
     assert moved.driving_torque - k.driving_torque == pytest.approx(delta[:, lm.torque_row], abs=1e-10 * scale)
+    point = synth.Counterweight("crank", 0.4, (-0.03, 0.01))
+    moved = synth.analyse(full.with_counterweights([point]), 4.0, samples=60, crank_acceleration=eps).kinetostatics
+    per_kg = lm.point_mass("crank", point.position)
+    assert moved.shaking_moment - k.shaking_moment == pytest.approx(0.4 * per_kg[:, lm.moment_row], abs=1e-10 * scale)
 
 
 def test_pure_rotor_crank_has_the_textbook_shaking_force() -> None:
