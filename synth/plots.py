@@ -51,8 +51,8 @@ def draw_mechanism(ax: Axes, an: Analysis, phi: float) -> None:
             travel = an.motion.point_pos[joint.point] @ axis
             lo, hi = travel.min() - 0.1 * np.ptp(travel), travel.max() + 0.1 * np.ptp(travel)
             base = p - (p @ axis) * axis
-            ends = np.array([base + lo * axis, base + hi * axis])
-            ax.plot(ends[:, 0], ends[:, 1], "k--", lw=1)
+            guide = np.array([base + lo * axis, base + hi * axis])
+            ax.plot(guide[:, 0], guide[:, 1], "k--", lw=1)
     for link in mech.topology.links:
         props = an.linkage.mass_props(link)
         if props.mass > 0:
