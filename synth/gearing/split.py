@@ -1,0 +1,389 @@
+"""Splitting a total ratio between the stages of a drive.
+
+The objectives are geometric programs (cvxpy ``gp=True`` solved by Clarabel), so the answer is the global
+optimum of the stated model:
+
+- ``min_inertia``: inertia reduced to the motor shaft; pinions of one size J_p, each gear J_p * u_k^4 (shared face
+  width and module), optional shaft inertias, the load reduced by the total ratio squared. For two stages
+  without shaft terms the optimum satisfies u1^6 - u1^2 - 2 U^2 = 0.
+- ``min_volume``: pinion plus gear volume of every stage sized for contact stress,
+  V_k = c_k * T_k * (u_k + 1)(u_k^2 + 1)/u_k with T_k the torque on the stage's pinion (``stage_types.json``).
+- ``handbook``: the two-stage rule for a developed reducer, slow stage = 0.88 * sqrt(U) (or a given factor);
+  with one stage ratio fixed, the remainder goes to the other (seed 004:790-800). For comparison; not a GP.
+
+Fixed stage ratios (a standard bevel stage, say) enter every objective as equalities. Snapping to the R20
+preferred numbers keeps the total within 2.5 % up to U = 4.5 and 4 % above (or a given tolerance).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+import operator
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import cvxpy as cp
+import numpy as np
+
+from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..model import FloatArray
+from .stages import Stage
+
+Objective = Literal["min_inertia", "min_volume", "handbook"]
+OBJECTIVES: tuple[str, ...] = ("min_inertia", "min_volume", "handbook")
+
+R20_BASE = (1.00, 1.12, 1.25, 1.40, 1.60, 1.80, 2.00, 2.24, 2.50, 2.80,
+            3.15, 3.55, 4.00, 4.50, 5.00, 5.60, 6.30, 7.10, 8.00, 9.00)
+HANDBOOK_FACTOR = 0.88
+_SNAP_STEPS = 3
+
+
+@dataclass(frozen=True, slots=True)
+class InertiaModel:
+    """Data of the reduced-inertia model.
+
+    ``pinion_inertia`` J_p of every pinion [kg·m²]; ``load_inertia`` on the output shaft [kg·m²];
+    ``shaft_inertias`` extra inertia on shafts 0 (motor) .. n (output), or empty [kg·m²];
+    ``motor_inertia`` rotor inertia [kg·m²].
+    """
+
+    pinion_inertia: float = 1e-3
+    load_inertia: float = 0.0
+    shaft_inertias: tuple[float, ...] = ()
+    motor_inertia: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class SplitChecks:
+    """Independent check figures of a split.
+
+    ``objective_model``: the objective re-evaluated with the plain NumPy model at the answer;
+    ``ratio_product_error``: |prod(u)/U - 1| [-]; ``kkt_residual``: largest violation of the first-order
+    conditions in log-ratios (finite differences of the plain model, relative to the objective), None for
+    the handbook rule or after snapping.
+    """
+
+    objective_model: float
+    ratio_product_error: float
+    kkt_residual: float | None
+
+
+@dataclass(frozen=True, slots=True)
+class SplitResult:
+    """A ratio split, motor side first.
+
+    ``stage_ratios`` [-]; ``continuous_ratios`` before R20 snapping [-]; ``objective_value`` in the objective's
+    unit (kg·m² or m³); ``reduced_inertia`` [kg·m²] and ``gear_volume`` [m³] of the answer under both models
+    (None where a stage type has no sizing rule); ``solve_time`` [s].
+    """
+
+    total_ratio: float
+    objective: str
+    stage_ratios: tuple[float, ...]
+    continuous_ratios: tuple[float, ...]
+    objective_value: float
+    reduced_inertia: float
+    gear_volume: float | None
+    solver: str
+    solver_status: str
+    solve_time: float
+    snapped: bool
+    snap_tolerance: float | None
+    checks: SplitChecks
+    warnings: tuple[str, ...] = field(default=())
+
+
+def total_ratio(motor_speed: float, output_speed: float) -> float:
+    """Total ratio U = motor speed / output speed [-] (any one unit for both speeds)."""
+    for name, v in (("motor_speed", motor_speed), ("output_speed", output_speed)):
+        if not (math.isfinite(v) and v > 0):
+            raise InvalidInput(f"{name} must be positive, got {v}", field=name)
+    return motor_speed / output_speed
+
+
+def default_snap_tolerance(total: float) -> float:
+    """Admissible relative deviation of the total ratio after snapping: 2.5 % up to 4.5, 4 % above [-]."""
+    return 0.025 if total <= 4.5 else 0.04
+
+
+def r20_values(lo: float, hi: float) -> FloatArray:
+    """R20 preferred numbers in [lo, hi], ascending [-]."""
+    decades = range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
+    vals = np.array([b * 10.0**d for d in decades for b in R20_BASE])
+    vals = np.round(vals, 10)
+    return vals[(vals >= lo * (1 - 1e-12)) & (vals <= hi * (1 + 1e-12))]
+
+
+def reduced_inertia(ratios: Sequence[float] | FloatArray, model: InertiaModel) -> float:
+    """Inertia reduced to the motor shaft [kg·m²] of the one-size-pinion model, plain NumPy.
+
+    Shaft 0 carries the motor rotor and pinion 1; shaft k carries gear k (J_p u_k^4) and, but for the last,
+    pinion k+1; the load sits on shaft n. Each shaft's inertia is divided by the square of the ratio from the motor.
+    """
+    u = np.asarray(ratios, dtype=float)
+    n = len(u)
+    jp = model.pinion_inertia
+    shaft = np.zeros(n + 1)
+    shaft[0] = jp + model.motor_inertia
+    shaft[1:] = jp * u**4
+    shaft[1:n] += jp
+    shaft[n] += model.load_inertia
+    if model.shaft_inertias:
+        shaft += np.asarray(model.shaft_inertias, dtype=float)
+    to_motor = np.concatenate([[1.0], np.cumprod(u)])
+    return float(np.sum(shaft / to_motor**2))
+
+
+def gear_volume(ratios: Sequence[float] | FloatArray, stages: Sequence[Stage], input_torque: float = 1.0) -> float | None:
+    """Pinion plus gear volume of all stages sized for contact stress [m³]; None if a stage has no sizing rule.
+
+    ``input_torque`` on the motor shaft [N·m]; stage k's pinion carries it times the ratios and efficiencies
+    of the stages before it.
+    """
+    if any(s.volume_coefficient is None for s in stages):
+        return None
+    u = np.asarray(ratios, dtype=float)
+    eta = np.array([s.efficiency for s in stages])
+    coeff = np.array([s.volume_coefficient or 0.0 for s in stages])
+    torque = input_torque * np.concatenate([[1.0], np.cumprod(u * eta)[:-1]])
+    return float(np.sum(coeff * torque * (u + 1) * (u**2 + 1) / u))
+
+
+def _objective_value(objective: str, ratios: FloatArray, stages: Sequence[Stage], model: InertiaModel,
+                     input_torque: float) -> float:
+    if objective == "min_volume":
+        vol = gear_volume(ratios, stages, input_torque)
+        assert vol is not None
+        return vol
+    return reduced_inertia(ratios, model)
+
+
+def _check_reachable(total: float, stages: Sequence[Stage]) -> None:
+    lo = math.prod(s.ratio if s.ratio is not None else s.ratio_min for s in stages)
+    hi = math.prod(s.ratio if s.ratio is not None else s.ratio_max for s in stages)
+    if total < lo * (1 - 1e-9):
+        raise Infeasible(
+            f"total ratio {total:g} is below the smallest the stages reach ({lo:g}, every stage at its minimum "
+            "or fixed ratio)", constraint="stage_ratio_min", total_ratio=total, reachable_min=lo, reachable_max=hi)
+    if total > hi * (1 + 1e-9):
+        raise Infeasible(
+            f"total ratio {total:g} exceeds the largest the stages reach ({hi:g}, every stage at its maximum "
+            "or fixed ratio)", constraint="stage_ratio_max", total_ratio=total, reachable_min=lo, reachable_max=hi)
+
+
+def build_split_program(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
+                        input_torque: float = 1.0) -> tuple[cp.Problem, cp.Variable]:
+    """The geometric program of a split: stage ratios u > 0 with prod(u) = U, per-stage bounds and fixed ratios.
+
+    Returns the problem (``problem.is_dgp()`` holds) and the ratio variable, motor side first.
+    """
+    n = len(stages)
+    u = cp.Variable(n, pos=True)
+    cons = [functools.reduce(operator.mul, [u[k] for k in range(n)]) == total]
+    for k, s in enumerate(stages):
+        if s.ratio is not None:
+            cons.append(u[k] == s.ratio)
+        else:
+            cons += [u[k] >= s.ratio_min, u[k] <= s.ratio_max]
+    terms: list[Any] = []
+    if objective == "min_inertia":
+        # Shaft k's inertia over the square of the ratio from the motor: posynomial terms only.
+        jp = model.pinion_inertia
+        extra = list(model.shaft_inertias) or [0.0] * (n + 1)
+        const0 = jp + model.motor_inertia + extra[0]
+        terms.append(cp.Constant(const0))
+        to_motor: cp.Expression = cp.Constant(1.0)
+        for k in range(n):
+            before = to_motor
+            to_motor = to_motor * u[k]
+            terms.append(jp * u[k] ** 2 / before**2)
+            rest = extra[k + 1] + (jp if k < n - 1 else model.load_inertia)
+            if rest > 0:
+                terms.append(rest / to_motor**2)
+    elif objective == "min_volume":
+        torque: cp.Expression = cp.Constant(input_torque)
+        for k, s in enumerate(stages):
+            if s.volume_coefficient is None:
+                raise InvalidInput(
+                    f"stage type {s.type!r} has no contact-stress sizing rule; use min_inertia or handbook",
+                    field=f"stages[{k}].type")
+            c = s.volume_coefficient
+            terms.append(c * torque * (u[k] ** 2 + u[k] + 1 + u[k] ** -1))
+            torque = torque * u[k] * s.efficiency
+    else:
+        raise InvalidInput(f"objective {objective!r} is not a geometric program; known: {OBJECTIVES}",
+                           field="objective")
+    return cp.Problem(cp.Minimize(functools.reduce(operator.add, terms)), cons), u
+
+
+def solve_gp(problem: cp.Problem, time_limit_s: float) -> float:
+    """Solve a geometric program with Clarabel under its own time limit; map every non-optimal status.
+
+    Returns the wall time [s]. Raises Infeasible, SolverTimeout or SolverFailed.
+    """
+    t0 = time.perf_counter()
+    try:
+        problem.solve(gp=True, solver=cp.CLARABEL, time_limit=time_limit_s)  # type: ignore[no-untyped-call]
+    except cp.SolverError as exc:
+        raise SolverFailed("solver_error", f"Clarabel failed: {exc}") from exc
+    elapsed = time.perf_counter() - t0
+    status = problem.status
+    if status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+        raise Infeasible("the stage ratio bounds and fixed ratios admit no split of the total ratio",
+                         constraint="stage_ratio_bounds", solver_status=status)
+    if status == cp.USER_LIMIT and elapsed >= 0.95 * time_limit_s:
+        raise SolverTimeout(time_limit_s, solver_status=status)
+    if status != cp.OPTIMAL:
+        raise SolverFailed(str(status))
+    return elapsed
+
+
+def _kkt_residual(objective: str, ratios: FloatArray, stages: Sequence[Stage], model: InertiaModel,
+                  input_torque: float) -> float:
+    """First-order conditions of min f(exp x) s.t. sum x = log U, bounds: interior slopes equal, signs at bounds."""
+    x = np.log(ratios)
+    f0 = _objective_value(objective, ratios, stages, model, input_torque)
+    h = 1e-6
+    grad = np.empty(len(x))
+    for i in range(len(x)):
+        e = np.zeros(len(x))
+        e[i] = h
+        grad[i] = (_objective_value(objective, np.exp(x + e), stages, model, input_torque)
+                   - _objective_value(objective, np.exp(x - e), stages, model, input_torque)) / (2 * h)
+    free = np.array([s.ratio is None for s in stages])
+    lo = np.array([math.log(s.ratio_min) for s in stages])
+    hi = np.array([math.log(s.ratio_max) for s in stages])
+    tol = 1e-5
+    at_lo, at_hi = free & (x <= lo + tol), free & (x >= hi - tol)
+    interior = free & ~at_lo & ~at_hi
+    if not free.any():
+        return 0.0
+    lam = float(np.mean(grad[interior])) if interior.any() else float(np.median(grad[free]))
+    viol = np.zeros(len(x))
+    viol[interior] = np.abs(grad[interior] - lam)
+    viol[at_hi] = np.maximum(grad[at_hi] - lam, 0.0)   # raising a ratio at its maximum must not pay
+    viol[at_lo] = np.maximum(lam - grad[at_lo], 0.0)
+    return float(np.max(viol) / abs(f0))
+
+
+def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[FloatArray, list[str]]:
+    if len(stages) != 2:
+        raise InvalidInput(f"the handbook rule splits two-stage reducers; this layout has {len(stages)} stages",
+                           field="objective")
+    fixed = [s.ratio for s in stages]
+    if fixed[0] is not None and fixed[1] is not None:
+        u = np.array([fixed[0], fixed[1]], dtype=float)
+    elif fixed[0] is not None:
+        u = np.array([fixed[0], total / fixed[0]])
+    elif fixed[1] is not None:
+        u = np.array([total / fixed[1], fixed[1]])
+    else:
+        slow = factor * math.sqrt(total)
+        u = np.array([total / slow, slow])
+    warnings = [
+        f"stage {k} ratio {u[k]:.4g} lies outside the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]"
+        for k, s in enumerate(stages) if not s.ratio_min * (1 - 1e-9) <= u[k] <= s.ratio_max * (1 + 1e-9)
+    ]
+    return u, warnings
+
+
+def _snap(total: float, ratios: FloatArray, stages: Sequence[Stage], objective: str, model: InertiaModel,
+          input_torque: float, tolerance: float) -> FloatArray:
+    """Best R20 combination within a few steps of each optimal ratio that keeps the total within ``tolerance``."""
+    choices = []
+    for u, s in zip(ratios, stages, strict=True):
+        if s.ratio is not None:
+            choices.append(np.array([s.ratio]))
+            continue
+        vals = r20_values(s.ratio_min, s.ratio_max)
+        if vals.size == 0:
+            raise Infeasible(f"no R20 ratio lies in the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]",
+                             constraint="snap_r20")
+        i = int(np.searchsorted(vals, u))
+        choices.append(vals[max(0, i - _SNAP_STEPS): i + _SNAP_STEPS])
+    grid = np.array(list(itertools.product(*choices)))
+    err = np.abs(np.prod(grid, axis=1) / total - 1)
+    ok = err <= tolerance * (1 + 1e-12)
+    if not ok.any():
+        raise Infeasible(
+            f"no combination of R20 ratios near the optimum keeps the total within {tolerance:.3%} of {total:g}; "
+            "widen the tolerance or leave the ratios unsnapped",
+            constraint="snap_tolerance", tolerance=tolerance, closest_error=float(err.min()))
+    grid, err = grid[ok], err[ok]
+    if objective == "handbook":
+        score = np.sum(np.log(grid / ratios) ** 2, axis=1)
+    else:
+        score = np.array([_objective_value(objective, g, stages, model, input_torque) for g in grid])
+    best = np.lexsort((err, score))[0]
+    return np.asarray(grid[best], dtype=float)
+
+
+def split_ratio(
+    total: float,
+    stages: Sequence[Stage],
+    objective: str = "min_inertia",
+    *,
+    inertia: InertiaModel | None = None,
+    input_torque: float = 1.0,
+    handbook_factor: float = HANDBOOK_FACTOR,
+    snap_r20: bool = False,
+    snap_tolerance: float | None = None,
+    time_limit_s: float = 20.0,
+) -> SplitResult:
+    """Split the total ratio ``total`` [-] between ``stages`` (motor side first) for ``objective``.
+
+    Parameters
+    ----------
+    total : total ratio U = motor speed / output speed [-].
+    stages : the layout's stages with their ranges, efficiencies and fixed ratios.
+    objective : ``min_inertia``, ``min_volume`` (geometric programs, Clarabel) or ``handbook``.
+    inertia : data of the reduced-inertia model (pinion, load, shaft and rotor inertias [kg·m²]).
+    input_torque : torque on the motor shaft for the volume model [N·m]; the split does not depend on it.
+    handbook_factor : slow stage = factor * sqrt(U) in the handbook rule [-].
+    snap_r20 : snap the stage ratios to R20 preferred numbers within ``snap_tolerance`` of the total [-].
+    time_limit_s : Clarabel's own time limit [s].
+
+    Raises Infeasible (a total outside what the stages reach, naming the bound; no R20 combination within the
+    tolerance), InvalidInput, SolverFailed, SolverTimeout.
+    """
+    if not (math.isfinite(total) and total > 0):
+        raise InvalidInput(f"total_ratio must be positive, got {total}", field="total_ratio")
+    if objective not in OBJECTIVES:
+        raise InvalidInput(f"unknown objective {objective!r}; known: {', '.join(OBJECTIVES)}", field="objective")
+    model = inertia or InertiaModel()
+    if model.shaft_inertias and len(model.shaft_inertias) != len(stages) + 1:
+        raise InvalidInput(f"shaft_inertias needs {len(stages) + 1} values (motor shaft to output shaft), "
+                           f"got {len(model.shaft_inertias)}", field="shaft_inertias_kgm2")
+    _check_reachable(total, stages)
+    warnings: list[str] = []
+    kkt: float | None = None
+    solver_value: float | None = None
+    if objective == "handbook":
+        ratios, warnings = _handbook(total, stages, handbook_factor)
+        solver, status, elapsed = "closed form", "optimal", 0.0
+    else:
+        problem, u = build_split_program(total, stages, objective, model, input_torque)
+        elapsed = solve_gp(problem, time_limit_s)
+        assert u.value is not None
+        # Clarabel meets the bounds to its tolerance; pull the answer onto them so reported ratios are admissible.
+        ratios = np.clip(np.asarray(u.value, dtype=float), [s.ratio_min for s in stages],
+                         [s.ratio_max for s in stages])
+        solver, status, solver_value = "clarabel", str(problem.status), float(problem.value)
+        kkt = _kkt_residual(objective, ratios, stages, model, input_torque)
+    continuous = ratios.copy()
+    tol = None
+    if snap_r20:
+        tol = default_snap_tolerance(total) if snap_tolerance is None else snap_tolerance
+        ratios = _snap(total, ratios, stages, objective, model, input_torque, tol)
+        kkt, solver_value = None, None
+    inertia_value = reduced_inertia(ratios, model)
+    volume = gear_volume(ratios, stages, input_torque)
+    model_value = volume if objective == "min_volume" and volume is not None else inertia_value
+    checks = SplitChecks(model_value, abs(float(np.prod(ratios)) / total - 1), kkt)
+    value = model_value if solver_value is None else solver_value
+    return SplitResult(total, objective, tuple(map(float, ratios)), tuple(map(float, continuous)), value,
+                       inertia_value, volume, solver, status, elapsed, snap_r20, tol, checks, tuple(warnings))
