@@ -1,0 +1,509 @@
+"""Tooth numbers of a gear train: the whole train's ratio as close as possible to a target, solved exactly.
+
+Method: an exhaustive search that is provably complete, vectorised with NumPy (no MILP).
+
+1. Per stage, every admissible (pinion, gear) pair: teeth in [min, max_teeth], the smaller wheel at or above
+   its undercut limit 2 (h_a - x)/sin² alpha (17.1 at 20 deg full depth; a profile shift x on the smaller
+   wheel and -x on the larger keeps the centre distance), the larger wheel at or above 2 (h_a + x)/sin² alpha and
+   at or below the interference limit of the smaller one, the ratio inside the stage's range, optionally no
+   common factor (hunting teeth). A user's ``min_teeth`` replaces both undercut limits.
+2. Pairs with the same ratio are interchangeable but for their tooth count, so each stage keeps one pair per
+   reduced fraction, the one with the fewest teeth. Stages whose ratio range cannot meet the target window
+   given the others' extreme ratios are pruned by those bounds.
+3. Meet in the middle: the stages are split into two halves; each half's products are enumerated exactly as
+   reduced integer fractions (duplicates again keep the fewest teeth), one half is sorted, and every product of
+   the other half is matched by binary search. Closest mode takes the two neighbours of U/a; tolerance mode
+   takes the fewest-teeth product inside the window with a sparse-table range minimum.
+4. Reverted (coaxial) trains need equal tooth sums z1 + z2 = z3 + z4 = S (same module, equal centre distances):
+   the search runs once per S, ascending.
+
+Objective: closest ratio (relative error |ratio/U - 1|), ties (errors within 1e-12) broken by fewer teeth; or,
+with a tolerance, the fewest teeth within it, ties broken by the smaller error. Nothing is discarded that could
+be optimal, so the answer equals a plain enumeration of all combinations (:func:`enumerate_tooth_numbers`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import Infeasible, InvalidInput, TooLarge
+from .stages import Stage, stage_types
+
+IntArray = NDArray[np.int64]
+FloatArray = NDArray[np.float64]
+
+TIE = 1e-12
+MAX_TEETH_LIMIT = 1000
+MAX_PRODUCTS = 20_000_000
+MAX_TABLE = 2_000_000
+ENUMERATION_CHECK_LIMIT = 1_000_000
+
+
+@dataclass(frozen=True, slots=True)
+class ToothRules:
+    """Rules every mesh of the train obeys.
+
+    ``pressure_angle`` [rad]; ``addendum`` coefficient h_a [-]; ``profile_shift`` x on the smaller wheel, -x
+    on the larger [-]; ``min_teeth`` the user's bound replacing the undercut limits, or None; ``max_teeth``;
+    ``hunting``: no common factor in a pair; ``reverted``: equal tooth sums (coaxial input and output).
+    """
+
+    pressure_angle: float = math.radians(20.0)
+    addendum: float = 1.0
+    profile_shift: float = 0.0
+    min_teeth: int | None = None
+    max_teeth: int = 100
+    hunting: bool = False
+    reverted: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Mesh:
+    """One stage's tooth numbers: driving ``pinion_teeth``, driven ``gear_teeth``, ``ratio`` = gear/pinion [-]."""
+
+    pinion_teeth: int
+    gear_teeth: int
+    ratio: float
+
+
+@dataclass(frozen=True, slots=True)
+class ToothChecks:
+    """Independent check: a plain enumeration of every combination, when there are at most
+    ``ENUMERATION_CHECK_LIMIT`` (else None): its combination count, best error [-], tooth count, agreement."""
+
+    enumeration_combinations: int | None
+    enumeration_ratio_error: float | None
+    enumeration_total_teeth: int | None
+    agrees: bool | None
+
+
+@dataclass(frozen=True, slots=True)
+class ToothResult:
+    """Tooth numbers of a train, motor side first.
+
+    ``total_ratio`` achieved and ``target_ratio`` [-]; ``ratio_error`` |achieved/target - 1| [-]; ``search_time``
+    [s]; ``products_examined`` partial products enumerated; ``undercut_limit`` 2 (h_a - x)/sin² alpha [-];
+    ``min_pinion_teeth``/``min_gear_teeth`` the bounds applied.
+    """
+
+    stages: tuple[Mesh, ...]
+    total_ratio: float
+    target_ratio: float
+    ratio_error: float
+    total_teeth: int
+    tolerance: float | None
+    method: str
+    search_time: float
+    products_examined: int
+    undercut_limit: float
+    min_pinion_teeth: int
+    min_gear_teeth: int
+    checks: ToothChecks
+    warnings: tuple[str, ...] = field(default=())
+
+
+def undercut_limit(pressure_angle: float, addendum: float = 1.0, profile_shift: float = 0.0) -> float:
+    """Fewest teeth cut by a rack without undercut, 2 (h_a - x)/sin² alpha [-] (17.1 at 20 deg, h_a = 1)."""
+    return 2 * (addendum - profile_shift) / math.sin(pressure_angle) ** 2
+
+
+def interference_limit(small_teeth: int | IntArray, pressure_angle: float, addendum: float = 1.0,
+                       profile_shift: float = 0.0) -> FloatArray:
+    """Largest wheel a wheel of ``small_teeth`` may mesh with, externally, without interference [-].
+
+    The larger wheel's tip circle (addendum h_a - x) must stay inside the line of action's tangent point on the
+    smaller wheel's base circle: z2 (4h - 2 z1 sin² a) <= z1² sin² a - 4 h²; infinite when the left factor is
+    not positive (the smaller wheel then meshes with a rack). 13 -> 16, 14 -> 26, 15 -> 45, 16 -> 101 at 20 deg.
+    """
+    z = np.asarray(small_teeth, dtype=float)
+    s = math.sin(pressure_angle) ** 2
+    h = addendum - profile_shift
+    den = 4 * h - 2 * z * s
+    num = z**2 * s - 4 * h**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.inf)
+
+
+def _wheel_minimums(rules: ToothRules) -> tuple[int, int]:
+    if rules.min_teeth is not None:
+        return rules.min_teeth, rules.min_teeth
+    s = math.sin(rules.pressure_angle) ** 2
+    small = 2 * (rules.addendum - rules.profile_shift) / s
+    large = 2 * (rules.addendum + rules.profile_shift) / s
+    return max(1, math.ceil(small - 1e-9)), max(1, math.ceil(large - 1e-9))
+
+
+def pairs_admissible(zp: IntArray, zg: IntArray, stage: Stage, rules: ToothRules) -> NDArray[np.bool_]:
+    """Which (pinion, gear) pairs one stage admits under ``rules`` (vectorised; reverted sums aside)."""
+    small, large = np.minimum(zp, zg), np.maximum(zp, zg)
+    min_small, min_large = _wheel_minimums(rules)
+    ratio = zg / zp
+    ok = (small >= min_small) & (large >= min_large) & (large <= rules.max_teeth)
+    ok &= large <= interference_limit(small, rules.pressure_angle, rules.addendum, rules.profile_shift) + 1e-9
+    ok &= (ratio >= stage.ratio_min * (1 - 1e-12)) & (ratio <= stage.ratio_max * (1 + 1e-12))
+    if rules.hunting:
+        ok &= np.gcd(zp, zg) == 1
+    return ok
+
+
+def _validate(target: float, stages: Sequence[Stage], rules: ToothRules, tolerance: float | None) -> None:
+    if not (math.isfinite(target) and target > 0):
+        raise InvalidInput(f"total_ratio must be positive, got {target}", field="total_ratio")
+    toothed = sorted(n for n, t in stage_types().items() if t.toothed)
+    for i, s in enumerate(stages):
+        if not stage_types()[s.type].toothed:
+            raise InvalidInput(f"stage type {s.type!r} has no pinion/gear tooth numbers to choose; toothed "
+                               f"types: {', '.join(toothed)}", field=f"stages[{i}].type")
+        if s.ratio is not None:
+            raise InvalidInput("the tooth search chooses every stage's ratio; give a range instead of a ratio",
+                               field=f"stages[{i}].ratio")
+    if rules.max_teeth > MAX_TEETH_LIMIT:
+        raise TooLarge("max_teeth", MAX_TEETH_LIMIT, rules.max_teeth)
+    if rules.min_teeth is not None and not 1 <= rules.min_teeth <= rules.max_teeth:
+        raise InvalidInput(f"min_teeth must lie in [1, max_teeth = {rules.max_teeth}], got {rules.min_teeth}",
+                           field="min_teeth")
+    if not 0 < rules.pressure_angle < math.pi / 2:
+        raise InvalidInput("pressure angle must lie strictly between 0 and 90 deg", field="pressure_angle_deg")
+    if tolerance is not None and not 0 <= tolerance < 1:
+        raise InvalidInput(f"tolerance must lie in [0, 1), got {tolerance}", field="tolerance")
+    if rules.reverted and len(stages) < 2:
+        raise InvalidInput("a reverted (coaxial) train needs at least two stages", field="reverted")
+
+
+@dataclass(frozen=True, slots=True)
+class _Set:
+    """Candidate products: reduced fraction num/den, its float ratio, tooth count, per-stage pair indices."""
+
+    num: IntArray
+    den: IntArray
+    teeth: IntArray
+    idx: IntArray
+
+    @property
+    def ratio(self) -> FloatArray:
+        return self.num / self.den
+
+
+def _dedupe(num: IntArray, den: IntArray, teeth: IntArray, idx: IntArray) -> _Set:
+    g = np.gcd(num, den)
+    num, den = num // g, den // g
+    order = np.lexsort((teeth, den, num))
+    num, den, teeth, idx = num[order], den[order], teeth[order], idx[order]
+    first = np.ones(len(num), dtype=bool)
+    first[1:] = (num[1:] != num[:-1]) | (den[1:] != den[:-1])
+    return _Set(num[first], den[first], teeth[first], idx[first])
+
+
+def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[float, float]]) -> tuple[_Set, int]:
+    """All products of ``sets`` whose ratio, times what the remaining stages ``rest`` reach, can land in [lo, hi]."""
+    acc = _Set(np.ones(1, np.int64), np.ones(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 0), np.int64))
+    examined = 0
+    for k, s in enumerate(sets):
+        size = len(acc.num) * len(s.num)
+        if size > MAX_PRODUCTS:
+            raise TooLarge("tooth search partial products (narrow max_teeth, the stage ranges or the tolerance)",
+                           MAX_PRODUCTS, size)
+        examined += size
+        num = (acc.num[:, None] * s.num[None, :]).ravel()
+        den = (acc.den[:, None] * s.den[None, :]).ravel()
+        teeth = (acc.teeth[:, None] + s.teeth[None, :]).ravel()
+        idx = np.concatenate([np.repeat(acc.idx, len(s.num), axis=0),
+                              np.tile(np.arange(len(s.num)), len(acc.num))[:, None]], axis=1)
+        r_lo = math.prod(r[0] for r in rest[k + 1:])
+        r_hi = math.prod(r[1] for r in rest[k + 1:])
+        ratio = num / den
+        keep = (ratio * r_hi >= lo * (1 - 1e-12)) & (ratio * r_lo <= hi * (1 + 1e-12))
+        acc = _dedupe(num[keep], den[keep], teeth[keep], idx[keep])
+    return acc, examined
+
+
+def _range_min(values: IntArray, lo: IntArray, hi: IntArray) -> IntArray:
+    """min(values[lo:hi]) for every query (all hi > lo) with a sparse table."""
+    table = [values.astype(np.int32)]
+    while 2 ** len(table) <= len(values):
+        prev, half = table[-1], 2 ** (len(table) - 1)
+        table.append(np.minimum(prev[:-half], prev[half:]))
+    level = np.floor(np.log2(hi - lo)).astype(np.int64)
+    out = np.empty(len(lo), dtype=np.int64)
+    for lev in np.unique(level):
+        m = level == lev
+        t = table[int(lev)]
+        out[m] = np.minimum(t[lo[m]], t[hi[m] - 2 ** int(lev)])
+    return out
+
+
+def _meet(a: _Set, b: _Set, target: float, tolerance: float | None,
+          window: float = math.inf) -> tuple[float, int, IntArray] | None:
+    """Best (error, teeth, per-stage indices) over products a*b; None when nothing qualifies.
+
+    In closest mode (no tolerance) only errors up to ``window`` count: the halves were pruned to that window.
+    """
+    if len(a.num) == 0 or len(b.num) == 0:
+        return None
+    order = np.argsort(b.ratio, kind="stable")
+    br, bt, bidx = b.ratio[order], b.teeth[order], b.idx[order]
+    ar = a.ratio
+    if tolerance is None:
+        j = np.searchsorted(br, target / ar)
+        cand = np.stack([np.clip(j - 1, 0, len(br) - 1), np.clip(j, 0, len(br) - 1)], axis=1)
+        best = float(np.min(np.abs(ar[:, None] * br[cand] / target - 1)))
+        if best > window:
+            return None
+        w_lo, w_hi = target * (1 - best - 2 * TIE), target * (1 + best + 2 * TIE)
+    else:
+        w_lo, w_hi = target * (1 - tolerance) * (1 - 1e-12), target * (1 + tolerance) * (1 + 1e-12)
+    lo = np.searchsorted(br, w_lo / ar, side="left")
+    hi = np.searchsorted(br, w_hi / ar, side="right")
+    has = np.nonzero(hi > lo)[0]
+    if has.size == 0:
+        return None
+    if tolerance is None:
+        counts = hi[has] - lo[has]
+        ai = np.repeat(has, counts)
+        bi = np.repeat(lo[has], counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+        err = np.abs(ar[ai] * br[bi] / target - 1)
+        teeth = a.teeth[ai] + bt[bi]
+        keep = err <= best + TIE
+        ai, bi, err, teeth = ai[keep], bi[keep], err[keep], teeth[keep]
+        k = int(np.lexsort((err, teeth))[0])
+        return float(err[k]), int(teeth[k]), np.concatenate([a.idx[ai[k]], bidx[bi[k]]])
+    if len(br) > MAX_TABLE:
+        raise TooLarge("tooth search table (narrow max_teeth or the stage ranges)", MAX_TABLE, len(br))
+    fewest = a.teeth[has] + _range_min(bt, lo[has], hi[has])
+    t_best = int(fewest.min())
+    sel = has[fewest == t_best]
+    need = t_best - a.teeth[sel]
+    best_k: tuple[float, int, int] | None = None
+    for t in np.unique(need):
+        pos = np.nonzero(bt == t)[0]
+        rows = sel[need == t]
+        j = np.searchsorted(br[pos], target / ar[rows])
+        for off in (-1, 0):
+            jj = np.clip(j + off, 0, len(pos) - 1)
+            prod = ar[rows] * br[pos[jj]]
+            err = np.abs(prod / target - 1)
+            err = np.where((prod >= w_lo) & (prod <= w_hi), err, np.inf)
+            i = int(np.argmin(err))
+            if np.isfinite(err[i]) and (best_k is None or err[i] < best_k[0]):
+                best_k = (float(err[i]), int(rows[i]), int(pos[jj[i]]))
+    assert best_k is not None
+    return best_k[0], t_best, np.concatenate([a.idx[best_k[1]], bidx[best_k[2]]])
+
+
+def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | None) -> list[tuple[IntArray, IntArray]]:
+    z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
+    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
+    if total_sum is not None:
+        zp = z[z < total_sum]
+        zg = total_sum - zp
+    out = []
+    for s in stages:
+        ok = pairs_admissible(zp, zg, s, rules)
+        out.append((zp[ok], zg[ok]))
+    return out
+
+
+def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance: float | None,
+            deduped: bool) -> tuple[tuple[float, int, list[tuple[int, int]]] | None, int]:
+    """Exact best over one family of per-stage pair sets; returns (error, teeth, pairs) or None, and the work.
+
+    Closest mode first searches narrow windows around the target, widening tenfold until one holds a product:
+    a best found inside a window is the global best, since everything better lies inside it too.
+    """
+    if tolerance is not None:
+        return _search_window(pairs, target, tolerance, deduped, tolerance)
+    examined = 0
+    for window in (1e-5, 1e-4, 1e-3, 1e-2, 1e-1, math.inf):
+        found, work = _search_window(pairs, target, None, deduped, window)
+        examined += work
+        if found is not None:
+            return found, examined
+    return None, examined
+
+
+def _search_window(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance: float | None,
+                   deduped: bool, window: float) -> tuple[tuple[float, int, list[tuple[int, int]]] | None, int]:
+    sets = []
+    for zp, zg in pairs:
+        ds = _dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else \
+            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None])
+        sets.append(ds)
+    if any(len(s.num) == 0 for s in sets):
+        return None, 0
+    bounds = [(float(s.ratio.min()), float(s.ratio.max())) for s in sets]
+    pad = window + 4 * TIE
+    lo, hi = target * max(0.0, 1 - pad), target * (1 + pad)
+    n = len(sets)
+    k = n // 2
+    # The first k stages form the sorted (table) half; the rest are matched against it.
+    b_half, w1 = _combine(sets[:k], lo, hi, bounds[:k] + bounds[k:]) if k else (
+        _Set(np.ones(1, np.int64), np.ones(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 0), np.int64)), 0)
+    a_half, w2 = _combine(sets[k:], lo, hi, bounds[k:] + [(math.prod(b[0] for b in bounds[:k]),
+                                                            math.prod(b[1] for b in bounds[:k]))])
+    found = _meet(a_half, b_half, target, tolerance, window)
+    if found is None:
+        return None, w1 + w2
+    err, teeth, idx = found
+    # _meet puts the matched half (later stages) first.
+    order = list(idx[n - k:]) + list(idx[: n - k])
+    chosen = []
+    for stage_i, (s, (zp, zg)) in enumerate(zip(sets, pairs, strict=True)):
+        row = int(s.idx[int(order[stage_i]), 0])
+        chosen.append((int(zp[row]), int(zg[row])))
+    return (err, teeth, chosen), w1 + w2
+
+
+def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules,
+                            tolerance: float | None = None) -> tuple[float, int, list[tuple[int, int]], int] | None:
+    """Plain enumeration of every combination of admissible pairs (the baseline and the check).
+
+    Returns (ratio error, total teeth, pairs, combinations) of the best combination by the same objective and
+    tie rule as :func:`tooth_numbers`, or None when none qualifies.
+    """
+    pairs = _stage_sets(stages, rules, None)
+    grids = np.meshgrid(*[np.arange(len(p[0])) for p in pairs], indexing="ij")
+    idx = [g.ravel() for g in grids]
+    ratio = np.ones(idx[0].shape)
+    teeth = np.zeros(idx[0].shape, dtype=np.int64)
+    sums = []
+    for (zp, zg), i in zip(pairs, idx, strict=True):
+        ratio = ratio * (zg[i] / zp[i])
+        teeth = teeth + zp[i] + zg[i]
+        sums.append(zp[i] + zg[i])
+    ok = np.ones(ratio.shape, dtype=bool)
+    if rules.reverted:
+        for s in sums[1:]:
+            ok &= s == sums[0]
+    err = np.abs(ratio / target - 1)
+    if tolerance is not None:
+        ok &= err <= tolerance * (1 + 1e-12) + 1e-15
+    if not ok.any():
+        return None
+    cand = np.nonzero(ok)[0]
+    if tolerance is None:
+        best = err[cand].min()
+        cand = cand[err[cand] <= best + TIE]
+        k = cand[np.lexsort((err[cand], teeth[cand]))[0]]
+    else:
+        fewest = teeth[cand].min()
+        cand = cand[teeth[cand] == fewest]
+        k = cand[np.argmin(err[cand])]
+    chosen = [(int(zp[i[k]]), int(zg[i[k]])) for (zp, zg), i in zip(pairs, idx, strict=True)]
+    return float(err[k]), int(teeth[k]), chosen, int(ratio.size)
+
+
+def _check_reach(target: float, stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntArray]],
+                 tolerance: float | None) -> None:
+    if any(len(zp) == 0 for zp, _ in pairs):
+        return
+    reach_lo = math.prod(float(np.min(zg / zp)) for zp, zg in pairs)
+    reach_hi = math.prod(float(np.max(zg / zp)) for zp, zg in pairs)
+    slack = tolerance or 0.0
+    if target > reach_hi * (1 + slack):
+        raise Infeasible(
+            f"total ratio {target:g} exceeds the largest these tooth bounds and stage ranges reach ({reach_hi:.4g}): "
+            "raise max_teeth, a stage's ratio_max or the number of stages",
+            constraint="max_teeth", reachable_min=reach_lo, reachable_max=reach_hi)
+    if target < reach_lo * (1 - slack):
+        raise Infeasible(
+            f"total ratio {target:g} is below the smallest these tooth bounds and stage ranges reach "
+            f"({reach_lo:.4g}): lower a stage's ratio_min or the number of stages",
+            constraint="stage_ratio_min", reachable_min=reach_lo, reachable_max=reach_hi)
+
+
+def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntArray]], rules: ToothRules,
+                  tolerance: float | None) -> Infeasible:
+    for i, (zp, _) in enumerate(pairs):
+        if len(zp) == 0:
+            s = stages[i]
+            return Infeasible(
+                f"no tooth pair for stage {i} ({s.type}) within the teeth bounds, the interference limit and its "
+                f"ratio range [{s.ratio_min:g}, {s.ratio_max:g}]: raise max_teeth, lower min_teeth or widen the range",
+                constraint="max_teeth", stage=i)
+    if rules.reverted:
+        return Infeasible("no reverted train (equal tooth sums in every stage) meets the target: relax tolerance, "
+                          "raise max_teeth or drop reverted", constraint="reverted")
+    if rules.hunting:
+        return Infeasible("no hunting-tooth train meets the target: relax tolerance, raise max_teeth or drop "
+                          "hunting", constraint="tolerance" if tolerance is not None else "hunting")
+    return Infeasible("no tooth numbers meet the target ratio within the tolerance: relax tolerance or raise "
+                      "max_teeth", constraint="tolerance", tolerance=tolerance)
+
+
+def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | None = None,
+                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT) -> ToothResult:
+    """Integer tooth numbers of a serial train whose ratio best meets ``target`` [-], motor side first.
+
+    Parameters
+    ----------
+    target : total ratio U [-].
+    stages : the train's toothed stages (their ratio ranges bound each mesh).
+    rules : pressure angle [rad], addendum and profile shift [-], min/max teeth, hunting, reverted.
+    tolerance : relative ratio tolerance [-]; given, the fewest teeth within it, else the closest ratio.
+    check_limit : run the plain enumeration as a check when it has at most this many combinations.
+
+    Raises Infeasible when the search is empty (``constraint`` names what to relax), InvalidInput, TooLarge.
+    """
+    rules = rules or ToothRules()
+    _validate(target, stages, rules, tolerance)
+    t0 = time.perf_counter()
+    pairs = _stage_sets(stages, rules, None)
+    _check_reach(target, stages, pairs, tolerance)
+    best: tuple[float, int, list[tuple[int, int]]] | None = None
+    examined = 0
+    if not rules.reverted:
+        best, examined = _search(pairs, target, tolerance, deduped=True)
+    elif all(len(p[0]) for p in pairs):
+        min_small, min_large = _wheel_minimums(rules)
+        for total_sum in range(min_small + min_large, 2 * rules.max_teeth + 1):
+            found, work = _search(_stage_sets(stages, rules, total_sum), target, tolerance, deduped=False)
+            examined += work
+            if found is None:
+                continue
+            # Every stage has the same tooth sum, so fewer teeth means a smaller sum: ascending order decides.
+            if tolerance is not None:
+                best = found
+                break
+            if best is None or found[0] < best[0] - TIE:
+                best = found
+    elapsed = time.perf_counter() - t0
+    if best is None:
+        raise _empty_reason(stages, pairs, rules, tolerance)
+    err, teeth, chosen = best
+    meshes = tuple(Mesh(zp, zg, zg / zp) for zp, zg in chosen)
+    achieved = math.prod(m.ratio for m in meshes)
+    warnings = _warnings(rules, chosen)
+    checks = ToothChecks(None, None, None, None)
+    combos = math.prod(len(p[0]) for p in pairs)
+    if combos <= check_limit:
+        ref = enumerate_tooth_numbers(target, stages, rules, tolerance)
+        assert ref is not None
+        agrees = abs(ref[0] - err) <= TIE and ref[1] == teeth
+        checks = ToothChecks(ref[3], ref[0], ref[1], agrees)
+    min_small, min_large = _wheel_minimums(rules)
+    return ToothResult(meshes, achieved, target, abs(achieved / target - 1), teeth, tolerance,
+                       "exhaustive search (meet in the middle over exact reduced fractions), provably complete",
+                       elapsed, examined,
+                       undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift),
+                       min_small, min_large, checks, tuple(warnings))
+
+
+def _warnings(rules: ToothRules, chosen: Sequence[tuple[int, int]]) -> list[str]:
+    out = []
+    limit = undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift)
+    if rules.min_teeth is not None and rules.min_teeth < limit:
+        out.append(f"min_teeth {rules.min_teeth} is below the undercut limit {limit:.1f} for this pressure angle, "
+                   "addendum and profile shift; the interference limit still applies")
+        for i, (zp, zg) in enumerate(chosen):
+            small = min(zp, zg)
+            if small < limit:
+                out.append(f"stage {i}: the {small}-tooth wheel is undercut (limit {limit:.1f}); a profile shift "
+                           f"of at least {rules.addendum - small * math.sin(rules.pressure_angle) ** 2 / 2:.3f} "
+                           "avoids it")
+    return out
