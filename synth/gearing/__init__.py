@@ -1,1 +1,36 @@
 """Drive design: stage types, ratio splitting, tooth numbers, shaft speeds and torques, motor choice."""
+
+from .drive import DriveChecks, DriveResult, Shaft, design_drive
+from .motors import Motor, find_motor, motor_catalogue, select_motor
+from .split import (
+    InertiaModel,
+    SplitChecks,
+    SplitResult,
+    build_split_program,
+    default_snap_tolerance,
+    gear_volume,
+    r20_values,
+    reduced_train_inertia,
+    split_ratio,
+    total_ratio,
+)
+from .stages import Stage, StageSpec, StageType, chain_efficiency, make_stage, make_stages, stage_types
+from .teeth import (
+    Mesh,
+    ToothChecks,
+    ToothResult,
+    ToothRules,
+    enumerate_tooth_numbers,
+    interference_limit,
+    tooth_numbers,
+    undercut_limit,
+)
+
+__all__ = [
+    "DriveChecks", "DriveResult", "InertiaModel", "Mesh", "Motor", "Shaft", "SplitChecks", "SplitResult", "Stage",
+    "StageSpec", "StageType", "ToothChecks", "ToothResult", "ToothRules", "build_split_program",
+    "chain_efficiency", "default_snap_tolerance", "design_drive", "enumerate_tooth_numbers", "find_motor",
+    "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",
+    "reduced_train_inertia", "select_motor", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
+    "undercut_limit",
+]

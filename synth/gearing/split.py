@@ -118,7 +118,7 @@ def r20_values(lo: float, hi: float) -> FloatArray:
     return vals[(vals >= lo * (1 - 1e-12)) & (vals <= hi * (1 + 1e-12))]
 
 
-def reduced_inertia(ratios: Sequence[float] | FloatArray, model: InertiaModel) -> float:
+def reduced_train_inertia(ratios: Sequence[float] | FloatArray, model: InertiaModel) -> float:
     """Inertia reduced to the motor shaft [kg·m²] of the one-size-pinion model, plain NumPy.
 
     Shaft 0 carries the motor rotor and pinion 1; shaft k carries gear k (J_p u_k^4) and, but for the last,
@@ -159,7 +159,7 @@ def _objective_value(objective: str, ratios: FloatArray, stages: Sequence[Stage]
         vol = gear_volume(ratios, stages, input_torque)
         assert vol is not None
         return vol
-    return reduced_inertia(ratios, model)
+    return reduced_train_inertia(ratios, model)
 
 
 def _check_reachable(total: float, stages: Sequence[Stage]) -> None:
@@ -372,6 +372,8 @@ def split_ratio(
         # Clarabel meets the bounds to its tolerance; pull the answer onto them so reported ratios are admissible.
         ratios = np.clip(np.asarray(u.value, dtype=float), [s.ratio_min for s in stages],
                          [s.ratio_max for s in stages])
+        # Fixed stages are equalities the solver meets to its tolerance; report them exactly.
+        ratios = np.array([s.ratio if s.ratio is not None else r for s, r in zip(stages, ratios, strict=True)])
         solver, status, solver_value = "clarabel", str(problem.status), float(problem.value)
         kkt = _kkt_residual(objective, ratios, stages, model, input_torque)
     continuous = ratios.copy()
@@ -380,7 +382,7 @@ def split_ratio(
         tol = default_snap_tolerance(total) if snap_tolerance is None else snap_tolerance
         ratios = _snap(total, ratios, stages, objective, model, input_torque, tol)
         kkt, solver_value = None, None
-    inertia_value = reduced_inertia(ratios, model)
+    inertia_value = reduced_train_inertia(ratios, model)
     volume = gear_volume(ratios, stages, input_torque)
     model_value = volume if objective == "min_volume" and volume is not None else inertia_value
     checks = SplitChecks(model_value, abs(float(np.prod(ratios)) / total - 1), kkt)
