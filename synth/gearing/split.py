@@ -370,8 +370,9 @@ def split_ratio(
         elapsed = solve_gp(problem, time_limit_s)
         assert u.value is not None
         # Clarabel meets the bounds to its tolerance; pull the answer onto them so reported ratios are admissible.
-        ratios = np.clip(np.asarray(u.value, dtype=float), [s.ratio_min for s in stages],
-                         [s.ratio_max for s in stages])
+        lo, hi = np.array([s.ratio_min for s in stages]), np.array([s.ratio_max for s in stages])
+        ratios = np.clip(np.asarray(u.value, dtype=float), lo, hi)
+        ratios = np.where(np.abs(ratios / hi - 1) < 1e-7, hi, np.where(np.abs(ratios / lo - 1) < 1e-7, lo, ratios))
         # Fixed stages are equalities the solver meets to its tolerance; report them exactly.
         ratios = np.array([s.ratio if s.ratio is not None else r for s, r in zip(stages, ratios, strict=True)])
         solver, status, solver_value = "clarabel", str(problem.status), float(problem.value)

@@ -1,0 +1,71 @@
+"""Drive design: POST /v1/gears/split, /v1/gears/teeth, /v1/gears/drive; the stage-type table and motor catalogue."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+import synth
+
+from ..deps import SettingsDep, SolverGateDep
+from ..schemas.gearing import (
+    DriveIn,
+    DriveOut,
+    MotorOut,
+    SplitIn,
+    SplitOut,
+    StageTypeOut,
+    TeethIn,
+    TeethOut,
+)
+
+router = APIRouter(prefix="/gears", tags=["gearing"])
+
+
+@router.post("/split", response_model=SplitOut)
+def split(body: SplitIn, settings: SettingsDep, gate: SolverGateDep) -> SplitOut:
+    """Split the total ratio between the stages: minimum reduced inertia or gear volume (geometric programs,
+    global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
+    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
+    result = gate.run(
+        synth.split_ratio, body.ratio(), stages, body.objective,
+        inertia=body.inertia_model(body.motor_inertia_kgm2), input_torque=body.input_torque_Nm,
+        handbook_factor=body.handbook_factor, snap_r20=body.snap_r20, snap_tolerance=body.snap_tolerance,
+        time_limit_s=settings.solver_time_limit_s,
+    )
+    return SplitOut.from_engine(result, stages)
+
+
+@router.post("/teeth", response_model=TeethOut)
+def teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut:
+    """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
+    teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
+    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
+    result = gate.run(synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
+    return TeethOut.from_engine(result)
+
+
+@router.post("/drive", response_model=DriveOut)
+def drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut:
+    """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
+    inertia reduced to the motor shaft."""
+    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
+    result = gate.run(
+        synth.design_drive, body.output_power_W, body.output_speed(), stages,
+        reserve_factor=body.reserve_factor, drive_efficiency=body.drive_efficiency,
+        synchronous_speed=body.synchronous_speed(), motor=body.motor, objective=body.objective,
+        torque_basis=body.torque_basis, inertia=body.inertia_model(), snap_r20=body.snap_r20,
+        snap_tolerance=body.snap_tolerance, time_limit_s=settings.solver_time_limit_s,
+    )
+    return DriveOut.from_engine(result, stages)
+
+
+@router.get("/stage-types", response_model=list[StageTypeOut])
+def stage_types() -> list[StageTypeOut]:
+    """The shipped stage-type table: admissible ratio ranges, efficiencies, sizing constants."""
+    return [StageTypeOut.from_engine(t) for t in synth.stage_types().values()]
+
+
+@router.get("/motors", response_model=list[MotorOut])
+def motors() -> list[MotorOut]:
+    """The shipped motor catalogue, ascending in rated power."""
+    return [MotorOut.from_engine(m) for m in synth.motor_catalogue()]

@@ -1,0 +1,386 @@
+"""Schemas of the drive-design endpoints: POST /v1/gears/split, /v1/gears/teeth, /v1/gears/drive."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+import synth
+
+from .common import StrictModel
+
+RPM = math.pi / 30.0
+
+
+class StageIn(StrictModel):
+    """A stage of the layout: a type from the table (GET /v1/gears/stage-types) with optional overrides."""
+
+    type: str = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.")
+    ratio_min: float | None = Field(None, gt=0, description="Smallest admissible stage ratio [-].")
+    ratio_max: float | None = Field(None, gt=0, description="Largest admissible stage ratio [-].")
+    efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
+    ratio: float | None = Field(None, gt=0, description="Fixed stage ratio (a standard ratio, say) [-].")
+
+    def to_spec(self) -> synth.StageSpec:
+        """Engine stage spec."""
+        return synth.StageSpec(self.type, self.ratio_min, self.ratio_max, self.efficiency, self.ratio)
+
+
+StagesIn = Annotated[int, Field(ge=1)] | list[str | StageIn]
+
+
+def _specs(stages: int | list[str | StageIn]) -> int | list[synth.StageSpec | str]:
+    return stages if isinstance(stages, int) else [s if isinstance(s, str) else s.to_spec() for s in stages]
+
+
+class _InertiaFields(StrictModel):
+    pinion_inertia_kgm2: float = Field(1e-3, gt=0, description="Inertia of every pinion [kg·m²]; a gear of stage "
+                                       "ratio u has u⁴ times it (same module and face width).")
+    load_inertia_kgm2: float = Field(0.0, ge=0, description="Inertia on the output shaft [kg·m²].")
+    shaft_inertias_kgm2: list[float] | None = Field(
+        None, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
+
+    def inertia_model(self, motor_inertia_kgm2: float = 0.0) -> synth.InertiaModel:
+        """Engine reduced-inertia model data."""
+        return synth.InertiaModel(self.pinion_inertia_kgm2, self.load_inertia_kgm2,
+                                  tuple(self.shaft_inertias_kgm2 or ()), motor_inertia_kgm2)
+
+
+class SplitIn(_InertiaFields):
+    """A total ratio (or the motor and output speeds) to split between the stages."""
+
+    total_ratio: float | None = Field(None, gt=0, description="Motor speed over output speed [-].")
+    motor_speed_rpm: float | None = Field(None, gt=0)
+    output_speed_rpm: float | None = Field(None, gt=0)
+    motor_speed_rad_s: float | None = Field(None, gt=0)
+    output_speed_rad_s: float | None = Field(None, gt=0)
+    stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
+                             "side first.")
+    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
+    motor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia, added on the motor shaft [kg·m²].")
+    input_torque_Nm: float = Field(1.0, gt=0, description="Motor-shaft torque for the volume model [N·m]; "
+                                   "scales the volume, not the split.")
+    handbook_factor: float = Field(0.88, gt=0, description="Handbook rule: slow stage = factor * sqrt(U).")
+    snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
+    snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
+                                         "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"total_ratio": 12.5, "stages": 2, "objective": "min_inertia", "snap_r20": True},
+        {"motor_speed_rpm": 1460, "output_speed_rpm": 30, "stages": ["helical", "helical", "spur"],
+         "objective": "min_volume", "input_torque_Nm": 50},
+        {"total_ratio": 17, "stages": [{"type": "bevel", "ratio": 3}, "open_spur"], "objective": "handbook"},
+    ]})
+
+    @model_validator(mode="after")
+    def _one_ratio(self) -> SplitIn:
+        given = [self.total_ratio is not None,
+                 self.motor_speed_rpm is not None or self.motor_speed_rad_s is not None,
+                 self.output_speed_rpm is not None or self.output_speed_rad_s is not None]
+        if given[0] == (given[1] or given[2]) or (not given[0] and not all(given[1:])):
+            raise ValueError("give total_ratio, or a motor speed and an output speed (rpm or rad/s)")
+        if self.motor_speed_rpm is not None and self.motor_speed_rad_s is not None:
+            raise ValueError("give the motor speed once, in rpm or in rad/s")
+        if self.output_speed_rpm is not None and self.output_speed_rad_s is not None:
+            raise ValueError("give the output speed once, in rpm or in rad/s")
+        return self
+
+    def ratio(self) -> float:
+        """The total ratio, from the speeds when it is not given."""
+        if self.total_ratio is not None:
+            return self.total_ratio
+        motor = self.motor_speed_rad_s if self.motor_speed_rpm is None else self.motor_speed_rpm * RPM
+        output = self.output_speed_rad_s if self.output_speed_rpm is None else self.output_speed_rpm * RPM
+        assert motor is not None and output is not None
+        return synth.total_ratio(motor, output)
+
+    def stage_specs(self) -> int | list[synth.StageSpec | str]:
+        """Engine stage specs."""
+        return _specs(self.stages)
+
+
+class StageOut(BaseModel):
+    """A stage as used: type, admissible range and efficiency."""
+
+    type: str
+    ratio_min: float
+    ratio_max: float
+    efficiency: float
+    fixed_ratio: float | None = None
+
+    @classmethod
+    def from_engine(cls, s: synth.Stage) -> StageOut:
+        """Schema from an engine stage."""
+        return cls(type=s.type, ratio_min=s.ratio_min, ratio_max=s.ratio_max, efficiency=s.efficiency,
+                   fixed_ratio=s.ratio)
+
+
+class SplitChecksOut(BaseModel):
+    """Independent checks of a split."""
+
+    objective_model: float = Field(description="The objective re-evaluated with the plain model at the answer.")
+    ratio_product_error: float = Field(description="|prod(stage_ratios)/total_ratio - 1|.")
+    kkt_residual: float | None = Field(description="Largest violation of the first-order optimality conditions "
+                                       "(finite differences of the plain model, relative); null for the handbook "
+                                       "rule or snapped ratios.")
+
+
+class SplitOut(BaseModel):
+    """Stage ratios, motor side first, with the objective and both model figures."""
+
+    total_ratio: float
+    objective: str
+    stage_ratios: list[float]
+    continuous_ratios: list[float] = Field(description="The optimum before R20 snapping.")
+    objective_value: float
+    objective_unit: str
+    reduced_inertia_kgm2: float = Field(description="Train inertia on the motor shaft at these ratios.")
+    gear_volume_m3: float | None = Field(description="Pinion and gear volume sized for contact stress; null when "
+                                         "a stage type has no sizing rule.")
+    stages: list[StageOut]
+    snapped: bool
+    snap_tolerance: float | None
+    solver: str
+    solver_status: str
+    solve_time_s: float
+    checks: SplitChecksOut
+    warnings: list[str]
+
+    @classmethod
+    def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
+        """Schema from an engine split."""
+        return cls(
+            total_ratio=r.total_ratio, objective=r.objective, stage_ratios=list(r.stage_ratios),
+            continuous_ratios=list(r.continuous_ratios), objective_value=r.objective_value,
+            objective_unit="m3" if r.objective == "min_volume" else "kgm2",
+            reduced_inertia_kgm2=r.reduced_inertia, gear_volume_m3=r.gear_volume,
+            stages=[StageOut.from_engine(s) for s in stages], snapped=r.snapped, snap_tolerance=r.snap_tolerance,
+            solver=r.solver, solver_status=r.solver_status, solve_time_s=r.solve_time,
+            checks=SplitChecksOut(objective_model=r.checks.objective_model,
+                                  ratio_product_error=r.checks.ratio_product_error,
+                                  kkt_residual=r.checks.kkt_residual),
+            warnings=list(r.warnings),
+        )
+
+
+class TeethIn(StrictModel):
+    """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
+
+    total_ratio: float = Field(gt=0, description="Target ratio of the train [-].")
+    stages: StagesIn = Field(2, description="A count of spur stages, or a list of toothed stage types or stages "
+                             "with ratio ranges, motor side first.")
+    min_teeth: int | None = Field(None, ge=1, description="Your bound on every wheel; replaces the undercut limit, "
+                                  "which then only warns.")
+    max_teeth: int = Field(100, ge=2)
+    tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
+                                    "teeth within it; else the closest ratio.")
+    pressure_angle_deg: float = Field(20.0, gt=0, lt=90)
+    addendum_coefficient: float = Field(1.0, gt=0)
+    profile_shift: float = Field(0.0, description="Shift x on the smaller wheel of each pair, -x on the larger.")
+    hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
+    reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"total_ratio": 17.3, "stages": 2, "max_teeth": 100},
+        {"total_ratio": 12, "stages": 2, "max_teeth": 80, "tolerance": 0.01, "reverted": True, "hunting_teeth": True},
+        {"total_ratio": 6, "stages": ["spur"], "min_teeth": 14, "max_teeth": 120},
+    ]})
+
+    def rules(self) -> synth.ToothRules:
+        """Engine tooth rules (degrees become radians here)."""
+        return synth.ToothRules(math.radians(self.pressure_angle_deg), self.addendum_coefficient,
+                                self.profile_shift, self.min_teeth, self.max_teeth, self.hunting_teeth, self.reverted)
+
+    def stage_specs(self) -> int | list[synth.StageSpec | str]:
+        """Engine stage specs."""
+        return _specs(self.stages)
+
+
+class MeshOut(BaseModel):
+    """One stage's tooth numbers; ratio = gear_teeth / pinion_teeth."""
+
+    pinion_teeth: int
+    gear_teeth: int
+    ratio: float
+
+
+class TeethChecksOut(BaseModel):
+    """A plain enumeration of every combination, run when there are at most a million (else nulls)."""
+
+    enumeration_combinations: int | None
+    enumeration_ratio_error: float | None
+    enumeration_total_teeth: int | None
+    agrees: bool | None
+
+
+class TeethOut(BaseModel):
+    """Tooth numbers, motor side first, with the achieved ratio and how they were found."""
+
+    stages: list[MeshOut]
+    total_ratio: float = Field(description="Achieved ratio.")
+    target_ratio: float
+    ratio_error: float = Field(description="|total_ratio/target_ratio - 1|.")
+    total_teeth: int
+    tolerance: float | None
+    method: str
+    search_time_s: float
+    products_examined: int
+    undercut_limit: float = Field(description="2 (h_a - x)/sin² alpha.")
+    min_pinion_teeth: int
+    min_gear_teeth: int
+    checks: TeethChecksOut
+    warnings: list[str]
+
+    @classmethod
+    def from_engine(cls, r: synth.ToothResult) -> TeethOut:
+        """Schema from an engine tooth result."""
+        c = r.checks
+        return cls(
+            stages=[MeshOut(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio) for m in r.stages],
+            total_ratio=r.total_ratio, target_ratio=r.target_ratio, ratio_error=r.ratio_error,
+            total_teeth=r.total_teeth, tolerance=r.tolerance, method=r.method, search_time_s=r.search_time,
+            products_examined=r.products_examined, undercut_limit=r.undercut_limit,
+            min_pinion_teeth=r.min_pinion_teeth, min_gear_teeth=r.min_gear_teeth,
+            checks=TeethChecksOut(enumeration_combinations=c.enumeration_combinations,
+                                  enumeration_ratio_error=c.enumeration_ratio_error,
+                                  enumeration_total_teeth=c.enumeration_total_teeth, agrees=c.agrees),
+            warnings=list(r.warnings),
+        )
+
+
+class DriveIn(_InertiaFields):
+    """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
+
+    output_power_W: float = Field(gt=0, description="Power the output shaft delivers [W].")
+    output_speed_rpm: float | None = Field(None, gt=0)
+    output_speed_rad_s: float | None = Field(None, gt=0)
+    stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
+                             "side first.")
+    reserve_factor: float = Field(1.1, gt=0, description="xi in P_req = P_out xi / eta.")
+    drive_efficiency: float | None = Field(None, gt=0, le=1, description="eta assumed for the motor choice; "
+                                           "default the product of the stage efficiencies.")
+    synchronous_rpm: float | None = Field(None, gt=0, description="Restrict the motor to one speed class.")
+    motor: str | None = Field(None, description="A catalogue motor by name instead of the automatic choice.")
+    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
+    torque_basis: Literal["load", "rated"] = Field(
+        "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
+    snap_r20: bool = False
+    snap_tolerance: float | None = Field(None, gt=0, lt=1)
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"output_power_W": 20000, "output_speed_rad_s": 9.0, "drive_efficiency": 0.8, "torque_basis": "rated",
+         "stages": [{"type": "bevel", "ratio": 3, "efficiency": 0.931}, {"type": "open_spur", "efficiency": 0.891}]},
+        {"output_power_W": 3000, "output_speed_rpm": 60, "stages": ["helical", "helical"], "load_inertia_kgm2": 2.0},
+    ]})
+
+    @model_validator(mode="after")
+    def _one_speed(self) -> DriveIn:
+        if (self.output_speed_rpm is None) == (self.output_speed_rad_s is None):
+            raise ValueError("give the output speed once, as output_speed_rpm or output_speed_rad_s")
+        return self
+
+    def output_speed(self) -> float:
+        """Output speed [rad/s]."""
+        if self.output_speed_rad_s is not None:
+            return self.output_speed_rad_s
+        assert self.output_speed_rpm is not None
+        return self.output_speed_rpm * RPM
+
+    def synchronous_speed(self) -> float | None:
+        """Synchronous speed class [rad/s], if given."""
+        return None if self.synchronous_rpm is None else self.synchronous_rpm * RPM
+
+    def stage_specs(self) -> int | list[synth.StageSpec | str]:
+        """Engine stage specs."""
+        return _specs(self.stages)
+
+
+class MotorOut(BaseModel):
+    """A catalogue motor."""
+
+    name: str
+    rated_power_W: float
+    synchronous_rpm: float
+    rated_rpm: float
+    rotor_inertia_kgm2: float | None
+
+    @classmethod
+    def from_engine(cls, m: synth.Motor) -> MotorOut:
+        """Schema from an engine motor (rad/s become rpm here)."""
+        return cls(name=m.name, rated_power_W=m.rated_power, synchronous_rpm=round(m.synchronous_speed / RPM, 9),
+                   rated_rpm=round(m.rated_speed / RPM, 9), rotor_inertia_kgm2=m.rotor_inertia)
+
+
+class ShaftOut(BaseModel):
+    """One shaft, motor shaft first."""
+
+    speed_rpm: float
+    speed_rad_s: float
+    power_W: float
+    torque_Nm: float
+    inertia_kgm2: float = Field(description="What the shaft carries (gears, pinion, extra, load, rotor).")
+    reduced_inertia_kgm2: float = Field(description="That inertia reduced to the motor shaft.")
+
+
+class DriveChecksOut(BaseModel):
+    """Independent checks of a drive."""
+
+    power_balance_error: float = Field(description="|T_out w_out - P_0 prod(eta)| / (T_out w_out).")
+    kinetic_energy_J: float = Field(description="Sum of 1/2 J w² over the shafts at rated speed.")
+    reduced_kinetic_energy_J: float = Field(description="1/2 J_red w_motor²; equals kinetic_energy_J.")
+
+
+class DriveOut(BaseModel):
+    """The motor, the split and every shaft."""
+
+    motor: MotorOut
+    required_power_W: float
+    drive_efficiency: float
+    chain_efficiency: float
+    total_ratio: float
+    stage_ratios: list[float]
+    stage_efficiencies: list[float]
+    shafts: list[ShaftOut]
+    reduced_inertia_kgm2: float
+    output_speed_rpm: float
+    torque_basis: str
+    split: SplitOut
+    checks: DriveChecksOut
+    warnings: list[str]
+
+    @classmethod
+    def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
+        """Schema from an engine drive (rad/s become rpm here)."""
+        return cls(
+            motor=MotorOut.from_engine(r.motor), required_power_W=r.required_power,
+            drive_efficiency=r.drive_efficiency, chain_efficiency=r.chain_efficiency, total_ratio=r.total_ratio,
+            stage_ratios=list(r.split.stage_ratios), stage_efficiencies=list(r.stage_efficiencies),
+            shafts=[ShaftOut(speed_rpm=s.speed / RPM, speed_rad_s=s.speed, power_W=s.power, torque_Nm=s.torque,
+                             inertia_kgm2=s.inertia, reduced_inertia_kgm2=s.reduced_inertia) for s in r.shafts],
+            reduced_inertia_kgm2=r.reduced_inertia, output_speed_rpm=r.output_speed / RPM,
+            torque_basis=r.torque_basis, split=SplitOut.from_engine(r.split, stages),
+            checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
+                                  kinetic_energy_J=r.checks.kinetic_energy,
+                                  reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
+            warnings=list(r.warnings),
+        )
+
+
+class StageTypeOut(BaseModel):
+    """A row of the shipped stage-type table."""
+
+    name: str
+    description: str
+    ratio_min: float
+    ratio_max: float
+    efficiency: float
+    toothed: bool
+    volume_coefficient_m3_per_Nm: float | None
+
+    @classmethod
+    def from_engine(cls, t: synth.StageType) -> StageTypeOut:
+        """Schema from an engine stage type."""
+        return cls(name=t.name, description=t.description, ratio_min=t.ratio_min, ratio_max=t.ratio_max,
+                   efficiency=t.efficiency, toothed=t.toothed, volume_coefficient_m3_per_Nm=t.volume_coefficient)
