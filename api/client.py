@@ -16,6 +16,7 @@ import httpx
 from pydantic import BaseModel
 
 from .schemas.analysis import AnalysisIn, AnalysisOut
+from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -134,3 +135,27 @@ class SynthClient:
     def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
         return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+
+    def gears_split(self, body: SplitIn) -> SplitOut:
+        """POST /v1/gears/split: stage ratios (motor side first) for minimum inertia, volume or the handbook rule."""
+        return self._post("/v1/gears/split", body, SplitOut)
+
+    def gears_teeth(self, body: TeethIn) -> TeethOut:
+        """POST /v1/gears/teeth: tooth numbers of the whole train by an exact search."""
+        return self._post("/v1/gears/teeth", body, TeethOut)
+
+    def gears_drive(self, body: DriveIn) -> DriveOut:
+        """POST /v1/gears/drive: motor choice, ratio split, every shaft's speed, power, torque and inertia."""
+        return self._post("/v1/gears/drive", body, DriveOut)
+
+    def gears_stage_types(self) -> list[StageTypeOut]:
+        """GET /v1/gears/stage-types: the shipped stage-type table."""
+        response = self.http.get("/v1/gears/stage-types")
+        self._raise_for_problem(response)
+        return [StageTypeOut.model_validate(row) for row in response.json()]
+
+    def gears_motors(self) -> list[MotorOut]:
+        """GET /v1/gears/motors: the shipped motor catalogue."""
+        response = self.http.get("/v1/gears/motors")
+        self._raise_for_problem(response)
+        return [MotorOut.model_validate(row) for row in response.json()]

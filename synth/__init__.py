@@ -47,6 +47,7 @@ from .gearing import (
     stage_types,
     tooth_numbers,
     total_ratio,
+    train_ratio,
     undercut_limit,
 )
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
@@ -117,6 +118,7 @@ __all__ = [
     "stage_types",
     "tooth_numbers",
     "total_ratio",
+    "train_ratio",
     "undercut_limit",
     "virtual_power_torque",
 ]

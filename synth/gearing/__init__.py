@@ -23,6 +23,7 @@ from .teeth import (
     enumerate_tooth_numbers,
     interference_limit,
     tooth_numbers,
+    train_ratio,
     undercut_limit,
 )
 
@@ -32,5 +33,5 @@ __all__ = [
     "chain_efficiency", "default_snap_tolerance", "design_drive", "enumerate_tooth_numbers", "find_motor",
     "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",
     "reduced_train_inertia", "select_motor", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
-    "undercut_limit",
+    "train_ratio", "undercut_limit",
 ]

@@ -130,6 +130,21 @@ def interference_limit(small_teeth: int | IntArray, pressure_angle: float, adden
         return np.where(den > 0, num / np.where(den > 0, den, 1.0), np.inf)
 
 
+def train_ratio(meshes: Sequence[tuple[int, int]], external_meshes: int | None = None) -> float:
+    """Ratio w_in/w_out of a serial train of (driving, driven) tooth pairs [-] (seed 004:570-590).
+
+    The magnitude is the product of driven over driving teeth; with ``external_meshes`` k given, the sign is
+    (-1)^k (negative: the output turns the other way). Idlers appear as two pairs and cancel.
+    """
+    if not meshes:
+        raise InvalidInput("a train needs at least one mesh", field="meshes")
+    for i, (zp, zg) in enumerate(meshes):
+        if zp < 1 or zg < 1:
+            raise InvalidInput(f"tooth numbers must be positive, got ({zp}, {zg})", field=f"meshes[{i}]")
+    magnitude = math.prod(zg / zp for zp, zg in meshes)
+    return magnitude if external_meshes is None else (-1) ** external_meshes * magnitude
+
+
 def _wheel_minimums(rules: ToothRules) -> tuple[int, int]:
     if rules.min_teeth is not None:
         return rules.min_teeth, rules.min_teeth
