@@ -10,9 +10,9 @@ Method: an exhaustive search that is provably complete, vectorised with NumPy (n
 2. Pairs with the same ratio are interchangeable but for their tooth count, so each stage keeps one pair per
    reduced fraction, the one with the fewest teeth. Stages whose ratio range cannot meet the target window
    given the others' extreme ratios are pruned by those bounds.
-3. Meet in the middle: the stages are split into two halves; each half's products are enumerated exactly as
-   reduced integer fractions (duplicates again keep the fewest teeth), one half is sorted, and every product of
-   the other half is matched by binary search. Closest mode takes the two neighbours of U/a; tolerance mode
+3. Meet in the middle: the stages are split into two halves; each half's products are enumerated (pruned to
+   those that can still reach the target window), one half is sorted, and every product of the other half is
+   matched by binary search. Closest mode takes the two neighbours of U/a; tolerance mode
    takes the fewest-teeth product inside the window with a sparse-table range minimum.
 4. Reverted (coaxial) trains need equal tooth sums z1 + z2 = z3 + z4 = S (same module, equal centre distances):
    the search runs once per S, ascending.
@@ -215,27 +215,41 @@ def _dedupe(num: IntArray, den: IntArray, teeth: IntArray, idx: IntArray) -> _Se
     return _Set(num[first], den[first], teeth[first], idx[first])
 
 
-def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[float, float]]) -> tuple[_Set, int]:
-    """All products of ``sets`` whose ratio, times what the remaining stages ``rest`` reach, can land in [lo, hi]."""
-    acc = _Set(np.ones(1, np.int64), np.ones(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 0), np.int64))
+@dataclass(frozen=True, slots=True)
+class _Half:
+    """Products of some stages: float ratio, tooth count, flat index into those stages' candidate grid."""
+
+    ratio: FloatArray
+    teeth: IntArray
+    flat: IntArray
+    sizes: tuple[int, ...]
+
+    def pick(self, row: int) -> list[int]:
+        return [int(i) for i in np.unravel_index(int(self.flat[row]), self.sizes)] if self.sizes else []
+
+
+def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[float, float]]) -> tuple[_Half, int]:
+    """All products of ``sets`` whose ratio, times what the remaining stages ``rest`` reach, can land in [lo, hi].
+
+    Products are kept as floats (three factors at most carry ~1e-15 relative error, far below the 1e-12 tie
+    rule) with their position in the stages' grid, so no duplicate needs removing.
+    """
+    ratio, teeth, flat = np.ones(1), np.zeros(1, np.int64), np.zeros(1, np.int64)
     examined = 0
     for k, s in enumerate(sets):
-        size = len(acc.num) * len(s.num)
+        size = len(ratio) * len(s.num)
         if size > MAX_PRODUCTS:
             raise TooLarge("tooth search partial products (narrow max_teeth, the stage ranges or the tolerance)",
                            MAX_PRODUCTS, size)
         examined += size
-        num = (acc.num[:, None] * s.num[None, :]).ravel()
-        den = (acc.den[:, None] * s.den[None, :]).ravel()
-        teeth = (acc.teeth[:, None] + s.teeth[None, :]).ravel()
-        idx = np.concatenate([np.repeat(acc.idx, len(s.num), axis=0),
-                              np.tile(np.arange(len(s.num)), len(acc.num))[:, None]], axis=1)
+        ratio = (ratio[:, None] * s.ratio[None, :]).ravel()
+        teeth = (teeth[:, None] + s.teeth[None, :]).ravel()
+        flat = (flat[:, None] * len(s.num) + np.arange(len(s.num))[None, :]).ravel()
         r_lo = math.prod(r[0] for r in rest[k + 1:])
         r_hi = math.prod(r[1] for r in rest[k + 1:])
-        ratio = num / den
         keep = (ratio * r_hi >= lo * (1 - 1e-12)) & (ratio * r_lo <= hi * (1 + 1e-12))
-        acc = _dedupe(num[keep], den[keep], teeth[keep], idx[keep])
-    return acc, examined
+        ratio, teeth, flat = ratio[keep], teeth[keep], flat[keep]
+    return _Half(ratio, teeth, flat, tuple(len(s.num) for s in sets)), examined
 
 
 def _range_min(values: IntArray, lo: IntArray, hi: IntArray) -> IntArray:
@@ -253,16 +267,16 @@ def _range_min(values: IntArray, lo: IntArray, hi: IntArray) -> IntArray:
     return out
 
 
-def _meet(a: _Set, b: _Set, target: float, tolerance: float | None,
-          window: float = math.inf) -> tuple[float, int, IntArray] | None:
+def _meet(a: _Half, b: _Half, target: float, tolerance: float | None,
+          window: float = math.inf) -> tuple[float, int, list[int]] | None:
     """Best (error, teeth, per-stage indices) over products a*b; None when nothing qualifies.
 
     In closest mode (no tolerance) only errors up to ``window`` count: the halves were pruned to that window.
     """
-    if len(a.num) == 0 or len(b.num) == 0:
+    if len(a.ratio) == 0 or len(b.ratio) == 0:
         return None
     order = np.argsort(b.ratio, kind="stable")
-    br, bt, bidx = b.ratio[order], b.teeth[order], b.idx[order]
+    br, bt = b.ratio[order], b.teeth[order]
     ar = a.ratio
     if tolerance is None:
         j = np.searchsorted(br, target / ar)
@@ -287,7 +301,7 @@ def _meet(a: _Set, b: _Set, target: float, tolerance: float | None,
         keep = err <= best + TIE
         ai, bi, err, teeth = ai[keep], bi[keep], err[keep], teeth[keep]
         k = int(np.lexsort((err, teeth))[0])
-        return float(err[k]), int(teeth[k]), np.concatenate([a.idx[ai[k]], bidx[bi[k]]])
+        return float(err[k]), int(teeth[k]), a.pick(int(ai[k])) + b.pick(int(order[bi[k]]))
     if len(br) > MAX_TABLE:
         raise TooLarge("tooth search table (narrow max_teeth or the stage ranges)", MAX_TABLE, len(br))
     fewest = a.teeth[has] + _range_min(bt, lo[has], hi[has])
@@ -308,7 +322,7 @@ def _meet(a: _Set, b: _Set, target: float, tolerance: float | None,
             if np.isfinite(err[i]) and (best_k is None or err[i] < best_k[0]):
                 best_k = (float(err[i]), int(rows[i]), int(pos[jj[i]]))
     assert best_k is not None
-    return best_k[0], t_best, np.concatenate([a.idx[best_k[1]], bidx[best_k[2]]])
+    return best_k[0], t_best, a.pick(best_k[1]) + b.pick(int(order[best_k[2]]))
 
 
 def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | None) -> list[tuple[IntArray, IntArray]]:
@@ -331,47 +345,40 @@ def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance
     Closest mode first searches narrow windows around the target, widening tenfold until one holds a product:
     a best found inside a window is the global best, since everything better lies inside it too.
     """
-    if tolerance is not None:
-        return _search_window(pairs, target, tolerance, deduped, tolerance)
+    sets = [_dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else
+            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]) for zp, zg in pairs]
+    if any(len(s.num) == 0 for s in sets):
+        return None, 0
+    windows = [tolerance] if tolerance is not None else [1e-5, 1e-4, 1e-3, 1e-2, 1e-1, math.inf]
     examined = 0
-    for window in (1e-5, 1e-4, 1e-3, 1e-2, 1e-1, math.inf):
-        found, work = _search_window(pairs, target, None, deduped, window)
+    for window in windows:
+        found, work = _search_window(sets, target, tolerance, window)
         examined += work
         if found is not None:
-            return found, examined
+            err, teeth, picks = found
+            rows = [int(s.idx[i, 0]) for s, i in zip(sets, picks, strict=True)]
+            chosen = [(int(zp[r]), int(zg[r])) for (zp, zg), r in zip(pairs, rows, strict=True)]
+            return (err, teeth, chosen), examined
     return None, examined
 
 
-def _search_window(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance: float | None,
-                   deduped: bool, window: float) -> tuple[tuple[float, int, list[tuple[int, int]]] | None, int]:
-    sets = []
-    for zp, zg in pairs:
-        ds = _dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else \
-            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None])
-        sets.append(ds)
-    if any(len(s.num) == 0 for s in sets):
-        return None, 0
+def _search_window(sets: Sequence[_Set], target: float, tolerance: float | None,
+                   window: float) -> tuple[tuple[float, int, list[int]] | None, int]:
     bounds = [(float(s.ratio.min()), float(s.ratio.max())) for s in sets]
     pad = window + 4 * TIE
     lo, hi = target * max(0.0, 1 - pad), target * (1 + pad)
     n = len(sets)
     k = n // 2
     # The first k stages form the sorted (table) half; the rest are matched against it.
-    b_half, w1 = _combine(sets[:k], lo, hi, bounds[:k] + bounds[k:]) if k else (
-        _Set(np.ones(1, np.int64), np.ones(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 0), np.int64)), 0)
+    b_half, w1 = _combine(sets[:k], lo, hi, bounds[:k] + bounds[k:])
     a_half, w2 = _combine(sets[k:], lo, hi, bounds[k:] + [(math.prod(b[0] for b in bounds[:k]),
                                                             math.prod(b[1] for b in bounds[:k]))])
     found = _meet(a_half, b_half, target, tolerance, window)
     if found is None:
         return None, w1 + w2
-    err, teeth, idx = found
-    # _meet puts the matched half (later stages) first.
-    order = list(idx[n - k:]) + list(idx[: n - k])
-    chosen = []
-    for stage_i, (s, (zp, zg)) in enumerate(zip(sets, pairs, strict=True)):
-        row = int(s.idx[int(order[stage_i]), 0])
-        chosen.append((int(zp[row]), int(zg[row])))
-    return (err, teeth, chosen), w1 + w2
+    err, teeth, picks = found
+    # _meet lists the matched half (stages k..n-1) first.
+    return (err, teeth, picks[n - k:] + picks[: n - k]), w1 + w2
 
 
 def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules,
