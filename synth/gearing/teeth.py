@@ -510,7 +510,8 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
         checks = ToothChecks(ref[3], ref[0], ref[1], agrees)
     min_small, min_large = _wheel_minimums(rules)
     return ToothResult(meshes, achieved, target, abs(achieved / target - 1), teeth, tolerance,
-                       "exhaustive search (meet in the middle over exact reduced fractions), provably complete",
+                       "exhaustive search, provably complete: per-stage pairs deduplicated by reduced "
+                       "fraction, meet in the middle over the two halves' products",
                        elapsed, examined,
                        undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift),
                        min_small, min_large, checks, tuple(warnings))
