@@ -6,6 +6,7 @@ from typing import Annotated, Any, Literal
 
 from fastapi import Query, Request
 from fastapi.responses import Response
+from pydantic import BaseModel
 
 FormatQuery = Annotated[
     Literal["json", "png"] | None,
@@ -23,6 +24,15 @@ def wants_png(request: Request, fmt: str | None) -> bool:
         return fmt == "png"
     accept = request.headers.get("accept", "")
     return "image/png" in accept and "application/json" not in accept
+
+
+def json_response(model: BaseModel) -> Response:
+    """Serialise a response model built from engine arrays straight to JSON.
+
+    FastAPI would validate a returned model against ``response_model`` again; for arrays of thousands of
+    floats built by the engine that second pass costs more than the analysis itself.
+    """
+    return Response(content=model.model_dump_json(), media_type="application/json")
 
 
 def png(content: bytes) -> Response:

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from .dynamics import ReducedModel, reduced_model
-from .errors import TooLarge
+from .errors import InvalidInput, TooLarge
 from .kinematics import FourBar, MAX_SAMPLES, Motion, cycle_angles, motion, transmission_angle
 from .kinetostatics import Kinetostatics, solve_direct, virtual_power_torque
 from .model import FloatArray, Linkage
@@ -90,10 +91,13 @@ def analyse(
     phi: FloatArray | None = None,
     crank_acceleration: float = 0.0,
     max_samples: int = MAX_SAMPLES,
+    points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
 ) -> Analysis:
     """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
 
-    Raises InvalidInput, TooLarge (more samples than ``max_samples``) or NotAssemblable (with the ranges).
+    ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
+    coupler points, to the motion. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
+    NotAssemblable (with the ranges).
     """
     if phi is None:
         angles = cycle_angles(samples, 2 * math.pi, max_samples)
@@ -102,8 +106,15 @@ def analyse(
         if angles.size > max_samples:
             raise TooLarge("crank angles", max_samples, angles.size)
     base = motion(linkage.mechanism, angles, speed, crank_acceleration)
-    coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in linkage.mechanism.topology.links}
-    mot = base.with_points(coms)
+    links = linkage.mechanism.topology.links
+    extra = dict(points or {})
+    for name, (link, _) in extra.items():
+        if link not in links:
+            raise InvalidInput(f"point {name!r} is on unknown link {link!r}; links are {list(links)}", field="trace_points")
+        if name in base.point_pos:
+            raise InvalidInput(f"point name {name!r} is already a joint of the mechanism", field="trace_points")
+    coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in links}
+    mot = base.with_points({**coms, **extra})
     return Analysis(
         linkage=linkage,
         motion=mot,

@@ -11,7 +11,7 @@ import synth
 from synth.plots import analysis_png
 
 from ..deps import SettingsDep
-from ..media import PNG_RESPONSES, FormatQuery, png, wants_png
+from ..media import PNG_RESPONSES, FormatQuery, json_response, png, wants_png
 from ..schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 
 router = APIRouter(tags=["analysis"])
@@ -24,7 +24,7 @@ def analysis(
     settings: SettingsDep,
     format: FormatQuery = None,
     angle_deg: Annotated[float | None, Query(description="Crank angle of the mechanism drawing [deg].")] = None,
-) -> AnalysisOut | Response:
+) -> Response:
     """Positions, velocities, accelerations, joint reactions, driving torque, shaking force and moment,
     and the reduced model of a linkage over one crank revolution, with the virtual-power check."""
     result = synth.analyse(
@@ -34,7 +34,8 @@ def analysis(
         phi=body.phi(),
         crank_acceleration=body.crank_acceleration_rad_s2,
         max_samples=settings.max_samples,
+        points=body.trace(),
     )
     if wants_png(request, format):
         return png(analysis_png(result, plot_angle(body, angle_deg)))
-    return AnalysisOut.from_engine(result)
+    return json_response(AnalysisOut.from_engine(result))

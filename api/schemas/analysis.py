@@ -9,11 +9,27 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, SummaryOut
+from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
+
+
+class TracePointIn(StrictModel):
+    """A named point fixed in a link (a coupler point, a tool tip) whose motion is reported."""
+
+    name: str = Field(min_length=1, max_length=40)
+    link: str
+    position_m: Vec2 = Field(description="Position in the link frame [m].")
 
 
 class AnalysisIn(LinkageRequest):
     """A linkage, its speed, loads and optional counterweights, to analyse over one crank revolution."""
+
+    trace_points: list[TracePointIn] = Field(
+        default_factory=list, max_length=20, description="Extra points to report, e.g. coupler points."
+    )
+
+    def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
+        """Trace points as the engine takes them: name -> (link, position in the link frame)."""
+        return {p.name: (p.link, (p.position_m[0], p.position_m[1])) for p in self.trace_points}
 
     model_config = ConfigDict(
         json_schema_extra={
@@ -88,11 +104,16 @@ class AnalysisOut(BaseModel):
 
     @classmethod
     def from_engine(cls, an: synth.Analysis) -> AnalysisOut:
-        """Schema from an engine analysis (radians become degrees here)."""
+        """Schema from an engine analysis (radians become degrees here).
+
+        Built without re-validating the engine's arrays (they are float arrays by construction), after one
+        check that nothing non-finite would reach the response.
+        """
         m, k, r = an.motion, an.kinetostatics, an.reduced
+        ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
         mech = an.linkage.mechanism
         tau = an.transmission_angle
-        return cls(
+        return cls.model_construct(
             crank_angle_deg=np.degrees(m.phi).tolist(),
             driving_torque_Nm=k.driving_torque.tolist(),
             virtual_power_torque_Nm=an.virtual_power_torque.tolist(),
@@ -105,7 +126,7 @@ class AnalysisOut(BaseModel):
             joint_reactions_N={name: v.tolist() for name, v in k.reactions.items()},
             prismatic_couples_Nm={name: v.tolist() for name, v in k.couples.items()},
             links={
-                name: LinkMotionOut(
+                name: LinkMotionOut.model_construct(
                     angle_deg=np.degrees(m.link_angle[name]).tolist(),
                     angular_velocity_rad_s=m.link_omega[name].tolist(),
                     angular_acceleration_rad_s2=m.link_alpha[name].tolist(),
@@ -113,7 +134,7 @@ class AnalysisOut(BaseModel):
                 for name in mech.topology.links
             },
             points={
-                name: PointOut(
+                name: PointOut.model_construct(
                     position_m=m.point_pos[name].tolist(),
                     velocity_m_s=m.point_vel[name].tolist(),
                     acceleration_m_s2=m.point_acc[name].tolist(),
@@ -123,7 +144,7 @@ class AnalysisOut(BaseModel):
             transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
             grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
-            checks=ChecksOut(virtual_power_torque_max_diff_Nm=an.torque_check),
+            checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
         )
 
 

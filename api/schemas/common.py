@@ -266,6 +266,13 @@ class LinkageRequest(StrictModel):
         )
 
 
+def ensure_finite(*arrays: np.ndarray) -> None:
+    """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
+    for a in arrays:
+        if not np.all(np.isfinite(a)):
+            raise RuntimeError("non-finite value in an engine result")
+
+
 class SummaryOut(BaseModel):
     """RMS over the samples and peak absolute values of the frame loads and the driving torque."""
 
