@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics import ReducedModel
-from ..errors import InvalidInput
+from ..errors import InvalidInput, TooLarge
+from ..kinematics import MAX_SAMPLES
 from ..model import FloatArray
 
 
@@ -126,6 +127,7 @@ def cycle_from_tables(
     driving_torque: Sequence[float] | None = None,
     resisting_torque: Sequence[float] | None = None,
     period: float = 2 * math.pi,
+    max_samples: int = MAX_SAMPLES,
 ) -> ReducedCycle:
     """A reduced cycle from tables over crank angle.
 
@@ -141,8 +143,12 @@ def cycle_from_tables(
         ``driving_torque`` and ``resisting_torque`` [N·m] (resisting ones negative, as the seeds tabulate them).
     period
         Cycle length [rad]: 2π, or 4π for a four-stroke engine.
+    max_samples
+        Largest table accepted (TooLarge beyond).
     """
     phi = np.asarray(crank_angle, dtype=float)
+    if phi.size > max_samples:
+        raise TooLarge("table rows", max_samples, phi.size)
     field = "tables.crank_angle_deg"
     if phi.ndim != 1 or phi.size < 3:
         raise InvalidInput("crank_angle_deg needs at least three angles", field=field)

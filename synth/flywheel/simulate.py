@@ -42,6 +42,11 @@ class SpeedProfile:
         """(w_max + w_min)/2 [rad/s]."""
         return 0.5 * (self.omega_max + self.omega_min)
 
+    def thinned(self, points: int = 721) -> tuple[FloatArray, FloatArray]:
+        """At most ``points`` of the dense (angle [rad], speed [rad/s]) pairs, evenly picked, ends kept."""
+        keep = np.unique(np.linspace(0, self.phi.size - 1, min(points, self.phi.size)).round().astype(int))
+        return self.phi[keep], self.omega[keep]
+
 
 def _profile(phi: FloatArray, omega: FloatArray, stalls: bool = False) -> SpeedProfile:
     lo, hi = float(omega.min()), float(omega.max())
