@@ -5,7 +5,7 @@ from .geometry import FlywheelBody, FlywheelDesign, GeometrySpec, PlacementMiss,
 from .machine_types import MachineType, admissible_delta, machine_types
 from .motor import Motor, MotorSizing, ReducedMotor, motor_constant_inertia, motor_speed_limits
 from .problem import FlywheelResult, MethodResult, size_flywheel
-from .simulate import SpeedProfile, steady_speed, steady_speed_motor
+from .simulate import SpeedProfile, speed_fluctuation, steady_speed, steady_speed_motor
 from .sizing import (
     Tangents,
     energy_extremes,
@@ -45,6 +45,7 @@ __all__ = [
     "rim_diameter",
     "size_flywheel",
     "speed_band",
+    "speed_fluctuation",
     "steady_speed",
     "steady_speed_motor",
     "wittenbauer_tangents",

@@ -48,9 +48,23 @@ class SpeedProfile:
         return self.phi[keep], self.omega[keep]
 
 
+def speed_fluctuation(omega: FloatArray) -> tuple[float, float, float]:
+    """w_min, w_max [rad/s] and delta = (w_max - w_min)/w_mean with w_mean = (w_max + w_min)/2 of speeds [rad/s].
+
+    Notes
+    -----
+    The seeds' definition (003:433-445).
+    """
+    w = np.asarray(omega, dtype=float)
+    lo, hi = float(w.min()), float(w.max())
+    if not lo >= 0 or not hi > 0:
+        raise InvalidInput("speeds must be non-negative and not all zero", field="omega")
+    return lo, hi, (hi - lo) / (0.5 * (hi + lo))
+
+
 def _profile(phi: FloatArray, omega: FloatArray, stalls: bool = False) -> SpeedProfile:
-    lo, hi = float(omega.min()), float(omega.max())
-    return SpeedProfile(phi, omega, lo, hi, 2.0 if stalls else (hi - lo) / (0.5 * (hi + lo)), stalls)
+    lo, hi, delta = speed_fluctuation(omega)
+    return SpeedProfile(phi, omega, lo, hi, 2.0 if stalls else delta, stalls)
 
 
 def _total_inertia(inertia: FloatArray, constant_inertia: float) -> FloatArray:

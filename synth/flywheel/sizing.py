@@ -79,12 +79,13 @@ def exact_constant_inertia(cycle: ReducedCycle, mean_speed: float, delta: float)
 def mertsalov_constant_inertia(cycle: ReducedCycle, mean_speed: float, delta: float) -> float:
     """Mertsalov's approximation [kg·m²]: the variable group's energy at the mean speed taken off the work.
 
-    J_c = [max - min of (A - J·w_m²/2)] / (delta·w_m²). Exact for constant J; for variable J its error is of
-    order delta.
+    The variable group II is J_red less its mean, its kinetic energy taken at w_m; the mean of J_red joins the
+    constant group I: J_c = [max - min of (A - J_red·w_m²/2)] / (delta·w_m²) - mean J_red. Exact for constant
+    J; for variable J it errs by about the variation of J_red between the extremes of the speed.
     """
     speed_band(mean_speed, delta)
     hi, lo = energy_extremes(cycle, 0.5 * mean_speed**2)
-    return (hi - lo) / (delta * mean_speed**2)
+    return (hi - lo) / (delta * mean_speed**2) - cycle.mean_inertia
 
 
 def energy_method_constant_inertia(
