@@ -91,6 +91,7 @@ def test_unequal_tables_name_the_field(client: SynthClient) -> None:
         ({"delta": None}, "delta"),
         ({"mechanism": FOURBAR_EXAMPLE}, "tables"),  # tables and a linkage at once
         ({"delta": 1.5}, "delta"),
+        ({"loads": [{"type": "window", "torque_Nm": 5}]}, "loads"),  # a linkage's load would be ignored
     ],
 )
 def test_bad_requests_name_the_field(client: SynthClient, change: dict[str, Any], field: str) -> None:

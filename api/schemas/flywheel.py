@@ -165,6 +165,10 @@ class FlywheelIn(LinkageRequest):
         """True for tables, False for a linkage; InvalidInput unless exactly one is given."""
         if (self.tables is None) == (self.mechanism is None):
             raise synth.InvalidInput("give tables or a mechanism (one of them)", field="tables")
+        if self.tables is not None:
+            for name in ("loads", "torques", "counterweights", "gravity", "speed_rpm", "crank_angle_deg"):
+                if getattr(self, name):
+                    raise synth.InvalidInput(f"{name} belongs to a linkage; tables already hold the torques", field=name)
         if self.mechanism is not None:
             if self.cycle_deg != 360:
                 raise synth.InvalidInput("a linkage's cycle is one crank revolution", field="cycle_deg")
