@@ -120,6 +120,7 @@ def motor_constant_inertia(
     delta: float,
     *,
     guess: float,
+    start: FloatArray | None = None,
     time_limit_s: float = 20.0,
 ) -> MotorSizing:
     """Least constant inertia for a speed-dependent driving torque, as an NLP solved with IPOPT.
@@ -127,7 +128,8 @@ def motor_constant_inertia(
     Unknowns: the speed at every sample and the constant inertia J_c. Trapezoidal collocation of the energy
     form of the equation of motion, d[(J(phi) + J_c)·w²/2]/dphi = M_load(phi) + M_d(w), closes the cycle on
     itself (periodicity); the speed stays within the band of :func:`motor_speed_limits`; minimise J_c.
-    ``cycle.torque`` holds the load torque alone. Built per call, never shared between threads.
+    ``cycle.torque`` holds the load torque alone; ``guess`` [kg·m²] and ``start`` (speeds at the samples
+    [rad/s]) start IPOPT. Built per call, never shared between threads.
     """
     lower, upper = motor_speed_limits(cycle, motor, mean_speed, delta)
     phi, _, _ = cycle.closed()
@@ -140,18 +142,19 @@ def motor_constant_inertia(
     # the sample after the last is the first: periodicity without an extra unknown
     e_next = ca.vertcat(energy[1:], energy[0])
     p_next = ca.vertcat(power[1:], power[0])
-    opti.subject_to(e_next - energy == 0.5 * ca.DM(h) * (power + p_next))
+    # in units of the kinetic energy, so IPOPT sees residuals of order one whatever the machine's size
+    e_scale = 0.5 * (guess + cycle.mean_inertia) * mean_speed**2
+    opti.subject_to((e_next - energy - 0.5 * ca.DM(h) * (power + p_next)) / e_scale == 0)
     opti.subject_to(opti.bounded(lower, w, upper))
     opti.subject_to(jc + float(cycle.inertia.min()) >= 1e-9 * max(guess, 1.0))
     scale = max(guess, 1e-9)
     opti.minimize(jc / scale)
-    steady = motor.mean_speed(cycle)
-    opti.set_initial(w, np.full(cycle.samples, steady))
+    opti.set_initial(w, np.clip(start, lower, upper) if start is not None else np.full(cycle.samples, mean_speed))
     opti.set_initial(jc, guess)
     opti.solver(
         "ipopt",
         {"print_time": False},
-        {"print_level": 0, "sb": "yes", "max_wall_time": float(time_limit_s), "tol": 1e-10, "max_iter": 500},
+        {"print_level": 0, "sb": "yes", "max_wall_time": float(time_limit_s), "tol": 1e-9, "max_iter": 1000},
     )
     try:
         sol = opti.solve()

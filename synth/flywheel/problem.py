@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import InvalidInput
 from .cycle import ReducedCycle
 from .geometry import FlywheelDesign, GeometrySpec, design_flywheel
@@ -137,8 +139,11 @@ def size_flywheel(
     ]
     design_method = "exact"
     if reduced_motor is not None:
+        # the exact method's motion under the motor starts IPOPT close to a periodic solution
+        first = methods[0].speed
+        start = np.interp(cycle.phi, first.phi, first.omega)
         nlp = motor_constant_inertia(
-            cycle, reduced_motor, mean_speed, delta, guess=max(exact, 1e-9), time_limit_s=time_limit_s
+            cycle, reduced_motor, mean_speed, delta, guess=max(exact, 1e-9), start=start, time_limit_s=time_limit_s
         )
         methods.append(result("motor_nlp", nlp.constant_inertia))
         design_method = "motor_nlp"
