@@ -16,6 +16,7 @@ import httpx
 from pydantic import BaseModel
 
 from .schemas.analysis import AnalysisIn, AnalysisOut
+from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 
 M = TypeVar("M", bound=BaseModel)
@@ -135,6 +136,20 @@ class SynthClient:
     def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
         return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+
+    def machine_types(self) -> list[MachineTypeOut]:
+        """GET /v1/machine-types: admissible coefficient of speed fluctuation per machine type."""
+        response = self.http.get("/v1/machine-types")
+        self._raise_for_problem(response)
+        return [MachineTypeOut.model_validate(row) for row in response.json()]
+
+    def flywheel(self, body: FlywheelIn) -> FlywheelOut:
+        """POST /v1/flywheel: flywheel sizing by every method, each with its simulated delta."""
+        return self._post("/v1/flywheel", body, FlywheelOut)
+
+    def flywheel_png(self, body: FlywheelIn) -> bytes:
+        """POST /v1/flywheel?format=png: energy-mass diagram with its tangents and the speed over the cycle."""
+        return self._post_png("/v1/flywheel", body)
 
     def gears_split(self, body: SplitIn) -> SplitOut:
         """POST /v1/gears/split: stage ratios (motor side first) for minimum inertia, volume or the handbook rule."""

@@ -307,7 +307,7 @@ class MotorOut(BaseModel):
     rotor_inertia_kgm2: float | None
 
     @classmethod
-    def from_engine(cls, m: synth.Motor) -> MotorOut:
+    def from_engine(cls, m: synth.CatalogueMotor) -> MotorOut:
         """Schema from an engine motor (rad/s become rpm here)."""
         return cls(name=m.name, rated_power_W=m.rated_power, synchronous_rpm=round(m.synchronous_speed / RPM, 9),
                    rated_rpm=round(m.rated_speed / RPM, 9), rotor_inertia_kgm2=m.rotor_inertia)

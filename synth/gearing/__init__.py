@@ -1,7 +1,7 @@
 """Drive design: stage types, ratio splitting, tooth numbers, shaft speeds and torques, motor choice."""
 
-from .drive import DriveChecks, DriveResult, Shaft, design_drive
-from .motors import Motor, find_motor, motor_catalogue, select_motor
+from .drive import DriveChecks, DriveResult, DriveShaft, design_drive
+from .motors import CatalogueMotor, find_motor, motor_catalogue, select_motor
 from .split import (
     InertiaModel,
     SplitChecks,
@@ -28,7 +28,7 @@ from .teeth import (
 )
 
 __all__ = [
-    "DriveChecks", "DriveResult", "InertiaModel", "Mesh", "Motor", "Shaft", "SplitChecks", "SplitResult", "Stage",
+    "DriveChecks", "DriveResult", "InertiaModel", "Mesh", "CatalogueMotor", "DriveShaft", "SplitChecks", "SplitResult", "Stage",
     "StageSpec", "StageType", "ToothChecks", "ToothResult", "ToothRules", "build_split_program",
     "chain_efficiency", "default_snap_tolerance", "design_drive", "enumerate_tooth_numbers", "find_motor",
     "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",

@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput
-from .motors import Motor, find_motor, select_motor
+from .motors import CatalogueMotor, find_motor, select_motor
 from .split import InertiaModel, SplitResult, split_ratio
 from .stages import Stage, chain_efficiency
 
@@ -24,7 +24,7 @@ TorqueBasis = Literal["load", "rated"]
 
 
 @dataclass(frozen=True, slots=True)
-class Shaft:
+class DriveShaft:
     """One shaft, 0 = motor shaft: ``speed`` [rad/s], ``power`` [W], ``torque`` [N·m], ``inertia`` of what
     it carries [kg·m²], ``reduced_inertia`` that inertia on the motor shaft [kg·m²]."""
 
@@ -57,14 +57,14 @@ class DriveResult:
     does) or ``load`` (the power the output needs).
     """
 
-    motor: Motor
+    motor: CatalogueMotor
     required_power: float
     drive_efficiency: float
     chain_efficiency: float
     total_ratio: float
     split: SplitResult
     stage_efficiencies: tuple[float, ...]
-    shafts: tuple[Shaft, ...]
+    shafts: tuple[DriveShaft, ...]
     reduced_inertia: float
     output_speed: float
     torque_basis: str
@@ -72,7 +72,7 @@ class DriveResult:
     warnings: tuple[str, ...] = field(default=())
 
 
-def _reachable(stages: Sequence[Stage], output_speed: float) -> Callable[[Motor], bool]:
+def _reachable(stages: Sequence[Stage], output_speed: float) -> Callable[[CatalogueMotor], bool]:
     lo = math.prod(s.ratio if s.ratio is not None else s.ratio_min for s in stages)
     hi = math.prod(s.ratio if s.ratio is not None else s.ratio_max for s in stages)
     return lambda m: lo <= m.rated_speed / output_speed <= hi
@@ -152,7 +152,7 @@ def design_drive(
     if model.shaft_inertias:
         own += np.asarray(model.shaft_inertias, dtype=float)
     reduced = own * (speeds / speeds[0]) ** 2
-    shafts = tuple(Shaft(float(w), float(p), float(t), float(j), float(jr))
+    shafts = tuple(DriveShaft(float(w), float(p), float(t), float(j), float(jr))
                    for w, p, t, j, jr in zip(speeds, powers, torques, own, reduced, strict=True))
     delivered = float(torques[-1] * speeds[-1])
     checks = DriveChecks(

@@ -15,7 +15,7 @@ RPM = math.pi / 30.0
 
 
 @dataclass(frozen=True, slots=True)
-class Motor:
+class CatalogueMotor:
     """A catalogue motor: ``rated_power`` [W], ``synchronous_speed`` and ``rated_speed`` [rad/s],
     ``rotor_inertia`` [kg·m²] or None when the catalogue does not give it."""
 
@@ -27,16 +27,16 @@ class Motor:
 
 
 @cache
-def motor_catalogue() -> tuple[Motor, ...]:
+def motor_catalogue() -> tuple[CatalogueMotor, ...]:
     """The shipped catalogue, ascending in rated power then synchronous speed (speeds converted to rad/s)."""
     text = resources.files(__package__).joinpath("motors.json").read_text(encoding="utf-8")
     rows = json.loads(text)["motors"]
-    motors = [Motor(r["name"], float(r["rated_power_W"]), r["synchronous_rpm"] * RPM, r["rated_rpm"] * RPM,
+    motors = [CatalogueMotor(r["name"], float(r["rated_power_W"]), r["synchronous_rpm"] * RPM, r["rated_rpm"] * RPM,
                     r["rotor_inertia_kgm2"]) for r in rows]
     return tuple(sorted(motors, key=lambda m: (m.rated_power, m.synchronous_speed)))
 
 
-def find_motor(name: str, catalogue: Sequence[Motor] | None = None) -> Motor:
+def find_motor(name: str, catalogue: Sequence[CatalogueMotor] | None = None) -> CatalogueMotor:
     """The catalogue motor called ``name``; InvalidInput (field ``motor``) when there is none."""
     for m in catalogue or motor_catalogue():
         if m.name == name:
@@ -48,9 +48,9 @@ def select_motor(
     required_power: float,
     *,
     synchronous_speed: float | None = None,
-    catalogue: Sequence[Motor] | None = None,
-    acceptable: Callable[[Motor], bool] | None = None,
-) -> Motor:
+    catalogue: Sequence[CatalogueMotor] | None = None,
+    acceptable: Callable[[CatalogueMotor], bool] | None = None,
+) -> CatalogueMotor:
     """The smallest catalogue motor whose rated power covers ``required_power`` [W].
 
     ``synchronous_speed`` [rad/s] restricts the choice to one speed class. Among motors of the smallest

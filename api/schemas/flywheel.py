@@ -1,0 +1,357 @@
+"""Schemas of POST /v1/flywheel and GET /v1/machine-types."""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+import synth
+
+from .common import FOURBAR_EXAMPLE, LinkageRequest, MechanismIn, StrictModel, ensure_finite
+
+# The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
+SHAPER_TABLES_EXAMPLE = {
+    "crank_angle_deg": [0, 60, 120, 180, 240, 300, 360],
+    "resisting_torque_Nm": [-1.7, -1500.6, -1496.7, -385.74, -145.33, -250.0, -1.7],
+    "driving_torque_Nm": [0, 0, 0, 0, 0, 0, 0],
+}
+
+
+class FlywheelTablesIn(StrictModel):
+    """The machine reduced to its crank, tabulated over one cycle (linear between rows)."""
+
+    crank_angle_deg: list[float] = Field(
+        min_length=3, description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it."
+    )
+    reduced_inertia_kgm2: list[float] | None = Field(
+        None, description="Reduced inertia J_red of the mechanism at each angle [kg·m²]; left out: zero."
+    )
+    reduced_torque_Nm: list[float] | None = Field(
+        None, description="Sum of driving and resisting reduced torques [N·m], positive drives the crank."
+    )
+    driving_torque_Nm: list[float] | None = Field(None, description="Reduced driving torque [N·m].")
+    resisting_torque_Nm: list[float] | None = Field(
+        None, description="Reduced resisting torque [N·m], negative where it resists."
+    )
+
+    def to_cycle(self, cycle_deg: float, max_samples: int) -> synth.ReducedCycle:
+        """Engine cycle; degrees become radians here."""
+        return synth.cycle_from_tables(
+            np.radians(self.crank_angle_deg),
+            reduced_inertia=self.reduced_inertia_kgm2,
+            reduced_torque=self.reduced_torque_Nm,
+            driving_torque=self.driving_torque_Nm,
+            resisting_torque=self.resisting_torque_Nm,
+            period=math.radians(cycle_deg),
+            max_samples=max_samples,
+        )
+
+
+class MotorIn(StrictModel):
+    """Induction motor with a linear static characteristic from synchronous speed to the rated point."""
+
+    synchronous_speed_rpm: float = Field(gt=0, description="Speed at zero torque [rev/min].")
+    rated_speed_rpm: float = Field(gt=0, description="Speed at the rated torque [rev/min].")
+    rated_torque_Nm: float = Field(gt=0, description="Rated torque on the motor shaft [N·m].")
+    gear_ratio: float = Field(1.0, gt=0, description="Motor speed over crank speed [-].")
+    efficiency: float = Field(1.0, gt=0, le=1, description="Efficiency of the gearing [-].")
+    rotor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia on the motor shaft [kg·m²].")
+    breakdown_torque_Nm: float | None = Field(None, gt=0, description="Largest torque of the linear branch [N·m].")
+
+    def to_engine(self) -> synth.Motor:
+        """Engine motor; rev/min become rad/s here."""
+        return synth.Motor(
+            synchronous_speed=self.synchronous_speed_rpm * math.pi / 30,
+            rated_speed=self.rated_speed_rpm * math.pi / 30,
+            rated_torque=self.rated_torque_Nm,
+            gear_ratio=self.gear_ratio,
+            efficiency=self.efficiency,
+            rotor_inertia=self.rotor_inertia_kgm2,
+            breakdown_torque=self.breakdown_torque_Nm,
+        )
+
+
+class ShaftIn(StrictModel):
+    """A shaft of the drive that may carry the flywheel."""
+
+    name: str = Field(min_length=1, max_length=40)
+    speed_ratio: float = Field(gt=0, description="Shaft speed over crank speed [-].")
+
+
+Ratio = tuple[float, float]
+
+
+class GeometryIn(StrictModel):
+    """Shape, material and limits of the flywheel, and the shafts it may sit on (the crank shaft always)."""
+
+    shape: Literal["rim", "disc"] = "rim"
+    density_kg_m3: float = Field(7200.0, gt=0, description="Cast iron 7200, steel 7850 [kg/m³].")
+    max_rim_speed_m_s: float | None = Field(30.0, gt=0, description="At the outer radius; cast iron 25-30 [m/s].")
+    allowable_stress_Pa: float | None = Field(None, gt=0, description="Allowable hoop (rim) or centre (disc) stress.")
+    max_diameter_m: float | None = Field(None, gt=0, description="Largest outer diameter [m].")
+    thickness_ratio: Ratio = Field((0.1, 0.2), description="Rim radial thickness a over mean diameter D: [min, max].")
+    width_ratio: Ratio = Field((0.1, 0.2), description="Width b over diameter D: [min, max].")
+    shafts: list[ShaftIn] = Field(default_factory=list, max_length=20)
+
+    def to_engine(self) -> synth.GeometrySpec:
+        """Engine geometry specification."""
+        return synth.GeometrySpec(
+            shape=self.shape,
+            density=self.density_kg_m3,
+            max_rim_speed=self.max_rim_speed_m_s,
+            allowable_stress=self.allowable_stress_Pa,
+            max_diameter=self.max_diameter_m,
+            thickness_ratio=self.thickness_ratio,
+            width_ratio=self.width_ratio,
+            shafts=tuple(synth.Shaft(s.name, s.speed_ratio) for s in self.shafts),
+        )
+
+
+class FlywheelIn(LinkageRequest):
+    """Flywheel sizing: the machine as tables or as a linkage with loads, the mean speed and the target delta."""
+
+    mechanism: MechanismIn | None = Field(None, description="A linkage instead of tables (with its loads).")
+    speed_rpm: float | None = Field(None, gt=0, description="A linkage's crank speed: same as mean_speed_rpm.")
+    tables: FlywheelTablesIn | None = Field(None, description="The reduced machine as tables over one cycle.")
+    cycle_deg: Literal[360, 720] = Field(360, description="Cycle length: 720 for a four-stroke engine (tables only).")
+    mean_speed_rpm: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rev/min].")
+    mean_speed_rad_s: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rad/s].")
+    delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
+    machine_type: str | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
+    constant_inertia_kgm2: float = Field(0.0, ge=0, description="Constant inertia already on the crank [kg·m²].")
+    motor: MotorIn | None = Field(None, description="Motor characteristic; left out: constant driving torque.")
+    geometry: GeometryIn | None = Field(None, description="Shape and place the flywheel; left out: size it only.")
+
+    model_config = ConfigDict(
+        json_schema_extra={
+            "examples": [
+                {"tables": SHAPER_TABLES_EXAMPLE, "mean_speed_rad_s": 9.8, "delta": 0.1,
+                 "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 45, "max_diameter_m": 0.75,
+                              "shafts": [{"name": "motor", "speed_ratio": 19.45}]}},
+                {"mechanism": FOURBAR_EXAMPLE, "mean_speed_rpm": 300, "machine_type": "piston_compressors",
+                 "loads": [{"type": "window", "torque_Nm": 40, "start_deg": 0, "end_deg": 180}],
+                 "constant_inertia_kgm2": 0.002},
+            ]
+        }
+    )
+
+    def mean_speed(self) -> float:
+        """w_m [rad/s] from whichever mean speed is given (``speed_rpm`` for a linkage when it is the only one)."""
+        given = [v for v in (self.mean_speed_rpm, self.mean_speed_rad_s) if v is not None]
+        if len(given) > 1:
+            raise synth.InvalidInput("give mean_speed_rpm or mean_speed_rad_s, not both", field="mean_speed_rad_s")
+        if self.mean_speed_rad_s is not None:
+            speed = self.mean_speed_rad_s
+        elif self.mean_speed_rpm is not None:
+            speed = self.mean_speed_rpm * math.pi / 30
+        elif self.mechanism is not None and self.speed_rpm is not None:
+            speed = self.speed_rpm * math.pi / 30
+        else:
+            raise synth.InvalidInput("give mean_speed_rpm or mean_speed_rad_s", field="mean_speed_rpm")
+        if self.speed_rpm is not None and not math.isclose(speed, self.speed_rpm * math.pi / 30, rel_tol=1e-12):
+            raise synth.InvalidInput("speed_rpm differs from the mean speed; give one of them", field="speed_rpm")
+        return speed
+
+    def target_delta(self) -> float:
+        """The target delta, or the tightest admissible value of the machine type."""
+        if (self.delta is None) == (self.machine_type is None):
+            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
+        return self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
+
+    def uses_tables(self) -> bool:
+        """True for tables, False for a linkage; InvalidInput unless exactly one is given."""
+        if (self.tables is None) == (self.mechanism is None):
+            raise synth.InvalidInput("give tables or a mechanism (one of them)", field="tables")
+        if self.tables is not None:
+            for name in ("loads", "torques", "counterweights", "gravity", "speed_rpm", "crank_angle_deg"):
+                if getattr(self, name):
+                    raise synth.InvalidInput(f"{name} belongs to a linkage; tables already hold the torques", field=name)
+        if self.mechanism is not None:
+            if self.cycle_deg != 360:
+                raise synth.InvalidInput("a linkage's cycle is one crank revolution", field="cycle_deg")
+            if self.crank_angle_deg is not None:
+                raise synth.InvalidInput("a flywheel needs the whole cycle: use samples", field="crank_angle_deg")
+            if self.crank_acceleration_rad_s2 != 0:
+                raise synth.InvalidInput("steady motion has no mean crank acceleration", field="crank_acceleration_rad_s2")
+        return self.tables is not None
+
+
+class MachineTypeOut(BaseModel):
+    """Admissible coefficient of speed fluctuation of one machine type (seed 003:443-453)."""
+
+    machine_type: str
+    label: str
+    delta_min: float
+    delta_max: float
+    default_delta: float = Field(description="The tightest value, used when a request names this machine type.")
+
+    @classmethod
+    def from_engine(cls, row: synth.MachineType) -> MachineTypeOut:
+        """Schema from an engine table row."""
+        return cls(
+            machine_type=row.name, label=row.label, delta_min=row.delta_min, delta_max=row.delta_max,
+            default_delta=row.default_delta,
+        )
+
+
+class MethodOut(BaseModel):
+    """One sizing method and the steady motion its inertia gives, found by integrating the equation of motion."""
+
+    method: Literal["exact", "mertsalov", "energy", "motor_nlp"]
+    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red(phi).")
+    flywheel_inertia_kgm2: float = Field(description="Inertia to add to the constant inertia already there.")
+    achieved_delta: float = Field(description="Delta of the simulated steady motion (2 when the machine stalls).")
+    delta_error_rel: float = Field(description="achieved_delta / target delta - 1.")
+    omega_min_rad_s: float
+    omega_max_rad_s: float
+    stalls: bool
+
+    @classmethod
+    def from_engine(cls, m: synth.MethodResult, target: float) -> MethodOut:
+        """Schema from an engine method result."""
+        return cls(
+            method=m.method,  # type: ignore[arg-type]
+            required_constant_inertia_kgm2=m.required_constant_inertia,
+            flywheel_inertia_kgm2=m.flywheel_inertia,
+            achieved_delta=m.achieved_delta,
+            delta_error_rel=m.achieved_delta / target - 1,
+            omega_min_rad_s=m.speed.omega_min,
+            omega_max_rad_s=m.speed.omega_max,
+            stalls=m.speed.stalls,
+        )
+
+
+class EnergyMassOut(BaseModel):
+    """The energy-mass (Wittenbauer) diagram: excess work over J_red at the samples, and its limit tangents."""
+
+    crank_angle_deg: list[float]
+    reduced_inertia_kgm2: list[float]
+    excess_work_J: list[float]
+    tangent_max_slope_J_per_kgm2: float = Field(description="w_max²/2.")
+    tangent_max_intercept_J: float
+    tangent_min_slope_J_per_kgm2: float = Field(description="w_min²/2.")
+    tangent_min_intercept_J: float
+
+
+class SpeedOut(BaseModel):
+    """Simulated steady crank speed over the cycle of the design method."""
+
+    method: str
+    crank_angle_deg: list[float]
+    omega_rad_s: list[float]
+
+
+class PlacementOut(BaseModel):
+    """A flywheel on one shaft; ``inertia_check_kgm2`` is recomputed from the dimensions."""
+
+    shaft: str
+    speed_ratio: float
+    shape: str
+    inertia_kgm2: float = Field(description="Inertia on this shaft: crank-shaft inertia / speed_ratio².")
+    diameter_m: float = Field(description="Mean rim diameter (disc: outer diameter).")
+    outer_diameter_m: float
+    rim_thickness_m: float | None
+    width_m: float
+    mass_kg: float
+    rim_speed_m_s: float
+    inertia_check_kgm2: float
+
+    @classmethod
+    def from_engine(cls, b: synth.FlywheelBody) -> PlacementOut:
+        """Schema from an engine flywheel body."""
+        return cls(
+            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=b.shape, inertia_kgm2=b.inertia, diameter_m=b.diameter,
+            outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness, width_m=b.width, mass_kg=b.mass,
+            rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check,
+        )
+
+
+class PlacementMissOut(BaseModel):
+    """A shaft that cannot carry the flywheel and the limit that binds there."""
+
+    shaft: str
+    speed_ratio: float
+    constraint: str
+    max_inertia_kgm2: float = Field(description="Largest inertia on this shaft within the limits.")
+
+
+class GeometryOut(BaseModel):
+    """The lightest flywheel and every shaft's outcome."""
+
+    best: PlacementOut
+    placements: list[PlacementOut]
+    misses: list[PlacementMissOut]
+
+
+class FlywheelOut(BaseModel):
+    """Flywheel sizing by every method, each checked by the simulated equation of motion.
+
+    The top-level inertia and ``achieved_delta`` are the exact (Wittenbauer) method's; ``design_method`` is the
+    one the geometry uses (``motor_nlp`` when a motor is given).
+    """
+
+    flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, exact method.")
+    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, exact method.")
+    achieved_delta: float = Field(description="Simulated delta with the exact method's inertia.")
+    target_delta: float
+    mean_speed_rad_s: float
+    omega_min_rad_s: float = Field(description="Target w_m(1 - delta/2).")
+    omega_max_rad_s: float = Field(description="Target w_m(1 + delta/2).")
+    constant_inertia_kgm2: float = Field(description="Constant inertia already on the crank, motor rotor included.")
+    constant_driving_torque_Nm: float = Field(description="Constant driving torque that balances the cycle's work.")
+    cycle_work_J: float = Field(description="Work of the given torques over the cycle, before that balance.")
+    motor_mean_speed_rad_s: float | None = Field(None, description="Angle-average steady speed with the motor.")
+    design_method: str
+    methods: list[MethodOut]
+    energy_mass: EnergyMassOut
+    speed: SpeedOut
+    geometry: GeometryOut | None = None
+
+    @classmethod
+    def from_engine(cls, r: synth.FlywheelResult) -> FlywheelOut:
+        """Schema from the engine result (radians become degrees here)."""
+        exact, design, tan = r.method("exact"), r.design, r.tangents
+        w_min, w_max = r.speed_band
+        phi, omega = design.speed.thinned()
+        work = r.cycle.work_nodes()[:-1]
+        ensure_finite(omega, work, np.array([m.required_constant_inertia for m in r.methods]))
+        geometry = None
+        if r.geometry is not None:
+            geometry = GeometryOut(
+                best=PlacementOut.from_engine(r.geometry.best),
+                placements=[PlacementOut.from_engine(b) for b in r.geometry.bodies],
+                misses=[
+                    PlacementMissOut(shaft=m.shaft, speed_ratio=m.speed_ratio, constraint=m.constraint,
+                                     max_inertia_kgm2=m.max_inertia)
+                    for m in r.geometry.misses
+                ],
+            )
+        return cls(
+            flywheel_inertia_kgm2=exact.flywheel_inertia,
+            required_constant_inertia_kgm2=exact.required_constant_inertia,
+            achieved_delta=exact.achieved_delta,
+            target_delta=r.target_delta,
+            mean_speed_rad_s=r.mean_speed,
+            omega_min_rad_s=w_min,
+            omega_max_rad_s=w_max,
+            constant_inertia_kgm2=r.constant_inertia,
+            constant_driving_torque_Nm=r.driving_torque,
+            cycle_work_J=r.cycle_work,
+            motor_mean_speed_rad_s=r.motor_mean_speed,
+            design_method=r.design_method,
+            methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
+            energy_mass=EnergyMassOut(
+                crank_angle_deg=np.degrees(r.cycle.phi).tolist(),
+                reduced_inertia_kgm2=r.cycle.inertia.tolist(),
+                excess_work_J=work.tolist(),
+                tangent_max_slope_J_per_kgm2=tan.slope_max,
+                tangent_max_intercept_J=tan.intercept_max,
+                tangent_min_slope_J_per_kgm2=tan.slope_min,
+                tangent_min_intercept_J=tan.intercept_min,
+            ),
+            speed=SpeedOut(method=design.method, crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
+            geometry=geometry,
+        )

@@ -1,0 +1,151 @@
+"""Python client of the service: typed methods over the same pydantic models, against a URL or in-process.
+
+>>> client = SynthClient("http://127.0.0.1:8000")          # a running service
+>>> client = SynthClient.in_process()                       # the app in this process (tests, notebooks)
+>>> out = client.analysis(AnalysisIn(mechanism=..., speed_rpm=300))
+
+A problem response raises a :class:`ProblemError` subclass carrying the problem details.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, TypeVar
+
+import httpx
+from pydantic import BaseModel
+
+from .schemas.analysis import AnalysisIn, AnalysisOut
+from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
+
+M = TypeVar("M", bound=BaseModel)
+
+
+class ProblemError(Exception):
+    """An RFC 9457 problem answered by the service; ``problem`` holds the whole body."""
+
+    def __init__(self, status: int, problem: dict[str, Any]) -> None:
+        self.status = status
+        self.problem = problem
+        self.type = str(problem.get("type", ""))
+        self.title = str(problem.get("title", ""))
+        self.detail = str(problem.get("detail", ""))
+        super().__init__(f"{status} {self.title}: {self.detail}")
+
+
+class InvalidInputError(ProblemError):
+    """The request had a field the service cannot use (``problem['field']`` names it)."""
+
+
+class NotAssemblableError(ProblemError):
+    """The linkage does not close at some crank angles (``problem['not_assemblable_ranges_deg']``)."""
+
+
+class InfeasibleError(ProblemError):
+    """No admissible design meets the target (``problem['constraint']`` names the binding limit)."""
+
+
+class SolverFailedError(ProblemError):
+    """A solver stopped without an optimal answer (``problem['solver_status']``)."""
+
+
+class SolverTimeoutError(ProblemError):
+    """A solve ran past its time budget."""
+
+
+class TooLargeError(ProblemError):
+    """The request exceeded a size limit."""
+
+
+_BY_TYPE: dict[str, type[ProblemError]] = {
+    "/problems/invalid-input": InvalidInputError,
+    "/problems/not-assemblable": NotAssemblableError,
+    "/problems/infeasible": InfeasibleError,
+    "/problems/solver-failed": SolverFailedError,
+    "/problems/solver-timeout": SolverTimeoutError,
+    "/problems/too-large": TooLargeError,
+}
+
+
+class SynthClient:
+    """Client of the mechanism synthesis service over a given ``httpx.Client`` or a base URL."""
+
+    def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0):
+        if http is None and base_url is None:
+            raise ValueError("give a base_url or an httpx.Client")
+        self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
+
+    @classmethod
+    def in_process(cls) -> SynthClient:
+        """A client speaking to a fresh app in this process, without a network."""
+        with warnings.catch_warnings():
+            # starlette announces a future move of its test client to another HTTP library; ours speaks httpx.
+            warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+            from fastapi.testclient import TestClient
+
+        from .app import create_app
+
+        return cls(http=TestClient(create_app()))
+
+    def close(self) -> None:
+        """Close the underlying HTTP client."""
+        self.http.close()
+
+    def __enter__(self) -> SynthClient:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    @staticmethod
+    def _raise_for_problem(response: httpx.Response) -> None:
+        if response.is_success:
+            return
+        try:
+            body = response.json()
+        except ValueError:
+            body = {"title": response.reason_phrase, "detail": response.text, "status": response.status_code}
+        if not isinstance(body, dict):
+            body = {"detail": str(body)}
+        cls = _BY_TYPE.get(str(body.get("type", "")), ProblemError)
+        raise cls(response.status_code, body)
+
+    def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
+        response = self.http.post(path, json=body.model_dump(mode="json", exclude_none=True))
+        self._raise_for_problem(response)
+        return out.model_validate_json(response.content)
+
+    def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
+        query = {"format": "png", **{k: v for k, v in params.items() if v is not None}}
+        response = self.http.post(path, json=body.model_dump(mode="json", exclude_none=True), params=query)
+        self._raise_for_problem(response)
+        return response.content
+
+    def health(self) -> dict[str, Any]:
+        """GET /health."""
+        response = self.http.get("/health")
+        self._raise_for_problem(response)
+        result: dict[str, Any] = response.json()
+        return result
+
+    def analysis(self, body: AnalysisIn) -> AnalysisOut:
+        """POST /v1/analysis: the linkage's kinematic and kinetostatic picture over the cycle."""
+        return self._post("/v1/analysis", body, AnalysisOut)
+
+    def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
+        return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+
+    def machine_types(self) -> list[MachineTypeOut]:
+        """GET /v1/machine-types: admissible coefficient of speed fluctuation per machine type."""
+        response = self.http.get("/v1/machine-types")
+        self._raise_for_problem(response)
+        return [MachineTypeOut.model_validate(row) for row in response.json()]
+
+    def flywheel(self, body: FlywheelIn) -> FlywheelOut:
+        """POST /v1/flywheel: flywheel sizing by every method, each with its simulated delta."""
+        return self._post("/v1/flywheel", body, FlywheelOut)
+
+    def flywheel_png(self, body: FlywheelIn) -> bytes:
+        """POST /v1/flywheel?format=png: energy-mass diagram with its tangents and the speed over the cycle."""
+        return self._post_png("/v1/flywheel", body)

@@ -1,0 +1,313 @@
+"""Models shared by every endpoint: mechanisms with their links, loads, counterweights and summaries."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+import synth
+from synth.analysis import Summary
+
+Vec2 = Annotated[list[float], Field(min_length=2, max_length=2)]
+
+
+class StrictModel(BaseModel):
+    """Base of every schema: unknown fields and NaN/infinity are rejected at the edge."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+class LinkIn(StrictModel):
+    """Mass properties of one link in its own frame (origin at its first joint, x toward the second)."""
+
+    mass_kg: float = Field(0.0, ge=0, description="Link mass [kg].")
+    com_m: Vec2 = Field(default_factory=lambda: [0.0, 0.0], description="Centre of mass in the link frame [m].")
+    inertia_kgm2: float = Field(0.0, ge=0, description="Moment of inertia about the centre of mass [kg·m²].")
+
+    def to_props(self) -> synth.MassProps:
+        """Engine mass properties."""
+        return synth.MassProps(self.mass_kg, (self.com_m[0], self.com_m[1]), self.inertia_kgm2)
+
+
+class FourBarLinks(StrictModel):
+    """Links of a four-bar; a link left out is massless."""
+
+    crank: LinkIn = Field(default_factory=LinkIn)
+    coupler: LinkIn = Field(default_factory=LinkIn)
+    rocker: LinkIn = Field(default_factory=LinkIn)
+
+
+class SliderCrankLinks(StrictModel):
+    """Links of a slider-crank; a link left out is massless."""
+
+    crank: LinkIn = Field(default_factory=LinkIn)
+    rod: LinkIn = Field(default_factory=LinkIn)
+    slider: LinkIn = Field(default_factory=LinkIn)
+
+
+class SlottedLeverLinks(StrictModel):
+    """Links of a shaper: crank, block in the lever slot, lever, block at the lever tip, ram."""
+
+    crank: LinkIn = Field(default_factory=LinkIn)
+    slider: LinkIn = Field(default_factory=LinkIn)
+    rocker: LinkIn = Field(default_factory=LinkIn)
+    ram_slider: LinkIn = Field(default_factory=LinkIn)
+    ram: LinkIn = Field(default_factory=LinkIn)
+
+
+class FourBarIn(StrictModel):
+    """Four-bar O-A-B-Q: crank pivot O at the origin, rocker pivot Q at (ground_length_m, 0)."""
+
+    type: Literal["fourbar"] = "fourbar"
+    ground_length_m: float = Field(gt=0)
+    crank_length_m: float = Field(gt=0)
+    coupler_length_m: float = Field(gt=0)
+    rocker_length_m: float = Field(gt=0)
+    branch: Literal[1, -1] = Field(1, description="+1: B to the left of the directed line A->Q; -1: to the right.")
+    links: FourBarLinks = Field(default_factory=FourBarLinks)
+
+    def to_mechanism(self) -> synth.FourBar:
+        """Engine mechanism."""
+        return synth.FourBar(
+            self.ground_length_m, self.crank_length_m, self.coupler_length_m, self.rocker_length_m, self.branch
+        )
+
+
+class SliderCrankIn(StrictModel):
+    """Offset slider-crank: crank pivot at the origin, slider on the horizontal line y = offset_m."""
+
+    type: Literal["slider_crank"] = "slider_crank"
+    crank_length_m: float = Field(gt=0)
+    rod_length_m: float = Field(gt=0)
+    offset_m: float = 0.0
+    branch: Literal[1, -1] = Field(1, description="+1: slider on the +x side of the crank pin; -1: on the -x side.")
+    links: SliderCrankLinks = Field(default_factory=SliderCrankLinks)
+
+    def to_mechanism(self) -> synth.SliderCrank:
+        """Engine mechanism."""
+        return synth.SliderCrank(self.crank_length_m, self.rod_length_m, self.offset_m, self.branch)
+
+
+class SlottedLeverIn(StrictModel):
+    """Shaper: rocker pivot O1 at (0, -ground_length_m) below the crank pivot, ram guide ram_height_m above O1."""
+
+    type: Literal["slotted_lever"] = "slotted_lever"
+    crank_length_m: float = Field(gt=0)
+    ground_length_m: float = Field(gt=0, description="Distance O-O1 between crank and lever pivots [m].")
+    rocker_length_m: float = Field(gt=0, description="Lever length O1-B [m].")
+    ram_height_m: float = Field(gt=0, description="Height of the ram guide above O1 [m].")
+    links: SlottedLeverLinks = Field(default_factory=SlottedLeverLinks)
+
+    def to_mechanism(self) -> synth.SlottedLever:
+        """Engine mechanism."""
+        return synth.SlottedLever(self.crank_length_m, self.ground_length_m, self.rocker_length_m, self.ram_height_m)
+
+
+MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn], Field(discriminator="type")]
+
+
+class GravityIn(StrictModel):
+    """Uniform gravity; leave ``gravity`` out (null) to switch it off."""
+
+    g_m_s2: float = Field(9.81, ge=0)
+    direction_deg: float = Field(-90.0, description="Direction of g in the plane, -90 = straight down.")
+
+
+class CounterweightIn(StrictModel):
+    """A counterweight on a link: point mass at a position in the link frame, with optional own inertia."""
+
+    link: str
+    mass_kg: float = Field(ge=0)
+    position_m: Vec2
+    inertia_kgm2: float = Field(0.0, ge=0, description="Own inertia about its centre [kg·m²].")
+
+    def to_engine(self) -> synth.Counterweight:
+        """Engine counterweight."""
+        return synth.Counterweight(self.link, self.mass_kg, (self.position_m[0], self.position_m[1]), self.inertia_kgm2)
+
+    @classmethod
+    def from_engine(cls, cw: synth.Counterweight) -> CounterweightIn:
+        """Schema from an engine counterweight."""
+        return cls(link=cw.link, mass_kg=cw.mass, position_m=list(cw.position), inertia_kgm2=cw.inertia)
+
+
+class _LoadBase(StrictModel):
+    force_N: float | list[float] | None = Field(None, description="Force on a sliding output (slider, ram) [N].")
+    torque_Nm: float | list[float] | None = Field(None, description="Torque on a turning output (rocker) [N·m].")
+    point_m: Vec2 = Field(
+        default_factory=lambda: [0.0, 0.0], description="Where a force acts, in the output link's frame [m]."
+    )
+    stroke: Literal[-1, 0, 1] = Field(0, description="Act only while the output moves in + (1) or - (-1); 0: both.")
+
+    def _magnitude(self, output_motion: str, table: bool) -> float | list[float]:
+        name, value = ("torque_Nm", self.torque_Nm) if output_motion == "rotation" else ("force_N", self.force_N)
+        other = self.force_N if name == "torque_Nm" else self.torque_Nm
+        if value is None or other is not None:
+            raise synth.InvalidInput(
+                f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}: give its load as {name}",
+                field=f"loads.{name}",
+            )
+        if table != isinstance(value, list):
+            raise synth.InvalidInput(
+                f"{name} must be {'a list matching the table' if table else 'a single number'}", field=f"loads.{name}"
+            )
+        return value
+
+
+class WindowLoadIn(_LoadBase):
+    """Constant load while the crank angle is inside [start_deg, end_deg] (wrapping past 360), against the output velocity."""
+
+    type: Literal["window"] = "window"
+    start_deg: float = 0.0
+    end_deg: float = 360.0
+
+    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
+        """Engine load."""
+        mag = self._magnitude(output_motion, table=False)
+        assert isinstance(mag, float)
+        return synth.ProcessLoad(
+            "window", mag, math.radians(self.start_deg), math.radians(self.end_deg),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+        )
+
+
+class CrankTableLoadIn(_LoadBase):
+    """Load magnitude tabulated over crank angle (periodic linear interpolation), against the output velocity."""
+
+    type: Literal["crank_table"] = "crank_table"
+    crank_angle_deg: list[float] = Field(min_length=2)
+
+    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
+        """Engine load."""
+        mag = self._magnitude(output_motion, table=True)
+        assert isinstance(mag, list)
+        return synth.ProcessLoad(
+            "crank_table", table_x=tuple(np.radians(self.crank_angle_deg)), values=tuple(mag),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+        )
+
+
+class PositionTableLoadIn(_LoadBase):
+    """Load magnitude tabulated over the output position: slide displacement [m] or output angle [deg]."""
+
+    type: Literal["position_table"] = "position_table"
+    position_m: list[float] | None = Field(None, min_length=2, description="Output slide position along its guide [m].")
+    position_deg: list[float] | None = Field(None, min_length=2, description="Output link angle [deg].")
+
+    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
+        """Engine load."""
+        mag = self._magnitude(output_motion, table=True)
+        assert isinstance(mag, list)
+        if output_motion == "rotation":
+            if self.position_deg is None:
+                raise synth.InvalidInput("a turning output's table needs position_deg", field="loads.position_deg")
+            x = tuple(np.radians(self.position_deg))
+        else:
+            if self.position_m is None:
+                raise synth.InvalidInput("a sliding output's table needs position_m", field="loads.position_m")
+            x = tuple(self.position_m)
+        return synth.ProcessLoad(
+            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1])
+        )
+
+
+LoadIn = Annotated[Union[WindowLoadIn, CrankTableLoadIn, PositionTableLoadIn], Field(discriminator="type")]
+
+
+class LinkTorqueIn(StrictModel):
+    """A constant external torque on a link [N·m], counter-clockwise positive."""
+
+    link: str
+    torque_Nm: float
+
+
+class LinkageRequest(StrictModel):
+    """A linkage at a crank speed: what every mechanism endpoint takes."""
+
+    mechanism: MechanismIn
+    speed_rpm: float = Field(60.0, gt=0, description="Crank speed [rev/min].")
+    crank_acceleration_rad_s2: float = Field(0.0, description="Crank angular acceleration, the same at every angle.")
+    samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
+    crank_angle_deg: list[float] | None = Field(
+        None, min_length=1, description="Explicit crank angles [deg]; overrides samples."
+    )
+    gravity: GravityIn | None = Field(None, description="Gravity; null (default) switches it off.")
+    loads: list[LoadIn] = Field(default_factory=list, description="Process loads on the output member.")
+    torques: list[LinkTorqueIn] = Field(default_factory=list)
+    counterweights: list[CounterweightIn] = Field(default_factory=list)
+
+    @property
+    def omega_rad_s(self) -> float:
+        """Crank speed [rad/s]."""
+        return self.speed_rpm * math.pi / 30.0
+
+    def phi(self) -> np.ndarray | None:
+        """Explicit crank angles [rad], or None for the uniform grid."""
+        return None if self.crank_angle_deg is None else np.radians(self.crank_angle_deg)
+
+    def to_linkage(self) -> synth.Linkage:
+        """Engine linkage; degrees become radians here and nowhere else."""
+        mech = self.mechanism.to_mechanism()
+        output_motion = mech.topology.output_motion
+        links = {name: link.to_props() for name, link in self.mechanism.links}
+        gravity = None
+        if self.gravity is not None:
+            gravity = synth.Gravity(self.gravity.g_m_s2, math.radians(self.gravity.direction_deg))
+        return synth.Linkage(
+            mechanism=mech,
+            links=links,
+            counterweights=tuple(cw.to_engine() for cw in self.counterweights),
+            gravity=gravity,
+            loads=tuple(load.to_engine(output_motion) for load in self.loads),
+            torques=tuple(synth.LinkTorque(t.link, t.torque_Nm) for t in self.torques),
+        )
+
+
+def ensure_finite(*arrays: np.ndarray) -> None:
+    """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
+    for a in arrays:
+        if not np.all(np.isfinite(a)):
+            raise RuntimeError("non-finite value in an engine result")
+
+
+class SummaryOut(BaseModel):
+    """RMS over the samples and peak absolute values of the frame loads and the driving torque."""
+
+    rms_shaking_force_N: float
+    max_shaking_force_N: float
+    rms_shaking_moment_Nm: float
+    max_shaking_moment_Nm: float
+    rms_driving_torque_Nm: float
+    max_driving_torque_Nm: float
+    max_bearing_force_N: float
+
+    @classmethod
+    def from_engine(cls, s: Summary) -> SummaryOut:
+        """Schema from the engine summary."""
+        return cls(
+            rms_shaking_force_N=s.rms_shaking_force,
+            max_shaking_force_N=s.max_shaking_force,
+            rms_shaking_moment_Nm=s.rms_shaking_moment,
+            max_shaking_moment_Nm=s.max_shaking_moment,
+            rms_driving_torque_Nm=s.rms_driving_torque,
+            max_driving_torque_Nm=s.max_driving_torque,
+            max_bearing_force_N=s.max_bearing_force,
+        )
+
+
+FOURBAR_EXAMPLE = {
+    "type": "fourbar",
+    "ground_length_m": 0.30,
+    "crank_length_m": 0.10,
+    "coupler_length_m": 0.35,
+    "rocker_length_m": 0.25,
+    "branch": 1,
+    "links": {
+        "crank": {"mass_kg": 1.0, "com_m": [0.05, 0.0], "inertia_kgm2": 0.001},
+        "coupler": {"mass_kg": 2.0, "com_m": [0.175, 0.0], "inertia_kgm2": 0.02},
+        "rocker": {"mass_kg": 1.5, "com_m": [0.125, 0.0], "inertia_kgm2": 0.008},
+    },
+}

@@ -1,0 +1,124 @@
+"""One call from a linkage to its full kinematic and kinetostatic picture over a cycle."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from .dynamics import ReducedModel, reduced_model
+from .errors import InvalidInput, TooLarge
+from .kinematics import FourBar, MAX_SAMPLES, Motion, cycle_angles, motion, transmission_angle
+from .kinetostatics import Kinetostatics, solve_direct, virtual_power_torque
+from .model import FloatArray, Linkage
+
+
+@dataclass(frozen=True, slots=True)
+class Summary:
+    """RMS (over the samples) and peak absolute values [N, N·m] of the frame loads and the driving torque."""
+
+    rms_shaking_force: float
+    max_shaking_force: float
+    rms_shaking_moment: float
+    max_shaking_moment: float
+    rms_driving_torque: float
+    max_driving_torque: float
+    max_bearing_force: float
+
+
+def _rms(values: FloatArray) -> float:
+    return float(np.sqrt(np.mean(values**2)))
+
+
+@dataclass(frozen=True, slots=True)
+class Analysis:
+    """Kinematics, kinetostatics, reduced model and check figures of one linkage over the requested angles.
+
+    ``motion`` carries the centres of mass as points ``S_<link>``. ``virtual_power_torque`` is the driving
+    torque recomputed from the power balance, independently of the reaction solve.
+    """
+
+    linkage: Linkage
+    motion: Motion
+    kinetostatics: Kinetostatics
+    virtual_power_torque: FloatArray
+    reduced: ReducedModel
+
+    @property
+    def torque_check(self) -> float:
+        """Largest |kinetostatic - virtual-power| driving torque difference [N·m]."""
+        return float(np.max(np.abs(self.kinetostatics.driving_torque - self.virtual_power_torque)))
+
+    @property
+    def transmission_angle(self) -> FloatArray | None:
+        """Four-bar transmission angle [rad] at every sample; None for other families."""
+        if not isinstance(self.linkage.mechanism, FourBar):
+            return None
+        return transmission_angle(self.motion.link_angle["coupler"], self.motion.link_angle["rocker"])
+
+    def bearing_forces(self) -> dict[str, FloatArray]:
+        """Magnitude of every revolute joint's reaction [N], (N,) each."""
+        topo = self.linkage.mechanism.topology
+        return {
+            j.name: np.hypot(*self.kinetostatics.reactions[j.name].T)
+            for j in topo.joints
+            if j.kind == "revolute"
+        }
+
+    def summary(self) -> Summary:
+        """RMS and peak shaking force, shaking moment, driving torque, and peak bearing force."""
+        k = self.kinetostatics
+        force = np.hypot(k.shaking_force[:, 0], k.shaking_force[:, 1])
+        bearings = self.bearing_forces()
+        return Summary(
+            rms_shaking_force=_rms(force),
+            max_shaking_force=float(force.max()),
+            rms_shaking_moment=_rms(k.shaking_moment),
+            max_shaking_moment=float(np.abs(k.shaking_moment).max()),
+            rms_driving_torque=_rms(k.driving_torque),
+            max_driving_torque=float(np.abs(k.driving_torque).max()),
+            max_bearing_force=float(max(b.max() for b in bearings.values())),
+        )
+
+
+def analyse(
+    linkage: Linkage,
+    speed: float,
+    *,
+    samples: int = 360,
+    phi: FloatArray | None = None,
+    crank_acceleration: float = 0.0,
+    max_samples: int = MAX_SAMPLES,
+    points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
+) -> Analysis:
+    """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
+
+    ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
+    coupler points, to the motion. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
+    NotAssemblable (with the ranges).
+    """
+    if phi is None:
+        angles = cycle_angles(samples, 2 * math.pi, max_samples)
+    else:
+        angles = np.asarray(phi, dtype=float).reshape(-1)
+        if angles.size > max_samples:
+            raise TooLarge("crank angles", max_samples, angles.size)
+    base = motion(linkage.mechanism, angles, speed, crank_acceleration)
+    links = linkage.mechanism.topology.links
+    extra = dict(points or {})
+    for name, (link, _) in extra.items():
+        if link not in links:
+            raise InvalidInput(f"point {name!r} is on unknown link {link!r}; links are {list(links)}", field="trace_points")
+        if name in base.point_pos:
+            raise InvalidInput(f"point name {name!r} is already a joint of the mechanism", field="trace_points")
+    coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in links}
+    mot = base.with_points({**coms, **extra})
+    return Analysis(
+        linkage=linkage,
+        motion=mot,
+        kinetostatics=solve_direct(mot, linkage),
+        virtual_power_torque=virtual_power_torque(mot, linkage),
+        reduced=reduced_model(mot, linkage),
+    )

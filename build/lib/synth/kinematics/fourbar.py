@@ -1,0 +1,155 @@
+"""Four-bar linkage O-A-B-Q: closed-form positions, velocity and acceleration analogues, Grashof class."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
+from ..model import FloatArray
+from ..topology import Joint, Topology
+from .motion import AngleAnalogues, PointAnalogues, crank_point, cross, fixed_point, perp
+
+
+def _positive(value: float, name: str) -> None:
+    if not (math.isfinite(value) and value > 0):
+        raise InvalidInput(f"{name} must be a positive length, got {value!r}", field=f"mechanism.{name}")
+
+
+@dataclass(frozen=True, slots=True)
+class FourBar:
+    """Four-bar: crank O->A (link ``crank``), coupler A->B, rocker Q->B; O at the origin, Q at (ground, 0).
+
+    Lengths [m]. ``branch`` is +1 when B lies to the left of the directed line A->Q, -1 to the right.
+    """
+
+    ground: float
+    crank: float
+    coupler: float
+    rocker: float
+    branch: int = 1
+
+    family: ClassVar[str] = "fourbar"
+    topology: ClassVar[Topology] = Topology(
+        links=("crank", "coupler", "rocker"),
+        joints=(
+            Joint("O", "revolute", (None, "crank")),
+            Joint("A", "revolute", ("crank", "coupler")),
+            Joint("B", "revolute", ("coupler", "rocker")),
+            Joint("Q", "revolute", (None, "rocker")),
+        ),
+        crank="crank",
+        output="rocker",
+        output_motion="rotation",
+    )
+
+    def __post_init__(self) -> None:
+        for name in ("ground", "crank", "coupler", "rocker"):
+            _positive(getattr(self, name), f"{name}_length_m")
+        if self.branch not in (1, -1):
+            raise InvalidInput("branch must be +1 or -1", field="mechanism.branch")
+        lengths = sorted((self.ground, self.crank, self.coupler, self.rocker))
+        if lengths[3] >= lengths[0] + lengths[1] + lengths[2]:
+            raise InvalidInput(
+                f"the longest link ({lengths[3]} m) must be shorter than the sum of the others "
+                f"({lengths[0] + lengths[1] + lengths[2]} m)",
+                field="mechanism",
+            )
+
+    @property
+    def grashof(self) -> str:
+        """Grashof class: crank-rocker, double-crank, double-rocker, rocker-crank, change-point or triple-rocker."""
+        lengths = {"ground": self.ground, "crank": self.crank, "coupler": self.coupler, "rocker": self.rocker}
+        s, l_ = min(lengths.values()), max(lengths.values())
+        p_q = sum(lengths.values()) - s - l_
+        if math.isclose(s + l_, p_q, rel_tol=1e-12):
+            return "change-point"
+        if s + l_ > p_q:
+            return "triple-rocker"
+        shortest = min(lengths, key=lambda k: lengths[k])
+        return {
+            "crank": "crank-rocker",
+            "ground": "double-crank",
+            "coupler": "double-rocker",
+            "rocker": "rocker-crank",
+        }[shortest]
+
+    def cos_limits(self) -> tuple[float, float]:
+        """Range of cos(phi) inside which the loop closes: |b - c| <= |AQ| <= b + c."""
+        a, d, b, c = self.crank, self.ground, self.coupler, self.rocker
+        lo = (a * a + d * d - (b + c) ** 2) / (2 * a * d)
+        hi = (a * a + d * d - (b - c) ** 2) / (2 * a * d)
+        return lo, hi
+
+    def assembly_gaps_deg(self) -> list[tuple[float, float]]:
+        """Exact crank-angle ranges [deg] in [0, 360) where the linkage cannot be assembled."""
+        lo, hi = self.cos_limits()
+        gaps: list[tuple[float, float]] = []
+        if hi < 1.0:  # near phi = 0 the loop is too short
+            t = math.degrees(math.acos(max(-1.0, hi)))
+            if hi <= -1.0:
+                return [(0.0, 360.0)]
+            gaps += [(0.0, t), (360.0 - t, 360.0)]
+        if lo > -1.0:  # near phi = 180 the loop is too long
+            if lo >= 1.0:
+                return [(0.0, 360.0)]
+            t = math.degrees(math.acos(lo))
+            gaps.append((t, 360.0 - t))
+        return sorted((round(a, 9), round(b, 9)) for a, b in gaps)
+
+    def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
+        """Joint positions and link angles with their analogues; NotAssemblable where the loop cannot close."""
+        n = len(phi)
+        a_pt = crank_point(self.crank, phi)
+        q = np.array([self.ground, 0.0])
+        e = q - a_pt.pos
+        dist = np.hypot(e[:, 0], e[:, 1])
+        b, c = self.coupler, self.rocker
+        bad = (dist > b + c + 1e-12) | (dist < abs(b - c) - 1e-12) | (dist == 0)
+        if bad.any():
+            raise NotAssemblable(
+                f"four-bar cannot be assembled at {int(bad.sum())} of {n} crank angles; "
+                f"exact gaps (deg): {self.assembly_gaps_deg()}",
+                phi=phi[bad],
+                ranges_deg=self.assembly_gaps_deg() or angle_ranges_deg(phi, bad),
+            )
+        u = e / dist[:, None]
+        x = (b * b - c * c + dist * dist) / (2 * dist)
+        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
+        bpos = a_pt.pos + x[:, None] * u + (self.branch * h)[:, None] * perp(u)
+        e2 = (bpos - a_pt.pos) / b
+        e3 = (bpos - q) / c
+        # Loop A + b·e2 = Q + c·e3 differentiated once and twice in phi; each a 2x2 solve by Cramer's rule.
+        k2, k3 = perp(e2), perp(e3)
+        det = cross(b * k2, -c * k3)
+        rhs1 = -a_pt.d1
+        t2d1 = cross(rhs1, -c * k3) / det
+        t3d1 = cross(b * k2, rhs1) / det
+        rhs2 = -a_pt.d2 + b * (t2d1**2)[:, None] * e2 - c * (t3d1**2)[:, None] * e3
+        t2d2 = cross(rhs2, -c * k3) / det
+        t3d2 = cross(b * k2, rhs2) / det
+        b_d1 = c * t3d1[:, None] * k3
+        b_d2 = c * t3d2[:, None] * k3 - c * (t3d1**2)[:, None] * e3
+        points = {
+            "O": fixed_point((0.0, 0.0), n),
+            "A": a_pt,
+            "B": PointAnalogues(bpos, b_d1, b_d2),
+            "Q": fixed_point((self.ground, 0.0), n),
+        }
+        angles = {
+            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n)),
+            "coupler": AngleAnalogues(np.arctan2(e2[:, 1], e2[:, 0]), t2d1, t2d2),
+            "rocker": AngleAnalogues(np.arctan2(e3[:, 1], e3[:, 0]), t3d1, t3d2),
+        }
+        return points, angles
+
+    origins: ClassVar[dict[str, str]] = {"crank": "O", "coupler": "A", "rocker": "Q"}
+
+
+def transmission_angle(coupler_angle: FloatArray, rocker_angle: FloatArray) -> FloatArray:
+    """Angle between coupler and rocker [rad] in [0, pi]; its distance from pi/2 measures force transmission."""
+    diff = np.mod(rocker_angle - coupler_angle, 2 * np.pi)
+    return np.asarray(np.where(diff > np.pi, 2 * np.pi - diff, diff))

@@ -1,0 +1,146 @@
+"""The one Motion object every analysis shares, and the builder that turns position analogues into it."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from ..errors import InvalidInput
+from ..model import FloatArray
+
+
+class PointAnalogues(NamedTuple):
+    """Position [m] and its first and second derivatives with respect to the crank angle, each (N, 2)."""
+
+    pos: FloatArray
+    d1: FloatArray
+    d2: FloatArray
+
+
+class AngleAnalogues(NamedTuple):
+    """Link angle [rad] and its first and second derivatives with respect to the crank angle, each (N,)."""
+
+    angle: FloatArray
+    d1: FloatArray
+    d2: FloatArray
+
+
+class PointState(NamedTuple):
+    """Position [m], velocity [m/s] and acceleration [m/s²] of a point, each (N, 2)."""
+
+    pos: FloatArray
+    vel: FloatArray
+    acc: FloatArray
+
+
+def perp(v: FloatArray) -> FloatArray:
+    """Vectors turned 90 degrees counter-clockwise (k × v), shape (..., 2)."""
+    return np.stack([-v[..., 1], v[..., 0]], axis=-1)
+
+
+def cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """z-component of a × b for stacked plane vectors, shape (...,)."""
+    return np.asarray(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+
+
+@dataclass(frozen=True, slots=True)
+class Motion:
+    """Kinematics of one linkage over one cycle at N crank angles; SI units; crank angle is axis 0.
+
+    Every link has a frame: origin at its first joint (``link_origin`` names that point), x-axis at
+    ``link_angle``. Velocities and accelerations are for crank speed ``omega_crank`` [rad/s] and crank angular
+    acceleration ``alpha_crank`` [rad/s²], the same at every sample.
+    """
+
+    phi: FloatArray
+    omega_crank: float
+    alpha_crank: float
+    point_pos: Mapping[str, FloatArray]
+    point_vel: Mapping[str, FloatArray]
+    point_acc: Mapping[str, FloatArray]
+    link_angle: Mapping[str, FloatArray]
+    link_omega: Mapping[str, FloatArray]
+    link_alpha: Mapping[str, FloatArray]
+    link_origin: Mapping[str, str]
+
+    def __post_init__(self) -> None:
+        n = len(self.phi)
+        for label, points in (("point_pos", self.point_pos), ("point_vel", self.point_vel), ("point_acc", self.point_acc)):
+            if bad := [k for k, a in points.items() if a.shape != (n, 2)]:
+                raise InvalidInput(f"{label}: points with wrong shape, expected ({n}, 2): {bad}")
+        for label, angles in (("link_angle", self.link_angle), ("link_omega", self.link_omega), ("link_alpha", self.link_alpha)):
+            if bad := [k for k, a in angles.items() if a.shape != (n,)]:
+                raise InvalidInput(f"{label}: links with wrong shape, expected ({n},): {bad}")
+        if missing := [k for k, p in self.link_origin.items() if p not in self.point_pos or k not in self.link_angle]:
+            raise InvalidInput(f"links without a frame: {missing}")
+
+    @property
+    def samples(self) -> int:
+        """Number of crank angles N."""
+        return len(self.phi)
+
+    def point_on(self, link: str, local: tuple[float, float] | FloatArray) -> PointState:
+        """Position, velocity and acceleration of a point fixed in ``link`` at ``local`` (link frame) [m]."""
+        origin = self.link_origin[link]
+        th, w, a = self.link_angle[link], self.link_omega[link], self.link_alpha[link]
+        x, y = float(local[0]), float(local[1])
+        c, s = np.cos(th), np.sin(th)
+        r = np.stack([c * x - s * y, s * x + c * y], axis=-1)
+        k_r = perp(r)
+        pos = self.point_pos[origin] + r
+        vel = self.point_vel[origin] + w[:, None] * k_r
+        acc = self.point_acc[origin] + a[:, None] * k_r - (w * w)[:, None] * r
+        return PointState(pos, vel, acc)
+
+    def with_points(self, points: Mapping[str, tuple[str, tuple[float, float]]]) -> Motion:
+        """A copy with named extra points (centres of mass, coupler points): name -> (link, local xy)."""
+        pos, vel, acc = dict(self.point_pos), dict(self.point_vel), dict(self.point_acc)
+        for name, (link, local) in points.items():
+            pos[name], vel[name], acc[name] = self.point_on(link, local)
+        return Motion(
+            self.phi, self.omega_crank, self.alpha_crank, pos, vel, acc,
+            self.link_angle, self.link_omega, self.link_alpha, self.link_origin,
+        )
+
+
+def build_motion(
+    phi: FloatArray,
+    omega: float,
+    alpha: float,
+    points: Mapping[str, PointAnalogues],
+    angles: Mapping[str, AngleAnalogues],
+    origins: Mapping[str, str],
+) -> Motion:
+    """Motion from position analogues: v = w·dr/dphi, a = w²·d²r/dphi² + eps·dr/dphi (seed 001:966-1006)."""
+    return Motion(
+        phi=phi,
+        omega_crank=float(omega),
+        alpha_crank=float(alpha),
+        point_pos={k: p.pos for k, p in points.items()},
+        point_vel={k: omega * p.d1 for k, p in points.items()},
+        point_acc={k: omega**2 * p.d2 + alpha * p.d1 for k, p in points.items()},
+        link_angle={k: a.angle for k, a in angles.items()},
+        link_omega={k: omega * a.d1 for k, a in angles.items()},
+        link_alpha={k: omega**2 * a.d2 + alpha * a.d1 for k, a in angles.items()},
+        link_origin=dict(origins),
+    )
+
+
+def crank_point(length: float, phi: FloatArray) -> PointAnalogues:
+    """Crank pin at ``length`` [m] from the origin: position and analogues."""
+    e = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+    return PointAnalogues(length * e, length * perp(e), -length * e)
+
+
+def fixed_point(xy: tuple[float, float], n: int) -> PointAnalogues:
+    """A frame point [m] repeated over N samples, with zero analogues."""
+    pos = np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy()
+    return PointAnalogues(pos, np.zeros((n, 2)), np.zeros((n, 2)))
+
+
+def constant_angle(value: float, n: int) -> AngleAnalogues:
+    """A link that does not turn (a slider, a ram)."""
+    return AngleAnalogues(np.full(n, float(value)), np.zeros(n), np.zeros(n))

@@ -1,0 +1,92 @@
+"""Offset slider-crank O-A-B with the slider on a horizontal guide: closed-form positions and analogues."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
+from ..model import FloatArray
+from ..topology import Joint, Topology
+from .motion import AngleAnalogues, PointAnalogues, constant_angle, crank_point, fixed_point
+
+
+@dataclass(frozen=True, slots=True)
+class SliderCrank:
+    """Slider-crank: crank O->A, connecting rod A->B, slider at B on the line y = ``offset``.
+
+    Lengths [m]. ``branch`` +1 puts the slider on the +x side of the crank pin, -1 on the -x side.
+    Link frames: crank at O, rod at A toward B, slider at B with its x-axis along the guide (+x).
+    """
+
+    crank: float
+    rod: float
+    offset: float = 0.0
+    branch: int = 1
+
+    family: ClassVar[str] = "slider_crank"
+    topology: ClassVar[Topology] = Topology(
+        links=("crank", "rod", "slider"),
+        joints=(
+            Joint("O", "revolute", (None, "crank")),
+            Joint("A", "revolute", ("crank", "rod")),
+            Joint("B", "revolute", ("rod", "slider")),
+            Joint("guide", "prismatic", (None, "slider"), axis_link=None, axis_angle=0.0, at="B"),
+        ),
+        crank="crank",
+        output="slider",
+        output_motion="translation",
+        output_axis_angle=0.0,
+    )
+    origins: ClassVar[dict[str, str]] = {"crank": "O", "rod": "A", "slider": "B"}
+
+    def __post_init__(self) -> None:
+        for name, value in (("crank_length_m", self.crank), ("rod_length_m", self.rod)):
+            if not (math.isfinite(value) and value > 0):
+                raise InvalidInput(f"{name} must be a positive length, got {value!r}", field=f"mechanism.{name}")
+        if not math.isfinite(self.offset):
+            raise InvalidInput("offset_m must be finite", field="mechanism.offset_m")
+        if self.branch not in (1, -1):
+            raise InvalidInput("branch must be +1 or -1", field="mechanism.branch")
+
+    def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
+        """Joint positions and link angles with analogues; NotAssemblable where |offset - y_A| > rod."""
+        n = len(phi)
+        a_pt = crank_point(self.crank, phi)
+        a, l_, e = self.crank, self.rod, self.offset
+        sin2 = (e - a * np.sin(phi)) / l_
+        bad = np.abs(sin2) >= 1.0
+        if bad.any():
+            raise NotAssemblable(
+                f"slider-crank cannot be assembled at {int(bad.sum())} of {n} crank angles: "
+                f"|offset - crank pin height| reaches the rod length",
+                phi=phi[bad],
+                ranges_deg=angle_ranges_deg(phi, bad),
+            )
+        cos2 = self.branch * np.sqrt(1.0 - sin2**2)
+        th2 = np.arctan2(sin2, cos2)
+        # sin(th2) = (e - a sin phi)/l differentiated twice in phi.
+        t2d1 = -a * np.cos(phi) / (l_ * cos2)
+        t2d2 = (a * np.sin(phi) + l_ * sin2 * t2d1**2) / (l_ * cos2)
+        xb = a * np.cos(phi) + l_ * cos2
+        xb_d1 = -a * np.sin(phi) - l_ * sin2 * t2d1
+        xb_d2 = -a * np.cos(phi) - l_ * cos2 * t2d1**2 - l_ * sin2 * t2d2
+        zeros = np.zeros(n)
+        points = {
+            "O": fixed_point((0.0, 0.0), n),
+            "A": a_pt,
+            "B": PointAnalogues(
+                np.stack([xb, np.full(n, e)], axis=-1),
+                np.stack([xb_d1, zeros], axis=-1),
+                np.stack([xb_d2, zeros], axis=-1),
+            ),
+        }
+        angles = {
+            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), zeros.copy()),
+            "rod": AngleAnalogues(th2, t2d1, t2d2),
+            "slider": constant_angle(0.0, n),
+        }
+        return points, angles

@@ -1,0 +1,342 @@
+"""Generic d'Alembert kinetostatics: every moving link in equilibrium, one linear system per crank angle.
+
+Unknowns: for each joint two reaction components (revolute: Rx, Ry; prismatic: the force normal to the slide
+axis and the couple), plus the driving torque on the crank; 3 equations per moving link (forces, and moments
+about the link's first joint). A one-degree-of-freedom linkage has as many unknowns as equations; the
+systems of all crank angles are stacked and solved at once.
+
+Two paths share only the geometry (the system matrix):
+``solve_direct`` builds the right-hand side from the links' actual loads, and ``linear_map`` builds it per
+inertial parameter (m, m·x, m·y, J about the first joint), so every output is ``Y @ p + y0``. Balancing
+optimises over that map; the direct path re-analyses its answers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import NotAssemblable, angle_ranges_deg
+from .kinematics.motion import Motion, cross, perp
+from .model import FloatArray, Linkage
+from .topology import Topology
+
+PARAMS_PER_LINK = 4
+# Below this Hadamard ratio a system is treated as singular (a dead position of the linkage).
+SINGULAR_RATIO = 1e-10
+
+
+def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
+    """Unit normal to a prismatic joint's slide axis at every sample, (N, 2)."""
+    joint = topo.joints[joint_index]
+    angle = np.full(motion.samples, joint.axis_angle)
+    if joint.axis_link is not None:
+        angle = angle + motion.link_angle[joint.axis_link]
+    return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
+
+
+def system_matrix(motion: Motion, topo: Topology) -> FloatArray:
+    """Equilibrium matrix A of shape (N, 3n, 3n): A @ unknowns + known loads = 0 for every link."""
+    n_links = len(topo.links)
+    row = {name: 3 * i for i, name in enumerate(topo.links)}
+    a = np.zeros((motion.samples, 3 * n_links, 3 * n_links))
+    for j, joint in enumerate(topo.joints):
+        col = 2 * j
+        p = motion.point_pos[joint.point]
+        giver, receiver = joint.bodies
+        for body, sign in ((receiver, 1.0), (giver, -1.0)):
+            if body is None:
+                continue
+            r0 = row[body]
+            lever = p - motion.point_pos[motion.link_origin[body]]
+            if joint.kind == "revolute":
+                a[:, r0, col] += sign
+                a[:, r0 + 1, col + 1] += sign
+                a[:, r0 + 2, col] += -sign * lever[:, 1]
+                a[:, r0 + 2, col + 1] += sign * lever[:, 0]
+            else:
+                normal = _axis_normal(motion, topo, j)
+                a[:, r0, col] += sign * normal[:, 0]
+                a[:, r0 + 1, col] += sign * normal[:, 1]
+                a[:, r0 + 2, col] += sign * cross(lever, normal)
+                a[:, r0 + 2, col + 1] += sign
+    a[:, row[topo.crank] + 2, -1] = 1.0
+    return a
+
+
+def _solve_stacked(a: FloatArray, b: FloatArray, motion: Motion) -> FloatArray:
+    """Batched solve; a singular system means a dead point where the driving torque is undefined.
+
+    Singularity is judged by the Hadamard ratio |det A| / prod(row norms), which lies in [0, 1] and costs one
+    batched LU instead of an SVD per angle.
+    """
+    rows = np.linalg.norm(a, axis=2)
+    ratio = np.abs(np.linalg.det(a / rows[..., None]))
+    bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
+    if bad.any():
+        raise NotAssemblable(
+            f"the linkage passes a dead (singular) position at {int(bad.sum())} of {motion.samples} crank angles; "
+            "the crank cannot drive it there",
+            phi=motion.phi[bad],
+            ranges_deg=angle_ranges_deg(motion.phi, bad),
+        )
+    return np.asarray(np.linalg.solve(a, b), dtype=float)
+
+
+@dataclass(frozen=True, slots=True)
+class ExternalLoads:
+    """Process forces and link torques resolved at every sample, in the frame's coordinates."""
+
+    force: FloatArray  # on the output member [N], (N, 2)
+    point: FloatArray  # where it acts [m], (N, 2)
+    point_vel: FloatArray  # its velocity [m/s], (N, 2)
+    torques: dict[str, FloatArray]  # link -> torque [N·m], (N,)
+
+
+def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
+    """Process loads against the output velocity, plus external torques, at every sample."""
+    topo = linkage.mechanism.topology
+    n = motion.samples
+    force = np.zeros((n, 2))
+    point = motion.point_pos[motion.link_origin[topo.output]].copy()
+    point_vel = np.zeros((n, 2))
+    torques: dict[str, FloatArray] = {t.link: np.zeros(n) for t in linkage.torques}
+    for t in linkage.torques:
+        torques[t.link] = torques[t.link] + t.torque
+    if topo.output_motion == "translation":
+        axis = np.array([np.cos(topo.output_axis_angle), np.sin(topo.output_axis_angle)])
+        origin = motion.point_pos[motion.link_origin[topo.output]]
+        position = origin @ axis
+        speed = motion.point_vel[motion.link_origin[topo.output]] @ axis
+    else:
+        position = motion.link_angle[topo.output]
+        speed = motion.link_omega[topo.output]
+    direction = -np.sign(speed)
+    for load in linkage.loads:
+        magnitude = load.magnitude_at(motion.phi, position)
+        if load.stroke:
+            magnitude = np.where(np.sign(speed) == load.stroke, magnitude, 0.0)
+        if topo.output_motion == "translation":
+            state = motion.point_on(topo.output, load.point)
+            point, point_vel = state.pos, state.vel
+            force = force + (magnitude * direction)[:, None] * axis
+        else:
+            torques[topo.output] = torques.get(topo.output, np.zeros(n)) + magnitude * direction
+    return ExternalLoads(force, point, point_vel, torques)
+
+
+def _known_loads_direct(motion: Motion, linkage: Linkage, loads: ExternalLoads) -> FloatArray:
+    """Sum of gravity, inertia and external loads per link: forces and moments about its first joint, (N, 3n)."""
+    topo = linkage.mechanism.topology
+    g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
+    out = np.zeros((motion.samples, 3 * len(topo.links)))
+    for i, link in enumerate(topo.links):
+        props = linkage.mass_props(link)
+        origin = motion.point_pos[motion.link_origin[link]]
+        s = motion.point_on(link, props.com)
+        force = props.mass * (g - s.acc)
+        moment = cross(s.pos - origin, force) - props.inertia * motion.link_alpha[link]
+        if link == topo.output and topo.output_motion == "translation":
+            force = force + loads.force
+            moment = moment + cross(loads.point - origin, loads.force)
+        moment = moment + loads.torques.get(link, 0.0)
+        out[:, 3 * i : 3 * i + 2] = force
+        out[:, 3 * i + 2] = moment
+    return out
+
+
+def _frame_action(motion: Motion, topo: Topology, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Force on the frame from its joints and the motor housing [N], and its moment about O [N·m].
+
+    ``x`` has the unknowns on axis 1 and may carry extra trailing columns (one per parameter).
+    """
+    force = np.zeros((x.shape[0], 2) + x.shape[2:])
+    moment = np.zeros((x.shape[0],) + x.shape[2:])
+    extra = (slice(None),) + (None,) * (x.ndim - 2)
+    for j, joint in enumerate(topo.joints):
+        if joint.bodies[0] is not None:
+            continue
+        p = motion.point_pos[joint.point]
+        if joint.kind == "revolute":
+            fx, fy = -x[:, 2 * j], -x[:, 2 * j + 1]
+            couple: FloatArray | float = 0.0
+        else:
+            normal = _axis_normal(motion, topo, j)
+            fx = -x[:, 2 * j] * normal[:, 0][extra]
+            fy = -x[:, 2 * j] * normal[:, 1][extra]
+            couple = -x[:, 2 * j + 1]
+        force[:, 0] += fx
+        force[:, 1] += fy
+        moment += p[:, 0][extra] * fy - p[:, 1][extra] * fx + couple
+    moment -= x[:, -1]  # the motor housing takes the reaction of the driving torque
+    return force, moment
+
+
+@dataclass(frozen=True, slots=True)
+class Kinetostatics:
+    """Joint reactions, driving torque and the frame's shaking force and moment at every crank angle.
+
+    ``reactions[j]`` is the force [N] that joint j's first body exerts on its second, (N, 2);
+    ``couples[j]`` the couple [N·m] of a prismatic joint, (N,); ``shaking_force`` = -sum m·a_S [N], (N, 2);
+    ``shaking_moment`` about the crank pivot O, including the motor housing reaction [N·m], (N,).
+    """
+
+    unknowns: FloatArray
+    reactions: dict[str, FloatArray]
+    couples: dict[str, FloatArray]
+    driving_torque: FloatArray
+    shaking_force: FloatArray
+    shaking_moment: FloatArray
+
+
+def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, FloatArray], dict[str, FloatArray]]:
+    reactions: dict[str, FloatArray] = {}
+    couples: dict[str, FloatArray] = {}
+    for j, joint in enumerate(topo.joints):
+        if joint.kind == "revolute":
+            reactions[joint.name] = x[:, 2 * j : 2 * j + 2]
+        else:
+            reactions[joint.name] = x[:, 2 * j, None] * _axis_normal(motion, topo, j)
+            couples[joint.name] = x[:, 2 * j + 1]
+    return reactions, couples
+
+
+def solve_direct(motion: Motion, linkage: Linkage, matrix: FloatArray | None = None) -> Kinetostatics:
+    """Kinetostatics from the links' actual loads (the plain model, independent of the linear map)."""
+    topo = linkage.mechanism.topology
+    a = system_matrix(motion, topo) if matrix is None else matrix
+    loads = external_loads(motion, linkage)
+    known = _known_loads_direct(motion, linkage, loads)
+    x = _solve_stacked(a, -known[..., None], motion)[..., 0]
+    force, moment = _frame_action(motion, topo, x)
+    # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
+    force = force - loads.force
+    moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
+    g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
+    for link in topo.links:
+        props = linkage.mass_props(link)
+        s = motion.point_on(link, props.com)
+        force = force - props.mass * g
+        moment = moment - props.mass * cross(s.pos, np.broadcast_to(g, s.pos.shape))
+    reactions, couples = _unpack(motion, topo, x)
+    return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
+
+
+@dataclass(frozen=True, slots=True)
+class LinearMap:
+    """Every kinetostatic output as ``Y @ p + y0`` for the stacked inertial parameters p of all links.
+
+    Rows (axis 1) are the unknowns (joint reactions, then the driving torque), then shaking force x, y and the
+    shaking moment. Columns (axis 2) are 4 per link in topology order: m [kg], m·x, m·y [kg·m] in the link
+    frame, and J about the link's first joint [kg·m²]. A counterweight on a link adds to that link's columns.
+    """
+
+    links: tuple[str, ...]
+    joints: tuple[str, ...]
+    y: FloatArray  # (N, rows, 4 * links)
+    y0: FloatArray  # (N, rows)
+
+    @property
+    def torque_row(self) -> int:
+        """Row of the driving torque."""
+        return 2 * len(self.joints)
+
+    @property
+    def force_rows(self) -> slice:
+        """Rows of the shaking force (x, y)."""
+        return slice(self.torque_row + 1, self.torque_row + 3)
+
+    @property
+    def moment_row(self) -> int:
+        """Row of the shaking moment."""
+        return self.torque_row + 3
+
+    def reaction_rows(self, joint: str) -> slice:
+        """Rows of a joint's two reaction unknowns."""
+        j = self.joints.index(joint)
+        return slice(2 * j, 2 * j + 2)
+
+    def columns(self, link: str) -> slice:
+        """Columns of one link's four inertial parameters."""
+        i = self.links.index(link)
+        return slice(PARAMS_PER_LINK * i, PARAMS_PER_LINK * (i + 1))
+
+    def point_mass(self, link: str, position: tuple[float, float] | FloatArray) -> FloatArray:
+        """Change of every output per kilogram of point mass at ``position`` [m] in ``link``'s frame, (N, rows).
+
+        A point mass m at r adds m·(1, x, y, x² + y²) to its link's parameters.
+        """
+        x, y = float(position[0]), float(position[1])
+        unit = np.array([1.0, x, y, x * x + y * y])
+        return np.asarray(self.y[:, :, self.columns(link)] @ unit)
+
+    def evaluate(self, p: FloatArray) -> FloatArray:
+        """All outputs for parameters ``p``, shape (N, rows)."""
+        return np.asarray(np.einsum("nrk,k->nr", self.y, p) + self.y0)
+
+
+def linear_map(motion: Motion, linkage: Linkage, matrix: FloatArray | None = None) -> LinearMap:
+    """Build the linear-in-parameters map for a fixed motion (loads other than inertia and gravity in y0)."""
+    topo = linkage.mechanism.topology
+    n, n_links = motion.samples, len(topo.links)
+    a = system_matrix(motion, topo) if matrix is None else matrix
+    g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
+    known = np.zeros((n, 3 * n_links, PARAMS_PER_LINK * n_links + 1))
+    grav_force = np.zeros((n, 2, PARAMS_PER_LINK * n_links))
+    grav_moment = np.zeros((n, PARAMS_PER_LINK * n_links))
+    for i, link in enumerate(topo.links):
+        r0, c0 = 3 * i, PARAMS_PER_LINK * i
+        th, w, al = motion.link_angle[link], motion.link_omega[link], motion.link_alpha[link]
+        origin_name = motion.link_origin[link]
+        a_o, o = motion.point_acc[origin_name], motion.point_pos[origin_name]
+        e1 = np.stack([np.cos(th), np.sin(th)], axis=-1)
+        e2 = perp(e1)
+        g_rel = g - a_o
+        # m·a_S = m·a_O + h_x(al·e2 - w²·e1) + h_y(-al·e1 - w²·e2); moment about O_link = h × (g - a_O) - J_O·al.
+        known[:, r0 : r0 + 2, c0] = g_rel
+        known[:, r0 : r0 + 2, c0 + 1] = -(al[:, None] * e2 - (w * w)[:, None] * e1)
+        known[:, r0 : r0 + 2, c0 + 2] = al[:, None] * e1 + (w * w)[:, None] * e2
+        known[:, r0 + 2, c0 + 1] = cross(e1, g_rel)
+        known[:, r0 + 2, c0 + 2] = cross(e2, g_rel)
+        known[:, r0 + 2, c0 + 3] = -al
+        gb = np.broadcast_to(g, (n, 2))
+        grav_force[:, :, c0] = -gb
+        grav_moment[:, c0] = -cross(o, gb)
+        grav_moment[:, c0 + 1] = -cross(e1, gb)
+        grav_moment[:, c0 + 2] = -cross(e2, gb)
+    loads = external_loads(motion, linkage)
+    for i, link in enumerate(topo.links):
+        origin = motion.point_pos[motion.link_origin[link]]
+        if link == topo.output and topo.output_motion == "translation":
+            known[:, 3 * i : 3 * i + 2, -1] += loads.force
+            known[:, 3 * i + 2, -1] += cross(loads.point - origin, loads.force)
+        known[:, 3 * i + 2, -1] += loads.torques.get(link, 0.0)
+    x = _solve_stacked(a, -known, motion)
+    force, moment = _frame_action(motion, topo, x)
+    force[:, :, -1] -= loads.force
+    moment[:, -1] -= cross(loads.point, loads.force) + sum(loads.torques.values(), np.zeros(n))
+    force[:, :, :-1] += grav_force
+    moment[:, :-1] += grav_moment
+    full = np.concatenate([x, force, moment[:, None, :]], axis=1)
+    return LinearMap(topo.links, tuple(j.name for j in topo.joints), full[:, :, :-1], full[:, :, -1])
+
+
+def virtual_power_torque(motion: Motion, linkage: Linkage) -> FloatArray:
+    """Driving torque [N·m] from virtual power: the powers of all loads and inertia forces sum to zero.
+
+    Independent of the reaction solve (Zhukovsky's lever in analytic form, seed 000:138-192).
+    """
+    topo = linkage.mechanism.topology
+    g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
+    loads = external_loads(motion, linkage)
+    power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    for link, torque in loads.torques.items():
+        power = power + torque * motion.link_omega[link]
+    for link in topo.links:
+        props = linkage.mass_props(link)
+        s = motion.point_on(link, props.com)
+        inertia_force = props.mass * (g - s.acc)
+        power = power + np.einsum("ij,ij->i", inertia_force, s.vel)
+        power = power - props.inertia * motion.link_alpha[link] * motion.link_omega[link]
+    return np.asarray(-power / motion.link_omega[topo.crank])

@@ -1,0 +1,168 @@
+"""A motor's static characteristic reduced to the crank, and the least flywheel for it as a collocation NLP."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..model import FloatArray
+from .cycle import ReducedCycle
+from .sizing import speed_band
+
+
+@dataclass(frozen=True, slots=True)
+class ReducedMotor:
+    """Motor torque on the crank, M_d(w) = slope·(no_load_speed - w) [N·m], valid up to ``max_torque`` [N·m].
+
+    ``no_load_speed`` crank speed at synchronous motor speed [rad/s]; ``slope`` [N·m·s/rad]; ``inertia`` the
+    rotor's inertia reduced to the crank [kg·m²].
+    """
+
+    no_load_speed: float
+    slope: float
+    max_torque: float
+    inertia: float
+
+    def torque(self, omega: FloatArray | float) -> FloatArray:
+        """Driving torque on the crank at crank speed ``omega`` [rad/s] -> [N·m]."""
+        return np.asarray(self.slope * (self.no_load_speed - np.asarray(omega, dtype=float)), dtype=float)
+
+    def mean_speed(self, cycle: ReducedCycle) -> float:
+        """Crank speed averaged over the angle in steady motion [rad/s].
+
+        The characteristic is linear, so zero net work over the cycle fixes the angle-average speed whatever
+        the inertia: slope·(w0 - mean w)·period + A_load = 0.
+        """
+        return self.no_load_speed + cycle.cycle_work / (self.slope * cycle.period)
+
+
+@dataclass(frozen=True, slots=True)
+class Motor:
+    """Induction motor: torque linear from zero at synchronous speed to ``rated_torque`` at ``rated_speed``.
+
+    Speeds on the motor shaft [rad/s], torques [N·m], ``gear_ratio`` motor speed over crank speed [-],
+    ``efficiency`` of the gearing [-], ``rotor_inertia`` [kg·m²], ``breakdown_torque`` the largest torque of the
+    linear branch [N·m] (None: unbounded).
+    """
+
+    synchronous_speed: float
+    rated_speed: float
+    rated_torque: float
+    gear_ratio: float = 1.0
+    efficiency: float = 1.0
+    rotor_inertia: float = 0.0
+    breakdown_torque: float | None = None
+
+    def __post_init__(self) -> None:
+        if not 0 < self.rated_speed < self.synchronous_speed:
+            raise InvalidInput("the rated speed must lie below the synchronous speed", field="motor.rated_speed_rpm")
+        if not self.rated_torque > 0:
+            raise InvalidInput("the rated torque must be positive", field="motor.rated_torque_Nm")
+        if not self.gear_ratio > 0:
+            raise InvalidInput("the gear ratio must be positive", field="motor.gear_ratio")
+        if not 0 < self.efficiency <= 1:
+            raise InvalidInput("the efficiency must lie in (0, 1]", field="motor.efficiency")
+        if self.rotor_inertia < 0:
+            raise InvalidInput("the rotor inertia must not be negative", field="motor.rotor_inertia_kgm2")
+        if self.breakdown_torque is not None and not self.breakdown_torque > self.rated_torque:
+            raise InvalidInput("the breakdown torque must exceed the rated torque", field="motor.breakdown_torque_Nm")
+
+    def reduced(self) -> ReducedMotor:
+        """The characteristic reduced to the crank: torque i·eta·T(i·w), rotor inertia i²·J_rotor."""
+        i, eta = self.gear_ratio, self.efficiency
+        slope = i * i * eta * self.rated_torque / (self.synchronous_speed - self.rated_speed)
+        top = math.inf if self.breakdown_torque is None else i * eta * self.breakdown_torque
+        return ReducedMotor(self.synchronous_speed / i, slope, top, i * i * self.rotor_inertia)
+
+
+@dataclass(frozen=True, slots=True)
+class MotorSizing:
+    """Least constant inertia [kg·m²] keeping the steady motion in the speed band, and the NLP's speeds [rad/s]."""
+
+    constant_inertia: float
+    omega: FloatArray
+    solver_status: str
+
+
+def motor_speed_limits(cycle: ReducedCycle, motor: ReducedMotor, mean_speed: float, delta: float) -> tuple[float, float]:
+    """The band the steady speed must stay in [rad/s]; Infeasible naming the limit when no flywheel can do it."""
+    w_min, w_max = speed_band(mean_speed, delta)
+    load = -cycle.cycle_work / cycle.period
+    if load >= motor.max_torque:
+        raise Infeasible(
+            "the motor is too weak: the mean load torque exceeds its breakdown torque reduced to the crank",
+            constraint="motor.breakdown_torque_Nm",
+            mean_load_torque_Nm=load,
+            max_motor_torque_Nm=motor.max_torque,
+        )
+    lower = max(w_min, motor.no_load_speed - motor.max_torque / motor.slope)
+    steady = motor.mean_speed(cycle)
+    if not lower < steady < w_max:
+        raise Infeasible(
+            "no periodic motion at the requested mean speed: the motor's steady speed lies outside the band "
+            "w_m(1 ± delta/2), and a flywheel only narrows the fluctuation around that steady speed",
+            constraint="mean_speed",
+            motor_mean_speed_rad_s=steady,
+            omega_min_rad_s=lower,
+            omega_max_rad_s=w_max,
+        )
+    return lower, w_max
+
+
+def motor_constant_inertia(
+    cycle: ReducedCycle,
+    motor: ReducedMotor,
+    mean_speed: float,
+    delta: float,
+    *,
+    guess: float,
+    start: FloatArray | None = None,
+    time_limit_s: float = 20.0,
+) -> MotorSizing:
+    """Least constant inertia for a speed-dependent driving torque, as an NLP solved with IPOPT.
+
+    Unknowns: the speed at every sample and the constant inertia J_c. Trapezoidal collocation of the energy
+    form of the equation of motion, d[(J(phi) + J_c)·w²/2]/dphi = M_load(phi) + M_d(w), closes the cycle on
+    itself (periodicity); the speed stays within the band of :func:`motor_speed_limits`; minimise J_c.
+    ``cycle.torque`` holds the load torque alone; ``guess`` [kg·m²] and ``start`` (speeds at the samples
+    [rad/s]) start IPOPT. Built per call, never shared between threads.
+    """
+    lower, upper = motor_speed_limits(cycle, motor, mean_speed, delta)
+    phi, _, _ = cycle.closed()
+    h = np.diff(phi)
+    opti = ca.Opti()
+    w = opti.variable(cycle.samples)
+    jc = opti.variable()
+    energy = 0.5 * (ca.DM(cycle.inertia) + jc) * w**2
+    power = ca.DM(cycle.torque) + motor.slope * (motor.no_load_speed - w)
+    # the sample after the last is the first: periodicity without an extra unknown
+    e_next = ca.vertcat(energy[1:], energy[0])
+    p_next = ca.vertcat(power[1:], power[0])
+    # in units of the kinetic energy, so IPOPT sees residuals of order one whatever the machine's size
+    e_scale = 0.5 * (guess + cycle.mean_inertia) * mean_speed**2
+    opti.subject_to((e_next - energy - 0.5 * ca.DM(h) * (power + p_next)) / e_scale == 0)
+    opti.subject_to(opti.bounded(lower, w, upper))
+    opti.subject_to(jc + float(cycle.inertia.min()) >= 1e-9 * max(guess, 1.0))
+    scale = max(guess, 1e-9)
+    opti.minimize(jc / scale)
+    opti.set_initial(w, np.clip(start, lower, upper) if start is not None else np.full(cycle.samples, mean_speed))
+    opti.set_initial(jc, guess)
+    opti.solver(
+        "ipopt",
+        {"print_time": False},
+        {"print_level": 0, "sb": "yes", "max_wall_time": float(time_limit_s), "tol": 1e-9, "max_iter": 1000},
+    )
+    try:
+        sol = opti.solve()
+    except RuntimeError as exc:
+        status = str(opti.stats().get("return_status", "unknown"))
+        if status == "Maximum_WallTime_Exceeded":
+            raise SolverTimeout(time_limit_s, reached_inertia_kgm2=float(opti.debug.value(jc))) from exc
+        raise SolverFailed(status) from exc
+    return MotorSizing(
+        float(sol.value(jc)), np.asarray(sol.value(w), dtype=float).reshape(-1), str(opti.stats()["return_status"])
+    )

@@ -1,0 +1,89 @@
+"""Flywheel geometry and placement: the seed's rim formula, least mass against brute force, binding limits."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import synth
+from tests.conftest import CASES
+
+
+def test_rim_diameter_reproduces_seed() -> None:
+    # seed case: D = [4 g J/(pi gamma k1 k2)]^(1/5), a = k1 D, b = k2 D; rho = gamma/g
+    case = CASES["cw_flywheel_rim_diameter"]
+    inp, exp, rel = case["inputs"], case["expected"], case["tolerance_rel"]
+    rho = inp["gamma_N_m3"] / inp["g_m_s2"]
+    d = synth.rim_diameter(inp["J_M_kgm2"], rho, inp["k1"], inp["k2"])
+    assert d == pytest.approx(exp["D_m"], rel=rel)
+    assert inp["k1"] * d == pytest.approx(exp["a_m"], rel=rel)
+    assert inp["k2"] * d == pytest.approx(exp["b_m"], rel=rel)
+    on_crank = synth.rim_diameter(inp["J_M_crank_shaft_kgm2"], rho, inp["k1"], inp["k2"])
+    assert on_crank == pytest.approx(exp["D_on_crank_shaft_m"], rel=rel)
+    assert on_crank > inp["D_max_m"] > d  # the seed's reason to move it to the motor shaft
+
+
+def test_placement_on_motor_shaft_reproduces_seed() -> None:
+    # seed case: J' = J (w_crank/w_motor)^2 with w_motor = pi n/30; here through the placement search
+    case = CASES["cw_flywheel_to_motor_shaft"]
+    inp, exp, rel = case["inputs"], case["expected"], case["tolerance_rel"]
+    w_motor = inp["n_motor_rpm"] * math.pi / 30
+    assert w_motor == pytest.approx(exp["omega_motor_rad_s"], rel=rel)
+    spec = synth.GeometrySpec(density=7950.0, max_rim_speed=40.0, max_diameter=0.75,
+                              shafts=(synth.Shaft("motor", w_motor / inp["omega_crank_rad_s"]),))
+    design = synth.design_flywheel(inp["J_M_kgm2"], spec, inp["omega_crank_rad_s"])
+    motor = next(b for b in design.bodies if b.shaft == "motor")
+    assert motor.inertia == pytest.approx(exp["J_M_motor_shaft_kgm2"], rel=rel)
+    assert design.best.shaft == "motor"  # the faster shaft needs far less mass
+    # on the crank shaft the 0.75 m limit binds, as the seed says
+    assert [(m.shaft, m.constraint) for m in design.misses] == [("crank", "max_diameter_m")]
+
+
+@pytest.mark.parametrize("shape", ["rim", "disc"])
+def test_least_mass_beats_a_brute_force_grid(shape: str) -> None:
+    # independent: scan diameter, thickness and width on a grid; no feasible grid point is lighter than the NLP
+    spec = synth.GeometrySpec(shape=shape, density=7200.0, max_rim_speed=30.0, max_diameter=0.9,
+                              thickness_ratio=(0.08, 0.25), width_ratio=(0.05, 0.3))
+    j, w = 12.0, 40.0
+    body = synth.design_flywheel(j, spec, w).best
+    assert body.inertia_check == pytest.approx(j, rel=1e-6)
+    assert body.rim_speed <= 30.0 * (1 + 1e-6) and body.outer_diameter <= 0.9 * (1 + 1e-6)
+    d = np.linspace(0.2, 0.9, 281)[:, None, None]
+    ka = np.linspace(0.08, 0.25, 69)[None, :, None] if shape == "rim" else np.zeros((1, 1, 1))
+    kb = np.linspace(0.05, 0.3, 101)[None, None, :]
+    a, b = ka * d, kb * d
+    rho = spec.density
+    if shape == "rim":
+        inertia, mass = rho * np.pi * b * d * a * (d**2 + a**2) / 4, rho * np.pi * d * a * b
+    else:
+        inertia, mass = rho * np.pi * b * d**4 / 32, rho * np.pi * d**2 * b / 4 + 0 * a
+    outer = d + a
+    ok = (inertia >= j) & (outer <= 0.9) & (0.5 * outer * w <= 30.0)
+    assert ok.any()
+    assert body.mass <= mass[ok].min() * (1 + 1e-6)
+    # and a grid fine enough gets within a few per cent of it
+    assert body.mass >= mass[ok].min() * 0.95
+
+
+def test_nothing_fits_names_the_binding_limit() -> None:
+    spec = synth.GeometrySpec(max_rim_speed=None, max_diameter=0.2, shafts=(synth.Shaft("motor", 4.0),))
+    with pytest.raises(synth.Infeasible) as err:
+        synth.design_flywheel(500.0, spec, 10.0)
+    assert err.value.constraint == "geometry.max_diameter_m"
+    # under a rim-speed limit the crank-equivalent capacity falls as the shaft ratio cubed: even the crank
+    # shaft (a 5 m rim at 10 rad/s) holds less than 1e6 kg·m²
+    spec = synth.GeometrySpec(max_rim_speed=25.0, shafts=(synth.Shaft("motor", 4.0),))
+    with pytest.raises(synth.Infeasible) as err:
+        synth.design_flywheel(1e6, spec, 10.0)
+    assert err.value.constraint == "geometry.max_rim_speed_m_s"
+    stress = synth.GeometrySpec(max_rim_speed=None, allowable_stress=2e6, density=7200.0)
+    speed, name = stress.speed_limit()
+    assert name == "allowable_stress_Pa" and speed == pytest.approx(math.sqrt(2e6 / 7200.0), rel=1e-12)
+
+
+def test_no_limit_at_all_is_invalid() -> None:
+    with pytest.raises(synth.InvalidInput) as err:
+        synth.design_flywheel(1.0, synth.GeometrySpec(max_rim_speed=None), 10.0)
+    assert err.value.field == "geometry.max_diameter_m"
