@@ -95,3 +95,21 @@ def test_catalogues(client: SynthClient) -> None:
     motors = client.gears_motors()
     assert len(motors) == len(synth.motor_catalogue())
     assert [m.rated_power_W for m in motors] == sorted(m.rated_power_W for m in motors)
+
+
+def test_drive_chooses_from_the_users_catalogue(client: SynthClient) -> None:
+    # Two motors of the user's own: the smaller does not cover P_out*xi/eta = 3000*1.1/0.9 = 3667 W, the larger does.
+    own = [
+        {"name": "small", "rated_power_W": 3000, "synchronous_rpm": 1500, "rated_rpm": 1420},
+        {"name": "large", "rated_power_W": 4000, "synchronous_rpm": 1500, "rated_rpm": 1430, "rotor_inertia_kgm2": 0.01},
+    ]
+    body = {"output_power_W": 3000, "output_speed_rpm": 60, "stages": ["helical", "helical"], "drive_efficiency": 0.9}
+    out = client.gears_drive(DriveIn.model_validate({**body, "motor_catalogue": own}))
+    assert out.motor.name == "large"
+    assert out.motor.rated_rpm == pytest.approx(1430, rel=1e-12)
+    assert not any("representative" in w for w in out.warnings)
+    default = client.gears_drive(DriveIn.model_validate(body))
+    assert any("representative" in w for w in default.warnings)
+    too_small = {**body, "motor_catalogue": own[:1]}
+    r = client.http.post("/v1/gears/drive", json=too_small)
+    assert r.status_code == 422 and r.json()["type"] == "/problems/infeasible"

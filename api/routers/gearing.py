@@ -55,6 +55,7 @@ def drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut
         synchronous_speed=body.synchronous_speed(), motor=body.motor, objective=body.objective,
         torque_basis=body.torque_basis, inertia=body.inertia_model(), snap_r20=body.snap_r20,
         snap_tolerance=body.snap_tolerance, time_limit_s=settings.solver_time_limit_s,
+        catalogue=body.catalogue(),
     )
     return DriveOut.from_engine(result, stages)
 

@@ -250,6 +250,27 @@ class TeethOut(BaseModel):
         )
 
 
+class CatalogueMotorIn(StrictModel):
+    """A motor of your own catalogue."""
+
+    name: str = Field(min_length=1)
+    rated_power_W: float = Field(gt=0)
+    synchronous_rpm: float = Field(gt=0)
+    rated_rpm: float = Field(gt=0)
+    rotor_inertia_kgm2: float | None = Field(None, ge=0)
+
+    @model_validator(mode="after")
+    def _slip(self) -> CatalogueMotorIn:
+        if self.rated_rpm > self.synchronous_rpm:
+            raise ValueError("rated_rpm cannot exceed synchronous_rpm")
+        return self
+
+    def to_engine(self) -> synth.CatalogueMotor:
+        """Engine motor (rpm become rad/s here)."""
+        return synth.CatalogueMotor(self.name, self.rated_power_W, self.synchronous_rpm * RPM,
+                                    self.rated_rpm * RPM, self.rotor_inertia_kgm2)
+
+
 class DriveIn(_InertiaFields):
     """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
 
@@ -263,6 +284,10 @@ class DriveIn(_InertiaFields):
                                            "default the product of the stage efficiencies.")
     synchronous_rpm: float | None = Field(None, gt=0, description="Restrict the motor to one speed class.")
     motor: str | None = Field(None, description="A catalogue motor by name instead of the automatic choice.")
+    motor_catalogue: list[CatalogueMotorIn] | None = Field(
+        None, min_length=1, max_length=500,
+        description="Your motors to choose from (a vendor's data); default the shipped representative catalogue "
+        "listed at GET /v1/gears/motors.")
     objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
     torque_basis: Literal["load", "rated"] = Field(
         "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
@@ -287,6 +312,10 @@ class DriveIn(_InertiaFields):
             return self.output_speed_rad_s
         assert self.output_speed_rpm is not None
         return self.output_speed_rpm * RPM
+
+    def catalogue(self) -> list[synth.CatalogueMotor] | None:
+        """Engine motors of the request's own catalogue, if it has one."""
+        return None if self.motor_catalogue is None else [m.to_engine() for m in self.motor_catalogue]
 
     def synchronous_speed(self) -> float | None:
         """Synchronous speed class [rad/s], if given."""

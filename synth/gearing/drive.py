@@ -93,6 +93,7 @@ def design_drive(
     snap_r20: bool = False,
     snap_tolerance: float | None = None,
     time_limit_s: float = 20.0,
+    catalogue: Sequence[CatalogueMotor] | None = None,
 ) -> DriveResult:
     """Choose the motor, split the ratio and find every shaft's speed, power, torque and reduced inertia.
 
@@ -108,6 +109,7 @@ def design_drive(
     torque_basis : ``load`` (torques for the output power) or ``rated`` (from the motor's rated power).
     inertia : pinion, load and shaft inertias of the reduced-inertia model [kg·m²] (the motor rotor is added).
     time_limit_s : the split solver's time limit [s].
+    catalogue : the motors to choose from (a vendor's data); default the shipped representative catalogue.
 
     Raises InvalidInput, Infeasible (no motor covers the power; the stages cannot reach the ratio), solver errors.
     """
@@ -121,14 +123,19 @@ def design_drive(
         raise InvalidInput(f"drive efficiency must lie in (0, 1], got {eta}", field="drive_efficiency")
     required = output_power * reserve_factor / eta
     warnings: list[str] = []
+    if catalogue is None:
+        warnings.append("motor chosen from the shipped representative 4A-series catalogue; check its rated data "
+                        "against the manufacturer's datasheet, or send your own catalogue")
+    elif not catalogue:
+        raise InvalidInput("the motor catalogue is empty", field="motor_catalogue")
     if motor is not None:
-        chosen = find_motor(motor)
+        chosen = find_motor(motor, catalogue)
         if chosen.rated_power < required * (1 - 1e-12):
             raise Infeasible(f"motor {motor} ({chosen.rated_power:.4g} W) does not cover the required "
                              f"{required:.4g} W", constraint="motor_power", required_power_W=required)
     else:
         ok = _reachable(stages, output_speed)
-        chosen = select_motor(required, synchronous_speed=synchronous_speed, acceptable=ok)
+        chosen = select_motor(required, synchronous_speed=synchronous_speed, acceptable=ok, catalogue=catalogue)
     total = chosen.rated_speed / output_speed
     model = inertia or InertiaModel()
     if chosen.rotor_inertia is None:
