@@ -4,6 +4,29 @@ Everything is SI inside (m, kg, s, rad, N, N·m, kg·m²). The engine never impo
 """
 
 from .analysis import Analysis, Summary, analyse
+from .balancing import (
+    BalanceResult,
+    Correction,
+    CounterRotor,
+    CounterweightSpec,
+    LanchesterPair,
+    RotorBalance,
+    RotorMass,
+    SliderCrankBalance,
+    Weights,
+    balance_full,
+    balance_optimal,
+    balance_rotor_dynamic,
+    balance_rotor_static,
+    balance_slider_crank,
+    balance_static,
+    counter_rotor_loads,
+    exact_static_counterweights,
+    least_squares_crank_counterweight,
+    objective_value,
+    pendulum_inertia,
+    tradeoff,
+)
 from .dynamics import ReducedModel, reduced_model
 from .errors import (
     Infeasible,
@@ -188,4 +211,26 @@ __all__ = [
     "steady_speed",
     "steady_speed_motor",
     "wittenbauer_tangents",
+    # balancing
+    "BalanceResult",
+    "Correction",
+    "CounterRotor",
+    "CounterweightSpec",
+    "LanchesterPair",
+    "RotorBalance",
+    "RotorMass",
+    "SliderCrankBalance",
+    "Weights",
+    "balance_full",
+    "balance_optimal",
+    "balance_rotor_dynamic",
+    "balance_rotor_static",
+    "balance_slider_crank",
+    "balance_static",
+    "counter_rotor_loads",
+    "exact_static_counterweights",
+    "least_squares_crank_counterweight",
+    "objective_value",
+    "pendulum_inertia",
+    "tradeoff",
 ]

@@ -1,0 +1,27 @@
+"""Counterweight balancing: four-bar static, full and optimal modes on the linear map; rotors; slider-crank."""
+
+from .fourbar import (
+    BalanceResult,
+    CounterRotor,
+    Weights,
+    balance_full,
+    balance_optimal,
+    balance_static,
+    counter_rotor_loads,
+    exact_static_counterweights,
+    least_squares_crank_counterweight,
+    objective_value,
+    pendulum_inertia,
+    tradeoff,
+)
+from .program import CounterweightSpec
+from .rotors import Correction, RotorBalance, RotorMass, balance_rotor_dynamic, balance_rotor_static
+from .slider_crank import LanchesterPair, SliderCrankBalance, balance_slider_crank
+
+__all__ = [
+    "BalanceResult", "Correction", "CounterRotor", "CounterweightSpec", "LanchesterPair", "RotorBalance",
+    "RotorMass", "SliderCrankBalance", "Weights", "balance_full", "balance_optimal", "balance_rotor_dynamic",
+    "balance_rotor_static", "balance_slider_crank", "balance_static", "counter_rotor_loads",
+    "exact_static_counterweights", "least_squares_crank_counterweight", "objective_value", "pendulum_inertia",
+    "tradeoff",
+]

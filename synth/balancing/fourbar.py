@@ -1,0 +1,428 @@
+"""Four-bar counterweight balancing on the linear-in-parameters map: static, full and optimal.
+
+Every answer is re-analysed with the plain kinetostatic model (``synth.analyse`` on the linkage with the
+counterweights added), never with the map it was optimised on, and carries the residual shaking force and moment.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, Literal
+
+import cvxpy as _cvxpy
+import numpy as np
+
+from ..analysis import Analysis, Summary, analyse
+from ..errors import Infeasible, InvalidInput
+from ..kinematics import FourBar
+from ..kinetostatics import PARAMS_PER_LINK, LinearMap, linear_map
+from ..model import Counterweight, FloatArray, Linkage, MassProps
+from .program import CounterweightSpec, CounterweightVars, counterweight_vars, row_space, solve
+
+# cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
+cp: Any = _cvxpy
+
+
+@dataclass(frozen=True, slots=True)
+class CounterRotor:
+    """A counter-rotating inertia [kg·m²] geared to ``link`` turning at -``ratio`` times the link's speed."""
+
+    link: str
+    inertia: float
+    ratio: float
+
+
+@dataclass(frozen=True, slots=True)
+class BalanceResult:
+    """Counterweights and what they do, checked by re-analysis with the plain model.
+
+    ``residual_force`` / ``residual_moment``: largest shaking force [N] / moment [N·m] left after balancing
+    (counter-rotors included); ``..._rel``: the same over the largest before.
+    """
+
+    mode: str
+    counterweights: tuple[Counterweight, ...]
+    total_added_mass: float
+    before: Summary
+    after: Summary
+    residual_force: float
+    residual_force_rel: float
+    residual_moment: float
+    residual_moment_rel: float
+    analysis_before: Analysis
+    analysis_after: Analysis
+    added_inertia: float = 0.0
+    coupler_inertia: float | None = None
+    counter_rotors: tuple[CounterRotor, ...] = ()
+    objective: float | None = None
+    driving_torque_after: FloatArray | None = None
+
+
+def _require_fourbar(linkage: Linkage) -> FourBar:
+    mech = linkage.mechanism
+    if not isinstance(mech, FourBar):
+        raise InvalidInput("counterweight balancing by this mode is for four-bars", field="mechanism.type")
+    return mech
+
+
+def _var_columns(lm: LinearMap, cw: CounterweightVars) -> list[int]:
+    cols: list[int] = []
+    for link in cw.links:
+        s = lm.columns(link)
+        cols += list(range(s.start, s.stop))
+    return cols
+
+
+def _x(cw: CounterweightVars) -> cp.Expression:
+    """The counterweights' added parameters in the order of ``_var_columns``."""
+    return cp.hstack([cp.hstack([cw.m[i], cw.h[i, 0], cw.h[i, 1], cw.j[i]]) for i in range(len(cw.links))])
+
+
+def _rows(lm: LinearMap, which: Sequence[int]) -> tuple[FloatArray, FloatArray]:
+    """Stack rows ``which`` of the map over all angles: (N·rows, params) and (N·rows,)."""
+    y = lm.y[:, which, :].reshape(-1, lm.y.shape[2])
+    return y, lm.y0[:, which].reshape(-1)
+
+
+def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequence[Counterweight],
+           before: Analysis, rotor_moment: FloatArray | None = None) -> tuple[Analysis, float, float, float, float]:
+    after = analyse(linkage.with_counterweights(counterweights), speed, samples=samples)
+    force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
+    moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
+    moment = float(np.abs(moment_series).max())
+    f0 = before.summary().max_shaking_force
+    m0 = before.summary().max_shaking_moment
+    return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
+
+
+def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightVars) -> tuple[FloatArray, FloatArray]:
+    a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+    cols = _var_columns(lm, cw)
+    rhs = -(a @ linkage.params() + b0)
+    return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
+
+
+def balance_static(
+    linkage: Linkage,
+    speed: float,
+    spec: CounterweightSpec | None = None,
+    *,
+    samples: int = 360,
+    objective: Literal["min_mass", "min_inertia"] = "min_mass",
+    mass_budget: float | None = None,
+    time_limit_s: float = 20.0,
+) -> BalanceResult:
+    """Counterweights that make the shaking force identically zero (the total centre of mass fixed).
+
+    Posed on the linear map as a few equalities (the row space of the force rows over all angles) with one
+    realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
+    about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
+    """
+    _require_fourbar(linkage)
+    spec = spec or CounterweightSpec()
+    spec.validate(linkage)
+    if objective == "min_inertia" and mass_budget is None:
+        raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
+                           "always has less inertia", field="mass_budget_kg")
+    before = analyse(linkage, speed, samples=samples)
+    lm = linear_map(before.motion, linkage)
+    cw = counterweight_vars(spec, linkage)
+    ar, br = _static_system(linkage, lm, cw)
+    cons = cw.constraints + [ar @ _x(cw) == br]
+    binding = ["angle_deg"] if spec.angle else []
+    if mass_budget is not None:
+        cons.append(cp.sum(cw.m) <= mass_budget)
+        binding = ["mass_budget_kg"] + binding
+    goal = cp.sum(cw.m) + 1e-9 * cp.sum(cw.j) if objective == "min_mass" else cp.sum(cw.j) + 1e-9 * cp.sum(cw.m)
+    problem = cp.Problem(cp.Minimize(goal), cons)
+    try:
+        solve(problem, time_limit_s, "static balancing", binding)
+    except Infeasible as exc:
+        if mass_budget is None:
+            raise
+        needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
+        raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
+                         f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
+    cws = _point_masses(cw) if objective == "min_mass" else cw.counterweights()
+    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
+                         f, f_rel, m, m_rel, before, after,
+                         added_inertia=sum(c.params()[3] for c in cws), objective=float(problem.value))
+
+
+def _point_masses(cw: CounterweightVars) -> list[Counterweight]:
+    """Counterweights as point masses: the inertia variable is free in a minimum-mass program."""
+    return [replace(c, inertia=0.0) for c in cw.counterweights()]
+
+
+def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:
+    """First moments (m·x, m·y) [kg·m] the crank and rocker counterweights need for static balance, closed form.
+
+    Berkof-Lowen's linearly independent vectors (the seed's principal vectors [001:1345-1397], with (3.9)
+    corrected to l2/l3): with z_i = x_i + i·y_i the centre of mass in link i's frame, the total centre of mass
+    is fixed iff m1·z1 = -m2·(l1/l2)·(l2 - z2) and m3·z3 = -m2·z2·l3/l2 (coupler unchanged).
+    """
+    fb = _require_fourbar(linkage)
+    p = {name: linkage.params_of(name) for name in ("crank", "coupler", "rocker")}
+    m2, h2 = p["coupler"][0], complex(p["coupler"][1], p["coupler"][2])
+    crank_total = -(fb.crank / fb.coupler) * (m2 * fb.coupler - h2)
+    rocker_total = -h2 * fb.rocker / fb.coupler
+    need1 = crank_total - complex(p["crank"][1], p["crank"][2])
+    need3 = rocker_total - complex(p["rocker"][1], p["rocker"][2])
+    return {"crank": (need1.real, need1.imag), "rocker": (need3.real, need3.imag)}
+
+
+def pendulum_inertia(linkage: Linkage) -> float:
+    """Coupler inertia about its centre of mass [kg·m²] that makes it a physical pendulum: m2·a·(l2 - a).
+
+    Raises Infeasible when the coupler's centre of mass is off the line of its joints or outside them.
+    """
+    fb = _require_fourbar(linkage)
+    props = linkage.mass_props("coupler")
+    x, y = props.com
+    if props.mass <= 0:
+        raise Infeasible("full balancing needs a coupler with mass", constraint="links.coupler.mass_kg")
+    if abs(y) > 1e-9 * fb.coupler:
+        raise Infeasible(f"the coupler's centre of mass is {y:.4g} m off the line of its joints: it cannot be a "
+                         "physical pendulum, so the shaking moment cannot vanish; use the optimal mode",
+                         constraint="links.coupler.com_m")
+    if not 0 < x < fb.coupler:
+        raise Infeasible(f"the coupler's centre of mass ({x:.4g} m from A) lies outside its joints: the pendulum "
+                         "inertia m·a·(l - a) would be negative; use the optimal mode",
+                         constraint="coupler_inertia_kgm2")
+    return props.mass * x * (fb.coupler - x)
+
+
+def balance_full(
+    linkage: Linkage,
+    speed: float,
+    spec: CounterweightSpec | None = None,
+    *,
+    samples: int = 360,
+    ratios: Mapping[str, float] | None = None,
+    time_limit_s: float = 20.0,
+) -> BalanceResult:
+    """Shaking force and shaking moment identically zero, at any crank speed and acceleration.
+
+    Force: counterweights as in static balancing. Moment: the coupler made a physical pendulum (its inertia
+    a variable) and counter-rotating inertias geared to crank and rocker at -``ratios`` times their speed
+    (1:1 by default). The moment rows of two motion states (constant speed, and accelerating at eps = w²) are
+    imposed, so the balance does not depend on the speed law. Minimum added mass.
+    """
+    _require_fourbar(linkage)
+    spec = spec or CounterweightSpec()
+    spec.validate(linkage)
+    ratios = {"crank": 1.0, "rocker": 1.0, **(ratios or {})}
+    for link, k in ratios.items():
+        if link not in ("crank", "rocker") or not (math.isfinite(k) and k > 0):
+            raise InvalidInput(f"counter-rotor ratio for {link!r} must be a positive number on crank or rocker",
+                               field=f"rotor_ratios.{link}")
+    target_j = pendulum_inertia(linkage)
+    before = analyse(linkage, speed, samples=samples)
+    states = [before.motion, analyse(linkage, speed, samples=samples, crank_acceleration=speed**2).motion]
+    cw = counterweight_vars(spec, linkage)
+    j2 = cp.Variable(nonneg=True)
+    rotors = cp.Variable(2, nonneg=True)
+    cons = list(cw.constraints)
+    p0 = linkage.params()
+    coupler = linear_map(states[0], linkage).columns("coupler")
+    for k, mot in enumerate(states):
+        lm = linear_map(mot, linkage)
+        cols = _var_columns(lm, cw)
+        if k == 0:
+            ar, br = _static_system(linkage, lm, cw)
+            cons.append(ar @ _x(cw) == br)
+        a, b0 = _rows(lm, [lm.moment_row])
+        # The coupler's own inertia is a variable: take its fixed value out of p0, add the variable.
+        base = p0.copy()
+        base[coupler.start + 3] -= linkage.mass_props("coupler").inertia
+        rotor_cols = np.stack([ratios["crank"] * mot.link_alpha["crank"], ratios["rocker"] * mot.link_alpha["rocker"]], axis=1)
+        moment = a[:, cols] @ _x(cw) + a[:, coupler.start + 3] * j2 + rotor_cols @ rotors + (a @ base + b0)
+        scale = max(1.0, float(np.abs(a @ p0 + b0).max()))
+        cons.append(moment / scale == 0)
+    # Added inertia is weighed at the scale of the crank (kg·m² over crank length²) so that the program does
+    # not trade a counterweight's own inertia against a counter-rotor's: both cost.
+    inertia_weight = 1e-3 / _require_fourbar(linkage).crank ** 2
+    problem = cp.Problem(cp.Minimize(cp.sum(cw.m) + inertia_weight * (cp.sum(cw.j) + cp.sum(rotors))), cons)
+    solve(problem, time_limit_s, "full balancing", ["counter-rotor inertias must be positive"])
+    cws = cw.counterweights()
+    counter_rotors = tuple(
+        CounterRotor(link, float(rotors.value[i]) if rotors.value is not None else 0.0, ratios[link])
+        for i, link in enumerate(("crank", "rocker"))
+    )
+    coupler_props = linkage.mass_props("coupler")
+    balanced = Linkage(
+        linkage.mechanism,
+        {**linkage.links, "coupler": MassProps(coupler_props.mass, coupler_props.com, float(j2.value))},
+        linkage.counterweights, linkage.gravity, linkage.loads, linkage.torques,
+    )
+    rotor_moment, rotor_torque = counter_rotor_loads(before, counter_rotors)
+    after, f, f_rel, m, m_rel = _check(balanced, speed, samples, cws, before, rotor_moment)
+    torque_after = after.kinetostatics.driving_torque + rotor_torque
+    added_inertia = sum(c.params()[3] for c in cws) + sum(r.inertia for r in counter_rotors)
+    summary_after = replace(
+        after.summary(),
+        rms_driving_torque=float(np.sqrt(np.mean(torque_after**2))),
+        max_driving_torque=float(np.abs(torque_after).max()),
+        rms_shaking_moment=float(np.sqrt(np.mean((after.kinetostatics.shaking_moment + rotor_moment) ** 2))),
+        max_shaking_moment=m,
+    )
+    return BalanceResult("full", tuple(cws), sum(c.mass for c in cws), before.summary(), summary_after,
+                         f, f_rel, m, m_rel, before, after, added_inertia=added_inertia,
+                         coupler_inertia=float(j2.value), counter_rotors=counter_rotors,
+                         objective=float(problem.value), driving_torque_after=torque_after)
+
+
+def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[FloatArray, FloatArray]:
+    """Shaking moment on the frame [N·m] and extra driving torque [N·m] of geared counter-rotors, (N,) each.
+
+    A rotor turning at -k·w_i has angular momentum -k·J·w_i: the frame feels -d/dt of it, k·J·alpha_i, and the
+    crank supplies the rate of its kinetic energy k²·J·w_i·alpha_i over the crank speed.
+    """
+    m = an.motion
+    moment = np.zeros(m.samples)
+    torque = np.zeros(m.samples)
+    for r in rotors:
+        moment += r.ratio * r.inertia * m.link_alpha[r.link]
+        torque += r.ratio**2 * r.inertia * m.link_omega[r.link] * m.link_alpha[r.link] / m.omega_crank
+    return moment, torque
+
+
+@dataclass(frozen=True, slots=True)
+class Weights:
+    """Weights of the optimal-balancing objective: RMS terms [1/N or 1/(N·m)], peaks, and added mass [1/kg]."""
+
+    shaking_force: float = 1.0
+    shaking_moment: float = 0.0
+    driving_torque: float = 0.0
+    bearing_forces: float = 0.0
+    peak_shaking_force: float = 0.0
+    peak_shaking_moment: float = 0.0
+    added_mass: float = 1e-6
+
+    def validate(self) -> None:
+        """InvalidInput for negative or non-finite weights, or all of them zero."""
+        values = [getattr(self, f) for f in self.__dataclass_fields__]
+        if any(not math.isfinite(v) or v < 0 for v in values):
+            raise InvalidInput("weights must be finite and not negative", field="weights")
+        if not any(values[:6]):
+            raise InvalidInput("at least one of the shaking/torque/bearing weights must be positive", field="weights")
+
+
+def _objective_terms(lm: LinearMap, params: cp.Expression) -> dict[str, cp.Expression]:
+    n = lm.y.shape[0]
+    def series(rows: list[int]) -> cp.Expression:
+        y, y0 = _rows(lm, rows)
+        return y @ params + y0
+    force = series([lm.force_rows.start, lm.force_rows.start + 1])
+    moment = series([lm.moment_row])
+    torque = series([lm.torque_row])
+    bearings = [r for j in lm.joints for r in range(lm.reaction_rows(j).start, lm.reaction_rows(j).stop)]
+    return {
+        "shaking_force": cp.norm(force, 2) / math.sqrt(n),
+        "shaking_moment": cp.norm(moment, 2) / math.sqrt(n),
+        "driving_torque": cp.norm(torque, 2) / math.sqrt(n),
+        "bearing_forces": cp.norm(series(bearings), 2) / math.sqrt(n * len(lm.joints)),
+        "peak_shaking_force": cp.max(cp.norm(cp.reshape(force, (n, 2), order="C"), 2, axis=1)),
+        "peak_shaking_moment": cp.norm(moment, "inf"),
+    }
+
+
+def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
+    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+    k = an.kinetostatics
+    n = an.motion.samples
+    f = np.hypot(*k.shaking_force.T)
+    bearing = np.concatenate([k.reactions[j].reshape(-1) for j in k.reactions])
+    terms = {
+        "shaking_force": float(np.sqrt(np.mean(f**2))),
+        "shaking_moment": float(np.sqrt(np.mean(k.shaking_moment**2))),
+        "driving_torque": float(np.sqrt(np.mean(k.driving_torque**2))),
+        "bearing_forces": float(np.linalg.norm(bearing) / math.sqrt(n * len(k.reactions))),
+        "peak_shaking_force": float(f.max()),
+        "peak_shaking_moment": float(np.abs(k.shaking_moment).max()),
+    }
+    crank = _require_fourbar(an.linkage).crank
+    added = sum(c.mass + c.params()[3] / crank**2 for c in counterweights)
+    return float(sum(getattr(weights, key) * v for key, v in terms.items()) + weights.added_mass * added)
+
+
+def balance_optimal(
+    linkage: Linkage,
+    speed: float,
+    spec: CounterweightSpec | None = None,
+    *,
+    weights: Weights | None = None,
+    mass_budget: float | None = None,
+    samples: int = 360,
+    time_limit_s: float = 20.0,
+    motion_map: tuple[Analysis, LinearMap] | None = None,
+) -> BalanceResult:
+    """Counterweights minimising a weighted sum of RMS (and peak) shaking force, shaking moment, driving torque
+    and bearing forces, plus a small weight on added mass, within ``mass_budget`` [kg]: one SOCP.
+
+    The default budget is the linkage's own moving mass.
+    """
+    _require_fourbar(linkage)
+    spec = spec or CounterweightSpec()
+    spec.validate(linkage)
+    weights = weights or Weights()
+    weights.validate()
+    if mass_budget is None:
+        mass_budget = float(sum(linkage.params_of(link)[0] for link in linkage.mechanism.topology.links))
+    if not (math.isfinite(mass_budget) and mass_budget >= 0):
+        raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
+    before, lm = motion_map or _motion_map(linkage, speed, samples)
+    cw = counterweight_vars(spec, linkage)
+    params = cw.params_expr(lm, linkage.params())
+    terms = _objective_terms(lm, params)
+    goal = sum(getattr(weights, key) * expr for key, expr in terms.items() if getattr(weights, key) > 0)
+    # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is pinned.
+    crank = _require_fourbar(linkage).crank
+    goal = goal + weights.added_mass * (cp.sum(cw.m) + cp.sum(cw.j) / crank**2)
+    problem = cp.Problem(cp.Minimize(goal), cw.constraints + [cp.sum(cw.m) <= mass_budget])
+    solve(problem, time_limit_s, "optimal balancing", ["mass_budget_kg"])
+    cws = cw.counterweights()
+    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    added = sum(c.mass for c in cws)
+    return BalanceResult("optimal", tuple(cws), added, before.summary(), after.summary(), f, f_rel, m, m_rel,
+                         before, after, added_inertia=sum(c.params()[3] for c in cws),
+                         objective=objective_value(after, weights, cws))
+
+
+def _motion_map(linkage: Linkage, speed: float, samples: int) -> tuple[Analysis, LinearMap]:
+    before = analyse(linkage, speed, samples=samples)
+    return before, linear_map(before.motion, linkage)
+
+
+def tradeoff(
+    linkage: Linkage,
+    speed: float,
+    spec: CounterweightSpec | None,
+    weight_sets: Sequence[Weights],
+    *,
+    mass_budget: float | None = None,
+    samples: int = 360,
+    time_limit_s: float = 20.0,
+) -> list[BalanceResult]:
+    """Optimal balancing for each weight set (one motion and map shared), each point re-analysed."""
+    mm = _motion_map(linkage, speed, samples)
+    return [balance_optimal(linkage, speed, spec, weights=w, mass_budget=mass_budget, samples=samples,
+                            time_limit_s=time_limit_s, motion_map=mm) for w in weight_sets]
+
+
+def least_squares_crank_counterweight(linkage: Linkage, speed: float, samples: int = 360) -> tuple[float, float]:
+    """First moment (m·x, m·y) [kg·m] of the crank counterweight minimising the RMS shaking force, closed form.
+
+    The crank turns about a fixed pivot, so its counterweight's first moment enters the shaking force linearly:
+    an ordinary least-squares problem over all angles (numpy.linalg.lstsq).
+    """
+    before, lm = _motion_map(linkage, speed, samples)
+    a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+    cols = lm.columns("crank")
+    rhs = -(a @ linkage.params() + b0)
+    h, *_ = np.linalg.lstsq(a[:, [cols.start + 1, cols.start + 2]], rhs, rcond=None)
+    return float(h[0]), float(h[1])
+
