@@ -16,6 +16,17 @@ import httpx
 from pydantic import BaseModel
 
 from .schemas.analysis import AnalysisIn, AnalysisOut
+from .schemas.balancing import (
+    BalanceIn,
+    BalanceOut,
+    FullBalanceIn,
+    OptimalBalanceIn,
+    OptimalBalanceOut,
+    RotorIn,
+    RotorOut,
+    SliderCrankBalanceIn,
+    SliderCrankBalanceOut,
+)
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 
@@ -174,3 +185,27 @@ class SynthClient:
         response = self.http.get("/v1/gears/motors")
         self._raise_for_problem(response)
         return [MotorOut.model_validate(row) for row in response.json()]
+
+    def balance_static(self, body: BalanceIn) -> BalanceOut:
+        """POST /v1/balancing/static: counterweights that zero the shaking force."""
+        return self._post("/v1/balancing/static", body, BalanceOut)
+
+    def balance_full(self, body: FullBalanceIn) -> BalanceOut:
+        """POST /v1/balancing/full: shaking force and moment zero (counterweights, pendulum coupler, counter-rotors)."""
+        return self._post("/v1/balancing/full", body, BalanceOut)
+
+    def balance_optimal(self, body: OptimalBalanceIn) -> OptimalBalanceOut:
+        """POST /v1/balancing/optimal: weighted trade-off within a mass budget, with the trade-off curve."""
+        return self._post("/v1/balancing/optimal", body, OptimalBalanceOut)
+
+    def balance_png(self, mode: str, body: BalanceIn) -> bytes:
+        """Before/after figure of a balancing mode (`static`, `full` or `optimal`)."""
+        return self._post_png(f"/v1/balancing/{mode}", body)
+
+    def balance_rotor(self, body: RotorIn) -> RotorOut:
+        """POST /v1/balancing/rotor: single-plane static or two-plane dynamic rotor balance."""
+        return self._post("/v1/balancing/rotor", body, RotorOut)
+
+    def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
+        """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
+        return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)

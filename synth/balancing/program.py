@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -142,8 +143,11 @@ def solve(problem: cp.Problem, time_limit_s: float, what: str, binding: Sequence
     try:
         # Tighter than Clarabel's defaults: the counterweights themselves (the argmin), not only the objective,
         # are the answer, and flat optima leave them loose at the default gap.
-        problem.solve(solver=cp.CLARABEL, time_limit=time_limit_s, tol_gap_abs=1e-10, tol_gap_rel=1e-10,
-                      tol_feas=1e-10)
+        with warnings.catch_warnings():
+            # cvxpy warns of inaccurate solutions; the status is translated below instead.
+            warnings.filterwarnings("ignore", message="Solution may be inaccurate", category=UserWarning)
+            problem.solve(solver=cp.CLARABEL, time_limit=time_limit_s, tol_gap_abs=1e-10, tol_gap_rel=1e-10,
+                          tol_feas=1e-10)
     except cp.SolverError as exc:
         raise SolverFailed("solver_error", f"{what}: {exc}") from exc
     status = problem.status

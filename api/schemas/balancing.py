@@ -1,0 +1,278 @@
+"""Schemas of /v1/balancing/*: counterweights that send straight back to /v1/analysis, with their checks."""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+import synth
+
+from .common import FOURBAR_EXAMPLE, CounterweightIn, LinkageRequest, StrictModel, SummaryOut
+
+SLIDER_CRANK_EXAMPLE = {
+    "type": "slider_crank",
+    "crank_length_m": 0.05,
+    "rod_length_m": 0.2,
+    "links": {
+        "crank": {"mass_kg": 1.0, "com_m": [0.02, 0.0], "inertia_kgm2": 0.001},
+        "rod": {"mass_kg": 0.8, "com_m": [0.06, 0.0], "inertia_kgm2": 0.003},
+        "slider": {"mass_kg": 1.2},
+    },
+}
+
+
+class BalanceIn(LinkageRequest):
+    """A four-bar and where counterweights may go."""
+
+    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1)
+    max_radius_m: dict[str, float] = Field(
+        default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length."
+    )
+    angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
+    objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
+    mass_budget_kg: float | None = Field(None, ge=0, description="Largest total added mass [kg].")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "counterweight_links": ["crank", "rocker"],
+         "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
+    ]})
+
+    def spec(self) -> synth.CounterweightSpec:
+        """Engine counterweight spec (degrees become radians here)."""
+        return synth.CounterweightSpec(
+            tuple(self.counterweight_links), dict(self.max_radius_m),
+            {k: math.radians(v) for k, v in self.angle_deg.items()} or None,
+        )
+
+
+class FullBalanceIn(BalanceIn):
+    """Full balancing: also counter-rotors geared to crank and rocker."""
+
+    rotor_ratios: dict[str, float] = Field(
+        default_factory=dict, description="Counter-rotor speed over its link's, opposite sense; default 1 (1:1)."
+    )
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
+    ]})
+
+
+class WeightsIn(StrictModel):
+    """Weights of the optimal mode's objective (RMS values unless `peak_`)."""
+
+    shaking_force: float = Field(1.0, ge=0)
+    shaking_moment: float = Field(0.0, ge=0)
+    driving_torque: float = Field(0.0, ge=0)
+    bearing_forces: float = Field(0.0, ge=0)
+    peak_shaking_force: float = Field(0.0, ge=0)
+    peak_shaking_moment: float = Field(0.0, ge=0)
+    added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and kg·m² over crank length²).")
+
+    def to_engine(self) -> synth.Weights:
+        """Engine weights."""
+        return synth.Weights(**self.model_dump())
+
+
+class OptimalBalanceIn(BalanceIn):
+    """Optimal balancing: a weighted trade-off within a mass budget, optionally swept over several weight sets."""
+
+    weights: WeightsIn = Field(default_factory=WeightsIn)
+    sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
+                                   description="More weight sets: the trade-off curve, each point re-analysed.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "mass_budget_kg": 4.0,
+         "weights": {"shaking_force": 1.0, "shaking_moment": 2.0, "driving_torque": 1.0, "bearing_forces": 0.1},
+         "sweep": [{"shaking_force": 1.0}, {"shaking_force": 1.0, "driving_torque": 5.0}]},
+    ]})
+
+
+class PlacementOut(BaseModel):
+    """A counterweight's place: radius and angle in its link frame, and the link's new centre of mass."""
+
+    link: str
+    radius_m: float
+    angle_deg: float
+    link_com_m: list[float]
+    link_mass_kg: float
+
+
+class CounterRotorOut(BaseModel):
+    """A counter-rotating inertia geared to a link at -ratio times its speed."""
+
+    link: str
+    inertia_kgm2: float
+    ratio: float
+
+
+class BalanceChecksOut(BaseModel):
+    """Re-analysis with the plain kinetostatic model (not the map the program was built on)."""
+
+    residual_shaking_force_N: float
+    residual_shaking_force_rel: float
+    residual_shaking_moment_Nm: float
+    residual_shaking_moment_rel: float
+
+
+class BalanceOut(BaseModel):
+    """Counterweights (send them back to /v1/analysis as they are), their cost and effect."""
+
+    mode: str
+    counterweights: list[CounterweightIn]
+    placements: list[PlacementOut]
+    total_added_mass_kg: float
+    added_inertia_kgm2: float = Field(description="Counterweights' inertia about their joints plus counter-rotors.")
+    summary_before: SummaryOut
+    summary_after: SummaryOut
+    checks: BalanceChecksOut
+    coupler_inertia_kgm2: float | None = None
+    counter_rotors: list[CounterRotorOut] | None = None
+    objective: float | None = None
+
+    @classmethod
+    def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
+        """Schema from an engine result."""
+        placements = []
+        for cw in r.counterweights:
+            props = r.analysis_after.linkage.mass_props(cw.link)
+            placements.append(PlacementOut(
+                link=cw.link, radius_m=float(np.hypot(*cw.position)),
+                angle_deg=math.degrees(math.atan2(cw.position[1], cw.position[0])),
+                link_com_m=list(props.com), link_mass_kg=props.mass,
+            ))
+        return cls(
+            mode=r.mode,
+            counterweights=[CounterweightIn.from_engine(c) for c in r.counterweights],
+            placements=placements,
+            total_added_mass_kg=r.total_added_mass,
+            added_inertia_kgm2=r.added_inertia,
+            summary_before=SummaryOut.from_engine(r.before),
+            summary_after=SummaryOut.from_engine(r.after),
+            checks=BalanceChecksOut(
+                residual_shaking_force_N=r.residual_force, residual_shaking_force_rel=r.residual_force_rel,
+                residual_shaking_moment_Nm=r.residual_moment, residual_shaking_moment_rel=r.residual_moment_rel,
+            ),
+            coupler_inertia_kgm2=r.coupler_inertia,
+            counter_rotors=None if r.mode != "full" else [
+                CounterRotorOut(link=c.link, inertia_kgm2=c.inertia, ratio=c.ratio) for c in r.counter_rotors
+            ],
+            objective=r.objective,
+        )
+
+
+class OptimalBalanceOut(BalanceOut):
+    """The optimal design for `weights`, and the trade-off curve over `sweep`."""
+
+    tradeoff: list[BalanceOut] = Field(default_factory=list)
+
+
+class RotorMassIn(StrictModel):
+    """An unbalanced point mass of a rotor."""
+
+    mass_kg: float = Field(ge=0)
+    radius_m: float = Field(ge=0)
+    angle_deg: float
+    axial_position_m: float = 0.0
+
+
+class RotorIn(StrictModel):
+    """Point masses of a rotor and where the corrections go: one plane (static) or two (dynamic)."""
+
+    masses: list[RotorMassIn] = Field(min_length=1, max_length=1000)
+    mode: Literal["static", "dynamic"] = "dynamic"
+    correction_radius_m: float = Field(0.1, gt=0, description="Static mode: radius of the correction mass.")
+    correction_plane_m: float = Field(0.0, description="Static mode: axial position of the correction plane.")
+    planes_m: list[float] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2)
+    radii_m: list[float] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2)
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"masses": [{"mass_kg": 1.0, "radius_m": 0.1, "angle_deg": 20, "axial_position_m": 0.2},
+                    {"mass_kg": 2.0, "radius_m": 0.05, "angle_deg": 115, "axial_position_m": 0.5}],
+         "mode": "dynamic", "planes_m": [0.0, 1.0], "radii_m": [0.1, 0.1]},
+    ]})
+
+    def to_engine(self) -> list[synth.RotorMass]:
+        """Engine masses (degrees become radians here)."""
+        return [synth.RotorMass(m.mass_kg, m.radius_m, math.radians(m.angle_deg), m.axial_position_m)
+                for m in self.masses]
+
+
+class CorrectionOut(BaseModel):
+    """A correction mass and where it goes."""
+
+    mass_kg: float
+    radius_m: float
+    angle_deg: float
+    axial_position_m: float
+
+
+class RotorOut(BaseModel):
+    """Corrections and the check: what is left of the static and the couple unbalance with them added."""
+
+    corrections: list[CorrectionOut]
+    unbalance_before_kgm: float
+    moment_unbalance_before_kgm2: float
+    residual_unbalance_kgm: float
+    residual_moment_unbalance_kgm2: float
+
+    @classmethod
+    def from_engine(cls, r: synth.RotorBalance) -> RotorOut:
+        """Schema from an engine result."""
+        return cls(
+            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius, angle_deg=math.degrees(c.angle),
+                                       axial_position_m=c.axial) for c in r.corrections],
+            unbalance_before_kgm=r.unbalance_before, moment_unbalance_before_kgm2=r.moment_before,
+            residual_unbalance_kgm=r.residual_unbalance, residual_moment_unbalance_kgm2=r.residual_moment,
+        )
+
+
+class SliderCrankBalanceIn(LinkageRequest):
+    """An in-line slider-crank: crank counterweight and Lanchester balancer."""
+
+    counterweight_radius_m: float | None = Field(None, gt=0, description="Default: the crank length.")
+    balancer_radii_m: list[float] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
+                                          description="Radius of the 1st- and 2nd-order balancer masses [m].")
+    orders: Literal[1, 2] = 2
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": SLIDER_CRANK_EXAMPLE, "speed_rpm": 1500, "balancer_radii_m": [0.04, 0.03]},
+    ]})
+
+
+class LanchesterOut(BaseModel):
+    """A pair of shafts at ±order times crank speed, each carrying mass_kg at radius_m."""
+
+    order: int
+    mass_kg: float
+    radius_m: float
+    amplitude_N: float
+
+
+class SliderCrankBalanceOut(BaseModel):
+    """Masses split to crank pin and slider, the crank counterweight, the balancer, and the residual force."""
+
+    rotating_mass_kg: float
+    reciprocating_mass_kg: float
+    crank_counterweight: CounterweightIn
+    lanchester: list[LanchesterOut]
+    first_order_amplitude_N: float
+    second_order_amplitude_N: float
+    summary_before: SummaryOut
+    residual_shaking_force_N: float
+    residual_shaking_force_rel: float
+
+    @classmethod
+    def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
+        """Schema from an engine result."""
+        return cls(
+            rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
+            crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
+            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude)
+                        for p in r.pairs],
+            first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
+            summary_before=SummaryOut.from_engine(r.before),
+            residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
+        )
