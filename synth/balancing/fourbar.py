@@ -311,23 +311,41 @@ class Weights:
             raise InvalidInput("at least one of the shaking/torque/bearing weights must be positive", field="weights")
 
 
-def _objective_terms(lm: LinearMap, params: cp.Expression) -> dict[str, cp.Expression]:
+def _compressed_norm(y: FloatArray, c: FloatArray, x: cp.Expression) -> cp.Expression:
+    """||y @ x + c|| for a tall y (thousands of rows, a few columns) as a cone of a few rows, exactly.
+
+    With y = Q R: ||y x + c||² = ||R x + Qᵀc||² + ||c - Q Qᵀc||², so the solver sees columns, not angles.
+    """
+    q, r = np.linalg.qr(y)
+    t = q.T @ c
+    rest = float(np.linalg.norm(c - q @ t))
+    return cp.norm(cp.hstack([r @ x + t, np.array([rest])]), 2)
+
+
+def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expression,
+                     weights: Weights) -> cp.Expression:
+    """The weighted objective: RMS terms as compressed cones, peak terms (if weighted) per angle."""
     n = lm.y.shape[0]
-    def series(rows: list[int]) -> cp.Expression:
-        y, y0 = _rows(lm, rows)
-        return y @ params + y0
-    force = series([lm.force_rows.start, lm.force_rows.start + 1])
-    moment = series([lm.moment_row])
-    torque = series([lm.torque_row])
     bearings = [r for j in lm.joints for r in range(lm.reaction_rows(j).start, lm.reaction_rows(j).stop)]
-    return {
-        "shaking_force": cp.norm(force, 2) / math.sqrt(n),
-        "shaking_moment": cp.norm(moment, 2) / math.sqrt(n),
-        "driving_torque": cp.norm(torque, 2) / math.sqrt(n),
-        "bearing_forces": cp.norm(series(bearings), 2) / math.sqrt(n * len(lm.joints)),
-        "peak_shaking_force": cp.max(cp.norm(cp.reshape(force, (n, 2), order="C"), 2, axis=1)),
-        "peak_shaking_moment": cp.norm(moment, "inf"),
+    rms_rows = {
+        "shaking_force": ([lm.force_rows.start, lm.force_rows.start + 1], n),
+        "shaking_moment": ([lm.moment_row], n),
+        "driving_torque": ([lm.torque_row], n),
+        "bearing_forces": (bearings, n * len(lm.joints)),
     }
+    goal: cp.Expression = 0
+    for key, (rows, count) in rms_rows.items():
+        if getattr(weights, key) > 0:
+            y, y0 = _rows(lm, rows)
+            goal = goal + getattr(weights, key) * _compressed_norm(y[:, cols], y @ p0 + y0, x) / math.sqrt(count)
+    if weights.peak_shaking_force > 0:
+        y, y0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+        force = cp.reshape(y[:, cols] @ x + (y @ p0 + y0), (n, 2), order="C")
+        goal = goal + weights.peak_shaking_force * cp.max(cp.norm(force, 2, axis=1))
+    if weights.peak_shaking_moment > 0:
+        y, y0 = _rows(lm, [lm.moment_row])
+        goal = goal + weights.peak_shaking_moment * cp.norm(y[:, cols] @ x + (y @ p0 + y0), "inf")
+    return goal
 
 
 def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
@@ -376,9 +394,7 @@ def balance_optimal(
         raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
     before, lm = motion_map or _motion_map(linkage, speed, samples)
     cw = counterweight_vars(spec, linkage)
-    params = cw.params_expr(lm, linkage.params())
-    terms = _objective_terms(lm, params)
-    goal = sum(getattr(weights, key) * expr for key, expr in terms.items() if getattr(weights, key) > 0)
+    goal = _objective_terms(lm, linkage.params(), _var_columns(lm, cw), _x(cw), weights)
     # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is pinned.
     crank = _require_fourbar(linkage).crank
     goal = goal + weights.added_mass * (cp.sum(cw.m) + cp.sum(cw.j) / crank**2)

@@ -73,6 +73,7 @@ class CounterweightVars:
     """cvxpy variables of the counterweights: per link m, h (2), J about the link's first joint."""
 
     links: tuple[str, ...]
+    r_max: FloatArray
     m: cp.Variable
     h: cp.Variable
     j: cp.Variable
@@ -90,13 +91,14 @@ class CounterweightVars:
         return p0 + cp.hstack(add)
 
     def counterweights(self) -> list[Counterweight]:
-        """Point counterweights (own inertia J - |h|²/m, clipped at zero) from the solved variables."""
+        """Counterweights from the solved variables: mass at least |h|/r_max (the solver meets the radius limit
+        only to its tolerance), own inertia J - m·|r|² clipped at zero."""
         out = []
         m = np.asarray(self.m.value, dtype=float)
         h = np.asarray(self.h.value, dtype=float)
         j = np.asarray(self.j.value, dtype=float)
         for i, link in enumerate(self.links):
-            mass = max(float(m[i]), 0.0)
+            mass = max(float(m[i]), float(np.hypot(*h[i])) / float(self.r_max[i]), 0.0)
             if mass <= 1e-12:
                 continue
             pos = (float(h[i, 0] / mass), float(h[i, 1] / mass))
@@ -110,13 +112,15 @@ def counterweight_vars(spec: CounterweightSpec, linkage: Linkage) -> Counterweig
     k = len(spec.links)
     m, h, j = cp.Variable(k, nonneg=True), cp.Variable((k, 2)), cp.Variable(k, nonneg=True)
     r_max = np.array([spec.radius(linkage, link) for link in spec.links])
-    cons: list[cp.Constraint] = [cp.norm(h, 2, axis=1) <= cp.multiply(r_max, m)]
+    # The cone is imposed with a margin of 1e-7 so that the solver's tolerance never carries a counterweight past
+    # its radius limit (the reported mass is also floored at |h|/r_max).
+    cons: list[cp.Constraint] = [cp.norm(h, 2, axis=1) <= cp.multiply(r_max * (1 - 1e-7), m)]
     cons += [cp.quad_over_lin(h[i], m[i]) <= j[i] for i in range(k)]
     for i, link in enumerate(spec.links):
         if spec.angle and link in spec.angle:
             a = spec.angle[link]
             cons += [h[i, 1] * math.cos(a) - h[i, 0] * math.sin(a) == 0, h[i, 0] * math.cos(a) + h[i, 1] * math.sin(a) >= 0]
-    return CounterweightVars(spec.links, m, h, j, cons)
+    return CounterweightVars(spec.links, r_max, m, h, j, cons)
 
 
 def row_space(a: FloatArray, b: FloatArray, what: str, constraint: str) -> tuple[FloatArray, FloatArray]:
