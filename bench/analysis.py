@@ -9,7 +9,6 @@ Also times a whole 360-sample POST /v1/analysis in-process.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 
 import numpy as np
 from scipy.optimize import fsolve
@@ -18,6 +17,7 @@ import synth
 from api.client import SynthClient
 from api.schemas.analysis import AnalysisIn
 from api.schemas.common import FOURBAR_EXAMPLE
+from bench._timing import best_of
 
 SAMPLES = 3600
 OMEGA = 30.0
@@ -26,14 +26,6 @@ OMEGA = 30.0
 def _linkage() -> synth.Linkage:
     return AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()
 
-
-def _best_of(fn: Callable[[], object], repeat: int) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> np.ndarray:
@@ -101,8 +93,8 @@ def main() -> None:
     diff = float(np.abs(engine.kinetostatics.driving_torque - baseline).max())
     assert diff < 1e-6 * (1 + np.abs(baseline).max()), f"baseline disagrees with the engine by {diff}"
 
-    t_engine = _best_of(lambda: synth.analyse(linkage, OMEGA, samples=SAMPLES), 7)
-    t_base = _best_of(lambda: per_angle_torque(linkage, phi, OMEGA), 2)
+    t_engine = best_of(lambda: synth.analyse(linkage, OMEGA, samples=SAMPLES), 7)
+    t_base = best_of(lambda: per_angle_torque(linkage, phi, OMEGA), 2)
     print(f"four-bar full analysis, {SAMPLES} samples (kinematics, reactions, torque, virtual power, reduced model)")
     print(f"  engine (vectorised):        {t_engine * 1e3:8.2f} ms")
     print(f"  per-angle loop (torque only): {t_base * 1e3:8.2f} ms")
@@ -111,8 +103,8 @@ def main() -> None:
     client = SynthClient.in_process()
     body = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 360})
     client.analysis(body)
-    t_req = _best_of(lambda: client.analysis(body), 20)
-    t_health = _best_of(client.health, 20)
+    t_req = best_of(lambda: client.analysis(body), 20)
+    t_health = best_of(client.health, 20)
     print(f"POST /v1/analysis, 360 samples, in-process through the client: {t_req * 1e3:.2f} ms (best of 20;")
     print(f"  of which {t_health * 1e3:.2f} ms is the in-process transport itself, as GET /health shows)")
 

@@ -3,8 +3,6 @@ problems in the same run (same map, same constraints, same objective), plus in-p
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
 
 import numpy as np
 from scipy.optimize import minimize
@@ -15,6 +13,7 @@ from api.schemas.balancing import BalanceIn, OptimalBalanceIn
 from api.schemas.common import FOURBAR_EXAMPLE
 from synth.balancing.fourbar import _rows, _static_system
 from synth.balancing.program import counterweight_vars
+from bench._timing import best_of
 
 SAMPLES = 360
 SPEED = 31.4
@@ -22,14 +21,6 @@ LINKS = ("crank", "rocker")
 WEIGHTS = synth.Weights(shaking_force=1.0, shaking_moment=2.0, driving_torque=1.0, bearing_forces=0.1)
 BUDGET = 4.0
 
-
-def _best_of(fn: Callable[[], object], repeat: int) -> float:
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def _setup() -> tuple[synth.Linkage, synth.LinearMap, list[int], np.ndarray]:
@@ -114,9 +105,9 @@ def main() -> None:
     spec = synth.CounterweightSpec(LINKS)
     ours = synth.balance_static(linkage, SPEED, spec, samples=SAMPLES)
     theirs, eq_err = slsqp_static(linkage, lm, r_max)
-    t_ours = _best_of(lambda: synth.balance_static(linkage, SPEED, spec, samples=SAMPLES), 5)
-    t_map = _best_of(lambda: synth.linear_map(synth.analyse(linkage, SPEED, samples=SAMPLES).motion, linkage), 5)
-    t_theirs = _best_of(lambda: slsqp_static(linkage, lm, r_max), 3) + t_map
+    t_ours = best_of(lambda: synth.balance_static(linkage, SPEED, spec, samples=SAMPLES), 5)
+    t_map = best_of(lambda: synth.linear_map(synth.analyse(linkage, SPEED, samples=SAMPLES).motion, linkage), 5)
+    t_theirs = best_of(lambda: slsqp_static(linkage, lm, r_max), 3) + t_map
     print(f"static balancing, {SAMPLES} samples (objective: added mass [kg]; both include building the map)")
     print(f"  cvxpy + Clarabel: {ours.total_added_mass:.9f} kg in {t_ours * 1e3:7.1f} ms "
           f"(end to end, with the plain re-analysis; residual force {ours.residual_force:.1e} N)")
@@ -128,9 +119,9 @@ def main() -> None:
     cws, violation = realisable(x, r_max)
     theirs_opt = synth.objective_value(synth.analyse(linkage.with_counterweights(cws), SPEED, samples=SAMPLES),
                                        WEIGHTS, cws)
-    t_ours = _best_of(lambda: synth.balance_optimal(linkage, SPEED, spec, weights=WEIGHTS, mass_budget=BUDGET,
+    t_ours = best_of(lambda: synth.balance_optimal(linkage, SPEED, spec, weights=WEIGHTS, mass_budget=BUDGET,
                                                     samples=SAMPLES), 5)
-    t_theirs = _best_of(lambda: slsqp_optimal(linkage, lm, cols, r_max), 2) + t_map
+    t_theirs = best_of(lambda: slsqp_optimal(linkage, lm, cols, r_max), 2) + t_map
     print(f"optimal balancing, {SAMPLES} samples (weighted RMS objective)")
     print(f"  cvxpy + Clarabel: {opt.objective:.6f} in {t_ours * 1e3:7.1f} ms (objective from the plain re-analysis)")
     print(f"  scipy SLSQP:      {theirs_opt:.6f} in {t_theirs * 1e3:7.1f} ms (re-analysed after making it realisable;"
@@ -144,8 +135,8 @@ def main() -> None:
                                                         "shaking_force": 1, "shaking_moment": 2,
                                                         "driving_torque": 1, "bearing_forces": 0.1}})
     client.balance_static(static_body)
-    print(f"POST /v1/balancing/static in-process:  {_best_of(lambda: client.balance_static(static_body), 10) * 1e3:.1f} ms")
-    print(f"POST /v1/balancing/optimal in-process: {_best_of(lambda: client.balance_optimal(optimal_body), 10) * 1e3:.1f} ms")
+    print(f"POST /v1/balancing/static in-process:  {best_of(lambda: client.balance_static(static_body), 10) * 1e3:.1f} ms")
+    print(f"POST /v1/balancing/optimal in-process: {best_of(lambda: client.balance_optimal(optimal_body), 10) * 1e3:.1f} ms")
 
 
 if __name__ == "__main__":
