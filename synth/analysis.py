@@ -115,10 +115,16 @@ def analyse(
             raise InvalidInput(f"point name {name!r} is already a joint of the mechanism", field="trace_points")
     coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in links}
     mot = base.with_points({**coms, **extra})
-    return Analysis(
+    result = Analysis(
         linkage=linkage,
         motion=mot,
         kinetostatics=solve_direct(mot, linkage),
         virtual_power_torque=virtual_power_torque(mot, linkage),
         reduced=reduced_model(mot, linkage),
     )
+    k, r = result.kinetostatics, result.reduced
+    checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)
+    if not all(np.all(np.isfinite(a)) for a in checked):
+        raise InvalidInput("the analysis overflows floating point: a length, mass, inertia, load or speed is far "
+                           "outside any physical range")
+    return result

@@ -3,14 +3,23 @@
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, CounterweightIn, LinkageRequest, StrictModel, SummaryOut
+from .common import (
+    FOURBAR_EXAMPLE,
+    MAX_MASS_KG,
+    Coordinate,
+    CounterweightIn,
+    Length,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+)
 
 SLIDER_CRANK_EXAMPLE = {
     "type": "slider_crank",
@@ -28,12 +37,12 @@ class BalanceIn(LinkageRequest):
     """A four-bar and where counterweights may go."""
 
     counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1)
-    max_radius_m: dict[str, float] = Field(
+    max_radius_m: dict[str, Length] = Field(
         default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length."
     )
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
-    mass_budget_kg: float | None = Field(None, ge=0, description="Largest total added mass [kg].")
+    mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "counterweight_links": ["crank", "rocker"],
@@ -51,7 +60,7 @@ class BalanceIn(LinkageRequest):
 class FullBalanceIn(BalanceIn):
     """Full balancing: also counter-rotors geared to crank and rocker."""
 
-    rotor_ratios: dict[str, float] = Field(
+    rotor_ratios: dict[str, Annotated[float, Field(gt=0, le=1e3)]] = Field(
         default_factory=dict, description="Counter-rotor speed over its link's, opposite sense; default 1 (1:1)."
     )
 
@@ -172,10 +181,10 @@ class OptimalBalanceOut(BalanceOut):
 class RotorMassIn(StrictModel):
     """An unbalanced point mass of a rotor."""
 
-    mass_kg: float = Field(ge=0)
-    radius_m: float = Field(ge=0)
+    mass_kg: float = Field(ge=0, le=MAX_MASS_KG)
+    radius_m: float = Field(ge=0, le=1e3)
     angle_deg: float
-    axial_position_m: float = 0.0
+    axial_position_m: Coordinate = 0.0
 
 
 class RotorIn(StrictModel):
@@ -183,10 +192,10 @@ class RotorIn(StrictModel):
 
     masses: list[RotorMassIn] = Field(min_length=1, max_length=1000)
     mode: Literal["static", "dynamic"] = "dynamic"
-    correction_radius_m: float = Field(0.1, gt=0, description="Static mode: radius of the correction mass.")
-    correction_plane_m: float = Field(0.0, description="Static mode: axial position of the correction plane.")
-    planes_m: list[float] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2)
-    radii_m: list[float] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2)
+    correction_radius_m: Length = Field(0.1, description="Static mode: radius of the correction mass [m].")
+    correction_plane_m: Coordinate = Field(0.0, description="Static mode: axial position of the correction plane.")
+    planes_m: list[Coordinate] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2)
+    radii_m: list[Length] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2)
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"masses": [{"mass_kg": 1.0, "radius_m": 0.1, "angle_deg": 20, "axial_position_m": 0.2},
@@ -232,8 +241,8 @@ class RotorOut(BaseModel):
 class SliderCrankBalanceIn(LinkageRequest):
     """An in-line slider-crank: crank counterweight and Lanchester balancer."""
 
-    counterweight_radius_m: float | None = Field(None, gt=0, description="Default: the crank length.")
-    balancer_radii_m: list[float] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
+    counterweight_radius_m: Length | None = Field(None, description="Default: the crank length.")
+    balancer_radii_m: list[Length] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
                                           description="Radius of the 1st- and 2nd-order balancer masses [m].")
     orders: Literal[1, 2] = 2
 

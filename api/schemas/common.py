@@ -11,7 +11,14 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 import synth
 from synth.analysis import Summary
 
-Vec2 = Annotated[list[float], Field(min_length=2, max_length=2)]
+# Bounds far outside any machine, so that arithmetic cannot overflow: a value beyond them is a typo.
+MAX_LENGTH_M = 1e3
+MAX_MASS_KG = 1e7
+MAX_INERTIA_KGM2 = 1e9
+Coordinate = Annotated[float, Field(ge=-MAX_LENGTH_M, le=MAX_LENGTH_M)]
+Vec2 = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]
+MIN_LENGTH_M = 1e-6
+Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
 
 
 class StrictModel(BaseModel):
@@ -23,9 +30,10 @@ class StrictModel(BaseModel):
 class LinkIn(StrictModel):
     """Mass properties of one link in its own frame (origin at its first joint, x toward the second)."""
 
-    mass_kg: float = Field(0.0, ge=0, description="Link mass [kg].")
+    mass_kg: float = Field(0.0, ge=0, le=MAX_MASS_KG, description="Link mass [kg].")
     com_m: Vec2 = Field(default_factory=lambda: [0.0, 0.0], description="Centre of mass in the link frame [m].")
-    inertia_kgm2: float = Field(0.0, ge=0, description="Moment of inertia about the centre of mass [kg·m²].")
+    inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2,
+                                description="Moment of inertia about the centre of mass [kg·m²].")
 
     def to_props(self) -> synth.MassProps:
         """Engine mass properties."""
@@ -62,10 +70,10 @@ class FourBarIn(StrictModel):
     """Four-bar O-A-B-Q: crank pivot O at the origin, rocker pivot Q at (ground_length_m, 0)."""
 
     type: Literal["fourbar"] = "fourbar"
-    ground_length_m: float = Field(gt=0)
-    crank_length_m: float = Field(gt=0)
-    coupler_length_m: float = Field(gt=0)
-    rocker_length_m: float = Field(gt=0)
+    ground_length_m: Length
+    crank_length_m: Length
+    coupler_length_m: Length
+    rocker_length_m: Length
     branch: Literal[1, -1] = Field(1, description="+1: B to the left of the directed line A->Q; -1: to the right.")
     links: FourBarLinks = Field(default_factory=FourBarLinks)
 
@@ -80,9 +88,9 @@ class SliderCrankIn(StrictModel):
     """Offset slider-crank: crank pivot at the origin, slider on the horizontal line y = offset_m."""
 
     type: Literal["slider_crank"] = "slider_crank"
-    crank_length_m: float = Field(gt=0)
-    rod_length_m: float = Field(gt=0)
-    offset_m: float = 0.0
+    crank_length_m: Length
+    rod_length_m: Length
+    offset_m: Coordinate = 0.0
     branch: Literal[1, -1] = Field(1, description="+1: slider on the +x side of the crank pin; -1: on the -x side.")
     links: SliderCrankLinks = Field(default_factory=SliderCrankLinks)
 
@@ -95,10 +103,10 @@ class SlottedLeverIn(StrictModel):
     """Shaper: rocker pivot O1 at (0, -ground_length_m) below the crank pivot, ram guide ram_height_m above O1."""
 
     type: Literal["slotted_lever"] = "slotted_lever"
-    crank_length_m: float = Field(gt=0)
-    ground_length_m: float = Field(gt=0, description="Distance O-O1 between crank and lever pivots [m].")
-    rocker_length_m: float = Field(gt=0, description="Lever length O1-B [m].")
-    ram_height_m: float = Field(gt=0, description="Height of the ram guide above O1 [m].")
+    crank_length_m: Length
+    ground_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Distance O-O1 between crank and lever pivots [m].")
+    rocker_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Lever length O1-B [m].")
+    ram_height_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Height of the ram guide above O1 [m].")
     links: SlottedLeverLinks = Field(default_factory=SlottedLeverLinks)
 
     def to_mechanism(self) -> synth.SlottedLever:
@@ -112,7 +120,7 @@ MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn], Field(d
 class GravityIn(StrictModel):
     """Uniform gravity; leave ``gravity`` out (null) to switch it off."""
 
-    g_m_s2: float = Field(9.81, ge=0)
+    g_m_s2: float = Field(9.81, ge=0, le=1e4)
     direction_deg: float = Field(-90.0, description="Direction of g in the plane, -90 = straight down.")
 
 
@@ -120,9 +128,9 @@ class CounterweightIn(StrictModel):
     """A counterweight on a link: point mass at a position in the link frame, with optional own inertia."""
 
     link: str
-    mass_kg: float = Field(ge=0)
+    mass_kg: float = Field(ge=0, le=MAX_MASS_KG)
     position_m: Vec2
-    inertia_kgm2: float = Field(0.0, ge=0, description="Own inertia about its centre [kg·m²].")
+    inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Own inertia about its centre [kg·m²].")
 
     def to_engine(self) -> synth.Counterweight:
         """Engine counterweight."""
@@ -228,8 +236,9 @@ class LinkageRequest(StrictModel):
     """A linkage at a crank speed: what every mechanism endpoint takes."""
 
     mechanism: MechanismIn
-    speed_rpm: float = Field(60.0, gt=0, description="Crank speed [rev/min].")
-    crank_acceleration_rad_s2: float = Field(0.0, description="Crank angular acceleration, the same at every angle.")
+    speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
+    crank_acceleration_rad_s2: float = Field(0.0, ge=-1e9, le=1e9,
+                                             description="Crank angular acceleration, the same at every angle.")
     samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
     crank_angle_deg: list[float] | None = Field(
         None, min_length=1, description="Explicit crank angles [deg]; overrides samples."

@@ -74,8 +74,10 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
                        if abs(crank_first) > 0 else (0.0, 0.0))
     w = speed
     amps = [m_b * r * w**2, m_b * r * w**2 * r / l_]
+    order_factor = [1.0, r / l_]
     pairs = tuple(
-        LanchesterPair(k, amps[k - 1] / (2 * k**2 * w**2 * balancer_radii[k - 1]), balancer_radii[k - 1], amps[k - 1])
+        LanchesterPair(k, m_b * r * order_factor[k - 1] / (2 * k**2 * balancer_radii[k - 1]), balancer_radii[k - 1],
+                       amps[k - 1])
         for k in range(1, orders + 1)
     )
     before = analyse(linkage, speed, samples=samples)
