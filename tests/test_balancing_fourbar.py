@@ -153,3 +153,21 @@ def test_tradeoff_points_are_each_verified() -> None:
     assert len(points) == 2
     assert points[0].after.rms_shaking_force <= points[1].after.rms_shaking_force + 1e-9
     assert points[1].after.rms_driving_torque <= points[0].after.rms_driving_torque + 1e-9
+
+
+def test_fixed_radius_and_fixed_angle() -> None:
+    # Fixed radius: the least mass is |h|/r with h from the exact conditions; the counterweight sits on the circle.
+    linkage = _linkage()
+    spec = synth.CounterweightSpec(("crank", "rocker"), radius={"crank": 0.06, "rocker": 0.2})
+    result = synth.balance_static(linkage, SPEED, spec, samples=120)
+    exact = synth.exact_static_counterweights(linkage)
+    for cw in result.counterweights:
+        r = spec.radius[cw.link]  # type: ignore[index]
+        assert np.hypot(*cw.position) == pytest.approx(r, rel=1e-6)
+        assert cw.mass == pytest.approx(np.hypot(*exact[cw.link]) / r, rel=1e-6)
+    assert result.residual_force_rel < 1e-9
+    # A fixed angle the exact first moment does not point along cannot balance.
+    bad = synth.CounterweightSpec(("crank", "rocker"), angle={"crank": 0.0})
+    with pytest.raises(synth.Infeasible) as err:
+        synth.balance_static(linkage, SPEED, bad, samples=60)
+    assert err.value.constraint == "angle_deg"

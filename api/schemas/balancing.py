@@ -41,6 +41,7 @@ class BalanceIn(LinkageRequest):
         default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length."
     )
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
+    radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")
     objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
     mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
 
@@ -54,6 +55,7 @@ class BalanceIn(LinkageRequest):
         return synth.CounterweightSpec(
             tuple(self.counterweight_links), dict(self.max_radius_m),
             {k: math.radians(v) for k, v in self.angle_deg.items()} or None,
+            dict(self.radius_m) or None,
         )
 
 

@@ -123,7 +123,8 @@ def balance_static(
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
-    if objective == "min_inertia" and mass_budget is None:
+    all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
+    if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
                            "always has less inertia", field="mass_budget_kg")
     before = analyse(linkage, speed, samples=samples)
@@ -145,7 +146,7 @@ def balance_static(
         needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
-    cws = _point_masses(cw) if objective == "min_mass" else cw.counterweights()
+    cws = _point_masses(cw) if objective == "min_mass" and not spec.radius else cw.counterweights()
     after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,

@@ -27,11 +27,13 @@ cp: Any = _cvxpy
 
 @dataclass(frozen=True, slots=True)
 class CounterweightSpec:
-    """Where counterweights may go: links, each link's largest radius [m] and optional fixed angle [rad]."""
+    """Where counterweights may go: links, each link's largest radius [m], optional fixed radius [m] and fixed
+    angle [rad] (in the link frame)."""
 
     links: tuple[str, ...] = ("crank", "rocker")
     max_radius: Mapping[str, float] | None = None
     angle: Mapping[str, float] | None = None
+    radius: Mapping[str, float] | None = None
 
     def validate(self, linkage: Linkage) -> None:
         """InvalidInput naming the field for unknown links or radii that are not positive."""
@@ -50,9 +52,17 @@ class CounterweightSpec:
         for link in (self.angle or {}):
             if link not in self.links:
                 raise InvalidInput(f"angle given for {link!r}, which carries no counterweight", field=f"angle_deg.{link}")
+        for link, r in (self.radius or {}).items():
+            if link not in self.links:
+                raise InvalidInput(f"radius_m given for {link!r}, which carries no counterweight",
+                                   field=f"radius_m.{link}")
+            if not (math.isfinite(r) and r > 0):
+                raise InvalidInput(f"radius_m.{link} must be positive, got {r}", field=f"radius_m.{link}")
 
-    def radius(self, linkage: Linkage, link: str) -> float:
-        """Largest counterweight radius on ``link`` [m]; by default the link's own length."""
+    def limit(self, linkage: Linkage, link: str) -> float:
+        """Largest counterweight radius on ``link`` [m]: its fixed radius, its maximum, or the link's length."""
+        if self.radius and link in self.radius:
+            return float(self.radius[link])
         if self.max_radius and link in self.max_radius:
             return float(self.max_radius[link])
         lengths = _link_lengths(linkage)
@@ -111,12 +121,15 @@ def counterweight_vars(spec: CounterweightSpec, linkage: Linkage) -> Counterweig
     """Variables and realisability cones of the allowed counterweights (one cone each, never one per angle)."""
     k = len(spec.links)
     m, h, j = cp.Variable(k, nonneg=True), cp.Variable((k, 2)), cp.Variable(k, nonneg=True)
-    r_max = np.array([spec.radius(linkage, link) for link in spec.links])
+    r_max = np.array([spec.limit(linkage, link) for link in spec.links])
     # The cone is imposed with a margin of 1e-7 so that the solver's tolerance never carries a counterweight past
     # its radius limit (the reported mass is also floored at |h|/r_max).
     cons: list[cp.Constraint] = [cp.norm(h, 2, axis=1) <= cp.multiply(r_max * (1 - 1e-7), m)]
     cons += [cp.quad_over_lin(h[i], m[i]) <= j[i] for i in range(k)]
     for i, link in enumerate(spec.links):
+        if spec.radius and link in spec.radius:
+            # All of the mass at radius r: J = r²·m exactly; with |h| <= r·m, the optimum puts h on the circle.
+            cons.append(j[i] == spec.radius[link] ** 2 * m[i])
         if spec.angle and link in spec.angle:
             a = spec.angle[link]
             cons += [h[i, 1] * math.cos(a) - h[i, 0] * math.sin(a) == 0, h[i, 0] * math.cos(a) + h[i, 1] * math.sin(a) >= 0]
