@@ -8,6 +8,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from hypothesis import settings
+
+# The same examples on every run: a commit that is green stays green. Set SYNTH_HYPOTHESIS_RANDOM=1 to explore.
+settings.register_profile("repeatable", derandomize=True, deadline=None)
+settings.register_profile("explore", deadline=None)
+settings.load_profile("explore" if os.environ.get("SYNTH_HYPOTHESIS_RANDOM") else "repeatable")
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("SYNTH_SHARED_DIR", REPO.parent / "shared"))
