@@ -171,3 +171,10 @@ def test_fixed_radius_and_fixed_angle() -> None:
     with pytest.raises(synth.Infeasible) as err:
         synth.balance_static(linkage, SPEED, bad, samples=60)
     assert err.value.constraint == "angle_deg"
+
+
+def test_time_budget_is_a_timeout() -> None:
+    # A budget no solve can meet: the solver's own limit stops it, reported as SolverTimeout (504 over HTTP).
+    with pytest.raises(synth.SolverTimeout):
+        synth.balance_optimal(_linkage(), SPEED, weights=synth.Weights(1.0, 1.0, 1.0, 1.0), samples=360,
+                              time_limit_s=1e-7)

@@ -171,8 +171,11 @@ def solve(problem: cp.Problem, time_limit_s: float, what: str, binding: Sequence
     if status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
         limits = ", ".join(binding) or "the counterweight limits"
         raise Infeasible(f"{what}: no counterweights satisfy {limits}", constraint=binding[0] if binding else None)
-    if status == "user_limit" or (problem.solver_stats and problem.solver_stats.solve_time
-                                  and problem.solver_stats.solve_time >= time_limit_s):
-        raise SolverTimeout(time_limit_s)
+    if status == cp.USER_LIMIT:
+        # Clarabel's time limit and its iteration limit both arrive as user_limit; only the first is a timeout.
+        spent = problem.solver_stats.solve_time if problem.solver_stats else None
+        if spent is not None and spent >= 0.9 * time_limit_s:
+            raise SolverTimeout(time_limit_s, solve_time_s=float(spent))
+        raise SolverFailed("iteration_limit", f"{what}: the solver reached its iteration limit")
     if status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
         raise SolverFailed(str(status))
