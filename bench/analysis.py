@@ -8,7 +8,6 @@ Also times a whole 360-sample POST /v1/analysis in-process.
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 from scipy.optimize import fsolve
@@ -74,7 +73,7 @@ def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> n
                 mat[3 * body + 2, 2 * j] -= sign * lever[1]
                 mat[3 * body + 2, 2 * j + 1] += sign * lever[0]
         mat[2, 8] = 1.0
-        for k, (origin, th, w, al, acc_o) in enumerate(frames):
+        for k, (_origin, th, w, al, acc_o) in enumerate(frames):
             r = rot(th, props[k].com)
             acc_s = acc_o + al * kperp(r) - w**2 * r
             force = -props[k].mass * acc_s

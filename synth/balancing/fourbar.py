@@ -17,7 +17,7 @@ import numpy as np
 from ..analysis import Analysis, Summary, analyse
 from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
-from ..kinetostatics import PARAMS_PER_LINK, LinearMap, linear_map
+from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
 from .program import CounterweightSpec, CounterweightVars, counterweight_vars, row_space, solve
 
@@ -220,7 +220,7 @@ def balance_full(
         if link not in ("crank", "rocker") or not (math.isfinite(k) and k > 0):
             raise InvalidInput(f"counter-rotor ratio for {link!r} must be a positive number on crank or rocker",
                                field=f"rotor_ratios.{link}")
-    target_j = pendulum_inertia(linkage)
+    pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
     before = analyse(linkage, speed, samples=samples)
     states = [before.motion, analyse(linkage, speed, samples=samples, crank_acceleration=speed**2).motion]
     cw = counterweight_vars(spec, linkage)

@@ -18,7 +18,6 @@ import cvxpy as _cvxpy
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
-from ..kinetostatics import PARAMS_PER_LINK, LinearMap
 from ..model import Counterweight, FloatArray, Linkage
 
 # cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
@@ -88,17 +87,6 @@ class CounterweightVars:
     h: cp.Variable
     j: cp.Variable
     constraints: list[cp.Constraint]
-
-    def params_expr(self, lm: LinearMap, p0: FloatArray) -> cp.Expression:
-        """Stacked link parameters with the counterweights added, as an affine expression."""
-        add = []
-        for link in lm.links:
-            if link in self.links:
-                i = self.links.index(link)
-                add.append(cp.hstack([self.m[i], self.h[i, 0], self.h[i, 1], self.j[i]]))
-            else:
-                add.append(np.zeros(PARAMS_PER_LINK))
-        return p0 + cp.hstack(add)
 
     def counterweights(self) -> list[Counterweight]:
         """Counterweights from the solved variables: mass at least |h|/r_max (the solver meets the radius limit
