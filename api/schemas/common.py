@@ -24,7 +24,7 @@ Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[
 class StrictModel(BaseModel):
     """Base of every schema: unknown fields and NaN/infinity are rejected at the edge."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, strict=True)
 
 
 class LinkIn(StrictModel):

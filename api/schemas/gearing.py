@@ -9,7 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 import synth
 
-from .common import StrictModel
+from .common import MAX_INERTIA_KGM2, StrictModel
 
 RPM = math.pi / 30.0
 
@@ -18,17 +18,19 @@ class StageIn(StrictModel):
     """A stage of the layout: a type from the table (GET /v1/gears/stage-types) with optional overrides."""
 
     type: str = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.")
-    ratio_min: float | None = Field(None, gt=0, description="Smallest admissible stage ratio [-].")
-    ratio_max: float | None = Field(None, gt=0, description="Largest admissible stage ratio [-].")
+    ratio_min: float | None = Field(None, gt=0, le=1e4, description="Smallest admissible stage ratio [-].")
+    ratio_max: float | None = Field(None, gt=0, le=1e4, description="Largest admissible stage ratio [-].")
     efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
-    ratio: float | None = Field(None, gt=0, description="Fixed stage ratio (a standard ratio, say) [-].")
+    ratio: float | None = Field(None, gt=0, le=1e4, description="Fixed stage ratio (a standard ratio, say) [-].")
 
     def to_spec(self) -> synth.StageSpec:
         """Engine stage spec."""
         return synth.StageSpec(self.type, self.ratio_min, self.ratio_max, self.efficiency, self.ratio)
 
 
-StagesIn = Annotated[int, Field(ge=1)] | list[str | StageIn]
+# Bounded here, before anything is allocated per stage; the service setting max_stages may lower it.
+MAX_STAGES = 12
+StagesIn = Annotated[int, Field(ge=1, le=MAX_STAGES)] | Annotated[list[str | StageIn], Field(min_length=1, max_length=MAX_STAGES)]
 
 
 def _specs(stages: int | list[str | StageIn]) -> int | list[synth.StageSpec | str]:
@@ -36,11 +38,11 @@ def _specs(stages: int | list[str | StageIn]) -> int | list[synth.StageSpec | st
 
 
 class _InertiaFields(StrictModel):
-    pinion_inertia_kgm2: float = Field(1e-3, gt=0, description="Inertia of every pinion [kg·m²]; a gear of stage "
+    pinion_inertia_kgm2: float = Field(1e-3, gt=0, le=MAX_INERTIA_KGM2, description="Inertia of every pinion [kg·m²]; a gear of stage "
                                        "ratio u has u⁴ times it (same module and face width).")
-    load_inertia_kgm2: float = Field(0.0, ge=0, description="Inertia on the output shaft [kg·m²].")
-    shaft_inertias_kgm2: list[float] | None = Field(
-        None, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
+    load_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the output shaft [kg·m²].")
+    shaft_inertias_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
+        None, max_length=MAX_STAGES + 1, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
 
     def inertia_model(self, motor_inertia_kgm2: float = 0.0) -> synth.InertiaModel:
         """Engine reduced-inertia model data."""
@@ -51,18 +53,18 @@ class _InertiaFields(StrictModel):
 class SplitIn(_InertiaFields):
     """A total ratio (or the motor and output speeds) to split between the stages."""
 
-    total_ratio: float | None = Field(None, gt=0, description="Motor speed over output speed [-].")
-    motor_speed_rpm: float | None = Field(None, gt=0)
-    output_speed_rpm: float | None = Field(None, gt=0)
-    motor_speed_rad_s: float | None = Field(None, gt=0)
-    output_speed_rad_s: float | None = Field(None, gt=0)
+    total_ratio: float | None = Field(None, ge=1e-4, le=1e6, description="Motor speed over output speed [-].")
+    motor_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
+    motor_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
     objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
-    motor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia, added on the motor shaft [kg·m²].")
-    input_torque_Nm: float = Field(1.0, gt=0, description="Motor-shaft torque for the volume model [N·m]; "
+    motor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia, added on the motor shaft [kg·m²].")
+    input_torque_Nm: float = Field(1.0, gt=0, le=1e9, description="Motor-shaft torque for the volume model [N·m]; "
                                    "scales the volume, not the split.")
-    handbook_factor: float = Field(0.88, gt=0, description="Handbook rule: slow stage = factor * sqrt(U).")
+    handbook_factor: float = Field(0.88, gt=0, le=10, description="Handbook rule: slow stage = factor * sqrt(U).")
     snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
     snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
                                          "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
@@ -168,17 +170,17 @@ class SplitOut(BaseModel):
 class TeethIn(StrictModel):
     """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
 
-    total_ratio: float = Field(gt=0, description="Target ratio of the train [-].")
+    total_ratio: float = Field(ge=1e-4, le=1e6, description="Target ratio of the train [-].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of toothed stage types or stages "
                              "with ratio ranges, motor side first.")
-    min_teeth: int | None = Field(None, ge=1, description="Your bound on every wheel; replaces the undercut limit, "
+    min_teeth: int | None = Field(None, ge=1, le=100_000, description="Your bound on every wheel; replaces the undercut limit, "
                                   "which then only warns.")
-    max_teeth: int = Field(100, ge=2)
+    max_teeth: int = Field(100, ge=2, le=100_000)
     tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
                                     "teeth within it; else the closest ratio.")
     pressure_angle_deg: float = Field(20.0, gt=0, lt=90)
-    addendum_coefficient: float = Field(1.0, gt=0)
-    profile_shift: float = Field(0.0, description="Shift x on the smaller wheel of each pair, -x on the larger.")
+    addendum_coefficient: float = Field(1.0, gt=0, le=2)
+    profile_shift: float = Field(0.0, ge=-1, le=1, description="Shift x on the smaller wheel of each pair, -x on the larger.")
     hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
     reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
 
@@ -253,11 +255,11 @@ class TeethOut(BaseModel):
 class CatalogueMotorIn(StrictModel):
     """A motor of your own catalogue."""
 
-    name: str = Field(min_length=1)
-    rated_power_W: float = Field(gt=0)
-    synchronous_rpm: float = Field(gt=0)
-    rated_rpm: float = Field(gt=0)
-    rotor_inertia_kgm2: float | None = Field(None, ge=0)
+    name: str = Field(min_length=1, max_length=80)
+    rated_power_W: float = Field(gt=0, le=1e9)
+    synchronous_rpm: float = Field(gt=0, le=1e5)
+    rated_rpm: float = Field(gt=0, le=1e5)
+    rotor_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2)
 
     @model_validator(mode="after")
     def _slip(self) -> CatalogueMotorIn:
@@ -274,15 +276,15 @@ class CatalogueMotorIn(StrictModel):
 class DriveIn(_InertiaFields):
     """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
 
-    output_power_W: float = Field(gt=0, description="Power the output shaft delivers [W].")
-    output_speed_rpm: float | None = Field(None, gt=0)
-    output_speed_rad_s: float | None = Field(None, gt=0)
+    output_power_W: float = Field(gt=0, le=1e9, description="Power the output shaft delivers [W].")
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
-    reserve_factor: float = Field(1.1, gt=0, description="xi in P_req = P_out xi / eta.")
+    reserve_factor: float = Field(1.1, gt=0, le=10, description="xi in P_req = P_out xi / eta.")
     drive_efficiency: float | None = Field(None, gt=0, le=1, description="eta assumed for the motor choice; "
                                            "default the product of the stage efficiencies.")
-    synchronous_rpm: float | None = Field(None, gt=0, description="Restrict the motor to one speed class.")
+    synchronous_rpm: float | None = Field(None, gt=0, le=1e5, description="Restrict the motor to one speed class.")
     motor: str | None = Field(None, description="A catalogue motor by name instead of the automatic choice.")
     motor_catalogue: list[CatalogueMotorIn] | None = Field(
         None, min_length=1, max_length=500,
