@@ -88,16 +88,22 @@ class SynthClient:
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls) -> SynthClient:
-        """A client speaking to a fresh app in this process, without a network."""
+    def in_process(cls, executor: str = "serial") -> SynthClient:
+        """A client speaking to a fresh app in this process, without a network.
+
+        Solver work runs in one background thread (``executor="serial"``), which works from any script or notebook;
+        ``"pool"`` uses worker processes as the service does (a script then needs an ``if __name__ == "__main__"``
+        guard, as every multiprocessing program does).
+        """
         with warnings.catch_warnings():
             # starlette announces a future move of its test client to another HTTP library; ours speaks httpx.
             warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
             from fastapi.testclient import TestClient
 
         from .app import create_app
+        from .settings import Settings
 
-        return cls(http=TestClient(create_app()))
+        return cls(http=TestClient(create_app(Settings(executor=executor))))  # type: ignore[arg-type]
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
