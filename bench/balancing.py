@@ -12,7 +12,7 @@ from api.client import SynthClient
 from api.schemas.balancing import BalanceIn, OptimalBalanceIn
 from api.schemas.common import FOURBAR_EXAMPLE
 from synth.balancing.fourbar import _rows, _static_system
-from synth.balancing.program import counterweight_vars
+from synth.balancing.program import counterweight_layout
 from bench._timing import best_of
 
 SAMPLES = 360
@@ -47,7 +47,7 @@ def _cones(r_max: np.ndarray) -> list[dict[str, object]]:
 
 
 def slsqp_static(linkage: synth.Linkage, lm: synth.LinearMap, r_max: np.ndarray) -> tuple[float, float]:
-    cw = counterweight_vars(synth.CounterweightSpec(LINKS), linkage)
+    cw = counterweight_layout(synth.CounterweightSpec(LINKS), linkage)
     ar, br = _static_system(linkage, lm, cw)
     x0 = np.tile([1.0, 0.0, 0.0, 0.1], len(LINKS))
     res = minimize(lambda x: x.reshape(-1, 4)[:, 0].sum(), x0, method="SLSQP",

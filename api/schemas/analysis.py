@@ -107,45 +107,60 @@ class AnalysisOut(BaseModel):
         """Schema from an engine analysis (radians become degrees here).
 
         Built without re-validating the engine's arrays (they are float arrays by construction), after one
-        check that nothing non-finite would reach the response.
+        check that nothing non-finite would reach the response. The array fields hold the engine's numpy
+        arrays as they are: ``api.media.json_bytes`` writes them; ``to_lists`` gives the plain pydantic model.
         """
         m, k, r = an.motion, an.kinetostatics, an.reduced
         ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
         mech = an.linkage.mechanism
         tau = an.transmission_angle
         return cls.model_construct(
-            crank_angle_deg=np.degrees(m.phi).tolist(),
-            driving_torque_Nm=k.driving_torque.tolist(),
-            virtual_power_torque_Nm=an.virtual_power_torque.tolist(),
-            shaking_force_N=k.shaking_force.tolist(),
-            shaking_moment_Nm=k.shaking_moment.tolist(),
-            reduced_inertia_kgm2=r.inertia.tolist(),
-            reduced_inertia_slope_kgm2_per_rad=r.inertia_slope.tolist(),
-            reduced_load_torque_Nm=r.load_torque.tolist(),
-            kinetic_energy_J=r.kinetic_energy.tolist(),
-            joint_reactions_N={name: v.tolist() for name, v in k.reactions.items()},
-            prismatic_couples_Nm={name: v.tolist() for name, v in k.couples.items()},
+            crank_angle_deg=np.degrees(m.phi),
+            driving_torque_Nm=k.driving_torque,
+            virtual_power_torque_Nm=an.virtual_power_torque,
+            shaking_force_N=k.shaking_force,
+            shaking_moment_Nm=k.shaking_moment,
+            reduced_inertia_kgm2=r.inertia,
+            reduced_inertia_slope_kgm2_per_rad=r.inertia_slope,
+            reduced_load_torque_Nm=r.load_torque,
+            kinetic_energy_J=r.kinetic_energy,
+            joint_reactions_N={name: v for name, v in k.reactions.items()},
+            prismatic_couples_Nm={name: v for name, v in k.couples.items()},
             links={
                 name: LinkMotionOut.model_construct(
-                    angle_deg=np.degrees(m.link_angle[name]).tolist(),
-                    angular_velocity_rad_s=m.link_omega[name].tolist(),
-                    angular_acceleration_rad_s2=m.link_alpha[name].tolist(),
+                    angle_deg=np.degrees(m.link_angle[name]),
+                    angular_velocity_rad_s=m.link_omega[name],
+                    angular_acceleration_rad_s2=m.link_alpha[name],
                 )
                 for name in mech.topology.links
             },
             points={
                 name: PointOut.model_construct(
-                    position_m=m.point_pos[name].tolist(),
-                    velocity_m_s=m.point_vel[name].tolist(),
-                    acceleration_m_s2=m.point_acc[name].tolist(),
+                    position_m=m.point_pos[name],
+                    velocity_m_s=m.point_vel[name],
+                    acceleration_m_s2=m.point_acc[name],
                 )
                 for name in m.point_pos
             },
-            transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
+            transmission_angle_deg=None if tau is None else np.degrees(tau),
             grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
         )
+
+    def to_lists(self) -> AnalysisOut:
+        """The same answer validated as a plain pydantic model (numpy arrays turned into lists)."""
+        return AnalysisOut.model_validate(_lists(self))
+
+
+def _lists(value: object) -> object:
+    if isinstance(value, BaseModel):
+        return {name: _lists(getattr(value, name)) for name in type(value).model_fields}
+    if isinstance(value, dict):
+        return {key: _lists(item) for key, item in value.items()}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return value
 
 
 def plot_angle(body: AnalysisIn, angle_deg: float | None) -> float:

@@ -9,9 +9,8 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Literal
 
-import cvxpy as _cvxpy
 import numpy as np
 
 from ..analysis import Analysis, Summary, analyse
@@ -19,10 +18,16 @@ from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
-from .program import CounterweightSpec, CounterweightVars, counterweight_vars, row_space, solve
-
-# cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
-cp: Any = _cvxpy
+from .program import (
+    ConeProgram,
+    CounterweightLayout,
+    CounterweightSolution,
+    CounterweightSpec,
+    counterweight_layout,
+    realisability_block,
+    row_space,
+    solve,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,7 +72,8 @@ def _require_fourbar(linkage: Linkage) -> FourBar:
     return mech
 
 
-def _var_columns(lm: LinearMap, cw: CounterweightVars) -> list[int]:
+def _var_columns(lm: LinearMap, cw: CounterweightLayout) -> list[int]:
+    """Columns of the map the counterweight variables add to, in the layout's order."""
     cols: list[int] = []
     for link in cw.links:
         s = lm.columns(link)
@@ -75,9 +81,11 @@ def _var_columns(lm: LinearMap, cw: CounterweightVars) -> list[int]:
     return cols
 
 
-def _x(cw: CounterweightVars) -> cp.Expression:
-    """The counterweights' added parameters in the order of ``_var_columns``."""
-    return cp.hstack([cp.hstack([cw.m[i], cw.h[i, 0], cw.h[i, 1], cw.j[i]]) for i in range(len(cw.links))])
+def _program(cw: CounterweightLayout, extra: int = 0) -> ConeProgram:
+    """A cone program over the counterweight variables (and ``extra`` more), realisability rows included."""
+    program = ConeProgram(cw.size + extra)
+    program.add(realisability_block(cw))
+    return program
 
 
 def _rows(lm: LinearMap, which: Sequence[int]) -> tuple[FloatArray, FloatArray]:
@@ -97,7 +105,7 @@ def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequenc
     return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 
-def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightVars) -> tuple[FloatArray, FloatArray]:
+def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> tuple[FloatArray, FloatArray]:
     a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
     cols = _var_columns(lm, cw)
     rhs = -(a @ linkage.params() + b0)
@@ -129,33 +137,30 @@ def balance_static(
                            "always has less inertia", field="mass_budget_kg")
     before = analyse(linkage, speed, samples=samples)
     lm = linear_map(before.motion, linkage)
-    cw = counterweight_vars(spec, linkage)
+    cw = counterweight_layout(spec, linkage)
     ar, br = _static_system(linkage, lm, cw)
-    cons = cw.constraints + [ar @ _x(cw) == br]
+    program = _program(cw)
+    program.equal(ar, br)
     binding = ["angle_deg"] if spec.angle else []
+    masses, inertias = cw.mass_columns(), cw.inertia_columns()
     if mass_budget is not None:
-        cons.append(cp.sum(cw.m) <= mass_budget)
+        program.at_most(masses[None, :], np.array([mass_budget]))
         binding = ["mass_budget_kg"] + binding
-    goal = cp.sum(cw.m) + 1e-9 * cp.sum(cw.j) if objective == "min_mass" else cp.sum(cw.j) + 1e-9 * cp.sum(cw.m)
-    problem = cp.Problem(cp.Minimize(goal), cons)
+    program.q = masses + 1e-9 * inertias if objective == "min_mass" else inertias + 1e-9 * masses
     try:
-        solve(problem, time_limit_s, "static balancing", binding)
+        x = solve(program, time_limit_s, "static balancing", binding)
     except Infeasible as exc:
         if mass_budget is None:
             raise
         needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
-    cws = _point_masses(cw) if objective == "min_mass" and not spec.radius else cw.counterweights()
+    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
+    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
     after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,
-                         added_inertia=sum(c.params()[3] for c in cws), objective=float(problem.value))
-
-
-def _point_masses(cw: CounterweightVars) -> list[Counterweight]:
-    """Counterweights as point masses: the inertia variable is free in a minimum-mass program."""
-    return [replace(c, inertia=0.0) for c in cw.counterweights()]
+                         added_inertia=sum(c.params()[3] for c in cws), objective=float(program.q @ x))
 
 
 def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:
@@ -223,40 +228,47 @@ def balance_full(
     pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
     before = analyse(linkage, speed, samples=samples)
     states = [before.motion, analyse(linkage, speed, samples=samples, crank_acceleration=speed**2).motion]
-    cw = counterweight_vars(spec, linkage)
-    j2 = cp.Variable(nonneg=True)
-    rotors = cp.Variable(2, nonneg=True)
-    cons = list(cw.constraints)
+    cw = counterweight_layout(spec, linkage)
+    # Variables: the counterweights, then the coupler's inertia j2 and the two counter-rotor inertias.
+    program = _program(cw, extra=3)
+    n_vars = program.size
+    program.at_most(-np.eye(3, n_vars, cw.size), np.zeros(3))
     p0 = linkage.params()
     coupler = linear_map(states[0], linkage).columns("coupler")
+    moment_rows, moment_rhs = [], []
     for k, mot in enumerate(states):
         lm = linear_map(mot, linkage)
         cols = _var_columns(lm, cw)
         if k == 0:
             ar, br = _static_system(linkage, lm, cw)
-            cons.append(ar @ _x(cw) == br)
+            program.equal(ar, br)
         a, b0 = _rows(lm, [lm.moment_row])
         # The coupler's own inertia is a variable: take its fixed value out of p0, add the variable.
         base = p0.copy()
         base[coupler.start + 3] -= linkage.mass_props("coupler").inertia
         rotor_cols = np.stack([ratios["crank"] * mot.link_alpha["crank"], ratios["rocker"] * mot.link_alpha["rocker"]], axis=1)
-        moment = a[:, cols] @ _x(cw) + a[:, coupler.start + 3] * j2 + rotor_cols @ rotors + (a @ base + b0)
         scale = max(1.0, float(np.abs(a @ p0 + b0).max()))
-        cons.append(moment / scale == 0)
+        moment_rows.append(np.hstack([a[:, cols], a[:, [coupler.start + 3]], rotor_cols]) / scale)
+        moment_rhs.append(-(a @ base + b0) / scale)
+    # Both states' moment rows over all angles have only a few independent directions: impose those.
+    mr, mb = row_space(np.vstack(moment_rows), np.concatenate(moment_rhs), "the shaking moment", "counterweight_links")
+    program.equal(mr, mb)
     # Added inertia is weighed at the scale of the crank (kg·m² over crank length²) so that the program does
     # not trade a counterweight's own inertia against a counter-rotor's: both cost.
     inertia_weight = 1e-3 / _require_fourbar(linkage).crank ** 2
-    problem = cp.Problem(cp.Minimize(cp.sum(cw.m) + inertia_weight * (cp.sum(cw.j) + cp.sum(rotors))), cons)
-    solve(problem, time_limit_s, "full balancing", ["counter-rotor inertias must be positive"])
-    cws = cw.counterweights()
+    program.q[: cw.size] = cw.mass_columns() + inertia_weight * cw.inertia_columns()
+    program.q[cw.size + 1:] = inertia_weight
+    x = solve(program, time_limit_s, "full balancing", ["counter-rotor inertias must be positive"])
+    cws = CounterweightSolution(cw, x).counterweights()
+    j2 = max(float(x[cw.size]), 0.0)
     counter_rotors = tuple(
-        CounterRotor(link, float(rotors.value[i]) if rotors.value is not None else 0.0, ratios[link])
+        CounterRotor(link, max(float(x[cw.size + 1 + i]), 0.0), ratios[link])
         for i, link in enumerate(("crank", "rocker"))
     )
     coupler_props = linkage.mass_props("coupler")
     balanced = Linkage(
         linkage.mechanism,
-        {**linkage.links, "coupler": MassProps(coupler_props.mass, coupler_props.com, float(j2.value))},
+        {**linkage.links, "coupler": MassProps(coupler_props.mass, coupler_props.com, j2)},
         linkage.counterweights, linkage.gravity, linkage.loads, linkage.torques,
     )
     rotor_moment, rotor_torque = counter_rotor_loads(before, counter_rotors)
@@ -272,8 +284,8 @@ def balance_full(
     )
     return BalanceResult("full", tuple(cws), sum(c.mass for c in cws), before.summary(), summary_after,
                          f, f_rel, m, m_rel, before, after, added_inertia=added_inertia,
-                         coupler_inertia=float(j2.value), counter_rotors=counter_rotors,
-                         objective=float(problem.value), driving_torque_after=torque_after)
+                         coupler_inertia=j2, counter_rotors=counter_rotors,
+                         objective=float(program.q @ x), driving_torque_after=torque_after)
 
 
 def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[FloatArray, FloatArray]:
@@ -312,21 +324,54 @@ class Weights:
             raise InvalidInput("at least one of the shaking/torque/bearing weights must be positive", field="weights")
 
 
-def _compressed_norm(y: FloatArray, c: FloatArray, x: cp.Expression) -> cp.Expression:
+_RMS_TERMS = ("shaking_force", "shaking_moment", "driving_torque", "bearing_forces")
+_PEAK_TERMS = ("peak_shaking_force", "peak_shaking_moment")
+
+
+def _compressed_cone(y: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArray]:
     """||y @ x + c|| for a tall y (thousands of rows, a few columns) as a cone of a few rows, exactly.
 
     With y = Q R: ||y x + c||² = ||R x + Qᵀc||² + ||c - Q Qᵀc||², so the solver sees columns, not angles.
+    Returns (G, g) with the cone's vector G x + g.
     """
     q, r = np.linalg.qr(y)
     t = q.T @ c
     rest = float(np.linalg.norm(c - q @ t))
-    return cp.norm(cp.hstack([r @ x + t, np.array([rest])]), 2)
+    return np.vstack([r, np.zeros((1, r.shape[1]))]), np.concatenate([t, [rest]])
 
 
-def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expression,
-                     weights: Weights) -> cp.Expression:
-    """The weighted objective: RMS terms as compressed cones, peak terms (if weighted) per angle."""
+@dataclass(frozen=True, slots=True)
+class _OptimalProgram:
+    """The optimal-balancing SOCP for one set of weighted terms; only the costs depend on the weights.
+
+    Variables: the counterweights, then one bound per weighted term (in ``terms`` order).
+    """
+
+    program: ConeProgram
+    layout: CounterweightLayout
+    terms: tuple[str, ...]
+    scale: tuple[float, ...]  # cost of each term's bound per unit weight
+    crank: float
+
+    def costs(self, weights: Weights) -> FloatArray:
+        """Objective vector for ``weights``: the terms, plus a small weight on added mass and inertia."""
+        q = np.zeros(self.program.size)
+        n = self.layout.size
+        # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is
+        # pinned.
+        q[:n] = weights.added_mass * (self.layout.mass_columns() + self.layout.inertia_columns() / self.crank**2)
+        q[n:] = [getattr(weights, key) * s for key, s in zip(self.terms, self.scale, strict=True)]
+        return q
+
+
+def _optimal_program(lm: LinearMap, linkage: Linkage, cw: CounterweightLayout, terms: tuple[str, ...],
+                     mass_budget: float) -> _OptimalProgram:
+    """Build the SOCP: RMS terms as compressed cones, a peak force as one small cone per angle, a peak moment as
+    two inequalities per angle, and the mass budget."""
     n = lm.y.shape[0]
+    p0 = linkage.params()
+    cols = _var_columns(lm, cw)
+    program = _program(cw, extra=len(terms))
     bearings = [r for j in lm.joints for r in range(lm.reaction_rows(j).start, lm.reaction_rows(j).stop)]
     rms_rows = {
         "shaking_force": ([lm.force_rows.start, lm.force_rows.start + 1], n),
@@ -334,19 +379,33 @@ def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expre
         "driving_torque": ([lm.torque_row], n),
         "bearing_forces": (bearings, n * len(lm.joints)),
     }
-    goal: cp.Expression = 0
-    for key, (rows, count) in rms_rows.items():
-        if getattr(weights, key) > 0:
+    scale = []
+    for k, key in enumerate(terms):
+        bound = np.zeros(program.size)
+        bound[cw.size + k] = 1.0
+        if key in rms_rows:
+            rows, count = rms_rows[key]
             y, y0 = _rows(lm, rows)
-            goal = goal + getattr(weights, key) * _compressed_norm(y[:, cols], y @ p0 + y0, x) / math.sqrt(count)
-    if weights.peak_shaking_force > 0:
-        y, y0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
-        force = cp.reshape(y[:, cols] @ x + (y @ p0 + y0), (n, 2), order="C")
-        goal = goal + weights.peak_shaking_force * cp.max(cp.norm(force, 2, axis=1))
-    if weights.peak_shaking_moment > 0:
-        y, y0 = _rows(lm, [lm.moment_row])
-        goal = goal + weights.peak_shaking_moment * cp.norm(y[:, cols] @ x + (y @ p0 + y0), "inf")
-    return goal
+            g, offset = _compressed_cone(y[:, cols], y @ p0 + y0)
+            program.cone(np.vstack([bound, np.pad(g, ((0, 0), (0, program.size - cw.size)))]),
+                         np.concatenate([[0.0], offset]))
+            scale.append(1 / math.sqrt(count))
+        elif key == "peak_shaking_force":
+            y, y0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+            g = np.zeros((n, 3, program.size))
+            g[:, 0, :] = bound
+            g[:, 1:, : cw.size] = y[:, cols].reshape(n, 2, -1)
+            offset = np.concatenate([np.zeros((n, 1)), (y @ p0 + y0).reshape(n, 2)], axis=1)
+            program.cone(g.reshape(3 * n, -1), offset.reshape(-1), dim=3)
+            scale.append(1.0)
+        else:
+            y, y0 = _rows(lm, [lm.moment_row])
+            g = np.pad(y[:, cols], ((0, 0), (0, program.size - cw.size)))
+            c = y @ p0 + y0
+            program.at_most(np.vstack([g - bound, -g - bound]), np.concatenate([-c, c]))
+            scale.append(1.0)
+    program.at_most(cw.mass_columns()[None, :], np.array([mass_budget]))
+    return _OptimalProgram(program, cw, terms, tuple(scale), _require_fourbar(linkage).crank)
 
 
 def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
@@ -384,29 +443,48 @@ def balance_optimal(
 
     The default budget is the linkage's own moving mass.
     """
+    return _optimal_points(linkage, speed, spec, [weights or Weights()], mass_budget, samples, time_limit_s,
+                           motion_map)[0]
+
+
+def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, weight_sets: Sequence[Weights],
+                    mass_budget: float | None, samples: int, time_limit_s: float,
+                    motion_map: tuple[Analysis, LinearMap] | None) -> list[BalanceResult]:
+    """Optimal balancing for each weight set: one program and one solver per set of weighted terms, re-solved
+    with new costs for each set, and every point re-analysed with the plain model."""
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
-    weights = weights or Weights()
-    weights.validate()
+    for weights in weight_sets:
+        weights.validate()
     if mass_budget is None:
         mass_budget = float(sum(linkage.params_of(link)[0] for link in linkage.mechanism.topology.links))
     if not (math.isfinite(mass_budget) and mass_budget >= 0):
         raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
     before, lm = motion_map or _motion_map(linkage, speed, samples)
-    cw = counterweight_vars(spec, linkage)
-    goal = _objective_terms(lm, linkage.params(), _var_columns(lm, cw), _x(cw), weights)
-    # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is pinned.
-    crank = _require_fourbar(linkage).crank
-    goal = goal + weights.added_mass * (cp.sum(cw.m) + cp.sum(cw.j) / crank**2)
-    problem = cp.Problem(cp.Minimize(goal), cw.constraints + [cp.sum(cw.m) <= mass_budget])
-    solve(problem, time_limit_s, "optimal balancing", ["mass_budget_kg"])
-    cws = cw.counterweights()
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
-    added = sum(c.mass for c in cws)
-    return BalanceResult("optimal", tuple(cws), added, before.summary(), after.summary(), f, f_rel, m, m_rel,
-                         before, after, added_inertia=sum(c.params()[3] for c in cws),
-                         objective=objective_value(after, weights, cws))
+    cw = counterweight_layout(spec, linkage)
+    solutions: dict[int, FloatArray] = {}
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for i, weights in enumerate(weight_sets):
+        terms = tuple(key for key in _RMS_TERMS + _PEAK_TERMS if getattr(weights, key) > 0)
+        groups.setdefault(terms, []).append(i)
+    for terms, members in groups.items():
+        built = _optimal_program(lm, linkage, cw, terms, mass_budget)
+        built.program.q = built.costs(weight_sets[members[0]])
+        solver = built.program.solver(time_limit_s)
+        for i in members:
+            if i != members[0]:
+                solver.update(q=built.costs(weight_sets[i]))
+            solutions[i] = solve(solver, time_limit_s, "optimal balancing", ["mass_budget_kg"])
+    results = []
+    for i, weights in enumerate(weight_sets):
+        cws = CounterweightSolution(cw, solutions[i]).counterweights()
+        after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+        results.append(BalanceResult("optimal", tuple(cws), sum(c.mass for c in cws), before.summary(),
+                                     after.summary(), f, f_rel, m, m_rel, before, after,
+                                     added_inertia=sum(c.params()[3] for c in cws),
+                                     objective=objective_value(after, weights, cws)))
+    return results
 
 
 def _motion_map(linkage: Linkage, speed: float, samples: int) -> tuple[Analysis, LinearMap]:
@@ -424,10 +502,8 @@ def tradeoff(
     samples: int = 360,
     time_limit_s: float = 20.0,
 ) -> list[BalanceResult]:
-    """Optimal balancing for each weight set (one motion and map shared), each point re-analysed."""
-    mm = _motion_map(linkage, speed, samples)
-    return [balance_optimal(linkage, speed, spec, weights=w, mass_budget=mass_budget, samples=samples,
-                            time_limit_s=time_limit_s, motion_map=mm) for w in weight_sets]
+    """Optimal balancing for each weight set (one motion, map and program shared), each point re-analysed."""
+    return _optimal_points(linkage, speed, spec, weight_sets, mass_budget, samples, time_limit_s, None)
 
 
 def least_squares_crank_counterweight(linkage: Linkage, speed: float, samples: int = 360) -> tuple[float, float]:
