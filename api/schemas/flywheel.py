@@ -289,13 +289,13 @@ class GeometryOut(BaseModel):
 class FlywheelOut(BaseModel):
     """Flywheel sizing by every method, each checked by the simulated equation of motion.
 
-    The top-level inertia and ``achieved_delta`` are the exact (Wittenbauer) method's; ``design_method`` is the
-    one the geometry uses (``motor_nlp`` when a motor is given).
+    The top-level inertia, ``achieved_delta``, the geometry and ``speed`` all come from one method,
+    ``design_method``: exact (Wittenbauer) for a constant driving torque, ``motor_nlp`` when a motor is given.
     """
 
-    flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, exact method.")
-    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, exact method.")
-    achieved_delta: float = Field(description="Simulated delta with the exact method's inertia.")
+    flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, design method.")
+    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, design method.")
+    achieved_delta: float = Field(description="Simulated delta with the design method's inertia.")
     target_delta: float
     mean_speed_rad_s: float
     omega_min_rad_s: float = Field(description="Target w_m(1 - delta/2).")
@@ -313,7 +313,7 @@ class FlywheelOut(BaseModel):
     @classmethod
     def from_engine(cls, r: synth.FlywheelResult) -> FlywheelOut:
         """Schema from the engine result (radians become degrees here)."""
-        exact, design, tan = r.method("exact"), r.design, r.tangents
+        design, tan = r.design, r.tangents
         w_min, w_max = r.speed_band
         phi, omega = design.speed.thinned()
         work = r.cycle.work_nodes()[:-1]
@@ -330,9 +330,9 @@ class FlywheelOut(BaseModel):
                 ],
             )
         return cls(
-            flywheel_inertia_kgm2=exact.flywheel_inertia,
-            required_constant_inertia_kgm2=exact.required_constant_inertia,
-            achieved_delta=exact.achieved_delta,
+            flywheel_inertia_kgm2=design.flywheel_inertia,
+            required_constant_inertia_kgm2=design.required_constant_inertia,
+            achieved_delta=design.achieved_delta,
             target_delta=r.target_delta,
             mean_speed_rad_s=r.mean_speed,
             omega_min_rad_s=w_min,
