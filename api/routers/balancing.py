@@ -60,6 +60,7 @@ def balance_optimal(body: OptimalBalanceIn, request: Request, settings: Settings
     results = gate.run(
         synth.tradeoff, body.to_linkage(), body.omega_rad_s, body.spec(), weight_sets,
         mass_budget=body.mass_budget_kg, samples=body.samples, time_limit_s=settings.solver_time_limit_s,
+        weight_scale=body.weight_scale,
     )
     if wants_png(request, format):
         return png(balance_png(results[0]))

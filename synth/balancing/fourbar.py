@@ -58,6 +58,8 @@ class BalanceResult:
     counter_rotors: tuple[CounterRotor, ...] = ()
     objective: float | None = None
     driving_torque_after: FloatArray | None = None
+    weights: Weights | None = None
+    weight_scale: str | None = None
 
 
 def _require_fourbar(linkage: Linkage) -> FourBar:
@@ -293,7 +295,8 @@ def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[F
 
 @dataclass(frozen=True, slots=True)
 class Weights:
-    """Weights of the optimal-balancing objective: RMS terms [1/N or 1/(N·m)], peaks, and added mass [1/kg]."""
+    """Weights of the optimal-balancing objective: RMS and peak terms (dimensionless by default, see
+    :func:`relative_weights`; else [1/N or 1/(N·m)]) and added mass [1/kg]."""
 
     shaking_force: float = 1.0
     shaking_moment: float = 0.0
@@ -349,8 +352,8 @@ def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expre
     return goal
 
 
-def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
-    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+def _term_values(an: Analysis) -> dict[str, float]:
+    """Every weighted term of the objective on a plain analysis [N or N·m]."""
     k = an.kinetostatics
     n = an.motion.samples
     f = np.hypot(*k.shaking_force.T)
@@ -363,6 +366,24 @@ def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Cou
         "peak_shaking_force": float(f.max()),
         "peak_shaking_moment": float(np.abs(k.shaking_moment).max()),
     }
+    return terms
+
+
+def relative_weights(an: Analysis, weights: Weights) -> Weights:
+    """Dimensionless weights turned into the program's: each term's weight over its value before balancing.
+
+    A weight of 1 on the shaking force then means "one unit per 100 % of the unbalanced RMS force", so terms in
+    N and N·m are traded in proportion to what they were; a term that is zero before keeps its weight. The
+    added-mass weight stays per kilogram.
+    """
+    values = _term_values(an)
+    scaled = {key: getattr(weights, key) / v if v > 0 else getattr(weights, key) for key, v in values.items()}
+    return replace(weights, **scaled)
+
+
+def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
+    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+    terms = _term_values(an)
     crank = _require_fourbar(an.linkage).crank
     added = sum(c.mass + c.params()[3] / crank**2 for c in counterweights)
     return float(sum(getattr(weights, key) * v for key, v in terms.items()) + weights.added_mass * added)
@@ -378,12 +399,17 @@ def balance_optimal(
     samples: int = 360,
     time_limit_s: float = 20.0,
     motion_map: tuple[Analysis, LinearMap] | None = None,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> BalanceResult:
     """Counterweights minimising a weighted sum of RMS (and peak) shaking force, shaking moment, driving torque
     and bearing forces, plus a small weight on added mass, within ``mass_budget`` [kg]: one SOCP.
 
-    The default budget is the linkage's own moving mass.
+    The default budget is the linkage's own moving mass. ``weight_scale`` ``relative`` (default) makes the
+    weights dimensionless: each term is divided by its value before balancing (:func:`relative_weights`);
+    ``absolute`` takes them per N and per N·m. The answer echoes the weights as given.
     """
+    if weight_scale not in ("relative", "absolute"):
+        raise InvalidInput("weight_scale must be relative or absolute", field="weight_scale")
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
@@ -394,6 +420,9 @@ def balance_optimal(
     if not (math.isfinite(mass_budget) and mass_budget >= 0):
         raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
     before, lm = motion_map or _motion_map(linkage, speed, samples)
+    given = weights
+    if weight_scale == "relative":
+        weights = relative_weights(before, weights)
     cw = counterweight_vars(spec, linkage)
     goal = _objective_terms(lm, linkage.params(), _var_columns(lm, cw), _x(cw), weights)
     # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is pinned.
@@ -406,7 +435,7 @@ def balance_optimal(
     added = sum(c.mass for c in cws)
     return BalanceResult("optimal", tuple(cws), added, before.summary(), after.summary(), f, f_rel, m, m_rel,
                          before, after, added_inertia=sum(c.params()[3] for c in cws),
-                         objective=objective_value(after, weights, cws))
+                         objective=objective_value(after, weights, cws), weights=given, weight_scale=weight_scale)
 
 
 def _motion_map(linkage: Linkage, speed: float, samples: int) -> tuple[Analysis, LinearMap]:
@@ -423,11 +452,13 @@ def tradeoff(
     mass_budget: float | None = None,
     samples: int = 360,
     time_limit_s: float = 20.0,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> list[BalanceResult]:
     """Optimal balancing for each weight set (one motion and map shared), each point re-analysed."""
     mm = _motion_map(linkage, speed, samples)
     return [balance_optimal(linkage, speed, spec, weights=w, mass_budget=mass_budget, samples=samples,
-                            time_limit_s=time_limit_s, motion_map=mm) for w in weight_sets]
+                            time_limit_s=time_limit_s, motion_map=mm, weight_scale=weight_scale)
+            for w in weight_sets]
 
 
 def least_squares_crank_counterweight(linkage: Linkage, speed: float, samples: int = 360) -> tuple[float, float]:
