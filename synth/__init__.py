@@ -25,6 +25,7 @@ from .balancing import (
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
+    relative_weights,
     tradeoff,
 )
 from .dynamics import ReducedModel, reduced_model
@@ -232,5 +233,6 @@ __all__ = [
     "least_squares_crank_counterweight",
     "objective_value",
     "pendulum_inertia",
+    "relative_weights",
     "tradeoff",
 ]

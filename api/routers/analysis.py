@@ -35,6 +35,7 @@ def analysis(
         crank_acceleration=body.crank_acceleration_rad_s2,
         max_samples=settings.max_samples,
         points=body.trace(),
+        counter_rotors=body.rotors(),
     )
     if wants_png(request, format):
         return png(analysis_png(result, plot_angle(body, angle_deg)))

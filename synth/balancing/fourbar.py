@@ -15,6 +15,7 @@ import cvxpy as _cvxpy
 import numpy as np
 
 from ..analysis import Analysis, Summary, analyse
+from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
@@ -23,15 +24,6 @@ from .program import CounterweightSpec, CounterweightVars, counterweight_vars, r
 
 # cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
 cp: Any = _cvxpy
-
-
-@dataclass(frozen=True, slots=True)
-class CounterRotor:
-    """A counter-rotating inertia [kg·m²] geared to ``link`` turning at -``ratio`` times the link's speed."""
-
-    link: str
-    inertia: float
-    ratio: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -284,13 +276,7 @@ def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[F
     A rotor turning at -k·w_i has angular momentum -k·J·w_i: the frame feels -d/dt of it, k·J·alpha_i, and the
     crank supplies the rate of its kinetic energy k²·J·w_i·alpha_i over the crank speed.
     """
-    m = an.motion
-    moment = np.zeros(m.samples)
-    torque = np.zeros(m.samples)
-    for r in rotors:
-        moment += r.ratio * r.inertia * m.link_alpha[r.link]
-        torque += r.ratio**2 * r.inertia * m.link_omega[r.link] * m.link_alpha[r.link] / m.omega_crank
-    return moment, torque
+    return rotor_loads(an.motion, rotors)
 
 
 @dataclass(frozen=True, slots=True)
