@@ -9,6 +9,7 @@ import casadi as ca
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..gearing.motors import CatalogueMotor
 from ..model import FloatArray
 from .cycle import ReducedCycle
 from .sizing import speed_band
@@ -70,6 +71,19 @@ class Motor:
             raise InvalidInput("the rotor inertia must not be negative", field="motor.rotor_inertia_kgm2")
         if self.breakdown_torque is not None and not self.breakdown_torque > self.rated_torque:
             raise InvalidInput("the breakdown torque must exceed the rated torque", field="motor.breakdown_torque_Nm")
+
+    @staticmethod
+    def from_catalogue(motor: CatalogueMotor, gear_ratio: float = 1.0, efficiency: float = 1.0) -> Motor:
+        """The static characteristic of a catalogue motor, driving through ``gear_ratio`` (motor over crank speed
+        [-]) at ``efficiency`` [-]: rated torque P/w_rated, breakdown torque its ratio times that, the rotor's
+        inertia (zero when the catalogue does not give it)."""
+        return Motor(motor.synchronous_speed, motor.rated_speed, motor.rated_torque, gear_ratio, efficiency,
+                     motor.rotor_inertia or 0.0, motor.breakdown_torque)
+
+    def torque_at(self, speed: FloatArray | float) -> FloatArray:
+        """Torque on the motor shaft at motor speed ``speed`` [rad/s] -> [N·m] (the linear branch)."""
+        slope = self.rated_torque / (self.synchronous_speed - self.rated_speed)
+        return np.asarray(slope * (self.synchronous_speed - np.asarray(speed, dtype=float)), dtype=float)
 
     def reduced(self) -> ReducedMotor:
         """The characteristic reduced to the crank: torque i·eta·T(i·w), rotor inertia i²·J_rotor."""
