@@ -108,12 +108,44 @@ from .gearing import (
     train_ratio,
     undercut_limit,
 )
+from .counter_rotors import rotor_loads
+from .machine import (
+    Alternative,
+    Balancing,
+    BalancingChoice,
+    DriveSpec,
+    FlywheelChoice,
+    MachineCheck,
+    MachineCycle,
+    MachineDesign,
+    MachineMotion,
+    MachineShaft,
+    MachineSpec,
+    alternatives,
+    design_machine,
+    simulate_machine,
+)
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
 
 __all__ = [
+    "Alternative",
+    "Balancing",
+    "BalancingChoice",
+    "DriveSpec",
+    "FlywheelChoice",
+    "MachineCheck",
+    "MachineCycle",
+    "MachineDesign",
+    "MachineMotion",
+    "MachineShaft",
+    "MachineSpec",
+    "alternatives",
+    "design_machine",
+    "rotor_loads",
+    "simulate_machine",
     "Analysis",
     "Counterweight",
     "DriveChecks",
