@@ -359,13 +359,16 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
 
 
 def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,
-                 modes: Sequence[BalancingMode] = BALANCING_MODES) -> tuple[Alternative, ...]:
-    """The same machine designed with each balancing mode in ``modes``: what each choice costs.
+                 modes: Sequence[BalancingMode] | None = None) -> tuple[Alternative, ...]:
+    """The same machine designed with each balancing mode in ``modes`` (default: the modes it does not use):
+    what each choice costs.
 
     A mode the linkage cannot take (a slider-crank's optimal mode, a coupler that cannot be a pendulum, a
     budget too small) is reported with the reason instead of a design. The optimal mode without weights of
     its own weighs the RMS shaking force and moment alike (dimensionless).
     """
+    if modes is None:
+        modes = [m for m in BALANCING_MODES if m != machine.balancing.mode]
     out = []
     for mode in modes:
         choice = replace(machine.balancing, mode=mode)
