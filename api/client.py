@@ -29,6 +29,7 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.machine import MachineDesignOut, MachineIn
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -215,3 +216,19 @@ class SynthClient:
     def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    def design_machine(self, body: MachineIn) -> MachineDesignOut:
+        """POST /v1/machines/design: the whole machine, linkage to motor, checked by simulating it."""
+        return self._post("/v1/machines/design", body, MachineDesignOut)
+
+    def design_machine_png(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=png: the one-page summary of the design."""
+        return self._post_png("/v1/machines/design", body)
+
+    def design_report_pdf(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=pdf: the multi-page design report (with the alternatives when the
+        request asks for them)."""
+        response = self.http.post("/v1/machines/design", json=body.model_dump(mode="json", exclude_none=True),
+                                  params={"format": "pdf"})
+        self._raise_for_problem(response)
+        return response.content

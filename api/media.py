@@ -87,11 +87,12 @@ class Render:
     as_png: bool = False
     model_extra: tuple[Any, ...] = ()
     figure_extra: tuple[Any, ...] = ()
+    figure_media: str = "image/png"
 
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
         if self.as_png and self.figure is not None:
-            return self.figure(result, *self.figure_extra), "image/png"
+            return self.figure(result, *self.figure_extra), self.figure_media
         try:
             model = self.model(result, *self.model_extra)
         except ValidationError as exc:

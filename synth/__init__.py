@@ -25,6 +25,7 @@ from .balancing import (
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
+    relative_weights,
     tradeoff,
 )
 from .dynamics import ReducedModel, reduced_model
@@ -108,12 +109,44 @@ from .gearing import (
     train_ratio,
     undercut_limit,
 )
+from .counter_rotors import rotor_loads
+from .machine import (
+    Alternative,
+    Balancing,
+    BalancingChoice,
+    DriveSpec,
+    FlywheelChoice,
+    MachineCheck,
+    MachineCycle,
+    MachineDesign,
+    MachineMotion,
+    MachineShaft,
+    MachineSpec,
+    alternatives,
+    design_machine,
+    simulate_machine,
+)
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
 
 __all__ = [
+    "Alternative",
+    "Balancing",
+    "BalancingChoice",
+    "DriveSpec",
+    "FlywheelChoice",
+    "MachineCheck",
+    "MachineCycle",
+    "MachineDesign",
+    "MachineMotion",
+    "MachineShaft",
+    "MachineSpec",
+    "alternatives",
+    "design_machine",
+    "rotor_loads",
+    "simulate_machine",
     "Analysis",
     "Counterweight",
     "DriveChecks",
@@ -234,5 +267,6 @@ __all__ = [
     "least_squares_crank_counterweight",
     "objective_value",
     "pendulum_inertia",
+    "relative_weights",
     "tradeoff",
 ]

@@ -46,7 +46,8 @@ def test_optimal_program_matches_a_cvxpy_model_of_the_same_problem() -> None:
     linkage = _linkage()
     weights = synth.Weights(shaking_force=1.0, shaking_moment=2.0, driving_torque=1.0, bearing_forces=0.1)
     budget = 4.0
-    ours = synth.balance_optimal(linkage, SPEED, weights=weights, mass_budget=budget, samples=SAMPLES)
+    ours = synth.balance_optimal(linkage, SPEED, weights=weights, mass_budget=budget, samples=SAMPLES,
+                                 weight_scale="absolute")
     an = synth.analyse(linkage, SPEED, samples=SAMPLES)
     lm = synth.linear_map(an.motion, linkage)
     cols = [c for link in ("crank", "rocker") for c in range(lm.columns(link).start, lm.columns(link).stop)]

@@ -9,7 +9,16 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
+from .common import (
+    FOURBAR_EXAMPLE,
+    MAX_INERTIA_KGM2,
+    CounterweightIn,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+    Vec2,
+    ensure_finite,
+)
 
 
 class TracePointIn(StrictModel):
@@ -20,12 +29,72 @@ class TracePointIn(StrictModel):
     position_m: Vec2 = Field(description="Position in the link frame [m].")
 
 
+class CounterRotorIn(StrictModel):
+    """A counter-rotating inertia geared to a link at -ratio times its speed (a full-balance answer's)."""
+
+    link: str
+    inertia_kgm2: float = Field(ge=0, le=MAX_INERTIA_KGM2)
+    ratio: float = Field(1.0, gt=0, le=1e3, description="Rotor speed over the link's speed, counter-rotating [-].")
+
+    def to_engine(self) -> synth.CounterRotor:
+        """Engine counter-rotor."""
+        return synth.CounterRotor(self.link, self.inertia_kgm2, self.ratio)
+
+
+class BalancingAnswerIn(BaseModel):
+    """A balancing answer sent back as it is: its counterweights, coupler inertia and counter-rotors are used,
+    everything else in it (summaries, checks, placements) is ignored."""
+
+    model_config = ConfigDict(extra="ignore", allow_inf_nan=False)
+
+    counterweights: list[CounterweightIn] = Field(default_factory=list, max_length=20)
+    coupler_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2)
+    counter_rotors: list[CounterRotorIn] | None = Field(None, max_length=10)
+
+
 class AnalysisIn(LinkageRequest):
     """A linkage, its speed, loads and optional counterweights, to analyse over one crank revolution."""
 
     trace_points: list[TracePointIn] = Field(
         default_factory=list, max_length=20, description="Extra points to report, e.g. coupler points."
     )
+    counter_rotors: list[CounterRotorIn] = Field(
+        default_factory=list, max_length=10,
+        description="Counter-rotating inertias (a full balance's): in the shaking moment, driving torque and J_red.")
+    coupler_inertia_kgm2: float | None = Field(
+        None, ge=0, le=MAX_INERTIA_KGM2,
+        description="Replaces the coupler's inertia about its centre of mass (a full balance's pendulum coupler).")
+    balancing: BalancingAnswerIn | None = Field(
+        None, description="A /v1/balancing answer as it is: its counterweights, coupler inertia and counter-rotors "
+        "are added to this linkage.")
+
+    def to_linkage(self) -> synth.Linkage:
+        """Engine linkage with the coupler inertia and a balancing answer's counterweights applied."""
+        linkage = super().to_linkage()
+        coupler = self.coupler_inertia_kgm2
+        extra: list[synth.Counterweight] = []
+        if self.balancing is not None:
+            extra = [c.to_engine() for c in self.balancing.counterweights]
+            if self.balancing.coupler_inertia_kgm2 is not None:
+                if coupler is not None:
+                    raise synth.InvalidInput("give the coupler inertia once: here or in the balancing answer",
+                                             field="coupler_inertia_kgm2")
+                coupler = self.balancing.coupler_inertia_kgm2
+        if coupler is not None:
+            if "coupler" not in linkage.mechanism.topology.links:
+                raise synth.InvalidInput("this mechanism has no coupler", field="coupler_inertia_kgm2")
+            props = linkage.links.get("coupler", synth.MassProps())
+            links = {**linkage.links, "coupler": synth.MassProps(props.mass, props.com, coupler)}
+            linkage = synth.Linkage(linkage.mechanism, links, linkage.counterweights, linkage.gravity, linkage.loads,
+                                    linkage.torques)
+        return linkage.with_counterweights(extra)
+
+    def rotors(self) -> tuple[synth.CounterRotor, ...]:
+        """Engine counter-rotors, from this request and its balancing answer."""
+        given = [r.to_engine() for r in self.counter_rotors]
+        if self.balancing is not None and self.balancing.counter_rotors:
+            given += [r.to_engine() for r in self.balancing.counter_rotors]
+        return tuple(given)
 
     def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
         """Trace points as the engine takes them: name -> (link, position in the link frame)."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Annotated, Literal
 
@@ -72,7 +73,12 @@ class FullBalanceIn(BalanceIn):
 
 
 class WeightsIn(StrictModel):
-    """Weights of the optimal mode's objective (RMS values unless `peak_`)."""
+    """Weights of the optimal mode's objective (RMS values unless `peak_`).
+
+    Dimensionless by default (`weight_scale: "relative"`): each term is divided by its value before balancing,
+    so `{"shaking_force": 1, "shaking_moment": 2}` weighs a 1 % change of the moment twice a 1 % change of the
+    force. With `weight_scale: "absolute"` they are per N and per N·m.
+    """
 
     shaking_force: float = Field(1.0, ge=0)
     shaking_moment: float = Field(0.0, ge=0)
@@ -93,11 +99,14 @@ class OptimalBalanceIn(BalanceIn):
     weights: WeightsIn = Field(default_factory=WeightsIn)
     sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
                                    description="More weight sets: the trade-off curve, each point re-analysed.")
+    weight_scale: Literal["relative", "absolute"] = Field(
+        "relative", description="relative: each term over its value before balancing (dimensionless weights); "
+        "absolute: weights per N and per N·m.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "mass_budget_kg": 4.0,
-         "weights": {"shaking_force": 1.0, "shaking_moment": 2.0, "driving_torque": 1.0, "bearing_forces": 0.1},
-         "sweep": [{"shaking_force": 1.0}, {"shaking_force": 1.0, "driving_torque": 5.0}]},
+         "weights": {"shaking_force": 1.0, "shaking_moment": 2.0},
+         "sweep": [{"shaking_force": 1.0}, {"shaking_force": 0.0, "shaking_moment": 1.0}]},
     ]})
 
 
@@ -142,6 +151,8 @@ class BalanceOut(BaseModel):
     coupler_inertia_kgm2: float | None = None
     counter_rotors: list[CounterRotorOut] | None = None
     objective: float | None = None
+    weights: WeightsIn | None = Field(None, description="Optimal mode: this point's weights, as given.")
+    weight_scale: str | None = Field(None, description="Optimal mode: relative or absolute.")
 
     @classmethod
     def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
@@ -171,6 +182,8 @@ class BalanceOut(BaseModel):
                 CounterRotorOut(link=c.link, inertia_kgm2=c.inertia, ratio=c.ratio) for c in r.counter_rotors
             ],
             objective=r.objective,
+            weights=None if r.weights is None else WeightsIn(**dataclasses.asdict(r.weights)),
+            weight_scale=r.weight_scale,
         )
 
 

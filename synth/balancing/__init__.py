@@ -1,8 +1,8 @@
 """Counterweight balancing: four-bar static, full and optimal modes on the linear map; rotors; slider-crank."""
 
+from ..counter_rotors import CounterRotor
 from .fourbar import (
     BalanceResult,
-    CounterRotor,
     Weights,
     balance_full,
     balance_optimal,
@@ -12,6 +12,7 @@ from .fourbar import (
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
+    relative_weights,
     tradeoff,
 )
 from .program import CounterweightSpec
@@ -23,5 +24,5 @@ __all__ = [
     "RotorMass", "SliderCrankBalance", "Weights", "balance_full", "balance_optimal", "balance_rotor_dynamic",
     "balance_rotor_static", "balance_slider_crank", "balance_static", "counter_rotor_loads",
     "exact_static_counterweights", "least_squares_crank_counterweight", "objective_value", "pendulum_inertia",
-    "tradeoff",
+    "relative_weights", "tradeoff",
 ]

@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 
 from ..analysis import Analysis, Summary, analyse
+from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
@@ -28,15 +29,6 @@ from .program import (
     row_space,
     solve,
 )
-
-
-@dataclass(frozen=True, slots=True)
-class CounterRotor:
-    """A counter-rotating inertia [kg·m²] geared to ``link`` turning at -``ratio`` times the link's speed."""
-
-    link: str
-    inertia: float
-    ratio: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -63,6 +55,8 @@ class BalanceResult:
     counter_rotors: tuple[CounterRotor, ...] = ()
     objective: float | None = None
     driving_torque_after: FloatArray | None = None
+    weights: Weights | None = None
+    weight_scale: str | None = None
 
 
 def _require_fourbar(linkage: Linkage) -> FourBar:
@@ -294,18 +288,13 @@ def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[F
     A rotor turning at -k·w_i has angular momentum -k·J·w_i: the frame feels -d/dt of it, k·J·alpha_i, and the
     crank supplies the rate of its kinetic energy k²·J·w_i·alpha_i over the crank speed.
     """
-    m = an.motion
-    moment = np.zeros(m.samples)
-    torque = np.zeros(m.samples)
-    for r in rotors:
-        moment += r.ratio * r.inertia * m.link_alpha[r.link]
-        torque += r.ratio**2 * r.inertia * m.link_omega[r.link] * m.link_alpha[r.link] / m.omega_crank
-    return moment, torque
+    return rotor_loads(an.motion, rotors)
 
 
 @dataclass(frozen=True, slots=True)
 class Weights:
-    """Weights of the optimal-balancing objective: RMS terms [1/N or 1/(N·m)], peaks, and added mass [1/kg]."""
+    """Weights of the optimal-balancing objective: RMS and peak terms (dimensionless by default, see
+    :func:`relative_weights`; else [1/N or 1/(N·m)]) and added mass [1/kg]."""
 
     shaking_force: float = 1.0
     shaking_moment: float = 0.0
@@ -408,8 +397,8 @@ def _optimal_program(lm: LinearMap, linkage: Linkage, cw: CounterweightLayout, t
     return _OptimalProgram(program, cw, terms, tuple(scale), _require_fourbar(linkage).crank)
 
 
-def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
-    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+def _term_values(an: Analysis) -> dict[str, float]:
+    """Every weighted term of the objective on a plain analysis [N or N·m]."""
     k = an.kinetostatics
     n = an.motion.samples
     f = np.hypot(*k.shaking_force.T)
@@ -422,6 +411,24 @@ def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Cou
         "peak_shaking_force": float(f.max()),
         "peak_shaking_moment": float(np.abs(k.shaking_moment).max()),
     }
+    return terms
+
+
+def relative_weights(an: Analysis, weights: Weights) -> Weights:
+    """Dimensionless weights turned into the program's: each term's weight over its value before balancing.
+
+    A weight of 1 on the shaking force then means "one unit per 100 % of the unbalanced RMS force", so terms in
+    N and N·m are traded in proportion to what they were; a term that is zero before keeps its weight. The
+    added-mass weight stays per kilogram.
+    """
+    values = _term_values(an)
+    scaled = {key: getattr(weights, key) / v if v > 0 else getattr(weights, key) for key, v in values.items()}
+    return replace(weights, **scaled)
+
+
+def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
+    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+    terms = _term_values(an)
     crank = _require_fourbar(an.linkage).crank
     added = sum(c.mass + c.params()[3] / crank**2 for c in counterweights)
     return float(sum(getattr(weights, key) * v for key, v in terms.items()) + weights.added_mass * added)
@@ -437,21 +444,27 @@ def balance_optimal(
     samples: int = 360,
     time_limit_s: float = 20.0,
     motion_map: tuple[Analysis, LinearMap] | None = None,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> BalanceResult:
     """Counterweights minimising a weighted sum of RMS (and peak) shaking force, shaking moment, driving torque
     and bearing forces, plus a small weight on added mass, within ``mass_budget`` [kg]: one SOCP.
 
-    The default budget is the linkage's own moving mass.
+    The default budget is the linkage's own moving mass. ``weight_scale`` ``relative`` (default) makes the
+    weights dimensionless: each term is divided by its value before balancing (:func:`relative_weights`);
+    ``absolute`` takes them per N and per N·m. The answer echoes the weights as given.
     """
     return _optimal_points(linkage, speed, spec, [weights or Weights()], mass_budget, samples, time_limit_s,
-                           motion_map)[0]
+                           motion_map, weight_scale)[0]
 
 
 def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, weight_sets: Sequence[Weights],
                     mass_budget: float | None, samples: int, time_limit_s: float,
-                    motion_map: tuple[Analysis, LinearMap] | None) -> list[BalanceResult]:
+                    motion_map: tuple[Analysis, LinearMap] | None,
+                    weight_scale: Literal["relative", "absolute"]) -> list[BalanceResult]:
     """Optimal balancing for each weight set: one program and one solver per set of weighted terms, re-solved
     with new costs for each set, and every point re-analysed with the plain model."""
+    if weight_scale not in ("relative", "absolute"):
+        raise InvalidInput("weight_scale must be relative or absolute", field="weight_scale")
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
@@ -462,6 +475,9 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
     if not (math.isfinite(mass_budget) and mass_budget >= 0):
         raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
     before, lm = motion_map or _motion_map(linkage, speed, samples)
+    given = list(weight_sets)
+    if weight_scale == "relative":
+        weight_sets = [relative_weights(before, w) for w in weight_sets]
     cw = counterweight_layout(spec, linkage)
     solutions: dict[int, FloatArray] = {}
     groups: dict[tuple[str, ...], list[int]] = {}
@@ -483,7 +499,8 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
         results.append(BalanceResult("optimal", tuple(cws), sum(c.mass for c in cws), before.summary(),
                                      after.summary(), f, f_rel, m, m_rel, before, after,
                                      added_inertia=sum(c.params()[3] for c in cws),
-                                     objective=objective_value(after, weights, cws)))
+                                     objective=objective_value(after, weights, cws), weights=given[i],
+                                     weight_scale=weight_scale))
     return results
 
 
@@ -501,9 +518,10 @@ def tradeoff(
     mass_budget: float | None = None,
     samples: int = 360,
     time_limit_s: float = 20.0,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> list[BalanceResult]:
     """Optimal balancing for each weight set (one motion, map and program shared), each point re-analysed."""
-    return _optimal_points(linkage, speed, spec, weight_sets, mass_budget, samples, time_limit_s, None)
+    return _optimal_points(linkage, speed, spec, weight_sets, mass_budget, samples, time_limit_s, None, weight_scale)
 
 
 def least_squares_crank_counterweight(linkage: Linkage, speed: float, samples: int = 360) -> tuple[float, float]:
