@@ -259,7 +259,9 @@ class LanchesterOut(BaseModel):
     order: int
     mass_kg: float
     radius_m: float
-    amplitude_N: float
+    amplitude_N: float = Field(description="Amplitude of the slider's inertia force of this order it cancels [N].")
+    phase_deg: float = Field(description="Both masses of the pair point along +x (the slide direction) when "
+                                         "order × crank angle equals this angle [deg], in [0, 360).")
 
 
 class SliderCrankBalanceOut(BaseModel):
@@ -274,6 +276,9 @@ class SliderCrankBalanceOut(BaseModel):
     summary_before: SummaryOut
     residual_shaking_force_N: float
     residual_shaking_force_rel: float
+    residual_by_order_N: list[float] = Field(
+        description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
+    )
 
     @classmethod
     def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
@@ -281,9 +286,10 @@ class SliderCrankBalanceOut(BaseModel):
         return cls(
             rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
             crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
-            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude)
-                        for p in r.pairs],
+            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude,
+                                      phase_deg=math.degrees(p.phase)) for p in r.pairs],
             first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
+            residual_by_order_N=list(r.residual_by_order),
         )
