@@ -111,6 +111,7 @@ from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
+from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 
 __all__ = [
     "Analysis",
@@ -233,4 +234,11 @@ __all__ = [
     "objective_value",
     "pendulum_inertia",
     "tradeoff",
+    # gear trains and structure
+    "GearMesh",
+    "PlanetaryStage",
+    "TrainResult",
+    "TrainShaft",
+    "TrainWheel",
+    "gear_train",
 ]
