@@ -215,7 +215,7 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             wheels_on[-1].append(f"{e.input} {k}")
             wheels_on.append([f"{e.output} {k}"])
             for member, z in (("sun", e.sun_teeth), ("ring", e.ring_teeth)):
-                on = {e.input: len(shafts_rel) - 2, e.output: len(shafts_rel) - 1}.get(member)
+                on = {str(e.input): len(shafts_rel) - 2, str(e.output): len(shafts_rel) - 1}.get(member)
                 wheels.append((f"{member} {k}", z, on))
             wheels.append((f"planet {k}", e.planet_teeth, None))
             if e.planet_ring_teeth is not None:
