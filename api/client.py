@@ -29,6 +29,7 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
 
 M = TypeVar("M", bound=BaseModel)
@@ -178,6 +179,10 @@ class SynthClient:
     def gears_train(self, body: TrainIn) -> TrainOut:
         """POST /v1/gears/train."""
         return self._post("/v1/gears/train", body, TrainOut)
+
+    def structure(self, body: StructureIn) -> StructureOut:
+        """POST /v1/structure: mobility, redundant constraints, Assur groups."""
+        return self._post("/v1/structure", body, StructureOut)
 
     def gears_stage_types(self) -> list[StageTypeOut]:
         """GET /v1/gears/stage-types: the shipped stage-type table."""

@@ -112,6 +112,7 @@ from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, v
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
+from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
 
 __all__ = [
     "Analysis",
@@ -241,4 +242,9 @@ __all__ = [
     "TrainShaft",
     "TrainWheel",
     "gear_train",
+    "AssurGroup",
+    "Pair",
+    "PairReport",
+    "Structure",
+    "analyse_structure",
 ]
