@@ -22,6 +22,7 @@ from .balancing import (
     balance_static,
     counter_rotor_loads,
     exact_static_counterweights,
+    fixed_point_counterweights,
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
@@ -247,4 +248,5 @@ __all__ = [
     "PairReport",
     "Structure",
     "analyse_structure",
+    "fixed_point_counterweights",
 ]

@@ -36,6 +36,7 @@ def balance_static(body: BalanceIn, request: Request, settings: SettingsDep, gat
     result = gate.run(
         synth.balance_static, body.to_linkage(), body.omega_rad_s, body.spec(), samples=body.samples,
         objective=body.objective, mass_budget=body.mass_budget_kg, time_limit_s=settings.solver_time_limit_s,
+        method=body.method,
     )
     return _answer(request, format, result, BalanceOut.from_engine(result))
 

@@ -43,6 +43,12 @@ class BalanceIn(LinkageRequest):
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")
     objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
+    method: Literal["program", "fixed_points"] = Field(
+        "program", description="Static mode only: 'program' solves for the least added mass (or inertia); "
+        "'fixed_points' moves each link's centre of mass to a fixed point in closed form (crank to O, coupler to "
+        "B and the rocker with it to Q; without a coupler counterweight, the coupler split into point masses at A "
+        "and B), on the radii in radius_m or max_radius_m (default the crank's and rocker's lengths, twice the "
+        "coupler's).")
     mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [

@@ -19,6 +19,7 @@ from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
+from .fixed_points import fixed_point_counterweights
 from .program import CounterweightSpec, CounterweightVars, counterweight_vars, row_space, solve
 
 # cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
@@ -162,14 +163,20 @@ def balance_static(
     objective: Literal["min_mass", "min_inertia"] = "min_mass",
     mass_budget: float | None = None,
     time_limit_s: float = 20.0,
+    method: Literal["program", "fixed_points"] = "program",
 ) -> BalanceResult:
     """Counterweights that make the shaking force identically zero (the total centre of mass fixed).
+
+    ``method="fixed_points"`` moves each link's centre of mass to a fixed point in closed form instead
+    (:func:`fixed_point_counterweights`, the seed's 8.3-8.4), re-analysed the same way.
 
     Posed on the linear map as a few equalities (the row space of the force rows over all angles) with one
     realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
     about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
     """
     _require_fourbar(linkage)
+    if method == "fixed_points":
+        return _fixed_points(linkage, speed, spec, samples)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
     spec = _with_default_radii(spec, linkage)
@@ -204,6 +211,14 @@ def balance_static(
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,
                          added_inertia=sum(c.params()[3] for c in cws), objective=float(problem.value))
+
+
+def _fixed_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, samples: int) -> BalanceResult:
+    before = analyse(linkage, speed, samples=samples)
+    cws = fixed_point_counterweights(linkage, spec)
+    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
+                         f, f_rel, m, m_rel, before, after, added_inertia=sum(c.params()[3] for c in cws))
 
 
 def _point_masses(cw: CounterweightVars) -> list[Counterweight]:
