@@ -30,6 +30,8 @@ from .schemas.balancing import (
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.structure import StructureIn, StructureOut
+from .schemas.train import TrainIn, TrainOut
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -180,6 +182,14 @@ class SynthClient:
     def gears_drive(self, body: DriveIn) -> DriveOut:
         """POST /v1/gears/drive: motor choice, ratio split, every shaft's speed, power, torque and inertia."""
         return self._post("/v1/gears/drive", body, DriveOut)
+
+    def gears_train(self, body: TrainIn) -> TrainOut:
+        """POST /v1/gears/train."""
+        return self._post("/v1/gears/train", body, TrainOut)
+
+    def structure(self, body: StructureIn) -> StructureOut:
+        """POST /v1/structure: mobility, redundant constraints, Assur groups."""
+        return self._post("/v1/structure", body, StructureOut)
 
     def gears_stage_types(self) -> list[StageTypeOut]:
         """GET /v1/gears/stage-types: the shipped stage-type table."""

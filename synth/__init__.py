@@ -22,6 +22,7 @@ from .balancing import (
     balance_static,
     counter_rotor_loads,
     exact_static_counterweights,
+    fixed_point_counterweights,
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
@@ -130,6 +131,8 @@ from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
+from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
+from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
 
 __all__ = [
     "Alternative",
@@ -269,4 +272,17 @@ __all__ = [
     "pendulum_inertia",
     "relative_weights",
     "tradeoff",
+    # gear trains and structure
+    "GearMesh",
+    "PlanetaryStage",
+    "TrainResult",
+    "TrainShaft",
+    "TrainWheel",
+    "gear_train",
+    "AssurGroup",
+    "Pair",
+    "PairReport",
+    "Structure",
+    "analyse_structure",
+    "fixed_point_counterweights",
 ]

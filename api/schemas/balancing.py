@@ -44,6 +44,12 @@ class BalanceIn(LinkageRequest):
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")
     objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
+    method: Literal["program", "fixed_points"] = Field(
+        "program", description="Static mode only: 'program' solves for the least added mass (or inertia); "
+        "'fixed_points' moves each link's centre of mass to a fixed point in closed form (crank to O, coupler to "
+        "B and the rocker with it to Q; without a coupler counterweight, the coupler split into point masses at A "
+        "and B), on the radii in radius_m or max_radius_m (default the crank's and rocker's lengths, twice the "
+        "coupler's).")
     mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
@@ -278,7 +284,9 @@ class LanchesterOut(BaseModel):
     order: int
     mass_kg: float
     radius_m: float
-    amplitude_N: float
+    amplitude_N: float = Field(description="Amplitude of the slider's inertia force of this order it cancels [N].")
+    phase_deg: float = Field(description="Both masses of the pair point along +x (the slide direction) when "
+                                         "order × crank angle equals this angle [deg], in [0, 360).")
 
 
 class SliderCrankBalanceOut(BaseModel):
@@ -293,6 +301,9 @@ class SliderCrankBalanceOut(BaseModel):
     summary_before: SummaryOut
     residual_shaking_force_N: float
     residual_shaking_force_rel: float
+    residual_by_order_N: list[float] = Field(
+        description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
+    )
 
     @classmethod
     def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
@@ -300,9 +311,10 @@ class SliderCrankBalanceOut(BaseModel):
         return cls(
             rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
             crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
-            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude)
-                        for p in r.pairs],
+            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude,
+                                      phase_deg=math.degrees(p.phase)) for p in r.pairs],
             first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
+            residual_by_order_N=list(r.residual_by_order),
         )

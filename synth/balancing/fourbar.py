@@ -19,6 +19,7 @@ from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
+from .fixed_points import fixed_point_counterweights
 from .program import (
     ConeProgram,
     CounterweightLayout,
@@ -106,6 +107,55 @@ def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> 
     return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
 
 
+def _with_default_radii(spec: CounterweightSpec, linkage: Linkage) -> CounterweightSpec:
+    """The spec with the coupler's default largest radius at twice its length.
+
+    Without a crank counterweight the coupler's counterweight must sit beyond B whenever the crank's centre of
+    mass lies toward A (seed 001:1394: a2 > l2); the link's own length would exclude it by default.
+    """
+    fb = _require_fourbar(linkage)
+    if "coupler" not in spec.links or "coupler" in (spec.max_radius or {}) or "coupler" in (spec.radius or {}):
+        return spec
+    return replace(spec, max_radius={**(spec.max_radius or {}), "coupler": 2.0 * fb.coupler})
+
+
+def _coupler_shift(linkage: Linkage, spec: CounterweightSpec) -> complex | None:
+    """D [kg·m] in m_c·(z_c - l2) = D, the condition on a coupler counterweight (mass m_c at z_c in the coupler
+    frame) when the crank carries none; None when the crank has a counterweight too.
+
+    From the static condition on the crank's first moment h1 = -(l1/l2)·(m2·l2 - h2) (seed 3.8) with the coupler's
+    totals m2 + m_c, h2 + m_c·z_c: D = m2·l2 + (l2/l1)·h1 - h2.
+    """
+    if "crank" in spec.links or "coupler" not in spec.links:
+        return None
+    fb = _require_fourbar(linkage)
+    h1 = complex(*linkage.params_of("crank")[1:3])
+    m2, h2 = float(linkage.params_of("coupler")[0]), complex(*linkage.params_of("coupler")[1:3])
+    return m2 * fb.coupler + (fb.coupler / fb.crank) * h1 - h2
+
+
+def _coupler_radius_cause(linkage: Linkage, spec: CounterweightSpec) -> Infeasible | None:
+    """The named cause when, with no crank counterweight, the coupler's radius limit excludes every solution."""
+    d = _coupler_shift(linkage, spec)
+    if d is None or abs(d) == 0:
+        return None
+    fb = _require_fourbar(linkage)
+    r_max = spec.limit(linkage, "coupler")
+    m2 = float(linkage.params_of("coupler")[0])
+    # z_c = l2 + D/m_c sweeps the open ray from B along D as m_c falls; its nearest approach to A decides.
+    l2 = fb.coupler
+    nearest = l2 if d.real >= 0 else l2 * abs(d.imag) / abs(d)
+    if nearest < r_max:
+        return None
+    needed = abs(fb.coupler + d / m2) if m2 > 0 else float("inf")
+    return Infeasible(
+        f"without a crank counterweight the coupler's counterweight must sit beyond B, at l2 + D/m = "
+        f"{fb.coupler:.6g} m + ({d.real:.6g}, {d.imag:.6g}) kg·m / m from A; max_radius_m.coupler is {r_max:.6g} m. "
+        f"A counterweight of the coupler's own mass ({m2:.6g} kg) needs a radius of {needed:.6g} m",
+        constraint="max_radius_m.coupler", required_radius_m=needed if math.isfinite(needed) else None,
+    )
+
+
 def balance_static(
     linkage: Linkage,
     speed: float,
@@ -115,16 +165,23 @@ def balance_static(
     objective: Literal["min_mass", "min_inertia"] = "min_mass",
     mass_budget: float | None = None,
     time_limit_s: float = 20.0,
+    method: Literal["program", "fixed_points"] = "program",
 ) -> BalanceResult:
     """Counterweights that make the shaking force identically zero (the total centre of mass fixed).
+
+    ``method="fixed_points"`` moves each link's centre of mass to a fixed point in closed form instead
+    (:func:`fixed_point_counterweights`, the seed's 8.3-8.4), re-analysed the same way.
 
     Posed on the linear map as a few equalities (the row space of the force rows over all angles) with one
     realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
     about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
     """
     _require_fourbar(linkage)
+    if method == "fixed_points":
+        return _fixed_points(linkage, speed, spec, samples)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
+    spec = _with_default_radii(spec, linkage)
     all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
     if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
@@ -145,6 +202,9 @@ def balance_static(
         x = solve(program, time_limit_s, "static balancing", binding)
     except Infeasible as exc:
         if mass_budget is None:
+            cause = _coupler_radius_cause(linkage, spec)
+            if cause is not None:
+                raise cause from exc
             raise
         needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
@@ -155,6 +215,15 @@ def balance_static(
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,
                          added_inertia=sum(c.params()[3] for c in cws), objective=float(program.q @ x))
+
+
+
+def _fixed_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, samples: int) -> BalanceResult:
+    before = analyse(linkage, speed, samples=samples)
+    cws = fixed_point_counterweights(linkage, spec)
+    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
+                         f, f_rel, m, m_rel, before, after, added_inertia=sum(c.params()[3] for c in cws))
 
 
 def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:
@@ -188,11 +257,34 @@ def pendulum_inertia(linkage: Linkage) -> float:
         raise Infeasible(f"the coupler's centre of mass is {y:.4g} m off the line of its joints: it cannot be a "
                          "physical pendulum, so the shaking moment cannot vanish; use the optimal mode",
                          constraint="links.coupler.com_m")
-    if not 0 < x < fb.coupler:
+    if not 0 <= x <= fb.coupler:
         raise Infeasible(f"the coupler's centre of mass ({x:.4g} m from A) lies outside its joints: the pendulum "
                          "inertia m·a·(l - a) would be negative; use the optimal mode",
                          constraint="coupler_inertia_kgm2")
     return props.mass * x * (fb.coupler - x)
+
+
+def _coupler_pendulum_cause(linkage: Linkage, spec: CounterweightSpec) -> None:
+    """Infeasible naming the coupler's centre of mass when, with counterweights on the coupler but not the crank,
+    static balance puts it where no physical pendulum exists (beyond B or off the line AB)."""
+    d = _coupler_shift(linkage, spec)
+    if d is None:
+        return
+    fb = _require_fourbar(linkage)
+    # The coupler's total first moment must be m_tot·l2 + (l2/l1)·h1: its centre of mass sits (l2/l1)·h1/m_tot
+    # from B, beyond B for any counterweight when the crank's centre of mass lies toward A (h1·x > 0).
+    h1 = complex(*linkage.params_of("crank")[1:3])
+    if abs(h1.imag) > 1e-12 * max(abs(h1), 1e-300):
+        where = f"{abs(h1.imag) * fb.coupler / fb.crank:.6g} kg·m off the line AB"
+    elif h1.real > 0:
+        where = f"beyond B by (l2/l1)·h1/m = {h1.real * fb.coupler / fb.crank:.6g} kg·m over the coupler's total mass"
+    else:
+        return
+    raise Infeasible(
+        f"with counterweights on the coupler but none on the crank, static balance puts the coupler's centre of "
+        f"mass {where}, where it cannot be a physical pendulum (m·a·(l - a) >= 0 needs 0 <= a <= l on AB): "
+        f"add the crank to counterweight_links", constraint="counterweight_links",
+    )
 
 
 def balance_full(
@@ -219,7 +311,10 @@ def balance_full(
         if link not in ("crank", "rocker") or not (math.isfinite(k) and k > 0):
             raise InvalidInput(f"counter-rotor ratio for {link!r} must be a positive number on crank or rocker",
                                field=f"rotor_ratios.{link}")
-    pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
+    spec = _with_default_radii(spec, linkage)
+    if "coupler" not in spec.links:
+        pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
+    _coupler_pendulum_cause(linkage, spec)
     before = analyse(linkage, speed, samples=samples)
     states = [before.motion, analyse(linkage, speed, samples=samples, crank_acceleration=speed**2).motion]
     cw = counterweight_layout(spec, linkage)
@@ -252,7 +347,8 @@ def balance_full(
     inertia_weight = 1e-3 / _require_fourbar(linkage).crank ** 2
     program.q[: cw.size] = cw.mass_columns() + inertia_weight * cw.inertia_columns()
     program.q[cw.size + 1:] = inertia_weight
-    x = solve(program, time_limit_s, "full balancing", ["counter-rotor inertias must be positive"])
+    x = solve(program, time_limit_s, "full balancing",
+              ["counterweight_links", "max_radius_m", "a coupler pendulum and counter-rotors of non-negative inertia"])
     cws = CounterweightSolution(cw, x).counterweights()
     j2 = max(float(x[cw.size]), 0.0)
     counter_rotors = tuple(
@@ -495,6 +591,8 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
     results = []
     for i, weights in enumerate(weight_sets):
         cws = CounterweightSolution(cw, solutions[i]).counterweights()
+        if weights.bearing_forces == 0 or linkage.gravity is None:  # else the mass weighs on the crank's bearing
+            cws = _crank_on_limit(cws, spec, linkage)
         after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
         results.append(BalanceResult("optimal", tuple(cws), sum(c.mass for c in cws), before.summary(),
                                      after.summary(), f, f_rel, m, m_rel, before, after,
@@ -502,6 +600,28 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
                                      objective=objective_value(after, weights, cws), weights=given[i],
                                      weight_scale=weight_scale))
     return results
+
+
+def _crank_on_limit(cws: Sequence[Counterweight], spec: CounterweightSpec, linkage: Linkage) -> list[Counterweight]:
+    """The crank's counterweight as a point mass on its radius limit when that limit is at most the crank length.
+
+    At constant crank speed, with bearing forces unweighted or no gravity, nothing but the added-mass term depends
+    on the crank counterweight's mass or inertia once its first moment h is fixed, and that term, m + J/l1² with J >= |h|²/m, falls as the radius grows up to
+    l1: its minimum is on the limit. The term is so flat there that the solver stops short of it by up to a few
+    tenths of a per cent; this is its exact minimiser for the same h (same forces, moments and torques).
+    """
+    fb = _require_fourbar(linkage)
+    r_max = spec.limit(linkage, "crank")
+    if r_max > fb.crank or (spec.radius and "crank" in spec.radius):
+        return list(cws)
+    out = []
+    for c in cws:
+        h = c.params()[1:3]
+        if c.link == "crank" and np.hypot(*h) > 0:
+            mass = float(np.hypot(*h)) / r_max
+            c = replace(c, mass=mass, position=(float(h[0]) / mass, float(h[1]) / mass), inertia=0.0)
+        out.append(c)
+    return out
 
 
 def _motion_map(linkage: Linkage, speed: float, samples: int) -> tuple[Analysis, LinearMap]:
