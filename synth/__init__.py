@@ -111,6 +111,16 @@ from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
+from .warnings import (
+    DesignWarning,
+    check_analysis,
+    check_balance,
+    check_counterweights,
+    check_flywheel,
+    check_linkage,
+    check_rotor,
+    link_lengths,
+)
 
 __all__ = [
     "Analysis",
@@ -233,4 +243,13 @@ __all__ = [
     "objective_value",
     "pendulum_inertia",
     "tradeoff",
+    # warnings
+    "DesignWarning",
+    "check_analysis",
+    "check_balance",
+    "check_counterweights",
+    "check_flywheel",
+    "check_linkage",
+    "check_rotor",
+    "link_lengths",
 ]

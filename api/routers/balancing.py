@@ -76,15 +76,16 @@ def balance_rotor(body: RotorIn) -> RotorOut:
     else:
         result = synth.balance_rotor_dynamic(body.to_engine(), (body.planes_m[0], body.planes_m[1]),
                                              (body.radii_m[0], body.radii_m[1]))
-    return RotorOut.from_engine(result)
+    return RotorOut.from_engine(result, synth.check_rotor(body.to_engine(), result))
 
 
 @router.post("/slider-crank", response_model=SliderCrankBalanceOut)
 def balance_slider_crank(body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
     """Crank counterweight for the rotating masses, Lanchester pairs for the reciprocating ones."""
+    linkage = body.to_linkage()
     result = synth.balance_slider_crank(
-        body.to_linkage(), body.omega_rad_s, counterweight_radius=body.counterweight_radius_m,
+        linkage, body.omega_rad_s, counterweight_radius=body.counterweight_radius_m,
         balancer_radii=(body.balancer_radii_m[0], body.balancer_radii_m[1]), orders=body.orders,
         samples=body.samples,
     )
-    return SliderCrankBalanceOut.from_engine(result)
+    return SliderCrankBalanceOut.from_engine(result, synth.check_linkage(linkage))

@@ -29,6 +29,7 @@ def flywheel(
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With
     ``?format=png`` the energy-mass diagram with its tangents and the speed over the cycle."""
     mean_speed, delta = body.mean_speed(), body.target_delta()
+    analysis = None
     if body.uses_tables():
         assert body.tables is not None
         cycle = body.tables.to_cycle(body.cycle_deg, settings.max_samples)
@@ -47,4 +48,5 @@ def flywheel(
     )
     if wants_png(request, format):
         return png(flywheel_png(result))
-    return json_response(FlywheelOut.from_engine(result))
+    warnings = synth.check_flywheel(result, None if body.geometry is None else body.geometry.to_engine(), analysis)
+    return json_response(FlywheelOut.from_engine(result, warnings))

@@ -9,7 +9,16 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
+from .common import (
+    FOURBAR_EXAMPLE,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+    Vec2,
+    WarningOut,
+    ensure_finite,
+    warnings_out,
+)
 
 
 class TracePointIn(StrictModel):
@@ -101,6 +110,7 @@ class AnalysisOut(BaseModel):
     grashof: str | None = None
     summary: SummaryOut
     checks: ChecksOut
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
     def from_engine(cls, an: synth.Analysis) -> AnalysisOut:
@@ -145,6 +155,7 @@ class AnalysisOut(BaseModel):
             grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
+            warnings=warnings_out(synth.check_analysis(an)),
         )
 
 

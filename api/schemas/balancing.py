@@ -19,6 +19,8 @@ from .common import (
     LinkageRequest,
     StrictModel,
     SummaryOut,
+    WarningOut,
+    warnings_out,
 )
 
 SLIDER_CRANK_EXAMPLE = {
@@ -142,6 +144,7 @@ class BalanceOut(BaseModel):
     coupler_inertia_kgm2: float | None = None
     counter_rotors: list[CounterRotorOut] | None = None
     objective: float | None = None
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
     def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
@@ -171,6 +174,7 @@ class BalanceOut(BaseModel):
                 CounterRotorOut(link=c.link, inertia_kgm2=c.inertia, ratio=c.ratio) for c in r.counter_rotors
             ],
             objective=r.objective,
+            warnings=warnings_out(synth.check_balance(r)),
         )
 
 
@@ -228,15 +232,17 @@ class RotorOut(BaseModel):
     moment_unbalance_before_kgm2: float
     residual_unbalance_kgm: float
     residual_moment_unbalance_kgm2: float
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.RotorBalance) -> RotorOut:
+    def from_engine(cls, r: synth.RotorBalance, warnings: list[synth.DesignWarning] | None = None) -> RotorOut:
         """Schema from an engine result."""
         return cls(
             corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius, angle_deg=math.degrees(c.angle),
                                        axial_position_m=c.axial) for c in r.corrections],
             unbalance_before_kgm=r.unbalance_before, moment_unbalance_before_kgm2=r.moment_before,
             residual_unbalance_kgm=r.residual_unbalance, residual_moment_unbalance_kgm2=r.residual_moment,
+            warnings=warnings_out(warnings or []),
         )
 
 
@@ -274,9 +280,11 @@ class SliderCrankBalanceOut(BaseModel):
     summary_before: SummaryOut
     residual_shaking_force_N: float
     residual_shaking_force_rel: float
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
+    def from_engine(cls, r: synth.SliderCrankBalance,
+                    warnings: list[synth.DesignWarning] | None = None) -> SliderCrankBalanceOut:
         """Schema from an engine result."""
         return cls(
             rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
@@ -286,4 +294,5 @@ class SliderCrankBalanceOut(BaseModel):
             first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
+            warnings=warnings_out(warnings or []),
         )

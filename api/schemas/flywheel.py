@@ -10,7 +10,15 @@ from pydantic import BaseModel, ConfigDict, Field
 
 import synth
 
-from .common import FOURBAR_EXAMPLE, LinkageRequest, MechanismIn, StrictModel, ensure_finite
+from .common import (
+    FOURBAR_EXAMPLE,
+    LinkageRequest,
+    MechanismIn,
+    StrictModel,
+    WarningOut,
+    ensure_finite,
+    warnings_out,
+)
 
 # The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
 SHAPER_TABLES_EXAMPLE = {
@@ -309,9 +317,10 @@ class FlywheelOut(BaseModel):
     energy_mass: EnergyMassOut
     speed: SpeedOut
     geometry: GeometryOut | None = None
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.FlywheelResult) -> FlywheelOut:
+    def from_engine(cls, r: synth.FlywheelResult, warnings: list[synth.DesignWarning] | None = None) -> FlywheelOut:
         """Schema from the engine result (radians become degrees here)."""
         exact, design, tan = r.method("exact"), r.design, r.tangents
         w_min, w_max = r.speed_band
@@ -354,4 +363,5 @@ class FlywheelOut(BaseModel):
             ),
             speed=SpeedOut(method=design.method, crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
             geometry=geometry,
+            warnings=warnings_out(warnings or []),
         )

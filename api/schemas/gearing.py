@@ -9,7 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 import synth
 
-from .common import StrictModel
+from .common import StrictModel, WarningOut, warnings_out
 
 RPM = math.pi / 30.0
 
@@ -146,7 +146,7 @@ class SplitOut(BaseModel):
     solver_status: str
     solve_time_s: float
     checks: SplitChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
@@ -161,7 +161,7 @@ class SplitOut(BaseModel):
             checks=SplitChecksOut(objective_model=r.checks.objective_model,
                                   ratio_product_error=r.checks.ratio_product_error,
                                   kkt_residual=r.checks.kkt_residual),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -231,7 +231,7 @@ class TeethOut(BaseModel):
     min_pinion_teeth: int
     min_gear_teeth: int
     checks: TeethChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.ToothResult) -> TeethOut:
@@ -246,7 +246,7 @@ class TeethOut(BaseModel):
             checks=TeethChecksOut(enumeration_combinations=c.enumeration_combinations,
                                   enumeration_ratio_error=c.enumeration_ratio_error,
                                   enumeration_total_teeth=c.enumeration_total_teeth, agrees=c.agrees),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -377,7 +377,7 @@ class DriveOut(BaseModel):
     torque_basis: str
     split: SplitOut
     checks: DriveChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
@@ -393,7 +393,7 @@ class DriveOut(BaseModel):
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
