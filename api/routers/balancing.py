@@ -6,10 +6,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 import synth
-from synth.balancing.plots import balance_png
+from synth.exports import balance_export
 
 from ..deps import SettingsDep, SolverGateDep
-from ..media import PNG_RESPONSES, FormatQuery, png, wants_png
+from ..media import FIGURES, FormatQuery, format_responses, media, negotiate
 from ..schemas.balancing import (
     BalanceIn,
     BalanceOut,
@@ -23,13 +23,16 @@ from ..schemas.balancing import (
 )
 
 router = APIRouter(prefix="/balancing", tags=["balancing"])
+FORMATS = (*FIGURES, "csv", "dxf")
+RESPONSES = format_responses(FORMATS)
 
 
 def _answer(request: Request, fmt: str | None, result: synth.BalanceResult, out: BalanceOut) -> BalanceOut | Response:
-    return png(balance_png(result)) if wants_png(request, fmt) else out
+    chosen = negotiate(request, fmt, FORMATS)
+    return out if chosen == "json" else media(balance_export(result, chosen), chosen, f"balance_{result.mode}")
 
 
-@router.post("/static", response_model=BalanceOut, responses=PNG_RESPONSES)
+@router.post("/static", response_model=BalanceOut, responses=RESPONSES)
 def balance_static(body: BalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
                    format: FormatQuery = None) -> BalanceOut | Response:
     """Counterweights that make the shaking force identically zero, at least added mass (or inertia)."""
@@ -40,7 +43,7 @@ def balance_static(body: BalanceIn, request: Request, settings: SettingsDep, gat
     return _answer(request, format, result, BalanceOut.from_engine(result))
 
 
-@router.post("/full", response_model=BalanceOut, responses=PNG_RESPONSES)
+@router.post("/full", response_model=BalanceOut, responses=RESPONSES)
 def balance_full(body: FullBalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
                  format: FormatQuery = None) -> BalanceOut | Response:
     """Shaking force and moment identically zero: counterweights, a pendulum coupler and counter-rotors."""
@@ -51,7 +54,7 @@ def balance_full(body: FullBalanceIn, request: Request, settings: SettingsDep, g
     return _answer(request, format, result, BalanceOut.from_engine(result))
 
 
-@router.post("/optimal", response_model=OptimalBalanceOut, responses=PNG_RESPONSES)
+@router.post("/optimal", response_model=OptimalBalanceOut, responses=RESPONSES)
 def balance_optimal(body: OptimalBalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
                     format: FormatQuery = None) -> OptimalBalanceOut | Response:
     """The best weighted trade-off of shaking force, moment, driving torque and bearing forces within a mass
@@ -61,8 +64,9 @@ def balance_optimal(body: OptimalBalanceIn, request: Request, settings: Settings
         synth.tradeoff, body.to_linkage(), body.omega_rad_s, body.spec(), weight_sets,
         mass_budget=body.mass_budget_kg, samples=body.samples, time_limit_s=settings.solver_time_limit_s,
     )
-    if wants_png(request, format):
-        return png(balance_png(results[0]))
+    fmt = negotiate(request, format, FORMATS)
+    if fmt != "json":
+        return media(balance_export(results[0], fmt, sweep=results[1:]), fmt, "balance_optimal")
     out = OptimalBalanceOut(**BalanceOut.from_engine(results[0]).model_dump(),
                             tradeoff=[BalanceOut.from_engine(r) for r in results[1:]])
     return out

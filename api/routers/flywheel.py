@@ -6,13 +6,14 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 import synth
-from synth.flywheel.plots import flywheel_png
+from synth.exports import flywheel_export
 
 from ..deps import SettingsDep, SolverGateDep
-from ..media import PNG_RESPONSES, FormatQuery, json_response, png, wants_png
+from ..media import FIGURES, FormatQuery, format_responses, json_response, media, negotiate
 from ..schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
+FORMATS = (*FIGURES, "csv")
 
 
 @router.get("/machine-types", response_model=list[MachineTypeOut])
@@ -21,13 +22,14 @@ def machine_types() -> list[MachineTypeOut]:
     return [MachineTypeOut.from_engine(row) for row in synth.machine_types()]
 
 
-@router.post("/flywheel", response_model=FlywheelOut, responses=PNG_RESPONSES)
+@router.post("/flywheel", response_model=FlywheelOut, responses=format_responses(FORMATS))
 def flywheel(
     body: FlywheelIn, request: Request, settings: SettingsDep, gate: SolverGateDep, format: FormatQuery = None
 ) -> Response:
     """Smallest flywheel for a target delta by the exact (Wittenbauer), Mertsalov and energy methods, and with
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With
-    ``?format=png`` the energy-mass diagram with its tangents and the speed over the cycle."""
+    ``?format=png|svg|pdf`` the energy-mass diagram with its tangents (the excess-work curve for a constant
+    reduced inertia) and the speed over the cycle; ``csv`` the cycle and every method's speed per crank angle."""
     mean_speed, delta = body.mean_speed(), body.target_delta()
     analysis = None
     if body.uses_tables():
@@ -46,7 +48,8 @@ def flywheel(
         geometry=None if body.geometry is None else body.geometry.to_engine(),
         time_limit_s=settings.solver_time_limit_s,
     )
-    if wants_png(request, format):
-        return png(flywheel_png(result))
+    fmt = negotiate(request, format, FORMATS)
+    if fmt != "json":
+        return media(flywheel_export(result, fmt), fmt, "flywheel")
     warnings = synth.check_flywheel(result, None if body.geometry is None else body.geometry.to_engine(), analysis)
     return json_response(FlywheelOut.from_engine(result, warnings))

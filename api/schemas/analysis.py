@@ -16,6 +16,7 @@ from .common import (
     SummaryOut,
     Vec2,
     WarningOut,
+    degree_list,
     ensure_finite,
     warnings_out,
 )
@@ -124,7 +125,7 @@ class AnalysisOut(BaseModel):
         mech = an.linkage.mechanism
         tau = an.transmission_angle
         return cls.model_construct(
-            crank_angle_deg=np.degrees(m.phi).tolist(),
+            crank_angle_deg=degree_list(m.phi),
             driving_torque_Nm=k.driving_torque.tolist(),
             virtual_power_torque_Nm=an.virtual_power_torque.tolist(),
             shaking_force_N=k.shaking_force.tolist(),
@@ -137,7 +138,7 @@ class AnalysisOut(BaseModel):
             prismatic_couples_Nm={name: v.tolist() for name, v in k.couples.items()},
             links={
                 name: LinkMotionOut.model_construct(
-                    angle_deg=np.degrees(m.link_angle[name]).tolist(),
+                    angle_deg=degree_list(m.link_angle[name]),
                     angular_velocity_rad_s=m.link_omega[name].tolist(),
                     angular_acceleration_rad_s2=m.link_alpha[name].tolist(),
                 )
@@ -151,7 +152,7 @@ class AnalysisOut(BaseModel):
                 )
                 for name in m.point_pos
             },
-            transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
+            transmission_angle_deg=None if tau is None else degree_list(tau),
             grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),

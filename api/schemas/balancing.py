@@ -154,7 +154,7 @@ class BalanceOut(BaseModel):
             props = r.analysis_after.linkage.mass_props(cw.link)
             placements.append(PlacementOut(
                 link=cw.link, radius_m=float(np.hypot(*cw.position)),
-                angle_deg=math.degrees(math.atan2(cw.position[1], cw.position[0])),
+                angle_deg=round(math.degrees(math.atan2(cw.position[1], cw.position[0])), 9) + 0.0,
                 link_com_m=list(props.com), link_mass_kg=props.mass,
             ))
         return cls(
@@ -238,8 +238,9 @@ class RotorOut(BaseModel):
     def from_engine(cls, r: synth.RotorBalance, warnings: list[synth.DesignWarning] | None = None) -> RotorOut:
         """Schema from an engine result."""
         return cls(
-            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius, angle_deg=math.degrees(c.angle),
-                                       axial_position_m=c.axial) for c in r.corrections],
+            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius,
+                                       angle_deg=round(math.degrees(c.angle), 9) + 0.0, axial_position_m=c.axial)
+                         for c in r.corrections],
             unbalance_before_kgm=r.unbalance_before, moment_unbalance_before_kgm2=r.moment_before,
             residual_unbalance_kgm=r.residual_unbalance, residual_moment_unbalance_kgm2=r.residual_moment,
             warnings=warnings_out(warnings or []),

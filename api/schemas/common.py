@@ -303,6 +303,12 @@ def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
     return [WarningOut.from_engine(w) for w in warnings]
 
 
+def degree_list(radians: np.ndarray) -> list[float]:
+    """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
+    # Adding 0.0 turns -0.0 into 0.0.
+    return np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()  # type: ignore[no-any-return]
+
+
 def ensure_finite(*arrays: np.ndarray) -> None:
     """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
     for a in arrays:

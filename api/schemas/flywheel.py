@@ -16,6 +16,7 @@ from .common import (
     MechanismIn,
     StrictModel,
     WarningOut,
+    degree_list,
     ensure_finite,
     warnings_out,
 )
@@ -353,7 +354,7 @@ class FlywheelOut(BaseModel):
             design_method=r.design_method,
             methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
             energy_mass=EnergyMassOut(
-                crank_angle_deg=np.degrees(r.cycle.phi).tolist(),
+                crank_angle_deg=degree_list(r.cycle.phi),
                 reduced_inertia_kgm2=r.cycle.inertia.tolist(),
                 excess_work_J=work.tolist(),
                 tangent_max_slope_J_per_kgm2=tan.slope_max,
@@ -361,7 +362,7 @@ class FlywheelOut(BaseModel):
                 tangent_min_slope_J_per_kgm2=tan.slope_min,
                 tangent_min_intercept_J=tan.intercept_min,
             ),
-            speed=SpeedOut(method=design.method, crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
+            speed=SpeedOut(method=design.method, crank_angle_deg=degree_list(phi), omega_rad_s=omega.tolist()),
             geometry=geometry,
             warnings=warnings_out(warnings or []),
         )
