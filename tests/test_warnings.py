@@ -155,7 +155,8 @@ def _readme_requests() -> list[tuple[str, dict]]:
         path = re.match(r"'?http://127\.0\.0\.1:8000(/v1/[\w/-]+)", chunk)
         body = re.search(r"-d '(\{.*?\})'", chunk, re.S)
         if path and body:
-            found.append((path.group(1), json.loads(body.group(1))))
+            # A drawing answers DXF or SVG only: its body's warnings are those of the analysis it draws.
+            found.append((path.group(1).removesuffix("/drawing"), json.loads(body.group(1))))
     return found
 
 
