@@ -251,13 +251,14 @@ def _tick_indices(phi: FloatArray, step_deg: float = 30.0) -> list[int]:
     return out
 
 
-def shaking_polar(ax: Axes, force: FloatArray, label: str, phi: FloatArray | None = None, **style: Any) -> None:
+def shaking_polar(ax: Axes, force: FloatArray, label: str, phi: FloatArray | None = None, tick_deg: float = 30.0,
+                  **style: Any) -> None:
     """Polar diagram of the shaking force [N]: the tip of the force vector over the cycle, with crank-angle ticks
-    every 30° when ``phi`` [rad] is given."""
+    every ``tick_deg`` when ``phi`` [rad] is given."""
     closed = np.vstack([force, force[:1]])
     line, = ax.plot(closed[:, 0], closed[:, 1], label=label, **style)
     if phi is not None:
-        idx = _tick_indices(phi)
+        idx = _tick_indices(phi, tick_deg)
         ax.plot(force[idx, 0], force[idx, 1], "o", ms=3.5, color=line.get_color(), zorder=line.get_zorder() + 1)
         for i in idx:
             ax.annotate(f"{round(math.degrees(phi[i])) % 360:d}°", force[i], xytext=(3, 3), textcoords="offset points",

@@ -152,15 +152,20 @@ def check_linkage(linkage: Linkage) -> list[DesignWarning]:
 
 
 def check_counterweights(linkage: Linkage, counterweights: Sequence[Counterweight], field: str) -> list[DesignWarning]:
-    """Counterweights placed farther from their link's first joint than the link is long."""
+    """Counterweights placed farther from their link's first joint than the link is long.
+
+    ``field`` names them in the request: ``counterweights`` (given ones, by index) or ``max_radius_m`` (placed by a
+    balancing program within that limit, by link).
+    """
     lengths = link_lengths(linkage.mechanism)
     out: list[DesignWarning] = []
     for i, cw in enumerate(counterweights):
         radius = math.hypot(*cw.position)
         length = lengths.get(cw.link)
         if length is not None and cw.mass > 0 and radius > length * (1 + 1e-9):
+            where = f"{field}.{cw.link}" if field == "max_radius_m" else f"{field}[{i}].position_m"
             out.append(DesignWarning(
-                "counterweight_beyond_link", f"{field}[{i}].position_m", radius,
+                "counterweight_beyond_link", where, radius,
                 f"the counterweight on the {cw.link} sits {radius:.4g} m from its joint, beyond the "
                 f"{length:.4g} m link: it needs an arm of its own", "m"))
     return out
@@ -218,9 +223,10 @@ def check_analysis(an: Analysis) -> list[DesignWarning]:
 
 
 def check_balance(result: BalanceResult) -> list[DesignWarning]:
-    """:func:`check_analysis` of the linkage before balancing and counterweights placed beyond their links."""
+    """:func:`check_analysis` of the linkage before balancing and counterweights placed beyond their links
+    (allowed by a ``max_radius_m`` longer than the link)."""
     before = result.analysis_before
-    return check_analysis(before) + check_counterweights(before.linkage, result.counterweights, "counterweights")
+    return check_analysis(before) + check_counterweights(before.linkage, result.counterweights, "max_radius_m")
 
 
 def check_rotor(masses: Sequence[RotorMass], result: RotorBalance) -> list[DesignWarning]:

@@ -67,13 +67,14 @@ def test_counterweight_beyond_its_link(client: SynthClient) -> None:
     assert w["field"] == "counterweights[0].position_m" and w["value"] == pytest.approx(0.15, rel=1e-12)
 
 
-def test_counterweight_beyond_its_link_after_balancing() -> None:
-    linkage = synth.Linkage(synth.FourBar(0.3, 0.1, 0.25, 0.25), links={"crank": synth.MassProps(1.0, (0.05, 0.0))})
-    an = synth.analyse(linkage, 10.0, samples=12)
-    far = synth.Counterweight("rocker", 1.0, (0.0, 0.3))
-    w = synth.check_counterweights(an.linkage, [far], "counterweights")
-    assert [(x.code, x.field, x.value) for x in w] == [("counterweight_beyond_link", "counterweights[0].position_m",
-                                                         pytest.approx(0.3, rel=1e-12))]
+def test_counterweight_beyond_its_link_after_balancing(client: SynthClient) -> None:
+    # A radius limit of 0.2 m on the 0.1 m crank lets the least-mass program use all of it.
+    body = {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 36, "max_radius_m": {"crank": 0.2}}
+    out = client.http.post("/v1/balancing/static", json=body).json()
+    w = _codes(out)["counterweight_beyond_link"]
+    crank = next(p for p in out["placements"] if p["link"] == "crank")
+    assert w["field"] == "max_radius_m.crank" and w["value"] == pytest.approx(crank["radius_m"], rel=1e-12)
+    assert crank["radius_m"] > FOURBAR_EXAMPLE["crank_length_m"]
 
 
 def test_transmission_angle_under_40_degrees(client: SynthClient) -> None:

@@ -41,13 +41,13 @@ def _polar(ax: Axes, result: BalanceResult) -> None:
     peak_after = float(np.hypot(*after.T).max())
     shaking_polar(ax, before, "before", phi, color=BEFORE, lw=1.2)
     if peak_after >= _ZOOM_BELOW * peak_before:
-        shaking_polar(ax, after, f"after ({result.mode})", phi, color=AFTER, lw=2.2, zorder=5)
+        shaking_polar(ax, after, f"after ({result.mode})", phi, 90.0, color=AFTER, lw=2.2, zorder=5)
     elif peak_after <= 1e-6 * max(peak_before, 1e-300):
         ax.plot(0, 0, "o", color=AFTER, ms=8, zorder=6, label=f"after ({result.mode}): {peak_after:.2g} N, a point")
     else:
         ax.plot(*np.vstack([after, after[:1]]).T, color=AFTER, lw=2.2, zorder=5, label=f"after ({result.mode})")
-        inset = ax.inset_axes((0.64, 0.64, 0.34, 0.34))
-        shaking_polar(inset, after, "after", phi, color=AFTER, lw=1.5)
+        inset = ax.inset_axes((0.64, 0.6, 0.34, 0.34))
+        shaking_polar(inset, after, "after", phi, 90.0, color=AFTER, lw=1.5)
         inset.set_title(f"after, own scale (peak {peak_after:.3g} N)", fontsize=7)
         inset.set_xlabel("")
         inset.set_ylabel("")

@@ -82,6 +82,8 @@ def _speed(ax: Axes, result: FlywheelResult) -> None:
         ax.plot(np.degrees(m.speed.phi), m.speed.omega, label=f"{m.method}{mark}: delta {m.achieved_delta:.4g}",
                 **style)
     ax.set_xlabel("crank angle [deg]")
+    period = np.degrees(result.cycle.period)
+    ax.set_xticks(np.arange(0, period + 1, 90 if period > 360 else 60))
     ax.set_ylabel("crank speed w [rad/s]")
     ax.set_title("steady speed over the cycle, simulated with each method's flywheel")
     ax.legend(fontsize=7)
