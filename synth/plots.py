@@ -148,9 +148,8 @@ def draw_linkage(ax: Axes, linkage: Linkage, an: Analysis, phi: float,
     for name in riding:
         path = full[name]
         ax.plot(path[:, 0], path[:, 1], ":", lw=1.2, color="tab:purple", zorder=2)
-        if name in pos:
-            ax.plot(*pos[name], "s", ms=5, color="tab:purple", zorder=6)
-            ax.annotate(name, pos[name], xytext=(4, 4), textcoords="offset points", fontsize=8, color="tab:purple")
+        ax.plot(*pos[name], "s", ms=5, color="tab:purple", zorder=6)
+        ax.annotate(name, pos[name], xytext=(4, 4), textcoords="offset points", fontsize=8, color="tab:purple")
     for link in topo.links:
         props = linkage.links.get(link)
         if props is not None and props.mass > 0:
@@ -179,11 +178,14 @@ def draw_linkage(ax: Axes, linkage: Linkage, an: Analysis, phi: float,
 
 def trace_points(an: Analysis) -> dict[str, tuple[str, tuple[float, float]]]:
     """The analysis's extra points (not joints, not centres of mass) and the link each rides on, with its position
-    in that link's frame [m], recovered from the motion: the link whose frame holds it still."""
+    in that link's frame [m], recovered from the motion: the link whose frame holds it still. Fewer than three
+    analysed angles cannot tell the links apart, and give none."""
     mech = an.linkage.mechanism
     m = an.motion
     joints = {j.point for j in mech.topology.joints}
     out: dict[str, tuple[str, tuple[float, float]]] = {}
+    if m.samples < 3:
+        return out
     for name, path in m.point_pos.items():
         if name in joints or name.startswith("S_"):
             continue
