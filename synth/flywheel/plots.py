@@ -57,8 +57,9 @@ def _excess_work(ax: Axes, result: FlywheelResult) -> None:
     ax.axhline(work[i_min], color="0.4", ls=":", lw=1)
     x = float(deg[i_max])
     ax.annotate("", (x, work[i_min]), (x, work[i_max]), arrowprops={"arrowstyle": "<->", "color": "k"})
-    ax.annotate(f"ΔA_max = {swing:.4g} J", (x, (work[i_max] + work[i_min]) / 2), xytext=(6, 0),
-                textcoords="offset points", fontsize=8)
+    right = x > 0.6 * float(deg[-1])
+    ax.annotate(f"ΔA_max = {swing:.4g} J", (x, (work[i_max] + work[i_min]) / 2), xytext=(-6 if right else 6, 0),
+                textcoords="offset points", fontsize=8, ha="right" if right else "left")
     ax.axhline(0.0, color="0.5", lw=0.6)
     ax.set_xlabel("crank angle [deg]")
     ax.set_ylabel("excess work A [J]")
