@@ -7,7 +7,7 @@ a sentence for people. The answer is still given: a warning says "look again", a
 Codes
 -----
 ``length_likely_mm``        a length beyond 10 m: probably millimetres typed as metres
-``mass_likely_grams``       a mass heavier than a solid steel cube the size of the whole machine: probably grams
+``mass_likely_grams``       a link or counterweight heavier than a solid steel cube the size of the whole machine
 ``inertia_without_mass``    a link with a moment of inertia but no mass (its weight and inertia force are lost)
 ``links_missing``           no link has any mass: every inertial output is zero
 ``link_left_out``           a link that carries the motion has neither mass nor inertia
@@ -147,6 +147,12 @@ def check_linkage(linkage: Linkage) -> list[DesignWarning]:
                 out.append(DesignWarning(
                     "link_left_out", f"mechanism.links.{name}", None,
                     f"the {name} has neither mass nor inertia and is treated as massless; was it left out?"))
+    for i, cw in enumerate(linkage.counterweights):
+        if size > 0 and cw.mass > heavy:
+            out.append(DesignWarning(
+                "mass_likely_grams", f"counterweights[{i}].mass_kg", cw.mass,
+                f"a {cw.mass:g} kg counterweight outweighs a solid steel cube of {size:g} m (the machine's size, "
+                f"{heavy:.3g} kg); was it typed in grams?", "kg"))
     out += check_counterweights(linkage, linkage.counterweights, "counterweights")
     return out
 

@@ -44,6 +44,9 @@ def test_mass_typed_in_grams(client: SynthClient) -> None:
     grams = {**SLIDER_CRANK, "links": {**SLIDER_CRANK["links"], "slider": {"mass_kg": 1200.0}}}
     w = _codes(_analysis(client, grams))["mass_likely_grams"]
     assert w["field"] == "mechanism.links.slider.mass_kg" and w["value"] == 1200.0
+    cw = [{"link": "crank", "mass_kg": 500.0, "position_m": [-0.03, 0.0]}]
+    w = _codes(_analysis(client, SLIDER_CRANK, counterweights=cw))["mass_likely_grams"]
+    assert w["field"] == "counterweights[0].mass_kg" and w["value"] == 500.0
 
 
 def test_inertia_without_mass(client: SynthClient) -> None:
