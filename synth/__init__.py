@@ -133,6 +133,16 @@ from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, Proce
 from .topology import Joint, Topology
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
+from .warnings import (
+    DesignWarning,
+    check_analysis,
+    check_balance,
+    check_counterweights,
+    check_flywheel,
+    check_linkage,
+    check_rotor,
+    link_lengths,
+)
 
 __all__ = [
     "Alternative",
@@ -285,4 +295,13 @@ __all__ = [
     "Structure",
     "analyse_structure",
     "fixed_point_counterweights",
+    # warnings
+    "DesignWarning",
+    "check_analysis",
+    "check_balance",
+    "check_counterweights",
+    "check_flywheel",
+    "check_linkage",
+    "check_rotor",
+    "link_lengths",
 ]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from typing import Annotated, Literal, Union
 
 import numpy as np
@@ -275,6 +276,44 @@ class LinkageRequest(StrictModel):
         )
 
 
+class WarningOut(BaseModel):
+    """A likely mistake in the request or a weak point of the result: the answer stands, but look again."""
+
+    code: str = Field(description="Stable identifier of the check, e.g. `length_likely_mm`, `transmission_angle_low`.")
+    field: str | None = Field(None, description="The request field it concerns, as this API spells it.")
+    value: float | None = Field(None, description="The number that triggered it, in `unit`.")
+    unit: str = Field("", description="Unit of `value` (angles in degrees).")
+    message: str
+    crank_angle_ranges_deg: list[list[float]] | None = Field(
+        None, description="Crank-angle ranges [start, end] where it holds [deg].")
+
+    @classmethod
+    def from_engine(cls, w: synth.DesignWarning) -> WarningOut:
+        """Schema from an engine warning; radians become degrees, rounded for people."""
+        value, unit = w.value, w.unit
+        if unit == "rad" and value is not None:
+            value, unit = round(math.degrees(value), 6), "deg"
+        ranges = [[round(math.degrees(a) % 360, 6), round(math.degrees(b) % 360, 6)] for a, b in w.ranges]
+        return cls(code=w.code, field=w.field, value=value, unit=unit, message=w.message,
+                   crank_angle_ranges_deg=ranges or None)
+
+
+def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
+    """Schemas of engine warnings."""
+    return [WarningOut.from_engine(w) for w in warnings]
+
+
+def degree_list(radians: np.ndarray) -> list[float]:
+    """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
+    # Adding 0.0 turns -0.0 into 0.0.
+    return np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()  # type: ignore[no-any-return]
+
+
+def degree_array(radians: np.ndarray) -> np.ndarray:
+    """Radians as degrees for people, as an array for the JSON writer: rounded like :func:`degree_list`."""
+    return np.asarray(np.round(np.degrees(radians), 9) + 0.0)
+
+
 def ensure_finite(*arrays: np.ndarray) -> None:
     """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
     for a in arrays:
@@ -311,12 +350,12 @@ FOURBAR_EXAMPLE = {
     "type": "fourbar",
     "ground_length_m": 0.30,
     "crank_length_m": 0.10,
-    "coupler_length_m": 0.35,
+    "coupler_length_m": 0.25,
     "rocker_length_m": 0.25,
     "branch": 1,
     "links": {
         "crank": {"mass_kg": 1.0, "com_m": [0.05, 0.0], "inertia_kgm2": 0.001},
-        "coupler": {"mass_kg": 2.0, "com_m": [0.175, 0.0], "inertia_kgm2": 0.02},
+        "coupler": {"mass_kg": 2.0, "com_m": [0.125, 0.0], "inertia_kgm2": 0.02},
         "rocker": {"mass_kg": 1.5, "com_m": [0.125, 0.0], "inertia_kgm2": 0.008},
     },
 }

@@ -9,7 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 import synth
 
-from .common import MAX_INERTIA_KGM2, StrictModel
+from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, warnings_out
 
 RPM = math.pi / 30.0
 
@@ -148,7 +148,7 @@ class SplitOut(BaseModel):
     solver_status: str
     solve_time_s: float
     checks: SplitChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
@@ -163,7 +163,7 @@ class SplitOut(BaseModel):
             checks=SplitChecksOut(objective_model=r.checks.objective_model,
                                   ratio_product_error=r.checks.ratio_product_error,
                                   kkt_residual=r.checks.kkt_residual),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -233,7 +233,7 @@ class TeethOut(BaseModel):
     min_pinion_teeth: int
     min_gear_teeth: int
     checks: TeethChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.ToothResult) -> TeethOut:
@@ -248,7 +248,7 @@ class TeethOut(BaseModel):
             checks=TeethChecksOut(enumeration_combinations=c.enumeration_combinations,
                                   enumeration_ratio_error=c.enumeration_ratio_error,
                                   enumeration_total_teeth=c.enumeration_total_teeth, agrees=c.agrees),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -379,7 +379,7 @@ class DriveOut(BaseModel):
     torque_basis: str
     split: SplitOut
     checks: DriveChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
@@ -395,7 +395,7 @@ class DriveOut(BaseModel):
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
