@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SolverFailed
-from ..kinematics import FourBar, SliderCrank, motion, transmission_angle
+from ..kinematics import FourBar, Mechanism, SliderCrank, motion, transmission_angle
 from ..model import FloatArray
 
 _GRID = 720
@@ -44,7 +45,7 @@ def _dead_centres(rate: FloatArray, phi: FloatArray, fn: object) -> list[float]:
     roots = []
     for i in idx:
         lo, hi = phi[i], phi[i] + 2 * math.pi / phi.size
-        roots.append(float(brentq(fn, lo, hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)) % (2 * math.pi))  # type: ignore[arg-type]
+        roots.append(float(brentq(fn, lo, hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)) % (2 * math.pi))
     if len(roots) != 2:
         raise SolverFailed("dead_centres", f"expected two dead centres of the output, found {len(roots)}")
     return roots
@@ -70,7 +71,7 @@ def _grid() -> FloatArray:
 def check_fourbar(fb: FourBar) -> LinkageCheck:
     """Rocker swing, time ratio and transmission angle extremes of ``fb`` from the engine's position solution."""
     phi = _grid()
-    mot = motion(fb, phi, 1.0)
+    mot = motion(cast(Mechanism, fb), phi, 1.0)
 
     def rate(x: float) -> float:
         return float(fb.solve(np.array([x]))[1]["rocker"].d1[0])
@@ -90,7 +91,7 @@ def check_slider_crank(sc: SliderCrank) -> LinkageCheck:
     inclination to the guide.
     """
     phi = _grid()
-    mot = motion(sc, phi, 1.0)
+    mot = motion(cast(Mechanism, sc), phi, 1.0)
 
     def rate(x: float) -> float:
         return float(sc.solve(np.array([x]))[0]["B"].d1[0, 0])

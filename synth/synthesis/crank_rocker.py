@@ -13,13 +13,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 
 from ..analysis import analyse
 from ..errors import InvalidInput
-from ..kinematics import FourBar
+from ..kinematics import FourBar, Mechanism
 from ..model import FloatArray, Linkage, MassProps, ProcessLoad
 from .checks import LinkageCheck, check_fourbar
 from .family import FamilyValues, Optimality, maximise_family
@@ -194,7 +194,7 @@ def _linkage(spec: CrankRockerSpec, fb: FourBar) -> Linkage:
         if name in lengths:
             m = rho * lengths[name]
             links[name] = MassProps(m, (0.5 * lengths[name], 0.0), m * lengths[name] ** 2 / 12.0)
-    return Linkage(fb, links, loads=spec.loads)
+    return Linkage(cast(Mechanism, fb), links, loads=spec.loads)
 
 
 class _Evaluate:

@@ -12,13 +12,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 
 from ..analysis import analyse
 from ..errors import InvalidInput
-from ..kinematics import SliderCrank
+from ..kinematics import Mechanism, SliderCrank
 from ..model import FloatArray, Linkage, MassProps, ProcessLoad
 from .checks import LinkageCheck, check_slider_crank
 from .crank_rocker import overlap_angle
@@ -114,7 +114,7 @@ def _linkage(spec: SliderCrankSpec, sc: SliderCrank) -> Linkage:
             links[name] = MassProps(m, (0.5 * lengths[name], 0.0), m * lengths[name] ** 2 / 12.0)
     if spec.slider_mass > 0:
         links["slider"] = MassProps(spec.slider_mass)
-    return Linkage(sc, links, loads=spec.loads)
+    return Linkage(cast(Mechanism, sc), links, loads=spec.loads)
 
 
 class _Evaluate:
