@@ -136,11 +136,11 @@ def _coupler_points(z: Any, phi: Any, branch: float) -> tuple[Any, Any]:
 @functools.lru_cache(maxsize=32)
 def _program(n: int, timed: bool, branch: int) -> Any:
     """The NLP for ``n`` targets, built once per worker and reused with new data through its parameters."""
-    z = ca.MX.sym("z", _DESIGN)
-    phi = ca.MX.sym("phi", 1 if timed else n)
-    targets = ca.MX.sym("targets", n, 2)
-    offsets = ca.MX.sym("offsets", n)
-    scale = ca.MX.sym("scale")
+    z = ca.SX.sym("z", _DESIGN)
+    phi = ca.SX.sym("phi", 1 if timed else n)
+    targets = ca.SX.sym("targets", n, 2)
+    offsets = ca.SX.sym("offsets", n)
+    scale = ca.SX.sym("scale")
     angles = phi[0] + offsets if timed else phi
     px, py = _coupler_points(z, angles, float(branch))
     f = ca.sumsqr(ca.horzcat(px - targets[:, 0], py - targets[:, 1])) / (scale * scale)
@@ -149,8 +149,8 @@ def _program(n: int, timed: bool, branch: int) -> Any:
     if not timed:
         g += [phi[i + 1] - phi[i] for i in range(n - 1)] + [phi[0] + 2 * math.pi - phi[n - 1]]
     nlp = {"x": ca.vertcat(z, phi), "p": ca.vertcat(ca.vec(targets), offsets, scale), "f": f, "g": ca.vertcat(*g)}
-    opts: dict[str, Any] = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-14,
-            "ipopt.acceptable_tol": 1e-10, "ipopt.max_iter": 300}
+    opts: dict[str, Any] = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
+            "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 200}
     return ca.nlpsol("path", "ipopt", nlp, opts)
 
 
