@@ -29,6 +29,14 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.synthesis import (
+    CrankRockerIn,
+    CrankRockerOut,
+    PathIn,
+    PathOut,
+    SliderCrankSynthesisIn,
+    SliderCrankSynthesisOut,
+)
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -209,3 +217,19 @@ class SynthClient:
     def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
+        """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
+        return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
+
+    def synthesise_slider_crank(self, body: SliderCrankSynthesisIn) -> SliderCrankSynthesisOut:
+        """POST /v1/synthesis/slider-crank: the best offset slider-crank for a stroke and a time ratio."""
+        return self._post("/v1/synthesis/slider-crank", body, SliderCrankSynthesisOut)
+
+    def synthesise_path(self, body: PathIn) -> PathOut:
+        """POST /v1/synthesis/path: a four-bar whose coupler point passes through (or nearest to) the targets."""
+        return self._post("/v1/synthesis/path", body, PathOut)
+
+    def synthesis_png(self, kind: str, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+        """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
+        return self._post_png(f"/v1/synthesis/{kind}", body)

@@ -110,6 +110,25 @@ from .gearing import (
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
+from .synthesis import (
+    CrankRockerResult,
+    CrankRockerSpec,
+    LinkageCheck,
+    Optimality,
+    PathResult,
+    PathSpec,
+    SliderCrankResult,
+    SliderCrankSpec,
+    check_fourbar,
+    check_slider_crank,
+    coupler_curve,
+    default_path_limits,
+    overlap_angle,
+    synthesise_crank_rocker,
+    synthesise_path,
+    synthesise_slider_crank,
+    time_ratio_of,
+)
 from .topology import Joint, Topology
 
 __all__ = [
@@ -233,4 +252,22 @@ __all__ = [
     "objective_value",
     "pendulum_inertia",
     "tradeoff",
+    # synthesis
+    "CrankRockerResult",
+    "CrankRockerSpec",
+    "LinkageCheck",
+    "Optimality",
+    "PathResult",
+    "PathSpec",
+    "SliderCrankResult",
+    "SliderCrankSpec",
+    "check_fourbar",
+    "check_slider_crank",
+    "coupler_curve",
+    "default_path_limits",
+    "overlap_angle",
+    "synthesise_crank_rocker",
+    "synthesise_path",
+    "synthesise_slider_crank",
+    "time_ratio_of",
 ]

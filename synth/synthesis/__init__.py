@@ -3,7 +3,7 @@
 from .checks import LinkageCheck, check_fourbar, check_slider_crank
 from .crank_rocker import CrankRockerResult, CrankRockerSpec, overlap_angle, synthesise_crank_rocker, time_ratio_of
 from .family import Optimality
-from .path import MAX_POINTS, MAX_STARTS, PathResult, PathSpec, coupler_curve, synthesise_path
+from .path import MAX_POINTS, MAX_STARTS, PathResult, PathSpec, coupler_curve, default_path_limits, synthesise_path
 from .slider_crank import SliderCrankResult, SliderCrankSpec, synthesise_slider_crank
 
 __all__ = [
@@ -20,6 +20,7 @@ __all__ = [
     "check_fourbar",
     "check_slider_crank",
     "coupler_curve",
+    "default_path_limits",
     "overlap_angle",
     "synthesise_crank_rocker",
     "synthesise_path",

@@ -37,6 +37,11 @@ class LinkageCheck:
     max_transmission_angle: float
     max_transmission_crank_angle: float
 
+    def stroke_times(self, speed: float) -> tuple[float, float]:
+        """Durations [s] of the slow and the fast stroke at crank speed ``speed`` [rad/s]."""
+        slow = (self.slow_stroke[1] - self.slow_stroke[0]) % (2 * math.pi)
+        return slow / speed, (2 * math.pi - slow) / speed
+
 
 def _dead_centres(rate: FloatArray, phi: FloatArray, fn: object) -> list[float]:
     """Crank angles where the output's rate (sampled on ``phi``) changes sign, refined by Brent's method."""

@@ -71,7 +71,7 @@ def _infeasible_reason(fv: FamilyValues) -> Infeasible:
     return Infeasible(
         f"no member of the design family satisfies every bound; closest miss on {worst!r}",
         constraint=worst,
-        shortfall=float(-slack[:, best_compromise].min()),
+        normalised_shortfall=float(-slack[:, best_compromise].min()),
     )
 
 

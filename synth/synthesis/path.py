@@ -116,6 +116,19 @@ class PathResult:
         return mech
 
 
+def default_path_limits(
+    targets: FloatArray,
+) -> tuple[dict[str, tuple[float, float]], tuple[float, float, float, float], float]:
+    """Limits that suit targets of extent D (their bounding box's larger side) [m]: every link between D/50 and
+    4·D, both pivots within 2·D of the targets' bounding box, coupler point coordinates within 4·D."""
+    t = np.asarray(targets, dtype=float)
+    lo, hi = t.min(axis=0), t.max(axis=0)
+    size = float(max(hi - lo)) or 1.0
+    bounds = {name: (0.02 * size, 4.0 * size) for name in _LENGTHS}
+    box = (float(lo[0] - 2 * size), float(hi[0] + 2 * size), float(lo[1] - 2 * size), float(hi[1] + 2 * size))
+    return bounds, box, 4.0 * size
+
+
 def _coupler_points(z: Any, phi: Any, branch: float) -> tuple[Any, Any]:
     """World x and y of the coupler point at crank angles ``phi`` for design ``z`` (CasADi or NumPy)."""
     lib = ca if isinstance(z, (ca.MX, ca.SX)) else np
