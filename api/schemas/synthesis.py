@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -12,6 +12,8 @@ import synth
 
 from .analysis import TracePointIn
 from .common import (
+    MAX_LENGTH_M,
+    MIN_LENGTH_M,
     Coordinate,
     FourBarIn,
     FourBarLinks,
@@ -26,6 +28,16 @@ from .common import (
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _OBJECTIVE_UNIT = {"transmission_angle": "deg", "peak_driving_torque": "N·m", "rms_shaking_force": "N"}
+
+
+def _within_limits(bounds: dict[str, tuple[float, float]], names: tuple[str, ...],
+                   lowest: float = MIN_LENGTH_M) -> dict[str, tuple[float, float]]:
+    """The caller's ranges narrowed to what a `mechanism` may hold, so every answer is a valid request elsewhere."""
+    out = {}
+    for name in names:
+        lo, hi = bounds.get(name, (lowest, MAX_LENGTH_M))
+        out[name] = (max(lo, lowest), min(hi, MAX_LENGTH_M))
+    return out
 
 
 class RangeIn(StrictModel):
@@ -128,7 +140,8 @@ class CrankRockerIn(_TimeRatio, _Dynamics):
 
     def to_spec(self) -> synth.CrankRockerSpec:
         """Engine spec; degrees become radians here."""
-        bounds = {n: r.pair() for n, r in self.bounds_m if r is not None}
+        bounds = _within_limits({n: r.pair() for n, r in self.bounds_m if r is not None},
+                                ("crank", "coupler", "rocker", "ground"))
         density = {} if self.linear_density_kg_m is None else dict(self.linear_density_kg_m)
         return synth.CrankRockerSpec(
             swing=math.radians(self.swing_deg), time_ratio=self.q(), scale_link=self.scale_link,
@@ -174,7 +187,8 @@ class SliderCrankSynthesisIn(_TimeRatio, _Dynamics):
 
     def to_spec(self) -> synth.SliderCrankSpec:
         """Engine spec; degrees become radians here."""
-        bounds = {n: r.pair() for n, r in self.bounds_m if r is not None}
+        given = {n: r.pair() for n, r in self.bounds_m if r is not None}
+        bounds = {**_within_limits(given, ("crank", "rod")), **_within_limits(given, ("offset",), lowest=0.0)}
         density = {} if self.linear_density_kg_m is None else dict(self.linear_density_kg_m)
         return synth.SliderCrankSpec(
             stroke=self.stroke_m, time_ratio=self.q(), bounds=bounds, max_length_ratio=self.max_length_ratio,
@@ -362,7 +376,7 @@ class PathIn(StrictModel):
     """Target points for a four-bar's coupler point, in the order the crank (turning counter-clockwise) passes them."""
 
     points_m: list[Vec2] = Field(min_length=3, max_length=synth.synthesis.MAX_POINTS)
-    crank_angle_deg: list[float] | None = Field(
+    crank_angle_deg: list[Annotated[float, Field(ge=-3600.0, le=3600.0)]] | None = Field(
         None, description="Crank angle at each point [deg], fixed up to a common shift (timed path generation).")
     bounds_m: PathBoundsIn = Field(default_factory=PathBoundsIn)
     pivot_box_m: RegionIn | None = Field(None, description="Where both ground pivots may go; default: within 2·D "
@@ -387,8 +401,9 @@ class PathIn(StrictModel):
         return synth.PathSpec(
             targets=targets,
             crank_angles=None if self.crank_angle_deg is None else np.radians(self.crank_angle_deg),
-            bounds=bounds, pivot_box=box if self.pivot_box_m is None else self.pivot_box_m.box(),
-            coupler_point_max=cp_max if self.coupler_point_max_m is None else self.coupler_point_max_m,
+            bounds=_within_limits(bounds, ("crank", "coupler", "rocker", "ground")),
+            pivot_box=box if self.pivot_box_m is None else self.pivot_box_m.box(),
+            coupler_point_max=min(MAX_LENGTH_M, cp_max if self.coupler_point_max_m is None else self.coupler_point_max_m),
             branch=0 if self.branch is None else self.branch, starts=self.starts, seed=self.seed,
             time_limit=time_limit_s,
         )

@@ -22,7 +22,7 @@ from ..errors import InvalidInput
 from ..kinematics import FourBar, Mechanism
 from ..model import FloatArray, Linkage, MassProps, ProcessLoad
 from .checks import LinkageCheck, check_fourbar
-from .family import FamilyValues, Optimality, maximise_family
+from .family import FamilyValues, Optimality, feasible, maximise_family
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _LINKS = ("crank", "coupler", "rocker", "ground")
@@ -235,7 +235,7 @@ class _Evaluate:
             slack[key] = np.where(np.isfinite(value), value, -1.0)
         if spec.objective == "transmission_angle":
             return FamilyValues(mu_min, slack)
-        ok = np.all(np.stack(list(slack.values())) >= 0, axis=0)
+        ok = feasible(slack)
         value = np.full(u.shape, -np.inf)
         for i in np.flatnonzero(ok):
             an = analyse(_linkage(spec, FourBar(d[i], a[i], b[i], c[i], int(fam.branch[i]))), spec.speed,

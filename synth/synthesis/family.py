@@ -24,7 +24,7 @@ from ..model import FloatArray
 
 
 class FamilyValues(NamedTuple):
-    """Objective to maximise at each parameter value (n,) and named constraint slacks (n,), feasible when >= 0."""
+    """Objective to maximise at each parameter value (n,) and named constraint slacks (n,), feasible when > 0."""
 
     value: FloatArray
     slack: Mapping[str, FloatArray]
@@ -52,11 +52,18 @@ class Optimality:
     conditions_met: bool
 
 
+# Slacks are normalised (by a length of the linkage, or radians); one this small is a degenerate linkage
+# (a change point, a dead centre on a pivot) that only rounding makes look feasible.
+MARGIN = 1e-12
+
+
+def feasible(slack: Mapping[str, FloatArray]) -> FloatArray:
+    """Members whose every slack exceeds the degeneracy margin."""
+    return np.asarray(np.all(np.stack(list(slack.values())) > MARGIN, axis=0))
+
+
 def _feasible(fv: FamilyValues) -> FloatArray:
-    ok = np.isfinite(fv.value)
-    for s in fv.slack.values():
-        ok &= s >= 0.0
-    return np.asarray(ok)
+    return np.asarray(np.isfinite(fv.value) & feasible(fv.slack))
 
 
 def _scores(fv: FamilyValues) -> FloatArray:
@@ -71,7 +78,7 @@ def _infeasible_reason(fv: FamilyValues) -> Infeasible:
     return Infeasible(
         f"no member of the design family satisfies every bound; closest miss on {worst!r}",
         constraint=worst,
-        normalised_shortfall=float(-slack[:, best_compromise].min()),
+        normalised_shortfall=max(0.0, float(-slack[:, best_compromise].min())),
     )
 
 
@@ -159,7 +166,7 @@ def _conditions(
     if not (np.isfinite(f[0]) and np.isfinite(f[2])) or x - eta < lo or x + eta > hi:
         kind = "bound"
         side = 0 if not np.isfinite(f[0]) or x - eta < lo else 2
-        names = [n for n, s in fv.slack.items() if s[side] < 0.0]
+        names = [n for n, s in fv.slack.items() if s[side] <= MARGIN]
         binding = names[0] if names else "parameter range"
         inward = right if side == 0 else -left
         met = bool(np.isfinite(inward) and inward <= slope_tol)

@@ -22,7 +22,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from ..analysis import analyse
-from ..errors import InvalidInput, SolverFailed, SolverTimeout, TooLarge
+from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout, TooLarge
 from ..kinematics import FourBar, Mechanism
 from ..model import FloatArray, Linkage
 from .checks import LinkageCheck, check_fourbar
@@ -189,6 +189,10 @@ def synthesise_path(spec: PathSpec) -> PathResult:
     (with the best residual reached) when the starts outrun ``spec.time_limit``.
     """
     spec.validate()
+    crank_lo = spec.bounds["crank"][0]
+    if crank_lo >= min(spec.bounds[n][1] for n in ("coupler", "rocker", "ground")):
+        raise Infeasible("the crank's least length reaches another link's greatest: it cannot be the shortest link",
+                         constraint="crank_shortest")
     targets = np.asarray(spec.targets, dtype=float)
     n = targets.shape[0]
     timed = spec.crank_angles is not None

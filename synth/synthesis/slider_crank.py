@@ -22,7 +22,7 @@ from ..kinematics import Mechanism, SliderCrank
 from ..model import FloatArray, Linkage, MassProps, ProcessLoad
 from .checks import LinkageCheck, check_slider_crank
 from .crank_rocker import overlap_angle
-from .family import FamilyValues, Optimality, maximise_family
+from .family import FamilyValues, Optimality, feasible, maximise_family
 
 SliderObjective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _BOUNDED = ("crank", "rod", "offset")
@@ -145,7 +145,7 @@ class _Evaluate:
             slack[key] = np.where(np.isfinite(value), value, -1.0)
         if spec.objective == "transmission_angle":
             return FamilyValues(mu_min, slack)
-        ok = np.all(np.stack(list(slack.values())) >= 0, axis=0)
+        ok = feasible(slack)
         value = np.full(u.shape, -np.inf)
         for i in np.flatnonzero(ok):
             an = analyse(_linkage(spec, SliderCrank(a[i], b[i], e[i], 1)), spec.speed, samples=spec.samples)
