@@ -188,7 +188,9 @@ class SliderCrankSynthesisIn(_TimeRatio, _Dynamics):
     def to_spec(self) -> synth.SliderCrankSpec:
         """Engine spec; degrees become radians here."""
         given = {n: r.pair() for n, r in self.bounds_m if r is not None}
-        bounds = {**_within_limits(given, ("crank", "rod")), **_within_limits(given, ("offset",), lowest=0.0)}
+        # The offset needs no default range: the rod, bounded here, is longer than crank and offset together.
+        bounds = {**_within_limits(given, ("crank", "rod")),
+                  **(_within_limits(given, ("offset",), lowest=0.0) if "offset" in given else {})}
         density = {} if self.linear_density_kg_m is None else dict(self.linear_density_kg_m)
         return synth.SliderCrankSpec(
             stroke=self.stroke_m, time_ratio=self.q(), bounds=bounds, max_length_ratio=self.max_length_ratio,
