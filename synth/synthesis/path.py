@@ -163,15 +163,43 @@ def _program(n: int, timed: bool, branch: int) -> Any:
         g += [phi[i + 1] - phi[i] for i in range(n - 1)] + [phi[0] + 2 * math.pi - phi[n - 1]]
     nlp = {"x": ca.vertcat(z, phi), "p": ca.vertcat(ca.vec(targets), offsets, scale), "f": f, "g": ca.vertcat(*g)}
     opts: dict[str, Any] = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
-            "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 200}
+            "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120}
     return ca.nlpsol("path", "ipopt", nlp, opts)
 
 
 def _starts(spec: PathSpec) -> FloatArray:
-    """Scrambled-Sobol designs over the bounds: pivot, ground angle, lengths, coupler point, first crank angle."""
+    """Scrambled-Sobol designs over the bounds: pivot, ground angle, lengths, coupler point; the first crank
+    angle is then fitted to the targets."""
     lo, hi = _box(spec)
     unit = qmc.Sobol(_DESIGN + 1, scramble=True, seed=spec.seed).random(spec.starts)
-    return np.asarray(lo + unit * (hi - lo))
+    x = lo + unit * (hi - lo)
+    # The crank's coordinate becomes a fraction of the longest crank that keeps the start a Grashof crank-rocker
+    # with the sampled coupler, rocker and ground, so every start assembles at every angle.
+    # First the longest of the three is shortened until the other two outreach it by twice the least crank.
+    rest = x[:, 4:7]
+    j = np.argmax(rest, axis=1)
+    rows = np.arange(len(x))
+    others = rest.sum(axis=1) - rest[rows, j]
+    rest[rows, j] = np.clip(np.minimum(rest[rows, j], others - 2 * lo[3]), lo[4 + j], hi[4 + j])
+    b, c, d = x[:, 4], x[:, 5], x[:, 6]
+    a_max = np.minimum.reduce([b, c, d, c + d - b, b + d - c, b + c - d, np.full_like(b, hi[3])])
+    room = a_max > lo[3]
+    x[room, 3] = lo[3] + unit[room, 3] * (a_max[room] - lo[3])
+    return np.asarray(x)
+
+
+def _first_angles(start: FloatArray, targets: FloatArray, offsets: FloatArray, timed: bool, branch: int) -> FloatArray:
+    """Crank angles to start from: evenly spread (or the prescribed offsets), turned by whichever of 72 shifts
+    puts the start design's coupler point nearest the targets."""
+    n = targets.shape[0]
+    steps = offsets if timed else 2 * math.pi * np.arange(n) / n
+    shifts = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
+    phi = shifts[:, None] + steps[None, :]
+    with np.errstate(all="ignore"):
+        px, py = _coupler_points(start[:_DESIGN], phi, float(branch))
+    miss = np.nan_to_num((px - targets[:, 0]) ** 2 + (py - targets[:, 1]) ** 2, nan=np.inf).sum(axis=1)
+    first = shifts[int(np.argmin(miss))]
+    return np.array([first]) if timed else first + steps
 
 
 def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
@@ -218,9 +246,7 @@ def synthesise_path(spec: PathSpec) -> PathResult:
                                 best_rms_residual_m=None if best is None else math.sqrt(best[0] * scale**2 / n))
         branch = spec.branch or (1 if k % 2 == 0 else -1)
         solver = _program(n, timed, branch)
-        phi0 = start[_DESIGN]
-        phi_start = [phi0] if timed else phi0 + 2 * math.pi * np.arange(n) / n
-        x0 = np.concatenate([start[:_DESIGN], phi_start])
+        x0 = np.concatenate([start[:_DESIGN], _first_angles(start, targets, offsets, timed, branch)])
         sol = solver(x0=x0, p=params, lbx=lbx, ubx=ubx, lbg=np.zeros(n_g), ubg=np.full(n_g, np.inf))
         status = str(solver.stats()["return_status"])
         if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
