@@ -32,6 +32,14 @@ from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, Sta
 from .schemas.machine import MachineDesignOut, MachineIn
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.synthesis import (
+    CrankRockerIn,
+    CrankRockerOut,
+    PathIn,
+    PathOut,
+    SliderCrankSynthesisIn,
+    SliderCrankSynthesisOut,
+)
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -242,3 +250,19 @@ class SynthClient:
                                   params={"format": "pdf"})
         self._raise_for_problem(response)
         return response.content
+
+    def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
+        """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
+        return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
+
+    def synthesise_slider_crank(self, body: SliderCrankSynthesisIn) -> SliderCrankSynthesisOut:
+        """POST /v1/synthesis/slider-crank: the best offset slider-crank for a stroke and a time ratio."""
+        return self._post("/v1/synthesis/slider-crank", body, SliderCrankSynthesisOut)
+
+    def synthesise_path(self, body: PathIn) -> PathOut:
+        """POST /v1/synthesis/path: a four-bar whose coupler point passes through (or nearest to) the targets."""
+        return self._post("/v1/synthesis/path", body, PathOut)
+
+    def synthesis_png(self, kind: str, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+        """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
+        return self._post_png(f"/v1/synthesis/{kind}", body)

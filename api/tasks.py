@@ -11,6 +11,7 @@ from typing import Any
 import synth
 from synth.exports import analysis_export, balance_export, flywheel_export, mechanism_dxf, mechanism_svg
 from synth.machine.report import design_report_pdf, design_summary_png
+from synth.synthesis.plots import extremes_png, path_png
 
 from .schemas.flywheel import FlywheelOut
 from .schemas.machine import MachineDesignOut
@@ -77,3 +78,18 @@ def design_out(pair: DesignAndAlternatives) -> MachineDesignOut:
 def design_file(pair: DesignAndAlternatives, fmt: str) -> bytes:
     """The design's one-page summary (png) or its multi-page report (pdf)."""
     return design_summary_png(pair[0]) if fmt == "png" else design_report_pdf(*pair)
+
+
+def crank_rocker_png(result: synth.CrankRockerResult, fmt: str) -> bytes:
+    """Both dead-centre positions of a synthesised crank-rocker."""
+    return extremes_png(result.linkage, result.check, "crank-rocker")
+
+
+def slider_crank_png(result: synth.SliderCrankResult, fmt: str) -> bytes:
+    """Both dead-centre positions of a synthesised offset slider-crank."""
+    return extremes_png(result.linkage, result.check, "offset slider-crank")
+
+
+def path_file(result: synth.PathResult, fmt: str, targets: Any) -> bytes:
+    """The synthesised coupler curve through the target points."""
+    return path_png(result, targets)

@@ -130,6 +130,25 @@ from .machine import (
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
+from .synthesis import (
+    CrankRockerResult,
+    CrankRockerSpec,
+    LinkageCheck,
+    Optimality,
+    PathResult,
+    PathSpec,
+    SliderCrankResult,
+    SliderCrankSpec,
+    check_fourbar,
+    check_slider_crank,
+    coupler_curve,
+    default_path_limits,
+    overlap_angle,
+    synthesise_crank_rocker,
+    synthesise_path,
+    synthesise_slider_crank,
+    time_ratio_of,
+)
 from .topology import Joint, Topology
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
@@ -304,4 +323,22 @@ __all__ = [
     "check_linkage",
     "check_rotor",
     "link_lengths",
+    # synthesis
+    "CrankRockerResult",
+    "CrankRockerSpec",
+    "LinkageCheck",
+    "Optimality",
+    "PathResult",
+    "PathSpec",
+    "SliderCrankResult",
+    "SliderCrankSpec",
+    "check_fourbar",
+    "check_slider_crank",
+    "coupler_curve",
+    "default_path_limits",
+    "overlap_angle",
+    "synthesise_crank_rocker",
+    "synthesise_path",
+    "synthesise_slider_crank",
+    "time_ratio_of",
 ]
