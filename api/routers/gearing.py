@@ -40,7 +40,8 @@ def teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
     stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
-    result = gate.run(synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
+    result = gate.run(synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance,
+                      planets=body.planets)
     return TeethOut.from_engine(result)
 
 
