@@ -27,7 +27,8 @@ def test_example_10_3_ratio_and_output_speed(client: SynthClient) -> None:
     assert out.output_direction == 1 and out.checks.agrees
 
 
-@pytest.mark.parametrize("case_id", [f"gear_train_variant_{k}" for k in (1, 2, 3, 4, 5, 8)])
+@pytest.mark.parametrize("case_id", ["gear_train_variant_1", "gear_train_variant_2", "gear_train_variant_3",
+                                     "gear_train_variant_4", "gear_train_variant_5", "gear_train_variant_8"])
 def test_self_study_variants(client: SynthClient, case_id: str) -> None:
     # The case's assumed layout: 1-2 mesh, 2 and 3 on one shaft, 3-4 mesh; magnitudes only. Speeds are given at
     # whichever end the case gives them. The case prints 6 significant digits (variant 5: 0.166667), hence 5e-6.
