@@ -52,3 +52,22 @@ def test_inertia_placement_and_rim_of_the_course_work(client: SynthClient) -> No
     # On the crank shaft it would need D = 0.937 m > 0.75 m: the seed's reason to move it.
     assert [(m.shaft, m.constraint) for m in out.geometry.misses] == [("crank", "max_diameter_m")]
     assert out.geometry.best.shaft == "motor"
+
+
+def test_wittenbauer_tangents_of_the_course_work(client: SynthClient) -> None:
+    # The seed's tan psi = w²(1 ± delta)·mu_J/(2 mu_T) takes (1 ± delta) for (1 ± delta/2)²; the service's exact
+    # slopes w_max²/2, w_min²/2 differ from it by the factor 1 + delta²/4/(1 ± delta) exactly (written here).
+    case = CASES["cw_wittenbauer_tangents"]
+    inp, exp, rel = case["inputs"], case["expected"], case["tolerance_rel"]
+    w, d = inp["omega_mean_rad_s"], inp["delta"]
+    body = {"tables": {"crank_angle_deg": [0, 120, 240], "reduced_torque_Nm": [1.0, -2.0, 1.0]},
+            "mean_speed_rad_s": w, "delta": d}
+    em = client.flywheel(FlywheelIn.model_validate(body)).energy_mass
+    scale = inp["mu_J_kgm2_per_mm"] / inp["mu_T_J_per_mm"]
+    for slope, key, omega_key, sign in ((em.tangent_max_slope_J_per_kgm2, "tan_psi_max", "omega_max_rad_s", 1),
+                                        (em.tangent_min_slope_J_per_kgm2, "tan_psi_min", "omega_min_rad_s", -1)):
+        second_order = 1 + d * d / 4 / (1 + sign * d)
+        assert slope * scale == pytest.approx(exp[key] * second_order, rel=rel)
+        assert math.degrees(math.atan(slope * scale / second_order)) == pytest.approx(
+            exp[key.replace("tan_", "") + "_deg"], rel=rel)
+        assert math.sqrt(2 * slope) == pytest.approx(exp[omega_key] * math.sqrt(second_order), rel=rel)
