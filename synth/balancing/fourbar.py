@@ -482,6 +482,7 @@ def balance_optimal(
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
+    spec = _with_default_radii(spec, linkage)
     weights = weights or Weights()
     weights.validate()
     if mass_budget is None:
