@@ -112,6 +112,7 @@ from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
+from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
 
@@ -238,7 +239,9 @@ __all__ = [
     "tradeoff",
     # gear trains and structure
     "GearMesh",
+    "PlanetaryMesh",
     "PlanetaryStage",
+    "planetary_tooth_numbers",
     "TrainResult",
     "TrainShaft",
     "TrainWheel",

@@ -66,7 +66,7 @@ class _Candidates:
         return self.num / self.den
 
 
-def planetary_candidates(stage: Stage, rules: ToothRules, planets: int) -> tuple[IntArray, IntArray, IntArray]:
+def _planetary_candidates(stage: Stage, rules: ToothRules, planets: int) -> tuple[IntArray, IntArray, IntArray]:
     """Every admissible (sun, planet, ring) of one planetary stage within its ratio range, vectorised."""
     lowest = rules.min_teeth if rules.min_teeth is not None else max(
         1, math.ceil(undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift) - 1e-9))
@@ -86,7 +86,7 @@ def planetary_candidates(stage: Stage, rules: ToothRules, planets: int) -> tuple
 
 def _stage_candidates(stage: Stage, rules: ToothRules, planets: int, dedupe: bool) -> _Candidates:
     if stage.type == "planetary":
-        zs, zp, zr = planetary_candidates(stage, rules, planets)
+        zs, zp, zr = _planetary_candidates(stage, rules, planets)
         num, den, teeth = zs + zr, zs, zs + zp + zr
         wheels = np.stack([zs, zr, zp], axis=1)
     else:
