@@ -189,7 +189,7 @@ def balance_static(
     cw = counterweight_vars(spec, linkage)
     ar, br = _static_system(linkage, lm, cw)
     cons = cw.constraints + [ar @ _x(cw) == br]
-    binding = ["angle_deg"] if spec.angle else []
+    binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
     if mass_budget is not None:
         cons.append(cp.sum(cw.m) <= mass_budget)
         binding = ["mass_budget_kg"] + binding
