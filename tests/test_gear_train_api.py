@@ -98,3 +98,11 @@ def test_impossible_trains_are_named(client: SynthClient) -> None:
         client.gears_train(TrainIn.model_validate({"elements": [{"type": "planetary", "sun_teeth": 20,
                                                                  "planet_teeth": 30, "ring_teeth": 81}]}))
     assert err.value.problem["field"] == "elements[0].ring_teeth"
+
+
+def test_a_ratio_beyond_any_real_train_is_named(client: SynthClient) -> None:
+    # 64 stepped planetary stages of ratio 1 + (10000/1)·(10000/1) each: about 1e512, beyond floating point.
+    element = {"type": "planetary", "sun_teeth": 1, "planet_teeth": 10000, "ring_teeth": 10000, "planet_ring_teeth": 1}
+    with pytest.raises(InvalidInputError) as err:
+        client.gears_train(TrainIn.model_validate({"elements": [element] * 64, "output_speed_rad_s": 1e6}))
+    assert err.value.problem["field"].startswith("elements[")

@@ -19,6 +19,8 @@ Member = Literal["sun", "ring", "carrier"]
 
 #: Largest number of elements in one train.
 MAX_TRAIN_ELEMENTS = 64
+#: Largest ratio magnitude (and inverse) of a train, so that its speeds stay finite.
+RATIO_LIMIT = 1e100
 
 
 @dataclass(frozen=True, slots=True)
@@ -221,6 +223,9 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             if e.planet_ring_teeth is not None:
                 wheels.append((f"planet {k}'", e.planet_ring_teeth, None))
             efficiency *= e.efficiency if e.efficiency is not None else table["planetary"].efficiency
+        if not RATIO_LIMIT ** -1 <= abs(speed) <= RATIO_LIMIT:
+            raise InvalidInput(f"the train's ratio up to element {i} is {1 / speed:.3g}, beyond ±{RATIO_LIMIT:.0e} "
+                               "either way: no real train", field=f"elements[{i}]")
     formula *= (-1) ** external
     w_in = input_speed if input_speed is not None else (output_speed / speed if output_speed is not None else None)
     shafts = tuple(
