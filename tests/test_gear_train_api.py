@@ -106,3 +106,18 @@ def test_a_ratio_beyond_any_real_train_is_named(client: SynthClient) -> None:
     with pytest.raises(InvalidInputError) as err:
         client.gears_train(TrainIn.model_validate({"elements": [element] * 64, "output_speed_rad_s": 1e6}))
     assert err.value.problem["field"].startswith("elements[")
+
+
+@pytest.mark.parametrize(("fixed", "inp", "outp", "expected"), [
+    # Independent closed forms with k = z_r/z_s = 4 and eta0 = 0.95 (seed digest section 9: efficiency is the
+    # useful over the driving work; the loss is the meshes' in the carrier's frame):
+    ("ring", "sun", "carrier", (1 + 0.95 * 4) / (1 + 4)),  # sun in, ring held
+    ("sun", "ring", "carrier", 1 - 0.05 / (1 + 4)),  # ring in, sun held: the meshes carry a fifth of the power
+    ("carrier", "sun", "ring", 0.95),  # carrier held: an ordinary train
+])
+def test_planetary_efficiency_depends_on_the_held_member(client: SynthClient, fixed: str, inp: str, outp: str,
+                                                         expected: float) -> None:
+    body = TrainIn.model_validate({"elements": [{"type": "planetary", "sun_teeth": 20, "planet_teeth": 30,
+                                                 "ring_teeth": 80, "fixed": fixed, "input": inp, "output": outp,
+                                                 "basic_efficiency": 0.95}]})
+    assert client.gears_train(body).efficiency == pytest.approx(expected, rel=1e-12)
