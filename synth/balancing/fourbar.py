@@ -192,7 +192,7 @@ def balance_static(
     ar, br = _static_system(linkage, lm, cw)
     program = _program(cw)
     program.equal(ar, br)
-    binding = ["angle_deg"] if spec.angle else []
+    binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
     masses, inertias = cw.mass_columns(), cw.inertia_columns()
     if mass_budget is not None:
         program.at_most(masses[None, :], np.array([mass_budget]))
@@ -564,6 +564,7 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
+    spec = _with_default_radii(spec, linkage)
     for weights in weight_sets:
         weights.validate()
     if mass_budget is None:

@@ -460,8 +460,11 @@ def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntAr
 
 
 def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | None = None,
-                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT) -> ToothResult:
+                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT,
+                  planets: int = 3) -> ToothResult:
     """Integer tooth numbers of a serial train whose ratio best meets ``target`` [-], motor side first.
+
+    A train with planetary stages (``planets`` planets each) is searched by :mod:`synth.gearing.planetary`.
 
     Parameters
     ----------
@@ -474,6 +477,10 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
     Raises Infeasible when the search is empty (``constraint`` names what to relax), InvalidInput, TooLarge.
     """
     rules = rules or ToothRules()
+    if any(s.type == "planetary" for s in stages):
+        from .planetary import planetary_tooth_numbers  # it builds on this module's rules and results
+
+        return planetary_tooth_numbers(target, stages, rules, tolerance, planets=planets, check_limit=check_limit)
     _validate(target, stages, rules, tolerance)
     t0 = time.perf_counter()
     pairs = _stage_sets(stages, rules, None)
