@@ -173,3 +173,14 @@ def test_path_limits_and_deadline() -> None:
     assert late.value.reached["starts_completed"] == 0
     with pytest.raises(synth.InvalidInput):
         synth.synthesise_path(synth.PathSpec(targets, np.zeros(2), bounds, box, cp))
+
+
+def test_path_keeps_the_transmission_angle_it_is_given() -> None:
+    targets = np.array([[0.0, 0.0], [0.1, 0.05], [0.2, 0.0]])
+    bounds, box, cp = synth.default_path_limits(targets)
+    spec = synth.PathSpec(targets, None, bounds, box, cp, starts=8, min_transmission_angle=math.radians(40))
+    result = synth.synthesise_path(spec)
+    # The engine's transmission angle over 720 crank angles (its extremes at 0 and 180° are on that grid).
+    assert result.check.min_transmission_angle >= math.radians(40) - 1e-7
+    assert math.pi - result.check.max_transmission_angle >= math.radians(40) - 1e-7
+    assert result.residuals.max() < 1e-6   # three points leave room to spare
