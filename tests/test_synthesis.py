@@ -111,8 +111,12 @@ def test_bounds_shape_the_answer_and_infeasible_names_the_constraint() -> None:
         synth.synthesise_crank_rocker(
             synth.CrankRockerSpec(math.radians(40), 1.1, "rocker", 0.15, bounds={"coupler": (1.0, 2.0)}))
     assert err.value.constraint == "coupler_length_min"
+    with pytest.raises(synth.Infeasible) as poor:
+        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(170), 1.5,
+                                                            min_transmission_angle=math.radians(30)))
+    assert poor.value.constraint == "min_transmission_angle"
     with pytest.raises(synth.InvalidInput) as bad:
-        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(170), 1.5))
+        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(40), 0.8))
     assert bad.value.field == "time_ratio"
 
 
