@@ -217,6 +217,29 @@ def _shaft_names(n_stages: int) -> list[str]:
     return ["motor"] + [f"shaft {k}" for k in range(1, n_stages)] + ["crank"]
 
 
+def _profile(motion: MachineMotion) -> SpeedProfile:
+    return SpeedProfile(motion.phi, motion.omega, float(motion.omega.min()), float(motion.omega.max()), motion.delta)
+
+
+def _raise_to_target(cycle: MachineCycle, motor: Motor, inertia: float, motion: MachineMotion,
+                     delta: float) -> tuple[float, MachineMotion]:
+    """Constant inertia [kg·m²] whose simulated delta is ``delta`` [-], by secant steps on log delta over log J
+    (delta falls nearly as 1/J), from ``inertia`` whose ``motion`` swings too far."""
+    j0, d0 = inertia, motion.delta
+    j1 = j0 * d0 / delta
+    for _ in range(12):
+        motion = simulate_machine(cycle, j1, motor)
+        d1 = motion.delta
+        if abs(d1 / delta - 1) <= 1e-5:
+            return j1, motion
+        slope = math.log(d1 / d0) / math.log(j1 / j0)
+        if not slope < 0:
+            break
+        j0, d0, j1 = j1, d1, j1 * math.exp(math.log(delta / d1) / slope)
+    raise SolverFailed("no_convergence", "the flywheel inertia that meets the target on the simulated machine "
+                       "was not found")
+
+
 def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycle: MachineCycle,
               ratios: Sequence[float], train_inertia: float,
               time_limit_s: float) -> tuple[FlywheelResult, FlywheelBody | None, MachineMotion]:
@@ -234,9 +257,13 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
     used = max(nlp.constant_inertia, existing)
     motion = simulate_machine(machine_cycle, used, motor)
-    speed = SpeedProfile(motion.phi, motion.omega, float(motion.omega.min()), float(motion.omega.max()),
-                         motion.delta)
-    method = MethodResult("motor_nlp", nlp.constant_inertia, used - existing, speed)
+    methods = [MethodResult("motor_nlp", nlp.constant_inertia, used - existing, _profile(motion))]
+    if used > existing and motion.delta > spec.delta * (1 + 1e-4):
+        # the NLP holds the speed at the samples; between them (a load step, say) the simulated machine can
+        # swing a little further: raise the inertia until the simulation itself meets the target
+        used, motion = _raise_to_target(machine_cycle, motor, used, motion, spec.delta)
+        methods.append(MethodResult("simulated", used, used - existing, _profile(motion)))
+    method = methods[-1]
     names = _shaft_names(len(ratios))
     speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))]
     choice = spec.flywheel
@@ -248,13 +275,18 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
         shafts = tuple(Shaft(n, r) for n, r in zip(names[:-1], speed_ratios, strict=True))
     shape = None
     if method.flywheel_inertia > 0:
-        shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
-                                float(motion.omega.max()), time_limit_s=time_limit_s)
+        try:
+            shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
+                                    float(motion.omega.max()), time_limit_s=time_limit_s)
+        except Infeasible as exc:
+            # the machine request holds the geometry under flywheel: name the field as the request spells it
+            raise Infeasible(exc.reason, None if exc.constraint is None else f"flywheel.{exc.constraint}",
+                             **exc.details) from exc
     result = FlywheelResult(
         cycle=balanced, mean_speed=mean_speed, target_delta=spec.delta, constant_inertia=existing,
         driving_torque=driving, cycle_work=cycle.cycle_work,
-        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=(method,),
-        design_method="motor_nlp", geometry=shape, motor_mean_speed=mean_speed,
+        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=tuple(methods),
+        design_method=method.method, geometry=shape, motor_mean_speed=mean_speed,
     )
     if shape is None:
         return result, None, motion

@@ -71,8 +71,8 @@ def _rk4_cycle(tables: tuple[list[float], list[float], list[float], list[float]]
     """One revolution of dw/dphi = f(phi, w) from ``w0`` by classical Runge-Kutta, ``substeps`` per sample.
 
     f = (M(phi) + c·(w_free - w) - J'(phi)·w²/2) / (J(phi)·w) with J, J', M linear between samples. Carries the
-    variational equation ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Returns the speed at every
-    sample (closed, N+1) and s after one revolution. An ODE is sequential in the angle: this loop is the
+    variational equation ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Returns the speed after every
+    step (closed, N·substeps + 1) and s after one revolution. An ODE is sequential in the angle: this loop is the
     stepper itself, over plain floats.
     """
     nodes, inertia, slope, load = tables
@@ -101,7 +101,7 @@ def _rk4_cycle(tables: tuple[list[float], list[float], list[float], list[float]]
             sv += h / 6 * (l1 + 2 * l2 + 2 * l3 + l4)
             if not w > 0:
                 raise SolverFailed("no_periodic_motion", "the machine stalls: the motor cannot keep it turning")
-        out.append(w)
+            out.append(w)
     return out, sv
 
 
@@ -146,7 +146,10 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     else:
         raise SolverFailed("no_periodic_motion", "shooting for the periodic motion did not converge")
     omega = np.asarray(_rk4_cycle(tables, w0, red.slope, red.no_load_speed, substeps)[0], dtype=float)
-    phi = nodes
+    # every Runge-Kutta step is reported, so the extremes between samples are seen
+    t = np.arange(substeps) / substeps
+    phi = np.append((nodes[:-1, None] + t[None, :] * np.diff(nodes)[:, None]).reshape(-1), nodes[-1])
+    j, dj, load = (np.interp(phi, nodes, v) for v in (j, dj, load))
     alpha = (load + red.slope * (red.no_load_speed - omega) - 0.5 * dj * omega**2) / j
     torque = motor.torque_at(motor.gear_ratio * omega)
     period = float(np.trapezoid(1.0 / omega, phi))
