@@ -173,7 +173,7 @@ def test_report_formats(client: SynthClient) -> None:
     body = _press(alternatives=True)
     pdf = client.design_report_pdf(body)
     assert pdf.startswith(b"%PDF-") and pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") >= 5
-    png = client.design_machine_png(body)
+    png = client.design_machine_png(_press())
     assert png.startswith(b"\x89PNG")
 
 
