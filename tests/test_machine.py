@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 import synth
@@ -188,3 +191,29 @@ def test_bad_choices_name_their_field(client: SynthClient) -> None:
     with pytest.raises(InfeasibleError) as err:
         client.design_machine(tight)
     assert err.value.problem["constraint"] == "flywheel.geometry.max_diameter_m"
+
+
+ODD = [0, -1, 1e-300, 1e300, 2.5, 10**9, "x", None, True, [], {}, [0.0]]
+
+
+def _leaves(obj: Any, path: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
+    if isinstance(obj, dict):
+        return [p for k, v in obj.items() for p in _leaves(v, path + (k,))] or [path]
+    if isinstance(obj, list) and obj:
+        return [p for i, v in enumerate(obj) for p in _leaves(v, path + (i,))]
+    return [path]
+
+
+@settings(max_examples=int(os.environ.get("SYNTH_FUZZ_EXAMPLES", "30")), deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.data())
+def test_mutated_machines_never_answer_500(client: SynthClient, data: st.DataObject) -> None:
+    body: Any = copy.deepcopy(PRESS_EXAMPLE) | {"samples": 60}
+    path = data.draw(st.sampled_from(_leaves(body)))
+    target = body
+    for key in path[:-1]:
+        target = target[key]
+    target[path[-1]] = data.draw(st.sampled_from(ODD))
+    r = client.http.post("/v1/machines/design", json=body)
+    assert r.status_code in (200, 413, 422, 504), (body, r.status_code, r.text[:500])
+    if r.status_code != 200:
+        assert r.headers["content-type"].startswith("application/problem+json") and r.json()["detail"]

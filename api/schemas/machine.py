@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
 import numpy as np
@@ -120,7 +119,7 @@ class MachineIn(LinkageRequest):
     """One machine: the linkage with its loads at its working speed (`speed_rpm`), the drive, the target delta
     (or a machine type), the balancing and flywheel choices."""
 
-    delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
+    delta: float | None = Field(None, ge=1e-4, lt=1, description="Target (w_max - w_min)/w_mean [-].")
     machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
     drive: MachineDriveIn = Field(default_factory=MachineDriveIn)
     balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn)

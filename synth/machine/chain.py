@@ -46,6 +46,8 @@ from ..model import Linkage
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 
+#: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
+MIN_POWER = 1e-3
 #: Relative room the tooth search gets around each free stage's split ratio [-].
 TOOTH_RATIO_ROOM = 0.05
 
@@ -282,6 +284,8 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
             # the machine request holds the geometry under flywheel: name the field as the request spells it
             raise Infeasible(exc.reason, None if exc.constraint is None else f"flywheel.{exc.constraint}",
                              **exc.details) from exc
+        except InvalidInput as exc:
+            raise InvalidInput(str(exc), field=None if exc.field is None else f"flywheel.{exc.field}") from exc
     result = FlywheelResult(
         cycle=balanced, mean_speed=mean_speed, target_delta=spec.delta, constant_inertia=existing,
         driving_torque=driving, cycle_work=cycle.cycle_work,
@@ -360,20 +364,34 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
     ratio, no shaft holds the flywheel, ...), SolverFailed or SolverTimeout, each naming what binds.
     """
     machine.validate()
+    # a load or mass typed a hundred orders of magnitude off overflows somewhere down the chain: say so once
+    with np.errstate(over="raise"):
+        try:
+            return _design(machine, time_limit_s)
+        except FloatingPointError as exc:
+            raise InvalidInput("the machine overflows floating point: a load, mass, inertia or speed is far "
+                               "outside any physical range") from exc
+
+
+def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     before = analyse(machine.linkage, machine.speed, samples=machine.samples)
     bal = _balance(machine, before, time_limit_s)
     balanced = analyse(bal.linkage, machine.speed, samples=machine.samples, counter_rotors=bal.counter_rotors)
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
-    if not output_power > 0:
+    if not output_power > MIN_POWER:
         raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
                            "give its process load", field="loads")
     d = machine.drive
-    drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
-                         synchronous_speed=d.synchronous_speed, motor=d.motor, objective=d.objective,
-                         torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
-                         catalogue=d.catalogue)
-    teeth, ratios = _teeth(machine, drive)
+    try:
+        drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+                             synchronous_speed=d.synchronous_speed, motor=d.motor, objective=d.objective,
+                             torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
+                             catalogue=d.catalogue)
+        teeth, ratios = _teeth(machine, drive)
+    except InvalidInput as exc:
+        # the machine request holds these fields under drive: name them as the request spells them
+        raise InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}") from exc
     train_ratio = math.prod(ratios)
     motor = Motor.from_catalogue(drive.motor, train_ratio, drive.chain_efficiency)
     speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
