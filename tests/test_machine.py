@@ -217,3 +217,11 @@ def test_mutated_machines_never_answer_500(client: SynthClient, data: st.DataObj
     assert r.status_code in (200, 413, 422, 504), (body, r.status_code, r.text[:500])
     if r.status_code != 200:
         assert r.headers["content-type"].startswith("application/problem+json") and r.json()["detail"]
+
+
+@pytest.mark.parametrize("example", MachineIn.model_config["json_schema_extra"]["examples"][1:])  # type: ignore[index]
+def test_documented_examples_meet_their_targets(client: SynthClient, example: dict[str, Any]) -> None:
+    out = client.design_machine(MachineIn.model_validate(example))
+    # check figure: the simulated machine meets every target; the delta to the 1e-3
+    assert out.passed
+    assert out.simulation.achieved_delta == pytest.approx(example["delta"], rel=1e-3)

@@ -11,7 +11,7 @@ import synth
 
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
-from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, Length, LinkageRequest, StrictModel, SummaryOut, ensure_finite
+from .common import FOURBAR_EXAMPLE, MAX_INERTIA_KGM2, MAX_MASS_KG, Length, LinkageRequest, StrictModel, SummaryOut, ensure_finite
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, StageIn, TeethOut, _specs
 
@@ -27,6 +27,37 @@ PRESS_EXAMPLE = {
     "drive": {"stages": ["helical"], "synchronous_rpm": 1500},
     "balancing": {"mode": "static"},
     "flywheel": {"placement": "lightest", "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 30}},
+}
+
+
+#: The lecture-10 shaper driven as the seeds' drive example: motor A2-72-4, a bevel stage fixed at 3, an open spur
+#: stage, 9 rad/s at the crank; a cutting force of 1.2 kN over the working stroke.
+SHAPER_EXAMPLE = {
+    "mechanism": {"type": "slotted_lever", "crank_length_m": 0.1, "ground_length_m": 0.3, "rocker_length_m": 0.6,
+                  "ram_height_m": 0.7,
+                  "links": {"crank": {"mass_kg": 5.0},
+                            "rocker": {"mass_kg": 10.0, "com_m": [0.25, 0.0], "inertia_kgm2": 0.3},
+                            "ram": {"mass_kg": 12.0}}},
+    "gravity": {"g_m_s2": 9.81},
+    "loads": [{"type": "window", "force_N": 1200, "start_deg": -60, "end_deg": 60, "point_m": [0, -0.1]}],
+    "speed_rpm": 85.944,
+    "delta": 0.002,
+    "drive": {"stages": [{"type": "bevel", "ratio": 3, "efficiency": 0.931},
+                         {"type": "open_spur", "efficiency": 0.891}],
+              "motor": "A2-72-4", "max_teeth": 120},
+    "flywheel": {"placement": "lightest", "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 45,
+                                                       "max_diameter_m": 0.75}},
+}
+
+#: A four-bar fully balanced, with what the other balancing modes would cost.
+FOURBAR_MACHINE_EXAMPLE = {
+    "mechanism": FOURBAR_EXAMPLE,
+    "loads": [{"type": "window", "torque_Nm": 40, "start_deg": 0, "end_deg": 180}],
+    "speed_rpm": 300,
+    "delta": 0.01,
+    "drive": {"stages": ["helical"], "synchronous_rpm": 1500},
+    "balancing": {"mode": "full"},
+    "alternatives": True,
 }
 
 
@@ -128,7 +159,7 @@ class MachineIn(LinkageRequest):
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE]})
+    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE]})
 
     def to_engine(self, max_stages: int) -> synth.MachineSpec:
         """Engine machine (degrees and rpm become radians and rad/s here)."""
