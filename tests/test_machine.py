@@ -225,3 +225,15 @@ def test_documented_examples_meet_their_targets(client: SynthClient, example: di
     # check figure: the simulated machine meets every target; the delta to the 1e-3
     assert out.passed
     assert out.simulation.achieved_delta == pytest.approx(example["delta"], rel=1e-3)
+
+
+def test_a_motor_the_cycle_overloads_is_replaced_or_reported(client: SynthClient, press) -> None:  # type: ignore[no-untyped-def]
+    # a loose delta leaves no flywheel to smooth the press's torque: the mean-power motor runs hot
+    loose = client.design_machine(_press(delta=0.5))
+    assert loose.passed and loose.motor.motor.name != press.motor.motor.name
+    assert any(press.motor.motor.name in w and "replaced" in w for w in loose.warnings)
+    # named by the engineer, the motor is kept and the failing check says so
+    named = client.design_machine(_press(delta=0.5, drive={"stages": ["helical"], "motor": press.motor.motor.name}))
+    assert not named.passed
+    failing = [c for c in named.checks if not c.passed]
+    assert [c.name for c in failing] == ["motor_rms_torque"] and failing[0].value > failing[0].limit

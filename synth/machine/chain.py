@@ -40,7 +40,7 @@ from ..flywheel import (
     motor_constant_inertia,
     wittenbauer_tangents,
 )
-from ..gearing import DriveResult, ToothResult, design_drive, tooth_numbers
+from ..gearing import CatalogueMotor, DriveResult, ToothResult, design_drive, motor_catalogue, tooth_numbers
 from ..kinematics import FourBar, SliderCrank
 from ..model import Linkage
 from .simulate import MachineCycle, MachineMotion, simulate_machine
@@ -48,6 +48,8 @@ from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 
 #: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
 MIN_POWER = 1e-3
+#: Catalogue sizes the chain may step up when the cycle overloads the motor chosen from the mean power.
+MAX_MOTOR_UPGRADES = 4
 #: Relative room the tooth search gets around each free stage's split ratio [-].
 TOOTH_RATIO_ROOM = 0.05
 
@@ -383,9 +385,36 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
         raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
                            "give its process load", field="loads")
     d = machine.drive
+    motor_name = d.motor
+    replaced: list[str] = []
+    for _ in range(MAX_MOTOR_UPGRADES + 1):
+        design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
+        heavy = [c.name for c in design.checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
+        bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
+        if bigger is None:
+            break
+        # the mean power chose a motor the cycle's peaks or RMS overload: the next size up, same speed class
+        replaced.append(f"motor {design.drive.motor.name} chosen from the mean power fails {', '.join(heavy)} on "
+                        f"the simulated cycle; replaced by {bigger.name}")
+        motor_name = bigger.name
+    return replace(design, warnings=tuple(replaced) + design.warnings)
+
+
+def _next_motor(motor: CatalogueMotor, catalogue: Sequence[CatalogueMotor] | None) -> CatalogueMotor | None:
+    """The smallest catalogue motor of the same speed class rated above ``motor``, or None."""
+    same = [m for m in catalogue or motor_catalogue()
+            if math.isclose(m.synchronous_speed, motor.synchronous_speed, rel_tol=1e-6)
+            and m.rated_power > motor.rated_power]
+    return min(same, key=lambda m: (m.rated_power, -m.rated_speed)) if same else None
+
+
+def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balanced: Analysis,
+                   cycle: ReducedCycle, output_power: float, motor_name: str | None,
+                   time_limit_s: float) -> MachineDesign:
+    d = machine.drive
     try:
         drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
-                             synchronous_speed=d.synchronous_speed, motor=d.motor, objective=d.objective,
+                             synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
                              torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
                              catalogue=d.catalogue)
         teeth, ratios = _teeth(machine, drive)
