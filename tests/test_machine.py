@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import math
 import os
+import pickle
 from typing import Any
 
 import numpy as np
@@ -118,7 +119,8 @@ def test_seed_shaper_with_the_seed_drive(client: SynthClient) -> None:
                         tooth_rules=synth.ToothRules(max_teeth=120)),
         delta=0.001, samples=360, flywheel=synth.FlywheelChoice("crank"),
     )
-    design = synth.design_machine(spec)
+    # plain data in and out: a worker process can run it as it is
+    design = pickle.loads(pickle.dumps(synth.design_machine(pickle.loads(pickle.dumps(spec)))))
     assert design.drive.motor.name == drive["motor"]
     assert design.stage_ratios[0] == pytest.approx(drive["u_bevel"], rel=1e-9)
     assert design.flywheel_inertia > 0
