@@ -3,7 +3,8 @@
 analysis -> balancing -> the balanced linkage reduced to its crank -> motor from the mean power -> ratio split
 and tooth numbers (the real ratio from the teeth is what the rest uses) -> flywheel sized with the chosen
 motor's characteristic on the chosen shaft -> the machine run to its steady state -> every shaft's speed, power
-and peak and RMS torque. Each step is one of the engine's own capabilities; nothing is re-derived here.
+and peak and RMS torque. Each stage is one of the engine's own capabilities, called as its endpoint calls it;
+what the chain adds is the simulated machine and what every shaft carries over the cycle.
 """
 
 from __future__ import annotations
@@ -308,7 +309,7 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
                      shaft=wanted, max_inertia_kgm2=miss.max_inertia)
 
 
-def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion, motor: Motor,
+def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion,
             placement: FlywheelBody | None, flywheel_inertia: float) -> tuple[MachineShaft, ...]:
     n = len(design_ratios)
     names = _shaft_names(n)
@@ -429,7 +430,7 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     red = balanced.reduced
     machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
     flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
-    shafts = _shafts(ratios, drive, motion, motor, placement, flywheel.design.flywheel_inertia)
+    shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     warnings = list(drive.warnings)
     if teeth is not None:
         warnings += list(teeth.warnings)
