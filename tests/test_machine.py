@@ -140,8 +140,8 @@ def test_simulation_agrees_with_an_adaptive_integrator(press) -> None:  # type: 
     # independent computation: the same equation of motion by scipy's adaptive RK45 from the simulated start
     r = press.reduced
     phi = np.radians(r.crank_angle_deg)
-    cycle = synth.MachineCycle(phi, np.asarray(r.reduced_inertia_kgm2),
-                               np.gradient(np.asarray(r.reduced_inertia_kgm2), phi), np.asarray(r.reduced_load_torque_Nm))
+    inertia = np.asarray(r.reduced_inertia_kgm2)
+    cycle = synth.MachineCycle(phi, inertia, np.gradient(inertia, phi), np.asarray(r.reduced_load_torque_Nm))
     motor = synth.Motor.from_catalogue(synth.find_motor(press.motor.motor.name), press.motor.train_ratio,
                                        press.motor.train_efficiency)
     j_c = press.flywheel.constant_inertia_kgm2 + press.flywheel.flywheel_inertia_kgm2
@@ -206,7 +206,8 @@ def _leaves(obj: Any, path: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
     return [path]
 
 
-@settings(max_examples=int(os.environ.get("SYNTH_FUZZ_EXAMPLES", "30")), deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=int(os.environ.get("SYNTH_FUZZ_EXAMPLES", "30")), deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.data())
 def test_mutated_machines_never_answer_500(client: SynthClient, data: st.DataObject) -> None:
     body: Any = copy.deepcopy(PRESS_EXAMPLE) | {"samples": 60}
@@ -229,7 +230,8 @@ def test_documented_examples_meet_their_targets(client: SynthClient, example: di
     assert out.simulation.achieved_delta == pytest.approx(example["delta"], rel=1e-3)
 
 
-def test_a_motor_the_cycle_overloads_is_replaced_or_reported(client: SynthClient, press) -> None:  # type: ignore[no-untyped-def]
+def test_a_motor_the_cycle_overloads_is_replaced_or_reported(  # type: ignore[no-untyped-def]
+        client: SynthClient, press) -> None:
     # a loose delta leaves no flywheel to smooth the press's torque: the mean-power motor runs hot
     loose = client.design_machine(_press(delta=0.5))
     assert loose.passed and loose.motor.motor.name != press.motor.motor.name

@@ -11,7 +11,16 @@ import synth
 
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
-from .common import FOURBAR_EXAMPLE, MAX_INERTIA_KGM2, MAX_MASS_KG, Length, LinkageRequest, StrictModel, SummaryOut, ensure_finite
+from .common import (
+    FOURBAR_EXAMPLE,
+    MAX_INERTIA_KGM2,
+    MAX_MASS_KG,
+    Length,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+    ensure_finite,
+)
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, StageIn, TeethOut, _specs
 
@@ -61,10 +70,14 @@ FOURBAR_MACHINE_EXAMPLE = {
 }
 
 
+StageCount = Annotated[int, Field(ge=1, le=20)]
+StageList = Annotated[list[str | StageIn], Field(min_length=1, max_length=20)]
+
+
 class MachineDriveIn(StrictModel):
     """The drive from motor to crank, motor side first, and how its motor and teeth are chosen."""
 
-    stages: Annotated[int, Field(ge=1, le=20)] | Annotated[list[str | StageIn], Field(min_length=1, max_length=20)] = Field(
+    stages: StageCount | StageList = Field(
         2, description="A count of spur stages, or a list of stage types or stages, motor side first.")
     motor: str | None = Field(None, min_length=1, max_length=80,
                               description="A catalogue motor by name; left out, the smallest that covers the power.")

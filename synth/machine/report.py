@@ -102,10 +102,10 @@ def _table(ax: Axes, title: str, header: Sequence[str], rows: Sequence[Sequence[
 
 
 def _key_figures(d: MachineDesign) -> list[list[str]]:
-    fw = d.placement
+    fw, motor = d.placement, d.drive.motor
     rows = [
         ["mean crank power", f"{d.output_power:.4g} W"],
-        ["motor", f"{d.drive.motor.name}, {d.drive.motor.rated_power:.4g} W, {d.drive.motor.rated_speed / RPM:.0f} rpm"],
+        ["motor", f"{motor.name}, {motor.rated_power:.0f} W, {motor.rated_speed / RPM:.0f} rpm"],
         ["train ratio (teeth)", f"{d.train_ratio:.5g} = " + " × ".join(f"{u:.4g}" for u in d.stage_ratios)],
         ["balancing", d.balancing.mode],
         ["flywheel on crank", f"{d.flywheel_inertia:.4g} kg·m²"],
