@@ -163,6 +163,8 @@ class MachineIn(LinkageRequest):
     """One machine: the linkage with its loads at its working speed (`speed_rpm`), the drive, the target delta
     (or a machine type), the balancing and flywheel choices."""
 
+    samples: int = Field(360, ge=3, le=3600, description="Uniformly spaced crank angles over one revolution, for "
+                         "every stage of the chain.")
     delta: float | None = Field(None, ge=1e-4, lt=1, description="Target (w_max - w_min)/w_mean [-].")
     machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
     drive: MachineDriveIn = Field(default_factory=MachineDriveIn)

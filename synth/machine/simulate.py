@@ -105,7 +105,8 @@ def _rk4_cycle(tables: tuple[list[float], list[float], list[float], list[float]]
     return out, sv
 
 
-def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *, substeps: int = 4) -> MachineMotion:
+def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
+                     substeps: int | None = None) -> MachineMotion:
     """Integrate the assembled machine to its periodic steady state.
 
     Parameters
@@ -117,8 +118,9 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     motor
         Catalogue characteristic with the real train ratio and the train's efficiency [-].
     substeps
-        Runge-Kutta steps per sample interval; the tables are linear between samples, so four keep the
-        integration error far below the 1e-3 the checks ask.
+        Runge-Kutta steps per sample interval; default enough for about 1440 steps per revolution (four at
+        360 samples). The tables are linear between samples, so the integration error stays far below the
+        1e-3 the checks ask.
 
     Raises SolverFailed (``no_periodic_motion``) when the machine stalls or the shooting does not converge.
     """
@@ -131,6 +133,10 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     if not np.all(j > 0):
         raise InvalidInput("the machine has no inertia at some crank angles", field="constant_inertia_kgm2")
     red = motor.reduced()
+    if substeps is None:
+        substeps = max(1, math.ceil(1440 / cycle.phi.size))
+    if substeps < 1:
+        raise InvalidInput("substeps must be at least 1", field="substeps")
     tables = (nodes.tolist(), j.tolist(), dj.tolist(), load.tolist())
     # the linear characteristic's steady angle-average speed starts the shooting close to the answer
     w0 = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
