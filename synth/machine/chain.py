@@ -161,11 +161,13 @@ def _summary_with_force(summary: Summary, force: np.ndarray) -> Summary:
                    max_shaking_force=float(magnitude.max()))
 
 
-def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> Balancing:
+def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
+    """The balancing stage and the balanced linkage's analysis (counter-rotors included), reusing the
+    balancing's own re-analysis where it is the same one."""
     choice, linkage, speed = spec.balancing, spec.linkage, spec.speed
     mode = choice.mode
     if mode == "none":
-        return Balancing("none", None, None, linkage, (), 0.0, before.summary())
+        return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
     if isinstance(mech, FourBar):
         if mode == "static":
@@ -177,20 +179,24 @@ def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> Balanc
         else:
             r = balance_optimal(linkage, speed, choice.spec, weights=choice.weights, mass_budget=choice.mass_budget,
                                 samples=spec.samples, time_limit_s=time_limit_s)
-        return Balancing(mode, r, None, r.analysis_after.linkage, r.counter_rotors, 0.0, r.after)
+        balanced = r.analysis_after
+        if r.counter_rotors:
+            balanced = analyse(balanced.linkage, speed, samples=spec.samples, counter_rotors=r.counter_rotors)
+        return Balancing(mode, r, None, balanced.linkage, r.counter_rotors, 0.0, r.after), balanced
     if isinstance(mech, SliderCrank):
         if mode == "optimal":
             raise InvalidInput("optimal balancing is for four-bars; a slider-crank takes static (a crank "
                                "counterweight for the rotating masses) or full (and Lanchester balancers)",
                                field="balancing.mode")
         sc = balance_slider_crank(linkage, speed, samples=spec.samples)
-        balanced = linkage.with_counterweights([sc.crank_counterweight])
-        after = analyse(balanced, speed, samples=spec.samples).summary()
+        balanced = analyse(linkage.with_counterweights([sc.crank_counterweight]), speed, samples=spec.samples)
+        after = balanced.summary()
         if mode == "static":
-            return Balancing(mode, None, sc, balanced, (), 0.0, after)
+            return Balancing(mode, None, sc, balanced.linkage, (), 0.0, after), balanced
         # each pair's two shafts carry m at rho turning at k·w: kinetic energy m·rho²·k²·w², so 2·m·rho²·k²
         extra = sum(2 * p.mass * p.radius**2 * p.order**2 for p in sc.pairs)
-        return Balancing(mode, None, sc, balanced, (), extra, _summary_with_force(after, sc.after_force))
+        return (Balancing(mode, None, sc, balanced.linkage, (), extra, _summary_with_force(after, sc.after_force)),
+                balanced)
     raise InvalidInput(f"counterweight balancing of a {type(mech).__name__} is not offered; use mode none",
                        field="balancing.mode")
 
@@ -233,7 +239,7 @@ def _raise_to_target(cycle: MachineCycle, motor: Motor, inertia: float, motion: 
     j0, d0 = inertia, motion.delta
     j1 = j0 * d0 / delta
     for _ in range(12):
-        motion = simulate_machine(cycle, j1, motor)
+        motion = simulate_machine(cycle, j1, motor, start=float(motion.omega[0]))
         d1 = motion.delta
         if abs(d1 / delta - 1) <= 1e-5:
             return j1, motion
@@ -261,7 +267,8 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     guess = max(exact_constant_inertia(balanced, mean_speed, spec.delta), 1e-9)
     nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
     used = max(nlp.constant_inertia, existing)
-    motion = simulate_machine(machine_cycle, used, motor)
+    # the NLP's periodic speed at the first sample starts the shooting next to the answer
+    motion = simulate_machine(machine_cycle, used, motor, start=float(nlp.omega[0]))
     methods = [MethodResult("motor_nlp", nlp.constant_inertia, used - existing, _profile(motion))]
     if used > existing and motion.delta > spec.delta * (1 + 1e-4):
         # the NLP holds the speed at the samples; between them (a load step, say) the simulated machine can
@@ -378,8 +385,7 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
 
 def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     before = analyse(machine.linkage, machine.speed, samples=machine.samples)
-    bal = _balance(machine, before, time_limit_s)
-    balanced = analyse(bal.linkage, machine.speed, samples=machine.samples, counter_rotors=bal.counter_rotors)
+    bal, balanced = _balance(machine, before, time_limit_s)
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
     if not output_power > MIN_POWER:

@@ -106,7 +106,7 @@ def _rk4_cycle(tables: tuple[list[float], list[float], list[float], list[float]]
 
 
 def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
-                     substeps: int | None = None) -> MachineMotion:
+                     substeps: int | None = None, start: float | None = None) -> MachineMotion:
     """Integrate the assembled machine to its periodic steady state.
 
     Parameters
@@ -121,6 +121,9 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         Runge-Kutta steps per sample interval; default enough for about 1440 steps per revolution (four at
         360 samples). The tables are linear between samples, so the integration error stays far below the
         1e-3 the checks ask.
+    start
+        Crank speed at ``phi[0]`` to start the shooting from [rad/s]; the periodic motion found does not
+        depend on it. Default the characteristic's steady mean speed.
 
     Raises SolverFailed (``no_periodic_motion``) when the machine stalls or the shooting does not converge.
     """
@@ -138,20 +141,22 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     if substeps < 1:
         raise InvalidInput("substeps must be at least 1", field="substeps")
     tables = (nodes.tolist(), j.tolist(), dj.tolist(), load.tolist())
-    # the linear characteristic's steady angle-average speed starts the shooting close to the answer
-    w0 = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
+    if start is None:
+        # the linear characteristic's steady angle-average speed starts the shooting close to the answer
+        start = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
+    w0 = float(start)
     for _ in range(40):
         speeds, sens = _rk4_cycle(tables, w0, red.slope, red.no_load_speed, substeps)
         gap, slope = speeds[-1] - w0, sens - 1.0
         step = -gap / slope if slope != 0 else 0.0
+        if abs(step) <= 1e-11 * w0:
+            break
         while w0 + step <= 0:
             step *= 0.5
         w0 += step
-        if abs(step) <= 1e-12 * w0:
-            break
     else:
         raise SolverFailed("no_periodic_motion", "shooting for the periodic motion did not converge")
-    omega = np.asarray(_rk4_cycle(tables, w0, red.slope, red.no_load_speed, substeps)[0], dtype=float)
+    omega = np.asarray(speeds, dtype=float)
     # every Runge-Kutta step is reported, so the extremes between samples are seen
     t = np.arange(substeps) / substeps
     phi = np.append((nodes[:-1, None] + t[None, :] * np.diff(nodes)[:, None]).reshape(-1), nodes[-1])
