@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cache
+from functools import lru_cache
 
 import casadi as ca
 import numpy as np
@@ -69,7 +69,7 @@ def _closed(values: FloatArray) -> FloatArray:
     return np.append(values, values[0])
 
 
-@cache
+@lru_cache(maxsize=16)
 def _cycle_stepper(steps: int) -> ca.Function:
     """Classical Runge-Kutta over ``steps`` steps of dw/dphi = f(phi, w), compiled once per step count.
 
