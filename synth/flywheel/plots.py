@@ -30,14 +30,8 @@ def flywheel_png(result: FlywheelResult) -> bytes:
     ax_e.legend(fontsize=7)
     ax_e.grid(alpha=0.3)
     w_min, w_max = result.speed_band
-    if result.motor_mean_speed is not None:
-        # a motor sets its own mean speed: the band that counts is around the design method's motion
-        mid = result.design.speed.mean_speed
-        w_min, w_max = mid * (1 - result.target_delta / 2), mid * (1 + result.target_delta / 2)
     for m in result.methods:
-        mark = " (design)" if m.method == result.design_method else ""
-        ax_w.plot(np.degrees(m.speed.phi), m.speed.omega, lw=2.0 if mark else 1.2,
-                  label=f"{m.method}{mark}: delta {m.achieved_delta:.4g}")
+        ax_w.plot(np.degrees(m.speed.phi), m.speed.omega, lw=1.2, label=f"{m.method}: delta {m.achieved_delta:.4g}")
     ax_w.axhline(w_min, color="k", ls=":", lw=1)
     ax_w.axhline(w_max, color="k", ls=":", lw=1, label="target band")
     ax_w.set_xlabel("crank angle [deg]")
