@@ -235,7 +235,7 @@ def test_a_motor_the_cycle_overloads_is_replaced_or_reported(  # type: ignore[no
     # a loose delta leaves no flywheel to smooth the press's torque: the mean-power motor runs hot
     loose = client.design_machine(_press(delta=0.5))
     assert loose.passed and loose.motor.motor.name != press.motor.motor.name
-    assert len(loose.warnings) == len(press.warnings) + 1  # the replacement is reported
+    assert len(loose.warnings) > len(press.warnings)  # each replacement is reported
     # named by the engineer, the motor is kept and the failing check says so
     named = client.design_machine(_press(delta=0.5, drive={"stages": ["helical"], "motor": press.motor.motor.name}))
     assert not named.passed
