@@ -166,7 +166,8 @@ def _readme_requests() -> list[tuple[str, dict]]:
 
 # The README's drive example shows the shipped catalogue's notes: representative data (without a rotor inertia for
 # that motor) and torques at the rated power, as the textbook example computes them.
-DOCUMENTED = {"/v1/gears/drive": {"representative_catalogue", "rotor_inertia_missing", "rated_power_exceeds"}}
+DOCUMENTED = {"/v1/gears/drive": {"representative_catalogue", "rotor_inertia_missing", "rated_power_exceeds"},
+              "/v1/machines/design": {"representative_catalogue"}}
 
 
 # Answers that are exact bookkeeping of what was given (a train's ratios, a structure's counts): nothing in them

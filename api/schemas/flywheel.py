@@ -238,7 +238,9 @@ class MachineTypeOut(BaseModel):
 class MethodOut(BaseModel):
     """One sizing method and the steady motion its inertia gives, found by integrating the equation of motion."""
 
-    method: Literal["exact", "mertsalov", "energy", "motor_nlp"]
+    method: Literal["exact", "mertsalov", "energy", "motor_nlp", "simulated"] = Field(
+        description="simulated (whole-machine design only): the motor NLP's inertia raised until the simulated "
+        "machine, looked at between the samples too, meets the target.")
     required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red(phi).")
     flywheel_inertia_kgm2: float = Field(description="Inertia to add to the constant inertia already there.")
     achieved_delta: float = Field(description="Delta of the simulated steady motion (2 when the machine stalls).")
