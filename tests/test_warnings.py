@@ -170,9 +170,11 @@ DOCUMENTED = {"/v1/gears/drive": {"representative_catalogue", "rotor_inertia_mis
               "/v1/machines/design": {"representative_catalogue"}}
 
 
-# Answers that are exact bookkeeping of what was given (a train's ratios, a structure's counts): nothing in them
-# is a likely mistake that still gets an answer, so they carry no warnings field.
-NO_WARNINGS_FIELD = {"/v1/gears/train", "/v1/structure"}
+# Answers that are exact bookkeeping of what was given (a train's ratios, a structure's counts) or a synthesis
+# whose every figure of merit is in the answer itself (swing, time ratio, transmission angles): they carry no
+# warnings field.
+NO_WARNINGS_FIELD = {"/v1/gears/train", "/v1/structure", "/v1/synthesis/crank-rocker", "/v1/synthesis/slider-crank",
+                     "/v1/synthesis/path"}
 
 
 def test_readme_examples_have_no_warnings(client: SynthClient) -> None:
