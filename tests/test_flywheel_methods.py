@@ -140,7 +140,7 @@ def test_motor_nlp_keeps_the_simulated_speed_in_the_band() -> None:
     result = synth.size_flywheel(cycle, w_m, delta, motor=MOTOR)
     nlp = result.method("motor_nlp")
     assert result.design_method == "motor_nlp"
-    # check: the NLP's inertia re-simulated by shooting on solve_ivp stays in the band it was sized for
+    # check: the NLP's inertia re-simulated (periodic solution of the equation of motion) stays in its band
     w_min, w_max = result.speed_band
     assert nlp.speed.omega_min >= w_min * (1 - 1e-4)
     assert nlp.speed.omega_max <= w_max * (1 + 1e-4)
