@@ -178,7 +178,7 @@ def steady_speed_motor(
     cycle: ReducedCycle,
     constant_inertia: float,
     motor: ReducedMotor,
-    points: int = 20_000,
+    points: int = 8_000,
 ) -> SpeedProfile:
     """Steady periodic speed with a motor characteristic: the periodic solution of the energy equation.
 

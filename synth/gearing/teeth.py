@@ -287,7 +287,7 @@ class _Table:
 
     A uniform grid over log ratio, its cells about twice the search window wide (at most ``_MAX_CELLS``),
     screens queries in O(1): ``edges[k]`` is the first product at or above cell k, ``pair[k]`` whether cells
-    k or k + 1 hold one.
+    k - 1 or k hold one (``pair[0]``: cell 0).
     """
 
     half: _Half
@@ -309,18 +309,22 @@ class _Table:
         edges = np.zeros(cells + 3, dtype=np.int32)
         np.cumsum(np.bincount(cell, minlength=cells), out=edges[1 : cells + 1])
         edges[cells + 1 :] = len(logs)
-        return cls(half, float(logs[0]), 1.0 / step, edges, edges[2:] > edges[:-2])
+        pair = np.empty(cells + 2, dtype=bool)
+        pair[0] = edges[1] > edges[0]
+        pair[1:] = edges[2:] > edges[:-2]
+        return cls(half, float(logs[0]), 1.0 / step, edges, pair)
 
     def screen(self, x_lo: FloatArray, width: float) -> IntArray:
-        """Flat indices of the queries [x_lo, x_lo + width] (in grid cells from the base) that may hold a
-        product; those left out certainly hold none. ``x_lo`` is overwritten."""
-        top = len(self.pair) - 1
-        np.clip(x_lo, -1.0, top, out=x_lo)
+        """Flat indices of the queries [x_lo - 1, x_lo - 1 + width] (in grid cells from the base; note the
+        offset of one cell) that may hold a product; those left out certainly hold none. ``x_lo`` is
+        overwritten."""
+        top = len(self.edges) - 2
         if width <= 1.0:
-            # The query spans at most two cells: one look-up answers for both.
-            return np.flatnonzero(self.pair[(x_lo + 1.0).astype(np.intp) - 1 + (x_lo < 0)])
-        ka = np.floor(x_lo).astype(np.intp).clip(0, top)
-        kb = np.floor(x_lo + width).astype(np.intp).clip(0, top) + 1
+            # The query spans at most two cells, k - 1 and k with k = floor(x_lo): one look-up answers for both.
+            np.clip(x_lo, 0.0, top, out=x_lo)
+            return np.flatnonzero(self.pair[x_lo.astype(np.intp)])
+        ka = np.floor(x_lo - 1).astype(np.intp).clip(0, top)
+        kb = np.floor(x_lo - 1 + width).astype(np.intp).clip(0, top) + 1
         return np.flatnonzero(self.edges[kb] > self.edges[ka])
 
 
@@ -369,7 +373,7 @@ class _Stream:
     def screened(self, table: _Table, start: int, log_lo: float, log_hi: float) -> _Half:
         """The chunk's products that may land in [log_lo, log_hi] with some table product."""
         sl = slice(start, start + self.rows)
-        a = (log_lo - self.outer_log[sl] - table.base) * table.inv_step
+        a = (log_lo - self.outer_log[sl] - table.base) * table.inv_step + 1.0
         x = a[:, None] - (self.last_log * table.inv_step)[None, :]
         return self.take(start, table.screen(x.ravel(), (log_hi - log_lo) * table.inv_step))
 
@@ -459,7 +463,7 @@ def _fewest(table: _Table, stream: _Stream, target: float,
             cols = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
             chunk = stream.take(start, rows * n_last + cols)
             logs = np.log(chunk.ratio)
-            x = (math.log(w_lo) - 1e-12 - logs - table.base) * table.inv_step
+            x = (math.log(w_lo) - 1e-12 - logs - table.base) * table.inv_step + 1.0
             keep = table.screen(x, (math.log(w_hi) - math.log(w_lo) + 2e-12) * table.inv_step)
             chunk = _Half(chunk.ratio[keep], chunk.teeth[keep], chunk.flat[keep], chunk.sizes)
         if len(chunk.ratio) == 0:
