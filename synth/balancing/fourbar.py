@@ -336,7 +336,7 @@ def _compressed_cone(y: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArr
     cone's vector G x + g.
     """
     k = y.shape[1]
-    r = np.linalg.qr(np.column_stack([y, c]), mode="r")
+    r: FloatArray = np.asarray(np.linalg.qr(np.column_stack([y, c]), mode="r"), dtype=float)
     rest = abs(float(r[k, k])) if r.shape[0] > k else 0.0
     return np.vstack([r[:k, :k], np.zeros((1, k))]), np.concatenate([r[:k, k], [rest]])
 

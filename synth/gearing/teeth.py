@@ -331,7 +331,11 @@ class _Table:
 @dataclass(frozen=True, slots=True)
 class _Stream:
     """The other half of the meet in the middle, never materialised: the products of all but its last stage
-    (pruned by bounds) times the last stage's candidates, taken ``rows`` outer products at a time."""
+    (pruned by bounds) times the last stage's candidates, taken ``rows`` outer products at a time.
+
+    In closest mode both are sorted by ratio, so a chunk of outer products can only pair with a contiguous run
+    of the last stage (bounded by the target window over the table's range); only that run is screened.
+    """
 
     outer: _Half
     outer_log: FloatArray
@@ -339,6 +343,7 @@ class _Stream:
     last_log: FloatArray
     sizes: tuple[int, ...]
     rows: int
+    reach: tuple[float, float] | None   # closest mode: the last stage's ratio lies in reach / (outer ratio)
 
     @classmethod
     def build(cls, sets: Sequence[_Set], lo: float, hi: float, table_range: tuple[float, float],
@@ -353,19 +358,24 @@ class _Stream:
             k = np.argsort(last.teeth, kind="stable")
             last = _Set(last.num[k], last.den[k], last.teeth[k], k[:, None])
         else:
-            last = _Set(last.num, last.den, last.teeth, np.arange(len(last.num))[:, None])
+            order = np.argsort(outer.ratio, kind="stable")
+            outer = _Half(outer.ratio[order], outer.teeth[order], outer.flat[order], outer.sizes)
+            k = np.argsort(last.ratio, kind="stable")
+            last = _Set(last.num[k], last.den[k], last.teeth[k], k[:, None])
+        reach = None if by_teeth else (lo * (1 - 1e-12) / table_range[1], hi * (1 + 1e-12) / table_range[0])
         return cls(outer, np.log(outer.ratio), last, np.log(last.ratio), outer.sizes + (len(last.num),),
-                   max(1, _CHUNK // len(last.num))), work
+                   max(1, _CHUNK // len(last.num)), reach), work
 
     def starts(self) -> range:
         """First outer row of every chunk."""
         return range(0, len(self.outer.ratio), self.rows)
 
-    def take(self, start: int, flat: IntArray) -> _Half:
-        """Products of the chunk from ``start`` at chunk-local flat positions ``flat``; their ``flat`` field
-        indexes the stages' candidate grid."""
-        r, j = np.divmod(flat, len(self.last.num))
+    def take(self, start: int, flat: IntArray, first: int = 0, width: int | None = None) -> _Half:
+        """Products of the chunk from outer row ``start`` at chunk-local flat positions ``flat`` over the last
+        stage's run ``first .. first + width``; their ``flat`` field indexes the stages' candidate grid."""
+        r, j = np.divmod(flat, len(self.last.num) if width is None else width)
         r = r + start
+        j = j + first
         col = self.last.idx[j, 0]
         return _Half(self.outer.ratio[r] * self.last.ratio[j], self.outer.teeth[r] + self.last.teeth[j],
                      self.outer.flat[r] * len(self.last.num) + col, self.sizes)
@@ -373,9 +383,17 @@ class _Stream:
     def screened(self, table: _Table, start: int, log_lo: float, log_hi: float) -> _Half:
         """The chunk's products that may land in [log_lo, log_hi] with some table product."""
         sl = slice(start, start + self.rows)
+        outer = self.outer.ratio[sl]
+        # Both sorted by ratio: the chunk's largest outer ratio sets the run's start, its smallest the end.
+        first, stop = 0, len(self.last.num)
+        if self.reach is not None:
+            first = int(np.searchsorted(self.last.ratio, self.reach[0] / outer.max(), side="left"))
+            stop = int(np.searchsorted(self.last.ratio, self.reach[1] / outer.min(), side="right"))
+        if stop <= first:
+            return self.take(start, np.zeros(0, dtype=np.intp))
         a = (log_lo - self.outer_log[sl] - table.base) * table.inv_step + 1.0
-        x = a[:, None] - (self.last_log * table.inv_step)[None, :]
-        return self.take(start, table.screen(x.ravel(), (log_hi - log_lo) * table.inv_step))
+        x = a[:, None] - (self.last_log[first:stop] * table.inv_step)[None, :]
+        return self.take(start, table.screen(x.ravel(), (log_hi - log_lo) * table.inv_step), first, stop - first)
 
 
 def _closest(table: _Table, stream: _Stream, target: float,
