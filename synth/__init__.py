@@ -111,6 +111,19 @@ from .gearing import (
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
+from .studies import (
+    StudyConstraint,
+    StudyParameter,
+    RunReport,
+    Sampler,
+    Study,
+    StudyRecord,
+    StudyStore,
+    VariantRow,
+    pareto_mask,
+    run_study,
+    study_from_dict,
+)
 from .topology import Joint, Topology
 
 __all__ = [
@@ -235,4 +248,16 @@ __all__ = [
     "objective_value",
     "pendulum_inertia",
     "tradeoff",
+    # studies
+    "StudyConstraint",
+    "StudyParameter",
+    "RunReport",
+    "Sampler",
+    "Study",
+    "StudyRecord",
+    "StudyStore",
+    "VariantRow",
+    "pareto_mask",
+    "run_study",
+    "study_from_dict",
 ]
