@@ -29,6 +29,8 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.studies import StudyIn, StudyOut
+from .study_client import StudyHandle
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -209,3 +211,16 @@ class SynthClient:
     def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    def study(self, body: StudyIn) -> StudyHandle:
+        """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""
+        # Sent whole: a null (objective_digits) means something here, unlike a left-out field elsewhere.
+        response = self.http.post("/v1/studies", json=body.model_dump(mode="json"))
+        self._raise_for_problem(response)
+        return StudyHandle(self, StudyOut.model_validate_json(response.content))
+
+    def study_handle(self, study_id: str) -> StudyHandle:
+        """A handle on an existing study, by id (for example after a restart of this program)."""
+        handle = StudyHandle(self, StudyOut.model_construct(id=study_id))
+        handle.status()
+        return handle

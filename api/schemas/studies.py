@@ -156,13 +156,15 @@ class ResultsOut(BaseModel):
     done: int
     offset: int
     limit: int
+    parameters: list[str] = Field(description="The varied paths, in order.")
+    metrics: list[str] = Field(description="The collected metrics, in order.")
     variants: list[VariantOut]
 
     @classmethod
     def from_page(cls, r: synth.StudyRecord, rows: list[synth.VariantRow], offset: int, limit: int) -> ResultsOut:
         """Schema from a stored page of rows."""
         paths, metrics = _columns(r)
-        return cls(id=r.id, total=r.total, done=r.done, offset=offset, limit=limit,
+        return cls(id=r.id, total=r.total, done=r.done, offset=offset, limit=limit, parameters=paths, metrics=metrics,
                    variants=[VariantOut.from_row(row, paths, metrics) for row in rows])
 
 
