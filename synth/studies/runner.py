@@ -96,6 +96,8 @@ class RunReport:
         Wall time of the run [s].
     task_s
         Median task duration measured in the workers [s].
+    busy_s
+        Sum of the task durations measured in the workers [s].
     """
 
     finished: int
@@ -104,6 +106,7 @@ class RunReport:
     cancelled: bool
     elapsed_s: float
     task_s: float
+    busy_s: float
 
 
 def _metric(answer: Mapping[str, Any], path: str) -> float | None:
@@ -250,4 +253,4 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
             future.cancel()
     durations = sorted(sizer.durations)
     median = durations[len(durations) // 2] if durations else 0.0
-    return RunReport(finished, failed, tasks, cancelled, time.perf_counter() - t0, median)
+    return RunReport(finished, failed, tasks, cancelled, time.perf_counter() - t0, median, sum(durations))
