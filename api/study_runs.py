@@ -136,9 +136,7 @@ class StudyRuns:
     def resume(self, study_id: str) -> synth.StudyRecord:
         """Run the variants of a stopped study that have no row yet; a running or finished study is left as is."""
         record = self.get(study_id)
-        with self._lock:
-            running = study_id in self._runs
-        if not running and record.state in ("cancelled", "interrupted", "failed"):
+        if record.state in ("cancelled", "interrupted", "failed"):
             study = synth.study_from_dict(record.spec)
             self._start(study_id, study, self.store.missing(study_id, record.total))
         return self.get(study_id)
@@ -223,11 +221,13 @@ class StudyRuns:
             self._dask = None
 
     def _start(self, study_id: str, study: synth.Study, indices: list[int] | None) -> None:
-        self.store.started(study_id)
         thread = threading.Thread(target=self._drive, args=(study_id, study, indices), daemon=True,
                                   name=f"study-{study_id[:8]}")
         with self._lock:
+            if study_id in self._runs:
+                return  # two resumes at once start one run
             self._runs[study_id] = _Run(thread)
+        self.store.started(study_id)
         thread.start()
 
     def _drive(self, study_id: str, study: synth.Study, indices: list[int] | None) -> None:

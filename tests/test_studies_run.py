@@ -93,6 +93,7 @@ def test_local_pool_and_dask_give_bit_identical_rows(serial_rows: list[synth.Var
     pool = LocalPoolExecutor(2)
     try:
         assert _run(pool) == serial_rows
+        _cancel_midway(pool, serial_rows)
     finally:
         pool.shutdown()
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
@@ -100,6 +101,7 @@ def test_local_pool_and_dask_give_bit_identical_rows(serial_rows: list[synth.Var
         dask = DaskExecutor(client=client)
         assert dask.workers == 2
         assert _run(dask) == serial_rows
+        _cancel_midway(dask, serial_rows)
 
 
 class _SlowSink:
@@ -113,6 +115,19 @@ class _SlowSink:
         self.rows.extend(rows)
         if len(self.rows) >= 3:
             self.first.set()
+
+
+def _cancel_midway(executor: synth.execution.Executor, serial_rows: list[synth.VariantRow]) -> None:
+    """Cancel after the first rows: the run stops early, and what it wrote is exactly what a full run writes."""
+    cancel, sink = threading.Event(), _SlowSink()
+    runner = threading.Thread(target=synth.run_study, args=(synth.study_from_dict(SPEC), variant_function(
+        ENDPOINT, LIMITS), executor, sink), kwargs={"cancel": cancel})
+    runner.start()
+    assert sink.first.wait(60)
+    cancel.set()
+    runner.join(30)
+    assert not runner.is_alive() and 3 <= len(sink.rows) < 50
+    assert all(r == serial_rows[r.index] for r in sink.rows)
 
 
 def test_cancel_keeps_finished_rows_and_resume_runs_only_the_rest(serial_rows: list[synth.VariantRow]) -> None:
