@@ -120,6 +120,10 @@ class StudyRuns:
             raise StudyNotFound(study_id)
         return record
 
+    def recent(self, limit: int, offset: int) -> list[synth.StudyRecord]:
+        """The latest studies first."""
+        return self.store.recent(limit, offset)
+
     def cancel(self, study_id: str) -> synth.StudyRecord:
         """Stop a study: no new task is sent, tasks in flight are cancelled, finished rows stay."""
         record = self.get(study_id)

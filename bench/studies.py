@@ -8,6 +8,7 @@ timed in this process in the same run. Rows go to a SQLite store as in the servi
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import tempfile
@@ -85,7 +86,8 @@ def main(variants: int = 10_000) -> None:
     limit_threads()
     study = synth.study_from_dict(study_spec(variants))
     bare = bare_seconds(study, min(variants, 200))
-    print(f"study: {variants} variants of {ENDPOINT} at 90 samples (LHS over 3 link lengths and the budget)")
+    print(f"study: {variants} variants of {ENDPOINT} at 90 samples (LHS over 3 link lengths and the budget); "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start")
     print(f"bare variant function in this process: mean {bare * 1e3:.1f} ms over {min(variants, 200)} variants")
     results: dict[str, float] = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -100,7 +102,8 @@ def main(variants: int = 10_000) -> None:
                   f"{report.tasks} tasks of median {report.task_s:.2f} s, {report.failed} failed variants")
             _overheads(wall, workers, variants, bare, report)
         efficiency = results["pool1"] / (2 * results["pool2"])
-        print(f"parallel efficiency 1 -> 2 workers: {efficiency * 100:.0f} % (goal >= 80 %)")
+        print(f"parallel efficiency 1 -> 2 workers: {efficiency * 100:.0f} % (goal >= 80 %); "
+              f"load average now {os.getloadavg()[0]:.1f}")
         from distributed import Client, LocalCluster
 
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \

@@ -243,3 +243,7 @@ def test_client_study_round_trip(service: SynthClient) -> None:
     assert status.state == "done" and status.name == "budget"
     assert "mass_budget_kg" in handle.table().splitlines()[0]
     assert handle.cancel().state == "done"                # cancelling a finished study changes nothing
+    listed = service.http.get("/v1/studies", params={"limit": 5}).json()
+    assert listed[0]["id"] == handle.id and listed[0]["done"] == 2
+    document = service.http.get("/openapi.json").json()["paths"]["/v1/studies/{study_id}"]["get"]
+    assert "application/problem+json" in document["responses"]["404"]["content"]

@@ -4,7 +4,7 @@ results (JSON pages or CSV) and the Pareto front (JSON or a scatter figure)."""
 from __future__ import annotations
 
 import asyncio
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, Query, Request
 from fastapi.responses import Response, StreamingResponse
@@ -24,6 +24,10 @@ def get_studies(request: Request) -> StudyRuns:
 
 
 StudiesDep = Annotated[StudyRuns, Depends(get_studies)]
+NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {
+    "description": "No study has this id.",
+    "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}},
+}}
 
 
 @router.post("", status_code=202, response_model=StudyOut)
@@ -36,26 +40,37 @@ async def create_study(body: StudyIn, studies: StudiesDep, response: Response) -
     return out
 
 
-@router.get("/{study_id}", response_model=StudyOut)
+@router.get("", response_model=list[StudyOut])
+async def list_studies(
+    studies: StudiesDep,
+    offset: Annotated[int, Query(ge=0, le=100_000_000, description="Studies to skip.")] = 0,
+    limit: Annotated[int, Query(ge=1, le=1000, description="Studies per page.")] = 100,
+) -> list[StudyOut]:
+    """The latest studies first, with their state and progress."""
+    return [StudyOut.from_record(r) for r in await asyncio.to_thread(studies.recent, limit, offset)]
+
+
+@router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def get_study(study_id: str, studies: StudiesDep) -> StudyOut:
     """State, variants done of the total, failed variants, running time and the estimated time to finish."""
     return StudyOut.from_record(await asyncio.to_thread(studies.get, study_id))
 
 
-@router.delete("/{study_id}", response_model=StudyOut)
+@router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def cancel_study(study_id: str, studies: StudiesDep) -> StudyOut:
     """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
     return StudyOut.from_record(await asyncio.to_thread(studies.cancel, study_id))
 
 
-@router.post("/{study_id}/resume", status_code=202, response_model=StudyOut)
+@router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
 async def resume_study(study_id: str, studies: StudiesDep) -> StudyOut:
     """Run the variants of a cancelled or interrupted study that have no result yet."""
     return StudyOut.from_record(await asyncio.to_thread(studies.resume, study_id))
 
 
 @router.get("/{study_id}/results", response_model=ResultsOut,
-            responses={200: {"content": {"text/csv": {}}, "description": "A page of variants, or all as CSV."}})
+            responses={200: {"content": {"text/csv": {}}, "description": "A page of variants, or all as CSV."},
+                       **NOT_FOUND})
 async def study_results(
     study_id: str, studies: StudiesDep,
     offset: Annotated[int, Query(ge=0, le=100_000_000, description="First variant of the page.")] = 0,
@@ -73,7 +88,8 @@ async def study_results(
 
 @router.get("/{study_id}/pareto", response_model=ParetoOut,
             responses={200: {"content": {"image/png": {}}, "description": "The front, or with ?format=png a "
-                                                                          "scatter of two metrics with it drawn."}})
+                                                                          "scatter of two metrics with it drawn."},
+                       **NOT_FOUND})
 async def study_pareto(
     study_id: str, request: Request, studies: StudiesDep, solvers: SolverDep, format: FormatQuery = None,
     x: Annotated[str | None, Query(max_length=200, description="Metric on the figure's x axis.")] = None,

@@ -4,7 +4,7 @@
 
     Study (base request + parameters + metrics + objectives + constraints)
       -> Sampler: parameter values by variant index (grid, random, Latin hypercube; seeded)
-      -> run_study: batches of variants as tasks of 0.2-2 s on an executor, at most one per worker in flight
+      -> run_study: batches of variants as tasks of 0.2-2 s on an executor, about one per worker in flight
       -> StudyStore: each finished batch's rows written at once (SQLite, WAL)
       -> pareto_mask: the non-dominated feasible variants
 """

@@ -189,8 +189,9 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     cancel
         When set, no further task is submitted and the tasks in flight are cancelled [-].
     in_flight
-        Most tasks submitted at once, default the executor's worker count, so that requests sharing the
-        workers are not starved [-].
+        Most tasks submitted at once, default one more than the executor's workers: a worker that finishes
+        starts the next batch without waiting for this thread, and requests sharing the workers wait behind
+        one batch at most [-].
     variant_timeout_s
         Time allowed per variant; a task may run its variant count times this [s].
     progress
@@ -200,7 +201,7 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     sampler = Sampler(study)
     spec = BatchSpec(variant_fn, dict(study.base), study.parameter_paths, study.metrics, study.constraints)
     pending: Iterator[int] = iter(range(sampler.count) if indices is None else indices)
-    limit = max(1, in_flight or executor.workers)
+    limit = max(1, in_flight or executor.workers + 1)
     sizer = _Sizer()
     futures: dict[cf.Future[tuple[list[VariantRow], float]], list[tuple[int, list[Scalar]]]] = {}
     finished = failed = tasks = 0

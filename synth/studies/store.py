@@ -134,6 +134,13 @@ class StudyStore:
                 eta = run_s / (done - start_done) * (total - done)
         return StudyRecord(study_id, json.loads(spec), total, state, done, failed, created, elapsed, eta, message)
 
+    def recent(self, limit: int = 100, offset: int = 0) -> list[StudyRecord]:
+        """The latest studies first, with their progress."""
+        with self._tx() as db:
+            ids = [i for (i,) in db.execute("SELECT id FROM studies ORDER BY created_at DESC, id LIMIT ? OFFSET ?",
+                                            (limit, offset))]
+        return [r for r in (self.get(i) for i in ids) if r is not None]
+
     def started(self, study_id: str) -> None:
         """Mark a study running from now."""
         with self._tx() as db:
