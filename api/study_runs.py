@@ -179,13 +179,9 @@ class StudyRuns:
         if not study.objectives:
             raise InvalidInput("the study has no objectives, so it has no Pareto front; give objectives "
                                "(metric -> min or max) when creating it", field="objectives")
-        columns = [i for i, _ in study.senses]
-        rows = [r for r in self.store.feasible_rows(study_id)
-                if r.metrics is not None and all(r.metrics[i] is not None for i in columns)]
-        points = np.array([[r.metrics[i] for i in columns] for r in rows if r.metrics is not None], dtype=float)
-        mask = synth.pareto_mask(points.reshape(len(rows), len(columns)), [s for _, s in study.senses],
-                                 study.objective_digits)
-        return Front(record, len(rows), [r for r, on in zip(rows, mask) if on])
+        index, values, feasible = self.store.metric_table(study_id, len(study.metrics))
+        on_front, candidates = _front(study, values, feasible)
+        return Front(record, int(candidates.sum()), self.store.rows_at(study_id, index[on_front].tolist()))
 
     def scatter(self, study_id: str, x: str | None, y: str | None) -> Scatter:
         """Two metrics of every variant that gave both, whether it is feasible and on the front."""
@@ -198,18 +194,15 @@ class StudyRuns:
             if name not in study.metrics:
                 raise InvalidInput(f"{axis}={name!r} is not one of the study's metrics {list(study.metrics)}",
                                    field=axis)
-        on_front = {r.index for r in self.pareto(study_id).rows} if study.objectives else set()
-        ix, iy = study.metrics.index(x), study.metrics.index(y)
-        rows = [r for r in self.store.iter_rows(study_id)
-                if r.metrics is not None and r.metrics[ix] is not None and r.metrics[iy] is not None]
+        _, values, feasible = self.store.metric_table(study_id, len(study.metrics))
+        on_front = _front(study, values, feasible)[0] if study.objectives else np.zeros(len(values), dtype=bool)
+        xs, ys = values[:, study.metrics.index(x)], values[:, study.metrics.index(y)]
+        shown = ~(np.isnan(xs) | np.isnan(ys))
         senses = dict(study.objectives)
         staircase = f"{senses[x]}{senses[y]}" if set(senses) == {x, y} and x != y else None
         done = f"{record.done} of {record.total} variants" + (f", {record.failed} failed" if record.failed else "")
-        return Scatter(np.array([r.metrics[ix] for r in rows if r.metrics], dtype=float),
-                       np.array([r.metrics[iy] for r in rows if r.metrics], dtype=float),
-                       np.array([bool(r.feasible) for r in rows], dtype=bool),
-                       np.array([r.index in on_front for r in rows], dtype=bool),
-                       x, y, f"{record.spec.get('name') or record.spec['endpoint']}: {done}", staircase)
+        return Scatter(xs[shown], ys[shown], feasible[shown], on_front[shown], x, y,
+                       f"{record.spec.get('name') or record.spec['endpoint']}: {done}", staircase)
 
     def shutdown(self) -> None:
         """Stop every running study (they become interrupted and can be resumed) before the workers stop."""
@@ -262,6 +255,17 @@ class StudyRuns:
             self.store.stopped(study_id, state, message)
             with self._lock:
                 self._runs.pop(study_id, None)
+
+
+def _front(study: synth.Study, values: FloatArray, feasible: NDArray[np.bool_]
+           ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Per variant of a metric table: on the front, and a candidate (feasible, every objective present)."""
+    columns = [i for i, _ in study.senses]
+    candidates = feasible & ~np.isnan(values[:, columns]).any(axis=1)
+    on_front = np.zeros(len(values), dtype=bool)
+    on_front[candidates] = synth.pareto_mask(values[candidates][:, columns], [s for _, s in study.senses],
+                                             study.objective_digits)
+    return on_front, candidates
 
 
 def scatter_png(s: Scatter) -> bytes:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import synth
-from synth.studies import get_path, round_significant, set_path, variant_request
+from synth.studies import get_path, quantise, set_path, variant_request
 
 BASE = {"mechanism": {"crank_length_m": 0.1, "links": {"crank": {"mass_kg": 1.0}}}, "sweep": [{"a": 1.0}]}
 
@@ -129,14 +129,12 @@ def test_pareto_front_equals_a_brute_force_dominance_filter(seed: int, senses: l
     assert mask.any()
 
 
-def test_pareto_compares_to_significant_digits_when_asked() -> None:
-    # Two designs equal but for solver noise in the mass, and one dominated by both.
-    points = np.array([[98.8, 1.0000000000095], [152.0, 1.0000000000009], [160.0, 2.0]])
-    assert list(synth.pareto_mask(points, ["min", "min"])) == [True, True, False]
-    assert list(synth.pareto_mask(points, ["min", "min"], digits=9)) == [True, False, False]
-    assert np.array_equal(round_significant(points, 9), _brute_round(points, 9))
-
-
-def _brute_round(points: np.ndarray, digits: int) -> np.ndarray:
-    return np.vectorize(lambda v: float(np.format_float_positional(v, precision=digits, unique=False,
-                                                                   fractional=False, trim="k")))(points)
+def test_pareto_compares_to_significant_digits_of_each_objective_when_asked() -> None:
+    # Equal designs but for solver noise: a budget met to 1e-11 kg, residual forces of 1e-12 N next to 160 N.
+    points = np.array([[98.8, 1.0000000000095], [152.0, 1.0000000000009], [160.0, 2.0],
+                       [1e-12, 4.5], [3e-12, 4.0]])
+    assert list(synth.pareto_mask(points, ["min", "min"])) == [True, True, False, True, True]
+    assert list(synth.pareto_mask(points, ["min", "min"], digits=9)) == [True, False, False, False, True]
+    # Nine digits of 160 N is a micronewton; nine digits of 4.5 kg is 10 micrograms.
+    assert quantise(points, 9)[:, 0] == pytest.approx([98.8, 152.0, 160.0, 0.0, 0.0], abs=1e-15, rel=1e-15)
+    assert quantise(points, 9)[:, 1] == pytest.approx([1.0, 1.0, 2.0, 4.5, 4.0], abs=0, rel=1e-15)

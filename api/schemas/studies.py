@@ -84,8 +84,9 @@ class StudyIn(StrictModel):
                                                          description="Metric -> min or max, for the Pareto front.")
     constraints: list[StudyConstraintIn] = Field(default_factory=list, max_length=32)
     objective_digits: int | None = Field(
-        9, ge=1, le=17, description="Significant digits to which objectives are compared on the Pareto front, so "
-                                    "solver noise does not split designs that are equal; null: exactly.")
+        9, ge=1, le=17, description="Objectives are compared on the Pareto front to this many significant digits "
+                                    "of their largest value, so solver noise does not split designs that are "
+                                    "equal; null: exactly.")
     name: str | None = Field(None, max_length=200, description="A label for people.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [STUDY_EXAMPLE]})

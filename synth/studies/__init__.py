@@ -11,7 +11,7 @@
 
 from .model import DEFAULT_MAX_VARIANTS, StudyConstraint, StudyParameter, Study, study_from_dict
 from .paths import get_path, set_path
-from .pareto import pareto_mask, round_significant
+from .pareto import pareto_mask, quantise
 from .runner import BatchSpec, RunReport, VariantRow, run_batch, run_study, run_variant
 from .sampling import Sampler, variant_request
 from .store import StudyRecord, StudyStore
@@ -29,7 +29,7 @@ __all__ = [
     "VariantRow",
     "get_path",
     "pareto_mask",
-    "round_significant",
+    "quantise",
     "run_batch",
     "run_study",
     "run_variant",

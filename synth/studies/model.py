@@ -102,7 +102,8 @@ class Study:
     constraints
         Bounds on metrics; a variant outside them is infeasible and never on the front [-].
     objective_digits
-        Significant digits to which objectives are compared on the front; None: exactly [-].
+        Objectives are compared on the front to this many significant digits of their largest value; None:
+        exactly [-].
     """
 
     base: Mapping[str, Any]

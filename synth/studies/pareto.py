@@ -11,10 +11,18 @@ from ..errors import InvalidInput
 from ..model import FloatArray
 
 
-def round_significant(values: FloatArray, digits: int) -> FloatArray:
-    """``values`` rounded to ``digits`` significant digits, as their shortest decimal form would show them."""
-    flat = [float(f"{v:.{digits}g}") for v in np.asarray(values, dtype=float).ravel()]
-    return np.array(flat, dtype=float).reshape(np.shape(values))
+def quantise(points: FloatArray, digits: int) -> FloatArray:
+    """Each column of ``points`` rounded to ``digits`` significant digits of its largest magnitude.
+
+    A shaking force of 1e-12 N next to 250 N is zero to nine digits; rounding each value to its own digits would
+    keep solver noise near zero and rank designs by it.
+    """
+    points = np.asarray(points, dtype=float)
+    scale = np.max(np.abs(points), axis=0, initial=0.0)
+    with np.errstate(divide="ignore"):
+        exponent = np.where(scale > 0, np.floor(np.log10(np.where(scale > 0, scale, 1.0))), 0.0)
+    quantum = 10.0 ** (exponent - digits + 1)
+    return np.asarray(np.round(points / quantum) * quantum, dtype=float)
 
 
 def pareto_mask(points: FloatArray, senses: Sequence[str], digits: int | None = None) -> NDArray[np.bool_]:
@@ -27,8 +35,9 @@ def pareto_mask(points: FloatArray, senses: Sequence[str], digits: int | None = 
     senses
         ``min`` or ``max`` per column [-].
     digits
-        Compare objectives to this many significant digits, so that solver noise (a budget met to 1e-11) does
-        not decide between designs that are equal; None compares the values exactly [-].
+        Compare each objective to this many significant digits of its largest magnitude (:func:`quantise`), so
+        that solver noise (a budget met to 1e-11, a residual force of 1e-12 N) does not decide between designs
+        that are equal; None compares the values exactly [-].
 
     Notes
     -----
@@ -43,7 +52,7 @@ def pareto_mask(points: FloatArray, senses: Sequence[str], digits: int | None = 
     if bad := [s for s in senses if s not in ("min", "max")]:
         raise InvalidInput(f"objective senses must be 'min' or 'max', got {bad}")
     sign = np.array([1.0 if s == "min" else -1.0 for s in senses])
-    cost = (points if digits is None else round_significant(points, digits)) * sign
+    cost = (points if digits is None else quantise(points, digits)) * sign
     order = np.lexsort(cost.T[::-1]) if len(cost) else np.arange(0)
     mask = np.zeros(len(cost), dtype=bool)
     front = np.empty((0, cost.shape[1]))

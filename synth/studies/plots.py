@@ -39,8 +39,8 @@ def pareto_png(x: FloatArray, y: FloatArray, feasible: NDArray[np.bool_], front:
     fx, fy = x[front][order], y[front][order]
     if staircase is not None and len(fx) > 1:
         ax.step(fx, fy, where="post" if staircase.startswith("min") else "pre", color="tab:red", lw=1.2)
-    ax.scatter(fx, fy, s=36, color="tab:red", edgecolor="black", lw=0.6, zorder=3,
-               label=f"Pareto front ({len(fx)})")
+    label = "Pareto front" if staircase is not None else "on the Pareto front of the objectives"
+    ax.scatter(fx, fy, s=36, color="tab:red", edgecolor="black", lw=0.6, zorder=3, label=f"{label} ({len(fx)})")
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title)

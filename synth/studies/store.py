@@ -18,7 +18,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
+from ..model import FloatArray
 from .runner import VariantRow
 
 STATES = ("queued", "running", "done", "cancelled", "interrupted", "failed")
@@ -207,12 +209,27 @@ class StudyStore:
             yield from batch
             last = batch[-1].index
 
-    def feasible_rows(self, study_id: str) -> list[VariantRow]:
-        """Rows that gave their metrics and meet every constraint, in index order."""
+    def metric_table(self, study_id: str, width: int) -> tuple[NDArray[np.int64], FloatArray, NDArray[np.bool_]]:
+        """Index, metrics (NaN where missing; ``width`` columns) and feasibility of every variant that gave its
+        metrics, in index order: the arrays a front or a figure needs, without the rest of the rows."""
         with self._tx() as db:
-            return [_row(r) for r in db.execute(
-                "SELECT idx, params, metrics, feasible, problem_type, detail FROM rows "
-                "WHERE study_id = ? AND feasible = 1 ORDER BY idx", (study_id,))]
+            table = db.execute("SELECT idx, metrics, feasible FROM rows WHERE study_id = ? AND metrics IS NOT NULL "
+                               "ORDER BY idx", (study_id,)).fetchall()
+        index = np.array([r[0] for r in table], dtype=np.int64)
+        values = np.array([[np.nan if v is None else v for v in json.loads(r[1])] for r in table],
+                          dtype=float).reshape(len(table), width)
+        return index, values, np.array([bool(r[2]) for r in table], dtype=bool)
+
+    def rows_at(self, study_id: str, indices: Sequence[int]) -> list[VariantRow]:
+        """The rows of the given variant indices, in index order."""
+        out: list[VariantRow] = []
+        with self._tx() as db:
+            for start in range(0, len(indices), 500):
+                chunk = [int(i) for i in indices[start:start + 500]]
+                out += [_row(r) for r in db.execute(
+                    "SELECT idx, params, metrics, feasible, problem_type, detail FROM rows WHERE study_id = ? "
+                    f"AND idx IN ({','.join('?' * len(chunk))})", (study_id, *chunk))]
+        return sorted(out, key=lambda r: r.index)
 
 
 def _row(r: tuple[Any, ...]) -> VariantRow:
