@@ -123,7 +123,8 @@ def _overheads(wall: float, workers: int, variants: int, bare: float, report: sy
     dispatch = (wall * workers - report.busy_s) / report.tasks
     print(f"    overhead per task against the bare function {total * 1e3:.1f} ms "
           f"({total / max(report.task_s, 1e-9) * 100:.1f} % of a median task); outside the tasks "
-          f"{dispatch * 1e3:.1f} ms; workers busy {report.busy_s / (wall * workers) * 100:.0f} % of the wall time")
+          f"{dispatch * 1e3:.1f} ms; workers busy {report.busy_s / (wall * workers) * 100:.0f} % of the wall time, "
+          f"{report.busy_s / variants * 1e3:.1f} ms per variant inside the tasks")
 
 
 if __name__ == "__main__":
