@@ -36,6 +36,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
         await asyncio.to_thread(solvers.start)
+        await asyncio.to_thread(studies.open)
         yield
         studies.shutdown()
         solvers.shutdown()

@@ -94,6 +94,10 @@ class StudyRuns:
                 self._store = store
             return self._store
 
+    def open(self) -> None:
+        """Open the store at start, so that studies a stopped service left running show as interrupted."""
+        _ = self.store
+
     def executor(self) -> Executor:
         """Where study tasks run: the Dask cluster when one is configured, else the service's workers."""
         if self.settings.dask_scheduler is None:
