@@ -72,7 +72,8 @@ class _Run:
 
 
 class StudyRuns:
-    """The studies of one service: the store (opened on first use), the running studies and their executor."""
+    """The studies of one service: the store (opened at start or on first use), the running studies and where
+    their tasks run."""
 
     def __init__(self, settings: Settings, solvers: Solvers) -> None:
         self.settings = settings
@@ -81,6 +82,8 @@ class StudyRuns:
         self._dask: Executor | None = None
         self._runs: dict[str, _Run] = {}
         self._lock = threading.Lock()
+        # Connecting to a scheduler can take its whole timeout; the store stays reachable meanwhile.
+        self._dask_lock = threading.Lock()
 
     @property
     def store(self) -> synth.StudyStore:
@@ -102,7 +105,7 @@ class StudyRuns:
         """Where study tasks run: the Dask cluster when one is configured, else the service's workers."""
         if self.settings.dask_scheduler is None:
             return self.solvers.executor
-        with self._lock:
+        with self._dask_lock:
             if self._dask is None:
                 self._dask = DaskExecutor(self.settings.dask_scheduler)
             return self._dask

@@ -3,6 +3,10 @@ hypercube) on the local worker pool with 1 and 2 workers and on a 2-worker Dask 
 second, parallel efficiency from 1 to 2 workers, and the overhead per task against the bare variant function
 timed in this process in the same run. Rows go to a SQLite store as in the service.
 
+The overhead is shown two ways: all of it against the bare function's mean over a sample of the variants (this
+carries the sample's noise, and the slowdown of workers that share their cores with other work), and the time
+outside the tasks (dispatch, transfer, SQLite, polling), which is the runner's own cost.
+
 ``python -m bench.studies [variants]`` (default 10 000).
 """
 

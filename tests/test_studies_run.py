@@ -23,7 +23,7 @@ from api.client import SynthClient
 from api.schemas.common import FOURBAR_EXAMPLE
 from api.schemas.studies import StudyIn
 from api.settings import Settings
-from api.study_tasks import Limits, variant_function
+from api.study_tasks import Limits, run_endpoint, variant_function
 from synth.execution import DaskExecutor, LocalPoolExecutor, SerialExecutor
 
 ENDPOINT = "/v1/balancing/static"
@@ -102,6 +102,21 @@ def test_local_pool_and_dask_give_bit_identical_rows(serial_rows: list[synth.Var
         assert dask.workers == 2
         assert _run(dask) == serial_rows
         _cancel_midway(dask, serial_rows)
+        _service_on_dask(cluster.scheduler_address)
+
+
+def _service_on_dask(address: str) -> None:
+    """A service with SYNTH_DASK_SCHEDULER set sends its studies there; the rows are the endpoint's answers."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp, TestClient(create_app(Settings(
+            executor="serial", dask_scheduler=address, studies_db=f"{tmp}/s.sqlite"))) as http:
+        spec = {**SPEC, "parameters": [{"path": "mass_budget_kg", "values": [3.5, 5.0]}]}
+        handle = SynthClient(http=http).study(StudyIn.model_validate(spec))
+        assert handle.wait(timeout=60, poll_s=0.1).state == "done"
+        for row in handle.results():
+            answer = run_endpoint(ENDPOINT, LIMITS, {**SPEC["base"], "mass_budget_kg": row["mass_budget_kg"]})
+            assert row["total_added_mass_kg"] == answer["total_added_mass_kg"]
 
 
 class _SlowSink:
