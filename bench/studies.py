@@ -110,7 +110,7 @@ def main(variants: int = 10_000) -> None:
               f"load average now {os.getloadavg()[0]:.1f}")
         from distributed import Client, LocalCluster
 
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
                 Client(cluster) as client:
             dask = DaskExecutor(client=client)
             client.run(limit_threads)

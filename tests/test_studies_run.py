@@ -96,27 +96,39 @@ def test_local_pool_and_dask_give_bit_identical_rows(serial_rows: list[synth.Var
         _cancel_midway(pool, serial_rows)
     finally:
         pool.shutdown()
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
             Client(cluster, set_as_default=False) as client:
         dask = DaskExecutor(client=client)
         assert dask.workers == 2
         assert _run(dask) == serial_rows
-        _cancel_midway(dask, serial_rows)
         _service_on_dask(cluster.scheduler_address)
+        _cancel_midway(dask, serial_rows)
 
 
 def _service_on_dask(address: str) -> None:
-    """A service with SYNTH_DASK_SCHEDULER set sends its studies there; the rows are the endpoint's answers."""
+    """A service with SYNTH_DASK_SCHEDULER set sends its studies there; the rows are the endpoint's answers.
+
+    Driven below HTTP: FastAPI builds a route's validators on its first request under process-wide warning
+    filters, which Dask's threads in this process would race with."""
     import tempfile
 
-    with tempfile.TemporaryDirectory() as tmp, TestClient(create_app(Settings(
-            executor="serial", dask_scheduler=address, studies_db=f"{tmp}/s.sqlite"))) as http:
-        spec = {**SPEC, "parameters": [{"path": "mass_budget_kg", "values": [3.5, 5.0]}]}
-        handle = SynthClient(http=http).study(StudyIn.model_validate(spec))
-        assert handle.wait(timeout=60, poll_s=0.1).state == "done"
-        for row in handle.results():
-            answer = run_endpoint(ENDPOINT, LIMITS, {**SPEC["base"], "mass_budget_kg": row["mass_budget_kg"]})
-            assert row["total_added_mass_kg"] == answer["total_added_mass_kg"]
+    from api.solvers import Solvers
+    from api.study_runs import StudyRuns
+
+    with tempfile.TemporaryDirectory() as tmp:
+        settings = Settings(executor="serial", dask_scheduler=address, studies_db=f"{tmp}/s.sqlite")
+        runs = StudyRuns(settings, Solvers(settings))
+        try:
+            spec = StudyIn.model_validate({**SPEC, "parameters": [{"path": "mass_budget_kg", "values": [3.5, 5.0]}]})
+            study_id = runs.create(spec.model_dump(mode="json")).id
+            while runs.get(study_id).state == "running":
+                time.sleep(0.05)
+            assert isinstance(runs.executor(), DaskExecutor) and runs.get(study_id).state == "done"
+            for row in runs.store.rows(study_id):
+                answer = run_endpoint(ENDPOINT, LIMITS, {**SPEC["base"], "mass_budget_kg": row.values[0]})
+                assert row.metrics is not None and row.metrics[2] == answer["total_added_mass_kg"]
+        finally:
+            runs.shutdown()
 
 
 class _SlowSink:
@@ -143,6 +155,17 @@ def _cancel_midway(executor: synth.execution.Executor, serial_rows: list[synth.V
     runner.join(30)
     assert not runner.is_alive() and 3 <= len(sink.rows) < 50
     assert all(r == serial_rows[r.index] for r in sink.rows)
+    _drain(executor)
+
+
+def _drain(executor: synth.execution.Executor) -> None:
+    """Wait until a cancelled task that runs on in a thread of this process (serial, Dask in-process) is over:
+    solvers in it toggle process-wide warning filters, which an app built meanwhile would see."""
+    if isinstance(executor, DaskExecutor):
+        while any(executor.client.processing().values()):
+            time.sleep(0.05)
+    elif isinstance(executor, SerialExecutor):
+        executor.submit(abs, 0.0).result()
 
 
 def test_cancel_keeps_finished_rows_and_resume_runs_only_the_rest(serial_rows: list[synth.VariantRow]) -> None:
@@ -156,6 +179,7 @@ def test_cancel_keeps_finished_rows_and_resume_runs_only_the_rest(serial_rows: l
         assert sink.first.wait(60)
         cancel.set()
         runner.join(30)
+        _drain(executor)
         first = {r.index: r for r in sink.rows}
         assert 3 <= len(first) < 50
         missing = sorted(set(range(50)) - set(first))
@@ -233,7 +257,7 @@ def test_cancel_then_restart_then_resume(tmp_path: Path, serial_rows: list[synth
             time.sleep(0.05)
         cancelled = http.delete(f"/v1/studies/{study_id}").json()
         assert cancelled["state"] == "cancelled" and 3 <= cancelled["done"] < 50
-        time.sleep(0.3)
+        _drain(http.app.state.solvers.executor)  # type: ignore[attr-defined]
         assert http.get(f"/v1/studies/{study_id}").json()["done"] == cancelled["done"]   # nothing runs on
         kept = http.get(f"/v1/studies/{study_id}/results").json()["variants"]
     # A crash leaves the study marked running; a new service on the same file finds it interrupted.
