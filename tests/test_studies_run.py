@@ -246,6 +246,11 @@ def test_study_problems(service: SynthClient) -> None:
     assert bad_endpoint.status_code == 422 and bad_endpoint.json()["field"] == "endpoint"
     bad_metric = http.post("/v1/studies", json={**SPEC, "objectives": {"nothing": "min"}})
     assert bad_metric.status_code == 422
+    deep = '{"endpoint": "/v1/analysis", "base": ' + '{"a": ' * 300 + '1' + '}' * 300 + \
+        ', "parameters": [{"path": "a", "values": [1]}], "metrics": ["m"]}'
+    too_deep = http.post("/v1/studies", content=deep, headers={"content-type": "application/json"})
+    assert too_deep.status_code == 422 and too_deep.json()["field"] == "base"
+    assert http.get(f"/v1/studies/{'0' * 32}/pareto", params={"x": "nope"}).status_code == 404
 
 
 def test_cancel_then_restart_then_resume(tmp_path: Path, serial_rows: list[synth.VariantRow]) -> None:

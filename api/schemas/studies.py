@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 import synth
 
@@ -13,6 +13,8 @@ from .common import FOURBAR_EXAMPLE, StrictModel
 Path = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[A-Za-z0-9_\-]+(\.[A-Za-z0-9_\-]+)*$",
                             description="Dotted path: names and list indices separated by dots.")]
 Value = Annotated[float, Field(ge=-1e12, le=1e12)] | int | bool | Annotated[str, Field(max_length=200)]
+
+MAX_BASE_DEPTH = 32
 
 STUDY_EXAMPLE: dict[str, Any] = {
     "endpoint": "/v1/balancing/optimal",
@@ -90,6 +92,19 @@ class StudyIn(StrictModel):
     name: str | None = Field(None, max_length=200, description="A label for people.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [STUDY_EXAMPLE]})
+
+    @field_validator("base")
+    @classmethod
+    def _shallow(cls, base: dict[str, Any]) -> dict[str, Any]:
+        # Every design request is a few levels deep; a deeper body would only exhaust copying and serialising.
+        stack: list[tuple[Any, int]] = [(base, 1)]
+        while stack:
+            node, depth = stack.pop()
+            if depth > MAX_BASE_DEPTH:
+                raise ValueError(f"base is nested deeper than {MAX_BASE_DEPTH} levels")
+            children = node.values() if isinstance(node, dict) else node if isinstance(node, list) else ()
+            stack.extend((child, depth + 1) for child in children if isinstance(child, (dict, list)))
+        return base
 
     def to_engine(self) -> synth.Study:
         """The engine's study (checks paths, objectives and constraints against the metrics)."""
