@@ -14,6 +14,7 @@ from fastapi import APIRouter, FastAPI, Request
 from . import problems, routers
 from .settings import Settings
 from .solvers import Solvers
+from .study_runs import StudyRuns
 
 
 def _routers() -> list[APIRouter]:
@@ -30,11 +31,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the service with ``settings`` (default: from the environment)."""
     settings = settings or Settings.from_env()
     solvers = Solvers(settings)
+    studies = StudyRuns(settings, solvers)
 
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
         await asyncio.to_thread(solvers.start)
+        await asyncio.to_thread(studies.open)
         yield
+        studies.shutdown()
         solvers.shutdown()
 
     app = FastAPI(
@@ -48,6 +52,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.settings = settings
     app.state.solvers = solvers
+    app.state.studies = studies
     problems.install(app, settings)
 
     @app.get("/health", tags=["service"])

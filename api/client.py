@@ -40,6 +40,8 @@ from .schemas.synthesis import (
     SliderCrankSynthesisIn,
     SliderCrankSynthesisOut,
 )
+from .schemas.studies import StudyIn, StudyOut
+from .study_client import StudyHandle
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -266,3 +268,16 @@ class SynthClient:
     def synthesis_png(self, kind: str, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
         """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
         return self._post_png(f"/v1/synthesis/{kind}", body)
+
+    def study(self, body: StudyIn) -> StudyHandle:
+        """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""
+        # Sent whole: a null (objective_digits) means something here, unlike a left-out field elsewhere.
+        response = self.http.post("/v1/studies", json=body.model_dump(mode="json"))
+        self._raise_for_problem(response)
+        return StudyHandle(self, StudyOut.model_validate_json(response.content))
+
+    def study_handle(self, study_id: str) -> StudyHandle:
+        """A handle on an existing study, by id (for example after a restart of this program)."""
+        handle = StudyHandle(self, StudyOut.model_construct(id=study_id))
+        handle.status()
+        return handle

@@ -32,6 +32,10 @@ class Settings(BaseSettings):
                                   description="Address-space limit of each worker [MiB].")
     dask_scheduler: str | None = Field(None, description="Address of a Dask scheduler for studies "
                                                          "(tcp://host:8786); unset: the local workers.")
+    studies_db: str = Field("./synth-studies.sqlite", min_length=1,
+                            description="SQLite file holding design studies and their results.")
+    max_study_variants: int = Field(100_000, ge=1, le=10_000_000,
+                                    description="Variants per design study; 413 beyond it.")
 
     @classmethod
     def from_env(cls) -> Settings:

@@ -44,17 +44,29 @@ def render_task(render: Render, fn: Callable[..., Any], args: tuple[Any, ...], k
     return render(fn(*args, **kwargs))
 
 
-# One executor per configuration and process: apps built alike (tests, a reload) share their workers.
-_EXECUTORS: dict[tuple[str, int, int], Executor] = {}
+# One executor per configuration and process: apps built alike (tests, a reload) share their workers, and the
+# last app to shut down stops them.
+_EXECUTORS: dict[tuple[str, int, int], tuple[Executor, int]] = {}
 _EXECUTORS_LOCK = threading.Lock()
 
 
-def _shared_executor(kind: str, workers: int, memory_limit_mb: int) -> Executor:
+def _acquire_executor(kind: str, workers: int, memory_limit_mb: int) -> Executor:
     key = (kind, workers, memory_limit_mb)
     with _EXECUTORS_LOCK:
-        if key not in _EXECUTORS:
-            _EXECUTORS[key] = make_executor(kind, workers, memory_limit_mb=memory_limit_mb)
-        return _EXECUTORS[key]
+        executor, users = _EXECUTORS.get(key) or (make_executor(kind, workers, memory_limit_mb=memory_limit_mb), 0)
+        _EXECUTORS[key] = (executor, users + 1)
+        return executor
+
+
+def _release_executor(executor: Executor) -> None:
+    with _EXECUTORS_LOCK:
+        for key, (shared, users) in list(_EXECUTORS.items()):
+            if shared is executor:
+                if users > 1:
+                    _EXECUTORS[key] = (shared, users - 1)
+                    return
+                del _EXECUTORS[key]
+        executor.shutdown()
 
 
 class Solvers:
@@ -73,7 +85,7 @@ class Solvers:
         """The executor, started on first use so that importing the app spawns no process."""
         if self._executor is None:
             s = self.settings
-            self._executor = _shared_executor(s.executor, s.workers, s.worker_memory_mb)
+            self._executor = _acquire_executor(s.executor, s.workers, s.worker_memory_mb)
         return self._executor
 
     @property
@@ -109,14 +121,10 @@ class Solvers:
         self.executor.submit(abs, 0.0).result()
 
     def shutdown(self) -> None:
-        """Stop the executor's workers."""
+        """Let go of the executor; its workers stop when no other app of this process uses them."""
         if self._executor is not None:
-            with _EXECUTORS_LOCK:
-                for key, executor in list(_EXECUTORS.items()):
-                    if executor is self._executor:
-                        del _EXECUTORS[key]
-            self._executor.shutdown()
-            self._executor = None
+            executor, self._executor = self._executor, None
+            _release_executor(executor)
 
     async def run(self, deadline: float, fn: Callable[..., T], /, *args: Any, **kwargs: Any) -> T:
         """Run ``fn(*args, **kwargs)`` as a task that must finish by ``deadline`` (``time.monotonic()`` seconds)."""

@@ -149,6 +149,19 @@ from .synthesis import (
     synthesise_slider_crank,
     time_ratio_of,
 )
+from .studies import (
+    StudyConstraint,
+    StudyParameter,
+    RunReport,
+    Sampler,
+    Study,
+    StudyRecord,
+    StudyStore,
+    VariantRow,
+    pareto_mask,
+    run_study,
+    study_from_dict,
+)
 from .topology import Joint, Topology
 from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
@@ -344,4 +357,16 @@ __all__ = [
     "synthesise_path",
     "synthesise_slider_crank",
     "time_ratio_of",
+    # studies
+    "StudyConstraint",
+    "StudyParameter",
+    "RunReport",
+    "Sampler",
+    "Study",
+    "StudyRecord",
+    "StudyStore",
+    "VariantRow",
+    "pareto_mask",
+    "run_study",
+    "study_from_dict",
 ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,9 @@ from hypothesis import settings
 settings.register_profile("repeatable", derandomize=True, deadline=None)
 settings.register_profile("explore", deadline=None)
 settings.load_profile("explore" if os.environ.get("SYNTH_HYPOTHESIS_RANDOM") else "repeatable")
+
+# Studies started by tests (fuzzing included) go to a scratch database, never into the working directory.
+os.environ.setdefault("SYNTH_STUDIES_DB", str(Path(tempfile.mkdtemp(prefix="synth-tests-")) / "studies.sqlite"))
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("SYNTH_SHARED_DIR", REPO.parent / "shared"))

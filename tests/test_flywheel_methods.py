@@ -140,7 +140,7 @@ def test_motor_nlp_meets_the_true_coefficient_with_the_mean_a_result() -> None:
     result = synth.size_flywheel(cycle, w_m, delta, motor=MOTOR)
     nlp = result.method("motor_nlp")
     assert result.design_method == "motor_nlp"
-    # check: the NLP's inertia re-simulated by shooting on solve_ivp gives the target (issue: 1e-3)
+    # check: the NLP's inertia re-simulated (the periodic speed of the equation of motion) gives the target to 1e-3
     assert nlp.achieved_delta == pytest.approx(delta, rel=1e-3)
     # the linear characteristic fixes the angle-average speed whatever the inertia (balance of work)
     sp = nlp.speed

@@ -158,8 +158,8 @@ def _readme_requests() -> list[tuple[str, dict]]:
     for chunk in README.read_text().split("curl -s ")[1:]:
         path = re.match(r"'?http://127\.0\.0\.1:8000(/v1/[\w/-]+)", chunk)
         body = re.search(r"-d '(\{.*?\})'", chunk, re.S)
-        if path and body:
-            # A drawing answers DXF or SVG only: its body's warnings are those of the analysis it draws.
+        if path and body and not path.group(1).startswith("/v1/studies"):
+            # A study answers 202 and its rows are the design endpoints' answers. A drawing answers DXF or SVG only: its body's warnings are those of the analysis it draws.
             found.append((path.group(1).removesuffix("/drawing"), json.loads(body.group(1))))
     return found
 

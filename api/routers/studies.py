@@ -1,0 +1,104 @@
+"""/v1/studies: design studies over any design endpoint, run in the background; progress, cancel, resume,
+results (JSON pages or CSV) and the Pareto front (JSON or a scatter figure)."""
+
+from __future__ import annotations
+
+import asyncio
+from typing import Annotated, Any, Literal
+
+from fastapi import APIRouter, Depends, Query, Request
+from fastapi.responses import Response, StreamingResponse
+
+from ..deps import SolverDep
+from ..media import FormatQuery, json_response, png, wants_png
+from ..schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
+from ..study_runs import StudyRuns, scatter_png
+
+router = APIRouter(prefix="/studies", tags=["studies"])
+
+
+def get_studies(request: Request) -> StudyRuns:
+    """The app's design studies."""
+    studies: StudyRuns = request.app.state.studies
+    return studies
+
+
+StudiesDep = Annotated[StudyRuns, Depends(get_studies)]
+NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {
+    "description": "No study has this id.",
+    "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}},
+}}
+
+
+@router.post("", status_code=202, response_model=StudyOut)
+async def create_study(body: StudyIn, studies: StudiesDep, response: Response) -> StudyOut:
+    """Start a design study: every variant is a request to `endpoint` built from `base` with the parameters set;
+    answers 202 at once with the study's id and its `Location`. Follow it with GET on that location."""
+    record = await asyncio.to_thread(studies.create, body.model_dump(mode="json"))
+    out = StudyOut.from_record(record)
+    response.headers["Location"] = out.links.self
+    return out
+
+
+@router.get("", response_model=list[StudyOut])
+async def list_studies(
+    studies: StudiesDep,
+    offset: Annotated[int, Query(ge=0, le=100_000_000, description="Studies to skip.")] = 0,
+    limit: Annotated[int, Query(ge=1, le=1000, description="Studies per page.")] = 100,
+) -> list[StudyOut]:
+    """The latest studies first, with their state and progress."""
+    return [StudyOut.from_record(r) for r in await asyncio.to_thread(studies.recent, limit, offset)]
+
+
+@router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
+async def get_study(study_id: str, studies: StudiesDep) -> StudyOut:
+    """State, variants done of the total, failed variants, running time and the estimated time to finish."""
+    return StudyOut.from_record(await asyncio.to_thread(studies.get, study_id))
+
+
+@router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
+async def cancel_study(study_id: str, studies: StudiesDep) -> StudyOut:
+    """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
+    return StudyOut.from_record(await asyncio.to_thread(studies.cancel, study_id))
+
+
+@router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
+async def resume_study(study_id: str, studies: StudiesDep) -> StudyOut:
+    """Run the variants of a cancelled or interrupted study that have no result yet."""
+    return StudyOut.from_record(await asyncio.to_thread(studies.resume, study_id))
+
+
+@router.get("/{study_id}/results", response_model=ResultsOut,
+            responses={200: {"content": {"text/csv": {}}, "description": "A page of variants, or all as CSV."},
+                       **NOT_FOUND})
+async def study_results(
+    study_id: str, studies: StudiesDep,
+    offset: Annotated[int, Query(ge=0, le=100_000_000, description="First variant of the page.")] = 0,
+    limit: Annotated[int, Query(ge=1, le=10_000, description="Variants per page.")] = 1000,
+    format: Annotated[Literal["json", "csv"] | None, Query(description="`csv`: every variant as CSV.")] = None,
+) -> Response:
+    """The variants in index order with their parameters and metrics, or their problem type and message."""
+    if format == "csv":
+        chunks = await asyncio.to_thread(studies.csv, study_id)
+        return StreamingResponse(chunks, media_type="text/csv",
+                                 headers={"Content-Disposition": f'attachment; filename="study-{study_id}.csv"'})
+    record, rows = await asyncio.to_thread(studies.page, study_id, offset, limit)
+    return json_response(ResultsOut.from_page(record, rows, offset, limit))
+
+
+@router.get("/{study_id}/pareto", response_model=ParetoOut,
+            responses={200: {"content": {"image/png": {}}, "description": "The front, or with ?format=png a "
+                                                                          "scatter of two metrics with it drawn."},
+                       **NOT_FOUND})
+async def study_pareto(
+    study_id: str, request: Request, studies: StudiesDep, solvers: SolverDep, format: FormatQuery = None,
+    x: Annotated[str | None, Query(max_length=200, description="Metric on the figure's x axis.")] = None,
+    y: Annotated[str | None, Query(max_length=200, description="Metric on the figure's y axis.")] = None,
+) -> Response:
+    """The feasible variants no other feasible variant beats in every objective; `?format=png` draws every
+    variant over metrics `x` and `y` (default: the first two objectives) with the front."""
+    if wants_png(request, format):
+        scatter = await asyncio.to_thread(studies.scatter, study_id, x, y)
+        return png(await solvers.run(scatter_png, scatter))
+    front = await asyncio.to_thread(studies.pareto, study_id)
+    return json_response(ParetoOut.from_front(front.record, front.candidates, front.rows))

@@ -1,0 +1,204 @@
+"""Schemas of /v1/studies: many variants of one design request, their results and their Pareto front."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+import synth
+
+from .common import FOURBAR_EXAMPLE, StrictModel
+
+Path = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[A-Za-z0-9_\-]+(\.[A-Za-z0-9_\-]+)*$",
+                            description="Dotted path: names and list indices separated by dots.")]
+Value = Annotated[float, Field(ge=-1e12, le=1e12)] | int | bool | Annotated[str, Field(max_length=200)]
+
+MAX_BASE_DEPTH = 32
+
+STUDY_EXAMPLE: dict[str, Any] = {
+    "endpoint": "/v1/balancing/optimal",
+    "base": {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 90,
+             "max_radius_m": {"crank": 0.1, "rocker": 0.25},
+             "weights": {"shaking_force": 1.0, "driving_torque": 0.5}},
+    "parameters": [
+        {"path": "mechanism.crank_length_m", "range": [0.06, 0.12], "count": 4},
+        {"path": "mass_budget_kg", "values": [1.0, 2.0, 4.0]},
+    ],
+    "sampling": "grid",
+    "metrics": ["summary_after.rms_shaking_force_N", "summary_after.rms_driving_torque_Nm", "total_added_mass_kg"],
+    "objectives": {"summary_after.rms_shaking_force_N": "min", "total_added_mass_kg": "min"},
+    "constraints": [{"metric": "summary_after.rms_driving_torque_Nm", "max": 40.0}],
+}
+
+
+class StudyParameterIn(StrictModel):
+    """One varied field of the base request: explicit values, or a range with a grid count (grid) or drawn
+    uniformly (random, lhs)."""
+
+    path: Path
+    values: list[Value] | None = Field(None, min_length=1, max_length=10_000,
+                                       description="Explicit values, used as they are.")
+    range: list[Annotated[float, Field(ge=-1e12, le=1e12)]] | None = Field(
+        None, min_length=2, max_length=2, description="Lowest and highest value, in the field's unit.")
+    count: int | None = Field(None, ge=1, le=10_000_000, description="Grid points over the range.")
+    distribution: Literal["uniform"] = Field("uniform", description="How random and lhs sampling spread a range.")
+    integer: bool = Field(False, description="Round values drawn from a range to whole numbers.")
+
+    @model_validator(mode="after")
+    def _one_source(self) -> StudyParameterIn:
+        if (self.values is None) == (self.range is None):
+            raise ValueError("give either values or a range")
+        if self.range is not None and self.range[0] > self.range[1]:
+            raise ValueError("range must be [low, high] with low <= high")
+        return self
+
+
+class StudyConstraintIn(StrictModel):
+    """Bounds on a metric; a variant outside them is infeasible and never on the Pareto front."""
+
+    metric: Path
+    min: float | None = None
+    max: float | None = None
+
+    @model_validator(mode="after")
+    def _a_bound(self) -> StudyConstraintIn:
+        if self.min is None and self.max is None:
+            raise ValueError("give min, max or both")
+        return self
+
+
+class StudyIn(StrictModel):
+    """A design study: the variants of one design request, the metrics read from each answer, and what is best."""
+
+    endpoint: str = Field(max_length=100, description="The design endpoint each variant is sent to, "
+                                                      "e.g. /v1/balancing/optimal.")
+    base: dict[str, Any] = Field(description="That endpoint's request body, which every variant starts from.")
+    parameters: list[StudyParameterIn] = Field(min_length=1, max_length=16)
+    sampling: Literal["grid", "random", "lhs"] = Field(
+        "grid", description="grid: every combination; random: uniform draws; lhs: a Latin hypercube.")
+    samples: int | None = Field(None, ge=1, le=10_000_000, description="Variants drawn by random and lhs.")
+    seed: int = Field(0, ge=0, le=2**63 - 1, description="Seed of random and lhs; the same seed, the same variants.")
+    metrics: list[Path] = Field(min_length=1, max_length=32,
+                                description="Dotted paths into the endpoint's answer, e.g. "
+                                            "summary_after.rms_shaking_force_N.")
+    objectives: dict[str, Literal["min", "max"]] = Field(default_factory=dict, max_length=8,
+                                                         description="Metric -> min or max, for the Pareto front.")
+    constraints: list[StudyConstraintIn] = Field(default_factory=list, max_length=32)
+    objective_digits: int | None = Field(
+        9, ge=1, le=17, description="Objectives are compared on the Pareto front to this many significant digits "
+                                    "of their largest value, so solver noise does not split designs that are "
+                                    "equal; null: exactly.")
+    name: str | None = Field(None, max_length=200, description="A label for people.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [STUDY_EXAMPLE]})
+
+    @field_validator("base")
+    @classmethod
+    def _shallow(cls, base: dict[str, Any]) -> dict[str, Any]:
+        # Every design request is a few levels deep; a deeper body would only exhaust copying and serialising.
+        stack: list[tuple[Any, int]] = [(base, 1)]
+        while stack:
+            node, depth = stack.pop()
+            if depth > MAX_BASE_DEPTH:
+                raise ValueError(f"base is nested deeper than {MAX_BASE_DEPTH} levels")
+            children = node.values() if isinstance(node, dict) else node if isinstance(node, list) else ()
+            stack.extend((child, depth + 1) for child in children if isinstance(child, (dict, list)))
+        return base
+
+    def to_engine(self) -> synth.Study:
+        """The engine's study (checks paths, objectives and constraints against the metrics)."""
+        return synth.study_from_dict(self.model_dump())
+
+
+class StudyLinks(BaseModel):
+    """Where to find a study's parts."""
+
+    self: str
+    results: str
+    pareto: str
+
+
+class StudyOut(BaseModel):
+    """A study's state and progress."""
+
+    id: str
+    name: str | None
+    endpoint: str
+    state: Literal["queued", "running", "done", "cancelled", "interrupted", "failed"]
+    total: int = Field(description="Variants in the study.")
+    done: int = Field(description="Variants with a result (failed ones included).")
+    failed: int = Field(description="Variants that ended as a problem (not assemblable, infeasible, ...).")
+    elapsed_s: float = Field(description="Running time over all runs [s].")
+    eta_s: float | None = Field(description="Estimated time to finish [s], while running.")
+    created_at: float = Field(description="Creation time [s since the epoch].")
+    message: str | None = Field(None, description="Why the study failed or stopped.")
+    links: StudyLinks
+
+    @classmethod
+    def from_record(cls, r: synth.StudyRecord) -> StudyOut:
+        """Schema from the stored study."""
+        base = f"/v1/studies/{r.id}"
+        return cls(id=r.id, name=r.spec.get("name"), endpoint=r.spec["endpoint"], state=r.state,  # type: ignore[arg-type]
+                   total=r.total, done=r.done, failed=r.failed, elapsed_s=round(r.elapsed_s, 3),
+                   eta_s=None if r.eta_s is None else round(r.eta_s, 1), created_at=r.created_at,
+                   message=r.message, links=StudyLinks(self=base, results=f"{base}/results", pareto=f"{base}/pareto"))
+
+
+class VariantOut(BaseModel):
+    """One variant: its parameter values and metrics, or the problem it ended with."""
+
+    index: int
+    parameters: dict[str, Any]
+    metrics: dict[str, float | None] | None
+    feasible: bool | None = Field(description="Within every constraint; null when the variant failed.")
+    problem_type: str | None = Field(None, description="Problem type URI, as the endpoint would answer it.")
+    detail: str | None = None
+
+    @classmethod
+    def from_row(cls, row: synth.VariantRow, paths: list[str], metrics: list[str]) -> VariantOut:
+        """Schema from a stored row."""
+        return cls(index=row.index, parameters=dict(zip(paths, row.values)),
+                   metrics=None if row.metrics is None else dict(zip(metrics, row.metrics)),
+                   feasible=row.feasible, problem_type=None if row.ok else f"/problems/{row.problem_type}",
+                   detail=row.detail)
+
+
+class ResultsOut(BaseModel):
+    """A page of a study's variants in index order."""
+
+    id: str
+    total: int
+    done: int
+    offset: int
+    limit: int
+    parameters: list[str] = Field(description="The varied paths, in order.")
+    metrics: list[str] = Field(description="The collected metrics, in order.")
+    variants: list[VariantOut]
+
+    @classmethod
+    def from_page(cls, r: synth.StudyRecord, rows: list[synth.VariantRow], offset: int, limit: int) -> ResultsOut:
+        """Schema from a stored page of rows."""
+        paths, metrics = _columns(r)
+        return cls(id=r.id, total=r.total, done=r.done, offset=offset, limit=limit, parameters=paths, metrics=metrics,
+                   variants=[VariantOut.from_row(row, paths, metrics) for row in rows])
+
+
+class ParetoOut(BaseModel):
+    """The feasible variants no other feasible variant beats in every objective."""
+
+    id: str
+    objectives: dict[str, Literal["min", "max"]]
+    candidates: int = Field(description="Feasible variants the front was chosen from.")
+    front: list[VariantOut]
+
+    @classmethod
+    def from_front(cls, r: synth.StudyRecord, candidates: int, rows: list[synth.VariantRow]) -> ParetoOut:
+        """Schema from the rows on the front."""
+        paths, metrics = _columns(r)
+        return cls(id=r.id, objectives=r.spec["objectives"], candidates=candidates,
+                   front=[VariantOut.from_row(row, paths, metrics) for row in rows])
+
+
+def _columns(r: synth.StudyRecord) -> tuple[list[str], list[str]]:
+    return [p["path"] for p in r.spec["parameters"]], list(r.spec["metrics"])

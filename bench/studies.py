@@ -1,0 +1,135 @@
+"""A design study of four-bar link lengths and counterweight budgets (static balancing at 90 samples, Latin
+hypercube) on the local worker pool with 1 and 2 workers and on a 2-worker Dask LocalCluster: variants per
+second, parallel efficiency from 1 to 2 workers, and the overhead per task against the bare variant function
+timed in this process in the same run. Rows go to a SQLite store as in the service.
+
+The overhead is shown two ways: all of it against the bare function's mean over a sample of the variants (this
+carries the sample's noise, and the slowdown of workers that share their cores with other work), and the time
+outside the tasks (dispatch, transfer, SQLite, polling), which is the runner's own cost.
+
+``python -m bench.studies [variants]`` (default 10 000).
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import tempfile
+import time
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import synth
+from api.schemas.common import FOURBAR_EXAMPLE
+from api.study_tasks import Limits, variant_function
+from synth.execution import DaskExecutor, Executor, LocalPoolExecutor, limit_threads
+from synth.studies import BatchSpec, run_batch, variant_request
+
+ENDPOINT = "/v1/balancing/static"
+LIMITS = Limits(max_samples=20_000, max_stages=6, solver_time_limit_s=20.0)
+
+
+def study_spec(variants: int) -> dict[str, Any]:
+    """Link lengths within a frame of 0.30 m and a counterweight budget, drawn as a Latin hypercube."""
+    return {
+        "endpoint": ENDPOINT,
+        "base": {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 90,
+                 "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
+        "parameters": [{"path": "mechanism.crank_length_m", "range": [0.05, 0.12]},
+                       {"path": "mechanism.coupler_length_m", "range": [0.30, 0.40]},
+                       {"path": "mechanism.rocker_length_m", "range": [0.20, 0.30]},
+                       {"path": "mass_budget_kg", "range": [2.0, 6.0]}],
+        "sampling": "lhs", "samples": variants, "seed": 1,
+        "metrics": ["summary_after.rms_shaking_force_N", "summary_after.rms_driving_torque_Nm",
+                    "total_added_mass_kg"],
+        "objectives": {"summary_after.rms_driving_torque_Nm": "min", "total_added_mass_kg": "min"},
+    }
+
+
+def bare_seconds(study: synth.Study, count: int) -> float:
+    """Mean time of the variant function called directly in this process over the first ``count`` variants,
+    failing ones included as in the study [s]."""
+    fn = variant_function(ENDPOINT, LIMITS)
+    sampler = synth.Sampler(study)
+    fn(variant_request(study.base, study.parameter_paths, sampler.values(0)))   # imports and first builds
+    times = []
+    for i in range(count):
+        request = variant_request(study.base, study.parameter_paths, sampler.values(i))
+        t0 = time.perf_counter()
+        try:
+            fn(request)
+        except synth.SynthError:
+            pass
+        times.append(time.perf_counter() - t0)
+    return statistics.fmean(times)
+
+
+def timed_run(study: synth.Study, executor: Executor, db: Path) -> tuple[float, synth.RunReport]:
+    """Wall time of the whole study on ``executor`` with rows written to a fresh store [s]."""
+    store = synth.StudyStore(db)
+    study_id = store.create({"bench": True}, study.variant_count)
+    # Workers started and warm (engine and web schemas imported, solvers loaded) before the clock, as in a service
+    # that has answered requests.
+    spec = BatchSpec(variant_function(ENDPOINT, LIMITS), dict(study.base), study.parameter_paths, study.metrics,
+                     study.constraints)
+    sampler = synth.Sampler(study)
+    for future in [executor.submit(run_batch, spec, [(i, sampler.values(i))]) for i in range(3 * executor.workers)]:
+        future.result()
+    t0 = time.perf_counter()
+    report = synth.run_study(study, variant_function(ENDPOINT, LIMITS), executor,
+                             partial(store.write_rows, study_id))
+    wall = time.perf_counter() - t0
+    assert store.get(study_id).done == study.variant_count  # type: ignore[union-attr]
+    return wall, report
+
+
+def main(variants: int = 10_000) -> None:
+    """Print the figures."""
+    limit_threads()
+    study = synth.study_from_dict(study_spec(variants))
+    bare = bare_seconds(study, min(variants, 200))
+    print(f"study: {variants} variants of {ENDPOINT} at 90 samples (LHS over 3 link lengths and the budget); "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start")
+    print(f"bare variant function in this process: mean {bare * 1e3:.1f} ms over {min(variants, 200)} variants")
+    results: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for workers in (1, 2):
+            pool = LocalPoolExecutor(workers)
+            try:
+                wall, report = timed_run(study, pool, Path(tmp) / f"pool{workers}.sqlite")
+            finally:
+                pool.shutdown()
+            results[f"pool{workers}"] = wall
+            print(f"local pool, {workers} worker(s): {wall:.1f} s, {variants / wall:.1f} variants/s, "
+                  f"{report.tasks} tasks of median {report.task_s:.2f} s, {report.failed} failed variants")
+            _overheads(wall, workers, variants, bare, report)
+        efficiency = results["pool1"] / (2 * results["pool2"])
+        print(f"parallel efficiency 1 -> 2 workers: {efficiency * 100:.0f} % (goal >= 80 %); "
+              f"load average now {os.getloadavg()[0]:.1f}")
+        from distributed import Client, LocalCluster
+
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
+                Client(cluster) as client:
+            dask = DaskExecutor(client=client)
+            client.run(limit_threads)
+            wall, report = timed_run(study, dask, Path(tmp) / "dask.sqlite")
+        print(f"Dask LocalCluster, 2 workers: {wall:.1f} s, {variants / wall:.1f} variants/s, {report.tasks} tasks; "
+              f"ratio to the 2-worker local pool: {wall / results['pool2']:.2f}")
+        _overheads(wall, 2, variants, bare, report)
+
+
+def _overheads(wall: float, workers: int, variants: int, bare: float, report: synth.RunReport) -> None:
+    # Three views of the cost: all of it against the bare function; the part outside the tasks (dispatch, result
+    # transfer, SQLite, polling), which the runner controls; and how busy it kept the workers.
+    total = (wall * workers - variants * bare) / report.tasks
+    dispatch = (wall * workers - report.busy_s) / report.tasks
+    print(f"    overhead per task against the bare function {total * 1e3:.1f} ms "
+          f"({total / max(report.task_s, 1e-9) * 100:.1f} % of a median task); outside the tasks "
+          f"{dispatch * 1e3:.1f} ms; workers busy {report.busy_s / (wall * workers) * 100:.0f} % of the wall time, "
+          f"{report.busy_s / variants * 1e3:.1f} ms per variant inside the tasks")
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10_000)
