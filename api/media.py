@@ -122,8 +122,8 @@ def png(content: bytes) -> Response:
 
 
 def file_headers(fmt: str, stem: str) -> dict[str, str] | None:
-    """CSV and DXF answers come as files named ``stem``.csv or .dxf."""
-    return {"content-disposition": f'attachment; filename="{stem}.{fmt}"'} if fmt in ("csv", "dxf") else None
+    """CSV, DXF and PDF answers come as files named ``stem``.csv, .dxf or .pdf."""
+    return {"content-disposition": f'attachment; filename="{stem}.{fmt}"'} if fmt in ("csv", "dxf", "pdf") else None
 
 
 @dataclass(frozen=True, slots=True)

@@ -15,16 +15,19 @@ import math
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any, TypeVar
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, TypeVar
 
-from fastapi import Response
+from fastapi import Request, Response
 
 from synth.errors import SolverTimeout
 from synth.execution import Executor, make_executor
 
-from .media import Render
+from .media import Render, file_headers, negotiate
 from .settings import Settings
+
+if TYPE_CHECKING:
+    from .plans import Plan
 
 T = TypeVar("T")
 
@@ -53,7 +56,9 @@ _EXECUTORS_LOCK = threading.Lock()
 def _acquire_executor(kind: str, workers: int, memory_limit_mb: int) -> Executor:
     key = (kind, workers, memory_limit_mb)
     with _EXECUTORS_LOCK:
-        executor, users = _EXECUTORS.get(key) or (make_executor(kind, workers, memory_limit_mb=memory_limit_mb), 0)
+        # Workers import the plans (schemas, exports) once in the fork server, not on their first request.
+        executor, users = _EXECUTORS.get(key) or (
+            make_executor(kind, workers, memory_limit_mb=memory_limit_mb, preload=["api.plans"]), 0)
         _EXECUTORS[key] = (executor, users + 1)
         return executor
 
@@ -180,3 +185,10 @@ class RequestSolvers:
         """Run engine work in a worker and answer with the bytes ``render`` made of its result there."""
         content, media_type = await self.solvers.run(self.deadline, render_task, render, fn, args, kwargs)
         return Response(content=content, media_type=media_type, headers=headers)
+
+    async def answer_plan(self, plan: Plan, request: Request, fmt: str | None = None) -> Response:
+        """Answer with ``plan`` in the format the request asks for among those the plan offers."""
+        chosen = negotiate(request, fmt, plan.offered)
+        render = replace(plan.render, fmt=chosen)
+        return await self.answer(render, plan.fn, *plan.args, headers=file_headers(chosen, plan.stem),
+                                 **plan.kwargs)

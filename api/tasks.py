@@ -13,6 +13,7 @@ from synth.exports import analysis_export, balance_export, flywheel_export, mech
 from synth.machine.report import design_report_pdf, design_summary_png
 from synth.synthesis.plots import extremes_png, path_png
 
+from .schemas.balancing import RotorOut
 from .schemas.flywheel import FlywheelOut
 from .schemas.machine import MachineDesignOut
 
@@ -35,6 +36,11 @@ def mechanism_drawing(linkage: synth.Linkage, speed: float, samples: int, phi: A
 def optimal_file(results: list[synth.BalanceResult], fmt: str) -> bytes:
     """The optimal design's figure (with the sweep's trade-off curve), curves or drawing."""
     return balance_export(results[0], fmt, sweep=results[1:])
+
+
+def rotor_out(result: synth.RotorBalance, rotor: Any) -> RotorOut:
+    """A rotor's corrections with the check of the request against them."""
+    return RotorOut.from_engine(result, synth.check_rotor(rotor, result))
 
 
 def flywheel_from_tables(cycle: synth.ReducedCycle, mean_speed: float, delta: float,

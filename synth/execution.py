@@ -19,7 +19,7 @@ import multiprocessing
 import os
 import resource
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, Protocol, TypeVar
 
 from .errors import SolverTimeout, TooLarge, WorkerLost
@@ -99,9 +99,11 @@ class LocalPoolExecutor:
         Number of worker processes [-]; each runs one task at a time.
     memory_limit_mb
         Address-space limit of each worker [MiB]; ``None`` for none.
+    preload
+        Modules the fork server imports besides the engine (those the tasks' functions live in).
     """
 
-    def __init__(self, workers: int, memory_limit_mb: int | None = None) -> None:
+    def __init__(self, workers: int, memory_limit_mb: int | None = None, preload: Sequence[str] = ()) -> None:
         import pebble
 
         if workers < 1:
@@ -109,7 +111,7 @@ class LocalPoolExecutor:
         self.workers = workers
         context = multiprocessing.get_context("forkserver")
         # Forked from a server that imported the engine once: a replaced worker is ready in milliseconds.
-        context.set_forkserver_preload(["numpy", "scipy.linalg", "synth"])
+        context.set_forkserver_preload(["numpy", "scipy.linalg", "synth", *preload])
         limit = memory_limit_mb * 2**20 if memory_limit_mb else None
         self._pool = pebble.ProcessPool(max_workers=workers, initializer=_init_worker, initargs=(limit,),
                                         context=context)
@@ -238,12 +240,12 @@ def _expire(outer: cf.Future[Any], timeout: float) -> None:
 
 
 def make_executor(kind: str, workers: int = 0, dask_address: str | None = None,
-                  memory_limit_mb: int | None = None) -> Executor:
+                  memory_limit_mb: int | None = None, preload: Sequence[str] = ()) -> Executor:
     """An executor by name: ``serial``, ``pool`` (``workers`` processes; 0 means one per core) or ``dask``."""
     if kind == "serial":
         return SerialExecutor()
     if kind == "pool":
-        return LocalPoolExecutor(workers or os.cpu_count() or 1, memory_limit_mb)
+        return LocalPoolExecutor(workers or os.cpu_count() or 1, memory_limit_mb, preload)
     if kind == "dask":
         return DaskExecutor(dask_address)
     raise ValueError(f"unknown executor {kind!r}; expected serial, pool or dask")

@@ -1,0 +1,250 @@
+"""What each design endpoint runs: a validated request turned into one engine call and the way its answer is written.
+
+A :class:`Plan` is plain data: the engine function and its arguments, and the :class:`~api.media.Render` that turns
+the result into JSON or an export in the worker. The routers answer a request with its plan, and a design study
+runs the same plans for its variants, so a study row is exactly what the endpoint would answer.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from pydantic import BaseModel
+
+import synth
+from synth.exports import balance_export
+
+from .media import FIGURES, Render
+from .schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from .schemas.balancing import (
+    BalanceIn,
+    BalanceOut,
+    FullBalanceIn,
+    OptimalBalanceIn,
+    OptimalBalanceOut,
+    RotorIn,
+    SliderCrankBalanceIn,
+    SliderCrankBalanceOut,
+)
+from .schemas.flywheel import FlywheelIn
+from .schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
+from .schemas.machine import MachineIn
+from .schemas.structure import StructureIn, StructureOut
+from .schemas.synthesis import (
+    CrankRockerIn,
+    CrankRockerOut,
+    PathIn,
+    PathOut,
+    SliderCrankSynthesisIn,
+    SliderCrankSynthesisOut,
+)
+from .schemas.train import TrainIn, TrainOut
+from .settings import Settings
+from .tasks import (
+    analysis_file,
+    crank_rocker_png,
+    design_file,
+    design_machine,
+    design_out,
+    flywheel_file,
+    flywheel_for_linkage,
+    flywheel_from_tables,
+    flywheel_out,
+    optimal_file,
+    path_file,
+    rotor_out,
+    slider_crank_png,
+)
+
+CURVES = (*FIGURES, "csv", "dxf")
+
+
+@dataclass(frozen=True, slots=True)
+class Limits:
+    """The service limits every plan runs under, a single request's and a study variant's alike."""
+
+    max_samples: int
+    max_stages: int
+    solver_time_limit_s: float
+
+    @classmethod
+    def from_settings(cls, settings: Settings) -> Limits:
+        """The limits of a service instance."""
+        return cls(settings.max_samples, settings.max_stages, settings.solver_time_limit_s)
+
+
+@dataclass(frozen=True, slots=True)
+class Plan:
+    """One engine call and how its answer is written; ``offered`` are the formats besides JSON, ``stem`` names
+    the file of a CSV or DXF answer."""
+
+    render: Render
+    fn: Callable[..., Any]
+    args: tuple[Any, ...] = ()
+    kwargs: dict[str, Any] = field(default_factory=dict)
+    offered: tuple[str, ...] = ()
+    stem: str = "answer"
+
+
+def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan:
+    """POST /v1/analysis."""
+    return Plan(Render(AnalysisOut.from_engine, analysis_file, export_extra=(plot_angle(b, angle_deg),)),
+                synth.analyse, (b.to_linkage(), b.omega_rad_s),
+                dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
+                     max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors()),
+                CURVES, "analysis")
+
+
+def balance_static(b: BalanceIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/static."""
+    return Plan(Render(BalanceOut.from_engine, balance_export), synth.balance_static,
+                (b.to_linkage(), b.omega_rad_s, b.spec()),
+                dict(samples=b.samples, objective=b.objective, mass_budget=b.mass_budget_kg,
+                     time_limit_s=lim.solver_time_limit_s, method=b.method),
+                CURVES, "balance_static")
+
+
+def balance_full(b: FullBalanceIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/full."""
+    return Plan(Render(BalanceOut.from_engine, balance_export), synth.balance_full,
+                (b.to_linkage(), b.omega_rad_s, b.spec()),
+                dict(samples=b.samples, ratios=b.rotor_ratios, time_limit_s=lim.solver_time_limit_s),
+                CURVES, "balance_full")
+
+
+def balance_optimal(b: OptimalBalanceIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/optimal: the request's weights first, then the sweep's."""
+    weight_sets = [w.to_engine() for w in [b.weights, *b.sweep]]
+    return Plan(Render(OptimalBalanceOut.from_results, optimal_file), synth.tradeoff,
+                (b.to_linkage(), b.omega_rad_s, b.spec(), weight_sets),
+                dict(mass_budget=b.mass_budget_kg, samples=b.samples, time_limit_s=lim.solver_time_limit_s,
+                     weight_scale=b.weight_scale),
+                CURVES, "balance_optimal")
+
+
+def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/rotor."""
+    rotor = b.to_engine()
+    render = Render(rotor_out, model_extra=(rotor,))
+    if b.mode == "static":
+        return Plan(render, synth.balance_rotor_static, (rotor, b.correction_radius_m, b.correction_plane_m))
+    return Plan(render, synth.balance_rotor_dynamic,
+                (rotor, (b.planes_m[0], b.planes_m[1]), (b.radii_m[0], b.radii_m[1])))
+
+
+def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/slider-crank."""
+    linkage = b.to_linkage()
+    return Plan(Render(SliderCrankBalanceOut.from_engine, model_extra=(synth.check_linkage(linkage),)),
+                synth.balance_slider_crank, (linkage, b.omega_rad_s),
+                dict(counterweight_radius=b.counterweight_radius_m,
+                     balancer_radii=(b.balancer_radii_m[0], b.balancer_radii_m[1]), orders=b.orders,
+                     samples=b.samples))
+
+
+def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
+    """POST /v1/flywheel: from tables, or from a linkage analysed at its mean speed."""
+    mean_speed, delta = b.mean_speed(), b.target_delta()
+    geometry = None if b.geometry is None else b.geometry.to_engine()
+    sizing = dict(constant_inertia=b.constant_inertia_kgm2, motor=None if b.motor is None else b.motor.to_engine(),
+                  time_limit_s=lim.solver_time_limit_s)
+    render = Render(flywheel_out, flywheel_file)
+    offered = (*FIGURES, "csv")
+    if b.uses_tables():
+        assert b.tables is not None
+        return Plan(render, flywheel_from_tables,
+                    (b.tables.to_cycle(b.cycle_deg, lim.max_samples), mean_speed, delta, geometry), sizing,
+                    offered, "flywheel")
+    return Plan(render, flywheel_for_linkage,
+                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry), sizing, offered, "flywheel")
+
+
+def gears_split(b: SplitIn, lim: Limits) -> Plan:
+    """POST /v1/gears/split."""
+    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
+    return Plan(Render(SplitOut.from_engine, model_extra=(stages,)), synth.split_ratio,
+                (b.ratio(), stages, b.objective),
+                dict(inertia=b.inertia_model(b.motor_inertia_kgm2), input_torque=b.input_torque_Nm,
+                     handbook_factor=b.handbook_factor, snap_r20=b.snap_r20, snap_tolerance=b.snap_tolerance,
+                     time_limit_s=lim.solver_time_limit_s))
+
+
+def gears_teeth(b: TeethIn, lim: Limits) -> Plan:
+    """POST /v1/gears/teeth."""
+    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
+    return Plan(Render(TeethOut.from_engine), synth.tooth_numbers, (b.total_ratio, stages, b.rules(), b.tolerance),
+                dict(planets=b.planets))
+
+
+def gears_drive(b: DriveIn, lim: Limits) -> Plan:
+    """POST /v1/gears/drive."""
+    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
+    return Plan(Render(DriveOut.from_engine, model_extra=(stages,)), synth.design_drive,
+                (b.output_power_W, b.output_speed(), stages),
+                dict(reserve_factor=b.reserve_factor, drive_efficiency=b.drive_efficiency,
+                     synchronous_speed=b.synchronous_speed(), motor=b.motor, objective=b.objective,
+                     torque_basis=b.torque_basis, inertia=b.inertia_model(), snap_r20=b.snap_r20,
+                     snap_tolerance=b.snap_tolerance, time_limit_s=lim.solver_time_limit_s,
+                     catalogue=b.catalogue()))
+
+
+def gears_train(b: TrainIn, lim: Limits) -> Plan:
+    """POST /v1/gears/train."""
+    return Plan(Render(TrainOut.from_engine), synth.gear_train, (b.to_engine(),),
+                dict(module=b.module_m, input_speed=b.input_speed_rad_s, output_speed=b.output_speed_rad_s))
+
+
+def structure(b: StructureIn, lim: Limits) -> Plan:
+    """POST /v1/structure."""
+    return Plan(Render(StructureOut.from_engine), synth.analyse_structure,
+                (b.links, [p.to_engine() for p in b.pairs]),
+                dict(frame=b.frame, planar=b.planar, input_links=b.input_links, known_mobility=b.known_mobility))
+
+
+def synthesis_crank_rocker(b: CrankRockerIn, lim: Limits) -> Plan:
+    """POST /v1/synthesis/crank-rocker."""
+    return Plan(Render(CrankRockerOut.from_engine, crank_rocker_png, model_extra=(b.omega_rad_s,)),
+                synth.synthesise_crank_rocker, (b.to_spec(),), offered=("png",))
+
+
+def synthesis_slider_crank(b: SliderCrankSynthesisIn, lim: Limits) -> Plan:
+    """POST /v1/synthesis/slider-crank."""
+    return Plan(Render(SliderCrankSynthesisOut.from_engine, slider_crank_png, model_extra=(b.omega_rad_s,)),
+                synth.synthesise_slider_crank, (b.to_spec(),), offered=("png",))
+
+
+def synthesis_path(b: PathIn, lim: Limits) -> Plan:
+    """POST /v1/synthesis/path."""
+    spec = b.to_spec(lim.solver_time_limit_s)
+    return Plan(Render(PathOut.from_engine, path_file, export_extra=(spec.targets,)), synth.synthesise_path,
+                (spec,), offered=("png",))
+
+
+def machine_design(b: MachineIn, lim: Limits) -> Plan:
+    """POST /v1/machines/design: the design and, when asked, its alternatives; a summary PNG or the PDF report."""
+    return Plan(Render(design_out, design_file), design_machine,
+                (b.to_engine(lim.max_stages), b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
+                stem="machine-design")
+
+
+# The design endpoints by path: request schema and plan. A study may vary any of them.
+PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
+    "/v1/analysis": (AnalysisIn, analysis),
+    "/v1/balancing/static": (BalanceIn, balance_static),
+    "/v1/balancing/full": (FullBalanceIn, balance_full),
+    "/v1/balancing/optimal": (OptimalBalanceIn, balance_optimal),
+    "/v1/balancing/rotor": (RotorIn, balance_rotor),
+    "/v1/balancing/slider-crank": (SliderCrankBalanceIn, balance_slider_crank),
+    "/v1/flywheel": (FlywheelIn, flywheel),
+    "/v1/gears/split": (SplitIn, gears_split),
+    "/v1/gears/teeth": (TeethIn, gears_teeth),
+    "/v1/gears/drive": (DriveIn, gears_drive),
+    "/v1/gears/train": (TrainIn, gears_train),
+    "/v1/structure": (StructureIn, structure),
+    "/v1/synthesis/crank-rocker": (CrankRockerIn, synthesis_crank_rocker),
+    "/v1/synthesis/slider-crank": (SliderCrankSynthesisIn, synthesis_slider_crank),
+    "/v1/synthesis/path": (PathIn, synthesis_path),
+    "/v1/machines/design": (MachineIn, machine_design),
+}
