@@ -7,7 +7,7 @@ import pkgutil
 
 from fastapi import APIRouter, FastAPI
 
-from . import problems, routers
+from . import manual, problems, routers
 from .settings import Settings
 from .solvers import SolverGate
 
@@ -32,10 +32,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "Analyse planar linkages over a cycle, balance them with counterweights, size flywheels and design "
             "drives. SI units; field names carry their unit. Errors are RFC 9457 problem responses."
         ),
+        docs_url=None,
+        redoc_url=None,
+        generate_unique_id_function=manual.operation_id,
     )
     app.state.settings = settings
     app.state.solver_gate = SolverGate(settings.solver_wait_s)
     problems.install(app, settings.max_body_bytes)
+    manual.install(app)
 
     @app.get("/health", tags=["service"])
     def health() -> dict[str, str]:

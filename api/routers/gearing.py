@@ -22,7 +22,7 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 
 
 @router.post("/split", response_model=SplitOut)
-def split(body: SplitIn, settings: SettingsDep, gate: SolverGateDep) -> SplitOut:
+def gears_split(body: SplitIn, settings: SettingsDep, gate: SolverGateDep) -> SplitOut:
     """Split the total ratio between the stages: minimum reduced inertia or gear volume (geometric programs,
     global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
     stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
@@ -36,7 +36,7 @@ def split(body: SplitIn, settings: SettingsDep, gate: SolverGateDep) -> SplitOut
 
 
 @router.post("/teeth", response_model=TeethOut)
-def teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut:
+def gears_teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut:
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
     stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
@@ -45,7 +45,7 @@ def teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut
 
 
 @router.post("/drive", response_model=DriveOut)
-def drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut:
+def gears_drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut:
     """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
     inertia reduced to the motor shaft."""
     stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
@@ -61,12 +61,12 @@ def drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])
-def stage_types() -> list[StageTypeOut]:
+def gears_stage_types() -> list[StageTypeOut]:
     """The shipped stage-type table: admissible ratio ranges, efficiencies, sizing constants."""
     return [StageTypeOut.from_engine(t) for t in synth.stage_types().values()]
 
 
 @router.get("/motors", response_model=list[MotorOut])
-def motors() -> list[MotorOut]:
+def gears_motors() -> list[MotorOut]:
     """The shipped motor catalogue, ascending in rated power."""
     return [MotorOut.from_engine(m) for m in synth.motor_catalogue()]

@@ -101,7 +101,7 @@ class OptimalBalanceIn(BalanceIn):
     ]})
 
 
-class PlacementOut(BaseModel):
+class CounterweightPlacementOut(BaseModel):
     """A counterweight's place: radius and angle in its link frame, and the link's new centre of mass."""
 
     link: str
@@ -133,7 +133,7 @@ class BalanceOut(BaseModel):
 
     mode: str
     counterweights: list[CounterweightIn]
-    placements: list[PlacementOut]
+    placements: list[CounterweightPlacementOut]
     total_added_mass_kg: float
     added_inertia_kgm2: float = Field(description="Counterweights' inertia about their joints plus counter-rotors.")
     summary_before: SummaryOut
@@ -149,7 +149,7 @@ class BalanceOut(BaseModel):
         placements = []
         for cw in r.counterweights:
             props = r.analysis_after.linkage.mass_props(cw.link)
-            placements.append(PlacementOut(
+            placements.append(CounterweightPlacementOut(
                 link=cw.link, radius_m=float(np.hypot(*cw.position)),
                 angle_deg=math.degrees(math.atan2(cw.position[1], cw.position[0])),
                 link_com_m=list(props.com), link_mass_kg=props.mass,

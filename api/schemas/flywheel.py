@@ -244,7 +244,7 @@ class SpeedOut(BaseModel):
     omega_rad_s: list[float]
 
 
-class PlacementOut(BaseModel):
+class FlywheelPlacementOut(BaseModel):
     """A flywheel on one shaft; ``inertia_check_kgm2`` is recomputed from the dimensions."""
 
     shaft: str
@@ -260,7 +260,7 @@ class PlacementOut(BaseModel):
     inertia_check_kgm2: float
 
     @classmethod
-    def from_engine(cls, b: synth.FlywheelBody) -> PlacementOut:
+    def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
         """Schema from an engine flywheel body."""
         return cls(
             shaft=b.shaft, speed_ratio=b.speed_ratio, shape=b.shape, inertia_kgm2=b.inertia, diameter_m=b.diameter,
@@ -281,8 +281,8 @@ class PlacementMissOut(BaseModel):
 class GeometryOut(BaseModel):
     """The lightest flywheel and every shaft's outcome."""
 
-    best: PlacementOut
-    placements: list[PlacementOut]
+    best: FlywheelPlacementOut
+    placements: list[FlywheelPlacementOut]
     misses: list[PlacementMissOut]
 
 
@@ -321,8 +321,8 @@ class FlywheelOut(BaseModel):
         geometry = None
         if r.geometry is not None:
             geometry = GeometryOut(
-                best=PlacementOut.from_engine(r.geometry.best),
-                placements=[PlacementOut.from_engine(b) for b in r.geometry.bodies],
+                best=FlywheelPlacementOut.from_engine(r.geometry.best),
+                placements=[FlywheelPlacementOut.from_engine(b) for b in r.geometry.bodies],
                 misses=[
                     PlacementMissOut(shaft=m.shaft, speed_ratio=m.speed_ratio, constraint=m.constraint,
                                      max_inertia_kgm2=m.max_inertia)
