@@ -15,9 +15,10 @@ from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Ve
 class TracePointIn(StrictModel):
     """A named point fixed in a link (a coupler point, a tool tip) whose motion is reported."""
 
-    name: str = Field(min_length=1, max_length=40)
-    link: str
-    position_m: Vec2 = Field(description="Position in the link frame [m].")
+    name: str = Field(min_length=1, max_length=40, description="Name of the point in the answer's `points`.",
+                      examples=["coupler_point"])
+    link: str = Field(description="Link the point is fixed in, by name.", examples=["coupler"])
+    position_m: Vec2 = Field(description="Position in the link frame [m].", examples=[[0.175, 0.08]])
 
 
 class AnalysisIn(LinkageRequest):

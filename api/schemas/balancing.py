@@ -36,7 +36,10 @@ SLIDER_CRANK_EXAMPLE = {
 class BalanceIn(LinkageRequest):
     """A four-bar and where counterweights may go."""
 
-    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1)
+    counterweight_links: list[str] = Field(
+        default_factory=lambda: ["crank", "rocker"], min_length=1,
+        description="Links that may carry a counterweight; the textbook variant uses coupler and rocker.",
+    )
     max_radius_m: dict[str, Length] = Field(
         default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length."
     )
@@ -74,12 +77,13 @@ class FullBalanceIn(BalanceIn):
 class WeightsIn(StrictModel):
     """Weights of the optimal mode's objective (RMS values unless `peak_`)."""
 
-    shaking_force: float = Field(1.0, ge=0)
-    shaking_moment: float = Field(0.0, ge=0)
-    driving_torque: float = Field(0.0, ge=0)
-    bearing_forces: float = Field(0.0, ge=0)
-    peak_shaking_force: float = Field(0.0, ge=0)
-    peak_shaking_moment: float = Field(0.0, ge=0)
+    shaking_force: float = Field(1.0, ge=0, description="Per (N RMS)² of shaking force, scaled by its value "
+                                 "before balancing.")
+    shaking_moment: float = Field(0.0, ge=0, description="Per (N·m RMS)² of shaking moment, scaled likewise.")
+    driving_torque: float = Field(0.0, ge=0, description="Per (N·m RMS)² of driving torque, scaled likewise.")
+    bearing_forces: float = Field(0.0, ge=0, description="Per (N RMS)² of joint reactions, summed over the joints.")
+    peak_shaking_force: float = Field(0.0, ge=0, description="Per N of the largest shaking force over the cycle.")
+    peak_shaking_moment: float = Field(0.0, ge=0, description="Per N·m of the largest shaking moment.")
     added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and kg·m² over crank length²).")
 
     def to_engine(self) -> synth.Weights:
@@ -90,7 +94,7 @@ class WeightsIn(StrictModel):
 class OptimalBalanceIn(BalanceIn):
     """Optimal balancing: a weighted trade-off within a mass budget, optionally swept over several weight sets."""
 
-    weights: WeightsIn = Field(default_factory=WeightsIn)
+    weights: WeightsIn = Field(default_factory=WeightsIn, description="Weights of the design answered first.")
     sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
                                    description="More weight sets: the trade-off curve, each point re-analysed.")
 
@@ -183,21 +187,24 @@ class OptimalBalanceOut(BalanceOut):
 class RotorMassIn(StrictModel):
     """An unbalanced point mass of a rotor."""
 
-    mass_kg: float = Field(ge=0, le=MAX_MASS_KG)
-    radius_m: float = Field(ge=0, le=1e3)
-    angle_deg: float
-    axial_position_m: Coordinate = 0.0
+    mass_kg: float = Field(ge=0, le=MAX_MASS_KG, description="Unbalanced mass [kg].", examples=[1.0])
+    radius_m: float = Field(ge=0, le=1e3, description="Its distance from the axis [m].", examples=[0.1])
+    angle_deg: float = Field(description="Its angle about the axis in the rotor frame [deg].", examples=[20.0])
+    axial_position_m: Coordinate = Field(0.0, description="Its position along the axis [m].")
 
 
 class RotorIn(StrictModel):
     """Point masses of a rotor and where the corrections go: one plane (static) or two (dynamic)."""
 
-    masses: list[RotorMassIn] = Field(min_length=1, max_length=1000)
-    mode: Literal["static", "dynamic"] = "dynamic"
+    masses: list[RotorMassIn] = Field(min_length=1, max_length=1000, description="The rotor's unbalanced masses.")
+    mode: Literal["static", "dynamic"] = Field("dynamic", description="static: one correction plane, the "
+                                               "resultant force only; dynamic: two planes, force and couple.")
     correction_radius_m: Length = Field(0.1, description="Static mode: radius of the correction mass [m].")
-    correction_plane_m: Coordinate = Field(0.0, description="Static mode: axial position of the correction plane.")
-    planes_m: list[Coordinate] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2)
-    radii_m: list[Length] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2)
+    correction_plane_m: Coordinate = Field(0.0, description="Static mode: axial position of the correction plane [m].")
+    planes_m: list[Coordinate] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2,
+                                       description="Dynamic mode: axial positions of the two correction planes [m].")
+    radii_m: list[Length] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2,
+                                  description="Dynamic mode: radius of the correction mass in each plane [m].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"masses": [{"mass_kg": 1.0, "radius_m": 0.1, "angle_deg": 20, "axial_position_m": 0.2},
@@ -246,7 +253,8 @@ class SliderCrankBalanceIn(LinkageRequest):
     counterweight_radius_m: Length | None = Field(None, description="Default: the crank length.")
     balancer_radii_m: list[Length] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
                                           description="Radius of the 1st- and 2nd-order balancer masses [m].")
-    orders: Literal[1, 2] = 2
+    orders: Literal[1, 2] = Field(2, description="Highest order of the reciprocating force the Lanchester "
+                                  "balancer cancels: 1 (first order) or 2 (first and second).")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": SLIDER_CRANK_EXAMPLE, "speed_rpm": 1500, "balancer_radii_m": [0.04, 0.03]},

@@ -53,9 +53,9 @@ class FlywheelTablesIn(StrictModel):
 class MotorIn(StrictModel):
     """Induction motor with a linear static characteristic from synchronous speed to the rated point."""
 
-    synchronous_speed_rpm: float = Field(gt=0, description="Speed at zero torque [rev/min].")
-    rated_speed_rpm: float = Field(gt=0, description="Speed at the rated torque [rev/min].")
-    rated_torque_Nm: float = Field(gt=0, description="Rated torque on the motor shaft [N·m].")
+    synchronous_speed_rpm: float = Field(gt=0, description="Speed at zero torque [rev/min].", examples=[1500.0])
+    rated_speed_rpm: float = Field(gt=0, description="Speed at the rated torque [rev/min].", examples=[1440.0])
+    rated_torque_Nm: float = Field(gt=0, description="Rated torque on the motor shaft [N·m].", examples=[26.5])
     gear_ratio: float = Field(1.0, gt=0, description="Motor speed over crank speed [-].")
     efficiency: float = Field(1.0, gt=0, le=1, description="Efficiency of the gearing [-].")
     rotor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia on the motor shaft [kg·m²].")
@@ -77,8 +77,9 @@ class MotorIn(StrictModel):
 class ShaftIn(StrictModel):
     """A shaft of the drive that may carry the flywheel."""
 
-    name: str = Field(min_length=1, max_length=40)
-    speed_ratio: float = Field(gt=0, description="Shaft speed over crank speed [-].")
+    name: str = Field(min_length=1, max_length=40, description="Name of the shaft in the answer.",
+                      examples=["motor"])
+    speed_ratio: float = Field(gt=0, description="Shaft speed over crank speed [-].", examples=[19.45])
 
 
 Ratio = tuple[float, float]
@@ -87,14 +88,15 @@ Ratio = tuple[float, float]
 class GeometryIn(StrictModel):
     """Shape, material and limits of the flywheel, and the shafts it may sit on (the crank shaft always)."""
 
-    shape: Literal["rim", "disc"] = "rim"
+    shape: Literal["rim", "disc"] = Field("rim", description="rim: a heavy rim on spokes; disc: a solid disc.")
     density_kg_m3: float = Field(7200.0, gt=0, description="Cast iron 7200, steel 7850 [kg/m³].")
     max_rim_speed_m_s: float | None = Field(30.0, gt=0, description="At the outer radius; cast iron 25-30 [m/s].")
     allowable_stress_Pa: float | None = Field(None, gt=0, description="Allowable hoop (rim) or centre (disc) stress.")
     max_diameter_m: float | None = Field(None, gt=0, description="Largest outer diameter [m].")
     thickness_ratio: Ratio = Field((0.1, 0.2), description="Rim radial thickness a over mean diameter D: [min, max].")
     width_ratio: Ratio = Field((0.1, 0.2), description="Width b over diameter D: [min, max].")
-    shafts: list[ShaftIn] = Field(default_factory=list, max_length=20)
+    shafts: list[ShaftIn] = Field(default_factory=list, max_length=20,
+                                  description="Faster shafts that may carry it instead of the crank shaft.")
 
     def to_engine(self) -> synth.GeometrySpec:
         """Engine geometry specification."""

@@ -52,13 +52,15 @@ class SplitIn(_InertiaFields):
     """A total ratio (or the motor and output speeds) to split between the stages."""
 
     total_ratio: float | None = Field(None, gt=0, description="Motor speed over output speed [-].")
-    motor_speed_rpm: float | None = Field(None, gt=0)
-    output_speed_rpm: float | None = Field(None, gt=0)
-    motor_speed_rad_s: float | None = Field(None, gt=0)
-    output_speed_rad_s: float | None = Field(None, gt=0)
+    motor_speed_rpm: float | None = Field(None, gt=0, description="Motor speed [rev/min], with an output speed.")
+    output_speed_rpm: float | None = Field(None, gt=0, description="Output shaft speed [rev/min].")
+    motor_speed_rad_s: float | None = Field(None, gt=0, description="Motor speed [rad/s], with an output speed.")
+    output_speed_rad_s: float | None = Field(None, gt=0, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
+    objective: Literal["min_inertia", "min_volume", "handbook"] = Field(
+        "min_inertia", description="min_inertia: least train inertia on the motor shaft; min_volume: least gear "
+        "volume; handbook: the two-stage rule of thumb.")
     motor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia, added on the motor shaft [kg·m²].")
     input_torque_Nm: float = Field(1.0, gt=0, description="Motor-shaft torque for the volume model [N·m]; "
                                    "scales the volume, not the split.")
@@ -168,16 +170,16 @@ class SplitOut(BaseModel):
 class TeethIn(StrictModel):
     """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
 
-    total_ratio: float = Field(gt=0, description="Target ratio of the train [-].")
+    total_ratio: float = Field(gt=0, description="Target ratio of the train [-].", examples=[17.3])
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of toothed stage types or stages "
                              "with ratio ranges, motor side first.")
     min_teeth: int | None = Field(None, ge=1, description="Your bound on every wheel; replaces the undercut limit, "
                                   "which then only warns.")
-    max_teeth: int = Field(100, ge=2)
+    max_teeth: int = Field(100, ge=2, description="Most teeth on any wheel.")
     tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
                                     "teeth within it; else the closest ratio.")
-    pressure_angle_deg: float = Field(20.0, gt=0, lt=90)
-    addendum_coefficient: float = Field(1.0, gt=0)
+    pressure_angle_deg: float = Field(20.0, gt=0, lt=90, description="Pressure angle of the basic rack [deg].")
+    addendum_coefficient: float = Field(1.0, gt=0, description="Addendum over module, h_a* [-].")
     profile_shift: float = Field(0.0, description="Shift x on the smaller wheel of each pair, -x on the larger.")
     hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
     reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
@@ -253,11 +255,11 @@ class TeethOut(BaseModel):
 class CatalogueMotorIn(StrictModel):
     """A motor of your own catalogue."""
 
-    name: str = Field(min_length=1)
-    rated_power_W: float = Field(gt=0)
-    synchronous_rpm: float = Field(gt=0)
-    rated_rpm: float = Field(gt=0)
-    rotor_inertia_kgm2: float | None = Field(None, ge=0)
+    name: str = Field(min_length=1, description="Catalogue designation.", examples=["4A100L4"])
+    rated_power_W: float = Field(gt=0, description="Rated output power [W].", examples=[4000.0])
+    synchronous_rpm: float = Field(gt=0, description="Synchronous speed [rev/min].", examples=[1500.0])
+    rated_rpm: float = Field(gt=0, description="Speed at rated power [rev/min].", examples=[1430.0])
+    rotor_inertia_kgm2: float | None = Field(None, ge=0, description="Rotor inertia [kg·m²]; unknown: null.")
 
     @model_validator(mode="after")
     def _slip(self) -> CatalogueMotorIn:
@@ -274,9 +276,9 @@ class CatalogueMotorIn(StrictModel):
 class DriveIn(_InertiaFields):
     """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
 
-    output_power_W: float = Field(gt=0, description="Power the output shaft delivers [W].")
-    output_speed_rpm: float | None = Field(None, gt=0)
-    output_speed_rad_s: float | None = Field(None, gt=0)
+    output_power_W: float = Field(gt=0, description="Power the output shaft delivers [W].", examples=[3000.0])
+    output_speed_rpm: float | None = Field(None, gt=0, description="Output shaft speed [rev/min].")
+    output_speed_rad_s: float | None = Field(None, gt=0, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
     reserve_factor: float = Field(1.1, gt=0, description="xi in P_req = P_out xi / eta.")
@@ -288,11 +290,13 @@ class DriveIn(_InertiaFields):
         None, min_length=1, max_length=500,
         description="Your motors to choose from (a vendor's data); default the shipped representative catalogue "
         "listed at GET /v1/gears/motors.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
+    objective: Literal["min_inertia", "min_volume", "handbook"] = Field(
+        "min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
     torque_basis: Literal["load", "rated"] = Field(
         "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
-    snap_r20: bool = False
-    snap_tolerance: float | None = Field(None, gt=0, lt=1)
+    snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
+    snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
+                                         "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"output_power_W": 20000, "output_speed_rad_s": 9.0, "drive_efficiency": 0.8, "torque_basis": "rated",
