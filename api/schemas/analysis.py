@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-import synth
-
+from ._engine import np, synth
 from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
 
 
@@ -58,6 +57,9 @@ class AnalysisIn(LinkageRequest):
     )
 
 
+Grashof = Literal["crank-rocker", "double-crank", "double-rocker", "rocker-crank", "change-point", "triple-rocker"]
+
+
 class PointOut(BaseModel):
     """A point's position [m], velocity [m/s] and acceleration [m/s²] at every sample, as [x, y] pairs."""
 
@@ -99,7 +101,7 @@ class AnalysisOut(BaseModel):
     links: dict[str, LinkMotionOut]
     points: dict[str, PointOut]
     transmission_angle_deg: list[float] | None = None
-    grashof: str | None = None
+    grashof: Grashof | None = Field(None, description="Grashof class of a four-bar; null for other mechanisms.")
     summary: SummaryOut
     checks: ChecksOut
 

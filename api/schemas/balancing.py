@@ -5,11 +5,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-import synth
-
+from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_MASS_KG,
@@ -20,6 +18,8 @@ from .common import (
     StrictModel,
     SummaryOut,
 )
+
+BalanceMode = Literal["static", "full", "optimal"]
 
 SLIDER_CRANK_EXAMPLE = {
     "type": "slider_crank",
@@ -135,7 +135,7 @@ class BalanceChecksOut(BaseModel):
 class BalanceOut(BaseModel):
     """Counterweights (send them back to /v1/analysis as they are), their cost and effect."""
 
-    mode: str
+    mode: BalanceMode
     counterweights: list[CounterweightIn]
     placements: list[CounterweightPlacementOut]
     total_added_mass_kg: float

@@ -5,11 +5,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal, Union
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-import synth
-from synth.analysis import Summary
+from ._engine import np, synth
 
 # Bounds far outside any machine, so that arithmetic cannot overflow: a value beyond them is a typo.
 MAX_LENGTH_M = 1e3
@@ -311,7 +309,7 @@ class SummaryOut(BaseModel):
     max_bearing_force_N: float
 
     @classmethod
-    def from_engine(cls, s: Summary) -> SummaryOut:
+    def from_engine(cls, s: synth.Summary) -> SummaryOut:
         """Schema from the engine summary."""
         return cls(
             rms_shaking_force_N=s.rms_shaking_force,

@@ -5,11 +5,9 @@ from __future__ import annotations
 import math
 from typing import Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-import synth
-
+from ._engine import np, synth
 from .common import FOURBAR_EXAMPLE, LinkageRequest, MechanismIn, StrictModel, ensure_finite
 
 # The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
@@ -83,6 +81,10 @@ class ShaftIn(StrictModel):
 
 
 Ratio = tuple[float, float]
+MachineType = Literal[
+    "ac_generators", "dc_generators", "internal_combustion_engines", "piston_compressors", "metal_cutting_machine_tools"
+]
+SizingMethod = Literal["exact", "mertsalov", "energy", "motor_nlp"]
 
 
 class GeometryIn(StrictModel):
@@ -122,7 +124,7 @@ class FlywheelIn(LinkageRequest):
     mean_speed_rpm: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rev/min].")
     mean_speed_rad_s: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rad/s].")
     delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
-    machine_type: str | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
+    machine_type: MachineType | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
     constant_inertia_kgm2: float = Field(0.0, ge=0, description="Constant inertia already on the crank [kg·m²].")
     motor: MotorIn | None = Field(None, description="Motor characteristic; left out: constant driving torque.")
     geometry: GeometryIn | None = Field(None, description="Shape and place the flywheel; left out: size it only.")
@@ -184,7 +186,7 @@ class FlywheelIn(LinkageRequest):
 class MachineTypeOut(BaseModel):
     """Admissible coefficient of speed fluctuation of one machine type (seed 003:443-453)."""
 
-    machine_type: str
+    machine_type: MachineType
     label: str
     delta_min: float
     delta_max: float
@@ -202,7 +204,7 @@ class MachineTypeOut(BaseModel):
 class MethodOut(BaseModel):
     """One sizing method and the steady motion its inertia gives, found by integrating the equation of motion."""
 
-    method: Literal["exact", "mertsalov", "energy", "motor_nlp"]
+    method: SizingMethod
     required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red(phi).")
     flywheel_inertia_kgm2: float = Field(description="Inertia to add to the constant inertia already there.")
     achieved_delta: float = Field(description="Delta of the simulated steady motion (2 when the machine stalls).")
@@ -241,7 +243,7 @@ class EnergyMassOut(BaseModel):
 class SpeedOut(BaseModel):
     """Simulated steady crank speed over the cycle of the design method."""
 
-    method: str
+    method: SizingMethod
     crank_angle_deg: list[float]
     omega_rad_s: list[float]
 
@@ -251,7 +253,7 @@ class FlywheelPlacementOut(BaseModel):
 
     shaft: str
     speed_ratio: float
-    shape: str
+    shape: Literal["rim", "disc"]
     inertia_kgm2: float = Field(description="Inertia on this shaft: crank-shaft inertia / speed_ratio².")
     diameter_m: float = Field(description="Mean rim diameter (disc: outer diameter).")
     outer_diameter_m: float
@@ -306,7 +308,7 @@ class FlywheelOut(BaseModel):
     constant_driving_torque_Nm: float = Field(description="Constant driving torque that balances the cycle's work.")
     cycle_work_J: float = Field(description="Work of the given torques over the cycle, before that balance.")
     motor_mean_speed_rad_s: float | None = Field(None, description="Angle-average steady speed with the motor.")
-    design_method: str
+    design_method: SizingMethod
     methods: list[MethodOut]
     energy_mass: EnergyMassOut
     speed: SpeedOut

@@ -3,21 +3,31 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-import synth
-
+from ._engine import synth
 from .common import StrictModel
 
 RPM = math.pi / 30.0
+
+STAGE_TYPES = ("spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain")
+if TYPE_CHECKING:
+    StageType = Literal["spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain"]
+else:
+    # A Literal for the type checker; at run time the engine checks the name against its table, so that the
+    # answer names the stage (`stages[1].type`) and lists the types, where a Literal inside the count-or-list
+    # union would answer "stages: Input should be a valid integer".
+    StageType = Annotated[str, Field(json_schema_extra={"enum": list(STAGE_TYPES)})]
+Objective = Literal["min_inertia", "min_volume", "handbook"]
 
 
 class StageIn(StrictModel):
     """A stage of the layout: a type from the table (GET /v1/gears/stage-types) with optional overrides."""
 
-    type: str = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.")
+    type: StageType = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.",
+                            examples=["helical"])
     ratio_min: float | None = Field(None, gt=0, description="Smallest admissible stage ratio [-].")
     ratio_max: float | None = Field(None, gt=0, description="Largest admissible stage ratio [-].")
     efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
@@ -28,10 +38,10 @@ class StageIn(StrictModel):
         return synth.StageSpec(self.type, self.ratio_min, self.ratio_max, self.efficiency, self.ratio)
 
 
-StagesIn = Annotated[int, Field(ge=1)] | list[str | StageIn]
+StagesIn = Annotated[int, Field(ge=1)] | list[StageType | StageIn]
 
 
-def _specs(stages: int | list[str | StageIn]) -> int | list[synth.StageSpec | str]:
+def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpec | str]:
     return stages if isinstance(stages, int) else [s if isinstance(s, str) else s.to_spec() for s in stages]
 
 
@@ -58,7 +68,7 @@ class SplitIn(_InertiaFields):
     output_speed_rad_s: float | None = Field(None, gt=0, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = Field(
+    objective: Objective = Field(
         "min_inertia", description="min_inertia: least train inertia on the motor shaft; min_volume: least gear "
         "volume; handbook: the two-stage rule of thumb.")
     motor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia, added on the motor shaft [kg·m²].")
@@ -106,7 +116,7 @@ class SplitIn(_InertiaFields):
 class StageOut(BaseModel):
     """A stage as used: type, admissible range and efficiency."""
 
-    type: str
+    type: StageType
     ratio_min: float
     ratio_max: float
     efficiency: float
@@ -133,11 +143,11 @@ class SplitOut(BaseModel):
     """Stage ratios, motor side first, with the objective and both model figures."""
 
     total_ratio: float
-    objective: str
+    objective: Objective
     stage_ratios: list[float]
     continuous_ratios: list[float] = Field(description="The optimum before R20 snapping.")
     objective_value: float
-    objective_unit: str
+    objective_unit: Literal["m3", "kgm2"]
     reduced_inertia_kgm2: float = Field(description="Train inertia on the motor shaft at these ratios.")
     gear_volume_m3: float | None = Field(description="Pinion and gear volume sized for contact stress; null when "
                                          "a stage type has no sizing rule.")
@@ -290,7 +300,7 @@ class DriveIn(_InertiaFields):
         None, min_length=1, max_length=500,
         description="Your motors to choose from (a vendor's data); default the shipped representative catalogue "
         "listed at GET /v1/gears/motors.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = Field(
+    objective: Objective = Field(
         "min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
     torque_basis: Literal["load", "rated"] = Field(
         "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
@@ -378,7 +388,7 @@ class DriveOut(BaseModel):
     shafts: list[ShaftOut]
     reduced_inertia_kgm2: float
     output_speed_rpm: float
-    torque_basis: str
+    torque_basis: Literal["load", "rated"]
     split: SplitOut
     checks: DriveChecksOut
     warnings: list[str]
@@ -404,7 +414,7 @@ class DriveOut(BaseModel):
 class StageTypeOut(BaseModel):
     """A row of the shipped stage-type table."""
 
-    name: str
+    name: StageType
     description: str
     ratio_min: float
     ratio_max: float
