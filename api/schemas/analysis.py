@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from ._engine import np, synth
-from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite
+from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite, one_of
 
 
 class TracePointIn(StrictModel):
@@ -58,6 +58,7 @@ class AnalysisIn(LinkageRequest):
 
 
 Grashof = Literal["crank-rocker", "double-crank", "double-rocker", "rocker-crank", "change-point", "triple-rocker"]
+GRASHOF_CLASSES: tuple[Grashof, ...] = get_args(Grashof)
 
 
 class PointOut(BaseModel):
@@ -145,7 +146,7 @@ class AnalysisOut(BaseModel):
                 for name in m.point_pos
             },
             transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
-            grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
+            grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
         )

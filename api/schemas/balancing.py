@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
 from ._engine import np, synth
 from .common import (
@@ -17,11 +18,13 @@ from .common import (
     LinkageRequest,
     StrictModel,
     SummaryOut,
+    one_of,
 )
 
 BalanceMode = Literal["static", "full", "optimal"]
+BALANCE_MODES: tuple[BalanceMode, ...] = get_args(BalanceMode)
 
-SLIDER_CRANK_EXAMPLE = {
+SLIDER_CRANK_EXAMPLE: JsonDict = {
     "type": "slider_crank",
     "crank_length_m": 0.05,
     "rod_length_m": 0.2,
@@ -159,7 +162,7 @@ class BalanceOut(BaseModel):
                 link_com_m=list(props.com), link_mass_kg=props.mass,
             ))
         return cls(
-            mode=r.mode,
+            mode=one_of(BALANCE_MODES, r.mode),
             counterweights=[CounterweightIn.from_engine(c) for c in r.counterweights],
             placements=placements,
             total_added_mass_kg=r.total_added_mass,

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal, TypeVar, Union
 
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
 from ._engine import np, synth
 
@@ -17,6 +18,17 @@ Coordinate = Annotated[float, Field(ge=-MAX_LENGTH_M, le=MAX_LENGTH_M)]
 Vec2 = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]
 MIN_LENGTH_M = 1e-6
 Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
+
+
+Choice = TypeVar("Choice", bound=str)
+
+
+def one_of(allowed: tuple[Choice, ...], value: str) -> Choice:
+    """An engine string as the schema's closed type (the values of a Literal); anything else is an engine bug."""
+    for option in allowed:
+        if option == value:
+            return option
+    raise RuntimeError(f"engine answered {value!r}, not one of {allowed}")
 
 
 class StrictModel(BaseModel):
@@ -244,12 +256,12 @@ class LinkTorqueIn(StrictModel):
                              examples=[-20.0])
 
 
-class LinkageRequest(StrictModel):
-    """A linkage at a crank speed: what every mechanism endpoint takes."""
+class LinkageFields(StrictModel):
+    """A linkage with its loads and counterweights, where a subclass may leave the mechanism and its speed out."""
 
-    mechanism: MechanismIn = Field(description="The linkage, chosen by `type`: fourbar, slider_crank or "
-                                   "slotted_lever.")
-    speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
+    mechanism: MechanismIn | None = Field(None, description="The linkage, chosen by `type`: fourbar, "
+                                          "slider_crank or slotted_lever.")
+    speed_rpm: float | None = Field(None, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
     crank_acceleration_rad_s2: float = Field(0.0, ge=-1e9, le=1e9,
                                              description="Crank angular acceleration, the same at every angle.")
     samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
@@ -263,17 +275,14 @@ class LinkageRequest(StrictModel):
         default_factory=list, description="Counterweights already fitted (a balancing answer's, as they are)."
     )
 
-    @property
-    def omega_rad_s(self) -> float:
-        """Crank speed [rad/s]."""
-        return self.speed_rpm * math.pi / 30.0
-
     def phi(self) -> np.ndarray | None:
         """Explicit crank angles [rad], or None for the uniform grid."""
         return None if self.crank_angle_deg is None else np.radians(self.crank_angle_deg)
 
     def to_linkage(self) -> synth.Linkage:
         """Engine linkage; degrees become radians here and nowhere else."""
+        if self.mechanism is None:
+            raise synth.InvalidInput("give the mechanism", field="mechanism")
         mech = self.mechanism.to_mechanism()
         output_motion = mech.topology.output_motion
         links = {name: link.to_props() for name, link in self.mechanism.links}
@@ -288,6 +297,19 @@ class LinkageRequest(StrictModel):
             loads=tuple(load.to_engine(output_motion) for load in self.loads),
             torques=tuple(synth.LinkTorque(t.link, t.torque_Nm) for t in self.torques),
         )
+
+
+class LinkageRequest(LinkageFields):
+    """A linkage at a crank speed: what every mechanism endpoint takes."""
+
+    mechanism: MechanismIn = Field(description="The linkage, chosen by `type`: fourbar, slider_crank or "
+                                   "slotted_lever.")
+    speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
+
+    @property
+    def omega_rad_s(self) -> float:
+        """Crank speed [rad/s]."""
+        return self.speed_rpm * math.pi / 30.0
 
 
 def ensure_finite(*arrays: np.ndarray) -> None:
@@ -322,7 +344,7 @@ class SummaryOut(BaseModel):
         )
 
 
-FOURBAR_EXAMPLE = {
+FOURBAR_EXAMPLE: JsonDict = {
     "type": "fourbar",
     "ground_length_m": 0.30,
     "crank_length_m": 0.10,

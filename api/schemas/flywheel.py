@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
 from ._engine import np, synth
-from .common import FOURBAR_EXAMPLE, LinkageRequest, MechanismIn, StrictModel, ensure_finite
+from .common import FOURBAR_EXAMPLE, LinkageFields, MechanismIn, StrictModel, ensure_finite, one_of
 
 # The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
-SHAPER_TABLES_EXAMPLE = {
+SHAPER_TABLES_EXAMPLE: JsonDict = {
     "crank_angle_deg": [0, 60, 120, 180, 240, 300, 360],
     "resisting_torque_Nm": [-1.7, -1500.6, -1496.7, -385.74, -145.33, -250.0, -1.7],
     "driving_torque_Nm": [0, 0, 0, 0, 0, 0, 0],
@@ -38,7 +39,7 @@ class FlywheelTablesIn(StrictModel):
     def to_cycle(self, cycle_deg: float, max_samples: int) -> synth.ReducedCycle:
         """Engine cycle; degrees become radians here."""
         return synth.cycle_from_tables(
-            np.radians(self.crank_angle_deg),
+            [math.radians(a) for a in self.crank_angle_deg],
             reduced_inertia=self.reduced_inertia_kgm2,
             reduced_torque=self.reduced_torque_Nm,
             driving_torque=self.driving_torque_Nm,
@@ -85,6 +86,9 @@ MachineType = Literal[
     "ac_generators", "dc_generators", "internal_combustion_engines", "piston_compressors", "metal_cutting_machine_tools"
 ]
 SizingMethod = Literal["exact", "mertsalov", "energy", "motor_nlp"]
+MACHINE_TYPES: tuple[MachineType, ...] = get_args(MachineType)
+SIZING_METHODS: tuple[SizingMethod, ...] = get_args(SizingMethod)
+FLYWHEEL_SHAPES: tuple[Literal["rim", "disc"], ...] = ("rim", "disc")
 
 
 class GeometryIn(StrictModel):
@@ -114,7 +118,7 @@ class GeometryIn(StrictModel):
         )
 
 
-class FlywheelIn(LinkageRequest):
+class FlywheelIn(LinkageFields):
     """Flywheel sizing: the machine as tables or as a linkage with loads, the mean speed and the target delta."""
 
     mechanism: MechanismIn | None = Field(None, description="A linkage instead of tables (with its loads).")
@@ -196,7 +200,7 @@ class MachineTypeOut(BaseModel):
     def from_engine(cls, row: synth.MachineType) -> MachineTypeOut:
         """Schema from an engine table row."""
         return cls(
-            machine_type=row.name, label=row.label, delta_min=row.delta_min, delta_max=row.delta_max,
+            machine_type=one_of(MACHINE_TYPES, row.name), label=row.label, delta_min=row.delta_min, delta_max=row.delta_max,
             default_delta=row.default_delta,
         )
 
@@ -217,7 +221,7 @@ class MethodOut(BaseModel):
     def from_engine(cls, m: synth.MethodResult, target: float) -> MethodOut:
         """Schema from an engine method result."""
         return cls(
-            method=m.method,  # type: ignore[arg-type]
+            method=one_of(SIZING_METHODS, m.method),
             required_constant_inertia_kgm2=m.required_constant_inertia,
             flywheel_inertia_kgm2=m.flywheel_inertia,
             achieved_delta=m.achieved_delta,
@@ -267,7 +271,7 @@ class FlywheelPlacementOut(BaseModel):
     def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
         """Schema from an engine flywheel body."""
         return cls(
-            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=b.shape, inertia_kgm2=b.inertia, diameter_m=b.diameter,
+            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=one_of(FLYWHEEL_SHAPES, b.shape), inertia_kgm2=b.inertia, diameter_m=b.diameter,
             outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness, width_m=b.width, mass_kg=b.mass,
             rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check,
         )
@@ -345,7 +349,7 @@ class FlywheelOut(BaseModel):
             constant_driving_torque_Nm=r.driving_torque,
             cycle_work_J=r.cycle_work,
             motor_mean_speed_rad_s=r.motor_mean_speed,
-            design_method=r.design_method,
+            design_method=one_of(SIZING_METHODS, r.design_method),
             methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
             energy_mass=EnergyMassOut(
                 crank_angle_deg=np.degrees(r.cycle.phi).tolist(),
@@ -356,6 +360,6 @@ class FlywheelOut(BaseModel):
                 tangent_min_slope_J_per_kgm2=tan.slope_min,
                 tangent_min_intercept_J=tan.intercept_min,
             ),
-            speed=SpeedOut(method=design.method, crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
+            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
             geometry=geometry,
         )

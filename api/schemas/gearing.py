@@ -3,16 +3,16 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import synth
-from .common import StrictModel
+from .common import StrictModel, one_of
 
 RPM = math.pi / 30.0
 
-STAGE_TYPES = ("spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain")
+STAGE_TYPES: tuple[StageType, ...] = ("spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain")
 if TYPE_CHECKING:
     StageType = Literal["spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain"]
 else:
@@ -21,6 +21,9 @@ else:
     # union would answer "stages: Input should be a valid integer".
     StageType = Annotated[str, Field(json_schema_extra={"enum": list(STAGE_TYPES)})]
 Objective = Literal["min_inertia", "min_volume", "handbook"]
+OBJECTIVES: tuple[Objective, ...] = get_args(Objective)
+TorqueBasis = Literal["load", "rated"]
+TORQUE_BASES: tuple[TorqueBasis, ...] = get_args(TorqueBasis)
 
 
 class StageIn(StrictModel):
@@ -125,7 +128,7 @@ class StageOut(BaseModel):
     @classmethod
     def from_engine(cls, s: synth.Stage) -> StageOut:
         """Schema from an engine stage."""
-        return cls(type=s.type, ratio_min=s.ratio_min, ratio_max=s.ratio_max, efficiency=s.efficiency,
+        return cls(type=one_of(STAGE_TYPES, s.type), ratio_min=s.ratio_min, ratio_max=s.ratio_max, efficiency=s.efficiency,
                    fixed_ratio=s.ratio)
 
 
@@ -164,7 +167,7 @@ class SplitOut(BaseModel):
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
         """Schema from an engine split."""
         return cls(
-            total_ratio=r.total_ratio, objective=r.objective, stage_ratios=list(r.stage_ratios),
+            total_ratio=r.total_ratio, objective=one_of(OBJECTIVES, r.objective), stage_ratios=list(r.stage_ratios),
             continuous_ratios=list(r.continuous_ratios), objective_value=r.objective_value,
             objective_unit="m3" if r.objective == "min_volume" else "kgm2",
             reduced_inertia_kgm2=r.reduced_inertia, gear_volume_m3=r.gear_volume,
@@ -388,7 +391,7 @@ class DriveOut(BaseModel):
     shafts: list[ShaftOut]
     reduced_inertia_kgm2: float
     output_speed_rpm: float
-    torque_basis: Literal["load", "rated"]
+    torque_basis: TorqueBasis
     split: SplitOut
     checks: DriveChecksOut
     warnings: list[str]
@@ -403,7 +406,7 @@ class DriveOut(BaseModel):
             shafts=[ShaftOut(speed_rpm=s.speed / RPM, speed_rad_s=s.speed, power_W=s.power, torque_Nm=s.torque,
                              inertia_kgm2=s.inertia, reduced_inertia_kgm2=s.reduced_inertia) for s in r.shafts],
             reduced_inertia_kgm2=r.reduced_inertia, output_speed_rpm=r.output_speed / RPM,
-            torque_basis=r.torque_basis, split=SplitOut.from_engine(r.split, stages),
+            torque_basis=one_of(TORQUE_BASES, r.torque_basis), split=SplitOut.from_engine(r.split, stages),
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
@@ -425,5 +428,5 @@ class StageTypeOut(BaseModel):
     @classmethod
     def from_engine(cls, t: synth.StageType) -> StageTypeOut:
         """Schema from an engine stage type."""
-        return cls(name=t.name, description=t.description, ratio_min=t.ratio_min, ratio_max=t.ratio_max,
+        return cls(name=one_of(STAGE_TYPES, t.name), description=t.description, ratio_min=t.ratio_min, ratio_max=t.ratio_max,
                    efficiency=t.efficiency, toothed=t.toothed, volume_coefficient_m3_per_Nm=t.volume_coefficient)
