@@ -298,7 +298,7 @@ class SynthClient(_Policy):
 
 
 class AsyncSynthClient(_Policy):
-    """The same client for asyncio: every endpoint method of :class:`SynthClient`, awaited, over ``httpx.AsyncClient``."""
+    """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.AsyncClient | None = None,
                  timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0) -> None:

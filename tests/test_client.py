@@ -52,7 +52,8 @@ def _requirement_closure(names: list[str]) -> set[str]:
 def test_client_loads_with_httpx_and_pydantic_only() -> None:
     probe = ("import sys, json, api.client; "
              "print(json.dumps(sorted(m for m in sys.modules if m not in sys.stdlib_module_names)))")
-    loaded = json.loads(subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout)
+    run = subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True)
+    loaded = json.loads(run.stdout)
     assert not {"fastapi", "starlette", "uvicorn", "cvxpy", "casadi", "matplotlib", "numpy", "scipy", "synth"} & {
         m.split(".")[0] for m in loaded}
     deps = CLIENT_PROJECT["project"]["dependencies"]
@@ -115,8 +116,8 @@ def _busy_then_ok(retry_after: list[str | None]) -> tuple[httpx.MockTransport, l
         calls.append(1)
         if len(calls) <= len(retry_after):
             wait = retry_after[len(calls) - 1]
-            return httpx.Response(503, headers={} if wait is None else {"retry-after": wait},
-                                  json={"type": "/problems/busy", "title": "Busy", "status": 503, "detail": "queue full"})
+            busy = {"type": "/problems/busy", "title": "Busy", "status": 503, "detail": "queue full"}
+            return httpx.Response(503, headers={} if wait is None else {"retry-after": wait}, json=busy)
         return httpx.Response(200, json={"status": "ok"})
 
     return httpx.MockTransport(handler), calls

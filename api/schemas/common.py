@@ -79,7 +79,7 @@ class SlottedLeverLinks(StrictModel):
 class FourBarIn(StrictModel):
     """Four-bar O-A-B-Q: crank pivot O at the origin, rocker pivot Q at (ground_length_m, 0)."""
 
-    type: Literal["fourbar"] = Field("fourbar", description="Mechanism family: a crank-rocker or double-crank four-bar.")
+    type: Literal["fourbar"] = Field("fourbar", description="Mechanism family: a four-bar linkage.")
     ground_length_m: Length = Field(description="Frame O-Q between the crank and rocker pivots [m].", examples=[0.3])
     crank_length_m: Length = Field(description="Crank O-A [m].", examples=[0.1])
     coupler_length_m: Length = Field(description="Coupler A-B [m].", examples=[0.35])
@@ -207,8 +207,8 @@ class CrankTableLoadIn(_LoadBase):
     """Load magnitude tabulated over crank angle (periodic linear interpolation), against the output velocity."""
 
     type: Literal["crank_table"] = Field("crank_table", description="A load tabulated over the crank angle.")
-    crank_angle_deg: list[float] = Field(min_length=2, description="Crank angles of the table rows [deg]; the "
-                                         "magnitudes are force_N or torque_Nm, one per row.", examples=[[0, 90, 180, 270]])
+    crank_angle_deg: list[float] = Field(min_length=2, examples=[[0, 90, 180, 270]], description="Crank angles of "
+                                         "the table rows [deg]; the magnitudes are force_N or torque_Nm, one per row.")
 
     def to_engine(self, output_motion: str) -> synth.ProcessLoad:
         """Engine load."""
@@ -262,8 +262,9 @@ class LinkageFields(StrictModel):
     mechanism: MechanismIn | None = Field(None, description="The linkage, chosen by `type`: fourbar, "
                                           "slider_crank or slotted_lever.")
     speed_rpm: float | None = Field(None, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
-    crank_acceleration_rad_s2: float = Field(0.0, ge=-1e9, le=1e9,
-                                             description="Crank angular acceleration, the same at every angle.")
+    crank_acceleration_rad_s2: float = Field(
+        0.0, ge=-1e9, le=1e9, description="Crank angular acceleration, the same at every angle [rad/s²]."
+    )
     samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
     crank_angle_deg: list[float] | None = Field(
         None, min_length=1, description="Explicit crank angles [deg]; overrides samples."

@@ -200,7 +200,8 @@ class MachineTypeOut(BaseModel):
     def from_engine(cls, row: synth.MachineType) -> MachineTypeOut:
         """Schema from an engine table row."""
         return cls(
-            machine_type=one_of(MACHINE_TYPES, row.name), label=row.label, delta_min=row.delta_min, delta_max=row.delta_max,
+            machine_type=one_of(MACHINE_TYPES, row.name), label=row.label, delta_min=row.delta_min,
+            delta_max=row.delta_max,
             default_delta=row.default_delta,
         )
 
@@ -271,7 +272,8 @@ class FlywheelPlacementOut(BaseModel):
     def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
         """Schema from an engine flywheel body."""
         return cls(
-            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=one_of(FLYWHEEL_SHAPES, b.shape), inertia_kgm2=b.inertia, diameter_m=b.diameter,
+            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=one_of(FLYWHEEL_SHAPES, b.shape), inertia_kgm2=b.inertia,
+            diameter_m=b.diameter,
             outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness, width_m=b.width, mass_kg=b.mass,
             rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check,
         )
@@ -360,6 +362,7 @@ class FlywheelOut(BaseModel):
                 tangent_min_slope_J_per_kgm2=tan.slope_min,
                 tangent_min_intercept_J=tan.intercept_min,
             ),
-            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=np.degrees(phi).tolist(), omega_rad_s=omega.tolist()),
+            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=np.degrees(phi).tolist(),
+                           omega_rad_s=omega.tolist()),
             geometry=geometry,
         )

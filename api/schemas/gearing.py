@@ -128,7 +128,8 @@ class StageOut(BaseModel):
     @classmethod
     def from_engine(cls, s: synth.Stage) -> StageOut:
         """Schema from an engine stage."""
-        return cls(type=one_of(STAGE_TYPES, s.type), ratio_min=s.ratio_min, ratio_max=s.ratio_max, efficiency=s.efficiency,
+        return cls(type=one_of(STAGE_TYPES, s.type), ratio_min=s.ratio_min, ratio_max=s.ratio_max,
+                   efficiency=s.efficiency,
                    fixed_ratio=s.ratio)
 
 
@@ -305,7 +306,7 @@ class DriveIn(_InertiaFields):
         "listed at GET /v1/gears/motors.")
     objective: Objective = Field(
         "min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
-    torque_basis: Literal["load", "rated"] = Field(
+    torque_basis: TorqueBasis = Field(
         "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
     snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
     snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
@@ -428,5 +429,6 @@ class StageTypeOut(BaseModel):
     @classmethod
     def from_engine(cls, t: synth.StageType) -> StageTypeOut:
         """Schema from an engine stage type."""
-        return cls(name=one_of(STAGE_TYPES, t.name), description=t.description, ratio_min=t.ratio_min, ratio_max=t.ratio_max,
+        return cls(name=one_of(STAGE_TYPES, t.name), description=t.description, ratio_min=t.ratio_min,
+                   ratio_max=t.ratio_max,
                    efficiency=t.efficiency, toothed=t.toothed, volume_coefficient_m3_per_Nm=t.volume_coefficient)
