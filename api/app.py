@@ -1,15 +1,19 @@
-"""The FastAPI application: health, the /v1 routers, problem responses and limits."""
+"""The FastAPI application: health and readiness, the /v1 routers, problem responses and limits."""
 
 from __future__ import annotations
 
+import asyncio
 import importlib
 import pkgutil
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from typing import Any
 
-from fastapi import APIRouter, FastAPI
+from fastapi import APIRouter, FastAPI, Request
 
 from . import manual, problems, routers
 from .settings import Settings
-from .solvers import SolverGate
+from .solvers import Solvers
 
 
 def _routers() -> list[APIRouter]:
@@ -25,6 +29,14 @@ def _routers() -> list[APIRouter]:
 def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the service with ``settings`` (default: from the environment)."""
     settings = settings or Settings.from_env()
+    solvers = Solvers(settings)
+
+    @asynccontextmanager
+    async def lifespan(_: FastAPI) -> AsyncIterator[None]:
+        await asyncio.to_thread(solvers.start)
+        yield
+        solvers.shutdown()
+
     app = FastAPI(
         title="Mechanism synthesis service",
         version="0.1.0",
@@ -32,22 +44,30 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "Analyse planar linkages over a cycle, balance them with counterweights, size flywheels and design "
             "drives. SI units; field names carry their unit. Errors are RFC 9457 problem responses."
         ),
+        lifespan=lifespan,
         docs_url=None,
         redoc_url=None,
         generate_unique_id_function=manual.operation_id,
     )
     app.state.settings = settings
-    app.state.solver_gate = SolverGate(settings.solver_wait_s)
-    problems.install(app, settings.max_body_bytes)
+    app.state.solvers = solvers
+    problems.install(app, settings)
     manual.install(app)
 
     @app.get("/health", tags=["service"])
-    def health() -> dict[str, str]:
-        """Liveness probe."""
+    async def health() -> dict[str, str]:
+        """Liveness probe; answers from the web process without touching the workers."""
         return {"status": "ok"}
+
+    @app.get("/ready", tags=["service"])
+    async def ready(request: Request) -> dict[str, Any]:
+        """Readiness: the executor, its workers, running and queued requests, and the admission capacity."""
+        status = request.app.state.solvers.status()
+        return {"status": "ok" if status["queued"] < status["capacity"] else "busy", **status}
 
     for router in _routers():
         app.include_router(router, prefix="/v1")
+    problems.document(app)
     return app
 
 

@@ -19,7 +19,7 @@ import time
 import warnings
 from datetime import datetime, timezone
 from email.utils import parsedate_to_datetime
-from typing import Any, TypeVar
+from typing import Any, Literal, TypeVar
 
 import httpx
 from pydantic import BaseModel
@@ -55,6 +55,7 @@ __all__ = [
 ]
 
 M = TypeVar("M", bound=BaseModel)
+InProcessExecutor = Literal["serial", "pool"]
 
 
 class ProblemError(Exception):
@@ -108,6 +109,7 @@ _BY_TYPE: dict[str, type[ProblemError]] = {
     "/problems/solver-failed": SolverFailedError,
     "/problems/solver-timeout": SolverTimeoutError,
     "/problems/too-large": TooLargeError,
+    "/problems/overloaded": ServiceBusyError,
 }
 
 
@@ -185,16 +187,22 @@ class SynthClient(_Policy):
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls) -> SynthClient:
-        """A client speaking to a fresh app in this process, without a network (needs the service installed)."""
+    def in_process(cls, executor: InProcessExecutor = "serial") -> SynthClient:
+        """A client speaking to a fresh app in this process, without a network (needs the service installed).
+
+        Solver work runs in one background thread (``executor="serial"``), which works from any script or notebook;
+        ``"pool"`` uses worker processes as the service does (a script then needs an ``if __name__ == "__main__"``
+        guard, as every multiprocessing program does).
+        """
         with warnings.catch_warnings():
             # starlette announces a future move of its test client to another HTTP library; ours speaks httpx.
             warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
             from fastapi.testclient import TestClient
 
         from .app import create_app
+        from .settings import Settings
 
-        return cls(http=TestClient(create_app()))
+        return cls(http=TestClient(create_app(Settings(executor=executor))))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -230,6 +238,11 @@ class SynthClient(_Policy):
     def health(self) -> dict[str, Any]:
         """GET /health."""
         result: dict[str, Any] = self._send("GET", "/health").json()
+        return result
+
+    def ready(self) -> dict[str, Any]:
+        """GET /ready: the executor, its workers, running and queued requests, and the admission capacity."""
+        result: dict[str, Any] = self._send("GET", "/ready").json()
         return result
 
     def analysis(self, body: AnalysisIn) -> AnalysisOut:
@@ -308,12 +321,14 @@ class AsyncSynthClient(_Policy):
         self.http = http if http is not None else httpx.AsyncClient(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls) -> AsyncSynthClient:
-        """A client speaking to a fresh app in this process over ASGI (needs the service installed)."""
+    def in_process(cls, executor: InProcessExecutor = "serial") -> AsyncSynthClient:
+        """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
+        as in :meth:`SynthClient.in_process`."""
         from .app import create_app
+        from .settings import Settings
 
-        return cls(http=httpx.AsyncClient(transport=httpx.ASGITransport(app=create_app()),
-                                          base_url="http://in-process"))
+        app = create_app(Settings(executor=executor))
+        return cls(http=httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://in-process"))
 
     async def aclose(self) -> None:
         """Close the underlying HTTP client."""
@@ -349,6 +364,11 @@ class AsyncSynthClient(_Policy):
     async def health(self) -> dict[str, Any]:
         """GET /health."""
         result: dict[str, Any] = (await self._send("GET", "/health")).json()
+        return result
+
+    async def ready(self) -> dict[str, Any]:
+        """GET /ready."""
+        result: dict[str, Any] = (await self._send("GET", "/ready")).json()
         return result
 
     async def analysis(self, body: AnalysisIn) -> AnalysisOut:

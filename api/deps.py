@@ -1,13 +1,14 @@
-"""Shared request dependencies as ``Annotated`` aliases: the app's settings and its solver gate."""
+"""Shared request dependencies as ``Annotated`` aliases: the app's settings and its solvers."""
 
 from __future__ import annotations
 
+import time
 from typing import Annotated
 
 from fastapi import Depends, Request
 
 from .settings import Settings
-from .solvers import SolverGate
+from .solvers import RequestSolvers, Solvers
 
 
 def get_settings(request: Request) -> Settings:
@@ -16,11 +17,11 @@ def get_settings(request: Request) -> Settings:
     return settings
 
 
-def get_solver_gate(request: Request) -> SolverGate:
-    """The app's one solver gate (one solve at a time per process)."""
-    gate: SolverGate = request.app.state.solver_gate
-    return gate
+def get_solvers(request: Request) -> RequestSolvers:
+    """The app's solvers with this request's one deadline, counted from now."""
+    solvers: Solvers = request.app.state.solvers
+    return RequestSolvers(solvers, time.monotonic() + solvers.settings.request_deadline_s)
 
 
 SettingsDep = Annotated[Settings, Depends(get_settings)]
-SolverGateDep = Annotated[SolverGate, Depends(get_solver_gate)]
+SolverDep = Annotated[RequestSolvers, Depends(get_solvers)]

@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
 from fastapi import Query, Request
 from fastapi.responses import Response
-from pydantic import BaseModel
+from pydantic import BaseModel, ValidationError
+
+from synth.errors import InvalidInput
 
 FormatQuery = Annotated[
     Literal["json", "png"] | None,
@@ -38,3 +42,40 @@ def json_response(model: BaseModel) -> Response:
 def png(content: bytes) -> Response:
     """A PNG response."""
     return Response(content=content, media_type="image/png")
+
+
+@dataclass(frozen=True, slots=True)
+class Render:
+    """How a worker turns an engine result into the answer's bytes: a response model as JSON, or a figure.
+
+    Both callables are module-level functions (or classmethods), so a Render travels to a worker process as it is;
+    ``extra`` follows the result in the call (the stages of a drive, the drawing angle of a figure).
+    """
+
+    model: Callable[..., BaseModel]
+    figure: Callable[..., bytes] | None = None
+    as_png: bool = False
+    model_extra: tuple[Any, ...] = ()
+    figure_extra: tuple[Any, ...] = ()
+
+    def __call__(self, result: Any) -> tuple[bytes, str]:
+        """The bytes of the answer and their media type."""
+        if self.as_png and self.figure is not None:
+            return self.figure(result, *self.figure_extra), "image/png"
+        try:
+            model = self.model(result, *self.model_extra)
+        except ValidationError as exc:
+            # The engine computed a number beyond the physical range the answer's schema allows; that is the
+            # input's doing (units, sizes), so it is named like an input problem, never a 500.
+            err = exc.errors()[0]
+            field = ".".join(str(p) for p in err.get("loc", ()))
+            raise InvalidInput(f"the answer's {field} would be beyond any physical range ({err.get('msg', '')}); "
+                               "check the input's units and sizes", field=field) from None
+        return model.model_dump_json().encode(), "application/json"
+
+
+def render_for(request: Request, fmt: str | None, model: Callable[..., BaseModel],
+               figure: Callable[..., bytes] | None = None, model_extra: tuple[Any, ...] = (),
+               figure_extra: tuple[Any, ...] = ()) -> Render:
+    """The Render a request asks for: its figure when it wants a PNG and there is one, else its JSON."""
+    return Render(model, figure, figure is not None and wants_png(request, fmt), model_extra, figure_extra)

@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import asyncio
 import logging
+import math
+from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
-from starlette.types import ASGIApp, Receive, Scope, Send
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from synth.errors import (
     Infeasible,
@@ -19,7 +23,11 @@ from synth.errors import (
     SolverTimeout,
     SynthError,
     TooLarge,
+    WorkerLost,
 )
+
+from .settings import Settings
+from .solvers import Overloaded
 
 log = logging.getLogger("api")
 
@@ -31,13 +39,56 @@ _STATUS: dict[type[SynthError], int] = {
     SolverFailed: 422,
     TooLarge: 413,
     SolverTimeout: 504,
+    WorkerLost: 502,
+}
+# Every problem a POST operation can answer, documented in the OpenAPI document with the one Problem schema.
+PROBLEM_STATUSES: dict[int, str] = {
+    400: "The body is not valid JSON.",
+    408: "The client did not send its body within the body timeout.",
+    413: "The body, or a count in it (samples, stages, sweep points), is beyond the service's limits.",
+    422: "Input that cannot be satisfied: a field out of range, a linkage that cannot assemble, an infeasible "
+         "target, a solver that failed.",
+    502: "The worker process running the request died; the service goes on with a new worker.",
+    503: "Every worker is busy and the queue is full; retry after the Retry-After header's seconds.",
+    504: "The request's work did not finish within its deadline; the answer says how far it got.",
+}
+PROBLEM_SCHEMA: dict[str, Any] = {
+    "title": "Problem",
+    "type": "object",
+    "description": "RFC 9457 problem details, with fields that help act on the problem (field, angles, "
+                   "constraint, solver status, limit).",
+    "properties": {
+        "type": {"type": "string", "description": "Relative URI naming the kind of problem."},
+        "title": {"type": "string"},
+        "status": {"type": "integer"},
+        "detail": {"type": "string"},
+        "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field."},
+    },
+    "required": ["type", "title", "status", "detail"],
+    "additionalProperties": True,
 }
 
 
-def problem(status: int, slug: str, title: str, detail: str, **extras: Any) -> JSONResponse:
+def _finite(value: Any) -> Any:
+    """Problem extras as finite JSON: non-finite numbers become null, numpy scalars and arrays plain values."""
+    if isinstance(value, dict):
+        return {str(k): _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _finite(value.tolist())
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def problem(status: int, slug: str, title: str, detail: str, headers: Mapping[str, str] | None = None,
+            **extras: Any) -> JSONResponse:
     """A problem+json response; ``type`` is a relative URI naming the kind of problem."""
-    body = {"type": f"/problems/{slug}", "title": title, "status": status, "detail": detail, **extras}
-    return JSONResponse(body, status_code=status, media_type=PROBLEM_JSON)
+    body = {"type": f"/problems/{slug}", "title": title, "status": status, "detail": detail, **_finite(extras)}
+    return JSONResponse(body, status_code=status, media_type=PROBLEM_JSON, headers=headers)
 
 
 def problem_response(exc: SynthError) -> JSONResponse:
@@ -64,12 +115,25 @@ async def _validation_handler(_: Request, exc: Exception) -> JSONResponse:
     ]
     first = errors[0] if errors else {"field": "", "message": "invalid request"}
     detail = f"{first['field']}: {first['message']}" if first["field"] else str(first["message"])
+    bad_json = next((e for e in exc.errors() if e.get("type") == "json_invalid"), None)
+    if bad_json is not None:
+        position = bad_json.get("loc", ("body", 0))[-1]
+        return problem(400, "malformed-json", "Malformed JSON",
+                       f"the body is not valid JSON ({bad_json.get('msg', '')} at character {position})",
+                       position=position)
     return problem(422, "invalid-input", "Invalid input", detail, field=first["field"], errors=errors)
 
 
 async def _http_handler(_: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, StarletteHTTPException)
-    return problem(exc.status_code, "http-error", str(exc.detail), str(exc.detail))
+    # Starlette's 405 carries the Allow header; keep whatever headers the exception has.
+    return problem(exc.status_code, "http-error", str(exc.detail), str(exc.detail), headers=exc.headers)
+
+
+async def _overloaded_handler(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, Overloaded)
+    return problem(503, "overloaded", "Service busy", str(exc), headers={"Retry-After": str(exc.retry_after_s)},
+                   capacity=exc.capacity, retry_after_s=exc.retry_after_s)
 
 
 async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
@@ -78,11 +142,13 @@ async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
 
 
 class BodyLimit:
-    """ASGI middleware answering 413 for a request body over ``max_bytes`` (declared or streamed)."""
+    """ASGI middleware that reads the whole body before the app sees it: 413 past ``max_bytes`` (declared or
+    streamed in chunks), 408 when the client takes longer than ``timeout_s`` to send it."""
 
-    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float) -> None:
         self.app = app
         self.max_bytes = max_bytes
+        self.timeout_s = timeout_s
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -90,19 +156,86 @@ class BodyLimit:
             return
         declared = dict(scope.get("headers", [])).get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
-            await self._reject(scope, receive, send, int(declared))
+            await self._too_large(scope, receive, send, int(declared))
             return
-        await self.app(scope, receive, send)
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + self.timeout_s
+        chunks: list[bytes] = []
+        size = 0
+        while True:
+            try:
+                message = await asyncio.wait_for(receive(), timeout=max(0.0, deadline - loop.time()))
+            except asyncio.TimeoutError:
+                response = problem(408, "body-timeout", "Request body too slow",
+                                   f"the body was not received within {self.timeout_s:g} s",
+                                   headers={"Connection": "close"}, limit_s=self.timeout_s, received_bytes=size)
+                await response(scope, receive, send)
+                return
+            if message["type"] == "http.disconnect":
+                return
+            chunk = message.get("body", b"")
+            size += len(chunk)
+            if size > self.max_bytes:
+                await self._too_large(scope, receive, send, size)
+                return
+            chunks.append(chunk)
+            if not message.get("more_body", False):
+                break
+        body = b"".join(chunks)
+        replayed = False
 
-    async def _reject(self, scope: Scope, receive: Receive, send: Send, got: int) -> None:
+        async def replay() -> Message:
+            nonlocal replayed
+            if not replayed:
+                replayed = True
+                return {"type": "http.request", "body": body, "more_body": False}
+            return await receive()
+
+        await self.app(scope, replay, send)
+
+    async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int) -> None:
         response = problem_response(TooLarge("request body bytes", self.max_bytes, got))
+        response.headers["Connection"] = "close"
         await response(scope, receive, send)
 
 
-def install(app: FastAPI, max_body_bytes: int) -> None:
-    """Register every handler and the body-size limit on ``app``."""
+def install(app: FastAPI, settings: Settings) -> None:
+    """Register every handler and the body limits on ``app``."""
     app.add_exception_handler(SynthError, _synth_handler)
+    app.add_exception_handler(Overloaded, _overloaded_handler)
     app.add_exception_handler(RequestValidationError, _validation_handler)
     app.add_exception_handler(StarletteHTTPException, _http_handler)
     app.add_exception_handler(Exception, _unexpected_handler)
-    app.add_middleware(BodyLimit, max_bytes=max_body_bytes)
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s)
+
+
+def document(app: FastAPI) -> None:
+    """Make the OpenAPI document tell the truth: every POST operation lists its problem responses as
+    ``application/problem+json`` with the one Problem schema, in place of FastAPI's default 422 body."""
+    build = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is not None:
+            return app.openapi_schema
+        doc = build()
+        doc.setdefault("components", {}).setdefault("schemas", {})["Problem"] = PROBLEM_SCHEMA
+        for schemas in (doc["components"]["schemas"],):
+            schemas.pop("HTTPValidationError", None)
+            schemas.pop("ValidationError", None)
+        ref = {"$ref": "#/components/schemas/Problem"}
+        for path in doc.get("paths", {}).values():
+            for method, operation in path.items():
+                responses = operation.setdefault("responses", {})
+                statuses = PROBLEM_STATUSES if method == "post" else {}
+                if method == "post" or any(p.get("in") == "query" for p in operation.get("parameters", [])):
+                    statuses = statuses or {k: v for k, v in PROBLEM_STATUSES.items() if k in (400, 422)}
+                for status, description in statuses.items():
+                    responses[str(status)] = {"description": description,
+                                              "content": {PROBLEM_JSON: {"schema": ref}}}
+                if "503" in responses:
+                    responses["503"]["headers"] = {"Retry-After": {"schema": {"type": "integer"},
+                                                                   "description": "Seconds to wait."}}
+        app.openapi_schema = doc
+        return doc
+
+    app.openapi = openapi  # type: ignore[method-assign]

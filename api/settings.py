@@ -1,39 +1,44 @@
-"""Service limits and budgets, read once from the environment (``SYNTH_*``) with sensible defaults."""
+"""Service limits and budgets, read once from the environment (``SYNTH_*``) and validated at start."""
 
 from __future__ import annotations
 
-import os
-from dataclasses import dataclass
+from typing import Literal
+
+from pydantic import Field, ValidationError
+from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
-def _env(name: str, default: float) -> float:
-    raw = os.environ.get(name)
-    return default if raw is None else float(raw)
+class Settings(BaseSettings):
+    """Limits of one service instance; each field is read from ``SYNTH_<FIELD>`` (e.g. ``SYNTH_WORKERS=4``)."""
 
+    model_config = SettingsConfigDict(env_prefix="SYNTH_", frozen=True, extra="ignore")
 
-@dataclass(frozen=True, slots=True)
-class Settings:
-    """Limits of one service instance.
-
-    max_samples: crank angles per request; max_body_bytes: request body size (413 beyond);
-    solver_time_limit_s: each solver's own time limit; solver_wait_s: how long a request waits for a
-    solver slot before answering 504; max_stages: gear stages per drive.
-    """
-
-    max_samples: int = 20_000
-    max_body_bytes: int = 2_000_000
-    solver_time_limit_s: float = 20.0
-    solver_wait_s: float = 30.0
-    max_stages: int = 6
+    max_samples: int = Field(20_000, ge=2, le=1_000_000, description="Crank angles per request.")
+    max_body_bytes: int = Field(2_000_000, ge=1_000, le=1_000_000_000,
+                                description="Request body size; 413 beyond it, declared or streamed.")
+    body_timeout_s: float = Field(10.0, gt=0, le=600,
+                                  description="Time a client has to send its whole body; 408 past it.")
+    solver_time_limit_s: float = Field(20.0, gt=0, le=3600, description="Each solver's own time limit.")
+    request_deadline_s: float = Field(30.0, gt=0, le=3600,
+                                      description="One deadline for all of a request's work, queueing included; "
+                                                  "504 past it and the worker is replaced.")
+    max_stages: int = Field(6, ge=1, le=12, description="Gear stages per drive.")
+    executor: Literal["pool", "serial"] = Field("pool", description="Where requests' solver work runs: worker "
+                                                "processes, or one thread of the web process.")
+    workers: int = Field(0, ge=0, le=256, description="Worker processes; 0 means one per core.")
+    queue_size: int = Field(16, ge=0, le=10_000,
+                            description="Requests that may wait for a worker; beyond it 503 with Retry-After.")
+    worker_memory_mb: int = Field(4096, ge=256, le=1_048_576,
+                                  description="Address-space limit of each worker [MiB].")
+    dask_scheduler: str | None = Field(None, description="Address of a Dask scheduler for studies "
+                                                         "(tcp://host:8786); unset: the local workers.")
 
     @classmethod
     def from_env(cls) -> Settings:
-        """Settings with any ``SYNTH_<FIELD>`` environment variable applied."""
-        d = cls()
-        return cls(
-            max_samples=int(_env("SYNTH_MAX_SAMPLES", d.max_samples)),
-            max_body_bytes=int(_env("SYNTH_MAX_BODY_BYTES", d.max_body_bytes)),
-            solver_time_limit_s=_env("SYNTH_SOLVER_TIME_LIMIT_S", d.solver_time_limit_s),
-            solver_wait_s=_env("SYNTH_SOLVER_WAIT_S", d.solver_wait_s),
-            max_stages=int(_env("SYNTH_MAX_STAGES", d.max_stages)),
-        )
+        """Settings from the environment; a bad value stops the service with the variable's name and the reason."""
+        try:
+            return cls()
+        except ValidationError as exc:
+            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']} (got {e.get('input')!r})"
+                     for e in exc.errors()]
+            raise SystemExit("invalid service settings:\n  " + "\n  ".join(lines)) from None

@@ -36,6 +36,7 @@ from .errors import (
     SolverTimeout,
     SynthError,
     TooLarge,
+    WorkerLost,
 )
 from .flywheel import (
     FlywheelBody,
@@ -147,6 +148,7 @@ __all__ = [
     "Summary",
     "SynthError",
     "TooLarge",
+    "WorkerLost",
     "ToothChecks",
     "ToothResult",
     "ToothRules",

@@ -8,7 +8,8 @@
     ├── Infeasible        a design target no admissible design can meet (reason, constraint)
     ├── SolverFailed      a solver stopped without an optimal answer (status)
     ├── SolverTimeout     a solve ran past its time budget (limit_s)
-    └── TooLarge          a request beyond a size limit (limit, got)
+    ├── TooLarge          a request beyond a size limit (limit, got)
+    └── WorkerLost        the worker process running a task died (exit_code)
 
 ``api/problems.py`` is the one place that maps these to HTTP problem responses.
 """
@@ -30,6 +31,18 @@ class SynthError(Exception):
     def extras(self) -> dict[str, Any]:
         """Fields that help the caller act on the problem (angles, statuses, names)."""
         return {}
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Errors cross process boundaries (worker pools, Dask); rebuild them from their state, not their
+        # constructor, whose signature differs per class.
+        return (_rebuild, (type(self), self.args, self.__dict__))
+
+
+def _rebuild(cls: type[SynthError], args: tuple[Any, ...], state: dict[str, Any]) -> SynthError:
+    err = cls.__new__(cls)
+    err.args = args
+    err.__dict__.update(state)
+    return err
 
 
 class InvalidInput(SynthError, ValueError):
@@ -143,8 +156,8 @@ class TooLarge(SynthError):
     slug = "too-large"
     title = "Request too large"
 
-    def __init__(self, what: str, limit: int, got: int) -> None:
-        super().__init__(f"{what}: {got} exceeds the limit of {limit}")
+    def __init__(self, what: str, limit: int, got: int, message: str | None = None) -> None:
+        super().__init__(message or f"{what}: {got} exceeds the limit of {limit}")
         self.what = what
         self.limit = limit
         self.got = got
@@ -152,3 +165,18 @@ class TooLarge(SynthError):
     def extras(self) -> dict[str, Any]:
         """The limit and the size asked for."""
         return {"limit": self.limit, "got": self.got}
+
+
+class WorkerLost(SynthError):
+    """The worker process running a task died (out of memory, killed by the system, a crash inside a solver)."""
+
+    slug = "worker-lost"
+    title = "Worker process lost"
+
+    def __init__(self, message: str, exit_code: int | None = None) -> None:
+        super().__init__(message)
+        self.exit_code = exit_code
+
+    def extras(self) -> dict[str, Any]:
+        """The worker's exit code (negative: the signal that ended it)."""
+        return {"exit_code": self.exit_code}

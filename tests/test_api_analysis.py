@@ -107,11 +107,12 @@ def test_bad_input_names_the_field(client: SynthClient, patch: dict, field: str)
     assert field in problem["field"]
 
 
-def test_nan_and_malformed_json_are_422(client: SynthClient) -> None:
+def test_nan_is_422_and_malformed_json_400(client: SynthClient) -> None:
     body = json.dumps({"mechanism": FOURBAR}).replace('"crank_length_m": 0.1', '"crank_length_m": NaN').encode()
     problem = _problem(client, body, 422, "invalid-input")
     assert "crank_length_m" in problem["field"]
-    _problem(client, b"{not json", 422, "invalid-input")
+    malformed = _problem(client, b"{not json", 400, "malformed-json")
+    assert malformed["position"] == 1 and "JSON" in malformed["detail"]
 
 
 def test_size_limits_are_413(client: SynthClient) -> None:

@@ -97,11 +97,27 @@ def test_not_assemblable_reports_the_exact_gap() -> None:
         ((0.3, 0.35, 0.1, 0.25), "double-rocker"),
         ((0.3, 0.35, 0.25, 0.1), "rocker-crank"),
         ((0.3, 0.28, 0.35, 0.25), "triple-rocker"),
-        ((0.3, 0.1, 0.3, 0.1), "change-point"),
     ],
 )
 def test_grashof_classes(lengths: tuple[float, float, float, float], expected: str) -> None:
     assert synth.FourBar(*lengths).grashof == expected
+
+
+@pytest.mark.parametrize(
+    ("lengths", "folded_deg"),
+    [
+        # |AQ| at phi = 0 is d - a = 0.2 = b - c: the coupler folds onto the rocker there only.
+        ((0.3, 0.1, 0.35, 0.15), [0.0]),
+        # The parallelogram folds at 0 deg (d - a = b - c = 0.2) and 180 deg (d + a = b + c = 0.4).
+        ((0.3, 0.1, 0.3, 0.1), [0.0, 180.0]),
+    ],
+)
+def test_change_point_linkages_are_refused_with_their_collinear_angles(
+        lengths: tuple[float, float, float, float], folded_deg: list[float]) -> None:
+    with pytest.raises(synth.InvalidInput) as err:
+        synth.FourBar(*lengths)
+    assert err.value.field == "mechanism" and "change-point" in str(err.value)
+    assert str(folded_deg) in str(err.value)
 
 
 def test_invalid_dimensions_are_named() -> None:

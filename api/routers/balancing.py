@@ -6,10 +6,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 import synth
-from synth.balancing.plots import balance_png
+from synth.balancing.plots import balance_png, first_balance_png
 
-from ..deps import SettingsDep, SolverGateDep
-from ..media import PNG_RESPONSES, FormatQuery, png, wants_png
+from ..deps import SolverDep
+from ..media import PNG_RESPONSES, FormatQuery, render_for
 from ..schemas.balancing import (
     BalanceIn,
     BalanceOut,
@@ -25,66 +25,60 @@ from ..schemas.balancing import (
 router = APIRouter(prefix="/balancing", tags=["balancing"])
 
 
-def _answer(request: Request, fmt: str | None, result: synth.BalanceResult, out: BalanceOut) -> BalanceOut | Response:
-    return png(balance_png(result)) if wants_png(request, fmt) else out
-
-
 @router.post("/static", response_model=BalanceOut, responses=PNG_RESPONSES)
-def balance_static(body: BalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
-                   format: FormatQuery = None) -> BalanceOut | Response:
+async def balance_static(body: BalanceIn, request: Request, solvers: SolverDep,
+                         format: FormatQuery = None) -> Response:
     """Counterweights that make the shaking force identically zero, at least added mass (or inertia)."""
-    result = gate.run(
+    return await solvers.answer(
+        render_for(request, format, BalanceOut.from_engine, balance_png),
         synth.balance_static, body.to_linkage(), body.omega_rad_s, body.spec(), samples=body.samples,
-        objective=body.objective, mass_budget=body.mass_budget_kg, time_limit_s=settings.solver_time_limit_s,
+        objective=body.objective, mass_budget=body.mass_budget_kg, time_limit_s=solvers.settings.solver_time_limit_s,
     )
-    return _answer(request, format, result, BalanceOut.from_engine(result))
 
 
 @router.post("/full", response_model=BalanceOut, responses=PNG_RESPONSES)
-def balance_full(body: FullBalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
-                 format: FormatQuery = None) -> BalanceOut | Response:
+async def balance_full(body: FullBalanceIn, request: Request, solvers: SolverDep,
+                       format: FormatQuery = None) -> Response:
     """Shaking force and moment identically zero: counterweights, a pendulum coupler and counter-rotors."""
-    result = gate.run(
+    return await solvers.answer(
+        render_for(request, format, BalanceOut.from_engine, balance_png),
         synth.balance_full, body.to_linkage(), body.omega_rad_s, body.spec(), samples=body.samples,
-        ratios=body.rotor_ratios, time_limit_s=settings.solver_time_limit_s,
+        ratios=body.rotor_ratios, time_limit_s=solvers.settings.solver_time_limit_s,
     )
-    return _answer(request, format, result, BalanceOut.from_engine(result))
 
 
 @router.post("/optimal", response_model=OptimalBalanceOut, responses=PNG_RESPONSES)
-def balance_optimal(body: OptimalBalanceIn, request: Request, settings: SettingsDep, gate: SolverGateDep,
-                    format: FormatQuery = None) -> OptimalBalanceOut | Response:
+async def balance_optimal(body: OptimalBalanceIn, request: Request, solvers: SolverDep,
+                          format: FormatQuery = None) -> Response:
     """The best weighted trade-off of shaking force, moment, driving torque and bearing forces within a mass
     budget (one SOCP), and the trade-off curve over `sweep`."""
     weight_sets = [w.to_engine() for w in [body.weights, *body.sweep]]
-    results = gate.run(
+    return await solvers.answer(
+        render_for(request, format, OptimalBalanceOut.from_results, first_balance_png),
         synth.tradeoff, body.to_linkage(), body.omega_rad_s, body.spec(), weight_sets,
-        mass_budget=body.mass_budget_kg, samples=body.samples, time_limit_s=settings.solver_time_limit_s,
+        mass_budget=body.mass_budget_kg, samples=body.samples, time_limit_s=solvers.settings.solver_time_limit_s,
     )
-    if wants_png(request, format):
-        return png(balance_png(results[0]))
-    out = OptimalBalanceOut(**BalanceOut.from_engine(results[0]).model_dump(),
-                            tradeoff=[BalanceOut.from_engine(r) for r in results[1:]])
-    return out
 
 
 @router.post("/rotor", response_model=RotorOut)
-def balance_rotor(body: RotorIn) -> RotorOut:
+async def balance_rotor(body: RotorIn, solvers: SolverDep) -> RotorOut:
     """Correction masses for a rotor: one plane (static) or two planes (dynamic)."""
     if body.mode == "static":
-        result = synth.balance_rotor_static(body.to_engine(), body.correction_radius_m, body.correction_plane_m)
+        result = await solvers.run(synth.balance_rotor_static, body.to_engine(), body.correction_radius_m,
+                                   body.correction_plane_m)
     else:
-        result = synth.balance_rotor_dynamic(body.to_engine(), (body.planes_m[0], body.planes_m[1]),
-                                             (body.radii_m[0], body.radii_m[1]))
+        result = await solvers.run(synth.balance_rotor_dynamic, body.to_engine(),
+                                   (body.planes_m[0], body.planes_m[1]), (body.radii_m[0], body.radii_m[1]))
     return RotorOut.from_engine(result)
 
 
 @router.post("/slider-crank", response_model=SliderCrankBalanceOut)
-def balance_slider_crank(body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
+async def balance_slider_crank(body: SliderCrankBalanceIn, request: Request, solvers: SolverDep) -> Response:
     """Crank counterweight for the rotating masses, Lanchester pairs for the reciprocating ones."""
-    result = synth.balance_slider_crank(
-        body.to_linkage(), body.omega_rad_s, counterweight_radius=body.counterweight_radius_m,
+    return await solvers.answer(
+        render_for(request, None, SliderCrankBalanceOut.from_engine),
+        synth.balance_slider_crank, body.to_linkage(), body.omega_rad_s,
+        counterweight_radius=body.counterweight_radius_m,
         balancer_radii=(body.balancer_radii_m[0], body.balancer_radii_m[1]), orders=body.orders,
         samples=body.samples,
     )
-    return SliderCrankBalanceOut.from_engine(result)

@@ -8,9 +8,10 @@ from fastapi.responses import Response
 import synth
 from synth.flywheel.plots import flywheel_png
 
-from ..deps import SettingsDep, SolverGateDep
-from ..media import PNG_RESPONSES, FormatQuery, json_response, png, wants_png
+from ..deps import SolverDep
+from ..media import PNG_RESPONSES, FormatQuery, render_for
 from ..schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
+from ..tasks import flywheel_for_linkage
 
 router = APIRouter(tags=["flywheel"])
 
@@ -22,29 +23,22 @@ def machine_types() -> list[MachineTypeOut]:
 
 
 @router.post("/flywheel", response_model=FlywheelOut, responses=PNG_RESPONSES)
-def flywheel(
-    body: FlywheelIn, request: Request, settings: SettingsDep, gate: SolverGateDep, format: FormatQuery = None
-) -> Response:
+async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
     """Smallest flywheel for a target delta by the exact (Wittenbauer), Mertsalov and energy methods, and with
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With
     ``?format=png`` the energy-mass diagram with its tangents and the speed over the cycle."""
+    settings = solvers.settings
     mean_speed, delta = body.mean_speed(), body.target_delta()
-    if body.uses_tables():
-        assert body.tables is not None
-        cycle = body.tables.to_cycle(body.cycle_deg, settings.max_samples)
-    else:
-        analysis = synth.analyse(body.to_linkage(), mean_speed, samples=body.samples, max_samples=settings.max_samples)
-        cycle = synth.cycle_from_reduced(analysis.reduced)
-    result = gate.run(
-        synth.size_flywheel,
-        cycle,
-        mean_speed,
-        delta,
+    sizing = dict(
         constant_inertia=body.constant_inertia_kgm2,
         motor=None if body.motor is None else body.motor.to_engine(),
         geometry=None if body.geometry is None else body.geometry.to_engine(),
         time_limit_s=settings.solver_time_limit_s,
     )
-    if wants_png(request, format):
-        return png(flywheel_png(result))
-    return json_response(FlywheelOut.from_engine(result))
+    render = render_for(request, format, FlywheelOut.from_engine, flywheel_png)
+    if body.uses_tables():
+        assert body.tables is not None
+        cycle = body.tables.to_cycle(body.cycle_deg, settings.max_samples)
+        return await solvers.answer(render, synth.size_flywheel, cycle, mean_speed, delta, **sizing)
+    return await solvers.answer(render, flywheel_for_linkage, body.to_linkage(), mean_speed, body.samples,
+                                settings.max_samples, delta, **sizing)

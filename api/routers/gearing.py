@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Request
+from fastapi.responses import Response
 
 import synth
 
-from ..deps import SettingsDep, SolverGateDep
+from ..deps import SolverDep
+from ..media import render_for
 from ..schemas.gearing import (
     DriveIn,
     DriveOut,
@@ -22,42 +24,42 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 
 
 @router.post("/split", response_model=SplitOut)
-def gears_split(body: SplitIn, settings: SettingsDep, gate: SolverGateDep) -> SplitOut:
+async def gears_split(body: SplitIn, request: Request, solvers: SolverDep) -> Response:
     """Split the total ratio between the stages: minimum reduced inertia or gear volume (geometric programs,
     global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
-    result = gate.run(
+    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
+    return await solvers.answer(
+        render_for(request, None, SplitOut.from_engine, model_extra=(stages,)),
         synth.split_ratio, body.ratio(), stages, body.objective,
         inertia=body.inertia_model(body.motor_inertia_kgm2), input_torque=body.input_torque_Nm,
         handbook_factor=body.handbook_factor, snap_r20=body.snap_r20, snap_tolerance=body.snap_tolerance,
-        time_limit_s=settings.solver_time_limit_s,
+        time_limit_s=solvers.settings.solver_time_limit_s,
     )
-    return SplitOut.from_engine(result, stages)
 
 
 @router.post("/teeth", response_model=TeethOut)
-def gears_teeth(body: TeethIn, settings: SettingsDep, gate: SolverGateDep) -> TeethOut:
+async def gears_teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Response:
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
-    result = gate.run(synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
-    return TeethOut.from_engine(result)
+    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
+    return await solvers.answer(render_for(request, None, TeethOut.from_engine),
+                                synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
 
 
 @router.post("/drive", response_model=DriveOut)
-def gears_drive(body: DriveIn, settings: SettingsDep, gate: SolverGateDep) -> DriveOut:
+async def gears_drive(body: DriveIn, request: Request, solvers: SolverDep) -> Response:
     """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
     inertia reduced to the motor shaft."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=settings.max_stages)
-    result = gate.run(
+    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
+    return await solvers.answer(
+        render_for(request, None, DriveOut.from_engine, model_extra=(stages,)),
         synth.design_drive, body.output_power_W, body.output_speed(), stages,
         reserve_factor=body.reserve_factor, drive_efficiency=body.drive_efficiency,
         synchronous_speed=body.synchronous_speed(), motor=body.motor, objective=body.objective,
         torque_basis=body.torque_basis, inertia=body.inertia_model(), snap_r20=body.snap_r20,
-        snap_tolerance=body.snap_tolerance, time_limit_s=settings.solver_time_limit_s,
+        snap_tolerance=body.snap_tolerance, time_limit_s=solvers.settings.solver_time_limit_s,
         catalogue=body.catalogue(),
     )
-    return DriveOut.from_engine(result, stages)
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])

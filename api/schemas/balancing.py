@@ -186,6 +186,12 @@ class OptimalBalanceOut(BalanceOut):
 
     tradeoff: list[BalanceOut] = Field(default_factory=list)
 
+    @classmethod
+    def from_results(cls, results: list[synth.BalanceResult]) -> OptimalBalanceOut:
+        """The first result is the design for `weights`; the rest are the sweep's points."""
+        return cls(**BalanceOut.from_engine(results[0]).model_dump(),
+                   tradeoff=[BalanceOut.from_engine(r) for r in results[1:]])
+
 
 class RotorMassIn(StrictModel):
     """An unbalanced point mass of a rotor."""

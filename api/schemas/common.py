@@ -34,7 +34,7 @@ def one_of(allowed: tuple[Choice, ...], value: str) -> Choice:
 class StrictModel(BaseModel):
     """Base of every schema: unknown fields and NaN/infinity are rejected at the edge."""
 
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, strict=True)
 
 
 class LinkIn(StrictModel):

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import math
-from typing import Literal, get_args
+from typing import Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import np, synth
-from .common import FOURBAR_EXAMPLE, LinkageFields, MechanismIn, StrictModel, ensure_finite, one_of
+from .common import MAX_INERTIA_KGM2, FOURBAR_EXAMPLE, LinkageFields, MechanismIn, StrictModel, ensure_finite, one_of
+
+# Torques far beyond any machine's, so that the cycle's work cannot overflow.
+Torque = Annotated[float, Field(ge=-1e9, le=1e9)]
 
 # The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
 SHAPER_TABLES_EXAMPLE: JsonDict = {
@@ -22,17 +25,18 @@ SHAPER_TABLES_EXAMPLE: JsonDict = {
 class FlywheelTablesIn(StrictModel):
     """The machine reduced to its crank, tabulated over one cycle (linear between rows)."""
 
-    crank_angle_deg: list[float] = Field(
-        min_length=3, description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it."
+    crank_angle_deg: list[Annotated[float, Field(ge=-1e5, le=1e5)]] = Field(
+        min_length=3, examples=[[0, 60, 120, 180, 240, 300, 360]],
+        description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it.",
     )
-    reduced_inertia_kgm2: list[float] | None = Field(
+    reduced_inertia_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
         None, description="Reduced inertia J_red of the mechanism at each angle [kg·m²]; left out: zero."
     )
-    reduced_torque_Nm: list[float] | None = Field(
+    reduced_torque_Nm: list[Torque] | None = Field(
         None, description="Sum of driving and resisting reduced torques [N·m], positive drives the crank."
     )
-    driving_torque_Nm: list[float] | None = Field(None, description="Reduced driving torque [N·m].")
-    resisting_torque_Nm: list[float] | None = Field(
+    driving_torque_Nm: list[Torque] | None = Field(None, description="Reduced driving torque [N·m].")
+    resisting_torque_Nm: list[Torque] | None = Field(
         None, description="Reduced resisting torque [N·m], negative where it resists."
     )
 
@@ -52,13 +56,14 @@ class FlywheelTablesIn(StrictModel):
 class MotorIn(StrictModel):
     """Induction motor with a linear static characteristic from synchronous speed to the rated point."""
 
-    synchronous_speed_rpm: float = Field(gt=0, description="Speed at zero torque [rev/min].", examples=[1500.0])
-    rated_speed_rpm: float = Field(gt=0, description="Speed at the rated torque [rev/min].", examples=[1440.0])
-    rated_torque_Nm: float = Field(gt=0, description="Rated torque on the motor shaft [N·m].", examples=[26.5])
-    gear_ratio: float = Field(1.0, gt=0, description="Motor speed over crank speed [-].")
+    synchronous_speed_rpm: float = Field(gt=0, le=1e5, description="Speed at zero torque [rev/min].",
+                                         examples=[1500.0])
+    rated_speed_rpm: float = Field(gt=0, le=1e5, description="Speed at the rated torque [rev/min].", examples=[1440.0])
+    rated_torque_Nm: float = Field(gt=0, le=1e8, description="Rated torque on the motor shaft [N·m].", examples=[26.5])
+    gear_ratio: float = Field(1.0, ge=1e-4, le=1e5, description="Motor speed over crank speed [-].")
     efficiency: float = Field(1.0, gt=0, le=1, description="Efficiency of the gearing [-].")
-    rotor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia on the motor shaft [kg·m²].")
-    breakdown_torque_Nm: float | None = Field(None, gt=0, description="Largest torque of the linear branch [N·m].")
+    rotor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia on the motor shaft [kg·m²].")
+    breakdown_torque_Nm: float | None = Field(None, gt=0, le=1e8, description="Largest torque of the linear branch [N·m].")
 
     def to_engine(self) -> synth.Motor:
         """Engine motor; rev/min become rad/s here."""
@@ -78,10 +83,10 @@ class ShaftIn(StrictModel):
 
     name: str = Field(min_length=1, max_length=40, description="Name of the shaft in the answer.",
                       examples=["motor"])
-    speed_ratio: float = Field(gt=0, description="Shaft speed over crank speed [-].", examples=[19.45])
+    speed_ratio: float = Field(ge=1e-4, le=1e5, description="Shaft speed over crank speed [-].", examples=[19.45])
 
 
-Ratio = tuple[float, float]
+Ratio = Annotated[list[Annotated[float, Field(gt=0, le=10)]], Field(min_length=2, max_length=2)]
 MachineType = Literal[
     "ac_generators", "dc_generators", "internal_combustion_engines", "piston_compressors", "metal_cutting_machine_tools"
 ]
@@ -95,12 +100,12 @@ class GeometryIn(StrictModel):
     """Shape, material and limits of the flywheel, and the shafts it may sit on (the crank shaft always)."""
 
     shape: Literal["rim", "disc"] = Field("rim", description="rim: a heavy rim on spokes; disc: a solid disc.")
-    density_kg_m3: float = Field(7200.0, gt=0, description="Cast iron 7200, steel 7850 [kg/m³].")
-    max_rim_speed_m_s: float | None = Field(30.0, gt=0, description="At the outer radius; cast iron 25-30 [m/s].")
-    allowable_stress_Pa: float | None = Field(None, gt=0, description="Allowable hoop (rim) or centre (disc) stress.")
-    max_diameter_m: float | None = Field(None, gt=0, description="Largest outer diameter [m].")
-    thickness_ratio: Ratio = Field((0.1, 0.2), description="Rim radial thickness a over mean diameter D: [min, max].")
-    width_ratio: Ratio = Field((0.1, 0.2), description="Width b over diameter D: [min, max].")
+    density_kg_m3: float = Field(7200.0, ge=1, le=1e5, description="Cast iron 7200, steel 7850 [kg/m³].")
+    max_rim_speed_m_s: float | None = Field(30.0, gt=0, le=1e4, description="At the outer radius; cast iron 25-30 [m/s].")
+    allowable_stress_Pa: float | None = Field(None, ge=1, le=1e12, description="Allowable hoop (rim) or centre (disc) stress.")
+    max_diameter_m: float | None = Field(None, ge=1e-4, le=1e3, description="Largest outer diameter [m].")
+    thickness_ratio: Ratio = Field([0.1, 0.2], description="Rim radial thickness a over mean diameter D: [min, max].")
+    width_ratio: Ratio = Field([0.1, 0.2], description="Width b over diameter D: [min, max].")
     shafts: list[ShaftIn] = Field(default_factory=list, max_length=20,
                                   description="Faster shafts that may carry it instead of the crank shaft.")
 
@@ -112,8 +117,8 @@ class GeometryIn(StrictModel):
             max_rim_speed=self.max_rim_speed_m_s,
             allowable_stress=self.allowable_stress_Pa,
             max_diameter=self.max_diameter_m,
-            thickness_ratio=self.thickness_ratio,
-            width_ratio=self.width_ratio,
+            thickness_ratio=(self.thickness_ratio[0], self.thickness_ratio[1]),
+            width_ratio=(self.width_ratio[0], self.width_ratio[1]),
             shafts=tuple(synth.Shaft(s.name, s.speed_ratio) for s in self.shafts),
         )
 
@@ -122,14 +127,14 @@ class FlywheelIn(LinkageFields):
     """Flywheel sizing: the machine as tables or as a linkage with loads, the mean speed and the target delta."""
 
     mechanism: MechanismIn | None = Field(None, description="A linkage instead of tables (with its loads).")
-    speed_rpm: float | None = Field(None, gt=0, description="A linkage's crank speed: same as mean_speed_rpm.")
+    speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="A linkage's crank speed: same as mean_speed_rpm.")
     tables: FlywheelTablesIn | None = Field(None, description="The reduced machine as tables over one cycle.")
     cycle_deg: Literal[360, 720] = Field(360, description="Cycle length: 720 for a four-stroke engine (tables only).")
-    mean_speed_rpm: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rev/min].")
-    mean_speed_rad_s: float | None = Field(None, gt=0, description="(w_max + w_min)/2 [rad/s].")
+    mean_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="(w_max + w_min)/2 [rev/min].")
+    mean_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="(w_max + w_min)/2 [rad/s].")
     delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
     machine_type: MachineType | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
-    constant_inertia_kgm2: float = Field(0.0, ge=0, description="Constant inertia already on the crank [kg·m²].")
+    constant_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Constant inertia already on the crank [kg·m²].")
     motor: MotorIn | None = Field(None, description="Motor characteristic; left out: constant driving torque.")
     geometry: GeometryIn | None = Field(None, description="Shape and place the flywheel; left out: size it only.")
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import synth
-from .common import StrictModel, one_of
+from .common import MAX_INERTIA_KGM2, StrictModel, one_of
 
 RPM = math.pi / 30.0
 
@@ -31,17 +31,20 @@ class StageIn(StrictModel):
 
     type: StageType = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.",
                             examples=["helical"])
-    ratio_min: float | None = Field(None, gt=0, description="Smallest admissible stage ratio [-].")
-    ratio_max: float | None = Field(None, gt=0, description="Largest admissible stage ratio [-].")
+    ratio_min: float | None = Field(None, gt=0, le=1e4, description="Smallest admissible stage ratio [-].")
+    ratio_max: float | None = Field(None, gt=0, le=1e4, description="Largest admissible stage ratio [-].")
     efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
-    ratio: float | None = Field(None, gt=0, description="Fixed stage ratio (a standard ratio, say) [-].")
+    ratio: float | None = Field(None, gt=0, le=1e4, description="Fixed stage ratio (a standard ratio, say) [-].")
 
     def to_spec(self) -> synth.StageSpec:
         """Engine stage spec."""
         return synth.StageSpec(self.type, self.ratio_min, self.ratio_max, self.efficiency, self.ratio)
 
 
-StagesIn = Annotated[int, Field(ge=1)] | list[StageType | StageIn]
+# Bounded here, before anything is allocated per stage; the service setting max_stages may lower it.
+MAX_STAGES = 12
+StagesIn = (Annotated[int, Field(ge=1, le=MAX_STAGES)]
+            | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=MAX_STAGES)])
 
 
 def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpec | str]:
@@ -49,11 +52,11 @@ def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpe
 
 
 class _InertiaFields(StrictModel):
-    pinion_inertia_kgm2: float = Field(1e-3, gt=0, description="Inertia of every pinion [kg·m²]; a gear of stage "
+    pinion_inertia_kgm2: float = Field(1e-3, gt=0, le=MAX_INERTIA_KGM2, description="Inertia of every pinion [kg·m²]; a gear of stage "
                                        "ratio u has u⁴ times it (same module and face width).")
-    load_inertia_kgm2: float = Field(0.0, ge=0, description="Inertia on the output shaft [kg·m²].")
-    shaft_inertias_kgm2: list[float] | None = Field(
-        None, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
+    load_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the output shaft [kg·m²].")
+    shaft_inertias_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
+        None, max_length=MAX_STAGES + 1, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
 
     def inertia_model(self, motor_inertia_kgm2: float = 0.0) -> synth.InertiaModel:
         """Engine reduced-inertia model data."""
@@ -64,20 +67,23 @@ class _InertiaFields(StrictModel):
 class SplitIn(_InertiaFields):
     """A total ratio (or the motor and output speeds) to split between the stages."""
 
-    total_ratio: float | None = Field(None, gt=0, description="Motor speed over output speed [-].")
-    motor_speed_rpm: float | None = Field(None, gt=0, description="Motor speed [rev/min], with an output speed.")
-    output_speed_rpm: float | None = Field(None, gt=0, description="Output shaft speed [rev/min].")
-    motor_speed_rad_s: float | None = Field(None, gt=0, description="Motor speed [rad/s], with an output speed.")
-    output_speed_rad_s: float | None = Field(None, gt=0, description="Output shaft speed [rad/s].")
+    total_ratio: float | None = Field(None, ge=1e-4, le=1e6, description="Motor speed over output speed [-].")
+    motor_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Motor speed [rev/min], with an output "
+                                          "speed.")
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Output shaft speed [rev/min].")
+    motor_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Motor speed [rad/s], with an output "
+                                            "speed.")
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
     objective: Objective = Field(
         "min_inertia", description="min_inertia: least train inertia on the motor shaft; min_volume: least gear "
         "volume; handbook: the two-stage rule of thumb.")
-    motor_inertia_kgm2: float = Field(0.0, ge=0, description="Rotor inertia, added on the motor shaft [kg·m²].")
-    input_torque_Nm: float = Field(1.0, gt=0, description="Motor-shaft torque for the volume model [N·m]; "
+    motor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia, added on the motor "
+                                      "shaft [kg·m²].")
+    input_torque_Nm: float = Field(1.0, gt=0, le=1e9, description="Motor-shaft torque for the volume model [N·m]; "
                                    "scales the volume, not the split.")
-    handbook_factor: float = Field(0.88, gt=0, description="Handbook rule: slow stage = factor * sqrt(U).")
+    handbook_factor: float = Field(0.88, gt=0, le=10, description="Handbook rule: slow stage = factor * sqrt(U).")
     snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
     snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
                                          "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
@@ -184,17 +190,18 @@ class SplitOut(BaseModel):
 class TeethIn(StrictModel):
     """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
 
-    total_ratio: float = Field(gt=0, description="Target ratio of the train [-].", examples=[17.3])
+    total_ratio: float = Field(ge=1e-4, le=1e6, description="Target ratio of the train [-].", examples=[17.3])
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of toothed stage types or stages "
                              "with ratio ranges, motor side first.")
-    min_teeth: int | None = Field(None, ge=1, description="Your bound on every wheel; replaces the undercut limit, "
+    min_teeth: int | None = Field(None, ge=1, le=100_000, description="Your bound on every wheel; replaces the undercut limit, "
                                   "which then only warns.")
-    max_teeth: int = Field(100, ge=2, description="Most teeth on any wheel.")
+    max_teeth: int = Field(100, ge=2, le=100_000, description="Most teeth on any wheel.")
     tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
                                     "teeth within it; else the closest ratio.")
     pressure_angle_deg: float = Field(20.0, gt=0, lt=90, description="Pressure angle of the basic rack [deg].")
-    addendum_coefficient: float = Field(1.0, gt=0, description="Addendum over module, h_a* [-].")
-    profile_shift: float = Field(0.0, description="Shift x on the smaller wheel of each pair, -x on the larger.")
+    addendum_coefficient: float = Field(1.0, gt=0, le=2, description="Addendum over module, h_a* [-].")
+    profile_shift: float = Field(0.0, ge=-1, le=1, description="Shift x on the smaller wheel of each pair, -x on the "
+                                 "larger.")
     hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
     reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
 
@@ -269,11 +276,12 @@ class TeethOut(BaseModel):
 class CatalogueMotorIn(StrictModel):
     """A motor of your own catalogue."""
 
-    name: str = Field(min_length=1, description="Catalogue designation.", examples=["4A100L4"])
-    rated_power_W: float = Field(gt=0, description="Rated output power [W].", examples=[4000.0])
-    synchronous_rpm: float = Field(gt=0, description="Synchronous speed [rev/min].", examples=[1500.0])
-    rated_rpm: float = Field(gt=0, description="Speed at rated power [rev/min].", examples=[1430.0])
-    rotor_inertia_kgm2: float | None = Field(None, ge=0, description="Rotor inertia [kg·m²]; unknown: null.")
+    name: str = Field(min_length=1, max_length=80, description="Catalogue designation.", examples=["4A100L4"])
+    rated_power_W: float = Field(gt=0, le=1e9, description="Rated output power [W].", examples=[4000.0])
+    synchronous_rpm: float = Field(gt=0, le=1e5, description="Synchronous speed [rev/min].", examples=[1500.0])
+    rated_rpm: float = Field(gt=0, le=1e5, description="Speed at rated power [rev/min].", examples=[1430.0])
+    rotor_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2,
+                                             description="Rotor inertia [kg·m²]; unknown: null.")
 
     @model_validator(mode="after")
     def _slip(self) -> CatalogueMotorIn:
@@ -290,15 +298,16 @@ class CatalogueMotorIn(StrictModel):
 class DriveIn(_InertiaFields):
     """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
 
-    output_power_W: float = Field(gt=0, description="Power the output shaft delivers [W].", examples=[3000.0])
-    output_speed_rpm: float | None = Field(None, gt=0, description="Output shaft speed [rev/min].")
-    output_speed_rad_s: float | None = Field(None, gt=0, description="Output shaft speed [rad/s].")
+    output_power_W: float = Field(gt=0, le=1e9, description="Power the output shaft delivers [W].",
+                                  examples=[3000.0])
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Output shaft speed [rev/min].")
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
-    reserve_factor: float = Field(1.1, gt=0, description="xi in P_req = P_out xi / eta.")
+    reserve_factor: float = Field(1.1, gt=0, le=10, description="xi in P_req = P_out xi / eta.")
     drive_efficiency: float | None = Field(None, gt=0, le=1, description="eta assumed for the motor choice; "
                                            "default the product of the stage efficiencies.")
-    synchronous_rpm: float | None = Field(None, gt=0, description="Restrict the motor to one speed class.")
+    synchronous_rpm: float | None = Field(None, gt=0, le=1e5, description="Restrict the motor to one speed class.")
     motor: str | None = Field(None, description="A catalogue motor by name instead of the automatic choice.")
     motor_catalogue: list[CatalogueMotorIn] | None = Field(
         None, min_length=1, max_length=500,

@@ -29,3 +29,8 @@ def balance_png(result: BalanceResult) -> bytes:
     axes[1].grid(alpha=0.3)
     fig.tight_layout()
     return figure_png(fig)
+
+
+def first_balance_png(results: list[BalanceResult]) -> bytes:
+    """The figure of the first design of a weight sweep (the one for the request's own weights)."""
+    return balance_png(results[0])

@@ -58,6 +58,21 @@ class FourBar:
                 f"({lengths[0] + lengths[1] + lengths[2]} m)",
                 field="mechanism",
             )
+        if self.grashof == "change-point":
+            raise InvalidInput(
+                f"a change-point four-bar (shortest + longest link = sum of the other two): at crank angle(s) "
+                f"{self.change_point_angles_deg()} deg all four joints are collinear, the motion can switch "
+                "assembly branch and the joint forces are unbounded; change one length slightly",
+                field="mechanism",
+            )
+
+    def change_point_angles_deg(self) -> list[float]:
+        """Crank angles [deg] where the coupler and rocker fold onto the ground line (the loop triangle A-B-Q
+        degenerates): at 0 deg |AQ| = |d - a|, at 180 deg |AQ| = d + a."""
+        a, d, b, c = self.crank, self.ground, self.coupler, self.rocker
+        folded = (b + c, abs(b - c))
+        return [angle for angle, dist in ((0.0, abs(d - a)), (180.0, d + a))
+                if any(math.isclose(dist, f, rel_tol=1e-9, abs_tol=1e-15) for f in folded)]
 
     @property
     def grashof(self) -> str:

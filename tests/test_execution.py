@@ -1,0 +1,90 @@
+"""The executors: the same task gives bit-identical results serially and on worker processes; a task past its
+timeout, a crashed worker and an exhausted memory limit each fail only their own task, and the pool goes on."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+
+import synth
+from synth.execution import LocalPoolExecutor, SerialExecutor
+
+FOURBAR = synth.FourBar(0.3, 0.1, 0.35, 0.25)
+
+
+def _linkage() -> synth.Linkage:
+    links = {"crank": synth.MassProps(2.0, (0.05, 0.0), 0.002), "coupler": synth.MassProps(3.0, (0.17, 0.01), 0.03),
+             "rocker": synth.MassProps(2.5, (0.12, 0.0), 0.02)}
+    return synth.Linkage(FOURBAR, links)
+
+
+def _crash() -> None:
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _allocate(n_bytes: int) -> int:
+    return int(np.ones(n_bytes // 8).sum())
+
+
+@pytest.fixture(scope="module")
+def pool() -> Iterator[LocalPoolExecutor]:
+    executor = LocalPoolExecutor(1, memory_limit_mb=1024)
+    yield executor
+    executor.shutdown()
+
+
+def test_pool_and_serial_give_bit_identical_balancing(pool: LocalPoolExecutor) -> None:
+    args = (_linkage(), 10.0, synth.CounterweightSpec())
+    serial = SerialExecutor()
+    try:
+        here = serial.submit(synth.balance_static, *args, samples=90).result()
+    finally:
+        serial.shutdown()
+    there = pool.submit(synth.balance_static, *args, samples=90, timeout=60).result()
+    assert [c.mass for c in here.counterweights] == [c.mass for c in there.counterweights]
+    assert np.array_equal(here.analysis_after.kinetostatics.shaking_force,
+                          there.analysis_after.kinetostatics.shaking_force)
+
+
+def test_engine_errors_cross_the_process_boundary_with_their_data(pool: LocalPoolExecutor) -> None:
+    # Crank 0.2 on a 0.3 frame with coupler 0.15 and rocker 0.1: |AQ| > 0.25 near 180 deg, so it cannot close there.
+    future = pool.submit(synth.analyse, synth.Linkage(synth.FourBar(0.3, 0.2, 0.15, 0.1)), 1.0, samples=36)
+    with pytest.raises(synth.NotAssemblable) as err:
+        future.result(timeout=60)
+    assert err.value.ranges_deg and err.value.extras()["failing_samples"] > 0
+
+
+def test_a_task_past_its_timeout_is_stopped_and_the_pool_goes_on(pool: LocalPoolExecutor) -> None:
+    start = time.monotonic()
+    with pytest.raises(synth.SolverTimeout):
+        pool.submit(time.sleep, 60, timeout=0.5).result(timeout=30)
+    assert time.monotonic() - start < 10
+    assert pool.submit(abs, -2.0, timeout=30).result() == 2.0
+
+
+def test_a_crashed_worker_fails_only_its_task(pool: LocalPoolExecutor) -> None:
+    with pytest.raises(synth.WorkerLost) as err:
+        pool.submit(_crash, timeout=30).result(timeout=30)
+    assert err.value.exit_code == -signal.SIGKILL
+    assert pool.submit(abs, -3.0, timeout=30).result() == 3.0
+
+
+def test_memory_exhaustion_is_a_typed_error(pool: LocalPoolExecutor) -> None:
+    with pytest.raises(synth.TooLarge) as err:
+        pool.submit(_allocate, 4 * 2**30, timeout=30).result(timeout=30)
+    assert err.value.limit == 1024 * 2**20
+    assert pool.submit(_allocate, 8 * 2**20, timeout=30).result() == 2**20
+
+
+def test_cancelling_a_running_task_stops_its_worker(pool: LocalPoolExecutor) -> None:
+    future = pool.submit(time.sleep, 60, timeout=120)
+    time.sleep(1.0)
+    assert future.cancel()
+    start = time.monotonic()
+    assert pool.submit(abs, -4.0, timeout=30).result() == 4.0
+    assert time.monotonic() - start < 10

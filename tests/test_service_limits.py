@@ -1,0 +1,130 @@
+"""A real server on loopback with one worker, no queue and a 3 s deadline: the inputs that used to stall or crash
+the service each answer a problem within their deadline, /health stays quick while the worker is busy, a full
+queue answers 503 at once, and bodies are limited whether declared, streamed or sent too slowly."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+DEADLINE_S = 3.0
+# The README's shaper tables with delta 0.15 and a strong motor geared 16:1: a nearly inertia-free machine whose
+# steady-motion simulation used to run without end.
+RUNAWAY_FLYWHEEL = {
+    "tables": {"crank_angle_deg": [0, 60, 120, 180, 240, 300, 360],
+               "resisting_torque_Nm": [-1.7, -1500.6, -1496.7, -385.74, -145.33, -250.0, -1.7],
+               "driving_torque_Nm": [0, 0, 0, 0, 0, 0, 0]},
+    "mean_speed_rad_s": 9.8, "delta": 0.15,
+    "motor": {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1440, "rated_torque_Nm": 60, "gear_ratio": 16},
+}
+FOURBAR = {"type": "fourbar", "ground_length_m": 0.3, "crank_length_m": 0.1, "coupler_length_m": 0.35,
+           "rocker_length_m": 0.25}
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def url() -> Iterator[str]:
+    port = _free_port()
+    env = {**os.environ, "SYNTH_WORKERS": "1", "SYNTH_QUEUE_SIZE": "0", "SYNTH_REQUEST_DEADLINE_S": str(DEADLINE_S),
+           "SYNTH_BODY_TIMEOUT_S": "1", "SYNTH_MAX_BODY_BYTES": "2000000"}
+    proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "api.app:app", "--host", "127.0.0.1", "--port",
+                             str(port)], cwd=REPO, env=env, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                if httpx.get(f"{base}/ready", timeout=1).json()["started"]:
+                    break
+            except (httpx.TransportError, ValueError):
+                pass
+            assert proc.poll() is None and time.monotonic() < deadline, "the server did not start"
+            time.sleep(0.2)
+        yield base
+    finally:
+        os.killpg(proc.pid, signal.SIGTERM)
+        proc.wait(timeout=30)
+
+
+def test_a_runaway_solve_answers_504_while_health_and_admission_answer_at_once(url: str) -> None:
+    answer: dict[str, object] = {}
+
+    def runaway() -> None:
+        start = time.monotonic()
+        r = httpx.post(f"{url}/v1/flywheel", json=RUNAWAY_FLYWHEEL, timeout=60)
+        answer.update(status=r.status_code, body=r.json(), seconds=time.monotonic() - start)
+
+    thread = threading.Thread(target=runaway)
+    thread.start()
+    time.sleep(0.5)
+    health = []
+    for _ in range(10):
+        start = time.monotonic()
+        assert httpx.get(f"{url}/health", timeout=5).status_code == 200
+        health.append(time.monotonic() - start)
+    start = time.monotonic()
+    busy = httpx.post(f"{url}/v1/analysis", json={"mechanism": FOURBAR, "samples": 36}, timeout=10)
+    refused_in = time.monotonic() - start
+    ready = httpx.get(f"{url}/ready", timeout=5).json()
+    thread.join(timeout=30)
+    assert max(health) < 0.5
+    assert busy.status_code == 503 and int(busy.headers["retry-after"]) >= 1 and refused_in < 0.5
+    assert busy.headers["content-type"] == "application/problem+json"
+    assert ready["running"] == 1 and ready["capacity"] == 1
+    assert answer["status"] == 504 and answer["body"]["type"] == "/problems/solver-timeout"  # type: ignore[index]
+    assert answer["seconds"] < DEADLINE_S + 2  # type: ignore[operator]
+    # The killed worker was replaced: the next request is served.
+    r = httpx.post(f"{url}/v1/analysis", json={"mechanism": FOURBAR, "samples": 36}, timeout=30)
+    assert r.status_code == 200
+
+
+def test_counts_are_bounded_before_any_allocation(url: str) -> None:
+    start = time.monotonic()
+    r = httpx.post(f"{url}/v1/gears/teeth", json={"total_ratio": 17.3, "stages": 300000000}, timeout=10)
+    assert r.status_code == 422 and r.json()["field"].startswith("stages") and time.monotonic() - start < 1
+
+
+def test_a_huge_tooth_search_answers_a_problem_within_its_deadline(url: str) -> None:
+    start = time.monotonic()
+    r = httpx.post(f"{url}/v1/gears/teeth", json={"total_ratio": 1997.3, "stages": 6, "max_teeth": 1000,
+                                                  "reverted": True}, timeout=60)
+    assert r.status_code in (413, 422, 504) and r.headers["content-type"] == "application/problem+json"
+    assert time.monotonic() - start < DEADLINE_S + 2
+
+
+def test_a_chunked_body_beyond_the_limit_is_413(url: str) -> None:
+    def chunks() -> Iterator[bytes]:
+        yield b'{"mechanism": {"type": "fourbar"}, "crank_angle_deg": ['
+        for _ in range(300):
+            yield b"0.0, " * 2000
+        yield b"0.0]}"
+
+    r = httpx.post(f"{url}/v1/analysis", content=chunks(), headers={"content-type": "application/json"}, timeout=30)
+    assert r.status_code == 413 and r.json()["limit"] == 2_000_000
+
+
+def test_a_client_that_does_not_send_its_body_is_cut_off(url: str) -> None:
+    host, port = url.removeprefix("http://").split(":")
+    with socket.create_connection((host, int(port)), timeout=10) as sock:
+        sock.sendall(b"POST /v1/analysis HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                     b"Content-Length: 100\r\n\r\n{\"mech")
+        start = time.monotonic()
+        reply = sock.recv(4096).decode()
+    assert reply.startswith("HTTP/1.1 408") and 0.5 < time.monotonic() - start < 5
