@@ -39,6 +39,9 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.structure import StructureIn, StructureOut
+from .schemas.train import TrainIn, TrainOut
 
 __all__ = [
     "AsyncSynthClient",
@@ -277,6 +280,14 @@ class SynthClient(_Policy):
         """POST /v1/gears/drive: motor choice, ratio split, every shaft's speed, power, torque and inertia."""
         return self._post("/v1/gears/drive", body, DriveOut)
 
+    def gears_train(self, body: TrainIn) -> TrainOut:
+        """POST /v1/gears/train."""
+        return self._post("/v1/gears/train", body, TrainOut)
+
+    def structure(self, body: StructureIn) -> StructureOut:
+        """POST /v1/structure: mobility, redundant constraints, Assur groups."""
+        return self._post("/v1/structure", body, StructureOut)
+
     def gears_stage_types(self) -> list[StageTypeOut]:
         """GET /v1/gears/stage-types: the shipped stage-type table."""
         return self._get_rows("/v1/gears/stage-types", StageTypeOut)
@@ -309,6 +320,18 @@ class SynthClient(_Policy):
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
 
+    def design_machine(self, body: MachineIn) -> MachineDesignOut:
+        """POST /v1/machines/design: the whole machine, linkage to motor, checked by simulating it."""
+        return self._post("/v1/machines/design", body, MachineDesignOut)
+
+    def design_machine_png(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=png: the one-page summary of the design."""
+        return self._post_png("/v1/machines/design", body)
+
+    def design_report_pdf(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=pdf: the multi-page design report (with the alternatives when the
+        request asks for them)."""
+        return self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"}).content
 
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
@@ -434,3 +457,24 @@ class AsyncSynthClient(_Policy):
     async def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank."""
         return await self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    async def gears_train(self, body: TrainIn) -> TrainOut:
+        """POST /v1/gears/train."""
+        return await self._post("/v1/gears/train", body, TrainOut)
+
+    async def structure(self, body: StructureIn) -> StructureOut:
+        """POST /v1/structure."""
+        return await self._post("/v1/structure", body, StructureOut)
+
+    async def design_machine(self, body: MachineIn) -> MachineDesignOut:
+        """POST /v1/machines/design."""
+        return await self._post("/v1/machines/design", body, MachineDesignOut)
+
+    async def design_machine_png(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=png."""
+        return await self._post_png("/v1/machines/design", body)
+
+    async def design_report_pdf(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=pdf."""
+        response = await self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"})
+        return response.content

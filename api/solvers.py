@@ -168,7 +168,8 @@ class RequestSolvers:
         """Run engine work in a worker and return its result (an engine object)."""
         return await self.solvers.run(self.deadline, fn, *args, **kwargs)
 
-    async def answer(self, render: Render, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Response:
+    async def answer(self, render: Render, fn: Callable[..., Any], /, *args: Any,
+                     headers: dict[str, str] | None = None, **kwargs: Any) -> Response:
         """Run engine work in a worker and answer with the bytes ``render`` made of its result there."""
         content, media_type = await self.solvers.run(self.deadline, render_task, render, fn, args, kwargs)
-        return Response(content=content, media_type=media_type)
+        return Response(content=content, media_type=media_type, headers=headers)

@@ -12,7 +12,7 @@ from api.client import SynthClient
 from api.schemas.balancing import BalanceIn, OptimalBalanceIn
 from api.schemas.common import FOURBAR_EXAMPLE
 from synth.balancing.fourbar import _rows, _static_system
-from synth.balancing.program import counterweight_vars
+from synth.balancing.program import counterweight_layout
 from bench._timing import best_of
 
 SAMPLES = 360
@@ -47,7 +47,7 @@ def _cones(r_max: np.ndarray) -> list[dict[str, object]]:
 
 
 def slsqp_static(linkage: synth.Linkage, lm: synth.LinearMap, r_max: np.ndarray) -> tuple[float, float]:
-    cw = counterweight_vars(synth.CounterweightSpec(LINKS), linkage)
+    cw = counterweight_layout(synth.CounterweightSpec(LINKS), linkage)
     ar, br = _static_system(linkage, lm, cw)
     x0 = np.tile([1.0, 0.0, 0.0, 0.1], len(LINKS))
     res = minimize(lambda x: x.reshape(-1, 4)[:, 0].sum(), x0, method="SLSQP",
@@ -114,13 +114,14 @@ def main() -> None:
     print(f"  scipy SLSQP:      {theirs:.9f} kg in {t_theirs * 1e3:7.1f} ms (equality error {eq_err:.1e})")
     print(f"  objective ratio (ours/SLSQP) {ours.total_added_mass / theirs:.9f}, speed-up {t_theirs / t_ours:.1f}x")
 
-    opt = synth.balance_optimal(linkage, SPEED, spec, weights=WEIGHTS, mass_budget=BUDGET, samples=SAMPLES)
+    opt = synth.balance_optimal(linkage, SPEED, spec, weights=WEIGHTS, mass_budget=BUDGET, samples=SAMPLES,
+                                weight_scale="absolute")
     theirs_map, x = slsqp_optimal(linkage, lm, cols, r_max)
     cws, violation = realisable(x, r_max)
     theirs_opt = synth.objective_value(synth.analyse(linkage.with_counterweights(cws), SPEED, samples=SAMPLES),
                                        WEIGHTS, cws)
     t_ours = best_of(lambda: synth.balance_optimal(linkage, SPEED, spec, weights=WEIGHTS, mass_budget=BUDGET,
-                                                    samples=SAMPLES), 5)
+                                                    samples=SAMPLES, weight_scale="absolute"), 5)
     t_theirs = best_of(lambda: slsqp_optimal(linkage, lm, cols, r_max), 2) + t_map
     print(f"optimal balancing, {SAMPLES} samples (weighted RMS objective)")
     print(f"  cvxpy + Clarabel: {opt.objective:.6f} in {t_ours * 1e3:7.1f} ms (objective from the plain re-analysis)")

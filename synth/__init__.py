@@ -22,9 +22,11 @@ from .balancing import (
     balance_static,
     counter_rotor_loads,
     exact_static_counterweights,
+    fixed_point_counterweights,
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
+    relative_weights,
     tradeoff,
 )
 from .dynamics import ReducedModel, reduced_model
@@ -108,12 +110,46 @@ from .gearing import (
     train_ratio,
     undercut_limit,
 )
+from .counter_rotors import rotor_loads
+from .machine import (
+    Alternative,
+    Balancing,
+    BalancingChoice,
+    DriveSpec,
+    FlywheelChoice,
+    MachineCheck,
+    MachineCycle,
+    MachineDesign,
+    MachineMotion,
+    MachineShaft,
+    MachineSpec,
+    alternatives,
+    design_machine,
+    simulate_machine,
+)
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .topology import Joint, Topology
+from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
+from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
 
 __all__ = [
+    "Alternative",
+    "Balancing",
+    "BalancingChoice",
+    "DriveSpec",
+    "FlywheelChoice",
+    "MachineCheck",
+    "MachineCycle",
+    "MachineDesign",
+    "MachineMotion",
+    "MachineShaft",
+    "MachineSpec",
+    "alternatives",
+    "design_machine",
+    "rotor_loads",
+    "simulate_machine",
     "Analysis",
     "Counterweight",
     "DriveChecks",
@@ -234,5 +270,19 @@ __all__ = [
     "least_squares_crank_counterweight",
     "objective_value",
     "pendulum_inertia",
+    "relative_weights",
     "tradeoff",
+    # gear trains and structure
+    "GearMesh",
+    "PlanetaryStage",
+    "TrainResult",
+    "TrainShaft",
+    "TrainWheel",
+    "gear_train",
+    "AssurGroup",
+    "Pair",
+    "PairReport",
+    "Structure",
+    "analyse_structure",
+    "fixed_point_counterweights",
 ]

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .counter_rotors import CounterRotor, rotor_inertia, rotor_loads
 from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
 from .kinematics import FourBar, MAX_SAMPLES, Motion, cycle_angles, motion, transmission_angle
@@ -37,7 +38,8 @@ class Analysis:
     """Kinematics, kinetostatics, reduced model and check figures of one linkage over the requested angles.
 
     ``motion`` carries the centres of mass as points ``S_<link>``. ``virtual_power_torque`` is the driving
-    torque recomputed from the power balance, independently of the reaction solve.
+    torque recomputed from the power balance, independently of the reaction solve. ``counter_rotors`` are in the
+    driving torque, the shaking moment and the reduced model (their gear forces are not in the joint reactions).
     """
 
     linkage: Linkage
@@ -45,6 +47,7 @@ class Analysis:
     kinetostatics: Kinetostatics
     virtual_power_torque: FloatArray
     reduced: ReducedModel
+    counter_rotors: tuple[CounterRotor, ...] = ()
 
     @property
     def torque_check(self) -> float:
@@ -92,11 +95,13 @@ def analyse(
     crank_acceleration: float = 0.0,
     max_samples: int = MAX_SAMPLES,
     points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
+    counter_rotors: Sequence[CounterRotor] = (),
 ) -> Analysis:
     """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
 
     ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
-    coupler points, to the motion. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
+    coupler points, to the motion. ``counter_rotors`` (a full-balance answer's) add their moment on the frame,
+    their share of the driving torque and their reduced inertia. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
     NotAssemblable (with the ranges).
     """
     if phi is None:
@@ -113,14 +118,29 @@ def analyse(
             raise InvalidInput(f"point {name!r} is on unknown link {link!r}; links are {list(links)}", field="trace_points")
         if name in base.point_pos:
             raise InvalidInput(f"point name {name!r} is already a joint of the mechanism", field="trace_points")
+    for i, rotor in enumerate(counter_rotors):
+        rotor.validate(links, f"counter_rotors[{i}]")
     coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in links}
     mot = base.with_points({**coms, **extra})
+    kin = solve_direct(mot, linkage)
+    vp = virtual_power_torque(mot, linkage)
+    red = reduced_model(mot, linkage)
+    if counter_rotors:
+        moment, torque = rotor_loads(mot, counter_rotors)
+        kin = replace(kin, driving_torque=kin.driving_torque + torque, shaking_moment=kin.shaking_moment + moment)
+        # the virtual-power check sees the rotors through their kinetic energy, d/dt(k²J w_i²/2) / w
+        j_rot, slope_rot = rotor_inertia(mot, counter_rotors)
+        w = mot.omega_crank
+        vp = vp + (j_rot * mot.alpha_crank + 0.5 * slope_rot * w**2)
+        red = replace(red, inertia=red.inertia + j_rot, inertia_slope=red.inertia_slope + slope_rot,
+                      kinetic_energy=red.kinetic_energy + 0.5 * j_rot * w**2)
     result = Analysis(
         linkage=linkage,
         motion=mot,
-        kinetostatics=solve_direct(mot, linkage),
-        virtual_power_torque=virtual_power_torque(mot, linkage),
-        reduced=reduced_model(mot, linkage),
+        kinetostatics=kin,
+        virtual_power_torque=vp,
+        reduced=red,
+        counter_rotors=tuple(counter_rotors),
     )
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)

@@ -5,6 +5,14 @@ axis and the couple), plus the driving torque on the crank; 3 equations per movi
 about the link's first joint). A one-degree-of-freedom linkage has as many unknowns as equations; the
 systems of all crank angles are stacked and solved at once.
 
+The systems are not solved as dense 3n x 3n matrices. A revolute joint's reaction enters the force equations of
+its two links with constant coefficients (plus or minus one), so for a choice of n revolute joints (made once
+per topology) the force rows restricted to their 2n reactions are a constant, invertible matrix F. Eliminating
+those reactions leaves the n moment equations in the other n unknowns: the reduced matrix S (n x n, n the
+number of moving links) carries all of the geometry, and det A = ±det S. A dead position of the linkage is where
+S is singular, found on this reduced, kinematic system rather than by factorising A: the Hadamard ratio
+|det A| / prod(row norms of A), which lies in [0, 1], is taken with det A = det F · det S.
+
 Two paths share only the geometry (the system matrix):
 ``solve_direct`` builds the right-hand side from the links' actual loads, and ``linear_map`` builds it per
 inertial parameter (m, m·x, m·y, J about the first joint), so every output is ``Y @ p + y0``. Balancing
@@ -13,6 +21,8 @@ optimises over that map; the direct path re-analyses its answers.
 
 from __future__ import annotations
 
+import functools
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,41 +48,155 @@ def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray
 
 def system_matrix(motion: Motion, topo: Topology) -> FloatArray:
     """Equilibrium matrix A of shape (N, 3n, 3n): A @ unknowns + known loads = 0 for every link."""
+    natural = tuple(range(3 * len(topo.links)))
+    return _assemble(motion, topo, natural, natural)
+
+
+def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos: tuple[int, ...]) -> FloatArray:
+    """The equilibrium matrix with equation i in row ``row_pos[i]`` and unknown k in column ``col_pos[k]``."""
     n_links = len(topo.links)
-    row = {name: 3 * i for i, name in enumerate(topo.links)}
     a = np.zeros((motion.samples, 3 * n_links, 3 * n_links))
     for j, joint in enumerate(topo.joints):
-        col = 2 * j
+        cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
         p = motion.point_pos[joint.point]
         giver, receiver = joint.bodies
         for body, sign in ((receiver, 1.0), (giver, -1.0)):
             if body is None:
                 continue
-            r0 = row[body]
+            i = 3 * topo.links.index(body)
+            fx, fy, mz = row_pos[i], row_pos[i + 1], row_pos[i + 2]
             lever = p - motion.point_pos[motion.link_origin[body]]
             if joint.kind == "revolute":
-                a[:, r0, col] += sign
-                a[:, r0 + 1, col + 1] += sign
-                a[:, r0 + 2, col] += -sign * lever[:, 1]
-                a[:, r0 + 2, col + 1] += sign * lever[:, 0]
+                a[:, fx, cx] += sign
+                a[:, fy, cy] += sign
+                a[:, mz, cx] += -sign * lever[:, 1]
+                a[:, mz, cy] += sign * lever[:, 0]
             else:
                 normal = _axis_normal(motion, topo, j)
-                a[:, r0, col] += sign * normal[:, 0]
-                a[:, r0 + 1, col] += sign * normal[:, 1]
-                a[:, r0 + 2, col] += sign * cross(lever, normal)
-                a[:, r0 + 2, col + 1] += sign
-    a[:, row[topo.crank] + 2, -1] = 1.0
+                a[:, fx, cx] += sign * normal[:, 0]
+                a[:, fy, cx] += sign * normal[:, 1]
+                a[:, mz, cx] += sign * cross(lever, normal)
+                a[:, mz, cy] += sign
+    a[:, row_pos[3 * topo.links.index(topo.crank) + 2], col_pos[-1]] = 1.0
     return a
 
 
-def _solve_stacked(a: FloatArray, b: FloatArray, motion: Motion) -> FloatArray:
-    """Batched solve; a singular system means a dead point where the driving torque is undefined.
+@dataclass(frozen=True, slots=True)
+class _Reduction:
+    """Which unknowns the constant force rows eliminate: ``eliminated`` (2n columns, revolute reactions whose
+    force-row block is the constant ``f_inv``⁻¹) and ``kept`` (the other n unknowns)."""
 
-    Singularity is judged by the Hadamard ratio |det A| / prod(row norms), which lies in [0, 1] and costs one
-    batched LU instead of an SVD per angle.
+    eliminated: tuple[int, ...]
+    kept: tuple[int, ...]
+    f_inv: FloatArray
+    f_det: float
+
+    @property
+    def rows(self) -> tuple[int, ...]:
+        """Equations in solving order: every link's two force rows, then every link's moment row."""
+        n = len(self.kept)
+        return tuple(3 * i + c for i in range(n) for c in (0, 1)) + tuple(3 * i + 2 for i in range(n))
+
+    @property
+    def columns(self) -> tuple[int, ...]:
+        """Unknowns in solving order: the eliminated reactions, then the kept unknowns."""
+        return self.eliminated + self.kept
+
+    @staticmethod
+    def positions(order: tuple[int, ...]) -> tuple[int, ...]:
+        """Inverse of a permutation: where each natural index sits in ``order``."""
+        out = [0] * len(order)
+        for pos, i in enumerate(order):
+            out[i] = pos
+        return tuple(out)
+
+
+@functools.lru_cache(maxsize=32)
+def _reduction(topo: Topology) -> _Reduction | None:
+    """Choose n revolute joints whose reactions the force equations determine (built once per topology).
+
+    Returns None when no such choice exists (too few revolute joints); the full system is solved then.
     """
-    rows = np.linalg.norm(a, axis=2)
-    ratio = np.abs(np.linalg.det(a / rows[..., None]))
+    n = len(topo.links)
+    row = {name: 2 * i for i, name in enumerate(topo.links)}
+    revolute = [j for j, joint in enumerate(topo.joints) if joint.kind == "revolute"]
+    for chosen in itertools.combinations(revolute, n):
+        f = np.zeros((2 * n, 2 * n))
+        for c, j in enumerate(chosen):
+            giver, receiver = topo.joints[j].bodies
+            for body, sign in ((receiver, 1.0), (giver, -1.0)):
+                if body is not None:
+                    f[row[body], 2 * c] += sign
+                    f[row[body] + 1, 2 * c + 1] += sign
+        if abs(np.linalg.det(f)) > 0.5:  # integer matrix: its determinant is 0 or at least 1 in magnitude
+            eliminated = tuple(col for j in chosen for col in (2 * j, 2 * j + 1))
+            kept = tuple(col for col in range(3 * n) if col not in eliminated)
+            return _Reduction(eliminated, kept, np.asarray(np.linalg.inv(f), dtype=float), float(np.linalg.det(f)))
+    return None
+
+
+def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Determinants of the stacked small matrices ``s`` (N, k, k) and the solutions of s @ x = r (N, k, m).
+
+    Up to 3 x 3 by the adjugate in closed form (vectorised over N; no per-matrix LAPACK call), larger by LAPACK.
+    """
+    k = s.shape[1]
+    if k == 1:
+        det = s[:, 0, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return det, r / s
+    if k == 2:
+        det = s[:, 0, 0] * s[:, 1, 1] - s[:, 0, 1] * s[:, 1, 0]
+        adj = np.stack([np.stack([s[:, 1, 1], -s[:, 0, 1]], -1), np.stack([-s[:, 1, 0], s[:, 0, 0]], -1)], 1)
+    elif k == 3:
+        # Rows a, b, c; the adjugate's columns are b x c, c x a, a x b.
+        a0, a1, a2 = s[:, 0, 0], s[:, 0, 1], s[:, 0, 2]
+        b0, b1, b2 = s[:, 1, 0], s[:, 1, 1], s[:, 1, 2]
+        c0, c1, c2 = s[:, 2, 0], s[:, 2, 1], s[:, 2, 2]
+        adj = np.empty_like(s)
+        adj[:, 0, 0], adj[:, 1, 0], adj[:, 2, 0] = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
+        adj[:, 0, 1], adj[:, 1, 1], adj[:, 2, 1] = c1 * a2 - c2 * a1, c2 * a0 - c0 * a2, c0 * a1 - c1 * a0
+        adj[:, 0, 2], adj[:, 1, 2], adj[:, 2, 2] = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+        det = a0 * adj[:, 0, 0] + a1 * adj[:, 1, 0] + a2 * adj[:, 2, 0]
+    else:
+        det = np.linalg.det(s)
+        ok = np.abs(det) > 0
+        x = np.full(r.shape, np.nan)
+        x[ok] = np.linalg.solve(s[ok], r[ok])
+        return det, x
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return det, np.matmul(adj, r) / det[:, None, None]
+
+
+def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray, matrix: FloatArray | None = None) -> FloatArray:
+    """Solve A @ x = b at every angle, b of shape (N, 3n, m); a singular system is a dead point where the
+    driving torque is undefined.
+
+    Through the reduced moment system of ``_reduction`` when the topology has one (A assembled directly in
+    solving order, or ``matrix`` permuted to it); singularity is judged by the Hadamard ratio
+    |det A| / prod(row norms of A), which lies in [0, 1], with det A = det F · det S.
+    """
+    red = _reduction(topo)
+    if red is None:
+        a = system_matrix(motion, topo) if matrix is None else matrix
+        s, r, f_det = a, b, 1.0
+    else:
+        rows, cols = red.rows, red.columns
+        if matrix is None:
+            a = _assemble(motion, topo, red.positions(rows), red.positions(cols))
+        else:
+            a = matrix[:, list(rows)][:, :, list(cols)]
+        bp = b[:, list(rows)]
+        k, f_det = len(red.eliminated), red.f_det
+        m_elim = a[:, k:, :k]
+        g = np.matmul(red.f_inv, a[:, :k, k:])                 # eliminated = h - g @ kept
+        h = np.matmul(red.f_inv, bp[:, :k])
+        s = a[:, k:, k:] - np.matmul(m_elim, g)
+        r = bp[:, k:] - np.matmul(m_elim, h)
+    det, x_kept = _det_and_solve(s, r)
+    rows_norm = np.prod(np.sqrt(np.einsum("nij,nij->ni", a, a)), axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(f_det * det) / rows_norm
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
     if bad.any():
         raise NotAssemblable(
@@ -81,7 +205,11 @@ def _solve_stacked(a: FloatArray, b: FloatArray, motion: Motion) -> FloatArray:
             phi=motion.phi[bad],
             ranges_deg=angle_ranges_deg(motion.phi, bad),
         )
-    return np.asarray(np.linalg.solve(a, b), dtype=float)
+    if red is None:
+        return np.asarray(x_kept, dtype=float)
+    x = np.empty(b.shape)
+    x[:, list(cols)] = np.concatenate([h - np.matmul(g, x_kept), x_kept], axis=1)
+    return x
 
 
 @dataclass(frozen=True, slots=True)
@@ -205,10 +333,9 @@ def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, Fl
 def solve_direct(motion: Motion, linkage: Linkage, matrix: FloatArray | None = None) -> Kinetostatics:
     """Kinetostatics from the links' actual loads (the plain model, independent of the linear map)."""
     topo = linkage.mechanism.topology
-    a = system_matrix(motion, topo) if matrix is None else matrix
     loads = external_loads(motion, linkage)
     known = _known_loads_direct(motion, linkage, loads)
-    x = _solve_stacked(a, -known[..., None], motion)[..., 0]
+    x = _solve_stacked(motion, topo, -known[..., None], matrix)[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force
@@ -280,7 +407,6 @@ def linear_map(motion: Motion, linkage: Linkage, matrix: FloatArray | None = Non
     """Build the linear-in-parameters map for a fixed motion (loads other than inertia and gravity in y0)."""
     topo = linkage.mechanism.topology
     n, n_links = motion.samples, len(topo.links)
-    a = system_matrix(motion, topo) if matrix is None else matrix
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     known = np.zeros((n, 3 * n_links, PARAMS_PER_LINK * n_links + 1))
     grav_force = np.zeros((n, 2, PARAMS_PER_LINK * n_links))
@@ -312,7 +438,7 @@ def linear_map(motion: Motion, linkage: Linkage, matrix: FloatArray | None = Non
             known[:, 3 * i : 3 * i + 2, -1] += loads.force
             known[:, 3 * i + 2, -1] += cross(loads.point - origin, loads.force)
         known[:, 3 * i + 2, -1] += loads.torques.get(link, 0.0)
-    x = _solve_stacked(a, -known, motion)
+    x = _solve_stacked(motion, topo, -known, matrix)
     force, moment = _frame_action(motion, topo, x)
     force[:, :, -1] -= loads.force
     moment[:, -1] -= cross(loads.point, loads.force) + sum(loads.torques.values(), np.zeros(n))

@@ -16,6 +16,8 @@ from api.schemas.analysis import AnalysisIn
 from api.schemas.balancing import BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn
 from api.schemas.flywheel import FlywheelIn
 from api.schemas.gearing import DriveIn, SplitIn, TeethIn
+from api.schemas.structure import StructureIn
+from api.schemas.train import TrainIn
 
 ENDPOINTS = {
     "/v1/analysis": AnalysisIn,
@@ -28,6 +30,8 @@ ENDPOINTS = {
     "/v1/gears/split": SplitIn,
     "/v1/gears/teeth": TeethIn,
     "/v1/gears/drive": DriveIn,
+    "/v1/gears/train": TrainIn,
+    "/v1/structure": StructureIn,
 }
 CASES = [(path, ex) for path, model in ENDPOINTS.items() for ex in model.model_config["json_schema_extra"]["examples"]]
 # Values a hurried or hostile caller sends: signs, zeros, extremes, wrong types, empty containers.

@@ -71,14 +71,41 @@ def _slider_crank(r: float = 0.05, l_: float = 0.2) -> synth.Linkage:
 
 
 def test_lanchester_masses_follow_the_seed() -> None:
-    # Seed (6.32)-(6.33): m_I = m_B r/(2 l_I); m_II = lambda A2 m_B r/(2 l_II) with 4 lambda A2 = r/l.
+    # Seed (6.32)-(6.33): m_I = m_B r/(2 l_I); m_II = lambda A2 m_B r/(2 l_II) with 4 lambda A2 ≈ r/l to first
+    # order. The exact second order: a_B's 2nd harmonic is -4·c2·w², c2 the cos(2 phi) coefficient of the closed
+    # form x_B = r cos(phi) + sqrt(l² - r² sin²(phi)) (quadrature here, exact for a smooth periodic function),
+    # so m_II = m_B·c2/(2 l_II).
     r, l_ = 0.05, 0.2
     result = synth.balance_slider_crank(_slider_crank(r, l_), 150.0, balancer_radii=(0.04, 0.03))
     m_b = 1.2 + 0.8 * 0.06 / l_  # static split of the rod: its share at the slider
+    phi = np.linspace(0, 2 * np.pi, 2048, endpoint=False)
+    c2 = 2 * np.mean((r * np.cos(phi) + np.sqrt(l_**2 - (r * np.sin(phi)) ** 2)) * np.cos(2 * phi))
     first, second = result.pairs
     assert result.reciprocating_mass == pytest.approx(m_b, rel=1e-12)
-    assert first.mass == pytest.approx(m_b * r / (2 * 0.04), rel=1e-12)
-    assert second.mass == pytest.approx((r / l_ / 4) * m_b * r / (2 * 0.03), rel=1e-12)
+    assert first.mass == pytest.approx(m_b * r / (2 * 0.04), rel=1e-9)
+    assert second.mass == pytest.approx(m_b * c2 / (2 * 0.03), rel=1e-9)
+    assert second.mass == pytest.approx((r / l_ / 4) * m_b * r / (2 * 0.03), rel=0.02)  # the seed's first order
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_lanchester_second_order_follows_the_branch(branch: int) -> None:
+    # With the slider on the -x side x_B = r cos(phi) - sqrt(l² - r² sin²(phi)): the second harmonic of the
+    # slider's inertia force changes sign, so the second pair turns half a period (180° of 2·phi) round.
+    # The residual of orders 1 and 2 is then round-off, and the 4th order is the exact series' 4th harmonic:
+    # F_4 = m_B·16·w²·|c4| with c4 the cos(4 phi) coefficient of x_B (quadrature here).
+    r, l_, w = 0.05, 0.2, 150.0
+    mech = synth.SliderCrank(r, l_, branch=branch)
+    base = _slider_crank(r, l_)
+    result = synth.balance_slider_crank(synth.Linkage(mech, base.links), w, samples=180)
+    first, second = result.pairs
+    assert math.degrees(first.phase) == pytest.approx(180.0, abs=1e-9)
+    assert math.degrees(second.phase) % 360 == pytest.approx(180.0 if branch == 1 else 0.0, abs=1e-9)
+    phi = np.linspace(0, 2 * np.pi, 2048, endpoint=False)
+    x_b = r * np.cos(phi) + branch * np.sqrt(l_**2 - (r * np.sin(phi)) ** 2)
+    c4 = 2 * np.mean(x_b * np.cos(4 * phi))
+    f0 = result.before.max_shaking_force
+    assert max(result.residual_by_order[:3]) < 1e-9 * f0
+    assert result.residual_by_order[3] == pytest.approx(result.reciprocating_mass * 16 * w**2 * abs(c4), rel=1e-6)
 
 
 def test_lanchester_residual_is_the_higher_orders() -> None:

@@ -124,9 +124,12 @@ def test_motor_nlp_over_http(client: SynthClient) -> None:
     out = client.flywheel(FlywheelIn.model_validate(body))
     assert out.design_method == "motor_nlp" and out.speed.method == "motor_nlp"
     nlp = next(m for m in out.methods if m.method == "motor_nlp")
-    # check figure: simulated with the motor, the speed stays in the band the NLP kept it in
-    assert nlp.omega_min_rad_s >= out.omega_min_rad_s * (1 - 1e-4)
-    assert nlp.omega_max_rad_s <= out.omega_max_rad_s * (1 + 1e-4)
+    # check figure: simulated with the motor, the NLP's inertia gives the target delta (issue: 1e-3); this
+    # machine's own constant inertia already does better than the target, so no flywheel is added
+    assert nlp.required_constant_inertia_kgm2 < body["constant_inertia_kgm2"] and nlp.flywheel_inertia_kgm2 == 0
+    assert nlp.achieved_delta < body["delta"]
+    # the headline, the geometry and the speed curve come from the one design method
+    assert out.flywheel_inertia_kgm2 == nlp.flywheel_inertia_kgm2 and out.achieved_delta == nlp.achieved_delta
 
 
 def test_geometry_that_cannot_fit_names_the_limit(client: SynthClient) -> None:

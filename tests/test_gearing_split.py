@@ -154,3 +154,24 @@ def test_layout_problems() -> None:
     with pytest.raises(synth.InvalidInput) as hb:
         synth.split_ratio(40.0, synth.make_stages(3, max_stages=6), "handbook")
     assert hb.value.field == "objective"
+
+
+@pytest.mark.parametrize(("objective", "total", "layout", "model"), [
+    ("min_inertia", 12.0, ["spur", "spur"], synth.InertiaModel()),
+    ("min_inertia", 300.0, ["helical", "helical", {"type": "bevel", "ratio": 3.0}, "spur"],
+     synth.InertiaModel(2e-3, 0.4, (1e-3, 0.0, 2e-3, 0.0, 0.1), 5e-3)),
+    ("min_volume", 60.0, ["helical", "helical", "spur"], synth.InertiaModel()),
+])
+def test_log_space_solve_equals_the_cvxpy_geometric_program(objective: str, total: float, layout: list[object],
+                                                            model: synth.InertiaModel) -> None:
+    # The same GP stated independently in cvxpy's DGP form and canonicalised by cvxpy: same optimum.
+    import cvxpy as cp
+
+    specs = [synth.StageSpec(**s) if isinstance(s, dict) else s for s in layout]
+    stages = synth.make_stages(specs, max_stages=6)
+    problem, u = synth.build_split_program(total, stages, objective, model, 25.0)
+    problem.solve(gp=True, solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
+    result = synth.split_ratio(total, stages, objective, inertia=model, input_torque=25.0)
+    assert result.objective_value == pytest.approx(problem.value, rel=1e-9)
+    # The optimum is flat: the ratios agree to the square root of the solvers' gap.
+    assert np.asarray(result.stage_ratios) == pytest.approx(np.asarray(u.value), rel=1e-5)

@@ -197,3 +197,26 @@ def test_dead_position_is_reported_not_nan() -> None:
     edge = math.acos(max(-1.0, min(1.0, hi))) if hi < 1 else math.acos(lo)
     with pytest.raises(synth.NotAssemblable):
         synth.analyse(synth.Linkage(fb, {"coupler": synth.MassProps(1.0, (0.1, 0), 0.01)}), 1.0, phi=np.array([edge]))
+
+
+def test_dead_positions_are_judged_as_on_the_full_system(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A triple-rocker at the edge of its assembly gap: at crank angle t, |AQ| = |b - c| and the coupler folds
+    # onto the rocker (a dead position). The reduced solve must flag exactly the angles whose full 9x9 system has
+    # a Hadamard ratio below the threshold, computed here independently with numpy's determinant of the
+    # row-normalised matrix. (Change-point four-bars, the classic case, are refused before any analysis.)
+    from synth import kinetostatics
+
+    fb = synth.FourBar(0.3, 0.28, 0.35, 0.25)
+    linkage = synth.Linkage(fb, {"crank": synth.MassProps(1.0, (0.05, 0.0), 0.001),
+                                 "coupler": synth.MassProps(1.0, (0.15, 0.0), 0.01),
+                                 "rocker": synth.MassProps(1.0, (0.1, 0.0), 0.004)})
+    t = float(np.arccos(fb.cos_limits()[1]))
+    phi = np.array([t, t + 1e-4, 0.6, 1.0])
+    mot = synth.kinematics.motion(fb, phi, 10.0, 0.0)
+    a = kinetostatics.system_matrix(mot, fb.topology)
+    ratio = np.abs(np.linalg.det(a / np.linalg.norm(a, axis=2)[..., None]))
+    threshold = float(np.sqrt(ratio[0] * ratio[1]))      # between the two smallest: only angle 0 is dead
+    monkeypatch.setattr(kinetostatics, "SINGULAR_RATIO", threshold)
+    with pytest.raises(synth.NotAssemblable) as err:
+        synth.analyse(linkage, 10.0, phi=phi)
+    assert np.asarray(err.value.phi) == pytest.approx(phi[ratio < threshold])

@@ -38,4 +38,5 @@ async def analysis(
         crank_acceleration=body.crank_acceleration_rad_s2,
         max_samples=solvers.settings.max_samples,
         points=body.trace(),
+        counter_rotors=body.rotors(),
     )

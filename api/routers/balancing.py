@@ -33,6 +33,7 @@ async def balance_static(body: BalanceIn, request: Request, solvers: SolverDep,
         render_for(request, format, BalanceOut.from_engine, balance_png),
         synth.balance_static, body.to_linkage(), body.omega_rad_s, body.spec(), samples=body.samples,
         objective=body.objective, mass_budget=body.mass_budget_kg, time_limit_s=solvers.settings.solver_time_limit_s,
+        method=body.method,
     )
 
 
@@ -57,6 +58,7 @@ async def balance_optimal(body: OptimalBalanceIn, request: Request, solvers: Sol
         render_for(request, format, OptimalBalanceOut.from_results, first_balance_png),
         synth.tradeoff, body.to_linkage(), body.omega_rad_s, body.spec(), weight_sets,
         mass_budget=body.mass_budget_kg, samples=body.samples, time_limit_s=solvers.settings.solver_time_limit_s,
+        weight_scale=body.weight_scale,
     )
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
@@ -29,7 +31,7 @@ async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep, forma
     ``?format=png`` the energy-mass diagram with its tangents and the speed over the cycle."""
     settings = solvers.settings
     mean_speed, delta = body.mean_speed(), body.target_delta()
-    sizing = dict(
+    sizing: dict[str, Any] = dict(
         constant_inertia=body.constant_inertia_kgm2,
         motor=None if body.motor is None else body.motor.to_engine(),
         geometry=None if body.geometry is None else body.geometry.to_engine(),

@@ -3,12 +3,22 @@
 from __future__ import annotations
 
 import math
-from typing import Literal, get_args
+from typing import Any, Literal, TypeVar, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from ._engine import np, synth
-from .common import FOURBAR_EXAMPLE, LinkageRequest, StrictModel, SummaryOut, Vec2, ensure_finite, one_of
+from .common import (
+    FOURBAR_EXAMPLE,
+    MAX_INERTIA_KGM2,
+    CounterweightIn,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+    Vec2,
+    ensure_finite,
+    one_of,
+)
 
 
 class TracePointIn(StrictModel):
@@ -20,12 +30,76 @@ class TracePointIn(StrictModel):
     position_m: Vec2 = Field(description="Position in the link frame [m].", examples=[[0.175, 0.08]])
 
 
+class CounterRotorIn(StrictModel):
+    """A counter-rotating inertia geared to a link at -ratio times its speed (a full-balance answer's)."""
+
+    link: str = Field(description="Link the rotor is geared to, by name.", examples=["crank"])
+    inertia_kgm2: float = Field(ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia about its axis [kg·m²].",
+                                examples=[0.03])
+    ratio: float = Field(1.0, gt=0, le=1e3, description="Rotor speed over the link's speed, counter-rotating [-].")
+
+    def to_engine(self) -> synth.CounterRotor:
+        """Engine counter-rotor."""
+        return synth.CounterRotor(self.link, self.inertia_kgm2, self.ratio)
+
+
+class BalancingAnswerIn(BaseModel):
+    """A balancing answer sent back as it is: its counterweights, coupler inertia and counter-rotors are used,
+    everything else in it (summaries, checks, placements) is ignored."""
+
+    model_config = ConfigDict(extra="ignore", allow_inf_nan=False)
+
+    counterweights: list[CounterweightIn] = Field(default_factory=list, max_length=20,
+                                                  description="The answer's counterweights.")
+    coupler_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2, description="The coupler's inertia "
+                                               "about its centre that full balancing asks for [kg·m²].")
+    counter_rotors: list[CounterRotorIn] | None = Field(None, max_length=10,
+                                                        description="The answer's counter-rotors (full balancing).")
+
+
 class AnalysisIn(LinkageRequest):
     """A linkage, its speed, loads and optional counterweights, to analyse over one crank revolution."""
 
     trace_points: list[TracePointIn] = Field(
         default_factory=list, max_length=20, description="Extra points to report, e.g. coupler points."
     )
+    counter_rotors: list[CounterRotorIn] = Field(
+        default_factory=list, max_length=10,
+        description="Counter-rotating inertias (a full balance's): in the shaking moment, driving torque and J_red.")
+    coupler_inertia_kgm2: float | None = Field(
+        None, ge=0, le=MAX_INERTIA_KGM2,
+        description="Replaces the coupler's inertia about its centre of mass (a full balance's pendulum coupler).")
+    balancing: BalancingAnswerIn | None = Field(
+        None, description="A /v1/balancing answer as it is: its counterweights, coupler inertia and counter-rotors "
+        "are added to this linkage.")
+
+    def to_linkage(self) -> synth.Linkage:
+        """Engine linkage with the coupler inertia and a balancing answer's counterweights applied."""
+        linkage = super().to_linkage()
+        coupler = self.coupler_inertia_kgm2
+        extra: list[synth.Counterweight] = []
+        if self.balancing is not None:
+            extra = [c.to_engine() for c in self.balancing.counterweights]
+            if self.balancing.coupler_inertia_kgm2 is not None:
+                if coupler is not None:
+                    raise synth.InvalidInput("give the coupler inertia once: here or in the balancing answer",
+                                             field="coupler_inertia_kgm2")
+                coupler = self.balancing.coupler_inertia_kgm2
+        if coupler is not None:
+            if "coupler" not in linkage.mechanism.topology.links:
+                raise synth.InvalidInput("this mechanism has no coupler", field="coupler_inertia_kgm2")
+            props = linkage.links.get("coupler", synth.MassProps())
+            links = {**linkage.links, "coupler": synth.MassProps(props.mass, props.com, coupler)}
+            linkage = synth.Linkage(linkage.mechanism, links, linkage.counterweights, linkage.gravity, linkage.loads,
+                                    linkage.torques)
+        return linkage.with_counterweights(extra)
+
+    def rotors(self) -> tuple[synth.CounterRotor, ...]:
+        """Engine counter-rotors, from this request and its balancing answer."""
+        given = [r.to_engine() for r in self.counter_rotors]
+        if self.balancing is not None and self.balancing.counter_rotors:
+            given += [r.to_engine() for r in self.balancing.counter_rotors]
+        return tuple(given)
 
     def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
         """Trace points as the engine takes them: name -> (link, position in the link frame)."""
@@ -55,6 +129,14 @@ class AnalysisIn(LinkageRequest):
             ]
         }
     )
+
+
+M = TypeVar("M", bound=BaseModel)
+
+
+def _unchecked(model: type[M], **values: Any) -> M:
+    """``model`` holding the engine's arrays as they are (``api.media.json_bytes`` writes them), unvalidated."""
+    return model.model_construct(**values)
 
 
 Grashof = Literal["crank-rocker", "double-crank", "double-rocker", "rocker-crank", "change-point", "triple-rocker"]
@@ -111,45 +193,63 @@ class AnalysisOut(BaseModel):
         """Schema from an engine analysis (radians become degrees here).
 
         Built without re-validating the engine's arrays (they are float arrays by construction), after one
-        check that nothing non-finite would reach the response.
+        check that nothing non-finite would reach the response. The array fields hold the engine's numpy
+        arrays as they are: ``api.media.json_bytes`` writes them; ``to_lists`` gives the plain pydantic model.
         """
         m, k, r = an.motion, an.kinetostatics, an.reduced
         ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
         mech = an.linkage.mechanism
         tau = an.transmission_angle
-        return cls.model_construct(
-            crank_angle_deg=np.degrees(m.phi).tolist(),
-            driving_torque_Nm=k.driving_torque.tolist(),
-            virtual_power_torque_Nm=an.virtual_power_torque.tolist(),
-            shaking_force_N=k.shaking_force.tolist(),
-            shaking_moment_Nm=k.shaking_moment.tolist(),
-            reduced_inertia_kgm2=r.inertia.tolist(),
-            reduced_inertia_slope_kgm2_per_rad=r.inertia_slope.tolist(),
-            reduced_load_torque_Nm=r.load_torque.tolist(),
-            kinetic_energy_J=r.kinetic_energy.tolist(),
-            joint_reactions_N={name: v.tolist() for name, v in k.reactions.items()},
-            prismatic_couples_Nm={name: v.tolist() for name, v in k.couples.items()},
+        return _unchecked(
+            cls,
+            crank_angle_deg=np.degrees(m.phi),
+            driving_torque_Nm=k.driving_torque,
+            virtual_power_torque_Nm=an.virtual_power_torque,
+            shaking_force_N=k.shaking_force,
+            shaking_moment_Nm=k.shaking_moment,
+            reduced_inertia_kgm2=r.inertia,
+            reduced_inertia_slope_kgm2_per_rad=r.inertia_slope,
+            reduced_load_torque_Nm=r.load_torque,
+            kinetic_energy_J=r.kinetic_energy,
+            joint_reactions_N={name: v for name, v in k.reactions.items()},
+            prismatic_couples_Nm={name: v for name, v in k.couples.items()},
             links={
-                name: LinkMotionOut.model_construct(
-                    angle_deg=np.degrees(m.link_angle[name]).tolist(),
-                    angular_velocity_rad_s=m.link_omega[name].tolist(),
-                    angular_acceleration_rad_s2=m.link_alpha[name].tolist(),
+                name: _unchecked(
+                    LinkMotionOut,
+                    angle_deg=np.degrees(m.link_angle[name]),
+                    angular_velocity_rad_s=m.link_omega[name],
+                    angular_acceleration_rad_s2=m.link_alpha[name],
                 )
                 for name in mech.topology.links
             },
             points={
-                name: PointOut.model_construct(
-                    position_m=m.point_pos[name].tolist(),
-                    velocity_m_s=m.point_vel[name].tolist(),
-                    acceleration_m_s2=m.point_acc[name].tolist(),
+                name: _unchecked(
+                    PointOut,
+                    position_m=m.point_pos[name],
+                    velocity_m_s=m.point_vel[name],
+                    acceleration_m_s2=m.point_acc[name],
                 )
                 for name in m.point_pos
             },
-            transmission_angle_deg=None if tau is None else np.degrees(tau).tolist(),
+            transmission_angle_deg=None if tau is None else np.degrees(tau),
             grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
         )
+
+    def to_lists(self) -> AnalysisOut:
+        """The same answer validated as a plain pydantic model (numpy arrays turned into lists)."""
+        return AnalysisOut.model_validate(_lists(self))
+
+
+def _lists(value: object) -> object:
+    if isinstance(value, BaseModel):
+        return {name: _lists(getattr(value, name)) for name in type(value).model_fields}
+    if isinstance(value, dict):
+        return {key: _lists(item) for key, item in value.items()}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return value
 
 
 def plot_angle(body: AnalysisIn, angle_deg: float | None) -> float:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Annotated, Literal, get_args
 
@@ -49,6 +50,12 @@ class BalanceIn(LinkageRequest):
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")
     objective: Literal["min_mass", "min_inertia"] = Field("min_mass", description="Static mode only.")
+    method: Literal["program", "fixed_points"] = Field(
+        "program", description="Static mode only: 'program' solves for the least added mass (or inertia); "
+        "'fixed_points' moves each link's centre of mass to a fixed point in closed form (crank to O, coupler to "
+        "B and the rocker with it to Q; without a coupler counterweight, the coupler split into point masses at A "
+        "and B), on the radii in radius_m or max_radius_m (default the crank's and rocker's lengths, twice the "
+        "coupler's).")
     mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
@@ -78,7 +85,12 @@ class FullBalanceIn(BalanceIn):
 
 
 class WeightsIn(StrictModel):
-    """Weights of the optimal mode's objective (RMS values unless `peak_`)."""
+    """Weights of the optimal mode's objective (RMS values unless `peak_`).
+
+    Dimensionless by default (`weight_scale: "relative"`): each term is divided by its value before balancing,
+    so `{"shaking_force": 1, "shaking_moment": 2}` weighs a 1 % change of the moment twice a 1 % change of the
+    force. With `weight_scale: "absolute"` they are per N and per N·m.
+    """
 
     shaking_force: float = Field(1.0, ge=0, description="Per (N RMS)² of shaking force, scaled by its value "
                                  "before balancing.")
@@ -100,11 +112,14 @@ class OptimalBalanceIn(BalanceIn):
     weights: WeightsIn = Field(default_factory=WeightsIn, description="Weights of the design answered first.")
     sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
                                    description="More weight sets: the trade-off curve, each point re-analysed.")
+    weight_scale: Literal["relative", "absolute"] = Field(
+        "relative", description="relative: each term over its value before balancing (dimensionless weights); "
+        "absolute: weights per N and per N·m.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "mass_budget_kg": 4.0,
-         "weights": {"shaking_force": 1.0, "shaking_moment": 2.0, "driving_torque": 1.0, "bearing_forces": 0.1},
-         "sweep": [{"shaking_force": 1.0}, {"shaking_force": 1.0, "driving_torque": 5.0}]},
+         "weights": {"shaking_force": 1.0, "shaking_moment": 2.0},
+         "sweep": [{"shaking_force": 1.0}, {"shaking_force": 0.0, "shaking_moment": 1.0}]},
     ]})
 
 
@@ -149,6 +164,8 @@ class BalanceOut(BaseModel):
     coupler_inertia_kgm2: float | None = None
     counter_rotors: list[CounterRotorOut] | None = None
     objective: float | None = None
+    weights: WeightsIn | None = Field(None, description="Optimal mode: this point's weights, as given.")
+    weight_scale: str | None = Field(None, description="Optimal mode: relative or absolute.")
 
     @classmethod
     def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
@@ -178,6 +195,8 @@ class BalanceOut(BaseModel):
                 CounterRotorOut(link=c.link, inertia_kgm2=c.inertia, ratio=c.ratio) for c in r.counter_rotors
             ],
             objective=r.objective,
+            weights=None if r.weights is None else WeightsIn(**dataclasses.asdict(r.weights)),
+            weight_scale=r.weight_scale,
         )
 
 
@@ -276,7 +295,9 @@ class LanchesterOut(BaseModel):
     order: int
     mass_kg: float
     radius_m: float
-    amplitude_N: float
+    amplitude_N: float = Field(description="Amplitude of the slider's inertia force of this order it cancels [N].")
+    phase_deg: float = Field(description="Both masses of the pair point along +x (the slide direction) when "
+                                         "order × crank angle equals this angle [deg], in [0, 360).")
 
 
 class SliderCrankBalanceOut(BaseModel):
@@ -291,6 +312,9 @@ class SliderCrankBalanceOut(BaseModel):
     summary_before: SummaryOut
     residual_shaking_force_N: float
     residual_shaking_force_rel: float
+    residual_by_order_N: list[float] = Field(
+        description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
+    )
 
     @classmethod
     def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
@@ -298,9 +322,10 @@ class SliderCrankBalanceOut(BaseModel):
         return cls(
             rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
             crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
-            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude)
-                        for p in r.pairs],
+            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude,
+                                      phase_deg=math.degrees(p.phase)) for p in r.pairs],
             first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
+            residual_by_order_N=list(r.residual_by_order),
         )

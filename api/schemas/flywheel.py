@@ -54,26 +54,50 @@ class FlywheelTablesIn(StrictModel):
 
 
 class MotorIn(StrictModel):
-    """Induction motor with a linear static characteristic from synchronous speed to the rated point."""
+    """Induction motor with a linear static characteristic from synchronous speed to the rated point.
 
-    synchronous_speed_rpm: float = Field(gt=0, le=1e5, description="Speed at zero torque [rev/min].",
-                                         examples=[1500.0])
-    rated_speed_rpm: float = Field(gt=0, le=1e5, description="Speed at the rated torque [rev/min].", examples=[1440.0])
-    rated_torque_Nm: float = Field(gt=0, le=1e8, description="Rated torque on the motor shaft [N·m].", examples=[26.5])
+    Name a catalogue motor (``name``, see GET /v1/gears/motors): its rated power, speeds, rotor inertia and
+    breakdown torque give the characteristic, the one motor model of the drive and machine endpoints. Or give
+    the characteristic's points directly (``synchronous_speed_rpm``, ``rated_speed_rpm``, ``rated_torque_Nm``).
+    """
+
+    name: str | None = Field(None, min_length=1, max_length=80,
+                             description="A catalogue motor (GET /v1/gears/motors) instead of the three points.")
+    synchronous_speed_rpm: float | None = Field(None, gt=0, le=1e5, description="Speed at zero torque [rev/min].")
+    rated_speed_rpm: float | None = Field(None, gt=0, le=1e5, description="Speed at the rated torque [rev/min].")
+    rated_torque_Nm: float | None = Field(None, gt=0, le=1e9, description="Rated torque on the motor shaft [N·m].")
     gear_ratio: float = Field(1.0, ge=1e-4, le=1e5, description="Motor speed over crank speed [-].")
     efficiency: float = Field(1.0, gt=0, le=1, description="Efficiency of the gearing [-].")
-    rotor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia on the motor shaft [kg·m²].")
-    breakdown_torque_Nm: float | None = Field(None, gt=0, le=1e8, description="Largest torque of the linear branch [N·m].")
+    rotor_inertia_kgm2: float | None = Field(None, ge=0, le=1e9,
+                                             description="Rotor inertia on the motor shaft [kg·m²]; default 0, or "
+                                             "the catalogue's.")
+    breakdown_torque_Nm: float | None = Field(None, gt=0, le=1e9, description="Largest torque of the linear branch "
+                                              "[N·m]; default unbounded, or the catalogue's.")
 
     def to_engine(self) -> synth.Motor:
         """Engine motor; rev/min become rad/s here."""
+        points = (self.synchronous_speed_rpm, self.rated_speed_rpm, self.rated_torque_Nm)
+        if self.name is not None:
+            if any(p is not None for p in points):
+                raise synth.InvalidInput("name a catalogue motor or give its characteristic, not both",
+                                         field="motor.name")
+            motor = synth.Motor.from_catalogue(synth.find_motor(self.name), self.gear_ratio, self.efficiency)
+            return synth.Motor(
+                motor.synchronous_speed, motor.rated_speed, motor.rated_torque, motor.gear_ratio, motor.efficiency,
+                motor.rotor_inertia if self.rotor_inertia_kgm2 is None else self.rotor_inertia_kgm2,
+                motor.breakdown_torque if self.breakdown_torque_Nm is None else self.breakdown_torque_Nm,
+            )
+        if any(p is None for p in points):
+            raise synth.InvalidInput("give the motor's name from the catalogue (GET /v1/gears/motors), or all of "
+                                     "synchronous_speed_rpm, rated_speed_rpm and rated_torque_Nm", field="motor")
+        sync, rated, torque = (float(p) for p in points if p is not None)
         return synth.Motor(
-            synchronous_speed=self.synchronous_speed_rpm * math.pi / 30,
-            rated_speed=self.rated_speed_rpm * math.pi / 30,
-            rated_torque=self.rated_torque_Nm,
+            synchronous_speed=sync * math.pi / 30,
+            rated_speed=rated * math.pi / 30,
+            rated_torque=torque,
             gear_ratio=self.gear_ratio,
             efficiency=self.efficiency,
-            rotor_inertia=self.rotor_inertia_kgm2,
+            rotor_inertia=self.rotor_inertia_kgm2 or 0.0,
             breakdown_torque=self.breakdown_torque_Nm,
         )
 
@@ -304,13 +328,13 @@ class GeometryOut(BaseModel):
 class FlywheelOut(BaseModel):
     """Flywheel sizing by every method, each checked by the simulated equation of motion.
 
-    The top-level inertia and ``achieved_delta`` are the exact (Wittenbauer) method's; ``design_method`` is the
-    one the geometry uses (``motor_nlp`` when a motor is given).
+    The top-level inertia, ``achieved_delta``, the geometry and ``speed`` all come from one method,
+    ``design_method``: exact (Wittenbauer) for a constant driving torque, ``motor_nlp`` when a motor is given.
     """
 
-    flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, exact method.")
-    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, exact method.")
-    achieved_delta: float = Field(description="Simulated delta with the exact method's inertia.")
+    flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, design method.")
+    required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, design method.")
+    achieved_delta: float = Field(description="Simulated delta with the design method's inertia.")
     target_delta: float
     mean_speed_rad_s: float
     omega_min_rad_s: float = Field(description="Target w_m(1 - delta/2).")
@@ -328,7 +352,7 @@ class FlywheelOut(BaseModel):
     @classmethod
     def from_engine(cls, r: synth.FlywheelResult) -> FlywheelOut:
         """Schema from the engine result (radians become degrees here)."""
-        exact, design, tan = r.method("exact"), r.design, r.tangents
+        design, tan = r.design, r.tangents
         w_min, w_max = r.speed_band
         phi, omega = design.speed.thinned()
         work = r.cycle.work_nodes()[:-1]
@@ -345,9 +369,9 @@ class FlywheelOut(BaseModel):
                 ],
             )
         return cls(
-            flywheel_inertia_kgm2=exact.flywheel_inertia,
-            required_constant_inertia_kgm2=exact.required_constant_inertia,
-            achieved_delta=exact.achieved_delta,
+            flywheel_inertia_kgm2=design.flywheel_inertia,
+            required_constant_inertia_kgm2=design.required_constant_inertia,
+            achieved_delta=design.achieved_delta,
             target_delta=r.target_delta,
             mean_speed_rad_s=r.mean_speed,
             omega_min_rad_s=w_min,

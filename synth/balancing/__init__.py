@@ -1,8 +1,8 @@
 """Counterweight balancing: four-bar static, full and optimal modes on the linear map; rotors; slider-crank."""
 
+from ..counter_rotors import CounterRotor
 from .fourbar import (
     BalanceResult,
-    CounterRotor,
     Weights,
     balance_full,
     balance_optimal,
@@ -12,8 +12,10 @@ from .fourbar import (
     least_squares_crank_counterweight,
     objective_value,
     pendulum_inertia,
+    relative_weights,
     tradeoff,
 )
+from .fixed_points import fixed_point_counterweights
 from .program import CounterweightSpec
 from .rotors import Correction, RotorBalance, RotorMass, balance_rotor_dynamic, balance_rotor_static
 from .slider_crank import LanchesterPair, SliderCrankBalance, balance_slider_crank
@@ -23,5 +25,5 @@ __all__ = [
     "RotorMass", "SliderCrankBalance", "Weights", "balance_full", "balance_optimal", "balance_rotor_dynamic",
     "balance_rotor_static", "balance_slider_crank", "balance_static", "counter_rotor_loads",
     "exact_static_counterweights", "least_squares_crank_counterweight", "objective_value", "pendulum_inertia",
-    "tradeoff",
+    "relative_weights", "tradeoff", "fixed_point_counterweights",
 ]

@@ -9,29 +9,27 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Literal
 
-import cvxpy as _cvxpy
 import numpy as np
 
 from ..analysis import Analysis, Summary, analyse
+from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
-from .program import CounterweightSpec, CounterweightVars, counterweight_vars, row_space, solve
-
-# cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
-cp: Any = _cvxpy
-
-
-@dataclass(frozen=True, slots=True)
-class CounterRotor:
-    """A counter-rotating inertia [kg·m²] geared to ``link`` turning at -``ratio`` times the link's speed."""
-
-    link: str
-    inertia: float
-    ratio: float
+from .fixed_points import fixed_point_counterweights
+from .program import (
+    ConeProgram,
+    CounterweightLayout,
+    CounterweightSolution,
+    CounterweightSpec,
+    counterweight_layout,
+    realisability_block,
+    row_space,
+    solve,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,6 +56,8 @@ class BalanceResult:
     counter_rotors: tuple[CounterRotor, ...] = ()
     objective: float | None = None
     driving_torque_after: FloatArray | None = None
+    weights: Weights | None = None
+    weight_scale: str | None = None
 
 
 def _require_fourbar(linkage: Linkage) -> FourBar:
@@ -67,7 +67,8 @@ def _require_fourbar(linkage: Linkage) -> FourBar:
     return mech
 
 
-def _var_columns(lm: LinearMap, cw: CounterweightVars) -> list[int]:
+def _var_columns(lm: LinearMap, cw: CounterweightLayout) -> list[int]:
+    """Columns of the map the counterweight variables add to, in the layout's order."""
     cols: list[int] = []
     for link in cw.links:
         s = lm.columns(link)
@@ -75,9 +76,11 @@ def _var_columns(lm: LinearMap, cw: CounterweightVars) -> list[int]:
     return cols
 
 
-def _x(cw: CounterweightVars) -> cp.Expression:
-    """The counterweights' added parameters in the order of ``_var_columns``."""
-    return cp.hstack([cp.hstack([cw.m[i], cw.h[i, 0], cw.h[i, 1], cw.j[i]]) for i in range(len(cw.links))])
+def _program(cw: CounterweightLayout, extra: int = 0) -> ConeProgram:
+    """A cone program over the counterweight variables (and ``extra`` more), realisability rows included."""
+    program = ConeProgram(cw.size + extra)
+    program.add(realisability_block(cw))
+    return program
 
 
 def _rows(lm: LinearMap, which: Sequence[int]) -> tuple[FloatArray, FloatArray]:
@@ -97,11 +100,60 @@ def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequenc
     return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 
-def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightVars) -> tuple[FloatArray, FloatArray]:
+def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> tuple[FloatArray, FloatArray]:
     a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
     cols = _var_columns(lm, cw)
     rhs = -(a @ linkage.params() + b0)
     return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
+
+
+def _with_default_radii(spec: CounterweightSpec, linkage: Linkage) -> CounterweightSpec:
+    """The spec with the coupler's default largest radius at twice its length.
+
+    Without a crank counterweight the coupler's counterweight must sit beyond B whenever the crank's centre of
+    mass lies toward A (seed 001:1394: a2 > l2); the link's own length would exclude it by default.
+    """
+    fb = _require_fourbar(linkage)
+    if "coupler" not in spec.links or "coupler" in (spec.max_radius or {}) or "coupler" in (spec.radius or {}):
+        return spec
+    return replace(spec, max_radius={**(spec.max_radius or {}), "coupler": 2.0 * fb.coupler})
+
+
+def _coupler_shift(linkage: Linkage, spec: CounterweightSpec) -> complex | None:
+    """D [kg·m] in m_c·(z_c - l2) = D, the condition on a coupler counterweight (mass m_c at z_c in the coupler
+    frame) when the crank carries none; None when the crank has a counterweight too.
+
+    From the static condition on the crank's first moment h1 = -(l1/l2)·(m2·l2 - h2) (seed 3.8) with the coupler's
+    totals m2 + m_c, h2 + m_c·z_c: D = m2·l2 + (l2/l1)·h1 - h2.
+    """
+    if "crank" in spec.links or "coupler" not in spec.links:
+        return None
+    fb = _require_fourbar(linkage)
+    h1 = complex(*linkage.params_of("crank")[1:3])
+    m2, h2 = float(linkage.params_of("coupler")[0]), complex(*linkage.params_of("coupler")[1:3])
+    return m2 * fb.coupler + (fb.coupler / fb.crank) * h1 - h2
+
+
+def _coupler_radius_cause(linkage: Linkage, spec: CounterweightSpec) -> Infeasible | None:
+    """The named cause when, with no crank counterweight, the coupler's radius limit excludes every solution."""
+    d = _coupler_shift(linkage, spec)
+    if d is None or abs(d) == 0:
+        return None
+    fb = _require_fourbar(linkage)
+    r_max = spec.limit(linkage, "coupler")
+    m2 = float(linkage.params_of("coupler")[0])
+    # z_c = l2 + D/m_c sweeps the open ray from B along D as m_c falls; its nearest approach to A decides.
+    l2 = fb.coupler
+    nearest = l2 if d.real >= 0 else l2 * abs(d.imag) / abs(d)
+    if nearest < r_max:
+        return None
+    needed = abs(fb.coupler + d / m2) if m2 > 0 else float("inf")
+    return Infeasible(
+        f"without a crank counterweight the coupler's counterweight must sit beyond B, at l2 + D/m = "
+        f"{fb.coupler:.6g} m + ({d.real:.6g}, {d.imag:.6g}) kg·m / m from A; max_radius_m.coupler is {r_max:.6g} m. "
+        f"A counterweight of the coupler's own mass ({m2:.6g} kg) needs a radius of {needed:.6g} m",
+        constraint="max_radius_m.coupler", required_radius_m=needed if math.isfinite(needed) else None,
+    )
 
 
 def balance_static(
@@ -113,49 +165,65 @@ def balance_static(
     objective: Literal["min_mass", "min_inertia"] = "min_mass",
     mass_budget: float | None = None,
     time_limit_s: float = 20.0,
+    method: Literal["program", "fixed_points"] = "program",
 ) -> BalanceResult:
     """Counterweights that make the shaking force identically zero (the total centre of mass fixed).
+
+    ``method="fixed_points"`` moves each link's centre of mass to a fixed point in closed form instead
+    (:func:`fixed_point_counterweights`, the seed's 8.3-8.4), re-analysed the same way.
 
     Posed on the linear map as a few equalities (the row space of the force rows over all angles) with one
     realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
     about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
     """
     _require_fourbar(linkage)
+    if method == "fixed_points":
+        return _fixed_points(linkage, speed, spec, samples)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
+    spec = _with_default_radii(spec, linkage)
     all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
     if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
                            "always has less inertia", field="mass_budget_kg")
     before = analyse(linkage, speed, samples=samples)
     lm = linear_map(before.motion, linkage)
-    cw = counterweight_vars(spec, linkage)
+    cw = counterweight_layout(spec, linkage)
     ar, br = _static_system(linkage, lm, cw)
-    cons = cw.constraints + [ar @ _x(cw) == br]
+    program = _program(cw)
+    program.equal(ar, br)
     binding = ["angle_deg"] if spec.angle else []
+    masses, inertias = cw.mass_columns(), cw.inertia_columns()
     if mass_budget is not None:
-        cons.append(cp.sum(cw.m) <= mass_budget)
+        program.at_most(masses[None, :], np.array([mass_budget]))
         binding = ["mass_budget_kg"] + binding
-    goal = cp.sum(cw.m) + 1e-9 * cp.sum(cw.j) if objective == "min_mass" else cp.sum(cw.j) + 1e-9 * cp.sum(cw.m)
-    problem = cp.Problem(cp.Minimize(goal), cons)
+    program.q = masses + 1e-9 * inertias if objective == "min_mass" else inertias + 1e-9 * masses
     try:
-        solve(problem, time_limit_s, "static balancing", binding)
+        x = solve(program, time_limit_s, "static balancing", binding)
     except Infeasible as exc:
         if mass_budget is None:
+            cause = _coupler_radius_cause(linkage, spec)
+            if cause is not None:
+                raise cause from exc
             raise
         needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
-    cws = _point_masses(cw) if objective == "min_mass" and not spec.radius else cw.counterweights()
+    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
+    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
     after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,
-                         added_inertia=sum(c.params()[3] for c in cws), objective=float(problem.value))
+                         added_inertia=sum(c.params()[3] for c in cws), objective=float(program.q @ x))
 
 
-def _point_masses(cw: CounterweightVars) -> list[Counterweight]:
-    """Counterweights as point masses: the inertia variable is free in a minimum-mass program."""
-    return [replace(c, inertia=0.0) for c in cw.counterweights()]
+
+def _fixed_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, samples: int) -> BalanceResult:
+    before = analyse(linkage, speed, samples=samples)
+    cws = fixed_point_counterweights(linkage, spec)
+    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
+                         f, f_rel, m, m_rel, before, after, added_inertia=sum(c.params()[3] for c in cws))
 
 
 def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:
@@ -189,11 +257,34 @@ def pendulum_inertia(linkage: Linkage) -> float:
         raise Infeasible(f"the coupler's centre of mass is {y:.4g} m off the line of its joints: it cannot be a "
                          "physical pendulum, so the shaking moment cannot vanish; use the optimal mode",
                          constraint="links.coupler.com_m")
-    if not 0 < x < fb.coupler:
+    if not 0 <= x <= fb.coupler:
         raise Infeasible(f"the coupler's centre of mass ({x:.4g} m from A) lies outside its joints: the pendulum "
                          "inertia m·a·(l - a) would be negative; use the optimal mode",
                          constraint="coupler_inertia_kgm2")
     return props.mass * x * (fb.coupler - x)
+
+
+def _coupler_pendulum_cause(linkage: Linkage, spec: CounterweightSpec) -> None:
+    """Infeasible naming the coupler's centre of mass when, with counterweights on the coupler but not the crank,
+    static balance puts it where no physical pendulum exists (beyond B or off the line AB)."""
+    d = _coupler_shift(linkage, spec)
+    if d is None:
+        return
+    fb = _require_fourbar(linkage)
+    # The coupler's total first moment must be m_tot·l2 + (l2/l1)·h1: its centre of mass sits (l2/l1)·h1/m_tot
+    # from B, beyond B for any counterweight when the crank's centre of mass lies toward A (h1·x > 0).
+    h1 = complex(*linkage.params_of("crank")[1:3])
+    if abs(h1.imag) > 1e-12 * max(abs(h1), 1e-300):
+        where = f"{abs(h1.imag) * fb.coupler / fb.crank:.6g} kg·m off the line AB"
+    elif h1.real > 0:
+        where = f"beyond B by (l2/l1)·h1/m = {h1.real * fb.coupler / fb.crank:.6g} kg·m over the coupler's total mass"
+    else:
+        return
+    raise Infeasible(
+        f"with counterweights on the coupler but none on the crank, static balance puts the coupler's centre of "
+        f"mass {where}, where it cannot be a physical pendulum (m·a·(l - a) >= 0 needs 0 <= a <= l on AB): "
+        f"add the crank to counterweight_links", constraint="counterweight_links",
+    )
 
 
 def balance_full(
@@ -220,43 +311,54 @@ def balance_full(
         if link not in ("crank", "rocker") or not (math.isfinite(k) and k > 0):
             raise InvalidInput(f"counter-rotor ratio for {link!r} must be a positive number on crank or rocker",
                                field=f"rotor_ratios.{link}")
-    pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
+    spec = _with_default_radii(spec, linkage)
+    if "coupler" not in spec.links:
+        pendulum_inertia(linkage)  # says plainly, before any solve, when the coupler cannot be a pendulum
+    _coupler_pendulum_cause(linkage, spec)
     before = analyse(linkage, speed, samples=samples)
     states = [before.motion, analyse(linkage, speed, samples=samples, crank_acceleration=speed**2).motion]
-    cw = counterweight_vars(spec, linkage)
-    j2 = cp.Variable(nonneg=True)
-    rotors = cp.Variable(2, nonneg=True)
-    cons = list(cw.constraints)
+    cw = counterweight_layout(spec, linkage)
+    # Variables: the counterweights, then the coupler's inertia j2 and the two counter-rotor inertias.
+    program = _program(cw, extra=3)
+    n_vars = program.size
+    program.at_most(-np.eye(3, n_vars, cw.size), np.zeros(3))
     p0 = linkage.params()
     coupler = linear_map(states[0], linkage).columns("coupler")
+    moment_rows, moment_rhs = [], []
     for k, mot in enumerate(states):
         lm = linear_map(mot, linkage)
         cols = _var_columns(lm, cw)
         if k == 0:
             ar, br = _static_system(linkage, lm, cw)
-            cons.append(ar @ _x(cw) == br)
+            program.equal(ar, br)
         a, b0 = _rows(lm, [lm.moment_row])
         # The coupler's own inertia is a variable: take its fixed value out of p0, add the variable.
         base = p0.copy()
         base[coupler.start + 3] -= linkage.mass_props("coupler").inertia
         rotor_cols = np.stack([ratios["crank"] * mot.link_alpha["crank"], ratios["rocker"] * mot.link_alpha["rocker"]], axis=1)
-        moment = a[:, cols] @ _x(cw) + a[:, coupler.start + 3] * j2 + rotor_cols @ rotors + (a @ base + b0)
         scale = max(1.0, float(np.abs(a @ p0 + b0).max()))
-        cons.append(moment / scale == 0)
+        moment_rows.append(np.hstack([a[:, cols], a[:, [coupler.start + 3]], rotor_cols]) / scale)
+        moment_rhs.append(-(a @ base + b0) / scale)
+    # Both states' moment rows over all angles have only a few independent directions: impose those.
+    mr, mb = row_space(np.vstack(moment_rows), np.concatenate(moment_rhs), "the shaking moment", "counterweight_links")
+    program.equal(mr, mb)
     # Added inertia is weighed at the scale of the crank (kg·m² over crank length²) so that the program does
     # not trade a counterweight's own inertia against a counter-rotor's: both cost.
     inertia_weight = 1e-3 / _require_fourbar(linkage).crank ** 2
-    problem = cp.Problem(cp.Minimize(cp.sum(cw.m) + inertia_weight * (cp.sum(cw.j) + cp.sum(rotors))), cons)
-    solve(problem, time_limit_s, "full balancing", ["counter-rotor inertias must be positive"])
-    cws = cw.counterweights()
+    program.q[: cw.size] = cw.mass_columns() + inertia_weight * cw.inertia_columns()
+    program.q[cw.size + 1:] = inertia_weight
+    x = solve(program, time_limit_s, "full balancing",
+              ["counterweight_links", "max_radius_m", "a coupler pendulum and counter-rotors of non-negative inertia"])
+    cws = CounterweightSolution(cw, x).counterweights()
+    j2 = max(float(x[cw.size]), 0.0)
     counter_rotors = tuple(
-        CounterRotor(link, float(rotors.value[i]) if rotors.value is not None else 0.0, ratios[link])
+        CounterRotor(link, max(float(x[cw.size + 1 + i]), 0.0), ratios[link])
         for i, link in enumerate(("crank", "rocker"))
     )
     coupler_props = linkage.mass_props("coupler")
     balanced = Linkage(
         linkage.mechanism,
-        {**linkage.links, "coupler": MassProps(coupler_props.mass, coupler_props.com, float(j2.value))},
+        {**linkage.links, "coupler": MassProps(coupler_props.mass, coupler_props.com, j2)},
         linkage.counterweights, linkage.gravity, linkage.loads, linkage.torques,
     )
     rotor_moment, rotor_torque = counter_rotor_loads(before, counter_rotors)
@@ -272,8 +374,8 @@ def balance_full(
     )
     return BalanceResult("full", tuple(cws), sum(c.mass for c in cws), before.summary(), summary_after,
                          f, f_rel, m, m_rel, before, after, added_inertia=added_inertia,
-                         coupler_inertia=float(j2.value), counter_rotors=counter_rotors,
-                         objective=float(problem.value), driving_torque_after=torque_after)
+                         coupler_inertia=j2, counter_rotors=counter_rotors,
+                         objective=float(program.q @ x), driving_torque_after=torque_after)
 
 
 def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[FloatArray, FloatArray]:
@@ -282,18 +384,13 @@ def counter_rotor_loads(an: Analysis, rotors: Sequence[CounterRotor]) -> tuple[F
     A rotor turning at -k·w_i has angular momentum -k·J·w_i: the frame feels -d/dt of it, k·J·alpha_i, and the
     crank supplies the rate of its kinetic energy k²·J·w_i·alpha_i over the crank speed.
     """
-    m = an.motion
-    moment = np.zeros(m.samples)
-    torque = np.zeros(m.samples)
-    for r in rotors:
-        moment += r.ratio * r.inertia * m.link_alpha[r.link]
-        torque += r.ratio**2 * r.inertia * m.link_omega[r.link] * m.link_alpha[r.link] / m.omega_crank
-    return moment, torque
+    return rotor_loads(an.motion, rotors)
 
 
 @dataclass(frozen=True, slots=True)
 class Weights:
-    """Weights of the optimal-balancing objective: RMS terms [1/N or 1/(N·m)], peaks, and added mass [1/kg]."""
+    """Weights of the optimal-balancing objective: RMS and peak terms (dimensionless by default, see
+    :func:`relative_weights`; else [1/N or 1/(N·m)]) and added mass [1/kg]."""
 
     shaking_force: float = 1.0
     shaking_moment: float = 0.0
@@ -312,21 +409,54 @@ class Weights:
             raise InvalidInput("at least one of the shaking/torque/bearing weights must be positive", field="weights")
 
 
-def _compressed_norm(y: FloatArray, c: FloatArray, x: cp.Expression) -> cp.Expression:
+_RMS_TERMS = ("shaking_force", "shaking_moment", "driving_torque", "bearing_forces")
+_PEAK_TERMS = ("peak_shaking_force", "peak_shaking_moment")
+
+
+def _compressed_cone(y: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArray]:
     """||y @ x + c|| for a tall y (thousands of rows, a few columns) as a cone of a few rows, exactly.
 
     With y = Q R: ||y x + c||² = ||R x + Qᵀc||² + ||c - Q Qᵀc||², so the solver sees columns, not angles.
+    Returns (G, g) with the cone's vector G x + g.
     """
     q, r = np.linalg.qr(y)
     t = q.T @ c
     rest = float(np.linalg.norm(c - q @ t))
-    return cp.norm(cp.hstack([r @ x + t, np.array([rest])]), 2)
+    return np.vstack([r, np.zeros((1, r.shape[1]))]), np.concatenate([t, [rest]])
 
 
-def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expression,
-                     weights: Weights) -> cp.Expression:
-    """The weighted objective: RMS terms as compressed cones, peak terms (if weighted) per angle."""
+@dataclass(frozen=True, slots=True)
+class _OptimalProgram:
+    """The optimal-balancing SOCP for one set of weighted terms; only the costs depend on the weights.
+
+    Variables: the counterweights, then one bound per weighted term (in ``terms`` order).
+    """
+
+    program: ConeProgram
+    layout: CounterweightLayout
+    terms: tuple[str, ...]
+    scale: tuple[float, ...]  # cost of each term's bound per unit weight
+    crank: float
+
+    def costs(self, weights: Weights) -> FloatArray:
+        """Objective vector for ``weights``: the terms, plus a small weight on added mass and inertia."""
+        q = np.zeros(self.program.size)
+        n = self.layout.size
+        # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is
+        # pinned.
+        q[:n] = weights.added_mass * (self.layout.mass_columns() + self.layout.inertia_columns() / self.crank**2)
+        q[n:] = [getattr(weights, key) * s for key, s in zip(self.terms, self.scale, strict=True)]
+        return q
+
+
+def _optimal_program(lm: LinearMap, linkage: Linkage, cw: CounterweightLayout, terms: tuple[str, ...],
+                     mass_budget: float) -> _OptimalProgram:
+    """Build the SOCP: RMS terms as compressed cones, a peak force as one small cone per angle, a peak moment as
+    two inequalities per angle, and the mass budget."""
     n = lm.y.shape[0]
+    p0 = linkage.params()
+    cols = _var_columns(lm, cw)
+    program = _program(cw, extra=len(terms))
     bearings = [r for j in lm.joints for r in range(lm.reaction_rows(j).start, lm.reaction_rows(j).stop)]
     rms_rows = {
         "shaking_force": ([lm.force_rows.start, lm.force_rows.start + 1], n),
@@ -334,23 +464,37 @@ def _objective_terms(lm: LinearMap, p0: FloatArray, cols: list[int], x: cp.Expre
         "driving_torque": ([lm.torque_row], n),
         "bearing_forces": (bearings, n * len(lm.joints)),
     }
-    goal: cp.Expression = 0
-    for key, (rows, count) in rms_rows.items():
-        if getattr(weights, key) > 0:
+    scale = []
+    for k, key in enumerate(terms):
+        bound = np.zeros(program.size)
+        bound[cw.size + k] = 1.0
+        if key in rms_rows:
+            rows, count = rms_rows[key]
             y, y0 = _rows(lm, rows)
-            goal = goal + getattr(weights, key) * _compressed_norm(y[:, cols], y @ p0 + y0, x) / math.sqrt(count)
-    if weights.peak_shaking_force > 0:
-        y, y0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
-        force = cp.reshape(y[:, cols] @ x + (y @ p0 + y0), (n, 2), order="C")
-        goal = goal + weights.peak_shaking_force * cp.max(cp.norm(force, 2, axis=1))
-    if weights.peak_shaking_moment > 0:
-        y, y0 = _rows(lm, [lm.moment_row])
-        goal = goal + weights.peak_shaking_moment * cp.norm(y[:, cols] @ x + (y @ p0 + y0), "inf")
-    return goal
+            g, offset = _compressed_cone(y[:, cols], y @ p0 + y0)
+            program.cone(np.vstack([bound, np.pad(g, ((0, 0), (0, program.size - cw.size)))]),
+                         np.concatenate([[0.0], offset]))
+            scale.append(1 / math.sqrt(count))
+        elif key == "peak_shaking_force":
+            y, y0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+            g = np.zeros((n, 3, program.size))
+            g[:, 0, :] = bound
+            g[:, 1:, : cw.size] = y[:, cols].reshape(n, 2, -1)
+            offset = np.concatenate([np.zeros((n, 1)), (y @ p0 + y0).reshape(n, 2)], axis=1)
+            program.cone(g.reshape(3 * n, -1), offset.reshape(-1), dim=3)
+            scale.append(1.0)
+        else:
+            y, y0 = _rows(lm, [lm.moment_row])
+            g = np.pad(y[:, cols], ((0, 0), (0, program.size - cw.size)))
+            c = y @ p0 + y0
+            program.at_most(np.vstack([g - bound, -g - bound]), np.concatenate([-c, c]))
+            scale.append(1.0)
+    program.at_most(cw.mass_columns()[None, :], np.array([mass_budget]))
+    return _OptimalProgram(program, cw, terms, tuple(scale), _require_fourbar(linkage).crank)
 
 
-def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
-    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+def _term_values(an: Analysis) -> dict[str, float]:
+    """Every weighted term of the objective on a plain analysis [N or N·m]."""
     k = an.kinetostatics
     n = an.motion.samples
     f = np.hypot(*k.shaking_force.T)
@@ -363,6 +507,24 @@ def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Cou
         "peak_shaking_force": float(f.max()),
         "peak_shaking_moment": float(np.abs(k.shaking_moment).max()),
     }
+    return terms
+
+
+def relative_weights(an: Analysis, weights: Weights) -> Weights:
+    """Dimensionless weights turned into the program's: each term's weight over its value before balancing.
+
+    A weight of 1 on the shaking force then means "one unit per 100 % of the unbalanced RMS force", so terms in
+    N and N·m are traded in proportion to what they were; a term that is zero before keeps its weight. The
+    added-mass weight stays per kilogram.
+    """
+    values = _term_values(an)
+    scaled = {key: getattr(weights, key) / v if v > 0 else getattr(weights, key) for key, v in values.items()}
+    return replace(weights, **scaled)
+
+
+def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
+    """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
+    terms = _term_values(an)
     crank = _require_fourbar(an.linkage).crank
     added = sum(c.mass + c.params()[3] / crank**2 for c in counterweights)
     return float(sum(getattr(weights, key) * v for key, v in terms.items()) + weights.added_mass * added)
@@ -378,35 +540,88 @@ def balance_optimal(
     samples: int = 360,
     time_limit_s: float = 20.0,
     motion_map: tuple[Analysis, LinearMap] | None = None,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> BalanceResult:
     """Counterweights minimising a weighted sum of RMS (and peak) shaking force, shaking moment, driving torque
     and bearing forces, plus a small weight on added mass, within ``mass_budget`` [kg]: one SOCP.
 
-    The default budget is the linkage's own moving mass.
+    The default budget is the linkage's own moving mass. ``weight_scale`` ``relative`` (default) makes the
+    weights dimensionless: each term is divided by its value before balancing (:func:`relative_weights`);
+    ``absolute`` takes them per N and per N·m. The answer echoes the weights as given.
     """
+    return _optimal_points(linkage, speed, spec, [weights or Weights()], mass_budget, samples, time_limit_s,
+                           motion_map, weight_scale)[0]
+
+
+def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, weight_sets: Sequence[Weights],
+                    mass_budget: float | None, samples: int, time_limit_s: float,
+                    motion_map: tuple[Analysis, LinearMap] | None,
+                    weight_scale: Literal["relative", "absolute"]) -> list[BalanceResult]:
+    """Optimal balancing for each weight set: one program and one solver per set of weighted terms, re-solved
+    with new costs for each set, and every point re-analysed with the plain model."""
+    if weight_scale not in ("relative", "absolute"):
+        raise InvalidInput("weight_scale must be relative or absolute", field="weight_scale")
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
-    weights = weights or Weights()
-    weights.validate()
+    for weights in weight_sets:
+        weights.validate()
     if mass_budget is None:
         mass_budget = float(sum(linkage.params_of(link)[0] for link in linkage.mechanism.topology.links))
     if not (math.isfinite(mass_budget) and mass_budget >= 0):
         raise InvalidInput("mass_budget_kg must be a non-negative number", field="mass_budget_kg")
     before, lm = motion_map or _motion_map(linkage, speed, samples)
-    cw = counterweight_vars(spec, linkage)
-    goal = _objective_terms(lm, linkage.params(), _var_columns(lm, cw), _x(cw), weights)
-    # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is pinned.
-    crank = _require_fourbar(linkage).crank
-    goal = goal + weights.added_mass * (cp.sum(cw.m) + cp.sum(cw.j) / crank**2)
-    problem = cp.Problem(cp.Minimize(goal), cw.constraints + [cp.sum(cw.m) <= mass_budget])
-    solve(problem, time_limit_s, "optimal balancing", ["mass_budget_kg"])
-    cws = cw.counterweights()
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
-    added = sum(c.mass for c in cws)
-    return BalanceResult("optimal", tuple(cws), added, before.summary(), after.summary(), f, f_rel, m, m_rel,
-                         before, after, added_inertia=sum(c.params()[3] for c in cws),
-                         objective=objective_value(after, weights, cws))
+    given = list(weight_sets)
+    if weight_scale == "relative":
+        weight_sets = [relative_weights(before, w) for w in weight_sets]
+    cw = counterweight_layout(spec, linkage)
+    solutions: dict[int, FloatArray] = {}
+    groups: dict[tuple[str, ...], list[int]] = {}
+    for i, weights in enumerate(weight_sets):
+        terms = tuple(key for key in _RMS_TERMS + _PEAK_TERMS if getattr(weights, key) > 0)
+        groups.setdefault(terms, []).append(i)
+    for terms, members in groups.items():
+        built = _optimal_program(lm, linkage, cw, terms, mass_budget)
+        built.program.q = built.costs(weight_sets[members[0]])
+        solver = built.program.solver(time_limit_s)
+        for i in members:
+            if i != members[0]:
+                solver.update(q=built.costs(weight_sets[i]))
+            solutions[i] = solve(solver, time_limit_s, "optimal balancing", ["mass_budget_kg"])
+    results = []
+    for i, weights in enumerate(weight_sets):
+        cws = CounterweightSolution(cw, solutions[i]).counterweights()
+        if weights.bearing_forces == 0 or linkage.gravity is None:  # else the mass weighs on the crank's bearing
+            cws = _crank_on_limit(cws, spec, linkage)
+        after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+        results.append(BalanceResult("optimal", tuple(cws), sum(c.mass for c in cws), before.summary(),
+                                     after.summary(), f, f_rel, m, m_rel, before, after,
+                                     added_inertia=sum(c.params()[3] for c in cws),
+                                     objective=objective_value(after, weights, cws), weights=given[i],
+                                     weight_scale=weight_scale))
+    return results
+
+
+def _crank_on_limit(cws: Sequence[Counterweight], spec: CounterweightSpec, linkage: Linkage) -> list[Counterweight]:
+    """The crank's counterweight as a point mass on its radius limit when that limit is at most the crank length.
+
+    At constant crank speed, with bearing forces unweighted or no gravity, nothing but the added-mass term depends
+    on the crank counterweight's mass or inertia once its first moment h is fixed, and that term, m + J/l1² with J >= |h|²/m, falls as the radius grows up to
+    l1: its minimum is on the limit. The term is so flat there that the solver stops short of it by up to a few
+    tenths of a per cent; this is its exact minimiser for the same h (same forces, moments and torques).
+    """
+    fb = _require_fourbar(linkage)
+    r_max = spec.limit(linkage, "crank")
+    if r_max > fb.crank or (spec.radius and "crank" in spec.radius):
+        return list(cws)
+    out = []
+    for c in cws:
+        h = c.params()[1:3]
+        if c.link == "crank" and np.hypot(*h) > 0:
+            mass = float(np.hypot(*h)) / r_max
+            c = replace(c, mass=mass, position=(float(h[0]) / mass, float(h[1]) / mass), inertia=0.0)
+        out.append(c)
+    return out
 
 
 def _motion_map(linkage: Linkage, speed: float, samples: int) -> tuple[Analysis, LinearMap]:
@@ -423,11 +638,10 @@ def tradeoff(
     mass_budget: float | None = None,
     samples: int = 360,
     time_limit_s: float = 20.0,
+    weight_scale: Literal["relative", "absolute"] = "relative",
 ) -> list[BalanceResult]:
-    """Optimal balancing for each weight set (one motion and map shared), each point re-analysed."""
-    mm = _motion_map(linkage, speed, samples)
-    return [balance_optimal(linkage, speed, spec, weights=w, mass_budget=mass_budget, samples=samples,
-                            time_limit_s=time_limit_s, motion_map=mm) for w in weight_sets]
+    """Optimal balancing for each weight set (one motion, map and program shared), each point re-analysed."""
+    return _optimal_points(linkage, speed, spec, weight_sets, mass_budget, samples, time_limit_s, None, weight_scale)
 
 
 def least_squares_crank_counterweight(linkage: Linkage, speed: float, samples: int = 360) -> tuple[float, float]:

@@ -1,28 +1,29 @@
-"""Counterweight variables over the linear-in-parameters map, and the translation of solver outcomes.
+"""Counterweight realisability and the cone programs of balancing, assembled directly for Clarabel.
 
 A counterweight on a link adds (m, h_x, h_y, J) to that link's inertial parameters (mass, first moments in the
 link frame, inertia about the link's first joint). It is physically realisable iff |h|² <= m·J (a rotated cone),
 m >= 0 and |h| <= r_max·m; a fixed angle is a linear restriction of h.
+
+The programs are small (a few variables per counterweight, one cone each, a handful of compressed objective
+cones), so they are written straight into Clarabel's standard form min qᵀx s.t. A x + s = b, s in K with
+numpy and scipy.sparse: no modelling layer to canonicalise on every request. The rows that depend only on the
+counterweight layout are built once per layout and kept in a small per-process cache; a weight sweep changes
+only q and re-solves one solver object.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
+import functools
 import math
-import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-import cvxpy as _cvxpy
+import clarabel
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import Counterweight, FloatArray, Linkage
-
-# cvxpy builds its atoms (norm, sum, quad_over_lin...) lazily, so a type checker cannot see them.
-cp: Any = _cvxpy
-
 
 @dataclass(frozen=True, slots=True)
 class CounterweightSpec:
@@ -77,51 +78,178 @@ def _link_lengths(linkage: Linkage) -> dict[str, float]:
     return out
 
 
+PARAMS = 4  # per counterweight: m [kg], h_x, h_y [kg·m], J about the link's first joint [kg·m²]
+# The radius cone carries a margin so that the solver's tolerance never carries a counterweight past its limit
+# (the reported mass is also floored at |h|/r_max).
+_RADIUS_MARGIN = 1e-7
+# Tighter than Clarabel's defaults: the counterweights themselves (the argmin), not only the objective, are the
+# answer, and flat optima leave them loose at the default gap.
+_TOLERANCES = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10}
+
+
 @dataclass(frozen=True, slots=True)
-class CounterweightVars:
-    """cvxpy variables of the counterweights: per link m, h (2), J about the link's first joint."""
+class CounterweightLayout:
+    """Where the counterweights go, as the programs take it: per link its radius limit [m], and the fixed
+    radius [m] and fixed angle [rad] or NaN. Variables are ordered per link (m, h_x, h_y, J)."""
 
     links: tuple[str, ...]
-    r_max: FloatArray
-    m: cp.Variable
-    h: cp.Variable
-    j: cp.Variable
-    constraints: list[cp.Constraint]
+    r_max: tuple[float, ...]
+    radius: tuple[float, ...]
+    angle: tuple[float, ...]
 
-    def counterweights(self) -> list[Counterweight]:
-        """Counterweights from the solved variables: mass at least |h|/r_max (the solver meets the radius limit
-        only to its tolerance), own inertia J - m·|r|² clipped at zero."""
+    @property
+    def size(self) -> int:
+        """Number of counterweight variables."""
+        return PARAMS * len(self.links)
+
+    def mass_columns(self) -> FloatArray:
+        """Indicator of the mass variables, (size,)."""
+        out = np.zeros(self.size)
+        out[0::PARAMS] = 1.0
+        return out
+
+    def inertia_columns(self) -> FloatArray:
+        """Indicator of the inertia variables, (size,)."""
+        out = np.zeros(self.size)
+        out[3::PARAMS] = 1.0
+        return out
+
+
+def counterweight_layout(spec: CounterweightSpec, linkage: Linkage) -> CounterweightLayout:
+    """The layout of ``spec`` on ``linkage``: radius limits resolved, fixed radii and angles aligned per link."""
+    radius, angle = spec.radius or {}, spec.angle or {}
+    return CounterweightLayout(
+        spec.links,
+        tuple(spec.limit(linkage, link) for link in spec.links),
+        tuple(float(radius.get(link, math.nan)) for link in spec.links),
+        tuple(float(angle.get(link, math.nan)) for link in spec.links),
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class CounterweightSolution:
+    """Solved counterweight variables: per link m [kg], h [kg·m] and J about the link's first joint [kg·m²]."""
+
+    layout: CounterweightLayout
+    x: FloatArray
+
+    def counterweights(self, point_masses: bool = False) -> list[Counterweight]:
+        """Counterweights from the solution: mass at least |h|/r_max (the solver meets the radius limit only to
+        its tolerance), own inertia J - m·|r|² clipped at zero (zero for ``point_masses``)."""
         out = []
-        m = np.asarray(self.m.value, dtype=float)
-        h = np.asarray(self.h.value, dtype=float)
-        j = np.asarray(self.j.value, dtype=float)
-        for i, link in enumerate(self.links):
-            mass = max(float(m[i]), float(np.hypot(*h[i])) / float(self.r_max[i]), 0.0)
+        v = self.x[: self.layout.size].reshape(-1, PARAMS)
+        for i, link in enumerate(self.layout.links):
+            mass = max(float(v[i, 0]), float(np.hypot(v[i, 1], v[i, 2])) / self.layout.r_max[i], 0.0)
             if mass <= 1e-12:
                 continue
-            pos = (float(h[i, 0] / mass), float(h[i, 1] / mass))
-            own = max(float(j[i]) - mass * (pos[0] ** 2 + pos[1] ** 2), 0.0)
+            pos = (float(v[i, 1] / mass), float(v[i, 2] / mass))
+            own = 0.0 if point_masses else max(float(v[i, 3]) - mass * (pos[0] ** 2 + pos[1] ** 2), 0.0)
             out.append(Counterweight(link, mass, pos, own))
         return out
 
 
-def counterweight_vars(spec: CounterweightSpec, linkage: Linkage) -> CounterweightVars:
-    """Variables and realisability cones of the allowed counterweights (one cone each, never one per angle)."""
-    k = len(spec.links)
-    m, h, j = cp.Variable(k, nonneg=True), cp.Variable((k, 2)), cp.Variable(k, nonneg=True)
-    r_max = np.array([spec.limit(linkage, link) for link in spec.links])
-    # The cone is imposed with a margin of 1e-7 so that the solver's tolerance never carries a counterweight past
-    # its radius limit (the reported mass is also floored at |h|/r_max).
-    cons: list[cp.Constraint] = [cp.norm(h, 2, axis=1) <= cp.multiply(r_max * (1 - 1e-7), m)]
-    cons += [cp.quad_over_lin(h[i], m[i]) <= j[i] for i in range(k)]
-    for i, link in enumerate(spec.links):
-        if spec.radius and link in spec.radius:
-            # All of the mass at radius r: J = r²·m exactly; with |h| <= r·m, the optimum puts h on the circle.
-            cons.append(j[i] == spec.radius[link] ** 2 * m[i])
-        if spec.angle and link in spec.angle:
-            a = spec.angle[link]
-            cons += [h[i, 1] * math.cos(a) - h[i, 0] * math.sin(a) == 0, h[i, 0] * math.cos(a) + h[i, 1] * math.sin(a) >= 0]
-    return CounterweightVars(spec.links, r_max, m, h, j, cons)
+@dataclass(slots=True)
+class ConeProgram:
+    """A linear objective over cones in Clarabel's form: min qᵀx s.t. A x + s = b, s in the listed cones.
+
+    Rows are appended block by block with ``equal`` (G x = g), ``at_most`` (G x <= g) and ``cone``
+    (G x + g in a second-order cone, first entry the bound).
+    """
+
+    size: int
+    q: FloatArray = field(init=False)
+    _a: list[sp.csr_matrix] = field(default_factory=list)
+    _b: list[FloatArray] = field(default_factory=list)
+    _cones: list[object] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.q = np.zeros(self.size)
+
+    def _rows(self, g: FloatArray | sp.spmatrix) -> sp.csr_matrix:
+        m = sp.csr_matrix(g)
+        if m.shape[1] < self.size:
+            m = sp.hstack([m, sp.csr_matrix((m.shape[0], self.size - m.shape[1]))], format="csr")
+        return m
+
+    def equal(self, g: FloatArray | sp.spmatrix, rhs: FloatArray) -> None:
+        """Rows G x = rhs (G may cover only the first columns)."""
+        if g.shape[0]:
+            self._a.append(self._rows(g))
+            self._b.append(np.asarray(rhs, dtype=float).reshape(-1))
+            self._cones.append(clarabel.ZeroConeT(g.shape[0]))
+
+    def at_most(self, g: FloatArray | sp.spmatrix, rhs: FloatArray) -> None:
+        """Rows G x <= rhs."""
+        if g.shape[0]:
+            self._a.append(self._rows(g))
+            self._b.append(np.asarray(rhs, dtype=float).reshape(-1))
+            self._cones.append(clarabel.NonnegativeConeT(g.shape[0]))
+
+    def cone(self, g: FloatArray | sp.spmatrix, offset: FloatArray, dim: int | None = None) -> None:
+        """G x + offset in the second-order cone {(t, v): |v| <= t}; with ``dim``, consecutive cones of that
+        size (one per angle, say)."""
+        self._a.append(-self._rows(g))
+        self._b.append(np.asarray(offset, dtype=float).reshape(-1))
+        size = dim or g.shape[0]
+        self._cones.extend(clarabel.SecondOrderConeT(size) for _ in range(g.shape[0] // size))
+
+    def add(self, block: tuple[sp.csr_matrix, FloatArray, list[object]]) -> None:
+        """Append a prebuilt block (rows, right-hand side, cones)."""
+        a, b, cones = block
+        self._a.append(self._rows(a))
+        self._b.append(b)
+        self._cones.extend(cones)
+
+    def solver(self, time_limit_s: float) -> clarabel.DefaultSolver:
+        """A Clarabel solver on this program; ``update(q=...)`` on it re-solves with new costs."""
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.time_limit = float(time_limit_s)
+        for key, value in _TOLERANCES.items():
+            setattr(settings, key, value)
+        a = sp.vstack(self._a, format="csc")
+        return clarabel.DefaultSolver(sp.csc_matrix((self.size, self.size)), self.q, a, np.concatenate(self._b),
+                                      self._cones, settings)
+
+
+@functools.lru_cache(maxsize=16)
+def realisability_block(layout: CounterweightLayout) -> tuple[sp.csr_matrix, FloatArray, list[object]]:
+    """Rows of the realisability cones of a layout (built once per layout per process).
+
+    Per counterweight: m >= 0, J >= 0; |h| <= r_max·m; |h|² <= m·J as the cone |(2h, m - J)| <= m + J;
+    a fixed radius r as J = r²·m (all of the mass at r); a fixed angle a as h parallel to (cos a, sin a).
+    """
+    n = layout.size
+    blocks: list[tuple[FloatArray, str]] = []
+    for i in range(len(layout.links)):
+        m, hx, hy, j = (PARAMS * i + c for c in range(PARAMS))
+
+        def row(*pairs: tuple[int, float]) -> FloatArray:
+            out = np.zeros(n)
+            for col, val in pairs:
+                out[col] += val
+            return out
+
+        blocks.append((np.stack([row((m, -1.0)), row((j, -1.0))]), "nonneg"))
+        blocks.append((np.stack([row((m, layout.r_max[i] * (1 - _RADIUS_MARGIN))), row((hx, 1.0)),
+                                 row((hy, 1.0))]), "soc"))
+        blocks.append((np.stack([row((m, 1.0), (j, 1.0)), row((m, 1.0), (j, -1.0)), row((hx, 2.0)),
+                                 row((hy, 2.0))]), "soc"))
+        if math.isfinite(layout.radius[i]):
+            blocks.append((row((j, 1.0), (m, -layout.radius[i] ** 2))[None, :], "zero"))
+        if math.isfinite(layout.angle[i]):
+            c, s = math.cos(layout.angle[i]), math.sin(layout.angle[i])
+            blocks.append((row((hx, -s), (hy, c))[None, :], "zero"))
+            blocks.append((row((hx, -c), (hy, -s))[None, :], "nonneg"))
+    rows, cones = [], []
+    for g, kind in blocks:
+        # Clarabel's rows are b - A x in the cone: equalities and inequalities G x <= 0 keep G, cones G x take -G.
+        rows.append(-g if kind == "soc" else g)
+        size = g.shape[0]
+        cones.append(clarabel.SecondOrderConeT(size) if kind == "soc"
+                     else clarabel.ZeroConeT(size) if kind == "zero" else clarabel.NonnegativeConeT(size))
+    a = sp.csr_matrix(np.concatenate(rows))
+    return a, np.zeros(a.shape[0]), cones
 
 
 def row_space(a: FloatArray, b: FloatArray, what: str, constraint: str) -> tuple[FloatArray, FloatArray]:
@@ -141,29 +269,25 @@ def row_space(a: FloatArray, b: FloatArray, what: str, constraint: str) -> tuple
     return ur.T @ a, ur.T @ b
 
 
-def solve(problem: cp.Problem, time_limit_s: float, what: str, binding: Sequence[str] = ()) -> None:
-    """Solve with Clarabel (globally: the problems are convex) and translate every non-optimal status."""
-    if not problem.is_dcp():
-        raise SolverFailed("not_dcp", f"{what}: the program is not convex as posed")
-    try:
-        # Tighter than Clarabel's defaults: the counterweights themselves (the argmin), not only the objective,
-        # are the answer, and flat optima leave them loose at the default gap.
-        with warnings.catch_warnings():
-            # cvxpy warns of inaccurate solutions; the status is translated below instead.
-            warnings.filterwarnings("ignore", message="Solution may be inaccurate", category=UserWarning)
-            problem.solve(solver=cp.CLARABEL, time_limit=time_limit_s, tol_gap_abs=1e-10, tol_gap_rel=1e-10,
-                          tol_feas=1e-10)
-    except cp.SolverError as exc:
-        raise SolverFailed("solver_error", f"{what}: {exc}") from exc
-    status = problem.status
-    if status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+
+def solve(program: ConeProgram | clarabel.DefaultSolver, time_limit_s: float, what: str,
+          binding: Sequence[str] = ()) -> FloatArray:
+    """Solve with Clarabel (globally: the programs are convex) and translate every non-optimal status.
+
+    Takes a program, or a solver already built from one (a sweep updates its costs and solves again).
+    Returns the primal solution. Raises Infeasible naming the first of ``binding``, SolverTimeout when
+    Clarabel's time limit stops it, SolverFailed for an iteration limit or a numerical failure.
+    """
+    solver = program.solver(time_limit_s) if isinstance(program, ConeProgram) else program
+    solution = solver.solve()
+    status = solution.status
+    if status in (clarabel.SolverStatus.Solved, clarabel.SolverStatus.AlmostSolved):
+        return np.asarray(solution.x, dtype=float)
+    if status in (clarabel.SolverStatus.PrimalInfeasible, clarabel.SolverStatus.AlmostPrimalInfeasible):
         limits = ", ".join(binding) or "the counterweight limits"
         raise Infeasible(f"{what}: no counterweights satisfy {limits}", constraint=binding[0] if binding else None)
-    if status == cp.USER_LIMIT:
-        # Clarabel's time limit and its iteration limit both arrive as user_limit; only the first is a timeout.
-        spent = problem.solver_stats.solve_time if problem.solver_stats else None
-        if spent is not None and spent >= 0.9 * time_limit_s:
-            raise SolverTimeout(time_limit_s, solve_time_s=float(spent))
+    if status == clarabel.SolverStatus.MaxTime:
+        raise SolverTimeout(time_limit_s, solve_time_s=float(solution.solve_time))
+    if status == clarabel.SolverStatus.MaxIterations:
         raise SolverFailed("iteration_limit", f"{what}: the solver reached its iteration limit")
-    if status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE):
-        raise SolverFailed(str(status))
+    raise SolverFailed(str(status).rsplit(".", 1)[-1].lower(), f"{what}: Clarabel stopped with status {status}")

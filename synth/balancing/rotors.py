@@ -63,7 +63,9 @@ def _correction(u: complex, radius: float, axial: float, field: str) -> Correcti
     if not (math.isfinite(radius) and radius > 0):
         raise InvalidInput(f"{field} must be positive", field=field)
     need = -u
-    return Correction(abs(need) / radius, radius, math.atan2(need.imag, need.real) if abs(need) > 0 else 0.0, axial)
+    # Reported in [0, 2·pi) so the angle reads as a position on the rotor, not a signed turn.
+    angle = math.atan2(need.imag, need.real) % (2 * math.pi) if abs(need) > 0 else 0.0
+    return Correction(abs(need) / radius, radius, angle, axial)
 
 
 def _sums(masses: Sequence[RotorMass], corrections: Sequence[Correction]) -> tuple[float, float]:

@@ -16,12 +16,17 @@ from ..model import Counterweight, FloatArray, Linkage
 
 @dataclass(frozen=True, slots=True)
 class LanchesterPair:
-    """Two shafts turning at ±``order`` times crank speed, each with ``mass`` [kg] at ``radius`` [m]."""
+    """Two shafts turning at ±``order`` times crank speed, each with ``mass`` [kg] at ``radius`` [m].
+
+    ``phase``: the shafts are set so that both masses point along +x (the slide direction) when
+    ``order``·phi = ``phase`` [rad], in [0, 2·pi); ``amplitude``: the force amplitude it cancels [N].
+    """
 
     order: int
     mass: float
     radius: float
-    amplitude: float  # force amplitude it cancels [N]
+    amplitude: float
+    phase: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -29,7 +34,8 @@ class SliderCrankBalance:
     """Point-mass split, crank counterweight, Lanchester pairs, and the shaking force before and after.
 
     ``after_force`` is the plain engine's shaking force with the crank counterweight, plus the balancer shafts'
-    inertia forces; ``residual`` its largest magnitude [N] (higher orders remain).
+    inertia forces; ``residual`` its largest magnitude [N]; ``residual_by_order`` the largest magnitude [N] of
+    each crank-order harmonic of it (index 0 is order 1).
     """
 
     rotating_mass: float
@@ -42,15 +48,45 @@ class SliderCrankBalance:
     residual_rel: float
     first_order_amplitude: float
     second_order_amplitude: float
+    residual_by_order: tuple[float, ...]
+
+
+#: Orders reported in the residual breakdown.
+RESIDUAL_ORDERS = 6
+
+
+def harmonics(series: FloatArray, orders: int) -> tuple[FloatArray, FloatArray]:
+    """Cosine and sine coefficients of crank orders 1..``orders`` of a series over one cycle at uniform angles.
+
+    ``series`` (N,) or (N, d) sampled at phi_i = 2·pi·i/N: series ≈ sum_k c_k·cos(k·phi) + s_k·sin(k·phi);
+    returns c, s of shape (orders,) or (orders, d). Computed by a real FFT (numpy.fft.rfft).
+    """
+    n = series.shape[0]
+    if orders >= n // 2:
+        raise InvalidInput(f"{orders} orders need more than {2 * orders} samples per cycle", field="samples")
+    spec = np.fft.rfft(series, axis=0)[1:orders + 1] * (2.0 / n)
+    return spec.real, -spec.imag
+
+
+def _peak_by_order(force: FloatArray, orders: int) -> tuple[float, ...]:
+    """Largest magnitude [N] over the cycle of each order's part of a planar force (N, 2): the major semi-axis
+    of the ellipse c_k·cos(k·phi) + s_k·sin(k·phi) traces, the largest singular value of [c_k s_k]."""
+    c, s = harmonics(force, orders)
+    return tuple(float(v) for v in np.linalg.svd(np.stack([c, s], axis=2), compute_uv=False)[:, 0])
 
 
 def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius: float | None = None,
                          balancer_radii: tuple[float, float] = (0.05, 0.05), orders: int = 2,
                          samples: int = 360) -> SliderCrankBalance:
     """Statically split the rod into its crank pin and slider, cancel the rotating part with a crank
-    counterweight and the reciprocating part's orders with Lanchester pairs: m_k = m_B·r·A_k/(2·k²·rho_k)
-    with A_1 = 1 and A_2 = r/l (so m_I = m_B·r/(2·rho_I), seed 6.32-6.33). The check is independent: the plain
-    kinetostatic model with the counterweight, plus the balancer shafts' inertia forces.
+    counterweight and the reciprocating part's orders with Lanchester pairs.
+
+    Each order is sized from the harmonic of the exact slider acceleration (an FFT of the engine's motion at
+    constant crank speed ``speed`` [rad/s]), not from the series in lambda = r/l: with a_B's k-th harmonic of
+    amplitude A_k·r·w² the pair needs m_k = m_B·r·A_k/(2·k²·rho_k) per shaft (A_1 = 1, A_2 ≈ r/l: the seed's
+    6.32-6.33), and its phase follows the branch (the second order changes sign with the slider on the -x side).
+    ``balancer_radii`` [m] are rho_1, rho_2. The check is independent: the plain kinetostatic model with the
+    counterweight, plus the balancer shafts' inertia forces, broken down by order.
     """
     mech = linkage.mechanism
     if not isinstance(mech, SliderCrank):
@@ -73,23 +109,26 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
                        (-crank_first.real / abs(crank_first) * rc, -crank_first.imag / abs(crank_first) * rc)
                        if abs(crank_first) > 0 else (0.0, 0.0))
     w = speed
-    amps = [m_b * r * w**2, m_b * r * w**2 * r / l_]
-    order_factor = [1.0, r / l_]
-    pairs = tuple(
-        LanchesterPair(k, m_b * r * order_factor[k - 1] / (2 * k**2 * balancer_radii[k - 1]), balancer_radii[k - 1],
-                       amps[k - 1])
-        for k in range(1, orders + 1)
-    )
     before = analyse(linkage, speed, samples=samples)
     after = analyse(linkage.with_counterweights([cw]), speed, samples=samples)
     phi = after.motion.phi
-    # Each pair's two shafts turn at +k·w and -k·w, phased so their masses meet on the slide axis, behind the
-    # slider at phi = 0: together they put 2·m·rho·(k·w)²·cos(k·phi) on the frame along -x.
+    # The reciprocating part puts -m_B·a_B on the frame along x; each order k of it is F_k·cos(k·phi - theta_k).
+    c, s = harmonics(-m_b * before.motion.point_acc["B"][:, 0], max(orders, 2))
+    amps = np.hypot(c, s)
+    theta = np.arctan2(s, c)
+    # A pair's two shafts turn at +k·w and -k·w with both masses along +x when k·phi = psi: together they put
+    # 2·m·rho·(k·w)²·cos(k·phi - psi) on the frame along +x, so psi = theta_k + pi cancels order k.
+    pairs = tuple(
+        LanchesterPair(k, float(amps[k - 1]) / (2 * balancer_radii[k - 1] * (k * w) ** 2), balancer_radii[k - 1],
+                       float(amps[k - 1]), float((theta[k - 1] + math.pi) % (2 * math.pi)))
+        for k in range(1, orders + 1)
+    )
     balancer = np.zeros((len(phi), 2))
     for p in pairs:
-        balancer[:, 0] -= 2 * p.mass * p.radius * (p.order * w) ** 2 * np.cos(p.order * phi)
+        balancer[:, 0] += 2 * p.mass * p.radius * (p.order * w) ** 2 * np.cos(p.order * phi - p.phase)
     force = after.kinetostatics.shaking_force + balancer
     residual = float(np.hypot(*force.T).max())
     f0 = before.summary().max_shaking_force
+    by_order = _peak_by_order(force, min(RESIDUAL_ORDERS, samples // 2 - 1))
     return SliderCrankBalance(m_a, m_b, cw, pairs, before.summary(), force, residual,
-                              residual / f0 if f0 > 0 else 0.0, amps[0], amps[1])
+                              residual / f0 if f0 > 0 else 0.0, float(amps[0]), float(amps[1]), by_order)

@@ -9,6 +9,7 @@ import casadi as ca
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..gearing.motors import CatalogueMotor
 from ..model import FloatArray
 from .cycle import ReducedCycle
 from .sizing import speed_band
@@ -71,6 +72,19 @@ class Motor:
         if self.breakdown_torque is not None and not self.breakdown_torque > self.rated_torque:
             raise InvalidInput("the breakdown torque must exceed the rated torque", field="motor.breakdown_torque_Nm")
 
+    @staticmethod
+    def from_catalogue(motor: CatalogueMotor, gear_ratio: float = 1.0, efficiency: float = 1.0) -> Motor:
+        """The static characteristic of a catalogue motor, driving through ``gear_ratio`` (motor over crank speed
+        [-]) at ``efficiency`` [-]: rated torque P/w_rated, breakdown torque its ratio times that, the rotor's
+        inertia (zero when the catalogue does not give it)."""
+        return Motor(motor.synchronous_speed, motor.rated_speed, motor.rated_torque, gear_ratio, efficiency,
+                     motor.rotor_inertia or 0.0, motor.breakdown_torque)
+
+    def torque_at(self, speed: FloatArray | float) -> FloatArray:
+        """Torque on the motor shaft at motor speed ``speed`` [rad/s] -> [N·m] (the linear branch)."""
+        slope = self.rated_torque / (self.synchronous_speed - self.rated_speed)
+        return np.asarray(slope * (self.synchronous_speed - np.asarray(speed, dtype=float)), dtype=float)
+
     def reduced(self) -> ReducedMotor:
         """The characteristic reduced to the crank: torque i·eta·T(i·w), rotor inertia i²·J_rotor."""
         i, eta = self.gear_ratio, self.efficiency
@@ -125,17 +139,23 @@ def motor_constant_inertia(
 ) -> MotorSizing:
     """Least constant inertia for a speed-dependent driving torque, as an NLP solved with IPOPT.
 
-    Unknowns: the speed at every sample and the constant inertia J_c. Trapezoidal collocation of the energy
-    form of the equation of motion, d[(J(phi) + J_c)·w²/2]/dphi = M_load(phi) + M_d(w), closes the cycle on
-    itself (periodicity); the speed stays within the band of :func:`motor_speed_limits`; minimise J_c.
-    ``cycle.torque`` holds the load torque alone; ``guess`` [kg·m²] and ``start`` (speeds at the samples
-    [rad/s]) start IPOPT. Built per call, never shared between threads.
+    Unknowns: the speed at every sample, its extremes w_min and w_max, and the constant inertia J_c.
+    Trapezoidal collocation of the energy form of the equation of motion, d[(J(phi) + J_c)·w²/2]/dphi =
+    M_load(phi) + M_d(w), closes the cycle on itself (periodicity). The motor sets its own mean speed, so the
+    band is not centred on ``mean_speed``: the true coefficient is constrained, w_max - w_min <=
+    delta·(w_max + w_min)/2, with w_min and w_max results; the speed stays above the breakdown point of the
+    characteristic; minimise J_c. ``mean_speed`` [rad/s] only scales the problem and is checked against the
+    motor's steady speed by :func:`motor_speed_limits`. ``cycle.torque`` holds the load torque alone; ``guess``
+    [kg·m²] and ``start`` (speeds at the samples [rad/s]) start IPOPT. Built per call, never shared between threads.
     """
     lower, upper = motor_speed_limits(cycle, motor, mean_speed, delta)
+    floor = max(motor.no_load_speed - motor.max_torque / motor.slope, 0.0)
     phi, _, _ = cycle.closed()
     h = np.diff(phi)
     opti = ca.Opti()
     w = opti.variable(cycle.samples)
+    w_lo = opti.variable()
+    w_hi = opti.variable()
     jc = opti.variable()
     energy = 0.5 * (ca.DM(cycle.inertia) + jc) * w**2
     power = ca.DM(cycle.torque) + motor.slope * (motor.no_load_speed - w)
@@ -145,11 +165,17 @@ def motor_constant_inertia(
     # in units of the kinetic energy, so IPOPT sees residuals of order one whatever the machine's size
     e_scale = 0.5 * (guess + cycle.mean_inertia) * mean_speed**2
     opti.subject_to((e_next - energy - 0.5 * ca.DM(h) * (power + p_next)) / e_scale == 0)
-    opti.subject_to(opti.bounded(lower, w, upper))
+    opti.subject_to((w - w_lo) / mean_speed >= 0)
+    opti.subject_to((w_hi - w) / mean_speed >= 0)
+    opti.subject_to((w_hi - w_lo - 0.5 * delta * (w_hi + w_lo)) / mean_speed <= 0)
+    opti.subject_to(w_lo >= max(floor, 1e-6 * mean_speed))
     opti.subject_to(jc + float(cycle.inertia.min()) >= 1e-9 * max(guess, 1.0))
     scale = max(guess, 1e-9)
     opti.minimize(jc / scale)
-    opti.set_initial(w, np.clip(start, lower, upper) if start is not None else np.full(cycle.samples, mean_speed))
+    initial = np.clip(start, lower, upper) if start is not None else np.full(cycle.samples, mean_speed)
+    opti.set_initial(w_lo, float(initial.min()))
+    opti.set_initial(w_hi, float(initial.max()))
+    opti.set_initial(w, initial)
     opti.set_initial(jc, guess)
     opti.solver(
         "ipopt",

@@ -17,13 +17,29 @@ RPM = math.pi / 30.0
 @dataclass(frozen=True, slots=True)
 class CatalogueMotor:
     """A catalogue motor: ``rated_power`` [W], ``synchronous_speed`` and ``rated_speed`` [rad/s],
-    ``rotor_inertia`` [kg·m²] or None when the catalogue does not give it."""
+    ``rotor_inertia`` [kg·m²] or None when the catalogue does not give it, ``breakdown_ratio`` breakdown over
+    rated torque [-] (2.2 is typical of four-pole induction motors of this size).
+
+    Its static characteristic is linear from zero torque at synchronous speed through the rated point, up to the
+    breakdown torque: the one motor model the flywheel NLP, the drive and the machine simulation share.
+    """
 
     name: str
     rated_power: float
     synchronous_speed: float
     rated_speed: float
     rotor_inertia: float | None
+    breakdown_ratio: float = 2.2
+
+    @property
+    def rated_torque(self) -> float:
+        """Rated torque P/w_rated [N·m]."""
+        return self.rated_power / self.rated_speed
+
+    @property
+    def breakdown_torque(self) -> float:
+        """Largest torque of the linear branch [N·m]."""
+        return self.breakdown_ratio * self.rated_torque
 
 
 @cache
@@ -32,7 +48,7 @@ def motor_catalogue() -> tuple[CatalogueMotor, ...]:
     text = resources.files(__package__).joinpath("motors.json").read_text(encoding="utf-8")
     rows = json.loads(text)["motors"]
     motors = [CatalogueMotor(r["name"], float(r["rated_power_W"]), r["synchronous_rpm"] * RPM, r["rated_rpm"] * RPM,
-                    r["rotor_inertia_kgm2"]) for r in rows]
+                             r["rotor_inertia_kgm2"], float(r.get("breakdown_torque_ratio", 2.2))) for r in rows]
     return tuple(sorted(motors, key=lambda m: (m.rated_power, m.synchronous_speed)))
 
 

@@ -1,7 +1,10 @@
 """Splitting a total ratio between the stages of a drive.
 
-The objectives are geometric programs (cvxpy ``gp=True`` solved by Clarabel), so the answer is the global
-optimum of the stated model:
+The objectives are geometric programs, so the answer is the global optimum of the stated model. Each is
+solved in log space directly: with y = log u a posynomial sum_i c_i prod u^a_i becomes the convex
+log-sum-exp of a_i·y + log c_i, written as one exponential cone per monomial straight into Clarabel's form
+(the exponents depend only on the stage count and objective, and are built once per pair);
+``build_split_program`` states the same program in cvxpy's DGP form for cross-checks.
 
 - ``min_inertia``: inertia reduced to the motor shaft; pinions of one size J_p, each gear J_p * u_k^4 (shared face
   width and module), optional shaft inertias, the load reduced by the total ratio squared. For two stages
@@ -26,8 +29,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+import clarabel
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
@@ -181,7 +186,8 @@ def build_split_program(total: float, stages: Sequence[Stage], objective: str, m
                         input_torque: float = 1.0) -> tuple[cp.Problem, cp.Variable]:
     """The geometric program of a split: stage ratios u > 0 with prod(u) = U, per-stage bounds and fixed ratios.
 
-    Returns the problem (``problem.is_dgp()`` holds) and the ratio variable, motor side first.
+    Returns the problem (``problem.is_dgp()`` holds) and the ratio variable, motor side first. The service
+    solves the same program in log space (``solve_split_log``); this statement is its cross-check.
     """
     n = len(stages)
     u = cp.Variable(n, pos=True)
@@ -222,27 +228,125 @@ def build_split_program(total: float, stages: Sequence[Stage], objective: str, m
     return cp.Problem(cp.Minimize(functools.reduce(operator.add, terms)), cons), u
 
 
-def solve_gp(problem: cp.Problem, time_limit_s: float) -> float:
-    """Solve a geometric program with Clarabel under its own time limit; map every non-optimal status.
+@functools.lru_cache(maxsize=32)
+def _exponents(n: int, objective: str) -> tuple[FloatArray, tuple[tuple[str, int], ...]]:
+    """Exponents of the objective's monomials in the stage ratios, (terms, n), and what each coefficient is.
 
-    Returns the wall time [s]. Raises Infeasible, SolverTimeout or SolverFailed.
+    min_inertia: the motor shaft ("shaft", 0); per stage k the gear J_p u_k^4 over (u_1..u_k)^2, i.e.
+    J_p u_k^2 over (u_1..u_(k-1))^2 ("gear", k), and the rest of shaft k over (u_1..u_k)^2 ("shaft", k + 1).
+    min_volume: per stage k the pinion torque carries prod_(j<k) u_j, times u_k^2 + u_k + 1 + 1/u_k
+    ("volume", k) four times.
     """
+    rows: list[FloatArray] = []
+    kinds: list[tuple[str, int]] = []
+    if objective == "min_inertia":
+        rows.append(np.zeros(n))
+        kinds.append(("shaft", 0))
+        for k in range(n):
+            gear = np.zeros(n)
+            gear[:k] = -2.0
+            gear[k] = 2.0
+            shaft = np.zeros(n)
+            shaft[: k + 1] = -2.0
+            rows += [gear, shaft]
+            kinds += [("gear", k), ("shaft", k + 1)]
+    else:
+        for k in range(n):
+            for power in (2.0, 1.0, 0.0, -1.0):
+                row = np.zeros(n)
+                row[:k] = 1.0
+                row[k] = power
+                rows.append(row)
+                kinds.append(("volume", k))
+    return np.array(rows), tuple(kinds)
+
+
+def _coefficients(objective: str, stages: Sequence[Stage], model: InertiaModel, input_torque: float) -> FloatArray:
+    """Coefficients of the monomials of ``_exponents`` (kg·m² or m³); zero where a term is absent."""
+    n = len(stages)
+    _, kinds = _exponents(n, objective)
+    if objective == "min_inertia":
+        jp = model.pinion_inertia
+        extra = list(model.shaft_inertias) or [0.0] * (n + 1)
+        shaft = [jp + model.motor_inertia + extra[0]]
+        shaft += [extra[k] + (jp if k < n else model.load_inertia) for k in range(1, n + 1)]
+        return np.array([jp if kind == "gear" else shaft[k] for kind, k in kinds])
+    torque = input_torque * np.concatenate([[1.0], np.cumprod([s.efficiency for s in stages])[:-1]])
+    for k, s in enumerate(stages):
+        if s.volume_coefficient is None:
+            raise InvalidInput(f"stage type {s.type!r} has no contact-stress sizing rule; use min_inertia or handbook",
+                               field=f"stages[{k}].type")
+    return np.array([(stages[k].volume_coefficient or 0.0) * torque[k] for _, k in kinds])
+
+
+def solve_split_log(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
+                    input_torque: float = 1.0, time_limit_s: float = 20.0) -> tuple[FloatArray, float, str, float]:
+    """Solve a split's geometric program in log space with Clarabel.
+
+    Variables y = log u (n), the log-objective t and one w_i per monomial: minimise t subject to
+    sum y = log U, the stage bounds (or fixed ratios) on y, sum w <= 1 and (a_i·y + log c_i - t, 1, w_i) in
+    the exponential cone, i.e. w_i >= exp(a_i·y + log c_i - t).
+
+    Returns the ratios [-], the objective's value (kg·m² or m³), the solver status and the wall time [s].
+    Raises Infeasible, SolverTimeout or SolverFailed.
+    """
+    if objective not in ("min_inertia", "min_volume"):
+        raise InvalidInput(f"objective {objective!r} is not a geometric program; known: {OBJECTIVES}",
+                           field="objective")
+    n = len(stages)
+    exps, _ = _exponents(n, objective)
+    coeff = _coefficients(objective, stages, model, input_torque)
+    keep = coeff > 0
+    exps, logc = exps[keep], np.log(coeff[keep])
+    terms = len(logc)
+    size = n + 1 + terms
+    eq_a = [np.concatenate([np.ones(n), np.zeros(1 + terms)])]
+    eq_b = [math.log(total)]
+    le_a, le_b = [], []
+    for k, s in enumerate(stages):
+        e = np.zeros(size)
+        e[k] = 1.0
+        if s.ratio is not None:
+            eq_a.append(e)
+            eq_b.append(math.log(s.ratio))
+        else:
+            le_a += [e, -e]
+            le_b += [math.log(s.ratio_max), -math.log(s.ratio_min)]
+    le_a.append(np.concatenate([np.zeros(n + 1), np.ones(terms)]))
+    le_b.append(1.0)
+    # Clarabel's rows are b - A x in the cone; per monomial (a·y + log c - t, 1, w).
+    cone_a = np.zeros((3 * terms, size))
+    cone_a[0::3, :n] = -exps
+    cone_a[0::3, n] = 1.0
+    cone_a[2::3, n + 1 :] = -np.eye(terms)
+    cone_b = np.zeros(3 * terms)
+    cone_b[0::3] = logc
+    cone_b[1::3] = 1.0
+    a = sp.csc_matrix(np.vstack([np.array(eq_a), np.array(le_a), cone_a]))
+    b = np.concatenate([eq_b, le_b, cone_b])
+    cones = [clarabel.ZeroConeT(len(eq_b)), clarabel.NonnegativeConeT(len(le_b))]
+    cones += [clarabel.ExponentialConeT() for _ in range(terms)]
+    q = np.zeros(size)
+    q[n] = 1.0
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.time_limit = float(time_limit_s)
+    for key, value in _CLARABEL_TOLERANCES.items():
+        setattr(settings, key, value)
     t0 = time.perf_counter()
-    try:
-        problem.solve(gp=True, solver=cp.CLARABEL, time_limit=time_limit_s,  # type: ignore[no-untyped-call]
-                      **_CLARABEL_TOLERANCES)
-    except cp.SolverError as exc:
-        raise SolverFailed("solver_error", f"Clarabel failed: {exc}") from exc
+    solution = clarabel.DefaultSolver(sp.csc_matrix((size, size)), q, a, b, cones, settings).solve()
     elapsed = time.perf_counter() - t0
-    status = problem.status
-    if status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+    status = solution.status
+    if status in (clarabel.SolverStatus.PrimalInfeasible, clarabel.SolverStatus.AlmostPrimalInfeasible):
         raise Infeasible("the stage ratio bounds and fixed ratios admit no split of the total ratio",
-                         constraint="stage_ratio_bounds", solver_status=status)
-    if status == cp.USER_LIMIT and elapsed >= 0.95 * time_limit_s:
-        raise SolverTimeout(time_limit_s, solver_status=status)
-    if status != cp.OPTIMAL:
-        raise SolverFailed(str(status))
-    return elapsed
+                         constraint="stage_ratio_bounds", solver_status="infeasible")
+    if status == clarabel.SolverStatus.MaxTime:
+        raise SolverTimeout(time_limit_s, solver_status="user_limit")
+    if status not in (clarabel.SolverStatus.Solved, clarabel.SolverStatus.AlmostSolved):
+        raise SolverFailed(str(status).rsplit(".", 1)[-1].lower(), f"Clarabel stopped with status {status}")
+    x = np.asarray(solution.x, dtype=float)
+    label = "optimal" if status == clarabel.SolverStatus.Solved else "optimal_inaccurate"
+    return np.exp(x[:n]), math.exp(x[n]), label, elapsed
 
 
 def _kkt_residual(objective: str, ratios: FloatArray, stages: Sequence[Stage], model: InertiaModel,
@@ -369,16 +473,15 @@ def split_ratio(
         ratios, warnings = _handbook(total, stages, handbook_factor)
         solver, status, elapsed = "closed form", "optimal", 0.0
     else:
-        problem, u = build_split_program(total, stages, objective, model, input_torque)
-        elapsed = solve_gp(problem, time_limit_s)
-        assert u.value is not None
+        raw, solver_value, status, elapsed = solve_split_log(total, stages, objective, model, input_torque,
+                                                             time_limit_s)
         # Clarabel meets the bounds to its tolerance; pull the answer onto them so reported ratios are admissible.
         lo, hi = np.array([s.ratio_min for s in stages]), np.array([s.ratio_max for s in stages])
-        ratios = np.clip(np.asarray(u.value, dtype=float), lo, hi)
+        ratios = np.clip(raw, lo, hi)
         ratios = np.where(np.abs(ratios / hi - 1) < 1e-7, hi, np.where(np.abs(ratios / lo - 1) < 1e-7, lo, ratios))
         # Fixed stages are equalities the solver meets to its tolerance; report them exactly.
         ratios = np.array([s.ratio if s.ratio is not None else r for s, r in zip(stages, ratios, strict=True)])
-        solver, status, solver_value = "clarabel", str(problem.status), float(problem.value)
+        solver = "clarabel"
         kkt = _kkt_residual(objective, ratios, stages, model, input_torque)
     continuous = ratios.copy()
     tol = None

@@ -52,6 +52,25 @@ class SliderCrank:
         if self.branch not in (1, -1):
             raise InvalidInput("branch must be +1 or -1", field="mechanism.branch")
 
+    def assembly_gaps_deg(self) -> list[tuple[float, float]]:
+        """Exact crank-angle ranges [deg] in [0, 360) where the rod cannot reach the guide: |offset - a·sin(phi)| >= l."""
+        a, l_, e = self.crank, self.rod, self.offset
+        s_hi, s_lo = (e + l_) / a, (e - l_) / a  # sin(phi) >= s_hi or sin(phi) <= s_lo leaves the rod short
+        if s_hi <= -1.0 or s_lo >= 1.0:
+            return [(0.0, 360.0)]
+        gaps: list[tuple[float, float]] = []
+        if s_hi <= 1.0:
+            t = math.degrees(math.asin(s_hi))
+            gaps.append((t, 180.0 - t) if t >= 0 else (0.0, 180.0 - t))
+            if t < 0:
+                gaps.append((360.0 + t, 360.0))
+        if s_lo >= -1.0:
+            t = math.degrees(math.asin(s_lo))
+            gaps.append((180.0 - t, 360.0 + t) if t <= 0 else (180.0 - t, 360.0))
+            if t > 0:
+                gaps.append((0.0, t))
+        return sorted((round(lo, 9), round(hi, 9)) for lo, hi in gaps)
+
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with analogues; NotAssemblable where |offset - y_A| > rod."""
         n = len(phi)
@@ -62,9 +81,9 @@ class SliderCrank:
         if bad.any():
             raise NotAssemblable(
                 f"slider-crank cannot be assembled at {int(bad.sum())} of {n} crank angles: "
-                f"|offset - crank pin height| reaches the rod length",
+                f"|offset - crank pin height| reaches the rod length; exact gaps (deg): {self.assembly_gaps_deg()}",
                 phi=phi[bad],
-                ranges_deg=angle_ranges_deg(phi, bad),
+                ranges_deg=self.assembly_gaps_deg() or angle_ranges_deg(phi, bad),
             )
         cos2 = self.branch * np.sqrt(1.0 - sin2**2)
         th2 = np.arctan2(sin2, cos2)

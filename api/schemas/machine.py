@@ -1,0 +1,326 @@
+"""Schemas of POST /v1/machines/design: one machine described once, every stage's answer, the simulated check."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
+
+from ._engine import np, synth
+from .analysis import AnalysisOut
+from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
+from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, Length, LinkageRequest, StrictModel, SummaryOut, ensure_finite
+from .flywheel import FlywheelOut, Ratio
+from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
+
+#: The README's slider-crank press: a 2.5 kN pressing stroke over half the turn at 480 rpm, one helical stage.
+PRESS_EXAMPLE: JsonDict = {
+    "mechanism": {"type": "slider_crank", "crank_length_m": 0.06, "rod_length_m": 0.24,
+                  "links": {"crank": {"mass_kg": 3, "com_m": [0.02, 0], "inertia_kgm2": 0.004},
+                            "rod": {"mass_kg": 4, "com_m": [0.08, 0], "inertia_kgm2": 0.03},
+                            "slider": {"mass_kg": 9}}},
+    "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
+    "speed_rpm": 480,
+    "delta": 0.02,
+    "drive": {"stages": ["helical"], "synchronous_rpm": 1500},
+    "balancing": {"mode": "static"},
+    "flywheel": {"placement": "lightest", "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 30}},
+}
+
+
+class MachineDriveIn(StrictModel):
+    """The drive from motor to crank, motor side first, and how its motor and teeth are chosen."""
+
+    stages: Annotated[int, Field(ge=1, le=20)] | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20)] = Field(
+        2, description="A count of spur stages, or a list of stage types or stages, motor side first.")
+    motor: str | None = Field(None, min_length=1, max_length=80,
+                              description="A catalogue motor by name; left out, the smallest that covers the power.")
+    motor_catalogue: list[CatalogueMotorIn] | None = Field(
+        None, min_length=1, max_length=500, description="Your motors to choose from; default GET /v1/gears/motors.")
+    synchronous_rpm: float | None = Field(None, gt=0, le=1e5, description="Restrict the motor to one speed class.")
+    reserve_factor: float = Field(1.1, gt=0, le=100, description="xi in P_req = P_mean xi / eta.")
+    objective: Objective = Field("min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
+    pinion_inertia_kgm2: float = Field(1e-3, gt=0, le=MAX_INERTIA_KGM2,
+                                       description="Every pinion; a gear of ratio u has u⁴ times it.")
+    load_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Extra inertia on the crank shaft.")
+    shaft_inertias_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
+        None, max_length=21, description="Extra inertia on each shaft, motor shaft to crank shaft (stages + 1).")
+    max_teeth: int = Field(100, ge=2, le=400, description="Largest wheel of the tooth search.")
+    min_teeth: int | None = Field(None, ge=1, le=400, description="Your bound on every wheel (else undercut).")
+    tooth_tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance of the teeth.")
+
+    def to_engine(self, max_stages: int) -> synth.DriveSpec:
+        """Engine drive (rpm become rad/s here)."""
+        stages = synth.make_stages(_specs(self.stages), max_stages=max_stages, field="drive.stages")
+        return synth.DriveSpec(
+            stages=stages, motor=self.motor,
+            catalogue=None if self.motor_catalogue is None else tuple(m.to_engine() for m in self.motor_catalogue),
+            synchronous_speed=None if self.synchronous_rpm is None else self.synchronous_rpm * RPM,
+            reserve_factor=self.reserve_factor, objective=self.objective,
+            inertia=synth.InertiaModel(self.pinion_inertia_kgm2, self.load_inertia_kgm2,
+                                       tuple(self.shaft_inertias_kgm2 or ())),
+            tooth_rules=synth.ToothRules(min_teeth=self.min_teeth, max_teeth=self.max_teeth),
+            tooth_tolerance=self.tooth_tolerance,
+        )
+
+
+class MachineBalancingIn(StrictModel):
+    """How to balance the linkage: none, static, full or optimal (four-bars); a slider-crank takes static (crank
+    counterweight) or full (and Lanchester balancers)."""
+
+    mode: Literal["none", "static", "full", "optimal"] = Field("none", description="Balancing mode as in "
+                                                               "POST /v1/balancing/*; none: as it is.")
+    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1, max_length=5,
+                                           description="Links that may carry a counterweight.")
+    max_radius_m: dict[str, Length] = Field(default_factory=dict, max_length=5,
+                                            description="Largest counterweight radius per link [m].")
+    weights: WeightsIn | None = Field(None, description="Optimal mode: dimensionless weights (each term over its "
+                                      "value before balancing).")
+    mass_budget_kg: float | None = Field(None, ge=0, le=MAX_MASS_KG, description="Largest total added mass [kg].")
+    rotor_ratios: dict[str, Annotated[float, Field(gt=0, le=1e3)]] = Field(
+        default_factory=dict, max_length=2, description="Full mode: counter-rotor speed over its link's.")
+
+    def to_engine(self) -> synth.BalancingChoice:
+        """Engine balancing choice."""
+        return synth.BalancingChoice(
+            self.mode, synth.CounterweightSpec(tuple(self.counterweight_links), dict(self.max_radius_m)),
+            None if self.weights is None else self.weights.to_engine(), self.mass_budget_kg,
+            tuple(self.rotor_ratios.items()),
+        )
+
+
+class MachineGeometryIn(StrictModel):
+    """Shape, material and limits of the flywheel (the candidate shafts are the drive's)."""
+
+    shape: Literal["rim", "disc"] = Field("rim", description="rim: a heavy rim on spokes; disc: a solid disc.")
+    density_kg_m3: float = Field(7200.0, gt=0, le=1e5, description="Cast iron 7200, steel 7850 [kg/m³].")
+    max_rim_speed_m_s: float | None = Field(30.0, gt=0, le=1e4, description="At the outer radius [m/s].")
+    allowable_stress_Pa: float | None = Field(None, gt=0, le=1e12, description="Allowable hoop (rim) or centre "
+                                              "(disc) stress [Pa].")
+    max_diameter_m: float | None = Field(None, gt=0, le=1e3, description="Largest outer diameter [m].")
+    thickness_ratio: Ratio = Field([0.1, 0.2], description="Rim radial thickness over mean diameter: [min, max].")
+    width_ratio: Ratio = Field([0.1, 0.2], description="Width over diameter: [min, max].")
+
+    def to_engine(self) -> synth.GeometrySpec:
+        """Engine geometry specification."""
+        return synth.GeometrySpec(shape=self.shape, density=self.density_kg_m3, max_rim_speed=self.max_rim_speed_m_s,
+                                  allowable_stress=self.allowable_stress_Pa, max_diameter=self.max_diameter_m,
+                                  thickness_ratio=(self.thickness_ratio[0], self.thickness_ratio[1]),
+                                  width_ratio=(self.width_ratio[0], self.width_ratio[1]))
+
+
+class MachineFlywheelIn(StrictModel):
+    """Where the flywheel goes and what it may look like."""
+
+    placement: Literal["crank", "motor", "lightest"] = Field(
+        "lightest", description="On the crank shaft, the motor shaft, or the lightest shaft that holds it.")
+    geometry: MachineGeometryIn = Field(default_factory=MachineGeometryIn, description="Shape, material and limits "
+                                        "of the flywheel.")
+
+
+class MachineIn(LinkageRequest):
+    """One machine: the linkage with its loads at its working speed (`speed_rpm`), the drive, the target delta
+    (or a machine type), the balancing and flywheel choices."""
+
+    delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
+    machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
+    drive: MachineDriveIn = Field(default_factory=MachineDriveIn, description="Gear stages and the motor.")
+    balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn,
+                                          description="Counterweights (or none) before the flywheel is sized.")
+    flywheel: MachineFlywheelIn = Field(default_factory=MachineFlywheelIn,
+                                        description="Where the flywheel may sit and what it is made of.")
+    speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
+                                   "from speed_rpm [-].")
+    alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE]})
+
+    def to_engine(self, max_stages: int) -> synth.MachineSpec:
+        """Engine machine (degrees and rpm become radians and rad/s here)."""
+        if self.crank_angle_deg is not None:
+            raise synth.InvalidInput("a machine is designed over the whole cycle: use samples", field="crank_angle_deg")
+        if self.crank_acceleration_rad_s2 != 0:
+            raise synth.InvalidInput("steady motion has no mean crank acceleration", field="crank_acceleration_rad_s2")
+        if (self.delta is None) == (self.machine_type is None):
+            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
+        delta = self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
+        return synth.MachineSpec(
+            linkage=self.to_linkage(), speed=self.omega_rad_s, drive=self.drive.to_engine(max_stages), delta=delta,
+            balancing=self.balancing.to_engine(),
+            flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
+            samples=self.samples, speed_tolerance=self.speed_tolerance,
+        )
+
+
+class MachineMotorOut(BaseModel):
+    """The chosen motor and its linear static characteristic through the real train."""
+
+    motor: MotorOut
+    rated_torque_Nm: float
+    breakdown_torque_Nm: float | None
+    train_ratio: float = Field(description="Real ratio from the tooth numbers, motor over crank speed [-].")
+    train_efficiency: float
+    required_power_W: float = Field(description="Mean crank power × reserve / efficiency.")
+
+
+class ReducedOut(BaseModel):
+    """The balanced linkage reduced to its crank (counterweights, pendulum coupler and counter-rotors included)
+    and the constant inertia on top of it."""
+
+    crank_angle_deg: list[float]
+    reduced_inertia_kgm2: list[float]
+    reduced_load_torque_Nm: list[float]
+    driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing.")
+    mean_power_W: float = Field(description="Mean power the crank delivers to the linkage.")
+    train_inertia_kgm2: float = Field(description="Gears, shafts (and balancer shafts) on the crank, rotor excluded.")
+    rotor_inertia_kgm2: float = Field(description="Motor rotor reduced to the crank.")
+
+
+class SimulationOut(BaseModel):
+    """The assembled machine run to its periodic steady state (the independent check)."""
+
+    achieved_delta: float
+    target_delta: float
+    mean_crank_speed_rad_s: float = Field(description="2·pi over the simulated period.")
+    mean_crank_speed_rpm: float
+    period_s: float
+    motor_peak_torque_Nm: float
+    motor_rms_torque_Nm: float = Field(description="RMS over time.")
+    breakdown_margin: float | None = Field(description="1 - peak / breakdown torque (current-limit margin).")
+    crank_angle_deg: list[float]
+    omega_rad_s: list[float]
+    motor_torque_Nm: list[float]
+
+
+class MachineShaftOut(BaseModel):
+    """One shaft in the simulated steady motion, motor first, crank last: what it passes on."""
+
+    name: str
+    speed_ratio: float = Field(description="Shaft speed over crank speed.")
+    mean_speed_rpm: float
+    mean_power_W: float
+    mean_torque_Nm: float
+    peak_torque_Nm: float
+    rms_torque_Nm: float
+    inertia_kgm2: float = Field(description="What turns with it, the flywheel included when it sits there.")
+    carries_flywheel: bool
+
+
+class MachineCheckOut(BaseModel):
+    """One target against the simulated machine."""
+
+    name: str
+    value: float
+    limit: float
+    passed: bool
+    detail: str
+
+
+class AlternativeOut(BaseModel):
+    """The same machine with another balancing mode: what it costs."""
+
+    mode: str
+    available: bool
+    reason: str | None = None
+    rms_shaking_force_N: float | None = None
+    rms_shaking_moment_Nm: float | None = None
+    flywheel_inertia_kgm2: float | None = Field(None, description="On the crank.")
+    flywheel_mass_kg: float | None = None
+    flywheel_shaft: str | None = None
+    motor: str | None = None
+    peak_shaft_torque_Nm: float | None = None
+    achieved_delta: float | None = None
+    passed: bool | None = None
+
+    @classmethod
+    def from_engine(cls, a: synth.Alternative) -> AlternativeOut:
+        """Schema from an engine alternative."""
+        d = a.design
+        if d is None:
+            return cls(mode=a.mode, available=False, reason=a.reason)
+        return cls(
+            mode=a.mode, available=True, rms_shaking_force_N=d.balancing.after.rms_shaking_force,
+            rms_shaking_moment_Nm=d.balancing.after.rms_shaking_moment, flywheel_inertia_kgm2=d.flywheel_inertia,
+            flywheel_mass_kg=None if d.placement is None else d.placement.mass,
+            flywheel_shaft=None if d.placement is None else d.placement.shaft, motor=d.drive.motor.name,
+            peak_shaft_torque_Nm=max(s.peak_torque for s in d.shafts), achieved_delta=d.motion.delta,
+            passed=d.passed,
+        )
+
+
+class MachineDesignOut(BaseModel):
+    """Every stage of the design in the shape its own endpoint answers with, and the simulated check."""
+
+    passed: bool = Field(description="Every check meets its target; `checks` says which does not.")
+    checks: list[MachineCheckOut]
+    analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
+    balancing_mode: str
+    balancing: BalanceOut | None = Field(None, description="A four-bar's balance, as /v1/balancing/* answers.")
+    slider_crank_balancing: SliderCrankBalanceOut | None = None
+    summary_after_balancing: SummaryOut
+    reduced: ReducedOut
+    motor: MachineMotorOut
+    drive: DriveOut = Field(description="Motor choice and ratio split, as /v1/gears/drive answers.")
+    teeth: TeethOut | None = Field(None, description="Tooth numbers, as /v1/gears/teeth answers.")
+    stage_ratios: list[float] = Field(description="Real stage ratios from the teeth.")
+    flywheel: FlywheelOut = Field(description="The flywheel for the chosen motor (motor_nlp), checked by the "
+                                  "simulated machine.")
+    flywheel_shaft: str | None = None
+    simulation: SimulationOut
+    shafts: list[MachineShaftOut]
+    alternatives: list[AlternativeOut] = Field(default_factory=list)
+    warnings: list[str]
+
+    @classmethod
+    def from_engine(cls, d: synth.MachineDesign,
+                    alternatives: tuple[synth.Alternative, ...] = ()) -> MachineDesignOut:
+        """Schema from an engine design (radians and rad/s become degrees and rpm here)."""
+        m, red, bal = d.motion, d.balanced.reduced, d.balancing
+        ensure_finite(m.omega, m.motor_torque, red.inertia, red.load_torque)
+        keep = np.unique(np.linspace(0, m.phi.size - 1, min(721, m.phi.size)).round().astype(int))
+        motor = d.motor
+        return cls(
+            passed=d.passed,
+            checks=[MachineCheckOut(name=c.name, value=c.value, limit=c.limit, passed=c.passed, detail=c.detail)
+                    for c in d.checks],
+            analysis=AnalysisOut.from_engine(d.before),
+            balancing_mode=bal.mode,
+            balancing=None if bal.result is None else BalanceOut.from_engine(bal.result),
+            slider_crank_balancing=None if bal.slider_crank is None else SliderCrankBalanceOut.from_engine(
+                bal.slider_crank),
+            summary_after_balancing=SummaryOut.from_engine(bal.after),
+            reduced=ReducedOut(
+                crank_angle_deg=np.degrees(red.phi).tolist(), reduced_inertia_kgm2=red.inertia.tolist(),
+                reduced_load_torque_Nm=red.load_torque.tolist(),
+                driving_torque_Nm=d.balanced.kinetostatics.driving_torque.tolist(), mean_power_W=d.output_power,
+                train_inertia_kgm2=d.train_inertia, rotor_inertia_kgm2=motor.reduced().inertia,
+            ),
+            motor=MachineMotorOut(
+                motor=MotorOut.from_engine(d.drive.motor), rated_torque_Nm=motor.rated_torque,
+                breakdown_torque_Nm=motor.breakdown_torque, train_ratio=d.train_ratio,
+                train_efficiency=motor.efficiency, required_power_W=d.drive.required_power,
+            ),
+            drive=DriveOut.from_engine(d.drive, d.spec.drive.stages),
+            teeth=None if d.teeth is None else TeethOut.from_engine(d.teeth),
+            stage_ratios=list(d.stage_ratios),
+            flywheel=FlywheelOut.from_engine(d.flywheel),
+            flywheel_shaft=None if d.placement is None else d.placement.shaft,
+            simulation=SimulationOut(
+                achieved_delta=m.delta, target_delta=d.spec.delta, mean_crank_speed_rad_s=m.mean_speed,
+                mean_crank_speed_rpm=m.mean_speed / RPM, period_s=m.period, motor_peak_torque_Nm=m.motor_peak_torque,
+                motor_rms_torque_Nm=m.motor_rms_torque, breakdown_margin=m.breakdown_margin,
+                crank_angle_deg=np.degrees(m.phi[keep]).tolist(), omega_rad_s=m.omega[keep].tolist(),
+                motor_torque_Nm=m.motor_torque[keep].tolist(),
+            ),
+            shafts=[MachineShaftOut(name=s.name, speed_ratio=s.speed_ratio, mean_speed_rpm=s.mean_speed / RPM,
+                                    mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
+                                    peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
+                                    carries_flywheel=s.carries_flywheel) for s in d.shafts],
+            alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
+            warnings=list(d.warnings),
+        )
+
+
+

@@ -1,0 +1,136 @@
+"""Schemas of POST /v1/gears/train: a given train of meshes and planetary stages, from its tooth numbers."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
+
+from ._engine import synth
+from .common import Length, StrictModel
+
+Teeth = Annotated[int, Field(ge=1, le=10_000)]
+Speed = Annotated[float, Field(ge=-1e6, le=1e6)]
+MemberName = Literal["sun", "ring", "carrier"]
+
+
+class TrainMeshIn(StrictModel):
+    """A mesh: the driving wheel on the current shaft drives the driven wheel on the next shaft."""
+
+    type: Literal["mesh"] = Field("mesh", description="A pair of meshing wheels.")
+    driving_teeth: Teeth = Field(description="Teeth of the driving wheel.", examples=[20])
+    driven_teeth: Teeth = Field(description="Teeth of the driven wheel.", examples=[60])
+    internal: bool = Field(False, description="One wheel is an annulus: both turn the same way.")
+    idler: bool = Field(False, description="The driving wheel is the previous mesh's driven wheel itself.")
+    efficiency: float | None = Field(None, gt=0, le=1, description="Default: a closed spur pair's (table).")
+
+    def to_engine(self) -> synth.GearMesh:
+        """Engine mesh."""
+        return synth.GearMesh(self.driving_teeth, self.driven_teeth, self.internal, self.idler, self.efficiency)
+
+
+class TrainPlanetaryIn(StrictModel):
+    """A planetary stage: sun, planets, ring and carrier, one of sun, ring or carrier held (Willis)."""
+
+    type: Literal["planetary"] = Field(description="A planetary stage of sun, planets, ring and carrier.")
+    sun_teeth: Teeth = Field(description="Teeth of the sun wheel.", examples=[20])
+    planet_teeth: Teeth = Field(description="Teeth of each planet (meshing with the sun).", examples=[30])
+    ring_teeth: Teeth = Field(description="Teeth of the ring (annulus).", examples=[80])
+    planet_ring_teeth: Teeth | None = Field(None, description="Stepped planet: the teeth meshing with the ring.")
+    fixed: MemberName = Field("ring", description="The member held still.")
+    input: MemberName = Field("sun", description="The member driven by the previous shaft.")
+    output: MemberName = Field("carrier", description="The member that drives the next shaft.")
+    efficiency: float | None = Field(None, gt=0, le=1, description="Default: the table's planetary stage.")
+
+    def to_engine(self) -> synth.PlanetaryStage:
+        """Engine planetary stage."""
+        return synth.PlanetaryStage(self.sun_teeth, self.planet_teeth, self.ring_teeth, self.fixed, self.input,
+                                    self.output, self.planet_ring_teeth, self.efficiency)
+
+
+def _element_type(value: object) -> str:
+    """A mesh unless it says otherwise: most trains are meshes only."""
+    found = value.get("type", "mesh") if isinstance(value, dict) else getattr(value, "type", "mesh")
+    return str(found)
+
+
+TrainElementIn = Annotated[
+    Annotated[TrainMeshIn, Tag("mesh")] | Annotated[TrainPlanetaryIn, Tag("planetary")],
+    Discriminator(_element_type),
+]
+
+
+class TrainIn(StrictModel):
+    """A serial gear train, input side first: each element starts on the shaft the previous one drove."""
+
+    elements: list[TrainElementIn] = Field(min_length=1, max_length=64, description="Meshes and planetary stages, "
+                                           "input side first.")
+    module_m: Length | None = Field(None, description="Module of every wheel [m]: pitch diameters d = m·z.")
+    input_speed_rad_s: Speed | None = Field(None, description="Input shaft speed [rad/s].")
+    output_speed_rad_s: Speed | None = Field(None, description="Output shaft speed [rad/s] (instead of the input's).")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"elements": [{"driving_teeth": 20, "driven_teeth": 30}, {"driving_teeth": 18, "driven_teeth": 36},
+                      {"driving_teeth": 25, "driven_teeth": 100, "internal": True}],
+         "module_m": 0.004, "input_speed_rad_s": 200.0},
+        {"elements": [{"type": "planetary", "sun_teeth": 20, "planet_teeth": 31, "ring_teeth": 82}],
+         "input_speed_rad_s": 150.0},
+    ]})
+
+    def to_engine(self) -> list[synth.GearMesh | synth.PlanetaryStage]:
+        """Engine train elements."""
+        return [e.to_engine() for e in self.elements]
+
+
+class TrainShaftOut(BaseModel):
+    """A shaft, 0 the input."""
+
+    index: int
+    ratio: float = Field(description="Input speed over this shaft's speed, with sign [-].")
+    direction: int = Field(description="+1 turning with the input, -1 against it.")
+    speed_rad_s: float | None
+    speed_rpm: float | None
+    wheels: list[str]
+
+
+class TrainWheelOut(BaseModel):
+    """A wheel and its pitch diameter d = m·z."""
+
+    name: str
+    teeth: int
+    shaft: int | None = Field(description="The shaft it is keyed to; null for planets and held members.")
+    pitch_diameter_m: float | None
+
+
+class TrainChecksOut(BaseModel):
+    """The seed's closed form (-1)^k·prod(z_driven/z_driving) times the Willis ratios, against the propagation."""
+
+    formula_ratio: float
+    agrees: bool
+
+
+class TrainOut(BaseModel):
+    """Ratio, senses, speeds and efficiency of the train."""
+
+    ratio: float = Field(description="Input speed over output speed, negative when the output turns the other way.")
+    output_direction: int
+    efficiency: float = Field(description="Product of the elements' efficiencies [-].")
+    external_meshes: int
+    shafts: list[TrainShaftOut]
+    wheels: list[TrainWheelOut]
+    checks: TrainChecksOut
+
+    @classmethod
+    def from_engine(cls, r: synth.TrainResult) -> TrainOut:
+        """Schema from an engine train result."""
+        return cls(
+            ratio=r.ratio, output_direction=r.shafts[-1].direction, efficiency=r.efficiency,
+            external_meshes=r.external_meshes,
+            shafts=[TrainShaftOut(index=s.index, ratio=s.ratio, direction=s.direction, speed_rad_s=s.speed,
+                                  speed_rpm=None if s.speed is None else s.speed * 30 / math.pi,
+                                  wheels=list(s.wheels)) for s in r.shafts],
+            wheels=[TrainWheelOut(name=w.name, teeth=w.teeth, shaft=w.shaft, pitch_diameter_m=w.pitch_diameter)
+                    for w in r.wheels],
+            checks=TrainChecksOut(formula_ratio=r.formula_ratio, agrees=r.formula_agrees),
+        )

@@ -1,0 +1,231 @@
+"""A given gear train from its tooth numbers: the ratio, every shaft's speed and sense, the efficiency, d = m·z.
+
+The train is serial: each element's input sits on the shaft the previous element drove. Elements are meshes
+(simple, compound when the next driving wheel is another wheel on the same shaft, idler when it is the same
+wheel) and planetary stages solved by Willis' equation (seed 004:570-613; section 9 of the seed digest).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+from ..errors import InvalidInput
+from .stages import stage_types
+
+Member = Literal["sun", "ring", "carrier"]
+
+#: Largest number of elements in one train.
+MAX_TRAIN_ELEMENTS = 64
+
+
+@dataclass(frozen=True, slots=True)
+class GearMesh:
+    """One mesh: ``driving_teeth`` on the current shaft drive ``driven_teeth`` on the next.
+
+    ``internal``: the driven (or driving) wheel is an annulus, so both turn the same way; ``idler``: the driving
+    wheel is the previous mesh's driven wheel itself (its teeth must match); ``efficiency`` [-], default the
+    table's closed spur pair.
+    """
+
+    driving_teeth: int
+    driven_teeth: int
+    internal: bool = False
+    idler: bool = False
+    efficiency: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class PlanetaryStage:
+    """A planetary (epicyclic) stage: sun, planets, ring, carrier; one of sun, ring, carrier held.
+
+    Teeth of the sun ``sun_teeth``, of the planet meshing with it ``planet_teeth``, of the planet meshing with
+    the ring ``planet_ring_teeth`` (a stepped planet; default the same wheel) and of the ring ``ring_teeth``.
+    ``fixed``, ``input`` and ``output`` name the three members; ``efficiency`` [-], default the table's
+    planetary stage.
+    """
+
+    sun_teeth: int
+    planet_teeth: int
+    ring_teeth: int
+    fixed: Member = "ring"
+    input: Member = "sun"
+    output: Member = "carrier"
+    planet_ring_teeth: int | None = None
+    efficiency: float | None = None
+
+    def basic_ratio(self) -> float:
+        """Willis' ratio with the carrier held, (w_sun - w_c)/(w_ring - w_c) = -(z_p/z_s)·(z_r/z_p') [-]."""
+        zp2 = self.planet_ring_teeth or self.planet_teeth
+        return -(self.planet_teeth / self.sun_teeth) * (self.ring_teeth / zp2)
+
+    def ratio(self) -> float:
+        """Input speed over output speed with ``fixed`` held [-], from w_s - i0·w_r + (i0 - 1)·w_c = 0."""
+        i0 = self.basic_ratio()
+        coef = {"sun": 1.0, "ring": -i0, "carrier": i0 - 1.0}
+        return -coef[self.output] / coef[self.input]
+
+
+TrainElement = GearMesh | PlanetaryStage
+
+
+@dataclass(frozen=True, slots=True)
+class TrainWheel:
+    """A wheel: its ``name`` ("1", "2", "2'"... or "sun 1", "planet 1", "ring 1"), ``teeth``, the ``shaft`` it
+    is keyed to (None for planets), and its pitch diameter m·z [m] (None without a module)."""
+
+    name: str
+    teeth: int
+    shaft: int | None
+    pitch_diameter: float | None
+
+
+@dataclass(frozen=True, slots=True)
+class TrainShaft:
+    """A shaft, 0 the input: ``ratio`` w_input/w_shaft with sign [-], ``direction`` +1 with the input, -1
+    against, ``speed`` [rad/s] (None without a given speed), the ``wheels`` on it."""
+
+    index: int
+    ratio: float
+    direction: int
+    speed: float | None
+    wheels: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class TrainResult:
+    """The train's ratio w_in/w_out with sign [-], its efficiency [-], shafts and wheels.
+
+    ``formula_ratio`` is the independent check: the seed's closed form (-1)^k·prod(z_driven/z_driving) for the
+    meshes (k external meshes) times each planetary stage's Willis ratio, against the shaft-by-shaft
+    propagation of pitch-line speeds that gives ``ratio``.
+    """
+
+    ratio: float
+    efficiency: float
+    shafts: tuple[TrainShaft, ...]
+    wheels: tuple[TrainWheel, ...]
+    external_meshes: int
+    formula_ratio: float
+
+    @property
+    def formula_agrees(self) -> bool:
+        """Whether the closed form and the propagation agree to 1e-9 (relative)."""
+        return math.isclose(self.formula_ratio, self.ratio, rel_tol=1e-9)
+
+
+def _validate(elements: Sequence[TrainElement], module: float | None) -> None:
+    if not elements:
+        raise InvalidInput("a train needs at least one mesh or planetary stage", field="elements")
+    if len(elements) > MAX_TRAIN_ELEMENTS:
+        raise InvalidInput(f"at most {MAX_TRAIN_ELEMENTS} elements", field="elements")
+    if module is not None and not (math.isfinite(module) and module > 0):
+        raise InvalidInput("module_m must be positive", field="module_m")
+    previous: TrainElement | None = None
+    for i, e in enumerate(elements):
+        teeth = ([e.driving_teeth, e.driven_teeth] if isinstance(e, GearMesh)
+                 else [e.sun_teeth, e.planet_teeth, e.ring_teeth, e.planet_ring_teeth or e.planet_teeth])
+        if any(z < 1 for z in teeth):
+            raise InvalidInput(f"tooth numbers must be positive, got {teeth}", field=f"elements[{i}]")
+        if e.efficiency is not None and not 0 < e.efficiency <= 1:
+            raise InvalidInput("efficiency must lie in (0, 1]", field=f"elements[{i}].efficiency")
+        if isinstance(e, GearMesh) and e.idler:
+            if not isinstance(previous, GearMesh):
+                raise InvalidInput("an idler drives on from the previous mesh's driven wheel",
+                                   field=f"elements[{i}].idler")
+            if e.driving_teeth != previous.driven_teeth:
+                raise InvalidInput(f"an idler is the previous driven wheel: it has {previous.driven_teeth} teeth, "
+                                   f"not {e.driving_teeth}", field=f"elements[{i}].driving_teeth")
+        if isinstance(e, PlanetaryStage):
+            if len({e.fixed, e.input, e.output}) != 3:
+                raise InvalidInput("fixed, input and output must be the three members sun, ring, carrier",
+                                   field=f"elements[{i}]")
+            zp2 = e.planet_ring_teeth or e.planet_teeth
+            if e.planet_ring_teeth is None and e.ring_teeth != e.sun_teeth + 2 * e.planet_teeth:
+                raise InvalidInput(f"sun, planet and ring on one axis need z_r = z_s + 2·z_p = "
+                                   f"{e.sun_teeth + 2 * e.planet_teeth}, got {e.ring_teeth}",
+                                   field=f"elements[{i}].ring_teeth")
+            if e.ring_teeth <= zp2:
+                raise InvalidInput("the ring must have more teeth than the planet", field=f"elements[{i}].ring_teeth")
+            if abs(e.ratio()) > 1e12 or e.ratio() == 0:
+                raise InvalidInput("this choice of fixed, input and output locks or frees the stage",
+                                   field=f"elements[{i}]")
+        previous = e
+
+
+def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
+               input_speed: float | None = None, output_speed: float | None = None) -> TrainResult:
+    """Ratio, shaft speeds and senses, efficiency and pitch diameters of a serial train.
+
+    Parameters
+    ----------
+    elements : meshes and planetary stages, input side first.
+    module : module of every wheel [m], for pitch diameters d = m·z; None leaves them out.
+    input_speed, output_speed : the input's (or the output's) speed [rad/s]; at most one.
+
+    Raises InvalidInput naming the element for impossible trains (an idler that is not the previous wheel, a
+    planetary stage whose wheels do not share an axis or that is locked).
+    """
+    _validate(elements, module)
+    if input_speed is not None and output_speed is not None:
+        raise InvalidInput("give the input speed or the output speed, not both", field="output_speed_rad_s")
+    for name, v in (("input_speed_rad_s", input_speed), ("output_speed_rad_s", output_speed)):
+        if v is not None and not math.isfinite(v):
+            raise InvalidInput(f"{name} must be finite", field=name)
+    table = stage_types()
+    speed = 1.0  # shaft speed over input speed, carried from shaft to shaft by the pitch-line speed
+    shafts_rel = [1.0]
+    wheels_on: list[list[str]] = [[]]
+    wheels: list[tuple[str, int, int | None]] = []
+    efficiency = 1.0
+    external = 0
+    formula = 1.0
+    number = 1
+    for i, e in enumerate(elements):
+        if isinstance(e, GearMesh):
+            if e.idler:
+                driving = wheels_on[-1][-1]
+            else:
+                on_shaft = [w for w in wheels_on[-1] if w.rstrip("'").isdigit()]
+                if on_shaft:  # a compound wheel: the textbook's 2', 3'...
+                    driving = on_shaft[0] + "'" * len(on_shaft)
+                else:
+                    driving, number = str(number), number + 1
+                wheels.append((driving, e.driving_teeth, len(shafts_rel) - 1))
+                wheels_on[-1].append(driving)
+            # Equal pitch-line speeds: w_a·z_a = w_b·z_b, opposite senses on an external mesh.
+            sense = 1.0 if e.internal else -1.0
+            speed = sense * speed * e.driving_teeth / e.driven_teeth
+            external += 0 if e.internal else 1
+            formula *= e.driven_teeth / e.driving_teeth
+            driven = str(number)
+            number += 1
+            shafts_rel.append(speed)
+            wheels_on.append([driven])
+            wheels.append((driven, e.driven_teeth, len(shafts_rel) - 1))
+            efficiency *= e.efficiency if e.efficiency is not None else table["spur"].efficiency
+        else:
+            k = sum(1 for el in elements[:i + 1] if isinstance(el, PlanetaryStage))
+            ratio = e.ratio()
+            speed = speed / ratio
+            formula *= ratio
+            shafts_rel.append(speed)
+            wheels_on[-1].append(f"{e.input} {k}")
+            wheels_on.append([f"{e.output} {k}"])
+            for member, z in (("sun", e.sun_teeth), ("ring", e.ring_teeth)):
+                on = {str(e.input): len(shafts_rel) - 2, str(e.output): len(shafts_rel) - 1}.get(member)
+                wheels.append((f"{member} {k}", z, on))
+            wheels.append((f"planet {k}", e.planet_teeth, None))
+            if e.planet_ring_teeth is not None:
+                wheels.append((f"planet {k}'", e.planet_ring_teeth, None))
+            efficiency *= e.efficiency if e.efficiency is not None else table["planetary"].efficiency
+    formula *= (-1) ** external
+    w_in = input_speed if input_speed is not None else (output_speed / speed if output_speed is not None else None)
+    shafts = tuple(
+        TrainShaft(j, 1.0 / rel, 1 if rel > 0 else -1, None if w_in is None else w_in * rel, tuple(wheels_on[j]))
+        for j, rel in enumerate(shafts_rel)
+    )
+    out_wheels = tuple(TrainWheel(n, z, s, None if module is None else module * z) for n, z, s in wheels)
+    return TrainResult(1.0 / speed, efficiency, shafts, out_wheels, external, formula)

@@ -1,0 +1,383 @@
+"""The design chain of a whole machine, linkage to motor, checked by simulating the assembled machine.
+
+analysis -> balancing -> the balanced linkage reduced to its crank -> motor from the mean power -> ratio split
+and tooth numbers (the real ratio from the teeth is what the rest uses) -> flywheel sized with the chosen
+motor's characteristic on the chosen shaft -> the machine run to its steady state -> every shaft's speed, power
+and peak and RMS torque. Each step is one of the engine's own capabilities; nothing is re-derived here.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..analysis import Analysis, Summary, analyse
+from ..balancing import (
+    BalanceResult,
+    SliderCrankBalance,
+    Weights,
+    balance_full,
+    balance_optimal,
+    balance_slider_crank,
+    balance_static,
+)
+from ..counter_rotors import CounterRotor
+from ..errors import Infeasible, InvalidInput, SolverFailed
+from ..flywheel import (
+    FlywheelBody,
+    FlywheelResult,
+    MethodResult,
+    Motor,
+    ReducedCycle,
+    Shaft,
+    SpeedProfile,
+    cycle_from_reduced,
+    design_flywheel,
+    exact_constant_inertia,
+    motor_constant_inertia,
+    wittenbauer_tangents,
+)
+from ..gearing import DriveResult, ToothResult, design_drive, tooth_numbers
+from ..kinematics import FourBar, SliderCrank
+from ..model import Linkage
+from .simulate import MachineCycle, MachineMotion, simulate_machine
+from .spec import BALANCING_MODES, BalancingMode, MachineSpec
+
+#: Relative room the tooth search gets around each free stage's split ratio [-].
+TOOTH_RATIO_ROOM = 0.05
+
+
+@dataclass(frozen=True, slots=True)
+class Balancing:
+    """The balancing stage of the chain, the same shape for every family.
+
+    ``result`` a four-bar's answer (static, full, optimal), ``slider_crank`` a slider-crank's; ``linkage`` the
+    balanced linkage (counterweights, pendulum coupler); ``counter_rotors``; ``balancer_inertia`` the
+    Lanchester shafts reduced to the crank [kg·m²]; ``after`` RMS and peaks after balancing [N, N·m].
+    """
+
+    mode: str
+    result: BalanceResult | None
+    slider_crank: SliderCrankBalance | None
+    linkage: Linkage
+    counter_rotors: tuple[CounterRotor, ...]
+    balancer_inertia: float
+    after: Summary
+
+
+@dataclass(frozen=True, slots=True)
+class MachineShaft:
+    """One shaft of the assembled machine in its steady motion, motor shaft first, crank shaft last.
+
+    ``speed_ratio`` shaft over crank speed [-]; ``mean_speed`` [rad/s]; ``mean_power`` it passes on [W];
+    ``mean_torque``, ``peak_torque`` (largest magnitude) and ``rms_torque`` (over time) it passes on [N·m];
+    ``inertia`` what turns with it, the flywheel included when it sits there [kg·m²].
+    """
+
+    name: str
+    speed_ratio: float
+    mean_speed: float
+    mean_power: float
+    mean_torque: float
+    peak_torque: float
+    rms_torque: float
+    inertia: float
+    carries_flywheel: bool
+
+
+@dataclass(frozen=True, slots=True)
+class MachineCheck:
+    """One target of the design against the simulated machine: ``value`` and ``limit`` in the check's unit."""
+
+    name: str
+    value: float
+    limit: float
+    passed: bool
+    detail: str
+
+
+@dataclass(frozen=True, slots=True)
+class MachineDesign:
+    """Every stage of a whole-machine design and its independent check.
+
+    ``before`` and ``balanced`` the linkage's analyses (the latter with counterweights, pendulum coupler and
+    counter-rotors); ``output_power`` the mean power the crank delivers [W]; ``drive`` the motor choice and
+    split; ``teeth`` the tooth numbers (None without toothed stages); ``stage_ratios`` and ``train_ratio`` the
+    real ratios from the teeth [-]; ``motor`` the chosen motor's characteristic through them; ``train_inertia``
+    the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
+    ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
+    ``shafts`` motor first; ``checks`` each target against the simulation.
+    """
+
+    spec: MachineSpec
+    before: Analysis
+    balancing: Balancing
+    balanced: Analysis
+    output_power: float
+    drive: DriveResult
+    teeth: ToothResult | None
+    stage_ratios: tuple[float, ...]
+    train_ratio: float
+    motor: Motor
+    train_inertia: float
+    flywheel: FlywheelResult
+    placement: FlywheelBody | None
+    motion: MachineMotion
+    shafts: tuple[MachineShaft, ...]
+    checks: tuple[MachineCheck, ...]
+    warnings: tuple[str, ...]
+
+    @property
+    def flywheel_inertia(self) -> float:
+        """Flywheel inertia reduced to the crank [kg·m²]."""
+        return self.flywheel.design.flywheel_inertia
+
+    @property
+    def passed(self) -> bool:
+        """True when every check meets its target."""
+        return all(c.passed for c in self.checks)
+
+
+@dataclass(frozen=True, slots=True)
+class Alternative:
+    """The same machine with another balancing mode: its design, or why the mode is not available."""
+
+    mode: str
+    design: MachineDesign | None
+    reason: str | None
+
+
+def _summary_with_force(summary: Summary, force: np.ndarray) -> Summary:
+    magnitude = np.hypot(force[:, 0], force[:, 1])
+    return replace(summary, rms_shaking_force=float(np.sqrt(np.mean(magnitude**2))),
+                   max_shaking_force=float(magnitude.max()))
+
+
+def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> Balancing:
+    choice, linkage, speed = spec.balancing, spec.linkage, spec.speed
+    mode = choice.mode
+    if mode == "none":
+        return Balancing("none", None, None, linkage, (), 0.0, before.summary())
+    mech = linkage.mechanism
+    if isinstance(mech, FourBar):
+        if mode == "static":
+            r = balance_static(linkage, speed, choice.spec, samples=spec.samples, mass_budget=choice.mass_budget,
+                               time_limit_s=time_limit_s)
+        elif mode == "full":
+            r = balance_full(linkage, speed, choice.spec, samples=spec.samples,
+                             ratios=dict(choice.rotor_ratios) or None, time_limit_s=time_limit_s)
+        else:
+            r = balance_optimal(linkage, speed, choice.spec, weights=choice.weights, mass_budget=choice.mass_budget,
+                                samples=spec.samples, time_limit_s=time_limit_s)
+        return Balancing(mode, r, None, r.analysis_after.linkage, r.counter_rotors, 0.0, r.after)
+    if isinstance(mech, SliderCrank):
+        if mode == "optimal":
+            raise InvalidInput("optimal balancing is for four-bars; a slider-crank takes static (a crank "
+                               "counterweight for the rotating masses) or full (and Lanchester balancers)",
+                               field="balancing.mode")
+        sc = balance_slider_crank(linkage, speed, samples=spec.samples)
+        balanced = linkage.with_counterweights([sc.crank_counterweight])
+        after = analyse(balanced, speed, samples=spec.samples).summary()
+        if mode == "static":
+            return Balancing(mode, None, sc, balanced, (), 0.0, after)
+        # each pair's two shafts carry m at rho turning at k·w: kinetic energy m·rho²·k²·w², so 2·m·rho²·k²
+        extra = sum(2 * p.mass * p.radius**2 * p.order**2 for p in sc.pairs)
+        return Balancing(mode, None, sc, balanced, (), extra, _summary_with_force(after, sc.after_force))
+    raise InvalidInput(f"counterweight balancing of a {type(mech).__name__} is not offered; use mode none",
+                       field="balancing.mode")
+
+
+def _teeth(spec: MachineSpec, drive: DriveResult) -> tuple[ToothResult | None, tuple[float, ...]]:
+    stages, ratios = spec.drive.stages, drive.split.stage_ratios
+    toothed = [k for k, s in enumerate(stages) if s.toothed]
+    if not toothed:
+        return None, tuple(ratios)
+    search = []
+    for k in toothed:
+        s, u = stages[k], ratios[k]
+        if s.ratio is not None:
+            # a fixed (standard) ratio is kept, to rounding
+            lo, hi = s.ratio * (1 - 1e-9), s.ratio * (1 + 1e-9)
+        else:
+            lo = max(s.ratio_min, u * (1 - TOOTH_RATIO_ROOM))
+            hi = min(s.ratio_max, u * (1 + TOOTH_RATIO_ROOM))
+        search.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
+    target = math.prod(ratios[k] for k in toothed)
+    result = tooth_numbers(target, search, spec.drive.tooth_rules, spec.drive.tooth_tolerance)
+    real = list(ratios)
+    for k, mesh in zip(toothed, result.stages, strict=True):
+        real[k] = mesh.ratio
+    return result, tuple(real)
+
+
+def _shaft_names(n_stages: int) -> list[str]:
+    return ["motor"] + [f"shaft {k}" for k in range(1, n_stages)] + ["crank"]
+
+
+def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycle: MachineCycle,
+              ratios: Sequence[float], train_inertia: float,
+              time_limit_s: float) -> tuple[FlywheelResult, FlywheelBody | None, MachineMotion]:
+    """The least flywheel for the chosen motor (the flywheel's motor NLP), checked and shaped.
+
+    Its check is the simulation of the assembled machine, the same one every other target is checked on;
+    the textbook constant-torque methods do not describe a motor-driven machine and are left out.
+    """
+    reduced = motor.reduced()
+    existing = train_inertia + reduced.inertia
+    # the motor sets the mean speed: the band is sized around its steady speed, the working speed is a check
+    mean_speed = reduced.mean_speed(cycle)
+    balanced, driving = cycle.balanced()
+    guess = max(exact_constant_inertia(balanced, mean_speed, spec.delta), 1e-9)
+    nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
+    used = max(nlp.constant_inertia, existing)
+    motion = simulate_machine(machine_cycle, used, motor)
+    speed = SpeedProfile(motion.phi, motion.omega, float(motion.omega.min()), float(motion.omega.max()),
+                         motion.delta)
+    method = MethodResult("motor_nlp", nlp.constant_inertia, used - existing, speed)
+    names = _shaft_names(len(ratios))
+    speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))]
+    choice = spec.flywheel
+    if choice.placement == "crank":
+        shafts: tuple[Shaft, ...] = ()
+    elif choice.placement == "motor":
+        shafts = (Shaft("motor", speed_ratios[0]),)
+    else:
+        shafts = tuple(Shaft(n, r) for n, r in zip(names[:-1], speed_ratios, strict=True))
+    shape = None
+    if method.flywheel_inertia > 0:
+        shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
+                                float(motion.omega.max()), time_limit_s=time_limit_s)
+    result = FlywheelResult(
+        cycle=balanced, mean_speed=mean_speed, target_delta=spec.delta, constant_inertia=existing,
+        driving_torque=driving, cycle_work=cycle.cycle_work,
+        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=(method,),
+        design_method="motor_nlp", geometry=shape, motor_mean_speed=mean_speed,
+    )
+    if shape is None:
+        return result, None, motion
+    if choice.placement == "lightest":
+        return result, shape.best, motion
+    wanted = "crank" if choice.placement == "crank" else "motor"
+    for body in shape.bodies:
+        if body.shaft == wanted:
+            return result, body, motion
+    miss = next(m for m in shape.misses if m.shaft == wanted)
+    raise Infeasible(f"the {wanted} shaft cannot carry the flywheel within the {miss.constraint} limit; "
+                     "choose placement lightest or relax the limit", constraint=f"flywheel.geometry.{miss.constraint}",
+                     shaft=wanted, max_inertia_kgm2=miss.max_inertia)
+
+
+def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion, motor: Motor,
+            placement: FlywheelBody | None, flywheel_inertia: float) -> tuple[MachineShaft, ...]:
+    n = len(design_ratios)
+    names = _shaft_names(n)
+    r = np.array([math.prod(design_ratios[k:]) for k in range(n)] + [1.0])
+    eta = np.concatenate([[1.0], np.cumprod(drive.stage_efficiencies)])
+    own = np.array([s.inertia for s in drive.shafts])
+    if placement is not None:
+        own[names.index(placement.shaft)] += flywheel_inertia / r[names.index(placement.shaft)] ** 2
+    upstream = np.cumsum(own * r**2)  # inertia of shafts 0..k reduced to the crank [kg·m²]
+    out = []
+    for k in range(n + 1):
+        # the torque shaft k passes on: the motor's, through the stages before it, less what accelerates
+        # everything up to it; power balance T_k·w_k = eta_0k·T_m·w_m - d/dt(kinetic energy up to k)
+        torque = (eta[k] * motion.motor_torque * r[0] - upstream[k] * motion.alpha) / r[k]
+        power = torque * r[k] * motion.omega
+        out.append(MachineShaft(
+            names[k], float(r[k]), float(r[k] * motion.mean_speed), motion.time_mean(power),
+            motion.time_mean(torque), float(np.abs(torque).max()), motion.time_rms(torque), float(own[k]),
+            placement is not None and placement.shaft == names[k],
+        ))
+    return tuple(out)
+
+
+def _checks(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> tuple[MachineCheck, ...]:
+    delta_ok = motion.delta <= spec.delta * (1 + 1e-3)
+    speed_err = abs(motion.mean_speed / spec.speed - 1)
+    rms_ok = motion.motor_rms_torque <= motor.rated_torque
+    checks = [
+        MachineCheck("delta", motion.delta, spec.delta, delta_ok,
+                     "simulated coefficient of speed fluctuation against the target (1e-3 relative)"),
+        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_err <= spec.speed_tolerance,
+                     "relative distance of the simulated mean crank speed from the working speed"),
+        MachineCheck("motor_rms_torque", motion.motor_rms_torque, motor.rated_torque, rms_ok,
+                     "motor torque RMS over time against its rated torque (heating)"),
+    ]
+    if motor.breakdown_torque is not None:
+        checks.append(MachineCheck("motor_peak_torque", motion.motor_peak_torque, motor.breakdown_torque,
+                                   motion.motor_peak_torque <= motor.breakdown_torque,
+                                   "largest motor torque against its breakdown torque (current limit)"))
+    return tuple(checks)
+
+
+def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> MachineDesign:
+    """Design the whole machine, linkage to motor, and check it by simulating the assembled machine.
+
+    Parameters
+    ----------
+    machine
+        The machine: linkage and load, working speed [rad/s], drive, target delta [-], balancing and flywheel
+        choices.
+    time_limit_s
+        Each solver's time limit [s].
+
+    Raises InvalidInput, NotAssemblable, Infeasible (no motor covers the power, the stages cannot reach the
+    ratio, no shaft holds the flywheel, ...), SolverFailed or SolverTimeout, each naming what binds.
+    """
+    machine.validate()
+    before = analyse(machine.linkage, machine.speed, samples=machine.samples)
+    bal = _balance(machine, before, time_limit_s)
+    balanced = analyse(bal.linkage, machine.speed, samples=machine.samples, counter_rotors=bal.counter_rotors)
+    cycle = cycle_from_reduced(balanced.reduced)
+    output_power = -cycle.cycle_work / cycle.period * machine.speed
+    if not output_power > 0:
+        raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
+                           "give its process load", field="loads")
+    d = machine.drive
+    drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+                         synchronous_speed=d.synchronous_speed, motor=d.motor, objective=d.objective,
+                         torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
+                         catalogue=d.catalogue)
+    teeth, ratios = _teeth(machine, drive)
+    train_ratio = math.prod(ratios)
+    motor = Motor.from_catalogue(drive.motor, train_ratio, drive.chain_efficiency)
+    speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
+    own = np.array([s.inertia for s in drive.shafts])
+    train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
+    red = balanced.reduced
+    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
+    flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
+    shafts = _shafts(ratios, drive, motion, motor, placement, flywheel.design.flywheel_inertia)
+    warnings = list(drive.warnings)
+    if teeth is not None:
+        warnings += list(teeth.warnings)
+    return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
+                         train, flywheel, placement, motion, shafts, _checks(machine, motion, motor), tuple(warnings))
+
+
+def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,
+                 modes: Sequence[BalancingMode] | None = None) -> tuple[Alternative, ...]:
+    """The same machine designed with each balancing mode in ``modes`` (default: the modes it does not use):
+    what each choice costs.
+
+    A mode the linkage cannot take (a slider-crank's optimal mode, a coupler that cannot be a pendulum, a
+    budget too small) is reported with the reason instead of a design. The optimal mode without weights of
+    its own weighs the RMS shaking force and moment alike (dimensionless).
+    """
+    if modes is None:
+        modes = [m for m in BALANCING_MODES if m != machine.balancing.mode]
+    out = []
+    for mode in modes:
+        choice = replace(machine.balancing, mode=mode)
+        if mode == "optimal" and choice.weights is None:
+            choice = replace(choice, weights=Weights(shaking_force=1.0, shaking_moment=1.0))
+        try:
+            out.append(Alternative(mode, design_machine(replace(machine, balancing=choice),
+                                                        time_limit_s=time_limit_s), None))
+        except (InvalidInput, Infeasible, SolverFailed) as exc:
+            out.append(Alternative(mode, None, str(exc)))
+    return tuple(out)
+

@@ -1,0 +1,89 @@
+"""One machine described once: the linkage and its load, the working speed, the drive, the target, the choices."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+from ..balancing import CounterweightSpec, Weights
+from ..errors import InvalidInput
+from ..flywheel import GeometrySpec
+from ..gearing import CatalogueMotor, InertiaModel, Stage, ToothRules
+from ..model import Linkage
+
+BalancingMode = Literal["none", "static", "full", "optimal"]
+Placement = Literal["crank", "motor", "lightest"]
+BALANCING_MODES: tuple[BalancingMode, ...] = ("none", "static", "full", "optimal")
+
+
+@dataclass(frozen=True, slots=True)
+class BalancingChoice:
+    """How to balance the linkage: ``mode`` none, static, full or optimal; where counterweights may go
+    (``spec``); the optimal mode's dimensionless ``weights`` and ``mass_budget`` [kg]; full mode's counter-rotor
+    ``rotor_ratios`` [-]."""
+
+    mode: BalancingMode = "none"
+    spec: CounterweightSpec | None = None
+    weights: Weights | None = None
+    mass_budget: float | None = None
+    rotor_ratios: tuple[tuple[str, float], ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class FlywheelChoice:
+    """Where the flywheel goes: on the ``crank`` shaft, the ``motor`` shaft, or the ``lightest`` shaft that holds
+    it; ``geometry`` its shape, material and limits (the candidate shafts are the drive's)."""
+
+    placement: Placement = "lightest"
+    geometry: GeometrySpec = field(default_factory=GeometrySpec)
+
+
+@dataclass(frozen=True, slots=True)
+class DriveSpec:
+    """The drive from motor to crank: ``stages`` motor side first; a catalogue ``motor`` by name or the smallest
+    that covers the power (from ``catalogue``, default the shipped one, within ``synchronous_speed`` [rad/s] if
+    given); ``reserve_factor`` [-] on the mean power; the split ``objective``; pinion, load and shaft inertias
+    (``inertia`` [kg·m²]); tooth ``rules`` and the relative ratio ``tooth_tolerance`` [-] of the tooth search."""
+
+    stages: tuple[Stage, ...]
+    motor: str | None = None
+    catalogue: tuple[CatalogueMotor, ...] | None = None
+    synchronous_speed: float | None = None
+    reserve_factor: float = 1.1
+    objective: str = "min_inertia"
+    inertia: InertiaModel | None = None
+    tooth_rules: ToothRules | None = None
+    tooth_tolerance: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class MachineSpec:
+    """A whole machine: a motor drives a train that drives a linkage with a process load.
+
+    ``speed`` the crank's working speed [rad/s]; ``delta`` the target coefficient of speed fluctuation [-];
+    ``speed_tolerance`` how far the simulated mean crank speed may lie from ``speed`` [-]; ``samples`` crank
+    angles per revolution for every stage of the chain.
+    """
+
+    linkage: Linkage
+    speed: float
+    drive: DriveSpec
+    delta: float
+    balancing: BalancingChoice = field(default_factory=BalancingChoice)
+    flywheel: FlywheelChoice = field(default_factory=FlywheelChoice)
+    samples: int = 360
+    speed_tolerance: float = 0.05
+
+    def validate(self) -> None:
+        """InvalidInput naming the field for a speed, target or tolerance out of range, or no stages."""
+        if not (math.isfinite(self.speed) and self.speed > 0):
+            raise InvalidInput("the crank speed must be positive", field="speed_rpm")
+        if not 0 < self.delta < 1:
+            raise InvalidInput("delta must lie in (0, 1)", field="delta")
+        if not 0 < self.speed_tolerance < 1:
+            raise InvalidInput("speed_tolerance must lie in (0, 1)", field="speed_tolerance")
+        if not self.drive.stages:
+            raise InvalidInput("the drive needs at least one stage", field="drive.stages")
+        if self.balancing.mode not in BALANCING_MODES:
+            raise InvalidInput(f"balancing mode must be one of {BALANCING_MODES}", field="balancing.mode")
