@@ -42,10 +42,19 @@ from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, Sta
 from .schemas.machine import MachineDesignOut, MachineIn
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.synthesis import (
+    CrankRockerIn,
+    CrankRockerOut,
+    PathIn,
+    PathOut,
+    SliderCrankSynthesisIn,
+    SliderCrankSynthesisOut,
+)
 
 __all__ = [
     "AsyncSynthClient",
     "BalanceMode",
+    "DrawingFormat",
     "InfeasibleError",
     "InvalidInputError",
     "NotAssemblableError",
@@ -54,11 +63,14 @@ __all__ = [
     "SolverFailedError",
     "SolverTimeoutError",
     "SynthClient",
+    "SynthesisKind",
     "TooLargeError",
 ]
 
 M = TypeVar("M", bound=BaseModel)
 InProcessExecutor = Literal["serial", "pool"]
+SynthesisKind = Literal["crank-rocker", "slider-crank", "path"]
+DrawingFormat = Literal["dxf", "svg"]
 
 
 class ProblemError(Exception):
@@ -256,6 +268,12 @@ class SynthClient(_Policy):
         """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
         return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
 
+    def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
+                         angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis/drawing: the mechanism to scale in millimetres with its counterweights, DXF or SVG."""
+        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
+        return self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query).content
+
     def machine_types(self) -> list[MachineTypeOut]:
         """GET /v1/machine-types: admissible coefficient of speed fluctuation per machine type."""
         return self._get_rows("/v1/machine-types", MachineTypeOut)
@@ -333,6 +351,23 @@ class SynthClient(_Policy):
         request asks for them)."""
         return self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"}).content
 
+    def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
+        """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
+        return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
+
+    def synthesise_slider_crank(self, body: SliderCrankSynthesisIn) -> SliderCrankSynthesisOut:
+        """POST /v1/synthesis/slider-crank: the best offset slider-crank for a stroke and a time ratio."""
+        return self._post("/v1/synthesis/slider-crank", body, SliderCrankSynthesisOut)
+
+    def synthesise_path(self, body: PathIn) -> PathOut:
+        """POST /v1/synthesis/path: a four-bar whose coupler point passes through (or nearest to) the targets."""
+        return self._post("/v1/synthesis/path", body, PathOut)
+
+    def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+        """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
+        return self._post_png(f"/v1/synthesis/{kind}", body)
+
+
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
@@ -401,6 +436,12 @@ class AsyncSynthClient(_Policy):
     async def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis?format=png."""
         return await self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+
+    async def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
+                               angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis/drawing."""
+        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
+        return (await self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query)).content
 
     async def machine_types(self) -> list[MachineTypeOut]:
         """GET /v1/machine-types."""
@@ -478,3 +519,19 @@ class AsyncSynthClient(_Policy):
         """POST /v1/machines/design?format=pdf."""
         response = await self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"})
         return response.content
+
+    async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
+        """POST /v1/synthesis/crank-rocker."""
+        return await self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
+
+    async def synthesise_slider_crank(self, body: SliderCrankSynthesisIn) -> SliderCrankSynthesisOut:
+        """POST /v1/synthesis/slider-crank."""
+        return await self._post("/v1/synthesis/slider-crank", body, SliderCrankSynthesisOut)
+
+    async def synthesise_path(self, body: PathIn) -> PathOut:
+        """POST /v1/synthesis/path."""
+        return await self._post("/v1/synthesis/path", body, PathOut)
+
+    async def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+        """Figure of a synthesis answer."""
+        return await self._post_png(f"/v1/synthesis/{kind}", body)

@@ -1,8 +1,9 @@
-"""Content negotiation shared by the routers: JSON by default, a PNG figure when asked for."""
+"""Content negotiation shared by the routers: JSON by default; figures (PNG, SVG, PDF), curves (CSV) and
+drawings (DXF) when asked for with ``?format=`` or an ``Accept`` header."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -12,24 +13,70 @@ from fastapi import Query, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, ValidationError
 
-from synth.errors import InvalidInput
+import synth
+
+Format = Literal["json", "png", "svg", "pdf", "csv", "dxf"]
 
 FormatQuery = Annotated[
-    Literal["json", "png"] | None,
-    Query(description="Answer format; `png` (or an `Accept: image/png` header) returns the figure."),
+    Format | None,
+    Query(description="Answer format: `json` (default); `png`, `svg` or `pdf` for the figure; `csv` for the curves, "
+                      "one row per crank angle with units in the column names; `dxf` for a drawing of the mechanism "
+                      "in millimetres. An `Accept` header (image/png, image/svg+xml, application/pdf, text/csv, "
+                      "image/vnd.dxf) chooses the same way."),
 ]
 
-PNG_RESPONSES: dict[int | str, dict[str, Any]] = {
-    200: {"content": {"image/png": {}}, "description": "The result, or its figure with ?format=png."}
+MEDIA_TYPES: dict[str, str] = {
+    "json": "application/json",
+    "png": "image/png",
+    "svg": "image/svg+xml",
+    "pdf": "application/pdf",
+    "csv": "text/csv; charset=utf-8",
+    "dxf": "image/vnd.dxf",
 }
+_ACCEPT_ALIASES = {"application/dxf": "dxf", "application/x-dxf": "dxf", "image/x-dxf": "dxf"}
+FIGURES: tuple[str, ...] = ("png", "svg", "pdf")
+
+
+def format_responses(offered: Sequence[str]) -> dict[int | str, dict[str, Any]]:
+    """OpenAPI ``responses`` entry for a 200 that can also be each of ``offered``."""
+    content: dict[str, dict[str, Any]] = {MEDIA_TYPES[f].split(";")[0]: {} for f in offered}
+    return {200: {"content": content, "description": "The result as JSON, or with ?format= as " + ", ".join(offered)}}
+
+
+PNG_RESPONSES = format_responses(["png"])
+
+
+def negotiate(request: Request, fmt: str | None, offered: Sequence[str]) -> str:
+    """The answer format: the query's if given (InvalidInput unless offered here), else the first offered media
+    type the Accept header names, else JSON."""
+    if fmt is not None:
+        if fmt != "json" and fmt not in offered:
+            raise synth.InvalidInput(f"format {fmt!r} is not offered here; choose json or one of {list(offered)}",
+                                     field="format")
+        return fmt
+    accept = request.headers.get("accept", "")
+    if not accept or "application/json" in accept:
+        return "json"
+    for alias, f in _ACCEPT_ALIASES.items():
+        if alias in accept and f in offered:
+            return f
+    for f in offered:
+        if MEDIA_TYPES[f].split(";")[0] in accept:
+            return f
+    return "json"
 
 
 def wants_png(request: Request, fmt: str | None) -> bool:
     """True when the query or the Accept header asks for a PNG."""
-    if fmt is not None:
-        return fmt == "png"
-    accept = request.headers.get("accept", "")
-    return "image/png" in accept and "application/json" not in accept
+    return negotiate(request, fmt, ["png"]) == "png"
+
+
+def media(content: bytes, fmt: str, stem: str) -> Response:
+    """A non-JSON answer of format ``fmt``; CSV and DXF come as files named ``stem``.csv or .dxf."""
+    headers = {}
+    if fmt in ("csv", "dxf"):
+        headers["content-disposition"] = f'attachment; filename="{stem}.{fmt}"'
+    return Response(content=content, media_type=MEDIA_TYPES[fmt], headers=headers)
 
 
 def _plain(value: Any) -> Any:
@@ -74,25 +121,30 @@ def png(content: bytes) -> Response:
     return Response(content=content, media_type="image/png")
 
 
+def file_headers(fmt: str, stem: str) -> dict[str, str] | None:
+    """CSV and DXF answers come as files named ``stem``.csv or .dxf."""
+    return {"content-disposition": f'attachment; filename="{stem}.{fmt}"'} if fmt in ("csv", "dxf") else None
+
+
 @dataclass(frozen=True, slots=True)
 class Render:
-    """How a worker turns an engine result into the answer's bytes: a response model as JSON, or a figure.
+    """How a worker turns an engine result into the answer's bytes: a response model as JSON, or an export
+    (a figure, the curves as CSV, a drawing) in the negotiated format ``fmt``.
 
-    Both callables are module-level functions (or classmethods), so a Render travels to a worker process as it is;
-    ``extra`` follows the result in the call (the stages of a drive, the drawing angle of a figure).
+    The callables are module-level functions (or classmethods), so a Render travels to a worker process as it is.
+    ``model`` is called as ``model(result, *model_extra)`` and ``export`` as ``export(result, fmt, *export_extra)``.
     """
 
     model: Callable[..., BaseModel]
-    figure: Callable[..., bytes] | None = None
-    as_png: bool = False
+    export: Callable[..., bytes] | None = None
+    fmt: str = "json"
     model_extra: tuple[Any, ...] = ()
-    figure_extra: tuple[Any, ...] = ()
-    figure_media: str = "image/png"
+    export_extra: tuple[Any, ...] = ()
 
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
-        if self.as_png and self.figure is not None:
-            return self.figure(result, *self.figure_extra), self.figure_media
+        if self.fmt != "json" and self.export is not None:
+            return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
         try:
             model = self.model(result, *self.model_extra)
         except ValidationError as exc:
@@ -100,13 +152,15 @@ class Render:
             # input's doing (units, sizes), so it is named like an input problem, never a 500.
             err = exc.errors()[0]
             field = ".".join(str(p) for p in err.get("loc", ()))
-            raise InvalidInput(f"the answer's {field} would be beyond any physical range ({err.get('msg', '')}); "
-                               "check the input's units and sizes", field=field) from None
+            raise synth.InvalidInput(f"the answer's {field} would be beyond any physical range "
+                                     f"({err.get('msg', '')}); check the input's units and sizes",
+                                     field=field) from None
         return json_bytes(model), "application/json"
 
 
-def render_for(request: Request, fmt: str | None, model: Callable[..., BaseModel],
-               figure: Callable[..., bytes] | None = None, model_extra: tuple[Any, ...] = (),
-               figure_extra: tuple[Any, ...] = ()) -> Render:
-    """The Render a request asks for: its figure when it wants a PNG and there is one, else its JSON."""
-    return Render(model, figure, figure is not None and wants_png(request, fmt), model_extra, figure_extra)
+def render_for(request: Request, fmt: str | None, offered: Sequence[str], model: Callable[..., BaseModel],
+               export: Callable[..., bytes] | None = None, model_extra: tuple[Any, ...] = (),
+               export_extra: tuple[Any, ...] = ()) -> Render:
+    """The Render a request asks for among the ``offered`` formats (JSON always)."""
+    chosen = negotiate(request, fmt, offered)
+    return Render(model, export, chosen, model_extra, export_extra)

@@ -1,7 +1,7 @@
-"""Worker-side compositions of engine calls for endpoints whose work is more than one engine function.
+"""Worker-side compositions of engine calls, and the exports' call shapes, for the routers.
 
-Each is a plain module-level function of engine objects, so the whole of a request's work, analysis included,
-runs in the worker under the request's deadline.
+Each is a plain module-level function of engine objects, so the whole of a request's work (analysis, solve,
+warnings, figure or file) runs in the worker under the request's deadline.
 """
 
 from __future__ import annotations
@@ -9,18 +9,58 @@ from __future__ import annotations
 from typing import Any
 
 import synth
+from synth.exports import analysis_export, balance_export, flywheel_export, mechanism_dxf, mechanism_svg
 from synth.machine.report import design_report_pdf, design_summary_png
+from synth.synthesis.plots import extremes_png, path_png
 
+from .schemas.flywheel import FlywheelOut
 from .schemas.machine import MachineDesignOut
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
+FlywheelAndWarnings = tuple[synth.FlywheelResult, list[synth.DesignWarning]]
+
+
+def analysis_file(an: synth.Analysis, fmt: str, phi: float) -> bytes:
+    """An analysis as a figure, its curves as CSV or its mechanism drawing, with the drawing at ``phi`` [rad]."""
+    return analysis_export(an, phi, fmt)
+
+
+def mechanism_drawing(linkage: synth.Linkage, speed: float, samples: int, phi: Any, max_samples: int,
+                      points: Any, at: float, fmt: str) -> bytes:
+    """Analyse a linkage and draw it at crank angle ``at`` [rad] as DXF or SVG."""
+    an = synth.analyse(linkage, speed, samples=samples, phi=phi, max_samples=max_samples, points=points)
+    return (mechanism_dxf if fmt == "dxf" else mechanism_svg)(an, at)
+
+
+def optimal_file(results: list[synth.BalanceResult], fmt: str) -> bytes:
+    """The optimal design's figure (with the sweep's trade-off curve), curves or drawing."""
+    return balance_export(results[0], fmt, sweep=results[1:])
+
+
+def flywheel_from_tables(cycle: synth.ReducedCycle, mean_speed: float, delta: float,
+                         geometry: synth.GeometrySpec | None, **sizing: Any) -> FlywheelAndWarnings:
+    """Size the flywheel of a tabulated cycle and check the answer for likely mistakes."""
+    result = synth.size_flywheel(cycle, mean_speed, delta, geometry=geometry, **sizing)
+    return result, synth.check_flywheel(result, geometry, None)
 
 
 def flywheel_for_linkage(linkage: synth.Linkage, mean_speed: float, samples: int, max_samples: int,
-                         delta: float, **sizing: Any) -> synth.FlywheelResult:
-    """Analyse a linkage at its mean speed and size the flywheel on its reduced model."""
+                         delta: float, geometry: synth.GeometrySpec | None, **sizing: Any) -> FlywheelAndWarnings:
+    """Analyse a linkage at its mean speed, size the flywheel on its reduced model and check the answer."""
     analysis = synth.analyse(linkage, mean_speed, samples=samples, max_samples=max_samples)
-    return synth.size_flywheel(synth.cycle_from_reduced(analysis.reduced), mean_speed, delta, **sizing)
+    result = synth.size_flywheel(synth.cycle_from_reduced(analysis.reduced), mean_speed, delta, geometry=geometry,
+                                 **sizing)
+    return result, synth.check_flywheel(result, geometry, analysis)
+
+
+def flywheel_out(pair: FlywheelAndWarnings) -> FlywheelOut:
+    """The flywheel's JSON answer with its warnings."""
+    return FlywheelOut.from_engine(*pair)
+
+
+def flywheel_file(pair: FlywheelAndWarnings, fmt: str) -> bytes:
+    """The flywheel's figure or curves."""
+    return flywheel_export(pair[0], fmt)
 
 
 def design_machine(spec: synth.MachineSpec, alternatives: bool, time_limit_s: float) -> DesignAndAlternatives:
@@ -35,11 +75,21 @@ def design_out(pair: DesignAndAlternatives) -> MachineDesignOut:
     return MachineDesignOut.from_engine(*pair)
 
 
-def design_png(pair: DesignAndAlternatives) -> bytes:
-    """The design's one-page summary."""
-    return design_summary_png(pair[0])
+def design_file(pair: DesignAndAlternatives, fmt: str) -> bytes:
+    """The design's one-page summary (png) or its multi-page report (pdf)."""
+    return design_summary_png(pair[0]) if fmt == "png" else design_report_pdf(*pair)
 
 
-def design_pdf(pair: DesignAndAlternatives) -> bytes:
-    """The design's multi-page report."""
-    return design_report_pdf(*pair)
+def crank_rocker_png(result: synth.CrankRockerResult, fmt: str) -> bytes:
+    """Both dead-centre positions of a synthesised crank-rocker."""
+    return extremes_png(result.linkage, result.check, "crank-rocker")
+
+
+def slider_crank_png(result: synth.SliderCrankResult, fmt: str) -> bytes:
+    """Both dead-centre positions of a synthesised offset slider-crank."""
+    return extremes_png(result.linkage, result.check, "offset slider-crank")
+
+
+def path_file(result: synth.PathResult, fmt: str, targets: Any) -> bytes:
+    """The synthesised coupler curve through the target points."""
+    return path_png(result, targets)

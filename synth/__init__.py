@@ -130,9 +130,38 @@ from .machine import (
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
+from .synthesis import (
+    CrankRockerResult,
+    CrankRockerSpec,
+    LinkageCheck,
+    Optimality,
+    PathResult,
+    PathSpec,
+    SliderCrankResult,
+    SliderCrankSpec,
+    check_fourbar,
+    check_slider_crank,
+    coupler_curve,
+    default_path_limits,
+    overlap_angle,
+    synthesise_crank_rocker,
+    synthesise_path,
+    synthesise_slider_crank,
+    time_ratio_of,
+)
 from .topology import Joint, Topology
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
+from .warnings import (
+    DesignWarning,
+    check_analysis,
+    check_balance,
+    check_counterweights,
+    check_flywheel,
+    check_linkage,
+    check_rotor,
+    link_lengths,
+)
 
 __all__ = [
     "Alternative",
@@ -285,4 +314,31 @@ __all__ = [
     "Structure",
     "analyse_structure",
     "fixed_point_counterweights",
+    # warnings
+    "DesignWarning",
+    "check_analysis",
+    "check_balance",
+    "check_counterweights",
+    "check_flywheel",
+    "check_linkage",
+    "check_rotor",
+    "link_lengths",
+    # synthesis
+    "CrankRockerResult",
+    "CrankRockerSpec",
+    "LinkageCheck",
+    "Optimality",
+    "PathResult",
+    "PathSpec",
+    "SliderCrankResult",
+    "SliderCrankSpec",
+    "check_fourbar",
+    "check_slider_crank",
+    "coupler_curve",
+    "default_path_limits",
+    "overlap_angle",
+    "synthesise_crank_rocker",
+    "synthesise_path",
+    "synthesise_slider_crank",
+    "time_ratio_of",
 ]

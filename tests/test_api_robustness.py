@@ -21,6 +21,7 @@ from api.schemas.train import TrainIn
 
 ENDPOINTS = {
     "/v1/analysis": AnalysisIn,
+    "/v1/analysis/drawing": AnalysisIn,
     "/v1/balancing/static": BalanceIn,
     "/v1/balancing/full": FullBalanceIn,
     "/v1/balancing/optimal": OptimalBalanceIn,

@@ -23,6 +23,7 @@ from api.schemas.analysis import AnalysisIn
 from api.schemas.balancing import RotorIn
 from api.schemas.flywheel import MachineType
 from api.schemas.gearing import STAGE_TYPES
+from api.schemas.synthesis import MAX_PATH_POINTS, MAX_PATH_STARTS
 
 REPO = Path(__file__).resolve().parents[1]
 CLIENT_PROJECT = tomllib.loads((REPO / "client" / "pyproject.toml").read_text())
@@ -77,6 +78,7 @@ def test_client_loads_with_httpx_and_pydantic_only() -> None:
 def test_closed_choices_match_the_engine_tables() -> None:
     assert STAGE_TYPES == tuple(synth.stage_types())
     assert get_args(MachineType) == tuple(m.name for m in synth.machine_types())
+    assert (MAX_PATH_POINTS, MAX_PATH_STARTS) == (synth.synthesis.MAX_POINTS, synth.synthesis.MAX_STARTS)
 
 
 def _public(cls: type) -> set[str]:

@@ -107,9 +107,9 @@ def test_drive_chooses_from_the_users_catalogue(client: SynthClient) -> None:
     out = client.gears_drive(DriveIn.model_validate({**body, "motor_catalogue": own}))
     assert out.motor.name == "large"
     assert out.motor.rated_rpm == pytest.approx(1430, rel=1e-12)
-    assert not any("representative" in w for w in out.warnings)
+    assert not any(w.code == "representative_catalogue" for w in out.warnings)
     default = client.gears_drive(DriveIn.model_validate(body))
-    assert any("representative" in w for w in default.warnings)
+    assert any(w.code == "representative_catalogue" for w in default.warnings)
     too_small = {**body, "motor_catalogue": own[:1]}
     r = client.http.post("/v1/gears/drive", json=too_small)
     assert r.status_code == 422 and r.json()["type"] == "/problems/infeasible"

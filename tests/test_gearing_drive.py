@@ -45,7 +45,7 @@ def test_seed_drive_motor_selection_and_ratio_split() -> None:
     assert torques_kNm[0] == pytest.approx(exp["T_I_kNm"], rel=rel)
     assert torques_kNm[1] == pytest.approx(exp["T_II_kNm"], rel=rel)
     assert torques_kNm[2] == pytest.approx(exp["T_III_kNm"], rel=rel)
-    assert any("rated power" in w for w in result.warnings)   # 24.9 kW reach the output, 20 kW are needed
+    assert any(w.code == "rated_power_exceeds" for w in result.warnings)   # 24.9 kW reach the output, 20 kW are needed
 
 
 def test_load_basis_delivers_the_output_power() -> None:

@@ -129,7 +129,7 @@ def test_user_min_teeth_overrides_undercut_and_warns() -> None:
     stages = synth.make_stages(2, max_stages=6)
     result = synth.tooth_numbers(4.0, stages, synth.ToothRules(min_teeth=10, max_teeth=40), tolerance=0.0)
     assert result.ratio_error == 0.0 and result.warnings
-    assert "undercut" in result.warnings[0]
+    assert result.warnings[0].code == "below_undercut_limit" and "undercut" in result.warnings[0].message
     for m in result.stages:
         small, large = sorted((m.pinion_teeth, m.gear_teeth))
         assert large <= synth.interference_limit(small, ALPHA)

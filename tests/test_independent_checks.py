@@ -10,7 +10,21 @@ import pytest
 
 from api.client import SynthClient
 from api.schemas.balancing import SLIDER_CRANK_EXAMPLE
-from api.schemas.common import FOURBAR_EXAMPLE
+
+# The textbook four-bar these checks were derived for (coupler 0.35 m, its centre of mass at 0.175 m).
+FOURBAR_EXAMPLE = {
+    "type": "fourbar",
+    "ground_length_m": 0.30,
+    "crank_length_m": 0.10,
+    "coupler_length_m": 0.35,
+    "rocker_length_m": 0.25,
+    "branch": 1,
+    "links": {
+        "crank": {"mass_kg": 1.0, "com_m": [0.05, 0.0], "inertia_kgm2": 0.001},
+        "coupler": {"mass_kg": 2.0, "com_m": [0.175, 0.0], "inertia_kgm2": 0.02},
+        "rocker": {"mass_kg": 1.5, "com_m": [0.125, 0.0], "inertia_kgm2": 0.008},
+    },
+}
 
 
 def _post(client: SynthClient, path: str, body: dict) -> tuple[int, dict]:

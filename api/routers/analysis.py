@@ -1,35 +1,41 @@
-"""POST /v1/analysis: kinematics and kinetostatics of a linkage over one cycle."""
+"""POST /v1/analysis: kinematics and kinetostatics of a linkage over one cycle; its drawing for CAD."""
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 import synth
-from synth.plots import analysis_png
 
 from ..deps import SolverDep
-from ..media import PNG_RESPONSES, FormatQuery, render_for
+from ..media import FIGURES, FormatQuery, file_headers, format_responses, media, render_for
 from ..schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from ..tasks import analysis_file, mechanism_drawing
 
 router = APIRouter(tags=["analysis"])
+FORMATS = (*FIGURES, "csv", "dxf")
+AngleQuery = Annotated[float | None, Query(ge=-1e6, le=1e6, description="Crank angle of the mechanism drawing [deg].")]
 
 
-@router.post("/analysis", response_model=AnalysisOut, responses=PNG_RESPONSES)
+@router.post("/analysis", response_model=AnalysisOut, responses=format_responses(FORMATS))
 async def analysis(
     body: AnalysisIn,
     request: Request,
     solvers: SolverDep,
     format: FormatQuery = None,
-    angle_deg: Annotated[float | None, Query(description="Crank angle of the mechanism drawing [deg].")] = None,
+    angle_deg: AngleQuery = None,
 ) -> Response:
     """Positions, velocities, accelerations, joint reactions, driving torque, shaking force and moment,
-    and the reduced model of a linkage over one crank revolution, with the virtual-power check."""
+    and the reduced model of a linkage over one crank revolution, with the virtual-power check.
+
+    ``?format=png|svg|pdf``: driving torque, shaking moment, shaking force polar diagram and the mechanism at
+    ``angle_deg``; ``csv``: every curve, one row per crank angle; ``dxf``: the mechanism drawing at ``angle_deg``."""
+    render = render_for(request, format, FORMATS, AnalysisOut.from_engine, analysis_file,
+                        export_extra=(plot_angle(body, angle_deg),))
     return await solvers.answer(
-        render_for(request, format, AnalysisOut.from_engine, analysis_png,
-                   figure_extra=(plot_angle(body, angle_deg),)),
+        render,
         synth.analyse,
         body.to_linkage(),
         body.omega_rad_s,
@@ -39,4 +45,21 @@ async def analysis(
         max_samples=solvers.settings.max_samples,
         points=body.trace(),
         counter_rotors=body.rotors(),
+        headers=file_headers(render.fmt, "analysis"),
     )
+
+
+@router.post("/analysis/drawing", response_class=Response, responses=format_responses(("dxf", "svg")))
+async def analysis_drawing(
+    body: AnalysisIn,
+    solvers: SolverDep,
+    format: Annotated[Literal["dxf", "svg"], Query(description="`dxf` for CAD, `svg` for the same drawing to view.")]
+    = "dxf",
+    angle_deg: AngleQuery = None,
+) -> Response:
+    """The mechanism at ``angle_deg`` drawn to scale in millimetres, for CAD (DXF) or a browser (SVG): frame
+    pivots and guides, links, blocks, the crank circle, counterweights with their mass, radius and angle, centres
+    of mass and the paths of the trace points over the cycle."""
+    content = await solvers.run(mechanism_drawing, body.to_linkage(), body.omega_rad_s, body.samples, body.phi(),
+                                solvers.settings.max_samples, body.trace(), plot_angle(body, angle_deg), format)
+    return media(content, format, "mechanism")

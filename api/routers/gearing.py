@@ -29,7 +29,7 @@ async def gears_split(body: SplitIn, request: Request, solvers: SolverDep) -> Re
     global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
     return await solvers.answer(
-        render_for(request, None, SplitOut.from_engine, model_extra=(stages,)),
+        render_for(request, None, (), SplitOut.from_engine, model_extra=(stages,)),
         synth.split_ratio, body.ratio(), stages, body.objective,
         inertia=body.inertia_model(body.motor_inertia_kgm2), input_torque=body.input_torque_Nm,
         handbook_factor=body.handbook_factor, snap_r20=body.snap_r20, snap_tolerance=body.snap_tolerance,
@@ -42,7 +42,7 @@ async def gears_teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Re
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
-    return await solvers.answer(render_for(request, None, TeethOut.from_engine),
+    return await solvers.answer(render_for(request, None, (), TeethOut.from_engine),
                                 synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
 
 
@@ -52,7 +52,7 @@ async def gears_drive(body: DriveIn, request: Request, solvers: SolverDep) -> Re
     inertia reduced to the motor shaft."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
     return await solvers.answer(
-        render_for(request, None, DriveOut.from_engine, model_extra=(stages,)),
+        render_for(request, None, (), DriveOut.from_engine, model_extra=(stages,)),
         synth.design_drive, body.output_power_W, body.output_speed(), stages,
         reserve_factor=body.reserve_factor, drive_efficiency=body.drive_efficiency,
         synchronous_speed=body.synchronous_speed(), motor=body.motor, objective=body.objective,

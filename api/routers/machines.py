@@ -10,7 +10,7 @@ from fastapi.responses import Response
 from ..deps import SolverDep
 from ..media import Render
 from ..schemas.machine import MachineDesignOut, MachineIn
-from ..tasks import design_machine, design_out, design_pdf, design_png
+from ..tasks import design_file, design_machine, design_out
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -32,11 +32,7 @@ async def design(body: MachineIn, solvers: SolverDep, format: ReportFormat = Non
     shaft, and every shaft's speed, power and peak and RMS torque; checked by simulating the assembled machine
     to its steady state. `alternatives: true` designs it with the other balancing modes too."""
     spec = body.to_engine(solvers.settings.max_stages)
-    headers = None
-    if format == "pdf":
-        render = Render(design_out, design_pdf, True, figure_media="application/pdf")
-        headers = {"content-disposition": 'attachment; filename="machine-design.pdf"'}
-    else:
-        render = Render(design_out, design_png, format == "png")
+    render = Render(design_out, design_file, format or "json")
+    headers = {"content-disposition": 'attachment; filename="machine-design.pdf"'} if format == "pdf" else None
     return await solvers.answer(render, design_machine, spec, body.alternatives,
                                 solvers.settings.solver_time_limit_s, headers=headers)

@@ -19,6 +19,6 @@ async def structure(body: StructureIn, request: Request, solvers: SolverDep) -> 
     """Pair classes, mobility by Somov-Malyshev (and Chebyshev when planar), redundant constraints, and for a
     planar linkage the primary mechanism and the Assur groups with their classes, in the order they are added."""
     return await solvers.answer(
-        render_for(request, None, StructureOut.from_engine), synth.analyse_structure, body.links,
+        render_for(request, None, (), StructureOut.from_engine), synth.analyse_structure, body.links,
         [p.to_engine() for p in body.pairs], frame=body.frame, planar=body.planar, input_links=body.input_links,
         known_mobility=body.known_mobility)

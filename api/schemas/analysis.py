@@ -16,8 +16,11 @@ from .common import (
     StrictModel,
     SummaryOut,
     Vec2,
+    WarningOut,
+    degree_array,
     ensure_finite,
     one_of,
+    warnings_out,
 )
 
 
@@ -187,6 +190,7 @@ class AnalysisOut(BaseModel):
     grashof: Grashof | None = Field(None, description="Grashof class of a four-bar; null for other mechanisms.")
     summary: SummaryOut
     checks: ChecksOut
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
     def from_engine(cls, an: synth.Analysis) -> AnalysisOut:
@@ -202,7 +206,7 @@ class AnalysisOut(BaseModel):
         tau = an.transmission_angle
         return _unchecked(
             cls,
-            crank_angle_deg=np.degrees(m.phi),
+            crank_angle_deg=degree_array(m.phi),
             driving_torque_Nm=k.driving_torque,
             virtual_power_torque_Nm=an.virtual_power_torque,
             shaking_force_N=k.shaking_force,
@@ -216,7 +220,7 @@ class AnalysisOut(BaseModel):
             links={
                 name: _unchecked(
                     LinkMotionOut,
-                    angle_deg=np.degrees(m.link_angle[name]),
+                    angle_deg=degree_array(m.link_angle[name]),
                     angular_velocity_rad_s=m.link_omega[name],
                     angular_acceleration_rad_s2=m.link_alpha[name],
                 )
@@ -231,10 +235,11 @@ class AnalysisOut(BaseModel):
                 )
                 for name in m.point_pos
             },
-            transmission_angle_deg=None if tau is None else np.degrees(tau),
+            transmission_angle_deg=None if tau is None else degree_array(tau),
             grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
+            warnings=warnings_out(synth.check_analysis(an)),
         )
 
     def to_lists(self) -> AnalysisOut:

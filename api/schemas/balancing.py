@@ -19,7 +19,9 @@ from .common import (
     LinkageRequest,
     StrictModel,
     SummaryOut,
+    WarningOut,
     one_of,
+    warnings_out,
 )
 
 BalanceMode = Literal["static", "full", "optimal"]
@@ -166,6 +168,7 @@ class BalanceOut(BaseModel):
     objective: float | None = None
     weights: WeightsIn | None = Field(None, description="Optimal mode: this point's weights, as given.")
     weight_scale: str | None = Field(None, description="Optimal mode: relative or absolute.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
     def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
@@ -175,7 +178,7 @@ class BalanceOut(BaseModel):
             props = r.analysis_after.linkage.mass_props(cw.link)
             placements.append(CounterweightPlacementOut(
                 link=cw.link, radius_m=float(np.hypot(*cw.position)),
-                angle_deg=math.degrees(math.atan2(cw.position[1], cw.position[0])),
+                angle_deg=round(math.degrees(math.atan2(cw.position[1], cw.position[0])), 9) + 0.0,
                 link_com_m=list(props.com), link_mass_kg=props.mass,
             ))
         return cls(
@@ -197,6 +200,7 @@ class BalanceOut(BaseModel):
             objective=r.objective,
             weights=None if r.weights is None else WeightsIn(**dataclasses.asdict(r.weights)),
             weight_scale=r.weight_scale,
+            warnings=warnings_out(synth.check_balance(r)),
         )
 
 
@@ -263,15 +267,18 @@ class RotorOut(BaseModel):
     moment_unbalance_before_kgm2: float
     residual_unbalance_kgm: float
     residual_moment_unbalance_kgm2: float
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.RotorBalance) -> RotorOut:
+    def from_engine(cls, r: synth.RotorBalance, warnings: list[synth.DesignWarning] | None = None) -> RotorOut:
         """Schema from an engine result."""
         return cls(
-            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius, angle_deg=math.degrees(c.angle),
-                                       axial_position_m=c.axial) for c in r.corrections],
+            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius,
+                                       angle_deg=round(math.degrees(c.angle), 9) + 0.0, axial_position_m=c.axial)
+                         for c in r.corrections],
             unbalance_before_kgm=r.unbalance_before, moment_unbalance_before_kgm2=r.moment_before,
             residual_unbalance_kgm=r.residual_unbalance, residual_moment_unbalance_kgm2=r.residual_moment,
+            warnings=warnings_out(warnings or []),
         )
 
 
@@ -315,9 +322,11 @@ class SliderCrankBalanceOut(BaseModel):
     residual_by_order_N: list[float] = Field(
         description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
     )
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.SliderCrankBalance) -> SliderCrankBalanceOut:
+    def from_engine(cls, r: synth.SliderCrankBalance,
+                    warnings: list[synth.DesignWarning] | None = None) -> SliderCrankBalanceOut:
         """Schema from an engine result."""
         return cls(
             rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
@@ -328,4 +337,5 @@ class SliderCrankBalanceOut(BaseModel):
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
             residual_by_order_N=list(r.residual_by_order),
+            warnings=warnings_out(warnings or []),
         )

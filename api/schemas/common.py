@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from typing import Annotated, Literal, TypeVar, Union
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -20,11 +21,13 @@ MIN_LENGTH_M = 1e-6
 Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
 
 
-Choice = TypeVar("Choice", bound=str)
+Choice = TypeVar("Choice", bound=str | int)
+Branch = Literal[1, -1]
+BRANCHES: tuple[Branch, ...] = (1, -1)
 
 
-def one_of(allowed: tuple[Choice, ...], value: str) -> Choice:
-    """An engine string as the schema's closed type (the values of a Literal); anything else is an engine bug."""
+def one_of(allowed: tuple[Choice, ...], value: str | int) -> Choice:
+    """An engine value as the schema's closed type (the values of a Literal); anything else is an engine bug."""
     for option in allowed:
         if option == value:
             return option
@@ -313,6 +316,45 @@ class LinkageRequest(LinkageFields):
         return self.speed_rpm * math.pi / 30.0
 
 
+class WarningOut(BaseModel):
+    """A likely mistake in the request or a weak point of the result: the answer stands, but look again."""
+
+    code: str = Field(description="Stable identifier of the check, e.g. `length_likely_mm`, `transmission_angle_low`.")
+    field: str | None = Field(None, description="The request field it concerns, as this API spells it.")
+    value: float | None = Field(None, description="The number that triggered it, in `unit`.")
+    unit: str = Field("", description="Unit of `value` (angles in degrees).")
+    message: str
+    crank_angle_ranges_deg: list[list[float]] | None = Field(
+        None, description="Crank-angle ranges [start, end] where it holds [deg].")
+
+    @classmethod
+    def from_engine(cls, w: synth.DesignWarning) -> WarningOut:
+        """Schema from an engine warning; radians become degrees, rounded for people."""
+        value, unit = w.value, w.unit
+        if unit == "rad" and value is not None:
+            value, unit = round(math.degrees(value), 6), "deg"
+        ranges = [[round(math.degrees(a) % 360, 6), round(math.degrees(b) % 360, 6)] for a, b in w.ranges]
+        return cls(code=w.code, field=w.field, value=value, unit=unit, message=w.message,
+                   crank_angle_ranges_deg=ranges or None)
+
+
+def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
+    """Schemas of engine warnings."""
+    return [WarningOut.from_engine(w) for w in warnings]
+
+
+def degree_list(radians: np.ndarray) -> list[float]:
+    """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
+    # Adding 0.0 turns -0.0 into 0.0.
+    degrees: list[float] = np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()
+    return degrees
+
+
+def degree_array(radians: np.ndarray) -> np.ndarray:
+    """Radians as degrees for people, as an array for the JSON writer: rounded like :func:`degree_list`."""
+    return np.asarray(np.round(np.degrees(radians), 9) + 0.0)
+
+
 def ensure_finite(*arrays: np.ndarray) -> None:
     """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
     for a in arrays:
@@ -349,12 +391,12 @@ FOURBAR_EXAMPLE: JsonDict = {
     "type": "fourbar",
     "ground_length_m": 0.30,
     "crank_length_m": 0.10,
-    "coupler_length_m": 0.35,
+    "coupler_length_m": 0.25,
     "rocker_length_m": 0.25,
     "branch": 1,
     "links": {
         "crank": {"mass_kg": 1.0, "com_m": [0.05, 0.0], "inertia_kgm2": 0.001},
-        "coupler": {"mass_kg": 2.0, "com_m": [0.175, 0.0], "inertia_kgm2": 0.02},
+        "coupler": {"mass_kg": 2.0, "com_m": [0.125, 0.0], "inertia_kgm2": 0.02},
         "rocker": {"mass_kg": 1.5, "com_m": [0.125, 0.0], "inertia_kgm2": 0.008},
     },
 }

@@ -9,7 +9,18 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import np, synth
-from .common import MAX_INERTIA_KGM2, FOURBAR_EXAMPLE, LinkageFields, MechanismIn, StrictModel, ensure_finite, one_of
+from .common import (
+    FOURBAR_EXAMPLE,
+    MAX_INERTIA_KGM2,
+    LinkageFields,
+    MechanismIn,
+    StrictModel,
+    WarningOut,
+    degree_list,
+    ensure_finite,
+    one_of,
+    warnings_out,
+)
 
 # Torques far beyond any machine's, so that the cycle's work cannot overflow.
 Torque = Annotated[float, Field(ge=-1e9, le=1e9)]
@@ -348,9 +359,10 @@ class FlywheelOut(BaseModel):
     energy_mass: EnergyMassOut
     speed: SpeedOut
     geometry: GeometryOut | None = None
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
-    def from_engine(cls, r: synth.FlywheelResult) -> FlywheelOut:
+    def from_engine(cls, r: synth.FlywheelResult, warnings: list[synth.DesignWarning] | None = None) -> FlywheelOut:
         """Schema from the engine result (radians become degrees here)."""
         design, tan = r.design, r.tangents
         w_min, w_max = r.speed_band
@@ -383,7 +395,7 @@ class FlywheelOut(BaseModel):
             design_method=one_of(SIZING_METHODS, r.design_method),
             methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
             energy_mass=EnergyMassOut(
-                crank_angle_deg=np.degrees(r.cycle.phi).tolist(),
+                crank_angle_deg=degree_list(r.cycle.phi),
                 reduced_inertia_kgm2=r.cycle.inertia.tolist(),
                 excess_work_J=work.tolist(),
                 tangent_max_slope_J_per_kgm2=tan.slope_max,
@@ -391,7 +403,8 @@ class FlywheelOut(BaseModel):
                 tangent_min_slope_J_per_kgm2=tan.slope_min,
                 tangent_min_intercept_J=tan.intercept_min,
             ),
-            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=np.degrees(phi).tolist(),
+            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=degree_list(phi),
                            omega_rad_s=omega.tolist()),
             geometry=geometry,
+            warnings=warnings_out(warnings or []),
         )

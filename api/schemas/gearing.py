@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import synth
-from .common import MAX_INERTIA_KGM2, StrictModel, one_of
+from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, one_of, warnings_out
 
 RPM = math.pi / 30.0
 
@@ -168,7 +168,7 @@ class SplitOut(BaseModel):
     solver_status: str
     solve_time_s: float
     checks: SplitChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
@@ -183,7 +183,7 @@ class SplitOut(BaseModel):
             checks=SplitChecksOut(objective_model=r.checks.objective_model,
                                   ratio_product_error=r.checks.ratio_product_error,
                                   kkt_residual=r.checks.kkt_residual),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -254,7 +254,7 @@ class TeethOut(BaseModel):
     min_pinion_teeth: int
     min_gear_teeth: int
     checks: TeethChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.ToothResult) -> TeethOut:
@@ -269,7 +269,7 @@ class TeethOut(BaseModel):
             checks=TeethChecksOut(enumeration_combinations=c.enumeration_combinations,
                                   enumeration_ratio_error=c.enumeration_ratio_error,
                                   enumeration_total_teeth=c.enumeration_total_teeth, agrees=c.agrees),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 
@@ -404,7 +404,7 @@ class DriveOut(BaseModel):
     torque_basis: TorqueBasis
     split: SplitOut
     checks: DriveChecksOut
-    warnings: list[str]
+    warnings: list[WarningOut]
 
     @classmethod
     def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
@@ -420,7 +420,7 @@ class DriveOut(BaseModel):
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
-            warnings=list(r.warnings),
+            warnings=warnings_out(r.warnings),
         )
 
 

@@ -11,7 +11,17 @@ from pydantic.config import JsonDict
 from ._engine import np, synth
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
-from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, Length, LinkageRequest, StrictModel, SummaryOut, ensure_finite
+from .common import (
+    MAX_INERTIA_KGM2,
+    MAX_MASS_KG,
+    Length,
+    LinkageRequest,
+    StrictModel,
+    SummaryOut,
+    WarningOut,
+    ensure_finite,
+    warnings_out,
+)
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
 
@@ -271,7 +281,7 @@ class MachineDesignOut(BaseModel):
     simulation: SimulationOut
     shafts: list[MachineShaftOut]
     alternatives: list[AlternativeOut] = Field(default_factory=list)
-    warnings: list[str]
+    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes and catalogue notes.")
 
     @classmethod
     def from_engine(cls, d: synth.MachineDesign,
@@ -319,7 +329,7 @@ class MachineDesignOut(BaseModel):
                                     peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
-            warnings=list(d.warnings),
+            warnings=warnings_out(d.warnings),
         )
 
 

@@ -16,6 +16,7 @@ from typing import Literal
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput
+from ..warnings import DesignWarning
 from .motors import CatalogueMotor, find_motor, select_motor
 from .split import InertiaModel, SplitResult, split_ratio
 from .stages import Stage, chain_efficiency
@@ -69,7 +70,7 @@ class DriveResult:
     output_speed: float
     torque_basis: str
     checks: DriveChecks
-    warnings: tuple[str, ...] = field(default=())
+    warnings: tuple[DesignWarning, ...] = field(default=())
 
 
 def _reachable(stages: Sequence[Stage], output_speed: float) -> Callable[[CatalogueMotor], bool]:
@@ -122,10 +123,12 @@ def design_drive(
     if not 0 < eta <= 1:
         raise InvalidInput(f"drive efficiency must lie in (0, 1], got {eta}", field="drive_efficiency")
     required = output_power * reserve_factor / eta
-    warnings: list[str] = []
+    warnings: list[DesignWarning] = []
     if catalogue is None:
-        warnings.append("motor chosen from the shipped representative 4A-series catalogue; check its rated data "
-                        "against the manufacturer's datasheet, or send your own catalogue")
+        warnings.append(DesignWarning(
+            "representative_catalogue", "motor_catalogue", None,
+            "motor chosen from the shipped representative 4A-series catalogue; check its rated data "
+            "against the manufacturer's datasheet, or send your own catalogue"))
     elif not catalogue:
         raise InvalidInput("the motor catalogue is empty", field="motor_catalogue")
     if motor is not None:
@@ -139,7 +142,9 @@ def design_drive(
     total = chosen.rated_speed / output_speed
     model = inertia or InertiaModel()
     if chosen.rotor_inertia is None:
-        warnings.append(f"the catalogue gives no rotor inertia for {chosen.name}; the reduced inertia leaves it out")
+        warnings.append(DesignWarning(
+            "rotor_inertia_missing", "motor_catalogue", None,
+            f"the catalogue gives no rotor inertia for {chosen.name}; the reduced inertia leaves it out"))
     model = InertiaModel(model.pinion_inertia, model.load_inertia, model.shaft_inertias,
                          model.motor_inertia + (chosen.rotor_inertia or 0.0))
     split = split_ratio(total, stages, objective, inertia=model, snap_r20=snap_r20, snap_tolerance=snap_tolerance,
@@ -168,8 +173,10 @@ def design_drive(
         reduced_kinetic_energy=0.5 * split.reduced_inertia * float(speeds[0]) ** 2,
     )
     if torque_basis == "rated" and delivered > output_power * (1 + 1e-9):
-        warnings.append(f"torques follow the motor's rated power: the output carries {delivered:.4g} W, "
-                        f"more than the {output_power:.4g} W required")
+        warnings.append(DesignWarning(
+            "rated_power_exceeds", "torque_basis", delivered,
+            f"torques follow the motor's rated power: the output carries {delivered:.4g} W, "
+            f"more than the {output_power:.4g} W required", "W"))
     return DriveResult(chosen, required, eta, eta_chain, total, split, tuple(map(float, etas)), shafts,
                        split.reduced_inertia, float(speeds[-1]), torque_basis, checks,
                        tuple(warnings) + split.warnings)

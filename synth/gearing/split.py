@@ -36,6 +36,7 @@ import scipy.sparse as sp
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
+from ..warnings import DesignWarning
 from .stages import Stage
 
 Objective = Literal["min_inertia", "min_volume", "handbook"]
@@ -101,7 +102,7 @@ class SplitResult:
     snapped: bool
     snap_tolerance: float | None
     checks: SplitChecks
-    warnings: tuple[str, ...] = field(default=())
+    warnings: tuple[DesignWarning, ...] = field(default=())
 
 
 def total_ratio(motor_speed: float, output_speed: float) -> float:
@@ -377,7 +378,7 @@ def _kkt_residual(objective: str, ratios: FloatArray, stages: Sequence[Stage], m
     return float(np.max(viol) / abs(f0))
 
 
-def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[FloatArray, list[str]]:
+def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[FloatArray, list[DesignWarning]]:
     if len(stages) != 2:
         raise InvalidInput(f"the handbook rule splits two-stage reducers; this layout has {len(stages)} stages",
                            field="objective")
@@ -392,7 +393,8 @@ def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[Flo
         slow = factor * math.sqrt(total)
         u = np.array([total / slow, slow])
     warnings = [
-        f"stage {k} ratio {u[k]:.4g} lies outside the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]"
+        DesignWarning("stage_ratio_out_of_range", f"stages[{k}]", float(u[k]),
+                      f"stage {k} ratio {u[k]:.4g} lies outside the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]")
         for k, s in enumerate(stages) if not s.ratio_min * (1 - 1e-9) <= u[k] <= s.ratio_max * (1 + 1e-9)
     ]
     return u, warnings
@@ -466,7 +468,7 @@ def split_ratio(
         raise InvalidInput(f"shaft_inertias needs {len(stages) + 1} values (motor shaft to output shaft), "
                            f"got {len(model.shaft_inertias)}", field="shaft_inertias_kgm2")
     _check_reachable(total, stages)
-    warnings: list[str] = []
+    warnings: list[DesignWarning] = []
     kkt: float | None = None
     solver_value: float | None = None
     if objective == "handbook":

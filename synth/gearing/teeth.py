@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import Infeasible, InvalidInput, TooLarge
+from ..warnings import DesignWarning
 from .stages import Stage, stage_types
 
 IntArray = NDArray[np.int64]
@@ -105,7 +106,7 @@ class ToothResult:
     min_pinion_teeth: int
     min_gear_teeth: int
     checks: ToothChecks
-    warnings: tuple[str, ...] = field(default=())
+    warnings: tuple[DesignWarning, ...] = field(default=())
 
 
 def undercut_limit(pressure_angle: float, addendum: float = 1.0, profile_shift: float = 0.0) -> float:
@@ -517,16 +518,19 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
                        min_small, min_large, checks, tuple(warnings))
 
 
-def _warnings(rules: ToothRules, chosen: Sequence[tuple[int, int]]) -> list[str]:
+def _warnings(rules: ToothRules, chosen: Sequence[tuple[int, int]]) -> list[DesignWarning]:
     out = []
     limit = undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift)
     if rules.min_teeth is not None and rules.min_teeth < limit:
-        out.append(f"min_teeth {rules.min_teeth} is below the undercut limit {limit:.1f} for this pressure angle, "
-                   "addendum and profile shift; the interference limit still applies")
+        out.append(DesignWarning(
+            "below_undercut_limit", "min_teeth", float(rules.min_teeth),
+            f"min_teeth {rules.min_teeth} is below the undercut limit {limit:.1f} for this pressure angle, "
+            "addendum and profile shift; the interference limit still applies"))
         for i, (zp, zg) in enumerate(chosen):
             small = min(zp, zg)
             if small < limit:
-                out.append(f"stage {i}: the {small}-tooth wheel is undercut (limit {limit:.1f}); a profile shift "
-                           f"of at least {rules.addendum - small * math.sin(rules.pressure_angle) ** 2 / 2:.3f} "
-                           "avoids it")
+                out.append(DesignWarning(
+                    "undercut", f"stages[{i}]", float(small),
+                    f"stage {i}: the {small}-tooth wheel is undercut (limit {limit:.1f}); a profile shift "
+                    f"of at least {rules.addendum - small * math.sin(rules.pressure_angle) ** 2 / 2:.3f} avoids it"))
     return out

@@ -43,6 +43,7 @@ from ..flywheel import (
 from ..gearing import DriveResult, ToothResult, design_drive, tooth_numbers
 from ..kinematics import FourBar, SliderCrank
 from ..model import Linkage
+from ..warnings import DesignWarning
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 
@@ -128,7 +129,7 @@ class MachineDesign:
     motion: MachineMotion
     shafts: tuple[MachineShaft, ...]
     checks: tuple[MachineCheck, ...]
-    warnings: tuple[str, ...]
+    warnings: tuple[DesignWarning, ...]
 
     @property
     def flywheel_inertia(self) -> float:

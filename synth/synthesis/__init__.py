@@ -1,0 +1,29 @@
+"""Dimensional synthesis: linkages from what the machine must do, posed as optimisation problems."""
+
+from .checks import LinkageCheck, check_fourbar, check_slider_crank
+from .crank_rocker import CrankRockerResult, CrankRockerSpec, overlap_angle, synthesise_crank_rocker, time_ratio_of
+from .family import Optimality
+from .path import MAX_POINTS, MAX_STARTS, PathResult, PathSpec, coupler_curve, default_path_limits, synthesise_path
+from .slider_crank import SliderCrankResult, SliderCrankSpec, synthesise_slider_crank
+
+__all__ = [
+    "CrankRockerResult",
+    "CrankRockerSpec",
+    "LinkageCheck",
+    "MAX_POINTS",
+    "MAX_STARTS",
+    "Optimality",
+    "PathResult",
+    "PathSpec",
+    "SliderCrankResult",
+    "SliderCrankSpec",
+    "check_fourbar",
+    "check_slider_crank",
+    "coupler_curve",
+    "default_path_limits",
+    "overlap_angle",
+    "synthesise_crank_rocker",
+    "synthesise_path",
+    "synthesise_slider_crank",
+    "time_ratio_of",
+]

@@ -1,0 +1,307 @@
+"""Path generation: a crank-rocker four-bar whose coupler point passes through (or nearest to) target points.
+
+A nonconvex least-squares NLP in CasADi/IPOPT over the crank pivot (x, y), the ground angle, the four lengths, the
+coupler point in the coupler frame and the crank angle at each target (or one starting angle when the angles are
+prescribed up to a common shift). The coupler position is the closed-form assembly of the requested branch; the
+Grashof crank-rocker conditions (crank shortest, shortest + longest <= sum of the other two) are constraints, so
+the linkage assembles at every crank angle and never changes branch. The residuals are lifted into variables
+(r = P - T as equality constraints) so IPOPT meets a Gauss-Newton-like Hessian near a fit. The problem has many
+local minima, so it is
+solved from scrambled-Sobol starts (scipy.stats.qmc, seeded) and the best is kept; how many starts reached it is
+part of the answer. The residual at every target is then recomputed by the kinematics engine.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, cast
+
+import casadi as ca
+import numpy as np
+from scipy.stats import qmc
+
+from ..analysis import analyse
+from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout, TooLarge
+from ..kinematics import FourBar, Mechanism
+from ..model import FloatArray, Linkage
+from .checks import LinkageCheck, check_fourbar
+
+MAX_POINTS = 40
+MAX_STARTS = 256
+GRASHOF_MARGIN = 1e-3  # least slack of each Grashof inequality, in units of the targets' extent
+_LENGTHS = ("crank", "coupler", "rocker", "ground")
+_DESIGN = 9  # crank pivot x, y, ground angle, crank, coupler, rocker, ground, coupler point x, y
+
+
+@dataclass(frozen=True, slots=True)
+class PathSpec:
+    """Target points and the limits of the four-bar that should trace them.
+
+    targets: (N, 2) points [m] in the order the coupler point should pass them while the crank turns
+    counter-clockwise; crank_angles: (N,) crank angles [rad] at the targets, fixed up to a common shift, or None
+    (free, increasing, within one turn); bounds: link -> (min, max) length [m] for every one of crank, coupler,
+    rocker, ground; pivot_box: (x_min, x_max, y_min, y_max) for both ground pivots [m]; coupler_point_max: bound on
+    each coordinate of the coupler point in the coupler frame [m]; branch: +1, -1, or 0 to try both (half the
+    starts each); starts: number of multistart points; seed: Sobol scrambling seed; time_limit: wall-clock budget
+    for all starts [s].
+    """
+
+    targets: FloatArray
+    crank_angles: FloatArray | None
+    bounds: dict[str, tuple[float, float]]
+    pivot_box: tuple[float, float, float, float]
+    coupler_point_max: float
+    branch: int = 0
+    starts: int = 32
+    seed: int = 0
+    time_limit: float = 20.0
+
+    def validate(self) -> None:
+        """Raise InvalidInput or TooLarge naming the field that cannot be used."""
+        t = np.asarray(self.targets, dtype=float)
+        if t.ndim != 2 or t.shape[1] != 2 or t.shape[0] < 3:
+            raise InvalidInput("give at least three target points as [x, y] pairs", field="points_m")
+        if t.shape[0] > MAX_POINTS:
+            raise TooLarge("target points", MAX_POINTS, t.shape[0])
+        if not np.all(np.isfinite(t)):
+            raise InvalidInput("target points must be finite", field="points_m")
+        if self.crank_angles is not None and np.asarray(self.crank_angles).shape != (t.shape[0],):
+            raise InvalidInput("give one crank angle per target point", field="crank_angle_deg")
+        if not 1 <= self.starts <= MAX_STARTS:
+            raise TooLarge("starts", MAX_STARTS, self.starts) if self.starts > MAX_STARTS else InvalidInput(
+                "at least one start is needed", field="starts")
+        for name in _LENGTHS:
+            lo, hi = self.bounds.get(name, (math.nan, math.nan))
+            if not (0.0 < lo < hi and math.isfinite(hi)):
+                raise InvalidInput(f"bounds of {name}: need 0 < min < max", field=f"bounds.{name}")
+        x0, x1, y0, y1 = self.pivot_box
+        if not (x0 < x1 and y0 < y1):
+            raise InvalidInput("pivot box: need x_min < x_max and y_min < y_max", field="pivot_box_m")
+        if not self.coupler_point_max > 0:
+            raise InvalidInput("coupler_point_max must be positive", field="coupler_point_max_m")
+        if self.branch not in (-1, 0, 1):
+            raise InvalidInput("branch must be -1, 0 or +1", field="branch")
+        if not self.time_limit > 0:
+            raise InvalidInput("the time limit must be positive", field="time_limit_s")
+
+
+@dataclass(frozen=True, slots=True)
+class PathResult:
+    """The best four-bar of all starts, placed in the targets' frame, with the engine's residuals.
+
+    ``linkage``: the four-bar in its own frame (crank pivot at the origin, rocker pivot on +x);
+    ``coupler_point``: in the coupler frame [m]; ``crank_pivot`` [m] and ``ground_angle`` [rad]: where that frame
+    sits among the targets; ``crank_angles``: at each target [rad]; ``residuals``: distance from each target
+    to the coupler point recomputed by the analysis engine [m]; ``start_objectives``: sum of squared residuals
+    [m²] reached from each start (NaN where IPOPT failed); ``starts_at_best``: starts within 1e-9 m² plus 1e-6
+    of the best; ``status``: IPOPT's status of the best start.
+    """
+
+    linkage: Linkage
+    coupler_point: tuple[float, float]
+    crank_pivot: tuple[float, float]
+    ground_angle: float
+    crank_angles: FloatArray
+    residuals: FloatArray
+    start_objectives: FloatArray
+    starts_at_best: int
+    status: str
+    check: LinkageCheck
+
+    @property
+    def fourbar(self) -> FourBar:
+        """The synthesised four-bar."""
+        mech = self.linkage.mechanism
+        assert isinstance(mech, FourBar)
+        return mech
+
+
+def default_path_limits(
+    targets: FloatArray,
+) -> tuple[dict[str, tuple[float, float]], tuple[float, float, float, float], float]:
+    """Limits that suit targets of extent D (their bounding box's larger side) [m]: every link between D/50 and
+    4·D, both pivots within 2·D of the targets' bounding box, coupler point coordinates within 4·D."""
+    t = np.asarray(targets, dtype=float)
+    lo, hi = t.min(axis=0), t.max(axis=0)
+    size = float(max(hi - lo)) or 1.0
+    bounds = {name: (0.02 * size, 4.0 * size) for name in _LENGTHS}
+    box = (float(lo[0] - 2 * size), float(hi[0] + 2 * size), float(lo[1] - 2 * size), float(hi[1] + 2 * size))
+    return bounds, box, 4.0 * size
+
+
+def _coupler_points(z: Any, phi: Any, branch: float) -> tuple[Any, Any]:
+    """World x and y of the coupler point at crank angles ``phi`` for design ``z`` (CasADi or NumPy)."""
+    lib = ca if isinstance(z, (ca.MX, ca.SX)) else np
+    xo, yo, th, a, b, c, d, px, py = (z[i] for i in range(_DESIGN))
+    ax, ay = xo + a * lib.cos(th + phi), yo + a * lib.sin(th + phi)
+    qx, qy = xo + d * lib.cos(th), yo + d * lib.sin(th)
+    ex, ey = qx - ax, qy - ay
+    dist = lib.sqrt(ex * ex + ey * ey)
+    ux, uy = ex / dist, ey / dist
+    x = (b * b - c * c + dist * dist) / (2 * dist)
+    # The clamp only acts away from a solution: the Grashof constraints keep b² - x² positive there.
+    h = lib.sqrt(lib.fmax(b * b - x * x, 1e-18))
+    bx, by = ax + x * ux - branch * h * uy, ay + x * uy + branch * h * ux
+    e2x, e2y = (bx - ax) / b, (by - ay) / b
+    return ax + px * e2x - py * e2y, ay + px * e2y + py * e2x
+
+
+@functools.lru_cache(maxsize=32)
+def _program(n: int, timed: bool, branch: int) -> Any:
+    """The NLP for ``n`` targets, built once per worker and reused with new data through its parameters."""
+    z = ca.SX.sym("z", _DESIGN)
+    phi = ca.SX.sym("phi", 1 if timed else n)
+    targets = ca.SX.sym("targets", n, 2)
+    offsets = ca.SX.sym("offsets", n)
+    scale = ca.SX.sym("scale")
+    angles = phi[0] + offsets if timed else phi
+    px, py = _coupler_points(z, angles, float(branch))
+    # Lifted residuals: with r as variables and r = P - T as equalities, the Lagrangian's Hessian tends to the
+    # Gauss-Newton one as the residual vanishes, which IPOPT converges on far faster than on the plain sum.
+    r = ca.SX.sym("r", 2 * n)
+    f = ca.sumsqr(r) / (scale * scale)
+    a, b, c, d = z[3], z[4], z[5], z[6]
+    g = [b - a, c - a, d - a, c + d - a - b, b + d - a - c, b + c - a - d]
+    if not timed:
+        g += [phi[i + 1] - phi[i] for i in range(n - 1)] + [phi[0] + 2 * math.pi - phi[n - 1]]
+    g += [ca.vertcat(px - targets[:, 0], py - targets[:, 1]) - r]
+    nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, scale), "f": f, "g": ca.vertcat(*g)}
+    opts: dict[str, Any] = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
+            "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120}
+    return ca.nlpsol("path", "ipopt", nlp, opts)
+
+
+def _starts(spec: PathSpec) -> FloatArray:
+    """Scrambled-Sobol designs over the bounds: pivot, ground angle, lengths, coupler point; the first crank
+    angle is then fitted to the targets."""
+    lo, hi = _box(spec)
+    unit = qmc.Sobol(_DESIGN + 1, scramble=True, seed=spec.seed).random(spec.starts)
+    x = lo + unit * (hi - lo)
+    # The crank's coordinate becomes a fraction of the longest crank that keeps the start a Grashof crank-rocker
+    # with the sampled coupler, rocker and ground, so every start assembles at every angle.
+    # First the longest of the three is shortened until the other two outreach it by twice the least crank.
+    rest = x[:, 4:7]
+    j = np.argmax(rest, axis=1)
+    rows = np.arange(len(x))
+    others = rest.sum(axis=1) - rest[rows, j]
+    rest[rows, j] = np.clip(np.minimum(rest[rows, j], others - 2 * lo[3]), lo[4 + j], hi[4 + j])
+    b, c, d = x[:, 4], x[:, 5], x[:, 6]
+    a_max = np.minimum.reduce([b, c, d, c + d - b, b + d - c, b + c - d, np.full_like(b, hi[3])])
+    room = a_max > lo[3]
+    x[room, 3] = lo[3] + unit[room, 3] * (a_max[room] - lo[3])
+    return np.asarray(x)
+
+
+def _first_angles(start: FloatArray, targets: FloatArray, offsets: FloatArray, timed: bool, branch: int) -> FloatArray:
+    """Crank angles to start from: evenly spread (or the prescribed offsets), turned by whichever of 72 shifts
+    puts the start design's coupler point nearest the targets."""
+    n = targets.shape[0]
+    steps = offsets if timed else 2 * math.pi * np.arange(n) / n
+    shifts = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
+    phi = shifts[:, None] + steps[None, :]
+    with np.errstate(all="ignore"):
+        px, py = _coupler_points(start[:_DESIGN], phi, float(branch))
+    miss = np.nan_to_num((px - targets[:, 0]) ** 2 + (py - targets[:, 1]) ** 2, nan=np.inf).sum(axis=1)
+    first = shifts[int(np.argmin(miss))]
+    return np.array([first]) if timed else first + steps
+
+
+def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
+    x0, x1, y0, y1 = spec.pivot_box
+    cp = spec.coupler_point_max
+    lo = [x0, y0, -math.pi] + [spec.bounds[n][0] for n in _LENGTHS] + [-cp, -cp, 0.0]
+    hi = [x1, y1, math.pi] + [spec.bounds[n][1] for n in _LENGTHS] + [cp, cp, 2 * math.pi]
+    return np.array(lo), np.array(hi)
+
+
+def synthesise_path(spec: PathSpec) -> PathResult:
+    """The crank-rocker whose coupler point passes nearest to ``spec.targets``: best of all multistart solves.
+
+    Raises InvalidInput/TooLarge for unusable requests, SolverFailed when no start converges and SolverTimeout
+    (with the best residual reached) when the starts outrun ``spec.time_limit``.
+    """
+    spec.validate()
+    crank_lo = spec.bounds["crank"][0]
+    if crank_lo >= min(spec.bounds[n][1] for n in ("coupler", "rocker", "ground")):
+        raise Infeasible("the crank's least length reaches another link's greatest: it cannot be the shortest link",
+                         constraint="crank_shortest")
+    targets = np.asarray(spec.targets, dtype=float)
+    n = targets.shape[0]
+    timed = spec.crank_angles is not None
+    offsets = np.zeros(n) if spec.crank_angles is None else np.asarray(spec.crank_angles) - spec.crank_angles[0]
+    scale = float(np.ptp(targets, axis=0).max()) or 1.0
+    params = np.concatenate([targets.T.reshape(-1), offsets, [scale]])
+    lo, hi = _box(spec)
+    lbx_z, ubx_z = lo[:_DESIGN], hi[:_DESIGN]
+    # The ground angle is periodic: a wider box than one turn lets a start slide past +-pi.
+    lbx_z[2], ubx_z[2] = -3 * math.pi, 3 * math.pi
+    n_phi = 1 if timed else n
+    lbx = np.concatenate([lbx_z, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)])
+    ubx = np.concatenate([ubx_z, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)])
+    n_g = 6 + (0 if timed else n)
+    # A margin keeps the answer off the Grashof limit, where the coupler and rocker would fold flat.
+    lbg = np.concatenate([np.full(6, GRASHOF_MARGIN * scale), np.zeros(n_g - 6), np.zeros(2 * n)])
+    ubg = np.concatenate([np.full(n_g, np.inf), np.zeros(2 * n)])
+    starts = _starts(spec)
+    deadline = time.monotonic() + spec.time_limit
+    objectives = np.full(spec.starts, np.nan)
+    best: tuple[float, FloatArray, int, str] | None = None
+    for k, start in enumerate(starts):
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            raise SolverTimeout(spec.time_limit, starts_completed=k,
+                                best_rms_residual_m=None if best is None else math.sqrt(best[0] * scale**2 / n))
+        branch = spec.branch or (1 if k % 2 == 0 else -1)
+        solver = _program(n, timed, branch)
+        angles0 = _first_angles(start, targets, offsets, timed, branch)
+        with np.errstate(all="ignore"):
+            px0, py0 = _coupler_points(start[:_DESIGN], angles0[0] + offsets if timed else angles0, float(branch))
+        r0 = np.nan_to_num(np.concatenate([px0 - targets[:, 0], py0 - targets[:, 1]]))
+        x0 = np.concatenate([start[:_DESIGN], angles0, r0])
+        sol = solver(x0=x0, p=params, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
+        status = str(solver.stats()["return_status"])
+        if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
+            objectives[k] = float(sol["f"])
+            if best is None or objectives[k] < best[0]:
+                best = (objectives[k], np.asarray(sol["x"]).reshape(-1), branch, status)
+    if best is None:
+        raise SolverFailed("no_start_converged", f"none of the {spec.starts} starts converged")
+    f_best, x, branch, status = best
+    z = x[:_DESIGN]
+    phi = x[_DESIGN] + offsets if timed else x[_DESIGN:_DESIGN + n]
+    near = objectives[np.isfinite(objectives)] <= f_best + 1e-9 / scale**2 + 1e-6 * f_best
+    fb = FourBar(float(z[6]), float(z[3]), float(z[4]), float(z[5]), branch)
+    residuals = _engine_residuals(fb, z, phi, targets)
+    return PathResult(
+        linkage=Linkage(cast(Mechanism, fb)),
+        coupler_point=(float(z[7]), float(z[8])),
+        crank_pivot=(float(z[0]), float(z[1])),
+        ground_angle=float(math.remainder(z[2], 2 * math.pi)),
+        crank_angles=np.mod(phi, 2 * math.pi),
+        residuals=residuals,
+        start_objectives=objectives * scale**2,
+        starts_at_best=int(near.sum()),
+        status=status,
+        check=check_fourbar(fb),
+    )
+
+
+def _engine_residuals(fb: FourBar, z: FloatArray, phi: FloatArray, targets: FloatArray) -> FloatArray:
+    """Distances [m] from the targets to the coupler point as the analysis engine places it."""
+    an = analyse(Linkage(cast(Mechanism, fb)), 1.0, phi=np.mod(phi, 2 * math.pi), points={"P": ("coupler", (float(z[7]), float(z[8])))})
+    local = an.motion.point_pos["P"]
+    rot = np.array([[math.cos(z[2]), -math.sin(z[2])], [math.sin(z[2]), math.cos(z[2])]])
+    world = local @ rot.T + z[:2]
+    return np.asarray(np.hypot(*(world - targets).T))
+
+
+def coupler_curve(result: PathResult, samples: int = 360) -> FloatArray:
+    """The coupler point's path over one crank turn in the targets' frame, (samples, 2) [m]."""
+    phi = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
+    an = analyse(result.linkage, 1.0, phi=phi, points={"P": ("coupler", result.coupler_point)})
+    g = result.ground_angle
+    rot = np.array([[math.cos(g), -math.sin(g)], [math.sin(g), math.cos(g)]])
+    return np.asarray(an.motion.point_pos["P"] @ rot.T + np.asarray(result.crank_pivot))

@@ -1,0 +1,284 @@
+"""Likely mistakes in a request or a result: plain checks that return notes, never raise and never ``warnings.warn``.
+
+Each check is a function of engine inputs or results and returns a list of :class:`DesignWarning`. A warning
+names the request field it concerns (as the HTTP edge spells it), the number that triggered it in SI units and
+a sentence for people. The answer is still given: a warning says "look again", an error says "cannot".
+
+Codes
+-----
+``length_likely_mm``        a length beyond 10 m: probably millimetres typed as metres
+``mass_likely_grams``       a link or counterweight heavier than a solid steel cube the size of the whole machine
+``inertia_without_mass``    a link with a moment of inertia but no mass (its weight and inertia force are lost)
+``links_missing``           no link has any mass: every inertial output is zero
+``link_left_out``           a link that carries the motion has neither mass nor inertia
+``counterweight_beyond_link``  a counterweight farther from its joint than the link is long
+``transmission_angle_low``  a four-bar's transmission angle under 40° (with the crank angles where it is)
+``load_work_positive``      the loads do positive work over the cycle: they drive the machine (sign typed wrong?)
+``delta_out_of_range``      a target delta outside every machine type's usual range
+``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
+``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
+Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
+``rotor_inertia_missing`` and ``rated_power_exceeds``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .kinematics import FourBar, SliderCrank, SlottedLever
+from .model import Counterweight, FloatArray, Linkage
+
+if TYPE_CHECKING:
+    from .analysis import Analysis
+    from .balancing import BalanceResult, RotorBalance, RotorMass
+    from .flywheel import FlywheelResult, GeometrySpec
+    from .kinematics import Mechanism
+
+# A solid steel cube as large as the machine bounds any one link's mass; beyond it the number was typed in grams.
+STEEL_DENSITY = 7850.0  # [kg/m³]
+LIKELY_MM_LENGTH = 10.0  # [m]
+MIN_TRANSMISSION_ANGLE = math.radians(40.0)  # [rad]
+# The seeds' table spans 1/300 to 1/20; presses, shears and crushers run up to about 1/5.
+DELTA_RANGE = (1.0 / 600.0, 0.2)
+RIM_SPEED_MARGIN = 0.95
+
+
+@dataclass(frozen=True, slots=True)
+class DesignWarning:
+    """A likely mistake: a code, the request field it concerns, the number [SI unit] and a sentence.
+
+    Parameters
+    ----------
+    code : Stable identifier of the check (see the module docstring).
+    field : Request field as the HTTP edge names it (``mechanism.links.crank.mass_kg``), None for the whole answer.
+    value : The number that triggered it [``unit``], None when there is none.
+    message : One sentence for people.
+    unit : Unit of ``value`` (SI: m, kg, kg·m², rad, J, m/s, 1).
+    ranges : Crank-angle ranges where it holds [rad], as (start, end) pairs.
+    """
+
+    code: str
+    field: str | None
+    value: float | None
+    message: str
+    unit: str = ""
+    ranges: tuple[tuple[float, float], ...] = ()
+
+
+def link_lengths(mechanism: Mechanism) -> dict[str, float]:
+    """Length of every bar link between its two joints [m]; blocks and rams have none."""
+    if isinstance(mechanism, FourBar):
+        return {"crank": mechanism.crank, "coupler": mechanism.coupler, "rocker": mechanism.rocker}
+    if isinstance(mechanism, SliderCrank):
+        return {"crank": mechanism.crank, "rod": mechanism.rod}
+    if isinstance(mechanism, SlottedLever):
+        return {"crank": mechanism.crank, "rocker": mechanism.rocker}
+    return {}
+
+
+def _length_fields(mechanism: Mechanism) -> dict[str, float]:
+    if isinstance(mechanism, FourBar):
+        return {"ground_length_m": mechanism.ground, "crank_length_m": mechanism.crank,
+                "coupler_length_m": mechanism.coupler, "rocker_length_m": mechanism.rocker}
+    if isinstance(mechanism, SliderCrank):
+        return {"crank_length_m": mechanism.crank, "rod_length_m": mechanism.rod}
+    if isinstance(mechanism, SlottedLever):
+        return {"crank_length_m": mechanism.crank, "ground_length_m": mechanism.ground,
+                "rocker_length_m": mechanism.rocker, "ram_height_m": mechanism.ram_height}
+    return {}
+
+
+def _carries_motion(mechanism: Mechanism, link: str) -> bool:
+    """True for a link whose mass matters to the user: not the crank (often balanced about its pivot and counted
+    in the constant inertia) and not a small sliding block, unless the block is the working member."""
+    topo = mechanism.topology
+    if link == topo.crank:
+        return False
+    if link == topo.output:
+        return True
+    points = {j.point for j in topo.joints if link in j.bodies}
+    return len(points) > 1
+
+
+def check_linkage(linkage: Linkage) -> list[DesignWarning]:
+    """Units and left-out data of a linkage: lengths in mm, masses in g, inertia without mass, massless links,
+    counterweights beyond their links."""
+    mech = linkage.mechanism
+    out: list[DesignWarning] = []
+    lengths = _length_fields(mech)
+    for name, value in lengths.items():
+        if value > LIKELY_MM_LENGTH:
+            out.append(DesignWarning(
+                "length_likely_mm", f"mechanism.{name}", value,
+                f"{name} is {value:g} m, beyond any linkage of a machine; was it typed in millimetres?", "m"))
+    size = max(lengths.values(), default=0.0)
+    heavy = STEEL_DENSITY * size**3
+    links = mech.topology.links
+    props = {name: linkage.links.get(name) for name in links}
+    for name, p in props.items():
+        where = f"mechanism.links.{name}"
+        if p is None:
+            continue
+        if size > 0 and p.mass > heavy:
+            out.append(DesignWarning(
+                "mass_likely_grams", f"{where}.mass_kg", p.mass,
+                f"the {name} weighs {p.mass:g} kg, more than a solid steel cube of {size:g} m (the machine's size, "
+                f"{heavy:.3g} kg); was it typed in grams?", "kg"))
+        if p.inertia > 0 and p.mass == 0:
+            out.append(DesignWarning(
+                "inertia_without_mass", f"{where}.inertia_kgm2", p.inertia,
+                f"the {name} has a moment of inertia but no mass: its weight and inertia force are left out; "
+                "give mass_kg too", "kg·m²"))
+    massless = [n for n, p in props.items() if p is None or (p.mass == 0 and p.inertia == 0)]
+    if len(massless) == len(links) and not linkage.counterweights:
+        out.append(DesignWarning(
+            "links_missing", "mechanism.links", None,
+            "no link has a mass or an inertia: forces, torques and the reduced inertia come only from the loads; "
+            "give mechanism.links"))
+    else:
+        for name in massless:
+            if _carries_motion(mech, name):
+                out.append(DesignWarning(
+                    "link_left_out", f"mechanism.links.{name}", None,
+                    f"the {name} has neither mass nor inertia and is treated as massless; was it left out?"))
+    for i, cw in enumerate(linkage.counterweights):
+        if size > 0 and cw.mass > heavy:
+            out.append(DesignWarning(
+                "mass_likely_grams", f"counterweights[{i}].mass_kg", cw.mass,
+                f"a {cw.mass:g} kg counterweight outweighs a solid steel cube of {size:g} m (the machine's size, "
+                f"{heavy:.3g} kg); was it typed in grams?", "kg"))
+    out += check_counterweights(linkage, linkage.counterweights, "counterweights")
+    return out
+
+
+def check_counterweights(linkage: Linkage, counterweights: Sequence[Counterweight], field: str) -> list[DesignWarning]:
+    """Counterweights placed farther from their link's first joint than the link is long.
+
+    ``field`` names them in the request: ``counterweights`` (given ones, by index) or ``max_radius_m`` (placed by a
+    balancing program within that limit, by link).
+    """
+    lengths = link_lengths(linkage.mechanism)
+    out: list[DesignWarning] = []
+    for i, cw in enumerate(counterweights):
+        radius = math.hypot(*cw.position)
+        length = lengths.get(cw.link)
+        if length is not None and cw.mass > 0 and radius > length * (1 + 1e-9):
+            where = f"{field}.{cw.link}" if field == "max_radius_m" else f"{field}[{i}].position_m"
+            out.append(DesignWarning(
+                "counterweight_beyond_link", where, radius,
+                f"the counterweight on the {cw.link} sits {radius:.4g} m from its joint, beyond the "
+                f"{length:.4g} m link: it needs an arm of its own", "m"))
+    return out
+
+
+def _ranges(phi: FloatArray, mask: NDArray[np.bool_]) -> tuple[tuple[float, float], ...]:
+    """Runs of consecutive samples where ``mask`` holds, as (first, last) crank angles [rad], joined over 2π."""
+    idx = np.flatnonzero(mask)
+    if idx.size == 0:
+        return ()
+    breaks = np.flatnonzero(np.diff(idx) > 1)
+    starts = np.concatenate([[idx[0]], idx[breaks + 1]])
+    ends = np.concatenate([idx[breaks], [idx[-1]]])
+    runs = [(float(phi[s]), float(phi[e])) for s, e in zip(starts, ends, strict=True)]
+    if len(runs) > 1 and mask[0] and mask[-1]:
+        first = runs.pop(0)
+        runs[-1] = (runs[-1][0], first[1])
+    return tuple(runs)
+
+
+def _full_uniform_cycle(phi: FloatArray) -> bool:
+    if phi.size < 3:
+        return False
+    step = 2 * math.pi / phi.size
+    return bool(np.allclose(np.diff(phi), step, rtol=1e-9, atol=1e-12))
+
+
+def check_analysis(an: Analysis) -> list[DesignWarning]:
+    """:func:`check_linkage`, a four-bar's transmission angle under 40°, loads that drive the machine."""
+    out = check_linkage(an.linkage)
+    phi = an.motion.phi
+    tau = an.transmission_angle
+    if tau is not None:
+        deviation = np.minimum(tau, np.pi - tau)
+        low = deviation < MIN_TRANSMISSION_ANGLE
+        if np.any(low):
+            worst = float(deviation.min())
+            ranges = _ranges(phi, low)
+            where = ", ".join(f"{math.degrees(a) % 360:.4g}–{math.degrees(b) % 360:.4g}°" for a, b in ranges)
+            out.append(DesignWarning(
+                "transmission_angle_low", "mechanism", worst,
+                f"the transmission angle falls to {math.degrees(worst):.3g}° (under 40°) at crank angles {where}: "
+                "the coupler pushes the rocker nearly along it and the bearings carry the load", "rad", ranges))
+    if (an.linkage.loads or an.linkage.torques) and _full_uniform_cycle(phi):
+        torque = an.reduced.load_torque
+        work = float(np.mean(torque)) * 2 * math.pi
+        if work > 1e-9 * float(np.max(np.abs(torque))) * 2 * math.pi:
+            field = "loads" if an.linkage.loads else "torques"
+            out.append(DesignWarning(
+                "load_work_positive", field, work,
+                f"the loads do {work:.4g} J of positive work per revolution: they drive the crank and the motor "
+                "would brake; a resisting load is given as a positive magnitude acting against the output's motion, "
+                "a resisting torque on a link turns against it", "J"))
+    return out
+
+
+def check_balance(result: BalanceResult) -> list[DesignWarning]:
+    """:func:`check_analysis` of the linkage before balancing and counterweights placed beyond their links
+    (allowed by a ``max_radius_m`` longer than the link)."""
+    before = result.analysis_before
+    return check_analysis(before) + check_counterweights(before.linkage, result.counterweights, "max_radius_m")
+
+
+def check_rotor(masses: Sequence[RotorMass], result: RotorBalance) -> list[DesignWarning]:
+    """A correction heavier than all the rotor's unbalanced masses together: its radius is chosen small."""
+    total = sum(m.mass for m in masses)
+    out: list[DesignWarning] = []
+    for i, c in enumerate(result.corrections):
+        if total > 0 and c.mass > total:
+            out.append(DesignWarning(
+                "correction_radius_small", f"corrections[{i}].radius_m", c.radius,
+                f"the correction needs {c.mass:.4g} kg, more than the {total:.4g} kg of unbalanced masses: "
+                "a larger correction radius needs less", "m"))
+    return out
+
+
+def check_flywheel(result: FlywheelResult, geometry: GeometrySpec | None = None,
+                   analysis: Analysis | None = None) -> list[DesignWarning]:
+    """Loads that drive the machine, a target delta outside every machine type's range, a rim near its speed limit;
+    with the ``analysis`` of a linkage also :func:`check_linkage` and the transmission angle.
+
+    The load sign is judged on the cycle's work as sized (``tables`` without an analysis, ``loads`` with one).
+    """
+    out: list[DesignWarning] = []
+    load_field = "tables"
+    if analysis is not None:
+        out += [w for w in check_analysis(analysis) if w.code != "load_work_positive"]
+        load_field = "loads" if analysis.linkage.loads else "torques"
+    if result.driving_torque < 0:
+        out.append(DesignWarning(
+            "load_work_positive", load_field, result.cycle_work,
+            f"the given torques do {result.cycle_work:.4g} J of positive work per cycle, so the constant driving "
+            f"torque that balances them is negative ({result.driving_torque:.4g} N·m): resisting torques are "
+            "negative, driving ones positive", "J"))
+    lo, hi = DELTA_RANGE
+    delta = result.target_delta
+    if not lo <= delta <= hi:
+        out.append(DesignWarning(
+            "delta_out_of_range", "delta", delta,
+            f"a target delta of {delta:.3g} lies outside the usual {lo:.3g}–{hi:.3g} of machines (GET "
+            "/v1/machine-types lists them); the flywheel grows as 1/delta", "1"))
+    if geometry is not None and geometry.max_rim_speed is not None and result.geometry is not None:
+        best = result.geometry.best
+        limit = geometry.max_rim_speed
+        if best.rim_speed >= RIM_SPEED_MARGIN * limit:
+            out.append(DesignWarning(
+                "rim_speed_near_limit", "geometry.max_rim_speed_m_s", best.rim_speed,
+                f"the flywheel's rim runs at {best.rim_speed:.3g} m/s, {best.rim_speed / limit:.0%} of the "
+                f"{limit:g} m/s limit: no margin for overspeed; a larger width or another shaft gives one", "m/s"))
+    return out
