@@ -150,6 +150,7 @@ from .synthesis import (
     time_ratio_of,
 )
 from .topology import Joint, Topology
+from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
 from .warnings import (
@@ -303,7 +304,9 @@ __all__ = [
     "tradeoff",
     # gear trains and structure
     "GearMesh",
+    "PlanetaryMesh",
     "PlanetaryStage",
+    "planetary_tooth_numbers",
     "TrainResult",
     "TrainShaft",
     "TrainWheel",

@@ -180,6 +180,8 @@ def analyse_structure(links: Sequence[str], pairs: Sequence[Pair], *, frame: str
     for p in pairs:
         if p.kind == "higher":
             extra = f"{p.name}'"
+            while extra in all_links:
+                extra += "'"
             all_links.append(extra)
             lower += [Pair(f"{p.name}:{p.links[0]}", (p.links[0], extra), "revolute"),
                       Pair(f"{p.name}:{p.links[1]}", (extra, p.links[1]), "revolute")]
@@ -208,6 +210,8 @@ def _drivers(links: Sequence[str], pairs: Sequence[Pair], frame: str, w: int,
             raise InvalidInput(f"W = {w} needs {w} input links paired with the frame; only {grounded} are",
                                field="input_links")
         return tuple(grounded[:w])
+    if len(set(input_links)) != len(input_links):
+        raise InvalidInput("input links must be distinct", field="input_links")
     if len(input_links) != w:
         raise InvalidInput(f"W = {w}: give {w} input links, got {len(input_links)}", field="input_links")
     for x in input_links:

@@ -15,6 +15,8 @@ from api.client import SynthClient
 from api.schemas.analysis import AnalysisIn
 from api.schemas.balancing import BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn
 from api.schemas.flywheel import FlywheelIn
+from api.schemas.machine import MachineIn
+from api.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
 from api.schemas.gearing import DriveIn, SplitIn, TeethIn
 from api.schemas.structure import StructureIn
 from api.schemas.train import TrainIn
@@ -33,6 +35,10 @@ ENDPOINTS = {
     "/v1/gears/drive": DriveIn,
     "/v1/gears/train": TrainIn,
     "/v1/structure": StructureIn,
+    "/v1/synthesis/crank-rocker": CrankRockerIn,
+    "/v1/synthesis/slider-crank": SliderCrankSynthesisIn,
+    "/v1/synthesis/path": PathIn,
+    "/v1/machines/design": MachineIn,
 }
 CASES = [(path, ex) for path, model in ENDPOINTS.items() for ex in model.model_config["json_schema_extra"]["examples"]]
 # Values a hurried or hostile caller sends: signs, zeros, extremes, wrong types, empty containers.

@@ -88,3 +88,13 @@ def test_realisability_rows_are_built_once_per_layout() -> None:
     assert realisability_block(layout) is first
     # Per counterweight: 2 signs, a 3-row and a 4-row cone; a fixed angle adds an equality and a sign.
     assert first[0].shape == (2 * (2 + 3 + 4) + 2, 8)
+
+
+def test_an_iteration_limit_is_a_failure_not_a_timeout(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Clarabel stopped after two iterations reports MaxIterations: a SolverFailed naming it (422), not a 504.
+    from synth.balancing import program
+
+    monkeypatch.setitem(program._TOLERANCES, "max_iter", 2)
+    with pytest.raises(synth.SolverFailed) as err:
+        synth.balance_optimal(_linkage(), SPEED, weights=synth.Weights(1.0, 1.0, 1.0, 1.0), samples=SAMPLES)
+    assert err.value.status == "iteration_limit"

@@ -27,7 +27,8 @@ def test_example_10_3_ratio_and_output_speed(client: SynthClient) -> None:
     assert out.output_direction == 1 and out.checks.agrees
 
 
-@pytest.mark.parametrize("case_id", [f"gear_train_variant_{k}" for k in (1, 2, 3, 4, 5, 8)])
+@pytest.mark.parametrize("case_id", ["gear_train_variant_1", "gear_train_variant_2", "gear_train_variant_3",
+                                     "gear_train_variant_4", "gear_train_variant_5", "gear_train_variant_8"])
 def test_self_study_variants(client: SynthClient, case_id: str) -> None:
     # The case's assumed layout: 1-2 mesh, 2 and 3 on one shaft, 3-4 mesh; magnitudes only. Speeds are given at
     # whichever end the case gives them. The case prints 6 significant digits (variant 5: 0.166667), hence 5e-6.
@@ -97,3 +98,26 @@ def test_impossible_trains_are_named(client: SynthClient) -> None:
         client.gears_train(TrainIn.model_validate({"elements": [{"type": "planetary", "sun_teeth": 20,
                                                                  "planet_teeth": 30, "ring_teeth": 81}]}))
     assert err.value.problem["field"] == "elements[0].ring_teeth"
+
+
+def test_a_ratio_beyond_any_real_train_is_named(client: SynthClient) -> None:
+    # 64 stepped planetary stages of ratio 1 + (10000/1)·(10000/1) each: about 1e512, beyond floating point.
+    element = {"type": "planetary", "sun_teeth": 1, "planet_teeth": 10000, "ring_teeth": 10000, "planet_ring_teeth": 1}
+    with pytest.raises(InvalidInputError) as err:
+        client.gears_train(TrainIn.model_validate({"elements": [element] * 64, "output_speed_rad_s": 1e6}))
+    assert err.value.problem["field"].startswith("elements[")
+
+
+@pytest.mark.parametrize(("fixed", "inp", "outp", "expected"), [
+    # Independent closed forms with k = z_r/z_s = 4 and eta0 = 0.95 (seed digest section 9: efficiency is the
+    # useful over the driving work; the loss is the meshes' in the carrier's frame):
+    ("ring", "sun", "carrier", (1 + 0.95 * 4) / (1 + 4)),  # sun in, ring held
+    ("sun", "ring", "carrier", 1 - 0.05 / (1 + 4)),  # ring in, sun held: the meshes carry a fifth of the power
+    ("carrier", "sun", "ring", 0.95),  # carrier held: an ordinary train
+])
+def test_planetary_efficiency_depends_on_the_held_member(client: SynthClient, fixed: str, inp: str, outp: str,
+                                                         expected: float) -> None:
+    body = TrainIn.model_validate({"elements": [{"type": "planetary", "sun_teeth": 20, "planet_teeth": 30,
+                                                 "ring_teeth": 80, "fixed": fixed, "input": inp, "output": outp,
+                                                 "basic_efficiency": 0.95}]})
+    assert client.gears_train(body).efficiency == pytest.approx(expected, rel=1e-12)

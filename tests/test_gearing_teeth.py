@@ -161,3 +161,20 @@ def test_empty_search_names_what_to_relax() -> None:
     with pytest.raises(synth.InvalidInput) as bad:
         synth.tooth_numbers(30.0, synth.make_stages(["spur", "belt"], max_stages=6))
     assert bad.value.field == "stages[1].type"
+
+
+@pytest.mark.parametrize(("target", "tol", "n"), [(5.3, None, 3), (7.13, None, 3), (4.0, 1e-3, 3),
+                                                  (2.3, None, 4), (2.5, 0.002, 4)])
+def test_streamed_search_in_small_chunks_equals_enumeration(monkeypatch: pytest.MonkeyPatch, target: float,
+                                                            tol: float | None, n: int) -> None:
+    # Chunks of a few dozen products exercise the streaming, the screening grid, the shrinking window and the
+    # early stop by teeth; the answer must be the plain enumeration's (same error within the tie rule, same teeth).
+    from synth.gearing import teeth
+
+    monkeypatch.setattr(teeth, "_CHUNK", 64)
+    stages = synth.make_stages(n, max_stages=6)
+    rules = synth.ToothRules(min_teeth=12, max_teeth=30 if n == 3 else 18)
+    got = synth.tooth_numbers(target, stages, rules, tol, check_limit=0)
+    ref = synth.enumerate_tooth_numbers(target, stages, rules, tol)
+    assert ref is not None
+    assert abs(got.ratio_error - ref[0]) <= teeth.TIE and got.total_teeth == ref[1]

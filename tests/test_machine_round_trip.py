@@ -17,7 +17,8 @@ def full(client: SynthClient):  # type: ignore[no-untyped-def]
     return client.balance_full(FullBalanceIn(mechanism=FOURBAR_EXAMPLE, speed_rpm=300, samples=90))
 
 
-def test_full_balance_answer_as_is_reanalyses_to_zero(client: SynthClient, full) -> None:  # type: ignore[no-untyped-def]
+def test_full_balance_answer_as_is_reanalyses_to_zero(  # type: ignore[no-untyped-def]
+        client: SynthClient, full) -> None:
     out = client.analysis(AnalysisIn.model_validate(
         {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 90, "balancing": full.model_dump()}))
     before = full.summary_before

@@ -143,3 +143,16 @@ def test_bad_structures_are_named(client: SynthClient) -> None:
         client.structure(StructureIn.model_validate({"links": ["frame", "a"], "planar": False, "pairs": [
             {"name": "x", "links": ["frame", "a"]}]}))
     assert err.value.problem["field"] == "pairs[0]"
+
+
+def test_four_link_groups_are_class_iii_or_iv(client: SynthClient) -> None:
+    # Seed note on n = 4, p5 = 6: a class III group of the 3rd order (a base link with three pairs, three outer
+    # pairs) or a class IV group of the 2nd order (a closed contour of four links, two outer pairs).
+    triad = StructureIn.model_validate({"links": ["frame", "crank", "a", "b", "base", "c"], "pairs": [
+        {"name": f"p{i}", "links": list(ab), "kind": "revolute"} for i, ab in enumerate(
+            [("frame", "crank"), ("crank", "a"), ("a", "base"), ("b", "base"), ("base", "c"), ("b", "frame"),
+             ("c", "frame")])]})
+    (group,) = client.structure(triad).assur_groups or []
+    assert (group.n, group.p5, group.group_class, group.order) == (4, 6, "III", 3)
+    (group,) = client.structure(_ring_group(4)).assur_groups or []
+    assert (group.n, group.p5, group.group_class, group.order) == (4, 6, "IV", 2)

@@ -111,8 +111,12 @@ def test_bounds_shape_the_answer_and_infeasible_names_the_constraint() -> None:
         synth.synthesise_crank_rocker(
             synth.CrankRockerSpec(math.radians(40), 1.1, "rocker", 0.15, bounds={"coupler": (1.0, 2.0)}))
     assert err.value.constraint == "coupler_length_min"
+    with pytest.raises(synth.Infeasible) as poor:
+        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(170), 1.5,
+                                                            min_transmission_angle=math.radians(30)))
+    assert poor.value.constraint == "min_transmission_angle"
     with pytest.raises(synth.InvalidInput) as bad:
-        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(170), 1.5))
+        synth.synthesise_crank_rocker(synth.CrankRockerSpec(math.radians(40), 0.8))
     assert bad.value.field == "time_ratio"
 
 
@@ -173,3 +177,14 @@ def test_path_limits_and_deadline() -> None:
     assert late.value.reached["starts_completed"] == 0
     with pytest.raises(synth.InvalidInput):
         synth.synthesise_path(synth.PathSpec(targets, np.zeros(2), bounds, box, cp))
+
+
+def test_path_keeps_the_transmission_angle_it_is_given() -> None:
+    targets = np.array([[0.0, 0.0], [0.1, 0.05], [0.2, 0.0]])
+    bounds, box, cp = synth.default_path_limits(targets)
+    spec = synth.PathSpec(targets, None, bounds, box, cp, starts=8, min_transmission_angle=math.radians(40))
+    result = synth.synthesise_path(spec)
+    # The engine's transmission angle over 720 crank angles (its extremes at 0 and 180° are on that grid).
+    assert result.check.min_transmission_angle >= math.radians(40) - 1e-7
+    assert math.pi - result.check.max_transmission_angle >= math.radians(40) - 1e-7
+    assert result.residuals.max() < 1e-6   # three points leave room to spare

@@ -101,8 +101,9 @@ def test_problems(client: SynthClient) -> None:
                                                      bounds_m={"coupler": {"min_m": 1.0, "max_m": 2.0}}))
     assert inf.value.problem["constraint"] == "coupler_length_min"
     with pytest.raises(InvalidInputError) as bad:
-        client.synthesise_crank_rocker(CrankRockerIn(swing_deg=170, time_ratio=1.5, scale_length_m=0.15))
-    assert bad.value.problem["field"] == "time_ratio"
+        client.synthesise_crank_rocker(CrankRockerIn(swing_deg=40, time_ratio=1.1, scale_length_m=0.15,
+                                                     objective="peak_driving_torque"))
+    assert bad.value.problem["field"] == "linear_density_kg_m"
     both = client.http.post("/v1/synthesis/slider-crank", json={"stroke_m": 0.1, "time_ratio": 1.2,
                                                                 "overlap_angle_deg": 10})
     assert both.status_code == 422

@@ -43,7 +43,8 @@ async def gears_teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Re
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
     return await solvers.answer(render_for(request, None, (), TeethOut.from_engine),
-                                synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance)
+                                synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance,
+                                planets=body.planets)
 
 
 @router.post("/drive", response_model=DriveOut)

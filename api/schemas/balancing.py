@@ -47,7 +47,8 @@ class BalanceIn(LinkageRequest):
         description="Links that may carry a counterweight; the textbook variant uses coupler and rocker.",
     )
     max_radius_m: dict[str, Length] = Field(
-        default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length."
+        default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length, "
+        "twice the coupler's (without a crank counterweight the coupler's must sit beyond B)."
     )
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")

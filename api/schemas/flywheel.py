@@ -125,7 +125,7 @@ Ratio = Annotated[list[Annotated[float, Field(gt=0, le=10)]], Field(min_length=2
 MachineType = Literal[
     "ac_generators", "dc_generators", "internal_combustion_engines", "piston_compressors", "metal_cutting_machine_tools"
 ]
-SizingMethod = Literal["exact", "mertsalov", "energy", "motor_nlp"]
+SizingMethod = Literal["exact", "mertsalov", "energy", "motor_nlp", "simulated"]
 MACHINE_TYPES: tuple[MachineType, ...] = get_args(MachineType)
 SIZING_METHODS: tuple[SizingMethod, ...] = get_args(SizingMethod)
 FLYWHEEL_SHAPES: tuple[Literal["rim", "disc"], ...] = ("rim", "disc")
@@ -249,7 +249,9 @@ class MachineTypeOut(BaseModel):
 class MethodOut(BaseModel):
     """One sizing method and the steady motion its inertia gives, found by integrating the equation of motion."""
 
-    method: SizingMethod
+    method: SizingMethod = Field(
+        description="simulated (whole-machine design only): the motor NLP's inertia raised until the simulated "
+        "machine, looked at between the samples too, meets the target.")
     required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red(phi).")
     flywheel_inertia_kgm2: float = Field(description="Inertia to add to the constant inertia already there.")
     achieved_delta: float = Field(description="Delta of the simulated steady motion (2 when the machine stalls).")

@@ -204,11 +204,14 @@ class TeethIn(StrictModel):
                                  "larger.")
     hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
     reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
+    planets: int = Field(3, ge=2, le=12, description="Planets of every planetary stage: z_r = z_s + 2 z_p, "
+                         "(z_s + z_r)/planets an integer, and neighbouring planets' tips clear.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"total_ratio": 17.3, "stages": 2, "max_teeth": 100},
         {"total_ratio": 12, "stages": 2, "max_teeth": 80, "tolerance": 0.01, "reverted": True, "hunting_teeth": True},
         {"total_ratio": 6, "stages": ["spur"], "min_teeth": 14, "max_teeth": 120},
+        {"total_ratio": 17.3, "stages": ["spur", "planetary"], "planets": 3, "max_teeth": 100},
     ]})
 
     def rules(self) -> synth.ToothRules:
@@ -222,11 +225,24 @@ class TeethIn(StrictModel):
 
 
 class MeshOut(BaseModel):
-    """One stage's tooth numbers; ratio = gear_teeth / pinion_teeth."""
+    """One stage's tooth numbers; ratio = gear_teeth / pinion_teeth. A planetary stage (sun in, ring held,
+    carrier out) gives its sun as pinion_teeth, its ring as gear_teeth, ratio = 1 + ring/sun, and the planets."""
 
     pinion_teeth: int
     gear_teeth: int
     ratio: float
+    sun_teeth: int | None = None
+    planet_teeth: int | None = None
+    ring_teeth: int | None = None
+    planets: int | None = None
+
+    @classmethod
+    def from_engine(cls, m: synth.Mesh) -> MeshOut:
+        """Schema from an engine mesh, simple or planetary."""
+        if isinstance(m, synth.PlanetaryMesh):
+            return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio, sun_teeth=m.pinion_teeth,
+                       planet_teeth=m.planet_teeth, ring_teeth=m.gear_teeth, planets=m.planets)
+        return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio)
 
 
 class TeethChecksOut(BaseModel):
@@ -261,7 +277,7 @@ class TeethOut(BaseModel):
         """Schema from an engine tooth result."""
         c = r.checks
         return cls(
-            stages=[MeshOut(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio) for m in r.stages],
+            stages=[MeshOut.from_engine(m) for m in r.stages],
             total_ratio=r.total_ratio, target_ratio=r.target_ratio, ratio_error=r.ratio_error,
             total_teeth=r.total_teeth, tolerance=r.tolerance, method=r.method, search_time_s=r.search_time,
             products_examined=r.products_examined, undercut_limit=r.undercut_limit,

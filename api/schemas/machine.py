@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -12,6 +11,7 @@ from ._engine import np, synth
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
 from .common import (
+    FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
     MAX_MASS_KG,
     Length,
@@ -40,10 +40,45 @@ PRESS_EXAMPLE: JsonDict = {
 }
 
 
+#: The lecture-10 shaper driven as the seeds' drive example: motor A2-72-4, a bevel stage fixed at 3, an open spur
+#: stage, 9 rad/s at the crank; a cutting force of 1.2 kN over the working stroke.
+SHAPER_EXAMPLE: JsonDict = {
+    "mechanism": {"type": "slotted_lever", "crank_length_m": 0.1, "ground_length_m": 0.3, "rocker_length_m": 0.6,
+                  "ram_height_m": 0.7,
+                  "links": {"crank": {"mass_kg": 5.0},
+                            "rocker": {"mass_kg": 10.0, "com_m": [0.25, 0.0], "inertia_kgm2": 0.3},
+                            "ram": {"mass_kg": 12.0}}},
+    "gravity": {"g_m_s2": 9.81},
+    "loads": [{"type": "window", "force_N": 1200, "start_deg": -60, "end_deg": 60, "point_m": [0, -0.1]}],
+    "speed_rpm": 85.944,
+    "delta": 0.002,
+    "drive": {"stages": [{"type": "bevel", "ratio": 3, "efficiency": 0.931},
+                         {"type": "open_spur", "efficiency": 0.891}],
+              "motor": "A2-72-4", "max_teeth": 120},
+    "flywheel": {"placement": "lightest", "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 45,
+                                                       "max_diameter_m": 0.75}},
+}
+
+#: A four-bar fully balanced, with what the other balancing modes would cost.
+FOURBAR_MACHINE_EXAMPLE: JsonDict = {
+    "mechanism": FOURBAR_EXAMPLE,
+    "loads": [{"type": "window", "torque_Nm": 60, "start_deg": 0, "end_deg": 180}],
+    "speed_rpm": 300,
+    "delta": 0.01,
+    "drive": {"stages": ["helical"], "synchronous_rpm": 1500},
+    "balancing": {"mode": "full"},
+    "alternatives": True,
+}
+
+
+StageCount = Annotated[int, Field(ge=1, le=20)]
+StageList = Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20)]
+
+
 class MachineDriveIn(StrictModel):
     """The drive from motor to crank, motor side first, and how its motor and teeth are chosen."""
 
-    stages: Annotated[int, Field(ge=1, le=20)] | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20)] = Field(
+    stages: StageCount | StageList = Field(
         2, description="A count of spur stages, or a list of stage types or stages, motor side first.")
     motor: str | None = Field(None, min_length=1, max_length=80,
                               description="A catalogue motor by name; left out, the smallest that covers the power.")
@@ -134,7 +169,9 @@ class MachineIn(LinkageRequest):
     """One machine: the linkage with its loads at its working speed (`speed_rpm`), the drive, the target delta
     (or a machine type), the balancing and flywheel choices."""
 
-    delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
+    samples: int = Field(360, ge=3, le=3600, description="Uniformly spaced crank angles over one revolution, for "
+                         "every stage of the chain.")
+    delta: float | None = Field(None, ge=1e-4, lt=1, description="Target (w_max - w_min)/w_mean [-].")
     machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
     drive: MachineDriveIn = Field(default_factory=MachineDriveIn, description="Gear stages and the motor.")
     balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn,
@@ -145,7 +182,7 @@ class MachineIn(LinkageRequest):
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE]})
+    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE]})
 
     def to_engine(self, max_stages: int) -> synth.MachineSpec:
         """Engine machine (degrees and rpm become radians and rad/s here)."""

@@ -399,6 +399,7 @@ class PathIn(StrictModel):
     branch: Literal[1, -1] | None = Field(None, description="Assembly branch; null tries both.")
     starts: int = Field(32, ge=1, le=MAX_PATH_STARTS, description="Multistart points (scrambled Sobol).")
     seed: int = Field(0, ge=0, le=2**31 - 1, description="Seed of the Sobol scrambling: same seed, same answer.")
+    min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission angle.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"points_m": [[0.1512, 0.1621], [0.1698, 0.2037], [0.1319, 0.2318], [0.0685, 0.2331], [0.0075, 0.204],
@@ -418,7 +419,7 @@ class PathIn(StrictModel):
             pivot_box=box if self.pivot_box_m is None else self.pivot_box_m.box(),
             coupler_point_max=min(MAX_LENGTH_M, cp_max if self.coupler_point_max_m is None else self.coupler_point_max_m),
             branch=0 if self.branch is None else self.branch, starts=self.starts, seed=self.seed,
-            time_limit=time_limit_s,
+            time_limit=time_limit_s, min_transmission_angle=math.radians(self.min_transmission_angle_deg),
         )
 
 

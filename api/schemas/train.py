@@ -41,12 +41,15 @@ class TrainPlanetaryIn(StrictModel):
     fixed: MemberName = Field("ring", description="The member held still.")
     input: MemberName = Field("sun", description="The member driven by the previous shaft.")
     output: MemberName = Field("carrier", description="The member that drives the next shaft.")
-    efficiency: float | None = Field(None, gt=0, le=1, description="Default: the table's planetary stage.")
+    efficiency: float | None = Field(None, gt=0, le=1, description="The stage's efficiency; default from "
+                                    "basic_efficiency by the loss in the motion relative to the carrier.")
+    basic_efficiency: float | None = Field(None, gt=0, le=1, description="Efficiency with the carrier held (both "
+                                           "meshes); default the table's closed spur pair, squared.")
 
     def to_engine(self) -> synth.PlanetaryStage:
         """Engine planetary stage."""
         return synth.PlanetaryStage(self.sun_teeth, self.planet_teeth, self.ring_teeth, self.fixed, self.input,
-                                    self.output, self.planet_ring_teeth, self.efficiency)
+                                    self.output, self.planet_ring_teeth, self.efficiency, self.basic_efficiency)
 
 
 def _element_type(value: object) -> str:

@@ -192,7 +192,7 @@ def balance_static(
     ar, br = _static_system(linkage, lm, cw)
     program = _program(cw)
     program.equal(ar, br)
-    binding = ["angle_deg"] if spec.angle else []
+    binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
     masses, inertias = cw.mass_columns(), cw.inertia_columns()
     if mass_budget is not None:
         program.at_most(masses[None, :], np.array([mass_budget]))
@@ -416,13 +416,14 @@ _PEAK_TERMS = ("peak_shaking_force", "peak_shaking_moment")
 def _compressed_cone(y: FloatArray, c: FloatArray) -> tuple[FloatArray, FloatArray]:
     """||y @ x + c|| for a tall y (thousands of rows, a few columns) as a cone of a few rows, exactly.
 
-    With y = Q R: ||y x + c||² = ||R x + Qᵀc||² + ||c - Q Qᵀc||², so the solver sees columns, not angles.
-    Returns (G, g) with the cone's vector G x + g.
+    With [y c] = Q [[R, t], [0, rho]]: ||y x + c||² = ||R x + t||² + rho², so the solver sees columns, not
+    angles; one triangular factorisation of the augmented matrix, Q never formed. Returns (G, g) with the
+    cone's vector G x + g.
     """
-    q, r = np.linalg.qr(y)
-    t = q.T @ c
-    rest = float(np.linalg.norm(c - q @ t))
-    return np.vstack([r, np.zeros((1, r.shape[1]))]), np.concatenate([t, [rest]])
+    k = y.shape[1]
+    r: FloatArray = np.asarray(np.linalg.qr(np.column_stack([y, c]), mode="r"), dtype=float)
+    rest = abs(float(r[k, k])) if r.shape[0] > k else 0.0
+    return np.vstack([r[:k, :k], np.zeros((1, k))]), np.concatenate([r[:k, k], [rest]])
 
 
 @dataclass(frozen=True, slots=True)
@@ -564,6 +565,7 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
     _require_fourbar(linkage)
     spec = spec or CounterweightSpec()
     spec.validate(linkage)
+    spec = _with_default_radii(spec, linkage)
     for weights in weight_sets:
         weights.validate()
     if mass_budget is None:

@@ -55,7 +55,7 @@ class SliderCrankBalance:
 RESIDUAL_ORDERS = 6
 
 
-def harmonics(series: FloatArray, orders: int) -> tuple[FloatArray, FloatArray]:
+def _harmonics(series: FloatArray, orders: int) -> tuple[FloatArray, FloatArray]:
     """Cosine and sine coefficients of crank orders 1..``orders`` of a series over one cycle at uniform angles.
 
     ``series`` (N,) or (N, d) sampled at phi_i = 2·pi·i/N: series ≈ sum_k c_k·cos(k·phi) + s_k·sin(k·phi);
@@ -71,7 +71,7 @@ def harmonics(series: FloatArray, orders: int) -> tuple[FloatArray, FloatArray]:
 def _peak_by_order(force: FloatArray, orders: int) -> tuple[float, ...]:
     """Largest magnitude [N] over the cycle of each order's part of a planar force (N, 2): the major semi-axis
     of the ellipse c_k·cos(k·phi) + s_k·sin(k·phi) traces, the largest singular value of [c_k s_k]."""
-    c, s = harmonics(force, orders)
+    c, s = _harmonics(force, orders)
     return tuple(float(v) for v in np.linalg.svd(np.stack([c, s], axis=2), compute_uv=False)[:, 0])
 
 
@@ -113,7 +113,7 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
     after = analyse(linkage.with_counterweights([cw]), speed, samples=samples)
     phi = after.motion.phi
     # The reciprocating part puts -m_B·a_B on the frame along x; each order k of it is F_k·cos(k·phi - theta_k).
-    c, s = harmonics(-m_b * before.motion.point_acc["B"][:, 0], max(orders, 2))
+    c, s = _harmonics(-m_b * before.motion.point_acc["B"][:, 0], max(orders, 2))
     amps = np.hypot(c, s)
     theta = np.arctan2(s, c)
     # A pair's two shafts turn at +k·w and -k·w with both masses along +x when k·phi = psi: together they put

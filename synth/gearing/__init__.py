@@ -26,6 +26,7 @@ from .teeth import (
     train_ratio,
     undercut_limit,
 )
+from .planetary import PlanetaryMesh, planetary_tooth_numbers
 from .train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 
 __all__ = [
@@ -35,5 +36,5 @@ __all__ = [
     "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",
     "reduced_train_inertia", "select_motor", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
     "train_ratio", "undercut_limit",
-    "GearMesh", "PlanetaryStage", "TrainResult", "TrainShaft", "TrainWheel", "gear_train",
+    "GearMesh", "PlanetaryMesh", "PlanetaryStage", "planetary_tooth_numbers", "TrainResult", "TrainShaft", "TrainWheel", "gear_train",
 ]

@@ -10,10 +10,15 @@ Method: an exhaustive search that is provably complete, vectorised with NumPy (n
 2. Pairs with the same ratio are interchangeable but for their tooth count, so each stage keeps one pair per
    reduced fraction, the one with the fewest teeth. Stages whose ratio range cannot meet the target window
    given the others' extreme ratios are pruned by those bounds.
-3. Meet in the middle: the stages are split into two halves; each half's products are enumerated (pruned to
-   those that can still reach the target window), one half is sorted, and every product of the other half is
-   matched by binary search. Closest mode takes the two neighbours of U/a; tolerance mode
-   takes the fewest-teeth product inside the window with a sparse-table range minimum.
+3. Meet in the middle: the first half of the stages forms a table, their products (pruned to those that can
+   still reach the target window) sorted by ratio, with a uniform grid over log ratio whose cells are about
+   twice the window wide. The other half is never materialised: the products of all but its last stage times
+   the last stage's candidates are streamed in chunks of ``_CHUNK``, each product screened in O(1) on the
+   grid (no table product within its window means no match) and only the survivors matched by binary search.
+   Closest mode starts with a window expected to hold ~1e5 products and widens tenfold while it is empty; the
+   window shrinks to the best error found so far. Tolerance mode streams by ascending teeth and stops when
+   no later product can beat the fewest teeth found; the fewest teeth in a matched range come from a
+   sparse-table range minimum. Memory is the table, the grid and one chunk, whatever the tooth range.
 4. Reverted (coaxial) trains need equal tooth sums z1 + z2 = z3 + z4 = S (same module, equal centre distances):
    the search runs once per S, ascending.
 
@@ -44,6 +49,9 @@ MAX_TEETH_LIMIT = 1000
 MAX_PRODUCTS = 20_000_000
 MAX_TABLE = 2_000_000
 ENUMERATION_CHECK_LIMIT = 1_000_000
+# Products of the streamed half handled at once: bounds the search's memory whatever the tooth range.
+_CHUNK = 1 << 17
+_MAX_CELLS = 1 << 22
 
 
 @dataclass(frozen=True, slots=True)
@@ -229,19 +237,20 @@ class _Half:
         return [int(i) for i in np.unravel_index(int(self.flat[row]), self.sizes)] if self.sizes else []
 
 
-def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[float, float]]) -> tuple[_Half, int]:
+def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[float, float]],
+             limit: int = MAX_PRODUCTS) -> tuple[_Half, int]:
     """All products of ``sets`` whose ratio, times what the remaining stages ``rest`` reach, can land in [lo, hi].
 
-    Products are kept as floats (three factors at most carry ~1e-15 relative error, far below the 1e-12 tie
-    rule) with their position in the stages' grid, so no duplicate needs removing.
+    Products are kept as floats (a few factors carry ~1e-15 relative error, far below the 1e-12 tie rule) with
+    their position in the stages' grid, so no duplicate needs removing. Raises TooLarge past ``limit``.
     """
     ratio, teeth, flat = np.ones(1), np.zeros(1, np.int64), np.zeros(1, np.int64)
     examined = 0
     for k, s in enumerate(sets):
         size = len(ratio) * len(s.num)
-        if size > MAX_PRODUCTS:
+        if size > limit:
             raise TooLarge("tooth search partial products (narrow max_teeth, the stage ranges or the tolerance)",
-                           MAX_PRODUCTS, size)
+                           limit, size)
         examined += size
         ratio = (ratio[:, None] * s.ratio[None, :]).ravel()
         teeth = (teeth[:, None] + s.teeth[None, :]).ravel()
@@ -253,12 +262,17 @@ def _combine(sets: Sequence[_Set], lo: float, hi: float, rest: Sequence[tuple[fl
     return _Half(ratio, teeth, flat, tuple(len(s.num) for s in sets)), examined
 
 
-def _range_min(values: IntArray, lo: IntArray, hi: IntArray) -> IntArray:
-    """min(values[lo:hi]) for every query (all hi > lo) with a sparse table."""
-    table = [values.astype(np.int32)]
+def _sparse_table(values: IntArray) -> list[IntArray]:
+    """Levels of a sparse table for range minima: level k holds min(values[i : i + 2^k])."""
+    table = [values.astype(np.int64)]
     while 2 ** len(table) <= len(values):
         prev, half = table[-1], 2 ** (len(table) - 1)
         table.append(np.minimum(prev[:-half], prev[half:]))
+    return table
+
+
+def _range_min(table: list[IntArray], lo: IntArray, hi: IntArray) -> IntArray:
+    """min(values[lo:hi]) for every query (all hi > lo) from a sparse table of the values."""
     level = np.floor(np.log2(hi - lo)).astype(np.int64)
     out = np.empty(len(lo), dtype=np.int64)
     for lev in np.unique(level):
@@ -268,62 +282,230 @@ def _range_min(values: IntArray, lo: IntArray, hi: IntArray) -> IntArray:
     return out
 
 
-def _meet(a: _Half, b: _Half, target: float, tolerance: float | None,
-          window: float = math.inf) -> tuple[float, int, list[int]] | None:
-    """Best (error, teeth, per-stage indices) over products a*b; None when nothing qualifies.
+@dataclass(frozen=True, slots=True)
+class _Table:
+    """The sorted half of the meet in the middle: products ascending by ratio, with their teeth and grid index.
 
-    In closest mode (no tolerance) only errors up to ``window`` count: the halves were pruned to that window.
+    A uniform grid over log ratio, its cells about twice the search window wide (at most ``_MAX_CELLS``),
+    screens queries in O(1): ``edges[k]`` is the first product at or above cell k, ``pair[k]`` whether cells
+    k - 1 or k hold one (``pair[0]``: cell 0).
     """
-    if len(a.ratio) == 0 or len(b.ratio) == 0:
-        return None
-    order = np.argsort(b.ratio, kind="stable")
-    br, bt = b.ratio[order], b.teeth[order]
-    ar = a.ratio
-    if tolerance is None:
-        j = np.searchsorted(br, target / ar)
-        cand = np.stack([np.clip(j - 1, 0, len(br) - 1), np.clip(j, 0, len(br) - 1)], axis=1)
-        best = float(np.min(np.abs(ar[:, None] * br[cand] / target - 1)))
-        if best > window:
-            return None
-        w_lo, w_hi = target * (1 - best - 2 * TIE), target * (1 + best + 2 * TIE)
-    else:
-        w_lo, w_hi = target * (1 - tolerance) * (1 - 1e-12), target * (1 + tolerance) * (1 + 1e-12)
-    lo = np.searchsorted(br, w_lo / ar, side="left")
-    hi = np.searchsorted(br, w_hi / ar, side="right")
-    has = np.nonzero(hi > lo)[0]
-    if has.size == 0:
-        return None
-    if tolerance is None:
-        counts = hi[has] - lo[has]
-        ai = np.repeat(has, counts)
-        bi = np.repeat(lo[has], counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
-        err = np.abs(ar[ai] * br[bi] / target - 1)
-        teeth = a.teeth[ai] + bt[bi]
+
+    half: _Half
+    base: float
+    inv_step: float
+    edges: NDArray[np.int32]
+    pair: NDArray[np.bool_]
+
+    @classmethod
+    def build(cls, half: _Half, window: float) -> _Table:
+        """Sort ``half`` and lay its grid for a relative search window ``window``."""
+        order = np.argsort(half.ratio, kind="stable")
+        half = _Half(half.ratio[order], half.teeth[order], half.flat[order], half.sizes)
+        logs = np.log(half.ratio)
+        span = float(logs[-1] - logs[0])
+        step = max(2 * window, span / _MAX_CELLS, 1e-15)
+        cells = int(span / step) + 1
+        cell = np.minimum(((logs - logs[0]) / step).astype(np.int64), cells - 1)
+        edges = np.zeros(cells + 3, dtype=np.int32)
+        np.cumsum(np.bincount(cell, minlength=cells), out=edges[1 : cells + 1])
+        edges[cells + 1 :] = len(logs)
+        pair = np.empty(cells + 2, dtype=bool)
+        pair[0] = edges[1] > edges[0]
+        pair[1:] = edges[2:] > edges[:-2]
+        return cls(half, float(logs[0]), 1.0 / step, edges, pair)
+
+    def screen(self, x_lo: FloatArray, width: float) -> IntArray:
+        """Flat indices of the queries [x_lo - 1, x_lo - 1 + width] (in grid cells from the base; note the
+        offset of one cell) that may hold a product; those left out certainly hold none. ``x_lo`` is
+        overwritten."""
+        top = len(self.edges) - 2
+        if width <= 1.0:
+            # The query spans at most two cells, k - 1 and k with k = floor(x_lo): one look-up answers for both.
+            np.clip(x_lo, 0.0, top, out=x_lo)
+            return np.flatnonzero(self.pair[x_lo.astype(np.intp)])
+        ka = np.floor(x_lo - 1).astype(np.intp).clip(0, top)
+        kb = np.floor(x_lo - 1 + width).astype(np.intp).clip(0, top) + 1
+        return np.flatnonzero(self.edges[kb] > self.edges[ka])
+
+
+@dataclass(frozen=True, slots=True)
+class _Stream:
+    """The other half of the meet in the middle, never materialised: the products of all but its last stage
+    (pruned by bounds) times the last stage's candidates, taken ``rows`` outer products at a time.
+
+    In closest mode both are sorted by ratio, so a chunk of outer products can only pair with a contiguous run
+    of the last stage (bounded by the target window over the table's range); only that run is screened.
+    """
+
+    outer: _Half
+    outer_log: FloatArray
+    last: _Set
+    last_log: FloatArray
+    sizes: tuple[int, ...]
+    rows: int
+    reach: tuple[float, float] | None   # closest mode: the last stage's ratio lies in reach / (outer ratio)
+
+    @classmethod
+    def build(cls, sets: Sequence[_Set], lo: float, hi: float, table_range: tuple[float, float],
+              by_teeth: bool) -> tuple[_Stream, int]:
+        """With ``by_teeth`` the outer products and the last stage come in ascending order of teeth."""
+        bounds = [(float(s.ratio.min()), float(s.ratio.max())) for s in sets]
+        outer, work = _combine(sets[:-1], lo, hi, bounds + [table_range], limit=MAX_TABLE)
+        last = sets[-1]
+        if by_teeth:
+            order = np.argsort(outer.teeth, kind="stable")
+            outer = _Half(outer.ratio[order], outer.teeth[order], outer.flat[order], outer.sizes)
+            k = np.argsort(last.teeth, kind="stable")
+            last = _Set(last.num[k], last.den[k], last.teeth[k], k[:, None])
+        else:
+            order = np.argsort(outer.ratio, kind="stable")
+            outer = _Half(outer.ratio[order], outer.teeth[order], outer.flat[order], outer.sizes)
+            k = np.argsort(last.ratio, kind="stable")
+            last = _Set(last.num[k], last.den[k], last.teeth[k], k[:, None])
+        reach = None if by_teeth else (lo * (1 - 1e-12) / table_range[1], hi * (1 + 1e-12) / table_range[0])
+        return cls(outer, np.log(outer.ratio), last, np.log(last.ratio), outer.sizes + (len(last.num),),
+                   max(1, _CHUNK // len(last.num)), reach), work
+
+    def starts(self) -> range:
+        """First outer row of every chunk."""
+        return range(0, len(self.outer.ratio), self.rows)
+
+    def take(self, start: int, flat: IntArray, first: int = 0, width: int | None = None) -> _Half:
+        """Products of the chunk from outer row ``start`` at chunk-local flat positions ``flat`` over the last
+        stage's run ``first .. first + width``; their ``flat`` field indexes the stages' candidate grid."""
+        r, j = np.divmod(flat, len(self.last.num) if width is None else width)
+        r = r + start
+        j = j + first
+        col = self.last.idx[j, 0]
+        return _Half(self.outer.ratio[r] * self.last.ratio[j], self.outer.teeth[r] + self.last.teeth[j],
+                     self.outer.flat[r] * len(self.last.num) + col, self.sizes)
+
+    def screened(self, table: _Table, start: int, log_lo: float, log_hi: float) -> _Half:
+        """The chunk's products that may land in [log_lo, log_hi] with some table product."""
+        sl = slice(start, start + self.rows)
+        outer = self.outer.ratio[sl]
+        # Both sorted by ratio: the chunk's largest outer ratio sets the run's start, its smallest the end.
+        first, stop = 0, len(self.last.num)
+        if self.reach is not None:
+            first = int(np.searchsorted(self.last.ratio, self.reach[0] / outer.max(), side="left"))
+            stop = int(np.searchsorted(self.last.ratio, self.reach[1] / outer.min(), side="right"))
+        if stop <= first:
+            return self.take(start, np.zeros(0, dtype=np.intp))
+        a = (log_lo - self.outer_log[sl] - table.base) * table.inv_step + 1.0
+        x = a[:, None] - (self.last_log[first:stop] * table.inv_step)[None, :]
+        return self.take(start, table.screen(x.ravel(), (log_hi - log_lo) * table.inv_step), first, stop - first)
+
+
+def _closest(table: _Table, stream: _Stream, target: float,
+             window: float) -> tuple[tuple[float, int, int, int] | None, int]:
+    """Closest product within ``window`` (relative), ties within TIE broken by fewer teeth: each chunk is
+    screened on the table's grid and only its survivors are matched exactly by binary search.
+
+    Returns (error, teeth, streamed grid index, table row) or None, and the products screened.
+    """
+    tb = table.half
+    best = math.inf
+    found: list[tuple[FloatArray, IntArray, IntArray, IntArray]] = []
+    work = 0
+    for start in stream.starts():
+        w = min(window, best + 2 * TIE)
+        w_lo, w_hi = target * max(1e-300, 1 - w - 2 * TIE), target * (1 + w + 2 * TIE)
+        chunk = stream.screened(table, start, math.log(w_lo) - 1e-12, math.log(w_hi) + 1e-12)
+        work += min(stream.rows, len(stream.outer.ratio) - start) * len(stream.last.num)
+        if len(chunk.ratio) == 0:
+            continue
+        ar = chunk.ratio
+        # The nearest table products first: they bound the best error, so only near-ties are expanded.
+        j = np.searchsorted(tb.ratio, target / ar)
+        near = np.stack([np.clip(j - 1, 0, len(tb.ratio) - 1), np.clip(j, 0, len(tb.ratio) - 1)], axis=1)
+        best = min(best, float(np.min(np.abs(ar[:, None] * tb.ratio[near] / target - 1))))
+        w = min(window, best + 2 * TIE)
+        w_lo, w_hi = target * max(0.0, 1 - w - 2 * TIE), target * (1 + w + 2 * TIE)
+        lo = np.searchsorted(tb.ratio, w_lo / ar, side="left")
+        hi = np.searchsorted(tb.ratio, w_hi / ar, side="right")
+        ai = np.nonzero(hi > lo)[0]
+        if ai.size == 0:
+            continue
+        lo, hi = lo[ai], hi[ai]
+        counts = hi - lo
+        a_rows = np.repeat(ai, counts)
+        b_rows = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+        err = np.abs(ar[a_rows] * tb.ratio[b_rows] / target - 1)
+        teeth = chunk.teeth[a_rows] + tb.teeth[b_rows]
         keep = err <= best + TIE
-        ai, bi, err, teeth = ai[keep], bi[keep], err[keep], teeth[keep]
-        k = int(np.lexsort((err, teeth))[0])
-        return float(err[k]), int(teeth[k]), a.pick(int(ai[k])) + b.pick(int(order[bi[k]]))
-    if len(br) > MAX_TABLE:
-        raise TooLarge("tooth search table (narrow max_teeth or the stage ranges)", MAX_TABLE, len(br))
-    fewest = a.teeth[has] + _range_min(bt, lo[has], hi[has])
-    t_best = int(fewest.min())
-    sel = has[fewest == t_best]
-    need = t_best - a.teeth[sel]
-    best_k: tuple[float, int, int] | None = None
-    for t in np.unique(need):
-        pos = np.nonzero(bt == t)[0]
-        rows = sel[need == t]
-        j = np.searchsorted(br[pos], target / ar[rows])
-        for off in (-1, 0):
-            jj = np.clip(j + off, 0, len(pos) - 1)
-            prod = ar[rows] * br[pos[jj]]
-            err = np.abs(prod / target - 1)
-            err = np.where((prod >= w_lo) & (prod <= w_hi), err, np.inf)
+        found.append((err[keep], teeth[keep], chunk.flat[a_rows[keep]], b_rows[keep]))
+    if not found or best > window:
+        return None, work
+    err = np.concatenate([f[0] for f in found])
+    teeth = np.concatenate([f[1] for f in found])
+    a_flat = np.concatenate([f[2] for f in found])
+    b_rows = np.concatenate([f[3] for f in found])
+    keep = err <= best + TIE
+    err, teeth, a_flat, b_rows = err[keep], teeth[keep], a_flat[keep], b_rows[keep]
+    k = int(np.lexsort((err, teeth))[0])
+    return (float(err[k]), int(teeth[k]), int(a_flat[k]), int(b_rows[k])), work
+
+
+def _fewest(table: _Table, stream: _Stream, target: float,
+            tolerance: float) -> tuple[tuple[float, int, int, int] | None, int]:
+    """Fewest teeth with a product within ``tolerance``, ties broken by the smaller error.
+
+    The stream comes in ascending order of teeth (outer products and last stage both sorted), so each outer
+    product pairs only with a prefix of the last stage once a best is known, and the search stops when no
+    later chunk can beat it.
+    """
+    tb = table.half
+    w_lo, w_hi = target * (1 - tolerance) * (1 - 1e-12), target * (1 + tolerance) * (1 + 1e-12)
+    levels = _sparse_table(tb.teeth)
+    min_table = int(tb.teeth.min())
+    min_last = int(stream.last.teeth.min())
+    best: tuple[float, int, int, int] | None = None   # error, teeth, streamed grid index, table row
+    work = 0
+    n_last = len(stream.last.num)
+    for start in stream.starts():
+        stop = min(start + stream.rows, len(stream.outer.ratio))
+        if best is not None and int(stream.outer.teeth[start]) + min_last + min_table > best[1]:
+            break
+        if best is None:
+            chunk = stream.screened(table, start, math.log(w_lo) - 1e-12, math.log(w_hi) + 1e-12)
+            work += (stop - start) * n_last
+        else:
+            # Only the last stage's prefix that can still tie or beat the best teeth.
+            room = best[1] - min_table - stream.outer.teeth[start:stop]
+            count = np.searchsorted(stream.last.teeth, room, side="right")
+            total = int(count.sum())
+            work += total
+            if total == 0:
+                continue
+            rows = np.repeat(np.arange(stop - start), count)
+            cols = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
+            chunk = stream.take(start, rows * n_last + cols)
+            logs = np.log(chunk.ratio)
+            x = (math.log(w_lo) - 1e-12 - logs - table.base) * table.inv_step + 1.0
+            keep = table.screen(x, (math.log(w_hi) - math.log(w_lo) + 2e-12) * table.inv_step)
+            chunk = _Half(chunk.ratio[keep], chunk.teeth[keep], chunk.flat[keep], chunk.sizes)
+        if len(chunk.ratio) == 0:
+            continue
+        ar = chunk.ratio
+        lo = np.searchsorted(tb.ratio, w_lo / ar, side="left")
+        hi = np.searchsorted(tb.ratio, w_hi / ar, side="right")
+        has = np.nonzero(hi > lo)[0]
+        if has.size == 0:
+            continue
+        fewest = chunk.teeth[has] + _range_min(levels, lo[has], hi[has])
+        t_best = int(fewest.min())
+        if best is not None and t_best > best[1]:
+            continue
+        for r in has[fewest == t_best]:
+            seg = np.arange(lo[r], hi[r])
+            seg = seg[tb.teeth[seg] == t_best - chunk.teeth[r]]
+            err = np.abs(ar[r] * tb.ratio[seg] / target - 1)
             i = int(np.argmin(err))
-            if np.isfinite(err[i]) and (best_k is None or err[i] < best_k[0]):
-                best_k = (float(err[i]), int(rows[i]), int(pos[jj[i]]))
-    assert best_k is not None
-    return best_k[0], t_best, a.pick(best_k[1]) + b.pick(int(order[best_k[2]]))
+            cand = (float(err[i]), t_best, int(chunk.flat[r]), int(seg[i]))
+            if best is None or cand[1] < best[1] or (cand[1] == best[1] and cand[0] < best[0]):
+                best = cand
+    return best, work
 
 
 def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | None) -> list[tuple[IntArray, IntArray]]:
@@ -339,6 +521,14 @@ def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | Non
     return out
 
 
+def _windows(first: float) -> list[float]:
+    """Closest-mode windows, widening tenfold from ``first`` to 0.1, then a last one reaching everything."""
+    out = [first]
+    while out[-1] < 0.1:
+        out.append(out[-1] * 10)
+    return out + [10.0]
+
+
 def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance: float | None,
             deduped: bool) -> tuple[tuple[float, int, list[tuple[int, int]]] | None, int]:
     """Exact best over one family of per-stage pair sets; returns (error, teeth, pairs) or None, and the work.
@@ -350,7 +540,7 @@ def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance
             _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]) for zp, zg in pairs]
     if any(len(s.num) == 0 for s in sets):
         return None, 0
-    windows = [tolerance] if tolerance is not None else [1e-5, 1e-4, 1e-3, 1e-2, 1e-1, math.inf]
+    windows = [tolerance] if tolerance is not None else _windows(_first_window(sets))
     examined = 0
     for window in windows:
         found, work = _search_window(sets, target, tolerance, window)
@@ -363,23 +553,42 @@ def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance
     return None, examined
 
 
+def _first_window(sets: Sequence[_Set]) -> float:
+    """A first closest-mode window that holds about 1e5 products if they spread evenly over their range: wide
+    enough that it rarely comes back empty (each window is a pass over all products), narrow enough that few
+    products survive its screening."""
+    logs = [np.log(s.ratio) for s in sets]
+    span = sum(float(v.max() - v.min()) for v in logs) or 1.0
+    count = math.prod(float(len(s.num)) for s in sets)
+    return float(min(1e-3, max(1e-11, 1e5 * span / (2 * count))))
+
+
 def _search_window(sets: Sequence[_Set], target: float, tolerance: float | None,
                    window: float) -> tuple[tuple[float, int, list[int]] | None, int]:
+    """Best product within ``window`` (closest mode) or ``tolerance``: the first half of the stages forms a
+    sorted table, the rest is streamed against it chunk by chunk."""
     bounds = [(float(s.ratio.min()), float(s.ratio.max())) for s in sets]
-    pad = window + 4 * TIE
+    pad = (tolerance if tolerance is not None else window) + 4 * TIE
     lo, hi = target * max(0.0, 1 - pad), target * (1 + pad)
     n = len(sets)
     k = n // 2
-    # The first k stages form the sorted (table) half; the rest are matched against it.
-    b_half, w1 = _combine(sets[:k], lo, hi, bounds[:k] + bounds[k:])
-    a_half, w2 = _combine(sets[k:], lo, hi, bounds[k:] + [(math.prod(b[0] for b in bounds[:k]),
-                                                            math.prod(b[1] for b in bounds[:k]))])
-    found = _meet(a_half, b_half, target, tolerance, window)
-    if found is None:
+    half, w1 = _combine(sets[:k], lo, hi, bounds, limit=MAX_TABLE)
+    if len(half.ratio) == 0:
+        return None, w1
+    table = _Table.build(half, pad)
+    stream, w2 = _Stream.build(sets[k:], lo, hi, (float(half.ratio.min()), float(half.ratio.max())),
+                               by_teeth=tolerance is not None)
+    if len(stream.outer.ratio) == 0:
         return None, w1 + w2
-    err, teeth, picks = found
-    # _meet lists the matched half (stages k..n-1) first.
-    return (err, teeth, picks[n - k:] + picks[: n - k]), w1 + w2
+    if tolerance is None:
+        found, w3 = _closest(table, stream, target, window)
+    else:
+        found, w3 = _fewest(table, stream, target, tolerance)
+    if found is None:
+        return None, w1 + w2 + w3
+    err, teeth, stream_flat, table_row = found
+    picks = table.half.pick(table_row) + [int(i) for i in np.unravel_index(stream_flat, stream.sizes)]
+    return (err, teeth, picks), w1 + w2 + w3
 
 
 def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules,
@@ -460,8 +669,11 @@ def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntAr
 
 
 def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | None = None,
-                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT) -> ToothResult:
+                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT,
+                  planets: int = 3) -> ToothResult:
     """Integer tooth numbers of a serial train whose ratio best meets ``target`` [-], motor side first.
+
+    A train with planetary stages (``planets`` planets each) is searched by :mod:`synth.gearing.planetary`.
 
     Parameters
     ----------
@@ -474,6 +686,10 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
     Raises Infeasible when the search is empty (``constraint`` names what to relax), InvalidInput, TooLarge.
     """
     rules = rules or ToothRules()
+    if any(s.type == "planetary" for s in stages):
+        from .planetary import planetary_tooth_numbers  # it builds on this module's rules and results
+
+        return planetary_tooth_numbers(target, stages, rules, tolerance, planets=planets, check_limit=check_limit)
     _validate(target, stages, rules, tolerance)
     t0 = time.perf_counter()
     pairs = _stage_sets(stages, rules, None)
@@ -512,7 +728,8 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
     min_small, min_large = _wheel_minimums(rules)
     return ToothResult(meshes, achieved, target, abs(achieved / target - 1), teeth, tolerance,
                        "exhaustive search, provably complete: per-stage pairs deduplicated by reduced "
-                       "fraction, meet in the middle over the two halves' products",
+                       "fraction, meet in the middle: one half's products sorted, the other's streamed "
+                       "against them in chunks",
                        elapsed, examined,
                        undercut_limit(rules.pressure_angle, rules.addendum, rules.profile_shift),
                        min_small, min_large, checks, tuple(warnings))

@@ -19,6 +19,8 @@ Member = Literal["sun", "ring", "carrier"]
 
 #: Largest number of elements in one train.
 MAX_TRAIN_ELEMENTS = 64
+#: Largest ratio magnitude (and inverse) of a train, so that its speeds stay finite.
+RATIO_LIMIT = 1e100
 
 
 @dataclass(frozen=True, slots=True)
@@ -43,8 +45,9 @@ class PlanetaryStage:
 
     Teeth of the sun ``sun_teeth``, of the planet meshing with it ``planet_teeth``, of the planet meshing with
     the ring ``planet_ring_teeth`` (a stepped planet; default the same wheel) and of the ring ``ring_teeth``.
-    ``fixed``, ``input`` and ``output`` name the three members; ``efficiency`` [-], default the table's
-    planetary stage.
+    ``fixed``, ``input`` and ``output`` name the three members; ``efficiency`` [-], or else from
+    ``basic_efficiency`` eta0 [-] of the gearing with the carrier held (default: two closed spur meshes, the
+    table's spur efficiency squared) by the loss in the relative motion (:meth:`stage_efficiency`).
     """
 
     sun_teeth: int
@@ -55,6 +58,24 @@ class PlanetaryStage:
     output: Member = "carrier"
     planet_ring_teeth: int | None = None
     efficiency: float | None = None
+    basic_efficiency: float | None = None
+
+    def stage_efficiency(self) -> float:
+        """Efficiency [-]: given, or 1 - (1 - eta0)·|P_rel/P_in|, the meshes losing (1 - eta0) of the power they
+        carry in the carrier's frame (Kreines' method; first order in the losses).
+
+        Ideal torques on sun, ring, carrier are 1 : -i0 : i0 - 1 (equilibrium and no work in the carrier's
+        frame), and the relative power is the sun's torque times w_sun - w_c. Sun in, ring held:
+        eta = (1 + eta0·z_r/z_s)/(1 + z_r/z_s); carrier held: eta = eta0.
+        """
+        if self.efficiency is not None:
+            return self.efficiency
+        eta0 = self.basic_efficiency if self.basic_efficiency is not None else stage_types()["spur"].efficiency ** 2
+        i0 = self.basic_ratio()
+        torque = {"sun": 1.0, "ring": -i0, "carrier": i0 - 1.0}
+        w = {self.fixed: 0.0, self.input: 1.0, self.output: 1.0 / self.ratio()}
+        share = abs((w["sun"] - w["carrier"]) / (torque[self.input] * w[self.input]))
+        return 1.0 - (1.0 - eta0) * share
 
     def basic_ratio(self) -> float:
         """Willis' ratio with the carrier held, (w_sun - w_c)/(w_ring - w_c) = -(z_p/z_s)·(z_r/z_p') [-]."""
@@ -131,6 +152,8 @@ def _validate(elements: Sequence[TrainElement], module: float | None) -> None:
             raise InvalidInput(f"tooth numbers must be positive, got {teeth}", field=f"elements[{i}]")
         if e.efficiency is not None and not 0 < e.efficiency <= 1:
             raise InvalidInput("efficiency must lie in (0, 1]", field=f"elements[{i}].efficiency")
+        if isinstance(e, PlanetaryStage) and e.basic_efficiency is not None and not 0 < e.basic_efficiency <= 1:
+            raise InvalidInput("basic_efficiency must lie in (0, 1]", field=f"elements[{i}].basic_efficiency")
         if isinstance(e, GearMesh) and e.idler:
             if not isinstance(previous, GearMesh):
                 raise InvalidInput("an idler drives on from the previous mesh's driven wheel",
@@ -220,7 +243,10 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             wheels.append((f"planet {k}", e.planet_teeth, None))
             if e.planet_ring_teeth is not None:
                 wheels.append((f"planet {k}'", e.planet_ring_teeth, None))
-            efficiency *= e.efficiency if e.efficiency is not None else table["planetary"].efficiency
+            efficiency *= e.stage_efficiency()
+        if not RATIO_LIMIT ** -1 <= abs(speed) <= RATIO_LIMIT:
+            raise InvalidInput(f"the train's ratio up to element {i} is {1 / speed:.3g}, beyond ±{RATIO_LIMIT:.0e} "
+                               "either way: no real train", field=f"elements[{i}]")
     formula *= (-1) ** external
     w_in = input_speed if input_speed is not None else (output_speed / speed if output_speed is not None else None)
     shafts = tuple(

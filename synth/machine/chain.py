@@ -3,7 +3,8 @@
 analysis -> balancing -> the balanced linkage reduced to its crank -> motor from the mean power -> ratio split
 and tooth numbers (the real ratio from the teeth is what the rest uses) -> flywheel sized with the chosen
 motor's characteristic on the chosen shaft -> the machine run to its steady state -> every shaft's speed, power
-and peak and RMS torque. Each step is one of the engine's own capabilities; nothing is re-derived here.
+and peak and RMS torque. Each stage is one of the engine's own capabilities, called as its endpoint calls it;
+what the chain adds is the simulated machine and what every shaft carries over the cycle.
 """
 
 from __future__ import annotations
@@ -40,13 +41,17 @@ from ..flywheel import (
     motor_constant_inertia,
     wittenbauer_tangents,
 )
-from ..gearing import DriveResult, ToothResult, design_drive, tooth_numbers
+from ..gearing import CatalogueMotor, DriveResult, ToothResult, design_drive, motor_catalogue, tooth_numbers
 from ..kinematics import FourBar, SliderCrank
 from ..model import Linkage
 from ..warnings import DesignWarning
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 
+#: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
+MIN_POWER = 1e-3
+#: Catalogue sizes the chain may step up when the cycle overloads the motor chosen from the mean power.
+MAX_MOTOR_UPGRADES = 4
 #: Relative room the tooth search gets around each free stage's split ratio [-].
 TOOTH_RATIO_ROOM = 0.05
 
@@ -157,11 +162,13 @@ def _summary_with_force(summary: Summary, force: np.ndarray) -> Summary:
                    max_shaking_force=float(magnitude.max()))
 
 
-def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> Balancing:
+def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
+    """The balancing stage and the balanced linkage's analysis (counter-rotors included), reusing the
+    balancing's own re-analysis where it is the same one."""
     choice, linkage, speed = spec.balancing, spec.linkage, spec.speed
     mode = choice.mode
     if mode == "none":
-        return Balancing("none", None, None, linkage, (), 0.0, before.summary())
+        return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
     if isinstance(mech, FourBar):
         if mode == "static":
@@ -173,20 +180,24 @@ def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> Balanc
         else:
             r = balance_optimal(linkage, speed, choice.spec, weights=choice.weights, mass_budget=choice.mass_budget,
                                 samples=spec.samples, time_limit_s=time_limit_s)
-        return Balancing(mode, r, None, r.analysis_after.linkage, r.counter_rotors, 0.0, r.after)
+        balanced = r.analysis_after
+        if r.counter_rotors:
+            balanced = analyse(balanced.linkage, speed, samples=spec.samples, counter_rotors=r.counter_rotors)
+        return Balancing(mode, r, None, balanced.linkage, r.counter_rotors, 0.0, r.after), balanced
     if isinstance(mech, SliderCrank):
         if mode == "optimal":
             raise InvalidInput("optimal balancing is for four-bars; a slider-crank takes static (a crank "
                                "counterweight for the rotating masses) or full (and Lanchester balancers)",
                                field="balancing.mode")
         sc = balance_slider_crank(linkage, speed, samples=spec.samples)
-        balanced = linkage.with_counterweights([sc.crank_counterweight])
-        after = analyse(balanced, speed, samples=spec.samples).summary()
+        balanced = analyse(linkage.with_counterweights([sc.crank_counterweight]), speed, samples=spec.samples)
+        after = balanced.summary()
         if mode == "static":
-            return Balancing(mode, None, sc, balanced, (), 0.0, after)
+            return Balancing(mode, None, sc, balanced.linkage, (), 0.0, after), balanced
         # each pair's two shafts carry m at rho turning at k·w: kinetic energy m·rho²·k²·w², so 2·m·rho²·k²
         extra = sum(2 * p.mass * p.radius**2 * p.order**2 for p in sc.pairs)
-        return Balancing(mode, None, sc, balanced, (), extra, _summary_with_force(after, sc.after_force))
+        return (Balancing(mode, None, sc, balanced.linkage, (), extra, _summary_with_force(after, sc.after_force)),
+                balanced)
     raise InvalidInput(f"counterweight balancing of a {type(mech).__name__} is not offered; use mode none",
                        field="balancing.mode")
 
@@ -218,6 +229,29 @@ def _shaft_names(n_stages: int) -> list[str]:
     return ["motor"] + [f"shaft {k}" for k in range(1, n_stages)] + ["crank"]
 
 
+def _profile(motion: MachineMotion) -> SpeedProfile:
+    return SpeedProfile(motion.phi, motion.omega, float(motion.omega.min()), float(motion.omega.max()), motion.delta)
+
+
+def _raise_to_target(cycle: MachineCycle, motor: Motor, inertia: float, motion: MachineMotion,
+                     delta: float) -> tuple[float, MachineMotion]:
+    """Constant inertia [kg·m²] whose simulated delta is ``delta`` [-], by secant steps on log delta over log J
+    (delta falls nearly as 1/J), from ``inertia`` whose ``motion`` swings too far."""
+    j0, d0 = inertia, motion.delta
+    j1 = j0 * d0 / delta
+    for _ in range(12):
+        motion = simulate_machine(cycle, j1, motor, start=float(motion.omega[0]))
+        d1 = motion.delta
+        if abs(d1 / delta - 1) <= 1e-5:
+            return j1, motion
+        slope = math.log(d1 / d0) / math.log(j1 / j0)
+        if not slope < 0:
+            break
+        j0, d0, j1 = j1, d1, j1 * math.exp(math.log(delta / d1) / slope)
+    raise SolverFailed("no_convergence", "the flywheel inertia that meets the target on the simulated machine "
+                       "was not found")
+
+
 def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycle: MachineCycle,
               ratios: Sequence[float], train_inertia: float,
               time_limit_s: float) -> tuple[FlywheelResult, FlywheelBody | None, MachineMotion]:
@@ -234,10 +268,15 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     guess = max(exact_constant_inertia(balanced, mean_speed, spec.delta), 1e-9)
     nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
     used = max(nlp.constant_inertia, existing)
-    motion = simulate_machine(machine_cycle, used, motor)
-    speed = SpeedProfile(motion.phi, motion.omega, float(motion.omega.min()), float(motion.omega.max()),
-                         motion.delta)
-    method = MethodResult("motor_nlp", nlp.constant_inertia, used - existing, speed)
+    # the NLP's periodic speed at the first sample starts the shooting next to the answer
+    motion = simulate_machine(machine_cycle, used, motor, start=float(nlp.omega[0]))
+    methods = [MethodResult("motor_nlp", nlp.constant_inertia, used - existing, _profile(motion))]
+    if used > existing and motion.delta > spec.delta * (1 + 1e-4):
+        # the NLP holds the speed at the samples; between them (a load step, say) the simulated machine can
+        # swing a little further: raise the inertia until the simulation itself meets the target
+        used, motion = _raise_to_target(machine_cycle, motor, used, motion, spec.delta)
+        methods.append(MethodResult("simulated", used, used - existing, _profile(motion)))
+    method = methods[-1]
     names = _shaft_names(len(ratios))
     speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))]
     choice = spec.flywheel
@@ -249,13 +288,20 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
         shafts = tuple(Shaft(n, r) for n, r in zip(names[:-1], speed_ratios, strict=True))
     shape = None
     if method.flywheel_inertia > 0:
-        shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
-                                float(motion.omega.max()), time_limit_s=time_limit_s)
+        try:
+            shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
+                                    float(motion.omega.max()), time_limit_s=time_limit_s)
+        except Infeasible as exc:
+            # the machine request holds the geometry under flywheel: name the field as the request spells it
+            raise Infeasible(exc.reason, None if exc.constraint is None else f"flywheel.{exc.constraint}",
+                             **exc.details) from exc
+        except InvalidInput as exc:
+            raise InvalidInput(str(exc), field=None if exc.field is None else f"flywheel.{exc.field}") from exc
     result = FlywheelResult(
         cycle=balanced, mean_speed=mean_speed, target_delta=spec.delta, constant_inertia=existing,
         driving_torque=driving, cycle_work=cycle.cycle_work,
-        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=(method,),
-        design_method="motor_nlp", geometry=shape, motor_mean_speed=mean_speed,
+        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=tuple(methods),
+        design_method=method.method, geometry=shape, motor_mean_speed=mean_speed,
     )
     if shape is None:
         return result, None, motion
@@ -271,7 +317,7 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
                      shaft=wanted, max_inertia_kgm2=miss.max_inertia)
 
 
-def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion, motor: Motor,
+def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion,
             placement: FlywheelBody | None, flywheel_inertia: float) -> tuple[MachineShaft, ...]:
     n = len(design_ratios)
     names = _shaft_names(n)
@@ -329,20 +375,62 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
     ratio, no shaft holds the flywheel, ...), SolverFailed or SolverTimeout, each naming what binds.
     """
     machine.validate()
+    # a load or mass typed a hundred orders of magnitude off overflows somewhere down the chain: say so once
+    with np.errstate(over="raise"):
+        try:
+            return _design(machine, time_limit_s)
+        except FloatingPointError as exc:
+            raise InvalidInput("the machine overflows floating point: a load, mass, inertia or speed is far "
+                               "outside any physical range") from exc
+
+
+def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     before = analyse(machine.linkage, machine.speed, samples=machine.samples)
-    bal = _balance(machine, before, time_limit_s)
-    balanced = analyse(bal.linkage, machine.speed, samples=machine.samples, counter_rotors=bal.counter_rotors)
+    bal, balanced = _balance(machine, before, time_limit_s)
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
-    if not output_power > 0:
+    if not output_power > MIN_POWER:
         raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
                            "give its process load", field="loads")
     d = machine.drive
-    drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
-                         synchronous_speed=d.synchronous_speed, motor=d.motor, objective=d.objective,
-                         torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
-                         catalogue=d.catalogue)
-    teeth, ratios = _teeth(machine, drive)
+    motor_name = d.motor
+    replaced: list[DesignWarning] = []
+    for _ in range(MAX_MOTOR_UPGRADES + 1):
+        design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
+        heavy = [c.name for c in design.checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
+        bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
+        if bigger is None:
+            break
+        # the mean power chose a motor the cycle's peaks or RMS overload: the next size up, same speed class
+        replaced.append(DesignWarning(
+            "motor_replaced", "drive.motor", bigger.rated_power,
+            f"motor {design.drive.motor.name} chosen from the mean power fails {', '.join(heavy)} on the simulated "
+            f"cycle; replaced by {bigger.name}", "W"))
+        motor_name = bigger.name
+    return replace(design, warnings=tuple(replaced) + design.warnings)
+
+
+def _next_motor(motor: CatalogueMotor, catalogue: Sequence[CatalogueMotor] | None) -> CatalogueMotor | None:
+    """The smallest catalogue motor of the same speed class rated above ``motor``, or None."""
+    same = [m for m in catalogue or motor_catalogue()
+            if math.isclose(m.synchronous_speed, motor.synchronous_speed, rel_tol=1e-6)
+            and m.rated_power > motor.rated_power]
+    return min(same, key=lambda m: (m.rated_power, -m.rated_speed)) if same else None
+
+
+def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balanced: Analysis,
+                   cycle: ReducedCycle, output_power: float, motor_name: str | None,
+                   time_limit_s: float) -> MachineDesign:
+    d = machine.drive
+    try:
+        drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+                             synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
+                             torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
+                             catalogue=d.catalogue)
+        teeth, ratios = _teeth(machine, drive)
+    except InvalidInput as exc:
+        # the machine request holds these fields under drive: name them as the request spells them
+        raise InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}") from exc
     train_ratio = math.prod(ratios)
     motor = Motor.from_catalogue(drive.motor, train_ratio, drive.chain_efficiency)
     speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
@@ -351,7 +439,7 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
     red = balanced.reduced
     machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
     flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
-    shafts = _shafts(ratios, drive, motion, motor, placement, flywheel.design.flywheel_inertia)
+    shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     warnings = list(drive.warnings)
     if teeth is not None:
         warnings += list(teeth.warnings)

@@ -39,11 +39,12 @@ def _torque(ax: Axes, d: MachineDesign) -> None:
 
 def _speed(ax: Axes, d: MachineDesign) -> None:
     m = d.motion
+    mid = 0.5 * (float(m.omega.max()) + float(m.omega.min())) / RPM
     ax.plot(np.degrees(m.phi), m.omega / RPM, lw=1.4, label=f"simulated: delta {m.delta:.4g}")
-    ax.axhline(d.spec.speed / RPM, color="k", ls=":", lw=1, label="working speed")
-    ax.legend(fontsize=7)
-    _grid(ax, f"crank speed of the assembled machine (target delta {d.spec.delta:.4g})", "crank angle [deg]",
-          "crank speed [rpm]")
+    ax.axhline(mid * (1 + d.spec.delta / 2), color="k", ls=":", lw=1)
+    ax.axhline(mid * (1 - d.spec.delta / 2), color="k", ls=":", lw=1, label=f"target band, delta {d.spec.delta:.4g}")
+    ax.legend(fontsize=7, title=f"working speed {d.spec.speed / RPM:.4g} rpm", title_fontsize=7)
+    _grid(ax, "crank speed, simulated machine", "crank angle [deg]", "crank speed [rpm]")
 
 
 def _polar(ax: Axes, d: MachineDesign) -> None:
@@ -62,7 +63,7 @@ def _moment(ax: Axes, d: MachineDesign) -> None:
     if d.balancing.mode != "none":
         ax.plot(deg, d.balanced.kinetostatics.shaking_moment, "--", label=f"after {d.balancing.mode}")
     ax.legend(fontsize=7)
-    _grid(ax, "shaking moment about the crank pivot", "crank angle [deg]", "moment [N·m]")
+    _grid(ax, "shaking moment about O", "crank angle [deg]", "moment [N·m]")
 
 
 def _energy_mass(ax: Axes, d: MachineDesign) -> None:
@@ -75,7 +76,7 @@ def _energy_mass(ax: Axes, d: MachineDesign) -> None:
     ax.plot(x, tan.slope_max * x + tan.intercept_max, "r--", lw=1, label="tangent w_max²/2")
     ax.plot(x, tan.slope_min * x + tan.intercept_min, "b--", lw=1, label="tangent w_min²/2")
     ax.legend(fontsize=7)
-    _grid(ax, "energy-mass diagram (motor's mean torque)", "reduced inertia J_red [kg·m²]", "excess work [J]")
+    _grid(ax, "energy-mass diagram", "reduced inertia J_red [kg·m²]", "excess work [J]")
 
 
 def _motor(ax: Axes, d: MachineDesign) -> None:
@@ -101,10 +102,10 @@ def _table(ax: Axes, title: str, header: Sequence[str], rows: Sequence[Sequence[
 
 
 def _key_figures(d: MachineDesign) -> list[list[str]]:
-    fw = d.placement
+    fw, motor = d.placement, d.drive.motor
     rows = [
         ["mean crank power", f"{d.output_power:.4g} W"],
-        ["motor", f"{d.drive.motor.name}, {d.drive.motor.rated_power:.4g} W, {d.drive.motor.rated_speed / RPM:.0f} rpm"],
+        ["motor", f"{motor.name}, {motor.rated_power:.0f} W, {motor.rated_speed / RPM:.0f} rpm"],
         ["train ratio (teeth)", f"{d.train_ratio:.5g} = " + " × ".join(f"{u:.4g}" for u in d.stage_ratios)],
         ["balancing", d.balancing.mode],
         ["flywheel on crank", f"{d.flywheel_inertia:.4g} kg·m²"],
@@ -118,12 +119,14 @@ def _key_figures(d: MachineDesign) -> list[list[str]]:
 
 def _summary_figure(d: MachineDesign) -> Figure:
     fig, axes = plt.subplots(2, 3, figsize=(16, 9))
-    draw_mechanism(axes[0, 0], d.balanced, float(d.before.motion.phi[0]))
+    # a third of the way round, where no linkage is folded flat on its line of centres
+    phi = d.before.motion.phi
+    draw_mechanism(axes[0, 0], d.balanced, float(phi[len(phi) // 6]))
     _torque(axes[0, 1], d)
     _speed(axes[0, 2], d)
     _polar(axes[1, 0], d)
     _motor(axes[1, 1], d)
-    _table(axes[1, 2], "design", ["", ""], _key_figures(d))
+    _table(axes[1, 2], "design", ["quantity", "value"], _key_figures(d))
     fig.suptitle(f"machine design: {'every check met' if d.passed else 'a check fails'}")
     fig.tight_layout()
     return fig
@@ -170,9 +173,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                [[s.name, f"{s.mean_speed / RPM:.4g}", f"{s.mean_power:.4g}", f"{s.mean_torque:.4g}",
                  f"{s.peak_torque:.4g}", f"{s.rms_torque:.4g}", f"{s.inertia:.4g}", "yes" if s.carries_flywheel else ""]
                 for s in d.shafts])
-        _table(axes[2], "checks against the simulated machine", ["check", "value", "limit", "met", "what"],
-               [[c.name, f"{c.value:.4g}", f"{c.limit:.4g}", "yes" if c.passed else "NO", c.detail]
-                for c in d.checks])
+        _table(axes[2], "checks against the simulated machine", ["check", "value", "limit", "met"],
+               [[c.name, f"{c.value:.4g}", f"{c.limit:.4g}", "yes" if c.passed else "NO"] for c in d.checks])
         fig.suptitle("drive")
         fig.tight_layout()
         pdf.savefig(fig)
@@ -180,7 +182,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
         if alternatives:
             fig, ax = plt.subplots(figsize=_A4)
             rows = []
-            for a in alternatives:
+            for a in [Alternative(d.balancing.mode + " (this design)", d, None), *alternatives]:
                 if a.design is None:
                     rows.append([a.mode, "not available", "", "", "", "", ""])
                     continue

@@ -4,15 +4,17 @@ The equation of motion is integrated in its velocity form, J(phi)·w·dw/dphi = 
 J'(phi)·w²/2, with J'(phi) the analytic slope of the linkage's reduced inertia (not the finite differences of
 the energy form the flywheel NLP and its own check use), the motor's characteristic through the real train
 ratio and efficiency, and the constant inertia of rotor, train and flywheel, by classical Runge-Kutta steps
-between the samples. Newton shooting on the initial speed, with the variational equation for the slope, finds
-the motion that repeats after one revolution.
+between the samples (compiled once per step count with CasADi). Newton shooting on the initial speed, with the
+variational equation for the slope, finds the motion that repeats after one revolution.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
+import casadi as ca
 import numpy as np
 
 from ..errors import InvalidInput, SolverFailed
@@ -62,50 +64,51 @@ class MachineMotion:
         return math.sqrt(self.time_mean(values**2))
 
 
-def _periodic(phi: FloatArray, values: FloatArray) -> FloatArray:
+def _closed(values: FloatArray) -> FloatArray:
+    """A table with its first value repeated one revolution later."""
     return np.append(values, values[0])
 
 
-def _rk4_cycle(tables: tuple[list[float], list[float], list[float], list[float]], w0: float, c: float, w_free: float,
-               substeps: int) -> tuple[list[float], float]:
-    """One revolution of dw/dphi = f(phi, w) from ``w0`` by classical Runge-Kutta, ``substeps`` per sample.
+@lru_cache(maxsize=16)
+def _cycle_stepper(steps: int) -> ca.Function:
+    """Classical Runge-Kutta over ``steps`` steps of dw/dphi = f(phi, w), compiled once per step count.
 
-    f = (M(phi) + c·(w_free - w) - J'(phi)·w²/2) / (J(phi)·w) with J, J', M linear between samples. Carries the
-    variational equation ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Returns the speed at every
-    sample (closed, N+1) and s after one revolution. An ODE is sequential in the angle: this loop is the
-    stepper itself, over plain floats.
+    f = (M(phi) + c·(w_free - w) - J'(phi)·w²/2) / (J(phi)·w). The state carries the variational equation
+    ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Each step's column of parameters holds its length, J,
+    J' and M at its start, middle and end, and c, w_free; the answer is the state after every step.
     """
-    nodes, inertia, slope, load = tables
+    x = ca.SX.sym("x", 2)
+    p = ca.SX.sym("p", 12)
+    h, ja, jm, jb, da, dm, db, ma, mm, mb, c, w_free = (p[i] for i in range(12))
 
-    def f(j: float, dj: float, m: float, w: float, sv: float) -> tuple[float, float]:
+    def f(j: ca.SX, dj: ca.SX, m: ca.SX, w: ca.SX, sv: ca.SX) -> ca.SX:
         r = (m + c * (w_free - w) - 0.5 * dj * w * w) / (j * w)
-        return r, ((-c - dj * w) / (j * w) - r / w) * sv
+        return ca.vertcat(r, ((-c - dj * w) / (j * w) - r / w) * sv)
 
-    out = [w0]
-    w, sv = w0, 1.0
-    for k in range(len(nodes) - 1):
-        h = (nodes[k + 1] - nodes[k]) / substeps
-        j0, j1 = inertia[k], inertia[k + 1]
-        d0, d1 = slope[k], slope[k + 1]
-        m0, m1 = load[k], load[k + 1]
-        for i in range(substeps):
-            ta, tm, tb = i / substeps, (i + 0.5) / substeps, (i + 1) / substeps
-            ja, jm, jb = j0 + ta * (j1 - j0), j0 + tm * (j1 - j0), j0 + tb * (j1 - j0)
-            da, dm, db = d0 + ta * (d1 - d0), d0 + tm * (d1 - d0), d0 + tb * (d1 - d0)
-            ma, mm, mb = m0 + ta * (m1 - m0), m0 + tm * (m1 - m0), m0 + tb * (m1 - m0)
-            k1, l1 = f(ja, da, ma, w, sv)
-            k2, l2 = f(jm, dm, mm, w + 0.5 * h * k1, sv + 0.5 * h * l1)
-            k3, l3 = f(jm, dm, mm, w + 0.5 * h * k2, sv + 0.5 * h * l2)
-            k4, l4 = f(jb, db, mb, w + h * k3, sv + h * l3)
-            w += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            sv += h / 6 * (l1 + 2 * l2 + 2 * l3 + l4)
-            if not w > 0:
-                raise SolverFailed("no_periodic_motion", "the machine stalls: the motor cannot keep it turning")
-        out.append(w)
-    return out, sv
+    k1 = f(ja, da, ma, x[0], x[1])
+    k2 = f(jm, dm, mm, x[0] + 0.5 * h * k1[0], x[1] + 0.5 * h * k1[1])
+    k3 = f(jm, dm, mm, x[0] + 0.5 * h * k2[0], x[1] + 0.5 * h * k2[1])
+    k4 = f(jb, db, mb, x[0] + h * k3[0], x[1] + h * k3[1])
+    step = ca.Function("step", [x, p], [x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
+    return step.mapaccum("cycle", steps)
 
 
-def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *, substeps: int = 4) -> MachineMotion:
+def _step_parameters(nodes: FloatArray, tables: tuple[FloatArray, FloatArray, FloatArray], c: float,
+                     w_free: float, substeps: int) -> FloatArray:
+    """The (12, N·substeps) parameter columns of :func:`_cycle_stepper`: tables linear between samples."""
+    t = np.arange(substeps) / substeps
+    frac = [t, t + 0.5 / substeps, t + 1.0 / substeps]
+    h = np.repeat(np.diff(nodes) / substeps, substeps)
+    rows = [h]
+    for v in tables:
+        start, rise = v[:-1, None], np.diff(v)[:, None]
+        rows += [(start + f[None, :] * rise).reshape(-1) for f in frac]
+    rows += [np.full(h.size, c), np.full(h.size, w_free)]
+    return np.vstack(rows)
+
+
+def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
+                     substeps: int | None = None, start: float | None = None) -> MachineMotion:
     """Integrate the assembled machine to its periodic steady state.
 
     Parameters
@@ -117,36 +120,53 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     motor
         Catalogue characteristic with the real train ratio and the train's efficiency [-].
     substeps
-        Runge-Kutta steps per sample interval; the tables are linear between samples, so four keep the
-        integration error far below the 1e-3 the checks ask.
+        Runge-Kutta steps per sample interval; default enough for about 1440 steps per revolution (four at
+        360 samples). The tables are linear between samples, so the integration error stays far below the
+        1e-3 the checks ask.
+    start
+        Crank speed at ``phi[0]`` to start the shooting from [rad/s]; the periodic motion found does not
+        depend on it. Default the characteristic's steady mean speed.
 
     Raises SolverFailed (``no_periodic_motion``) when the machine stalls or the shooting does not converge.
     """
     if not (math.isfinite(constant_inertia) and constant_inertia >= 0):
         raise InvalidInput("constant inertia must not be negative", field="constant_inertia_kgm2")
     nodes = np.append(cycle.phi, cycle.phi[0] + 2 * math.pi)
-    j = _periodic(cycle.phi, cycle.inertia + constant_inertia)
-    dj = _periodic(cycle.phi, cycle.inertia_slope)
-    load = _periodic(cycle.phi, cycle.load_torque)
+    j = _closed(cycle.inertia + constant_inertia)
+    dj = _closed(cycle.inertia_slope)
+    load = _closed(cycle.load_torque)
     if not np.all(j > 0):
         raise InvalidInput("the machine has no inertia at some crank angles", field="constant_inertia_kgm2")
     red = motor.reduced()
-    tables = (nodes.tolist(), j.tolist(), dj.tolist(), load.tolist())
-    # the linear characteristic's steady angle-average speed starts the shooting close to the answer
-    w0 = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
+    if substeps is None:
+        substeps = max(1, math.ceil(1440 / cycle.phi.size))
+    if substeps < 1:
+        raise InvalidInput("substeps must be at least 1", field="substeps")
+    params = _step_parameters(nodes, (j, dj, load), red.slope, red.no_load_speed, substeps)
+    stepper = _cycle_stepper(params.shape[1])
+    if start is None:
+        # the linear characteristic's steady angle-average speed starts the shooting close to the answer
+        start = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
+    w0 = float(start)
     for _ in range(40):
-        speeds, sens = _rk4_cycle(tables, w0, red.slope, red.no_load_speed, substeps)
-        gap, slope = speeds[-1] - w0, sens - 1.0
+        states = np.asarray(stepper(np.array([w0, 1.0]), params), dtype=float)
+        if not (np.all(np.isfinite(states)) and np.all(states[0] > 0)):
+            raise SolverFailed("no_periodic_motion", "the machine stalls: the motor cannot keep it turning")
+        speeds, sens = np.concatenate(([w0], states[0])), float(states[1, -1])
+        gap, slope = float(speeds[-1]) - w0, sens - 1.0
         step = -gap / slope if slope != 0 else 0.0
+        if abs(step) <= 1e-11 * w0:
+            break
         while w0 + step <= 0:
             step *= 0.5
         w0 += step
-        if abs(step) <= 1e-12 * w0:
-            break
     else:
         raise SolverFailed("no_periodic_motion", "shooting for the periodic motion did not converge")
-    omega = np.asarray(_rk4_cycle(tables, w0, red.slope, red.no_load_speed, substeps)[0], dtype=float)
-    phi = nodes
+    omega = np.asarray(speeds, dtype=float)
+    # every Runge-Kutta step is reported, so the extremes between samples are seen
+    t = np.arange(substeps) / substeps
+    phi = np.append((nodes[:-1, None] + t[None, :] * np.diff(nodes)[:, None]).reshape(-1), nodes[-1])
+    j, dj, load = (np.interp(phi, nodes, v) for v in (j, dj, load))
     alpha = (load + red.slope * (red.no_load_speed - omega) - 0.5 * dj * omega**2) / j
     torque = motor.torque_at(motor.gear_ratio * omega)
     period = float(np.trapezoid(1.0 / omega, phi))

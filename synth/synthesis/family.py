@@ -90,8 +90,13 @@ def maximise_family(
     grid: int,
     tol: float,
     max_evaluations: int,
+    rel_tol: float = 0.0,
 ) -> tuple[float, Optimality]:
-    """Global maximiser of ``evaluate`` over [lo, hi] with its certificate; Infeasible when no member is feasible."""
+    """Global maximiser of ``evaluate`` over [lo, hi] with its certificate; Infeasible when no member is feasible.
+
+    Bisection stops when no interval can beat the best value by more than ``tol + rel_tol·|best|`` (objective
+    units) or after ``max_evaluations`` members.
+    """
     u = np.linspace(lo, hi, grid + 1)
     fv = evaluate(u)
     f = _scores(fv)
@@ -117,7 +122,7 @@ def maximise_family(
         finite_end = np.maximum(left, right)
         with np.errstate(invalid="ignore"):
             bound = np.where(both, 0.5 * (left + right) + 0.5 * local * h, finite_end + local * h)
-        open_ = np.isfinite(finite_end) & (bound > best + tol) & (h > 1e-14 * (hi - lo))
+        open_ = np.isfinite(finite_end) & (bound > best + tol + rel_tol * abs(best)) & (h > 1e-14 * (hi - lo))
         if not open_.any() or evaluations >= max_evaluations:
             break
         mids = 0.5 * (us[:-1] + us[1:])[open_]

@@ -46,7 +46,7 @@ class PathSpec:
     rocker, ground; pivot_box: (x_min, x_max, y_min, y_max) for both ground pivots [m]; coupler_point_max: bound on
     each coordinate of the coupler point in the coupler frame [m]; branch: +1, -1, or 0 to try both (half the
     starts each); starts: number of multistart points; seed: Sobol scrambling seed; time_limit: wall-clock budget
-    for all starts [s].
+    for all starts [s]; min_transmission_angle: lowest admissible transmission angle over the cycle [rad].
     """
 
     targets: FloatArray
@@ -58,6 +58,7 @@ class PathSpec:
     starts: int = 32
     seed: int = 0
     time_limit: float = 20.0
+    min_transmission_angle: float = 0.0
 
     def validate(self) -> None:
         """Raise InvalidInput or TooLarge naming the field that cannot be used."""
@@ -86,6 +87,8 @@ class PathSpec:
             raise InvalidInput("branch must be -1, 0 or +1", field="branch")
         if not self.time_limit > 0:
             raise InvalidInput("the time limit must be positive", field="time_limit_s")
+        if not 0.0 <= self.min_transmission_angle < 0.5 * math.pi:
+            raise InvalidInput("the least transmission angle must lie in [0°, 90°)", field="min_transmission_angle_deg")
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +160,7 @@ def _program(n: int, timed: bool, branch: int) -> Any:
     targets = ca.SX.sym("targets", n, 2)
     offsets = ca.SX.sym("offsets", n)
     scale = ca.SX.sym("scale")
+    cos_mu = ca.SX.sym("cos_mu")
     angles = phi[0] + offsets if timed else phi
     px, py = _coupler_points(z, angles, float(branch))
     # Lifted residuals: with r as variables and r = P - T as equalities, the Lagrangian's Hessian tends to the
@@ -165,11 +169,17 @@ def _program(n: int, timed: bool, branch: int) -> Any:
     f = ca.sumsqr(r) / (scale * scale)
     a, b, c, d = z[3], z[4], z[5], z[6]
     g = [b - a, c - a, d - a, c + d - a - b, b + d - a - c, b + c - a - d]
+    # The transmission angle's extremes are at crank angles 0 and 180° (crank along the ground line):
+    # |b² + c² - (d -+ a)²| <= 2·b·c·cos(mu_min), scaled by the targets' extent squared.
+    for far in (d - a, d + a):
+        cosine = b * b + c * c - far * far
+        g += [(2 * b * c * cos_mu - cosine) / (scale * scale), (2 * b * c * cos_mu + cosine) / (scale * scale)]
     if not timed:
         g += [phi[i + 1] - phi[i] for i in range(n - 1)] + [phi[0] + 2 * math.pi - phi[n - 1]]
     g += [ca.vertcat(px - targets[:, 0], py - targets[:, 1]) - r]
-    nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, scale), "f": f, "g": ca.vertcat(*g)}
-    opts: dict[str, Any] = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
+    nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, scale, cos_mu), "f": f, "g": ca.vertcat(*g)}
+    # IPOPT backs off from a trial point where the assembly is undefined; that is routine, not worth a log line.
+    opts: dict[str, Any] = {"print_time": False, "show_eval_warnings": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
             "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120}
     return ca.nlpsol("path", "ipopt", nlp, opts)
 
@@ -233,7 +243,7 @@ def synthesise_path(spec: PathSpec) -> PathResult:
     timed = spec.crank_angles is not None
     offsets = np.zeros(n) if spec.crank_angles is None else np.asarray(spec.crank_angles) - spec.crank_angles[0]
     scale = float(np.ptp(targets, axis=0).max()) or 1.0
-    params = np.concatenate([targets.T.reshape(-1), offsets, [scale]])
+    params = np.concatenate([targets.T.reshape(-1), offsets, [scale, math.cos(spec.min_transmission_angle)]])
     lo, hi = _box(spec)
     lbx_z, ubx_z = lo[:_DESIGN], hi[:_DESIGN]
     # The ground angle is periodic: a wider box than one turn lets a start slide past +-pi.
@@ -241,7 +251,7 @@ def synthesise_path(spec: PathSpec) -> PathResult:
     n_phi = 1 if timed else n
     lbx = np.concatenate([lbx_z, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)])
     ubx = np.concatenate([ubx_z, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)])
-    n_g = 6 + (0 if timed else n)
+    n_g = 10 + (0 if timed else n)
     # A margin keeps the answer off the Grashof limit, where the coupler and rocker would fold flat.
     lbg = np.concatenate([np.full(6, GRASHOF_MARGIN * scale), np.zeros(n_g - 6), np.zeros(2 * n)])
     ubg = np.concatenate([np.full(n_g, np.inf), np.zeros(2 * n)])

@@ -40,8 +40,10 @@ def extremes_png(linkage: Linkage, check: LinkageCheck, title: str) -> bytes:
     ax.plot(full["A"][:, 0], full["A"][:, 1], ":", color="grey", lw=1, label="crank pin circle")
     ax.plot(full["B"][:, 0], full["B"][:, 1], "-", color="tab:red", lw=1.2, label="output travel")
     ax.plot(0.0, 0.0, "k^", ms=11)
+    ax.annotate("O", (0.0, 0.0), textcoords="offset points", xytext=(8, -12), fontsize=9)
     if isinstance(mech, FourBar):
         ax.plot(mech.ground, 0.0, "k^", ms=11)
+        ax.annotate("Q", (mech.ground, 0.0), textcoords="offset points", xytext=(8, -12), fontsize=9)
         travel = f"swing {math.degrees(check.travel):.4f}°"
     else:
         assert isinstance(mech, SliderCrank)
@@ -81,7 +83,10 @@ def path_png(result: PathResult, targets: FloatArray) -> bytes:
     ax.plot(xy[:, 0], xy[:, 1], "-o", color="k", lw=2.5, ms=5, label="linkage at target 1")
     tri = np.array([world["A"], p, world["B"]])
     ax.fill(tri[:, 0], tri[:, 1], color="tab:orange", alpha=0.35, label="coupler")
-    ax.plot([world["O"][0], world["Q"][0]], [world["O"][1], world["Q"][1]], "k^", ms=11)
+    for name in ("O", "Q"):
+        ax.plot(*world[name], "k^", ms=11)
+        ax.annotate(f"{name} (crank pivot)" if name == "O" else f"{name} (rocker pivot)", world[name],
+                    textcoords="offset points", xytext=(8, -12), fontsize=8)
     ax.set_title(f"path generation: largest residual {result.residuals.max():.3g} m, "
                  f"{result.starts_at_best} of {result.start_objectives.size} starts at the best", fontsize=10)
     ax.set_aspect("equal", adjustable="datalim")

@@ -167,7 +167,7 @@ def synthesise_slider_crank(spec: SliderCrankSpec) -> SliderCrankResult:
     if spec.objective == "transmission_angle":
         u, optimality = maximise_family(evaluate, 0.0, 1.0, grid=256, tol=1e-6, max_evaluations=8_000)
     else:
-        u, optimality = maximise_family(evaluate, 0.0, 1.0, grid=48, tol=1e-4, max_evaluations=240)
+        u, optimality = maximise_family(evaluate, 0.0, 1.0, grid=48, tol=0.0, rel_tol=1e-6, max_evaluations=240)
     a, b, e, _ = (float(v[0]) for v in _members(spec, np.array([u])))
     sc = SliderCrank(a, b, e, 1)
     check = check_slider_crank(sc)

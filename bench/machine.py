@@ -1,0 +1,75 @@
+"""The whole-machine design chain at 360 samples, in-process, against the same work done stage by stage.
+
+Run: ``.venv/bin/python -m bench.machine``. The machine is the README's slider-crank press (one helical stage,
+static balancing, flywheel on the lightest shaft). The baseline is what a user of the single capabilities does
+for the same machine: analyse, balance, re-analyse, choose the drive, pick teeth, then ``size_flywheel`` with the
+motor (every method, each checked by the adaptive shooting of ``steady_speed_motor``). Prints medians [ms] and
+the ratio; the issue asks under 250 ms for the chain.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+import time
+from collections.abc import Callable
+
+import synth
+from api.schemas.machine import PRESS_EXAMPLE, MachineIn
+
+REPEATS = 7
+
+
+def _median_ms(fn: Callable[[], object], repeats: int = REPEATS) -> float:
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def _stage_by_stage(spec: synth.MachineSpec) -> float:
+    """The same chain through the single capabilities; returns the flywheel inertia [kg·m²]."""
+    linkage, w = spec.linkage, spec.speed
+    synth.analyse(linkage, w, samples=spec.samples)
+    sc = synth.balance_slider_crank(linkage, w, samples=spec.samples)
+    balanced = synth.analyse(linkage.with_counterweights([sc.crank_counterweight]), w, samples=spec.samples)
+    cycle = synth.cycle_from_reduced(balanced.reduced)
+    power = -cycle.cycle_work / cycle.period * w
+    d = spec.drive
+    drive = synth.design_drive(power, w, d.stages, synchronous_speed=d.synchronous_speed, inertia=d.inertia)
+    u = drive.split.stage_ratios[0]
+    stage = d.stages[0]
+    teeth = synth.tooth_numbers(u, [synth.Stage(stage.type, u * 0.95, u * 1.05, stage.efficiency,
+                                                stage.volume_coefficient, stage.toothed)])
+    motor = synth.Motor.from_catalogue(drive.motor, teeth.total_ratio, drive.chain_efficiency)
+    result = synth.size_flywheel(cycle, motor.reduced().mean_speed(cycle), spec.delta, motor=motor,
+                                 geometry=spec.flywheel.geometry)
+    return result.design.flywheel_inertia
+
+
+def main() -> None:
+    """Time the chain and the stage-by-stage baseline on the same machine; print medians and the ratio."""
+    spec = MachineIn.model_validate(PRESS_EXAMPLE).to_engine(max_stages=6)
+    design = synth.design_machine(spec)
+    t_chain = _median_ms(lambda: synth.design_machine(spec))
+    t_base = _median_ms(lambda: _stage_by_stage(spec), repeats=3)
+    red = design.balanced.reduced
+    cycle = synth.MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
+    j_total = design.flywheel.constant_inertia + design.flywheel_inertia
+    t_sim = _median_ms(lambda: synth.simulate_machine(cycle, j_total, design.motor))
+    reduced_cycle = synth.cycle_from_reduced(red)
+    t_shoot = _median_ms(lambda: synth.steady_speed_motor(reduced_cycle, j_total, design.motor.reduced()), 3)
+    print(f"machine: slider-crank press, {spec.samples} samples, {spec.balancing.mode} balancing, "
+          f"motor {design.drive.motor.name}, flywheel {design.flywheel_inertia:.4g} kg·m², "
+          f"simulated delta {design.motion.delta:.6g} (target {spec.delta})")
+    print(f"design_machine (whole chain)        median {t_chain:8.1f} ms")
+    print(f"stage by stage (single capabilities) median {t_base:8.1f} ms   ratio {t_base / t_chain:5.1f}x")
+    print(f"simulate_machine (RK4 + Newton)     median {t_sim:8.1f} ms")
+    print(f"steady_speed_motor (solve_ivp)      median {t_shoot:8.1f} ms   ratio {t_shoot / t_sim:5.1f}x")
+    print(f"chain under 250 ms: {'yes' if t_chain < 250 else 'no'}   (speed {spec.speed / (math.pi / 30):.0f} rpm)")
+
+
+if __name__ == "__main__":
+    main()

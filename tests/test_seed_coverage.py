@@ -1,0 +1,47 @@
+"""Every seed case with a checkable answer is read by a test through the API, or listed here with its reason."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from conftest import CASES
+
+HERE = Path(__file__).resolve()
+
+# Cases whose answer the service cannot be asked for, and why.
+NOT_THROUGH_API = {
+    "cw_inertia_loads": "inertia loads from acceleration-plan segment lengths times the drawing scale: the service "
+                        "computes accelerations itself (the lecture shaper's kinetostatics are checked instead)",
+    "cw_rocker_reaction_F23": "a moment equation with arms measured on the drawing (mm times mu_L); the course "
+                              "work's link dimensions are not among the inputs",
+    "cw_force_plan_products": "force-plan segment lengths times the plan scale: arithmetic of a drawing",
+    "cw_reduced_moment_diagram": "diagram ordinates M/mu_M at a chosen drawing scale",
+    "cw_work_diagram_scale": "the scale of a graphical integration, H·mu_M·mu_phi",
+    "cw_reduced_inertia_table": "the diagram scale mu_J for a chosen ordinate length",
+    "cw_delta_from_speed_table": "delta of a measured table of speeds; no endpoint takes measured speeds (the "
+                                 "engine's speed_fluctuation does, tests/test_flywheel_seed.py)",
+}
+
+# Cases with no answer at all (tolerance_rel null), and why.
+NO_ANSWER = {
+    "gear_train_variants_6_7_incomplete": "the train's layout is only in a missing figure",
+    "rotor_balancing_variants_incomplete": "the masses' radii, angles and planes are only in missing figures",
+}
+
+
+def _api_test_text() -> str:
+    """Source of the test modules that call the service (they take the in-process client), this one aside."""
+    files = [p for p in HERE.parent.glob("test_*.py") if p != HERE]
+    return "\n".join(t for t in (p.read_text(encoding="utf-8") for p in files) if "client: SynthClient" in t)
+
+
+def test_every_checkable_seed_case_goes_through_the_api_or_is_listed() -> None:
+    text = _api_test_text()
+    read = {cid for cid in CASES if f'"{cid}"' in text}
+    unanswered = {cid for cid, c in CASES.items() if c["tolerance_rel"] is None}
+    assert unanswered == set(NO_ANSWER), "a case without an answer must be listed in NO_ANSWER with its reason"
+    missing = set(CASES) - unanswered - read - set(NOT_THROUGH_API)
+    assert not missing, f"seed cases neither read through the API nor listed with a reason: {sorted(missing)}"
+    stale = read & set(NOT_THROUGH_API)
+    assert not stale, f"listed as not through the API but read by an API test: {sorted(stale)}"
+    assert set(NOT_THROUGH_API) <= set(CASES) and all(NOT_THROUGH_API.values()) and all(NO_ANSWER.values())
