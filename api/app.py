@@ -11,7 +11,7 @@ from typing import Any
 
 from fastapi import APIRouter, FastAPI, Request
 
-from . import problems, routers
+from . import manual, problems, routers
 from .settings import Settings
 from .solvers import Solvers
 from .study_runs import StudyRuns
@@ -49,11 +49,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             "drives. SI units; field names carry their unit. Errors are RFC 9457 problem responses."
         ),
         lifespan=lifespan,
+        docs_url=None,
+        redoc_url=None,
+        generate_unique_id_function=manual.operation_id,
     )
     app.state.settings = settings
     app.state.solvers = solvers
     app.state.studies = studies
     problems.install(app, settings)
+    manual.install(app)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:

@@ -4,13 +4,22 @@
 >>> client = SynthClient.in_process()                       # the app in this process (tests, notebooks)
 >>> out = client.analysis(AnalysisIn(mechanism=..., speed_rpm=300))
 
-A problem response raises a :class:`ProblemError` subclass carrying the problem details.
+:class:`AsyncSynthClient` has the same methods as coroutines, over an ``httpx.AsyncClient``. A problem response
+raises a :class:`ProblemError` subclass carrying the problem details. A busy service (503) is asked again after
+the ``Retry-After`` it names, at most ``retries`` times and never waiting longer than ``max_retry_wait_s``.
+
+The client needs only httpx and pydantic (``pip install ./client``): the models import the engine only to convert
+to and from engine objects, which happens in the service.
 """
 
 from __future__ import annotations
 
+import asyncio
+import time
 import warnings
-from typing import Any, TypeVar
+from datetime import datetime, timezone
+from email.utils import parsedate_to_datetime
+from typing import Any, Literal, TypeVar
 
 import httpx
 from pydantic import BaseModel
@@ -18,6 +27,7 @@ from pydantic import BaseModel
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
+    BalanceMode,
     BalanceOut,
     FullBalanceIn,
     OptimalBalanceIn,
@@ -41,9 +51,28 @@ from .schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from .schemas.studies import StudyIn, StudyOut
-from .study_client import StudyHandle
+from .study_client import AsyncStudyHandle, StudyHandle
+
+__all__ = [
+    "AsyncSynthClient",
+    "BalanceMode",
+    "DrawingFormat",
+    "InfeasibleError",
+    "InvalidInputError",
+    "NotAssemblableError",
+    "ProblemError",
+    "ServiceBusyError",
+    "SolverFailedError",
+    "SolverTimeoutError",
+    "SynthClient",
+    "SynthesisKind",
+    "TooLargeError",
+]
 
 M = TypeVar("M", bound=BaseModel)
+InProcessExecutor = Literal["serial", "pool"]
+SynthesisKind = Literal["crank-rocker", "slider-crank", "path"]
+DrawingFormat = Literal["dxf", "svg"]
 
 
 class ProblemError(Exception):
@@ -82,6 +111,14 @@ class TooLargeError(ProblemError):
     """The request exceeded a size limit."""
 
 
+class ServiceBusyError(ProblemError):
+    """The service stayed busy (503) through every retry; ``retry_after_s`` is what it asked for last."""
+
+    def __init__(self, status: int, problem: dict[str, Any], retry_after_s: float | None = None) -> None:
+        super().__init__(status, problem)
+        self.retry_after_s = retry_after_s
+
+
 _BY_TYPE: dict[str, type[ProblemError]] = {
     "/problems/invalid-input": InvalidInputError,
     "/problems/not-assemblable": NotAssemblableError,
@@ -89,20 +126,86 @@ _BY_TYPE: dict[str, type[ProblemError]] = {
     "/problems/solver-failed": SolverFailedError,
     "/problems/solver-timeout": SolverTimeoutError,
     "/problems/too-large": TooLargeError,
+    "/problems/overloaded": ServiceBusyError,
 }
 
 
-class SynthClient:
+def _retry_after_s(response: httpx.Response) -> float | None:
+    """The wait a 503 asks for [s]: ``Retry-After`` in seconds or as an HTTP date; None when absent or unreadable."""
+    raw = response.headers.get("retry-after")
+    if raw is None:
+        return None
+    try:
+        return max(0.0, float(raw))
+    except ValueError:
+        pass
+    try:
+        when = parsedate_to_datetime(raw)
+    except (TypeError, ValueError):
+        return None
+    if when.tzinfo is None:
+        when = when.replace(tzinfo=timezone.utc)
+    return max(0.0, (when - datetime.now(timezone.utc)).total_seconds())
+
+
+class _Policy:
+    """What the sync and async clients share: the retry policy, encoding requests and decoding problems."""
+
+    def __init__(self, retries: int, max_retry_wait_s: float) -> None:
+        if retries < 0 or not max_retry_wait_s >= 0:
+            raise ValueError("retries and max_retry_wait_s must not be negative")
+        self.retries = retries
+        self.max_retry_wait_s = max_retry_wait_s
+
+    def _wait_s(self, response: httpx.Response, attempt: int) -> float | None:
+        """Seconds to wait before asking again, or None when this answer is final."""
+        if response.status_code != 503 or attempt >= self.retries:
+            return None
+        asked = _retry_after_s(response)
+        # Without Retry-After, back off 0.5 s, 1 s, 2 s, ...; either way never past the cap.
+        return min(self.max_retry_wait_s, 0.5 * 2.0**attempt if asked is None else asked)
+
+    @staticmethod
+    def _raise_for_problem(response: httpx.Response) -> None:
+        if response.is_success:
+            return
+        try:
+            body = response.json()
+        except ValueError:
+            body = {"title": response.reason_phrase, "detail": response.text, "status": response.status_code}
+        if not isinstance(body, dict):
+            body = {"detail": str(body)}
+        if response.status_code == 503:
+            raise ServiceBusyError(response.status_code, body, _retry_after_s(response))
+        cls = _BY_TYPE.get(str(body.get("type", "")), ProblemError)
+        raise cls(response.status_code, body)
+
+    @staticmethod
+    def _json(body: BaseModel) -> Any:
+        return body.model_dump(mode="json", exclude_none=True)
+
+    @staticmethod
+    def _figure_query(params: dict[str, Any]) -> dict[str, Any]:
+        return {"format": "png", **{k: v for k, v in params.items() if v is not None}}
+
+    @staticmethod
+    def _rows(response: httpx.Response, model: type[M]) -> list[M]:
+        return [model.model_validate(row) for row in response.json()]
+
+
+class SynthClient(_Policy):
     """Client of the mechanism synthesis service over a given ``httpx.Client`` or a base URL."""
 
-    def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0):
+    def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0,
+                 retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.Client")
+        super().__init__(retries, max_retry_wait_s)
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls, executor: str = "serial") -> SynthClient:
-        """A client speaking to a fresh app in this process, without a network.
+    def in_process(cls, executor: InProcessExecutor = "serial") -> SynthClient:
+        """A client speaking to a fresh app in this process, without a network (needs the service installed).
 
         Solver work runs in one background thread (``executor="serial"``), which works from any script or notebook;
         ``"pool"`` uses worker processes as the service does (a script then needs an ``if __name__ == "__main__"``
@@ -116,7 +219,7 @@ class SynthClient:
         from .app import create_app
         from .settings import Settings
 
-        return cls(http=TestClient(create_app(Settings(executor=executor))))  # type: ignore[arg-type]
+        return cls(http=TestClient(create_app(Settings(executor=executor))))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -128,35 +231,35 @@ class SynthClient:
     def __exit__(self, *_: object) -> None:
         self.close()
 
-    @staticmethod
-    def _raise_for_problem(response: httpx.Response) -> None:
-        if response.is_success:
-            return
-        try:
-            body = response.json()
-        except ValueError:
-            body = {"title": response.reason_phrase, "detail": response.text, "status": response.status_code}
-        if not isinstance(body, dict):
-            body = {"detail": str(body)}
-        cls = _BY_TYPE.get(str(body.get("type", "")), ProblemError)
-        raise cls(response.status_code, body)
+    def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
+        attempt = 0
+        while True:
+            response = self.http.request(method, path, **kwargs)
+            wait = self._wait_s(response, attempt)
+            if wait is None:
+                self._raise_for_problem(response)
+                return response
+            time.sleep(wait)
+            attempt += 1
 
     def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
-        response = self.http.post(path, json=body.model_dump(mode="json", exclude_none=True))
-        self._raise_for_problem(response)
+        response = self._send("POST", path, json=self._json(body))
         return out.model_validate_json(response.content)
 
     def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
-        query = {"format": "png", **{k: v for k, v in params.items() if v is not None}}
-        response = self.http.post(path, json=body.model_dump(mode="json", exclude_none=True), params=query)
-        self._raise_for_problem(response)
-        return response.content
+        return self._send("POST", path, json=self._json(body), params=self._figure_query(params)).content
+
+    def _get_rows(self, path: str, model: type[M]) -> list[M]:
+        return self._rows(self._send("GET", path), model)
 
     def health(self) -> dict[str, Any]:
         """GET /health."""
-        response = self.http.get("/health")
-        self._raise_for_problem(response)
-        result: dict[str, Any] = response.json()
+        result: dict[str, Any] = self._send("GET", "/health").json()
+        return result
+
+    def ready(self) -> dict[str, Any]:
+        """GET /ready: the executor, its workers, running and queued requests, and the admission capacity."""
+        result: dict[str, Any] = self._send("GET", "/ready").json()
         return result
 
     def analysis(self, body: AnalysisIn) -> AnalysisOut:
@@ -167,11 +270,15 @@ class SynthClient:
         """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
         return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
 
+    def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
+                         angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis/drawing: the mechanism to scale in millimetres with its counterweights, DXF or SVG."""
+        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
+        return self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query).content
+
     def machine_types(self) -> list[MachineTypeOut]:
         """GET /v1/machine-types: admissible coefficient of speed fluctuation per machine type."""
-        response = self.http.get("/v1/machine-types")
-        self._raise_for_problem(response)
-        return [MachineTypeOut.model_validate(row) for row in response.json()]
+        return self._get_rows("/v1/machine-types", MachineTypeOut)
 
     def flywheel(self, body: FlywheelIn) -> FlywheelOut:
         """POST /v1/flywheel: flywheel sizing by every method, each with its simulated delta."""
@@ -203,15 +310,11 @@ class SynthClient:
 
     def gears_stage_types(self) -> list[StageTypeOut]:
         """GET /v1/gears/stage-types: the shipped stage-type table."""
-        response = self.http.get("/v1/gears/stage-types")
-        self._raise_for_problem(response)
-        return [StageTypeOut.model_validate(row) for row in response.json()]
+        return self._get_rows("/v1/gears/stage-types", StageTypeOut)
 
     def gears_motors(self) -> list[MotorOut]:
         """GET /v1/gears/motors: the shipped motor catalogue."""
-        response = self.http.get("/v1/gears/motors")
-        self._raise_for_problem(response)
-        return [MotorOut.model_validate(row) for row in response.json()]
+        return self._get_rows("/v1/gears/motors", MotorOut)
 
     def balance_static(self, body: BalanceIn) -> BalanceOut:
         """POST /v1/balancing/static: counterweights that zero the shaking force."""
@@ -225,7 +328,7 @@ class SynthClient:
         """POST /v1/balancing/optimal: weighted trade-off within a mass budget, with the trade-off curve."""
         return self._post("/v1/balancing/optimal", body, OptimalBalanceOut)
 
-    def balance_png(self, mode: str, body: BalanceIn) -> bytes:
+    def balance_png(self, mode: BalanceMode, body: BalanceIn) -> bytes:
         """Before/after figure of a balancing mode (`static`, `full` or `optimal`)."""
         return self._post_png(f"/v1/balancing/{mode}", body)
 
@@ -248,10 +351,7 @@ class SynthClient:
     def design_report_pdf(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=pdf: the multi-page design report (with the alternatives when the
         request asks for them)."""
-        response = self.http.post("/v1/machines/design", json=body.model_dump(mode="json", exclude_none=True),
-                                  params={"format": "pdf"})
-        self._raise_for_problem(response)
-        return response.content
+        return self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"}).content
 
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
@@ -265,19 +365,207 @@ class SynthClient:
         """POST /v1/synthesis/path: a four-bar whose coupler point passes through (or nearest to) the targets."""
         return self._post("/v1/synthesis/path", body, PathOut)
 
-    def synthesis_png(self, kind: str, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+    def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
         """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
         return self._post_png(f"/v1/synthesis/{kind}", body)
 
     def study(self, body: StudyIn) -> StudyHandle:
         """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""
         # Sent whole: a null (objective_digits) means something here, unlike a left-out field elsewhere.
-        response = self.http.post("/v1/studies", json=body.model_dump(mode="json"))
-        self._raise_for_problem(response)
-        return StudyHandle(self, StudyOut.model_validate_json(response.content))
+        response = self._send("POST", "/v1/studies", json=body.model_dump(mode="json"))
+        status = StudyOut.model_validate_json(response.content)
+        return StudyHandle(self, status.id, status)
+
+    def studies(self) -> list[StudyOut]:
+        """GET /v1/studies: the latest studies first, with their state and progress."""
+        return self._get_rows("/v1/studies", StudyOut)
 
     def study_handle(self, study_id: str) -> StudyHandle:
         """A handle on an existing study, by id (for example after a restart of this program)."""
-        handle = StudyHandle(self, StudyOut.model_construct(id=study_id))
+        handle = StudyHandle(self, study_id)
         handle.status()
+        return handle
+
+class AsyncSynthClient(_Policy):
+    """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
+
+    def __init__(self, base_url: str | None = None, *, http: httpx.AsyncClient | None = None,
+                 timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
+        if http is None and base_url is None:
+            raise ValueError("give a base_url or an httpx.AsyncClient")
+        super().__init__(retries, max_retry_wait_s)
+        self.http = http if http is not None else httpx.AsyncClient(base_url=base_url or "", timeout=timeout_s)
+
+    @classmethod
+    def in_process(cls, executor: InProcessExecutor = "serial") -> AsyncSynthClient:
+        """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
+        as in :meth:`SynthClient.in_process`."""
+        from .app import create_app
+        from .settings import Settings
+
+        app = create_app(Settings(executor=executor))
+        return cls(http=httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://in-process"))
+
+    async def aclose(self) -> None:
+        """Close the underlying HTTP client."""
+        await self.http.aclose()
+
+    async def __aenter__(self) -> AsyncSynthClient:
+        return self
+
+    async def __aexit__(self, *_: object) -> None:
+        await self.aclose()
+
+    async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
+        attempt = 0
+        while True:
+            response = await self.http.request(method, path, **kwargs)
+            wait = self._wait_s(response, attempt)
+            if wait is None:
+                self._raise_for_problem(response)
+                return response
+            await asyncio.sleep(wait)
+            attempt += 1
+
+    async def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
+        response = await self._send("POST", path, json=self._json(body))
+        return out.model_validate_json(response.content)
+
+    async def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
+        return (await self._send("POST", path, json=self._json(body), params=self._figure_query(params))).content
+
+    async def _get_rows(self, path: str, model: type[M]) -> list[M]:
+        return self._rows(await self._send("GET", path), model)
+
+    async def health(self) -> dict[str, Any]:
+        """GET /health."""
+        result: dict[str, Any] = (await self._send("GET", "/health")).json()
+        return result
+
+    async def ready(self) -> dict[str, Any]:
+        """GET /ready."""
+        result: dict[str, Any] = (await self._send("GET", "/ready")).json()
+        return result
+
+    async def analysis(self, body: AnalysisIn) -> AnalysisOut:
+        """POST /v1/analysis."""
+        return await self._post("/v1/analysis", body, AnalysisOut)
+
+    async def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis?format=png."""
+        return await self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+
+    async def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
+                               angle_deg: float | None = None) -> bytes:
+        """POST /v1/analysis/drawing."""
+        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
+        return (await self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query)).content
+
+    async def machine_types(self) -> list[MachineTypeOut]:
+        """GET /v1/machine-types."""
+        return await self._get_rows("/v1/machine-types", MachineTypeOut)
+
+    async def flywheel(self, body: FlywheelIn) -> FlywheelOut:
+        """POST /v1/flywheel."""
+        return await self._post("/v1/flywheel", body, FlywheelOut)
+
+    async def flywheel_png(self, body: FlywheelIn) -> bytes:
+        """POST /v1/flywheel?format=png."""
+        return await self._post_png("/v1/flywheel", body)
+
+    async def gears_split(self, body: SplitIn) -> SplitOut:
+        """POST /v1/gears/split."""
+        return await self._post("/v1/gears/split", body, SplitOut)
+
+    async def gears_teeth(self, body: TeethIn) -> TeethOut:
+        """POST /v1/gears/teeth."""
+        return await self._post("/v1/gears/teeth", body, TeethOut)
+
+    async def gears_drive(self, body: DriveIn) -> DriveOut:
+        """POST /v1/gears/drive."""
+        return await self._post("/v1/gears/drive", body, DriveOut)
+
+    async def gears_stage_types(self) -> list[StageTypeOut]:
+        """GET /v1/gears/stage-types."""
+        return await self._get_rows("/v1/gears/stage-types", StageTypeOut)
+
+    async def gears_motors(self) -> list[MotorOut]:
+        """GET /v1/gears/motors."""
+        return await self._get_rows("/v1/gears/motors", MotorOut)
+
+    async def balance_static(self, body: BalanceIn) -> BalanceOut:
+        """POST /v1/balancing/static."""
+        return await self._post("/v1/balancing/static", body, BalanceOut)
+
+    async def balance_full(self, body: FullBalanceIn) -> BalanceOut:
+        """POST /v1/balancing/full."""
+        return await self._post("/v1/balancing/full", body, BalanceOut)
+
+    async def balance_optimal(self, body: OptimalBalanceIn) -> OptimalBalanceOut:
+        """POST /v1/balancing/optimal."""
+        return await self._post("/v1/balancing/optimal", body, OptimalBalanceOut)
+
+    async def balance_png(self, mode: BalanceMode, body: BalanceIn) -> bytes:
+        """Before/after figure of a balancing mode."""
+        return await self._post_png(f"/v1/balancing/{mode}", body)
+
+    async def balance_rotor(self, body: RotorIn) -> RotorOut:
+        """POST /v1/balancing/rotor."""
+        return await self._post("/v1/balancing/rotor", body, RotorOut)
+
+    async def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
+        """POST /v1/balancing/slider-crank."""
+        return await self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    async def gears_train(self, body: TrainIn) -> TrainOut:
+        """POST /v1/gears/train."""
+        return await self._post("/v1/gears/train", body, TrainOut)
+
+    async def structure(self, body: StructureIn) -> StructureOut:
+        """POST /v1/structure."""
+        return await self._post("/v1/structure", body, StructureOut)
+
+    async def design_machine(self, body: MachineIn) -> MachineDesignOut:
+        """POST /v1/machines/design."""
+        return await self._post("/v1/machines/design", body, MachineDesignOut)
+
+    async def design_machine_png(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=png."""
+        return await self._post_png("/v1/machines/design", body)
+
+    async def design_report_pdf(self, body: MachineIn) -> bytes:
+        """POST /v1/machines/design?format=pdf."""
+        response = await self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"})
+        return response.content
+
+    async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
+        """POST /v1/synthesis/crank-rocker."""
+        return await self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
+
+    async def synthesise_slider_crank(self, body: SliderCrankSynthesisIn) -> SliderCrankSynthesisOut:
+        """POST /v1/synthesis/slider-crank."""
+        return await self._post("/v1/synthesis/slider-crank", body, SliderCrankSynthesisOut)
+
+    async def synthesise_path(self, body: PathIn) -> PathOut:
+        """POST /v1/synthesis/path."""
+        return await self._post("/v1/synthesis/path", body, PathOut)
+
+    async def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
+        """Figure of a synthesis answer."""
+        return await self._post_png(f"/v1/synthesis/{kind}", body)
+
+    async def study(self, body: StudyIn) -> AsyncStudyHandle:
+        """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""
+        response = await self._send("POST", "/v1/studies", json=body.model_dump(mode="json"))
+        status = StudyOut.model_validate_json(response.content)
+        return AsyncStudyHandle(self, status.id, status)
+
+    async def studies(self) -> list[StudyOut]:
+        """GET /v1/studies: the latest studies first, with their state and progress."""
+        return await self._get_rows("/v1/studies", StudyOut)
+
+    async def study_handle(self, study_id: str) -> AsyncStudyHandle:
+        """A handle on an existing study, by id."""
+        handle = AsyncStudyHandle(self, study_id)
+        await handle.status()
         return handle

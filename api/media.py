@@ -39,7 +39,7 @@ FIGURES: tuple[str, ...] = ("png", "svg", "pdf")
 
 def format_responses(offered: Sequence[str]) -> dict[int | str, dict[str, Any]]:
     """OpenAPI ``responses`` entry for a 200 that can also be each of ``offered``."""
-    content = {MEDIA_TYPES[f].split(";")[0]: {} for f in offered}
+    content: dict[str, dict[str, Any]] = {MEDIA_TYPES[f].split(";")[0]: {} for f in offered}
     return {200: {"content": content, "description": "The result as JSON, or with ?format= as " + ", ".join(offered)}}
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -83,7 +84,7 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def problem(status: int, slug: str, title: str, detail: str, headers: dict[str, str] | None = None,
+def problem(status: int, slug: str, title: str, detail: str, headers: Mapping[str, str] | None = None,
             **extras: Any) -> JSONResponse:
     """A problem+json response; ``type`` is a relative URI naming the kind of problem."""
     body = {"type": f"/problems/{slug}", "title": title, "status": status, "detail": detail, **_finite(extras)}

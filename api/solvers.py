@@ -143,8 +143,9 @@ class Solvers:
             if remaining <= 0:
                 raise SolverTimeout(self.settings.request_deadline_s, "the request's deadline passed before its "
                                     "solver work could start", stage="queued", elapsed_s=0.0)
-            # Starting the workers takes a second or two: never on the event loop.
-            executor = self._executor or await asyncio.to_thread(lambda: self.executor)
+            executor = self._executor
+            if executor is None:  # starting the workers takes a second or two: never on the event loop
+                executor = await asyncio.to_thread(lambda: self.executor)
             future = executor.submit(fn, *args, timeout=remaining, **kwargs)
             try:
                 return await asyncio.wait_for(asyncio.wrap_future(future), timeout=remaining)

@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import sys
 import time
 from typing import TYPE_CHECKING, Any, TextIO
@@ -15,7 +16,7 @@ from typing import TYPE_CHECKING, Any, TextIO
 from .schemas.studies import ParetoOut, ResultsOut, StudyOut, VariantOut
 
 if TYPE_CHECKING:
-    from .client import SynthClient
+    from .client import AsyncSynthClient, SynthClient
 
 _FINAL = ("done", "cancelled", "interrupted", "failed")
 
@@ -23,15 +24,13 @@ _FINAL = ("done", "cancelled", "interrupted", "failed")
 class StudyHandle:
     """A study on the service, by id."""
 
-    def __init__(self, client: SynthClient, status: StudyOut) -> None:
+    def __init__(self, client: SynthClient, study_id: str, last: StudyOut | None = None) -> None:
         self.client = client
-        self.id = status.id
-        self.last = status
+        self.id = study_id
+        self.last = last
 
     def _get(self, path: str, **params: Any) -> Any:
-        response = self.client.http.get(f"/v1/studies/{self.id}{path}", params=params)
-        self.client._raise_for_problem(response)
-        return response
+        return self.client._send("GET", f"/v1/studies/{self.id}{path}", params=params)
 
     def status(self) -> StudyOut:
         """State, done/total, failed variants, elapsed time and ETA."""
@@ -98,15 +97,58 @@ class StudyHandle:
 
     def cancel(self) -> StudyOut:
         """Stop the study; finished variants stay."""
-        response = self.client.http.delete(f"/v1/studies/{self.id}")
-        self.client._raise_for_problem(response)
+        response = self.client._send("DELETE", f"/v1/studies/{self.id}")
         self.last = StudyOut.model_validate_json(response.content)
         return self.last
 
     def resume(self) -> StudyOut:
         """Run the variants a cancelled or interrupted study has not finished."""
-        response = self.client.http.post(f"/v1/studies/{self.id}/resume")
-        self.client._raise_for_problem(response)
+        response = self.client._send("POST", f"/v1/studies/{self.id}/resume")
+        self.last = StudyOut.model_validate_json(response.content)
+        return self.last
+
+
+class AsyncStudyHandle:
+    """A study on the service, by id, for asyncio: status, wait, pages of results, the front, cancel, resume."""
+
+    def __init__(self, client: AsyncSynthClient, study_id: str, last: StudyOut | None = None) -> None:
+        self.client = client
+        self.id = study_id
+        self.last = last
+
+    async def status(self) -> StudyOut:
+        """State, done/total, failed variants, elapsed time and ETA."""
+        response = await self.client._send("GET", f"/v1/studies/{self.id}")
+        self.last = StudyOut.model_validate_json(response.content)
+        return self.last
+
+    async def wait(self, timeout: float | None = None, poll_s: float = 0.5) -> StudyOut:
+        """Until the study stops (done, cancelled, interrupted or failed); past ``timeout`` s, TimeoutError."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while (status := await self.status()).state not in _FINAL:
+            if deadline is not None and time.monotonic() >= deadline:
+                raise TimeoutError(f"study {self.id} still {status.state} after {timeout:g} s")
+            await asyncio.sleep(poll_s)
+        return status
+
+    async def page(self, offset: int = 0, limit: int = 1000) -> ResultsOut:
+        """One page of variants in index order."""
+        response = await self.client._send("GET", f"/v1/studies/{self.id}/results",
+                                           params={"offset": offset, "limit": limit})
+        return ResultsOut.model_validate_json(response.content)
+
+    async def pareto(self) -> ParetoOut:
+        """The feasible variants no other feasible variant beats in every objective."""
+        return ParetoOut.model_validate_json((await self.client._send("GET", f"/v1/studies/{self.id}/pareto")).content)
+
+    async def cancel(self) -> StudyOut:
+        """Stop the study; finished variants stay."""
+        self.last = StudyOut.model_validate_json((await self.client._send("DELETE", f"/v1/studies/{self.id}")).content)
+        return self.last
+
+    async def resume(self) -> StudyOut:
+        """Run the variants a cancelled or interrupted study has not finished."""
+        response = await self.client._send("POST", f"/v1/studies/{self.id}/resume")
         self.last = StudyOut.model_validate_json(response.content)
         return self.last
 

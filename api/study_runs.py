@@ -28,7 +28,8 @@ from synth.execution import DaskExecutor, Executor
 
 from .settings import Settings
 from .solvers import Solvers
-from .study_tasks import Limits, validate_request, variant_function
+from .plans import Limits
+from .study_tasks import validate_request, variant_function
 
 log = logging.getLogger("api.studies")
 

@@ -23,7 +23,8 @@ from typing import Any
 
 import synth
 from api.schemas.common import FOURBAR_EXAMPLE
-from api.study_tasks import Limits, variant_function
+from api.plans import Limits
+from api.study_tasks import variant_function
 from synth.execution import DaskExecutor, Executor, LocalPoolExecutor, limit_threads
 from synth.studies import BatchSpec, run_batch, variant_request
 

@@ -23,7 +23,8 @@ from api.client import SynthClient
 from api.schemas.common import FOURBAR_EXAMPLE
 from api.schemas.studies import StudyIn
 from api.settings import Settings
-from api.study_tasks import Limits, run_endpoint, variant_function
+from api.plans import Limits
+from api.study_tasks import run_endpoint, variant_function
 from synth.execution import DaskExecutor, LocalPoolExecutor, SerialExecutor
 
 ENDPOINT = "/v1/balancing/static"

@@ -50,7 +50,7 @@ async def analysis(
 
 
 @router.post("/analysis/drawing", response_class=Response, responses=format_responses(("dxf", "svg")))
-async def drawing(
+async def analysis_drawing(
     body: AnalysisIn,
     solvers: SolverDep,
     format: Annotated[Literal["dxf", "svg"], Query(description="`dxf` for CAD, `svg` for the same drawing to view.")]

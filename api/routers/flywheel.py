@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
@@ -31,7 +33,7 @@ async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep, forma
     settings = solvers.settings
     mean_speed, delta = body.mean_speed(), body.target_delta()
     geometry = None if body.geometry is None else body.geometry.to_engine()
-    sizing = dict(
+    sizing: dict[str, Any] = dict(
         constant_inertia=body.constant_inertia_kgm2,
         motor=None if body.motor is None else body.motor.to_engine(),
         time_limit_s=settings.solver_time_limit_s,

@@ -15,7 +15,7 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 
 
 @router.post("/train", response_model=TrainOut)
-async def train(body: TrainIn, request: Request, solvers: SolverDep) -> Response:
+async def gears_train(body: TrainIn, request: Request, solvers: SolverDep) -> Response:
     """A given serial train of simple, compound and idler meshes and planetary (Willis) stages, from its tooth
     numbers: the ratio with its sign, every shaft's sense and speed, the efficiency and d = m·z of every wheel."""
     return await solvers.answer(render_for(request, None, (), TrainOut.from_engine), synth.gear_train, body.to_engine(),

@@ -24,7 +24,7 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 
 
 @router.post("/split", response_model=SplitOut)
-async def split(body: SplitIn, request: Request, solvers: SolverDep) -> Response:
+async def gears_split(body: SplitIn, request: Request, solvers: SolverDep) -> Response:
     """Split the total ratio between the stages: minimum reduced inertia or gear volume (geometric programs,
     global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
@@ -38,7 +38,7 @@ async def split(body: SplitIn, request: Request, solvers: SolverDep) -> Response
 
 
 @router.post("/teeth", response_model=TeethOut)
-async def teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Response:
+async def gears_teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Response:
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
@@ -48,7 +48,7 @@ async def teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Response
 
 
 @router.post("/drive", response_model=DriveOut)
-async def drive(body: DriveIn, request: Request, solvers: SolverDep) -> Response:
+async def gears_drive(body: DriveIn, request: Request, solvers: SolverDep) -> Response:
     """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
     inertia reduced to the motor shaft."""
     stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
@@ -64,12 +64,12 @@ async def drive(body: DriveIn, request: Request, solvers: SolverDep) -> Response
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])
-def stage_types() -> list[StageTypeOut]:
+def gears_stage_types() -> list[StageTypeOut]:
     """The shipped stage-type table: admissible ratio ranges, efficiencies, sizing constants."""
     return [StageTypeOut.from_engine(t) for t in synth.stage_types().values()]
 
 
 @router.get("/motors", response_model=list[MotorOut])
-def motors() -> list[MotorOut]:
+def gears_motors() -> list[MotorOut]:
     """The shipped motor catalogue, ascending in rated power."""
     return [MotorOut.from_engine(m) for m in synth.motor_catalogue()]

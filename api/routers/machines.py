@@ -25,7 +25,7 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
 }
 
 
-@router.post("/design", response_model=MachineDesignOut, responses=RESPONSES)
+@router.post("/design", response_model=MachineDesignOut, responses=RESPONSES, name="design_machine")
 async def design(body: MachineIn, solvers: SolverDep, format: ReportFormat = None) -> Response:
     """Design the whole machine in one request: analysis, balancing, the balanced linkage reduced to its crank,
     the motor from the mean power, ratio split and tooth numbers, the flywheel for the chosen motor on the chosen

@@ -31,7 +31,7 @@ NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {
 
 
 @router.post("", status_code=202, response_model=StudyOut)
-async def create_study(body: StudyIn, studies: StudiesDep, response: Response) -> StudyOut:
+async def study(body: StudyIn, studies: StudiesDep, response: Response) -> StudyOut:
     """Start a design study: every variant is a request to `endpoint` built from `base` with the parameters set;
     answers 202 at once with the study's id and its `Location`. Follow it with GET on that location."""
     record = await asyncio.to_thread(studies.create, body.model_dump(mode="json"))
@@ -41,7 +41,7 @@ async def create_study(body: StudyIn, studies: StudiesDep, response: Response) -
 
 
 @router.get("", response_model=list[StudyOut])
-async def list_studies(
+async def studies(
     studies: StudiesDep,
     offset: Annotated[int, Query(ge=0, le=100_000_000, description="Studies to skip.")] = 0,
     limit: Annotated[int, Query(ge=1, le=1000, description="Studies per page.")] = 100,
@@ -51,19 +51,19 @@ async def list_studies(
 
 
 @router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
-async def get_study(study_id: str, studies: StudiesDep) -> StudyOut:
+async def study_status(study_id: str, studies: StudiesDep) -> StudyOut:
     """State, variants done of the total, failed variants, running time and the estimated time to finish."""
     return StudyOut.from_record(await asyncio.to_thread(studies.get, study_id))
 
 
 @router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
-async def cancel_study(study_id: str, studies: StudiesDep) -> StudyOut:
+async def study_cancel(study_id: str, studies: StudiesDep) -> StudyOut:
     """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
     return StudyOut.from_record(await asyncio.to_thread(studies.cancel, study_id))
 
 
 @router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
-async def resume_study(study_id: str, studies: StudiesDep) -> StudyOut:
+async def study_resume(study_id: str, studies: StudiesDep) -> StudyOut:
     """Run the variants of a cancelled or interrupted study that have no result yet."""
     return StudyOut.from_record(await asyncio.to_thread(studies.resume, study_id))
 

@@ -24,7 +24,7 @@ FORMATS = ("png",)
 
 
 @router.post("/crank-rocker", response_model=CrankRockerOut, responses=PNG_RESPONSES)
-async def crank_rocker(body: CrankRockerIn, request: Request, solvers: SolverDep,
+async def synthesise_crank_rocker(body: CrankRockerIn, request: Request, solvers: SolverDep,
                        format: FormatQuery = None) -> Response:
     """The crank-rocker with the requested rocker swing and time ratio that is best (largest minimum
     transmission angle, or least peak driving torque / RMS shaking force) over its whole one-parameter family,
@@ -36,7 +36,7 @@ async def crank_rocker(body: CrankRockerIn, request: Request, solvers: SolverDep
 
 
 @router.post("/slider-crank", response_model=SliderCrankSynthesisOut, responses=PNG_RESPONSES)
-async def slider_crank(body: SliderCrankSynthesisIn, request: Request, solvers: SolverDep,
+async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request, solvers: SolverDep,
                        format: FormatQuery = None) -> Response:
     """The offset slider-crank with the requested stroke and time ratio that is best over its whole
     one-parameter family, with its certificate and the engine's check. `?format=png` draws both dead centres."""
@@ -46,7 +46,7 @@ async def slider_crank(body: SliderCrankSynthesisIn, request: Request, solvers: 
 
 
 @router.post("/path", response_model=PathOut, responses=PNG_RESPONSES)
-async def path(body: PathIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
+async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
     """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: multistart
     IPOPT from seeded Sobol starts, the best of all starts with the residual at every point recomputed by the
     analysis engine. `?format=png` draws the coupler curve through the targets."""

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import Any, Literal, TypeVar, get_args
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-import synth
-
+from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
@@ -20,6 +19,7 @@ from .common import (
     WarningOut,
     degree_array,
     ensure_finite,
+    one_of,
     warnings_out,
 )
 
@@ -27,16 +27,18 @@ from .common import (
 class TracePointIn(StrictModel):
     """A named point fixed in a link (a coupler point, a tool tip) whose motion is reported."""
 
-    name: str = Field(min_length=1, max_length=40)
-    link: str
-    position_m: Vec2 = Field(description="Position in the link frame [m].")
+    name: str = Field(min_length=1, max_length=40, description="Name of the point in the answer's `points`.",
+                      examples=["coupler_point"])
+    link: str = Field(description="Link the point is fixed in, by name.", examples=["coupler"])
+    position_m: Vec2 = Field(description="Position in the link frame [m].", examples=[[0.175, 0.08]])
 
 
 class CounterRotorIn(StrictModel):
     """A counter-rotating inertia geared to a link at -ratio times its speed (a full-balance answer's)."""
 
-    link: str
-    inertia_kgm2: float = Field(ge=0, le=MAX_INERTIA_KGM2)
+    link: str = Field(description="Link the rotor is geared to, by name.", examples=["crank"])
+    inertia_kgm2: float = Field(ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia about its axis [kg·m²].",
+                                examples=[0.03])
     ratio: float = Field(1.0, gt=0, le=1e3, description="Rotor speed over the link's speed, counter-rotating [-].")
 
     def to_engine(self) -> synth.CounterRotor:
@@ -50,9 +52,12 @@ class BalancingAnswerIn(BaseModel):
 
     model_config = ConfigDict(extra="ignore", allow_inf_nan=False)
 
-    counterweights: list[CounterweightIn] = Field(default_factory=list, max_length=20)
-    coupler_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2)
-    counter_rotors: list[CounterRotorIn] | None = Field(None, max_length=10)
+    counterweights: list[CounterweightIn] = Field(default_factory=list, max_length=20,
+                                                  description="The answer's counterweights.")
+    coupler_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2, description="The coupler's inertia "
+                                               "about its centre that full balancing asks for [kg·m²].")
+    counter_rotors: list[CounterRotorIn] | None = Field(None, max_length=10,
+                                                        description="The answer's counter-rotors (full balancing).")
 
 
 class AnalysisIn(LinkageRequest):
@@ -129,6 +134,18 @@ class AnalysisIn(LinkageRequest):
     )
 
 
+M = TypeVar("M", bound=BaseModel)
+
+
+def _unchecked(model: type[M], **values: Any) -> M:
+    """``model`` holding the engine's arrays as they are (``api.media.json_bytes`` writes them), unvalidated."""
+    return model.model_construct(**values)
+
+
+Grashof = Literal["crank-rocker", "double-crank", "double-rocker", "rocker-crank", "change-point", "triple-rocker"]
+GRASHOF_CLASSES: tuple[Grashof, ...] = get_args(Grashof)
+
+
 class PointOut(BaseModel):
     """A point's position [m], velocity [m/s] and acceleration [m/s²] at every sample, as [x, y] pairs."""
 
@@ -170,7 +187,7 @@ class AnalysisOut(BaseModel):
     links: dict[str, LinkMotionOut]
     points: dict[str, PointOut]
     transmission_angle_deg: list[float] | None = None
-    grashof: str | None = None
+    grashof: Grashof | None = Field(None, description="Grashof class of a four-bar; null for other mechanisms.")
     summary: SummaryOut
     checks: ChecksOut
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
@@ -187,7 +204,8 @@ class AnalysisOut(BaseModel):
         ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
         mech = an.linkage.mechanism
         tau = an.transmission_angle
-        return cls.model_construct(
+        return _unchecked(
+            cls,
             crank_angle_deg=degree_array(m.phi),
             driving_torque_Nm=k.driving_torque,
             virtual_power_torque_Nm=an.virtual_power_torque,
@@ -200,7 +218,8 @@ class AnalysisOut(BaseModel):
             joint_reactions_N={name: v for name, v in k.reactions.items()},
             prismatic_couples_Nm={name: v for name, v in k.couples.items()},
             links={
-                name: LinkMotionOut.model_construct(
+                name: _unchecked(
+                    LinkMotionOut,
                     angle_deg=degree_array(m.link_angle[name]),
                     angular_velocity_rad_s=m.link_omega[name],
                     angular_acceleration_rad_s2=m.link_alpha[name],
@@ -208,7 +227,8 @@ class AnalysisOut(BaseModel):
                 for name in mech.topology.links
             },
             points={
-                name: PointOut.model_construct(
+                name: _unchecked(
+                    PointOut,
                     position_m=m.point_pos[name],
                     velocity_m_s=m.point_vel[name],
                     acceleration_m_s2=m.point_acc[name],
@@ -216,7 +236,7 @@ class AnalysisOut(BaseModel):
                 for name in m.point_pos
             },
             transmission_angle_deg=None if tau is None else degree_array(tau),
-            grashof=mech.grashof if isinstance(mech, synth.FourBar) else None,
+            grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
             warnings=warnings_out(synth.check_analysis(an)),

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Annotated, Literal
+from typing import Annotated, Literal, get_args
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
-import synth
-
+from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_MASS_KG,
@@ -21,10 +20,14 @@ from .common import (
     StrictModel,
     SummaryOut,
     WarningOut,
+    one_of,
     warnings_out,
 )
 
-SLIDER_CRANK_EXAMPLE = {
+BalanceMode = Literal["static", "full", "optimal"]
+BALANCE_MODES: tuple[BalanceMode, ...] = get_args(BalanceMode)
+
+SLIDER_CRANK_EXAMPLE: JsonDict = {
     "type": "slider_crank",
     "crank_length_m": 0.05,
     "rod_length_m": 0.2,
@@ -39,7 +42,10 @@ SLIDER_CRANK_EXAMPLE = {
 class BalanceIn(LinkageRequest):
     """A four-bar and where counterweights may go."""
 
-    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1)
+    counterweight_links: list[str] = Field(
+        default_factory=lambda: ["crank", "rocker"], min_length=1,
+        description="Links that may carry a counterweight; the textbook variant uses coupler and rocker.",
+    )
     max_radius_m: dict[str, Length] = Field(
         default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length, "
         "twice the coupler's (without a crank counterweight the coupler's must sit beyond B)."
@@ -89,12 +95,13 @@ class WeightsIn(StrictModel):
     force. With `weight_scale: "absolute"` they are per N and per N·m.
     """
 
-    shaking_force: float = Field(1.0, ge=0)
-    shaking_moment: float = Field(0.0, ge=0)
-    driving_torque: float = Field(0.0, ge=0)
-    bearing_forces: float = Field(0.0, ge=0)
-    peak_shaking_force: float = Field(0.0, ge=0)
-    peak_shaking_moment: float = Field(0.0, ge=0)
+    shaking_force: float = Field(1.0, ge=0, description="Per (N RMS)² of shaking force, scaled by its value "
+                                 "before balancing.")
+    shaking_moment: float = Field(0.0, ge=0, description="Per (N·m RMS)² of shaking moment, scaled likewise.")
+    driving_torque: float = Field(0.0, ge=0, description="Per (N·m RMS)² of driving torque, scaled likewise.")
+    bearing_forces: float = Field(0.0, ge=0, description="Per (N RMS)² of joint reactions, summed over the joints.")
+    peak_shaking_force: float = Field(0.0, ge=0, description="Per N of the largest shaking force over the cycle.")
+    peak_shaking_moment: float = Field(0.0, ge=0, description="Per N·m of the largest shaking moment.")
     added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and kg·m² over crank length²).")
 
     def to_engine(self) -> synth.Weights:
@@ -105,7 +112,7 @@ class WeightsIn(StrictModel):
 class OptimalBalanceIn(BalanceIn):
     """Optimal balancing: a weighted trade-off within a mass budget, optionally swept over several weight sets."""
 
-    weights: WeightsIn = Field(default_factory=WeightsIn)
+    weights: WeightsIn = Field(default_factory=WeightsIn, description="Weights of the design answered first.")
     sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
                                    description="More weight sets: the trade-off curve, each point re-analysed.")
     weight_scale: Literal["relative", "absolute"] = Field(
@@ -119,7 +126,7 @@ class OptimalBalanceIn(BalanceIn):
     ]})
 
 
-class PlacementOut(BaseModel):
+class CounterweightPlacementOut(BaseModel):
     """A counterweight's place: radius and angle in its link frame, and the link's new centre of mass."""
 
     link: str
@@ -149,9 +156,9 @@ class BalanceChecksOut(BaseModel):
 class BalanceOut(BaseModel):
     """Counterweights (send them back to /v1/analysis as they are), their cost and effect."""
 
-    mode: str
+    mode: BalanceMode
     counterweights: list[CounterweightIn]
-    placements: list[PlacementOut]
+    placements: list[CounterweightPlacementOut]
     total_added_mass_kg: float
     added_inertia_kgm2: float = Field(description="Counterweights' inertia about their joints plus counter-rotors.")
     summary_before: SummaryOut
@@ -170,13 +177,13 @@ class BalanceOut(BaseModel):
         placements = []
         for cw in r.counterweights:
             props = r.analysis_after.linkage.mass_props(cw.link)
-            placements.append(PlacementOut(
+            placements.append(CounterweightPlacementOut(
                 link=cw.link, radius_m=float(np.hypot(*cw.position)),
                 angle_deg=round(math.degrees(math.atan2(cw.position[1], cw.position[0])), 9) + 0.0,
                 link_com_m=list(props.com), link_mass_kg=props.mass,
             ))
         return cls(
-            mode=r.mode,
+            mode=one_of(BALANCE_MODES, r.mode),
             counterweights=[CounterweightIn.from_engine(c) for c in r.counterweights],
             placements=placements,
             total_added_mass_kg=r.total_added_mass,
@@ -213,21 +220,24 @@ class OptimalBalanceOut(BalanceOut):
 class RotorMassIn(StrictModel):
     """An unbalanced point mass of a rotor."""
 
-    mass_kg: float = Field(ge=0, le=MAX_MASS_KG)
-    radius_m: float = Field(ge=0, le=1e3)
-    angle_deg: float
-    axial_position_m: Coordinate = 0.0
+    mass_kg: float = Field(ge=0, le=MAX_MASS_KG, description="Unbalanced mass [kg].", examples=[1.0])
+    radius_m: float = Field(ge=0, le=1e3, description="Its distance from the axis [m].", examples=[0.1])
+    angle_deg: float = Field(description="Its angle about the axis in the rotor frame [deg].", examples=[20.0])
+    axial_position_m: Coordinate = Field(0.0, description="Its position along the axis [m].")
 
 
 class RotorIn(StrictModel):
     """Point masses of a rotor and where the corrections go: one plane (static) or two (dynamic)."""
 
-    masses: list[RotorMassIn] = Field(min_length=1, max_length=1000)
-    mode: Literal["static", "dynamic"] = "dynamic"
+    masses: list[RotorMassIn] = Field(min_length=1, max_length=1000, description="The rotor's unbalanced masses.")
+    mode: Literal["static", "dynamic"] = Field("dynamic", description="static: one correction plane, the "
+                                               "resultant force only; dynamic: two planes, force and couple.")
     correction_radius_m: Length = Field(0.1, description="Static mode: radius of the correction mass [m].")
-    correction_plane_m: Coordinate = Field(0.0, description="Static mode: axial position of the correction plane.")
-    planes_m: list[Coordinate] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2)
-    radii_m: list[Length] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2)
+    correction_plane_m: Coordinate = Field(0.0, description="Static mode: axial position of the correction plane [m].")
+    planes_m: list[Coordinate] = Field(default_factory=lambda: [0.0, 1.0], min_length=2, max_length=2,
+                                       description="Dynamic mode: axial positions of the two correction planes [m].")
+    radii_m: list[Length] = Field(default_factory=lambda: [0.1, 0.1], min_length=2, max_length=2,
+                                  description="Dynamic mode: radius of the correction mass in each plane [m].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"masses": [{"mass_kg": 1.0, "radius_m": 0.1, "angle_deg": 20, "axial_position_m": 0.2},
@@ -279,7 +289,8 @@ class SliderCrankBalanceIn(LinkageRequest):
     counterweight_radius_m: Length | None = Field(None, description="Default: the crank length.")
     balancer_radii_m: list[Length] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
                                           description="Radius of the 1st- and 2nd-order balancer masses [m].")
-    orders: Literal[1, 2] = 2
+    orders: Literal[1, 2] = Field(2, description="Highest order of the reciprocating force the Lanchester "
+                                  "balancer cancels: 1 (first order) or 2 (first and second).")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": SLIDER_CRANK_EXAMPLE, "speed_rpm": 1500, "balancer_radii_m": [0.04, 0.03]},

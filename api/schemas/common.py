@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal, TypeVar, Union
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
-import synth
-from synth.analysis import Summary
+from ._engine import np, synth
 
 # Bounds far outside any machine, so that arithmetic cannot overflow: a value beyond them is a typo.
 MAX_LENGTH_M = 1e3
@@ -20,6 +19,19 @@ Coordinate = Annotated[float, Field(ge=-MAX_LENGTH_M, le=MAX_LENGTH_M)]
 Vec2 = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]
 MIN_LENGTH_M = 1e-6
 Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
+
+
+Choice = TypeVar("Choice", bound=str | int)
+Branch = Literal[1, -1]
+BRANCHES: tuple[Branch, ...] = (1, -1)
+
+
+def one_of(allowed: tuple[Choice, ...], value: str | int) -> Choice:
+    """An engine value as the schema's closed type (the values of a Literal); anything else is an engine bug."""
+    for option in allowed:
+        if option == value:
+            return option
+    raise RuntimeError(f"engine answered {value!r}, not one of {allowed}")
 
 
 class StrictModel(BaseModel):
@@ -44,39 +56,40 @@ class LinkIn(StrictModel):
 class FourBarLinks(StrictModel):
     """Links of a four-bar; a link left out is massless."""
 
-    crank: LinkIn = Field(default_factory=LinkIn)
-    coupler: LinkIn = Field(default_factory=LinkIn)
-    rocker: LinkIn = Field(default_factory=LinkIn)
+    crank: LinkIn = Field(default_factory=LinkIn, description="Crank O-A; frame origin at O.")
+    coupler: LinkIn = Field(default_factory=LinkIn, description="Coupler A-B; frame origin at A.")
+    rocker: LinkIn = Field(default_factory=LinkIn, description="Rocker Q-B; frame origin at Q.")
 
 
 class SliderCrankLinks(StrictModel):
     """Links of a slider-crank; a link left out is massless."""
 
-    crank: LinkIn = Field(default_factory=LinkIn)
-    rod: LinkIn = Field(default_factory=LinkIn)
-    slider: LinkIn = Field(default_factory=LinkIn)
+    crank: LinkIn = Field(default_factory=LinkIn, description="Crank; frame origin at its pivot.")
+    rod: LinkIn = Field(default_factory=LinkIn, description="Connecting rod; frame origin at the crank pin.")
+    slider: LinkIn = Field(default_factory=LinkIn, description="Slider (piston, crosshead); frame origin at its pin.")
 
 
 class SlottedLeverLinks(StrictModel):
     """Links of a shaper: crank, block in the lever slot, lever, block at the lever tip, ram."""
 
-    crank: LinkIn = Field(default_factory=LinkIn)
-    slider: LinkIn = Field(default_factory=LinkIn)
-    rocker: LinkIn = Field(default_factory=LinkIn)
-    ram_slider: LinkIn = Field(default_factory=LinkIn)
-    ram: LinkIn = Field(default_factory=LinkIn)
+    crank: LinkIn = Field(default_factory=LinkIn, description="Crank; frame origin at its pivot O.")
+    slider: LinkIn = Field(default_factory=LinkIn, description="Block on the crank pin, sliding in the lever slot.")
+    rocker: LinkIn = Field(default_factory=LinkIn, description="Slotted lever; frame origin at its pivot O1.")
+    ram_slider: LinkIn = Field(default_factory=LinkIn, description="Block at the lever tip, sliding in the ram.")
+    ram: LinkIn = Field(default_factory=LinkIn, description="Ram (tool carrier) on its horizontal guide.")
 
 
 class FourBarIn(StrictModel):
     """Four-bar O-A-B-Q: crank pivot O at the origin, rocker pivot Q at (ground_length_m, 0)."""
 
-    type: Literal["fourbar"] = "fourbar"
-    ground_length_m: Length
-    crank_length_m: Length
-    coupler_length_m: Length
-    rocker_length_m: Length
+    type: Literal["fourbar"] = Field("fourbar", description="Mechanism family: a four-bar linkage.")
+    ground_length_m: Length = Field(description="Frame O-Q between the crank and rocker pivots [m].", examples=[0.3])
+    crank_length_m: Length = Field(description="Crank O-A [m].", examples=[0.1])
+    coupler_length_m: Length = Field(description="Coupler A-B [m].", examples=[0.35])
+    rocker_length_m: Length = Field(description="Rocker Q-B [m].", examples=[0.25])
     branch: Literal[1, -1] = Field(1, description="+1: B to the left of the directed line A->Q; -1: to the right.")
-    links: FourBarLinks = Field(default_factory=FourBarLinks)
+    links: FourBarLinks = Field(default_factory=FourBarLinks,
+                                description="Mass properties per link; a link left out is massless.")
 
     def to_mechanism(self) -> synth.FourBar:
         """Engine mechanism."""
@@ -88,12 +101,14 @@ class FourBarIn(StrictModel):
 class SliderCrankIn(StrictModel):
     """Offset slider-crank: crank pivot at the origin, slider on the horizontal line y = offset_m."""
 
-    type: Literal["slider_crank"] = "slider_crank"
-    crank_length_m: Length
-    rod_length_m: Length
-    offset_m: Coordinate = 0.0
+    type: Literal["slider_crank"] = Field("slider_crank", description="Mechanism family: a (possibly offset) "
+                                          "slider-crank, as in presses, compressors and engines.")
+    crank_length_m: Length = Field(description="Crank radius [m].", examples=[0.05])
+    rod_length_m: Length = Field(description="Connecting rod length, crank pin to slider pin [m].", examples=[0.2])
+    offset_m: Coordinate = Field(0.0, description="Height of the slider line above the crank pivot [m]; 0: in-line.")
     branch: Literal[1, -1] = Field(1, description="+1: slider on the +x side of the crank pin; -1: on the -x side.")
-    links: SliderCrankLinks = Field(default_factory=SliderCrankLinks)
+    links: SliderCrankLinks = Field(default_factory=SliderCrankLinks,
+                                    description="Mass properties per link; a link left out is massless.")
 
     def to_mechanism(self) -> synth.SliderCrank:
         """Engine mechanism."""
@@ -103,12 +118,17 @@ class SliderCrankIn(StrictModel):
 class SlottedLeverIn(StrictModel):
     """Shaper: rocker pivot O1 at (0, -ground_length_m) below the crank pivot, ram guide ram_height_m above O1."""
 
-    type: Literal["slotted_lever"] = "slotted_lever"
-    crank_length_m: Length
-    ground_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Distance O-O1 between crank and lever pivots [m].")
-    rocker_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Lever length O1-B [m].")
-    ram_height_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="Height of the ram guide above O1 [m].")
-    links: SlottedLeverLinks = Field(default_factory=SlottedLeverLinks)
+    type: Literal["slotted_lever"] = Field("slotted_lever", description="Mechanism family: the shaper's "
+                                           "crank and slotted lever driving a ram.")
+    crank_length_m: Length = Field(description="Crank O-A [m].", examples=[0.1])
+    ground_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, examples=[0.3],
+                                   description="Distance O-O1 between crank and lever pivots [m].")
+    rocker_length_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, examples=[0.6],
+                                   description="Lever length O1-B [m].")
+    ram_height_m: float = Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, examples=[0.7],
+                                description="Height of the ram guide above O1 [m].")
+    links: SlottedLeverLinks = Field(default_factory=SlottedLeverLinks,
+                                     description="Mass properties per link; a link left out is massless.")
 
     def to_mechanism(self) -> synth.SlottedLever:
         """Engine mechanism."""
@@ -121,16 +141,18 @@ MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn], Field(d
 class GravityIn(StrictModel):
     """Uniform gravity; leave ``gravity`` out (null) to switch it off."""
 
-    g_m_s2: float = Field(9.81, ge=0, le=1e4)
+    g_m_s2: float = Field(9.81, ge=0, le=1e4, description="Acceleration of gravity [m/s²].")
     direction_deg: float = Field(-90.0, description="Direction of g in the plane, -90 = straight down.")
 
 
 class CounterweightIn(StrictModel):
     """A counterweight on a link: point mass at a position in the link frame, with optional own inertia."""
 
-    link: str
-    mass_kg: float = Field(ge=0, le=MAX_MASS_KG)
-    position_m: Vec2
+    link: str = Field(description="Link that carries it, by name (crank, coupler, rocker, rod, ...).",
+                      examples=["crank"])
+    mass_kg: float = Field(ge=0, le=MAX_MASS_KG, description="Counterweight mass [kg].", examples=[2.5])
+    position_m: Vec2 = Field(description="Its centre in the link frame [m]: behind the pivot has a negative x.",
+                             examples=[[-0.06, 0.0]])
     inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Own inertia about its centre [kg·m²].")
 
     def to_engine(self) -> synth.Counterweight:
@@ -169,9 +191,10 @@ class _LoadBase(StrictModel):
 class WindowLoadIn(_LoadBase):
     """Constant load while the crank angle is inside [start_deg, end_deg] (wrapping past 360), against the output velocity."""
 
-    type: Literal["window"] = "window"
-    start_deg: float = 0.0
-    end_deg: float = 360.0
+    type: Literal["window"] = Field("window", description="A constant load over a window of crank angles.")
+    start_deg: float = Field(0.0, description="Crank angle where the load starts acting [deg].")
+    end_deg: float = Field(360.0, description="Crank angle where it stops [deg]; below start_deg the window "
+                           "wraps past 360 (-60 to 60 is the 120° around 0).")
 
     def to_engine(self, output_motion: str) -> synth.ProcessLoad:
         """Engine load."""
@@ -186,8 +209,9 @@ class WindowLoadIn(_LoadBase):
 class CrankTableLoadIn(_LoadBase):
     """Load magnitude tabulated over crank angle (periodic linear interpolation), against the output velocity."""
 
-    type: Literal["crank_table"] = "crank_table"
-    crank_angle_deg: list[float] = Field(min_length=2)
+    type: Literal["crank_table"] = Field("crank_table", description="A load tabulated over the crank angle.")
+    crank_angle_deg: list[float] = Field(min_length=2, examples=[[0, 90, 180, 270]], description="Crank angles of "
+                                         "the table rows [deg]; the magnitudes are force_N or torque_Nm, one per row.")
 
     def to_engine(self, output_motion: str) -> synth.ProcessLoad:
         """Engine load."""
@@ -202,7 +226,8 @@ class CrankTableLoadIn(_LoadBase):
 class PositionTableLoadIn(_LoadBase):
     """Load magnitude tabulated over the output position: slide displacement [m] or output angle [deg]."""
 
-    type: Literal["position_table"] = "position_table"
+    type: Literal["position_table"] = Field("position_table", description="A load tabulated over the output "
+                                            "position (an indicator diagram, say).")
     position_m: list[float] | None = Field(None, min_length=2, description="Output slide position along its guide [m].")
     position_deg: list[float] | None = Field(None, min_length=2, description="Output link angle [deg].")
 
@@ -229,30 +254,30 @@ LoadIn = Annotated[Union[WindowLoadIn, CrankTableLoadIn, PositionTableLoadIn], F
 class LinkTorqueIn(StrictModel):
     """A constant external torque on a link [N·m], counter-clockwise positive."""
 
-    link: str
-    torque_Nm: float
+    link: str = Field(description="Link the torque acts on, by name.", examples=["rocker"])
+    torque_Nm: float = Field(description="Torque from outside on the link [N·m], counter-clockwise positive.",
+                             examples=[-20.0])
 
 
-class LinkageRequest(StrictModel):
-    """A linkage at a crank speed: what every mechanism endpoint takes."""
+class LinkageFields(StrictModel):
+    """A linkage with its loads and counterweights, where a subclass may leave the mechanism and its speed out."""
 
-    mechanism: MechanismIn
-    speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
-    crank_acceleration_rad_s2: float = Field(0.0, ge=-1e9, le=1e9,
-                                             description="Crank angular acceleration, the same at every angle.")
+    mechanism: MechanismIn | None = Field(None, description="The linkage, chosen by `type`: fourbar, "
+                                          "slider_crank or slotted_lever.")
+    speed_rpm: float | None = Field(None, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
+    crank_acceleration_rad_s2: float = Field(
+        0.0, ge=-1e9, le=1e9, description="Crank angular acceleration, the same at every angle [rad/s²]."
+    )
     samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
     crank_angle_deg: list[float] | None = Field(
         None, min_length=1, description="Explicit crank angles [deg]; overrides samples."
     )
     gravity: GravityIn | None = Field(None, description="Gravity; null (default) switches it off.")
     loads: list[LoadIn] = Field(default_factory=list, description="Process loads on the output member.")
-    torques: list[LinkTorqueIn] = Field(default_factory=list)
-    counterweights: list[CounterweightIn] = Field(default_factory=list)
-
-    @property
-    def omega_rad_s(self) -> float:
-        """Crank speed [rad/s]."""
-        return self.speed_rpm * math.pi / 30.0
+    torques: list[LinkTorqueIn] = Field(default_factory=list, description="Constant external torques on links.")
+    counterweights: list[CounterweightIn] = Field(
+        default_factory=list, description="Counterweights already fitted (a balancing answer's, as they are)."
+    )
 
     def phi(self) -> np.ndarray | None:
         """Explicit crank angles [rad], or None for the uniform grid."""
@@ -260,6 +285,8 @@ class LinkageRequest(StrictModel):
 
     def to_linkage(self) -> synth.Linkage:
         """Engine linkage; degrees become radians here and nowhere else."""
+        if self.mechanism is None:
+            raise synth.InvalidInput("give the mechanism", field="mechanism")
         mech = self.mechanism.to_mechanism()
         output_motion = mech.topology.output_motion
         links = {name: link.to_props() for name, link in self.mechanism.links}
@@ -274,6 +301,19 @@ class LinkageRequest(StrictModel):
             loads=tuple(load.to_engine(output_motion) for load in self.loads),
             torques=tuple(synth.LinkTorque(t.link, t.torque_Nm) for t in self.torques),
         )
+
+
+class LinkageRequest(LinkageFields):
+    """A linkage at a crank speed: what every mechanism endpoint takes."""
+
+    mechanism: MechanismIn = Field(description="The linkage, chosen by `type`: fourbar, slider_crank or "
+                                   "slotted_lever.")
+    speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
+
+    @property
+    def omega_rad_s(self) -> float:
+        """Crank speed [rad/s]."""
+        return self.speed_rpm * math.pi / 30.0
 
 
 class WarningOut(BaseModel):
@@ -306,7 +346,8 @@ def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
 def degree_list(radians: np.ndarray) -> list[float]:
     """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
     # Adding 0.0 turns -0.0 into 0.0.
-    return np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()  # type: ignore[no-any-return]
+    degrees: list[float] = np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()
+    return degrees
 
 
 def degree_array(radians: np.ndarray) -> np.ndarray:
@@ -333,7 +374,7 @@ class SummaryOut(BaseModel):
     max_bearing_force_N: float
 
     @classmethod
-    def from_engine(cls, s: Summary) -> SummaryOut:
+    def from_engine(cls, s: synth.Summary) -> SummaryOut:
         """Schema from the engine summary."""
         return cls(
             rms_shaking_force_N=s.rms_shaking_force,
@@ -346,7 +387,7 @@ class SummaryOut(BaseModel):
         )
 
 
-FOURBAR_EXAMPLE = {
+FOURBAR_EXAMPLE: JsonDict = {
     "type": "fourbar",
     "ground_length_m": 0.30,
     "crank_length_m": 0.10,

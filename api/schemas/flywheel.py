@@ -3,22 +3,22 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated, Literal, get_args
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
-import synth
-
+from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
-    LinkageRequest,
+    LinkageFields,
     MechanismIn,
     StrictModel,
     WarningOut,
     degree_list,
     ensure_finite,
+    one_of,
     warnings_out,
 )
 
@@ -26,7 +26,7 @@ from .common import (
 Torque = Annotated[float, Field(ge=-1e9, le=1e9)]
 
 # The coursework's reduced resisting torque of a gear-shaper over one revolution (seed 002:104-123), closed at 360.
-SHAPER_TABLES_EXAMPLE = {
+SHAPER_TABLES_EXAMPLE: JsonDict = {
     "crank_angle_deg": [0, 60, 120, 180, 240, 300, 360],
     "resisting_torque_Nm": [-1.7, -1500.6, -1496.7, -385.74, -145.33, -250.0, -1.7],
     "driving_torque_Nm": [0, 0, 0, 0, 0, 0, 0],
@@ -37,7 +37,8 @@ class FlywheelTablesIn(StrictModel):
     """The machine reduced to its crank, tabulated over one cycle (linear between rows)."""
 
     crank_angle_deg: list[Annotated[float, Field(ge=-1e5, le=1e5)]] = Field(
-        min_length=3, description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it."
+        min_length=3, examples=[[0, 60, 120, 180, 240, 300, 360]],
+        description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it.",
     )
     reduced_inertia_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
         None, description="Reduced inertia J_red of the mechanism at each angle [kg·m²]; left out: zero."
@@ -53,7 +54,7 @@ class FlywheelTablesIn(StrictModel):
     def to_cycle(self, cycle_deg: float, max_samples: int) -> synth.ReducedCycle:
         """Engine cycle; degrees become radians here."""
         return synth.cycle_from_tables(
-            np.radians(self.crank_angle_deg),
+            [math.radians(a) for a in self.crank_angle_deg],
             reduced_inertia=self.reduced_inertia_kgm2,
             reduced_torque=self.reduced_torque_Nm,
             driving_torque=self.driving_torque_Nm,
@@ -115,24 +116,33 @@ class MotorIn(StrictModel):
 class ShaftIn(StrictModel):
     """A shaft of the drive that may carry the flywheel."""
 
-    name: str = Field(min_length=1, max_length=40)
-    speed_ratio: float = Field(ge=1e-4, le=1e5, description="Shaft speed over crank speed [-].")
+    name: str = Field(min_length=1, max_length=40, description="Name of the shaft in the answer.",
+                      examples=["motor"])
+    speed_ratio: float = Field(ge=1e-4, le=1e5, description="Shaft speed over crank speed [-].", examples=[19.45])
 
 
 Ratio = Annotated[list[Annotated[float, Field(gt=0, le=10)]], Field(min_length=2, max_length=2)]
+MachineType = Literal[
+    "ac_generators", "dc_generators", "internal_combustion_engines", "piston_compressors", "metal_cutting_machine_tools"
+]
+SizingMethod = Literal["exact", "mertsalov", "energy", "motor_nlp", "simulated"]
+MACHINE_TYPES: tuple[MachineType, ...] = get_args(MachineType)
+SIZING_METHODS: tuple[SizingMethod, ...] = get_args(SizingMethod)
+FLYWHEEL_SHAPES: tuple[Literal["rim", "disc"], ...] = ("rim", "disc")
 
 
 class GeometryIn(StrictModel):
     """Shape, material and limits of the flywheel, and the shafts it may sit on (the crank shaft always)."""
 
-    shape: Literal["rim", "disc"] = "rim"
+    shape: Literal["rim", "disc"] = Field("rim", description="rim: a heavy rim on spokes; disc: a solid disc.")
     density_kg_m3: float = Field(7200.0, ge=1, le=1e5, description="Cast iron 7200, steel 7850 [kg/m³].")
     max_rim_speed_m_s: float | None = Field(30.0, gt=0, le=1e4, description="At the outer radius; cast iron 25-30 [m/s].")
     allowable_stress_Pa: float | None = Field(None, ge=1, le=1e12, description="Allowable hoop (rim) or centre (disc) stress.")
     max_diameter_m: float | None = Field(None, ge=1e-4, le=1e3, description="Largest outer diameter [m].")
     thickness_ratio: Ratio = Field([0.1, 0.2], description="Rim radial thickness a over mean diameter D: [min, max].")
     width_ratio: Ratio = Field([0.1, 0.2], description="Width b over diameter D: [min, max].")
-    shafts: list[ShaftIn] = Field(default_factory=list, max_length=20)
+    shafts: list[ShaftIn] = Field(default_factory=list, max_length=20,
+                                  description="Faster shafts that may carry it instead of the crank shaft.")
 
     def to_engine(self) -> synth.GeometrySpec:
         """Engine geometry specification."""
@@ -148,7 +158,7 @@ class GeometryIn(StrictModel):
         )
 
 
-class FlywheelIn(LinkageRequest):
+class FlywheelIn(LinkageFields):
     """Flywheel sizing: the machine as tables or as a linkage with loads, the mean speed and the target delta."""
 
     mechanism: MechanismIn | None = Field(None, description="A linkage instead of tables (with its loads).")
@@ -158,7 +168,7 @@ class FlywheelIn(LinkageRequest):
     mean_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="(w_max + w_min)/2 [rev/min].")
     mean_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="(w_max + w_min)/2 [rad/s].")
     delta: float | None = Field(None, gt=0, lt=1, description="Target (w_max - w_min)/w_mean [-].")
-    machine_type: str | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
+    machine_type: MachineType | None = Field(None, description="Machine type of GET /v1/machine-types: its tightest delta.")
     constant_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Constant inertia already on the crank [kg·m²].")
     motor: MotorIn | None = Field(None, description="Motor characteristic; left out: constant driving torque.")
     geometry: GeometryIn | None = Field(None, description="Shape and place the flywheel; left out: size it only.")
@@ -220,7 +230,7 @@ class FlywheelIn(LinkageRequest):
 class MachineTypeOut(BaseModel):
     """Admissible coefficient of speed fluctuation of one machine type (seed 003:443-453)."""
 
-    machine_type: str
+    machine_type: MachineType
     label: str
     delta_min: float
     delta_max: float
@@ -230,7 +240,8 @@ class MachineTypeOut(BaseModel):
     def from_engine(cls, row: synth.MachineType) -> MachineTypeOut:
         """Schema from an engine table row."""
         return cls(
-            machine_type=row.name, label=row.label, delta_min=row.delta_min, delta_max=row.delta_max,
+            machine_type=one_of(MACHINE_TYPES, row.name), label=row.label, delta_min=row.delta_min,
+            delta_max=row.delta_max,
             default_delta=row.default_delta,
         )
 
@@ -238,7 +249,7 @@ class MachineTypeOut(BaseModel):
 class MethodOut(BaseModel):
     """One sizing method and the steady motion its inertia gives, found by integrating the equation of motion."""
 
-    method: Literal["exact", "mertsalov", "energy", "motor_nlp", "simulated"] = Field(
+    method: SizingMethod = Field(
         description="simulated (whole-machine design only): the motor NLP's inertia raised until the simulated "
         "machine, looked at between the samples too, meets the target.")
     required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red(phi).")
@@ -253,7 +264,7 @@ class MethodOut(BaseModel):
     def from_engine(cls, m: synth.MethodResult, target: float) -> MethodOut:
         """Schema from an engine method result."""
         return cls(
-            method=m.method,  # type: ignore[arg-type]
+            method=one_of(SIZING_METHODS, m.method),
             required_constant_inertia_kgm2=m.required_constant_inertia,
             flywheel_inertia_kgm2=m.flywheel_inertia,
             achieved_delta=m.achieved_delta,
@@ -279,17 +290,17 @@ class EnergyMassOut(BaseModel):
 class SpeedOut(BaseModel):
     """Simulated steady crank speed over the cycle of the design method."""
 
-    method: str
+    method: SizingMethod
     crank_angle_deg: list[float]
     omega_rad_s: list[float]
 
 
-class PlacementOut(BaseModel):
+class FlywheelPlacementOut(BaseModel):
     """A flywheel on one shaft; ``inertia_check_kgm2`` is recomputed from the dimensions."""
 
     shaft: str
     speed_ratio: float
-    shape: str
+    shape: Literal["rim", "disc"]
     inertia_kgm2: float = Field(description="Inertia on this shaft: crank-shaft inertia / speed_ratio².")
     diameter_m: float = Field(description="Mean rim diameter (disc: outer diameter).")
     outer_diameter_m: float
@@ -300,10 +311,11 @@ class PlacementOut(BaseModel):
     inertia_check_kgm2: float
 
     @classmethod
-    def from_engine(cls, b: synth.FlywheelBody) -> PlacementOut:
+    def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
         """Schema from an engine flywheel body."""
         return cls(
-            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=b.shape, inertia_kgm2=b.inertia, diameter_m=b.diameter,
+            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=one_of(FLYWHEEL_SHAPES, b.shape), inertia_kgm2=b.inertia,
+            diameter_m=b.diameter,
             outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness, width_m=b.width, mass_kg=b.mass,
             rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check,
         )
@@ -321,8 +333,8 @@ class PlacementMissOut(BaseModel):
 class GeometryOut(BaseModel):
     """The lightest flywheel and every shaft's outcome."""
 
-    best: PlacementOut
-    placements: list[PlacementOut]
+    best: FlywheelPlacementOut
+    placements: list[FlywheelPlacementOut]
     misses: list[PlacementMissOut]
 
 
@@ -344,7 +356,7 @@ class FlywheelOut(BaseModel):
     constant_driving_torque_Nm: float = Field(description="Constant driving torque that balances the cycle's work.")
     cycle_work_J: float = Field(description="Work of the given torques over the cycle, before that balance.")
     motor_mean_speed_rad_s: float | None = Field(None, description="Angle-average steady speed with the motor.")
-    design_method: str
+    design_method: SizingMethod
     methods: list[MethodOut]
     energy_mass: EnergyMassOut
     speed: SpeedOut
@@ -362,8 +374,8 @@ class FlywheelOut(BaseModel):
         geometry = None
         if r.geometry is not None:
             geometry = GeometryOut(
-                best=PlacementOut.from_engine(r.geometry.best),
-                placements=[PlacementOut.from_engine(b) for b in r.geometry.bodies],
+                best=FlywheelPlacementOut.from_engine(r.geometry.best),
+                placements=[FlywheelPlacementOut.from_engine(b) for b in r.geometry.bodies],
                 misses=[
                     PlacementMissOut(shaft=m.shaft, speed_ratio=m.speed_ratio, constraint=m.constraint,
                                      max_inertia_kgm2=m.max_inertia)
@@ -382,7 +394,7 @@ class FlywheelOut(BaseModel):
             constant_driving_torque_Nm=r.driving_torque,
             cycle_work_J=r.cycle_work,
             motor_mean_speed_rad_s=r.motor_mean_speed,
-            design_method=r.design_method,
+            design_method=one_of(SIZING_METHODS, r.design_method),
             methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
             energy_mass=EnergyMassOut(
                 crank_angle_deg=degree_list(r.cycle.phi),
@@ -393,7 +405,8 @@ class FlywheelOut(BaseModel):
                 tangent_min_slope_J_per_kgm2=tan.slope_min,
                 tangent_min_intercept_J=tan.intercept_min,
             ),
-            speed=SpeedOut(method=design.method, crank_angle_deg=degree_list(phi), omega_rad_s=omega.tolist()),
+            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=degree_list(phi),
+                           omega_rad_s=omega.tolist()),
             geometry=geometry,
             warnings=warnings_out(warnings or []),
         )

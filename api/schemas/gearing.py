@@ -3,22 +3,34 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-import synth
-from synth.gearing.planetary import PlanetaryMesh
-
-from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, warnings_out
+from ._engine import synth
+from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, one_of, warnings_out
 
 RPM = math.pi / 30.0
+
+STAGE_TYPES: tuple[StageType, ...] = ("spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain")
+if TYPE_CHECKING:
+    StageType = Literal["spur", "helical", "open_spur", "bevel", "planetary", "worm", "belt", "chain"]
+else:
+    # A Literal for the type checker; at run time the engine checks the name against its table, so that the
+    # answer names the stage (`stages[1].type`) and lists the types, where a Literal inside the count-or-list
+    # union would answer "stages: Input should be a valid integer".
+    StageType = Annotated[str, Field(json_schema_extra={"enum": list(STAGE_TYPES)})]
+Objective = Literal["min_inertia", "min_volume", "handbook"]
+OBJECTIVES: tuple[Objective, ...] = get_args(Objective)
+TorqueBasis = Literal["load", "rated"]
+TORQUE_BASES: tuple[TorqueBasis, ...] = get_args(TorqueBasis)
 
 
 class StageIn(StrictModel):
     """A stage of the layout: a type from the table (GET /v1/gears/stage-types) with optional overrides."""
 
-    type: str = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.")
+    type: StageType = Field(description="Stage type: spur, helical, open_spur, bevel, planetary, worm, belt, chain.",
+                            examples=["helical"])
     ratio_min: float | None = Field(None, gt=0, le=1e4, description="Smallest admissible stage ratio [-].")
     ratio_max: float | None = Field(None, gt=0, le=1e4, description="Largest admissible stage ratio [-].")
     efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
@@ -31,10 +43,11 @@ class StageIn(StrictModel):
 
 # Bounded here, before anything is allocated per stage; the service setting max_stages may lower it.
 MAX_STAGES = 12
-StagesIn = Annotated[int, Field(ge=1, le=MAX_STAGES)] | Annotated[list[str | StageIn], Field(min_length=1, max_length=MAX_STAGES)]
+StagesIn = (Annotated[int, Field(ge=1, le=MAX_STAGES)]
+            | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=MAX_STAGES)])
 
 
-def _specs(stages: int | list[str | StageIn]) -> int | list[synth.StageSpec | str]:
+def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpec | str]:
     return stages if isinstance(stages, int) else [s if isinstance(s, str) else s.to_spec() for s in stages]
 
 
@@ -55,14 +68,19 @@ class SplitIn(_InertiaFields):
     """A total ratio (or the motor and output speeds) to split between the stages."""
 
     total_ratio: float | None = Field(None, ge=1e-4, le=1e6, description="Motor speed over output speed [-].")
-    motor_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
-    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
-    motor_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
-    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
+    motor_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Motor speed [rev/min], with an output "
+                                          "speed.")
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Output shaft speed [rev/min].")
+    motor_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Motor speed [rad/s], with an output "
+                                            "speed.")
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
-    motor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia, added on the motor shaft [kg·m²].")
+    objective: Objective = Field(
+        "min_inertia", description="min_inertia: least train inertia on the motor shaft; min_volume: least gear "
+        "volume; handbook: the two-stage rule of thumb.")
+    motor_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia, added on the motor "
+                                      "shaft [kg·m²].")
     input_torque_Nm: float = Field(1.0, gt=0, le=1e9, description="Motor-shaft torque for the volume model [N·m]; "
                                    "scales the volume, not the split.")
     handbook_factor: float = Field(0.88, gt=0, le=10, description="Handbook rule: slow stage = factor * sqrt(U).")
@@ -107,7 +125,7 @@ class SplitIn(_InertiaFields):
 class StageOut(BaseModel):
     """A stage as used: type, admissible range and efficiency."""
 
-    type: str
+    type: StageType
     ratio_min: float
     ratio_max: float
     efficiency: float
@@ -116,7 +134,8 @@ class StageOut(BaseModel):
     @classmethod
     def from_engine(cls, s: synth.Stage) -> StageOut:
         """Schema from an engine stage."""
-        return cls(type=s.type, ratio_min=s.ratio_min, ratio_max=s.ratio_max, efficiency=s.efficiency,
+        return cls(type=one_of(STAGE_TYPES, s.type), ratio_min=s.ratio_min, ratio_max=s.ratio_max,
+                   efficiency=s.efficiency,
                    fixed_ratio=s.ratio)
 
 
@@ -134,11 +153,11 @@ class SplitOut(BaseModel):
     """Stage ratios, motor side first, with the objective and both model figures."""
 
     total_ratio: float
-    objective: str
+    objective: Objective
     stage_ratios: list[float]
     continuous_ratios: list[float] = Field(description="The optimum before R20 snapping.")
     objective_value: float
-    objective_unit: str
+    objective_unit: Literal["m3", "kgm2"]
     reduced_inertia_kgm2: float = Field(description="Train inertia on the motor shaft at these ratios.")
     gear_volume_m3: float | None = Field(description="Pinion and gear volume sized for contact stress; null when "
                                          "a stage type has no sizing rule.")
@@ -155,7 +174,7 @@ class SplitOut(BaseModel):
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
         """Schema from an engine split."""
         return cls(
-            total_ratio=r.total_ratio, objective=r.objective, stage_ratios=list(r.stage_ratios),
+            total_ratio=r.total_ratio, objective=one_of(OBJECTIVES, r.objective), stage_ratios=list(r.stage_ratios),
             continuous_ratios=list(r.continuous_ratios), objective_value=r.objective_value,
             objective_unit="m3" if r.objective == "min_volume" else "kgm2",
             reduced_inertia_kgm2=r.reduced_inertia, gear_volume_m3=r.gear_volume,
@@ -171,17 +190,18 @@ class SplitOut(BaseModel):
 class TeethIn(StrictModel):
     """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
 
-    total_ratio: float = Field(ge=1e-4, le=1e6, description="Target ratio of the train [-].")
+    total_ratio: float = Field(ge=1e-4, le=1e6, description="Target ratio of the train [-].", examples=[17.3])
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of toothed stage types or stages "
                              "with ratio ranges, motor side first.")
     min_teeth: int | None = Field(None, ge=1, le=100_000, description="Your bound on every wheel; replaces the undercut limit, "
                                   "which then only warns.")
-    max_teeth: int = Field(100, ge=2, le=100_000)
+    max_teeth: int = Field(100, ge=2, le=100_000, description="Most teeth on any wheel.")
     tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
                                     "teeth within it; else the closest ratio.")
-    pressure_angle_deg: float = Field(20.0, gt=0, lt=90)
-    addendum_coefficient: float = Field(1.0, gt=0, le=2)
-    profile_shift: float = Field(0.0, ge=-1, le=1, description="Shift x on the smaller wheel of each pair, -x on the larger.")
+    pressure_angle_deg: float = Field(20.0, gt=0, lt=90, description="Pressure angle of the basic rack [deg].")
+    addendum_coefficient: float = Field(1.0, gt=0, le=2, description="Addendum over module, h_a* [-].")
+    profile_shift: float = Field(0.0, ge=-1, le=1, description="Shift x on the smaller wheel of each pair, -x on the "
+                                 "larger.")
     hunting_teeth: bool = Field(False, description="No common factor between the teeth of a pair.")
     reverted: bool = Field(False, description="Coaxial input and output: equal tooth sums in every stage.")
     planets: int = Field(3, ge=2, le=12, description="Planets of every planetary stage: z_r = z_s + 2 z_p, "
@@ -219,7 +239,7 @@ class MeshOut(BaseModel):
     @classmethod
     def from_engine(cls, m: synth.Mesh) -> MeshOut:
         """Schema from an engine mesh, simple or planetary."""
-        if isinstance(m, PlanetaryMesh):
+        if isinstance(m, synth.PlanetaryMesh):
             return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio, sun_teeth=m.pinion_teeth,
                        planet_teeth=m.planet_teeth, ring_teeth=m.gear_teeth, planets=m.planets)
         return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio)
@@ -272,11 +292,12 @@ class TeethOut(BaseModel):
 class CatalogueMotorIn(StrictModel):
     """A motor of your own catalogue."""
 
-    name: str = Field(min_length=1, max_length=80)
-    rated_power_W: float = Field(gt=0, le=1e9)
-    synchronous_rpm: float = Field(gt=0, le=1e5)
-    rated_rpm: float = Field(gt=0, le=1e5)
-    rotor_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2)
+    name: str = Field(min_length=1, max_length=80, description="Catalogue designation.", examples=["4A100L4"])
+    rated_power_W: float = Field(gt=0, le=1e9, description="Rated output power [W].", examples=[4000.0])
+    synchronous_rpm: float = Field(gt=0, le=1e5, description="Synchronous speed [rev/min].", examples=[1500.0])
+    rated_rpm: float = Field(gt=0, le=1e5, description="Speed at rated power [rev/min].", examples=[1430.0])
+    rotor_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2,
+                                             description="Rotor inertia [kg·m²]; unknown: null.")
 
     @model_validator(mode="after")
     def _slip(self) -> CatalogueMotorIn:
@@ -293,9 +314,10 @@ class CatalogueMotorIn(StrictModel):
 class DriveIn(_InertiaFields):
     """Output power and speed and a layout: the motor, the split and every shaft's speed, power and torque."""
 
-    output_power_W: float = Field(gt=0, le=1e9, description="Power the output shaft delivers [W].")
-    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6)
-    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5)
+    output_power_W: float = Field(gt=0, le=1e9, description="Power the output shaft delivers [W].",
+                                  examples=[3000.0])
+    output_speed_rpm: float | None = Field(None, ge=1e-3, le=1e6, description="Output shaft speed [rev/min].")
+    output_speed_rad_s: float | None = Field(None, ge=1e-4, le=1e5, description="Output shaft speed [rad/s].")
     stages: StagesIn = Field(2, description="A count of spur stages, or a list of stage types or stages, motor "
                              "side first.")
     reserve_factor: float = Field(1.1, gt=0, le=10, description="xi in P_req = P_out xi / eta.")
@@ -307,11 +329,13 @@ class DriveIn(_InertiaFields):
         None, min_length=1, max_length=500,
         description="Your motors to choose from (a vendor's data); default the shipped representative catalogue "
         "listed at GET /v1/gears/motors.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
-    torque_basis: Literal["load", "rated"] = Field(
+    objective: Objective = Field(
+        "min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
+    torque_basis: TorqueBasis = Field(
         "load", description="Shaft powers from the output power (load) or the motor's rated power (rated).")
-    snap_r20: bool = False
-    snap_tolerance: float | None = Field(None, gt=0, lt=1)
+    snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
+    snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
+                                         "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"output_power_W": 20000, "output_speed_rad_s": 9.0, "drive_efficiency": 0.8, "torque_basis": "rated",
@@ -393,7 +417,7 @@ class DriveOut(BaseModel):
     shafts: list[ShaftOut]
     reduced_inertia_kgm2: float
     output_speed_rpm: float
-    torque_basis: str
+    torque_basis: TorqueBasis
     split: SplitOut
     checks: DriveChecksOut
     warnings: list[WarningOut]
@@ -408,7 +432,7 @@ class DriveOut(BaseModel):
             shafts=[ShaftOut(speed_rpm=s.speed / RPM, speed_rad_s=s.speed, power_W=s.power, torque_Nm=s.torque,
                              inertia_kgm2=s.inertia, reduced_inertia_kgm2=s.reduced_inertia) for s in r.shafts],
             reduced_inertia_kgm2=r.reduced_inertia, output_speed_rpm=r.output_speed / RPM,
-            torque_basis=r.torque_basis, split=SplitOut.from_engine(r.split, stages),
+            torque_basis=one_of(TORQUE_BASES, r.torque_basis), split=SplitOut.from_engine(r.split, stages),
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
@@ -419,7 +443,7 @@ class DriveOut(BaseModel):
 class StageTypeOut(BaseModel):
     """A row of the shipped stage-type table."""
 
-    name: str
+    name: StageType
     description: str
     ratio_min: float
     ratio_max: float
@@ -430,5 +454,6 @@ class StageTypeOut(BaseModel):
     @classmethod
     def from_engine(cls, t: synth.StageType) -> StageTypeOut:
         """Schema from an engine stage type."""
-        return cls(name=t.name, description=t.description, ratio_min=t.ratio_min, ratio_max=t.ratio_max,
+        return cls(name=one_of(STAGE_TYPES, t.name), description=t.description, ratio_min=t.ratio_min,
+                   ratio_max=t.ratio_max,
                    efficiency=t.efficiency, toothed=t.toothed, volume_coefficient_m3_per_Nm=t.volume_coefficient)

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
-import synth
-
+from ._engine import np, synth
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
 from .common import (
@@ -24,10 +23,10 @@ from .common import (
     warnings_out,
 )
 from .flywheel import FlywheelOut, Ratio
-from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, StageIn, TeethOut, _specs
+from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
 
 #: The README's slider-crank press: a 2.5 kN pressing stroke over half the turn at 480 rpm, one helical stage.
-PRESS_EXAMPLE = {
+PRESS_EXAMPLE: JsonDict = {
     "mechanism": {"type": "slider_crank", "crank_length_m": 0.06, "rod_length_m": 0.24,
                   "links": {"crank": {"mass_kg": 3, "com_m": [0.02, 0], "inertia_kgm2": 0.004},
                             "rod": {"mass_kg": 4, "com_m": [0.08, 0], "inertia_kgm2": 0.03},
@@ -43,7 +42,7 @@ PRESS_EXAMPLE = {
 
 #: The lecture-10 shaper driven as the seeds' drive example: motor A2-72-4, a bevel stage fixed at 3, an open spur
 #: stage, 9 rad/s at the crank; a cutting force of 1.2 kN over the working stroke.
-SHAPER_EXAMPLE = {
+SHAPER_EXAMPLE: JsonDict = {
     "mechanism": {"type": "slotted_lever", "crank_length_m": 0.1, "ground_length_m": 0.3, "rocker_length_m": 0.6,
                   "ram_height_m": 0.7,
                   "links": {"crank": {"mass_kg": 5.0},
@@ -61,7 +60,7 @@ SHAPER_EXAMPLE = {
 }
 
 #: A four-bar fully balanced, with what the other balancing modes would cost.
-FOURBAR_MACHINE_EXAMPLE = {
+FOURBAR_MACHINE_EXAMPLE: JsonDict = {
     "mechanism": FOURBAR_EXAMPLE,
     "loads": [{"type": "window", "torque_Nm": 60, "start_deg": 0, "end_deg": 180}],
     "speed_rpm": 300,
@@ -73,7 +72,7 @@ FOURBAR_MACHINE_EXAMPLE = {
 
 
 StageCount = Annotated[int, Field(ge=1, le=20)]
-StageList = Annotated[list[str | StageIn], Field(min_length=1, max_length=20)]
+StageList = Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20)]
 
 
 class MachineDriveIn(StrictModel):
@@ -87,7 +86,7 @@ class MachineDriveIn(StrictModel):
         None, min_length=1, max_length=500, description="Your motors to choose from; default GET /v1/gears/motors.")
     synchronous_rpm: float | None = Field(None, gt=0, le=1e5, description="Restrict the motor to one speed class.")
     reserve_factor: float = Field(1.1, gt=0, le=100, description="xi in P_req = P_mean xi / eta.")
-    objective: Literal["min_inertia", "min_volume", "handbook"] = "min_inertia"
+    objective: Objective = Field("min_inertia", description="How the ratio is split: as in POST /v1/gears/split.")
     pinion_inertia_kgm2: float = Field(1e-3, gt=0, le=MAX_INERTIA_KGM2,
                                        description="Every pinion; a gear of ratio u has u⁴ times it.")
     load_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Extra inertia on the crank shaft.")
@@ -116,8 +115,10 @@ class MachineBalancingIn(StrictModel):
     """How to balance the linkage: none, static, full or optimal (four-bars); a slider-crank takes static (crank
     counterweight) or full (and Lanchester balancers)."""
 
-    mode: Literal["none", "static", "full", "optimal"] = "none"
-    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1, max_length=5)
+    mode: Literal["none", "static", "full", "optimal"] = Field("none", description="Balancing mode as in "
+                                                               "POST /v1/balancing/*; none: as it is.")
+    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1, max_length=5,
+                                           description="Links that may carry a counterweight.")
     max_radius_m: dict[str, Length] = Field(default_factory=dict, max_length=5,
                                             description="Largest counterweight radius per link [m].")
     weights: WeightsIn | None = Field(None, description="Optimal mode: dimensionless weights (each term over its "
@@ -138,10 +139,11 @@ class MachineBalancingIn(StrictModel):
 class MachineGeometryIn(StrictModel):
     """Shape, material and limits of the flywheel (the candidate shafts are the drive's)."""
 
-    shape: Literal["rim", "disc"] = "rim"
+    shape: Literal["rim", "disc"] = Field("rim", description="rim: a heavy rim on spokes; disc: a solid disc.")
     density_kg_m3: float = Field(7200.0, gt=0, le=1e5, description="Cast iron 7200, steel 7850 [kg/m³].")
     max_rim_speed_m_s: float | None = Field(30.0, gt=0, le=1e4, description="At the outer radius [m/s].")
-    allowable_stress_Pa: float | None = Field(None, gt=0, le=1e12)
+    allowable_stress_Pa: float | None = Field(None, gt=0, le=1e12, description="Allowable hoop (rim) or centre "
+                                              "(disc) stress [Pa].")
     max_diameter_m: float | None = Field(None, gt=0, le=1e3, description="Largest outer diameter [m].")
     thickness_ratio: Ratio = Field([0.1, 0.2], description="Rim radial thickness over mean diameter: [min, max].")
     width_ratio: Ratio = Field([0.1, 0.2], description="Width over diameter: [min, max].")
@@ -159,7 +161,8 @@ class MachineFlywheelIn(StrictModel):
 
     placement: Literal["crank", "motor", "lightest"] = Field(
         "lightest", description="On the crank shaft, the motor shaft, or the lightest shaft that holds it.")
-    geometry: MachineGeometryIn = Field(default_factory=MachineGeometryIn)
+    geometry: MachineGeometryIn = Field(default_factory=MachineGeometryIn, description="Shape, material and limits "
+                                        "of the flywheel.")
 
 
 class MachineIn(LinkageRequest):
@@ -170,9 +173,11 @@ class MachineIn(LinkageRequest):
                          "every stage of the chain.")
     delta: float | None = Field(None, ge=1e-4, lt=1, description="Target (w_max - w_min)/w_mean [-].")
     machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
-    drive: MachineDriveIn = Field(default_factory=MachineDriveIn)
-    balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn)
-    flywheel: MachineFlywheelIn = Field(default_factory=MachineFlywheelIn)
+    drive: MachineDriveIn = Field(default_factory=MachineDriveIn, description="Gear stages and the motor.")
+    balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn,
+                                          description="Counterweights (or none) before the flywheel is sized.")
+    flywheel: MachineFlywheelIn = Field(default_factory=MachineFlywheelIn,
+                                        description="Where the flywheel may sit and what it is made of.")
     speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")

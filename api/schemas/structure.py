@@ -5,15 +5,14 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
 
-import synth
-from synth.structure import Pair, Structure
-
+from ._engine import synth
 from .common import StrictModel
 
 Name = Annotated[str, Field(min_length=1, max_length=40)]
 
-SIXBAR_EXAMPLE = {
+SIXBAR_EXAMPLE: JsonDict = {
     "links": ["frame", "crank", "coupler", "rocker", "rod", "slider"],
     "pairs": [
         {"name": "O", "links": ["frame", "crank"], "kind": "revolute"},
@@ -30,8 +29,9 @@ SIXBAR_EXAMPLE = {
 class PairIn(StrictModel):
     """A kinematic pair joining two links: by kind (planar), or by class or freedoms (spatial)."""
 
-    name: Name
-    links: Annotated[list[Name], Field(min_length=2, max_length=2)]
+    name: Name = Field(description="Name of the pair (a joint letter, say).", examples=["A"])
+    links: Annotated[list[Name], Field(min_length=2, max_length=2)] = Field(
+        description="The two links it joins, by name.", examples=[["crank", "coupler"]])
     kind: Literal["revolute", "prismatic", "higher"] | None = Field(
         None, description="Planar: revolute or prismatic (lower pairs, p5) or higher (p4).")
     pair_class: int | None = Field(None, ge=1, le=5, description="Spatial: constraints S = class (I..V as 1..5).")
@@ -39,18 +39,18 @@ class PairIn(StrictModel):
     higher: bool | None = Field(None, description="Point or line contact; default: classes I and II, planar "
                                 "higher pairs.")
 
-    def to_engine(self) -> Pair:
+    def to_engine(self) -> synth.Pair:
         """Engine pair."""
-        return Pair(self.name, (self.links[0], self.links[1]), self.kind, self.pair_class, self.dof, self.higher)
+        return synth.Pair(self.name, (self.links[0], self.links[1]), self.kind, self.pair_class, self.dof, self.higher)
 
 
 class StructureIn(StrictModel):
     """A mechanism as links (the frame among them) and the pairs that join them."""
 
-    links: list[Name] = Field(min_length=2, max_length=40)
-    pairs: list[PairIn] = Field(min_length=1, max_length=80)
-    frame: Name = "frame"
-    planar: bool = True
+    links: list[Name] = Field(min_length=2, max_length=40, description="Every link by name, the frame included.")
+    pairs: list[PairIn] = Field(min_length=1, max_length=80, description="Every kinematic pair.")
+    frame: Name = Field("frame", description="Name of the fixed link.")
+    planar: bool = Field(True, description="Planar (Chebyshev's mobility formula) or spatial (Somov-Malyshev).")
     input_links: list[Name] | None = Field(None, max_length=40, description="Driven links of the primary "
                                            "mechanism; default the first W links paired with the frame.")
     known_mobility: int | None = Field(None, ge=-1000, le=1000, description="Spatial: the actual mobility, for "
@@ -65,7 +65,7 @@ class StructureIn(StrictModel):
                    {"name": "D", "links": ["3", "frame"], "pair_class": 3}]},
     ]})
 
-    def run(self) -> Structure:
+    def run(self) -> synth.Structure:
         """Engine call arguments as one structure analysis."""
         return synth.analyse_structure(self.links, [p.to_engine() for p in self.pairs], frame=self.frame,
                                        planar=self.planar, input_links=self.input_links,
@@ -115,7 +115,7 @@ class StructureOut(BaseModel):
     note: str
 
     @classmethod
-    def from_engine(cls, s: Structure) -> StructureOut:
+    def from_engine(cls, s: synth.Structure) -> StructureOut:
         """Schema from an engine structure."""
         roman = synth.structure.ROMAN
         return cls(

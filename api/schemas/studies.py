@@ -6,8 +6,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-import synth
-
+from ._engine import synth
 from .common import FOURBAR_EXAMPLE, StrictModel
 
 Path = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[A-Za-z0-9_\-]+(\.[A-Za-z0-9_\-]+)*$",
@@ -58,8 +57,8 @@ class StudyConstraintIn(StrictModel):
     """Bounds on a metric; a variant outside them is infeasible and never on the Pareto front."""
 
     metric: Path
-    min: float | None = None
-    max: float | None = None
+    min: float | None = Field(None, description="Least admissible value of the metric, in the metric's unit.")
+    max: float | None = Field(None, description="Largest admissible value of the metric, in the metric's unit.")
 
     @model_validator(mode="after")
     def _a_bound(self) -> StudyConstraintIn:
@@ -74,7 +73,8 @@ class StudyIn(StrictModel):
     endpoint: str = Field(max_length=100, description="The design endpoint each variant is sent to, "
                                                       "e.g. /v1/balancing/optimal.")
     base: dict[str, Any] = Field(description="That endpoint's request body, which every variant starts from.")
-    parameters: list[StudyParameterIn] = Field(min_length=1, max_length=16)
+    parameters: list[StudyParameterIn] = Field(min_length=1, max_length=16,
+                                               description="The request fields to vary, each by a dotted path.")
     sampling: Literal["grid", "random", "lhs"] = Field(
         "grid", description="grid: every combination; random: uniform draws; lhs: a Latin hypercube.")
     samples: int | None = Field(None, ge=1, le=10_000_000, description="Variants drawn by random and lhs.")
@@ -84,7 +84,9 @@ class StudyIn(StrictModel):
                                             "summary_after.rms_shaking_force_N.")
     objectives: dict[str, Literal["min", "max"]] = Field(default_factory=dict, max_length=8,
                                                          description="Metric -> min or max, for the Pareto front.")
-    constraints: list[StudyConstraintIn] = Field(default_factory=list, max_length=32)
+    constraints: list[StudyConstraintIn] = Field(default_factory=list, max_length=32,
+                                                 description="Bounds on metrics: a variant outside one is infeasible "
+                                                             "and kept off the Pareto front.")
     objective_digits: int | None = Field(
         9, ge=1, le=17, description="Objectives are compared on the Pareto front to this many significant digits "
                                     "of their largest value, so solver noise does not split designs that are "

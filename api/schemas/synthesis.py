@@ -5,11 +5,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-import synth
-
+from ._engine import np, synth
 from .analysis import TracePointIn
 from .common import (
     MAX_LENGTH_M,
@@ -22,12 +20,19 @@ from .common import (
     LoadIn,
     SliderCrankIn,
     SliderCrankLinks,
+    BRANCHES,
     StrictModel,
     Vec2,
+    one_of,
 )
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _OBJECTIVE_UNIT = {"transmission_angle": "deg", "peak_driving_torque": "N·m", "rms_shaking_force": "N"}
+
+# The engine's path-generation bounds (synth.synthesis.MAX_POINTS, MAX_STARTS), spelled here so that the
+# schema loads without the engine; a test keeps them equal.
+MAX_PATH_POINTS = 40
+MAX_PATH_STARTS = 256
 
 
 def _within_limits(bounds: dict[str, tuple[float, float]], names: tuple[str, ...],
@@ -43,8 +48,8 @@ def _within_limits(bounds: dict[str, tuple[float, float]], names: tuple[str, ...
 class RangeIn(StrictModel):
     """A closed range of lengths [m]."""
 
-    min_m: float = Field(0.0, ge=0, le=1e3)
-    max_m: float = Field(gt=0, le=1e3)
+    min_m: float = Field(0.0, ge=0, le=1e3, description="Shortest admissible value [m].")
+    max_m: float = Field(gt=0, le=1e3, description="Longest admissible value [m].", examples=[0.5])
 
     def pair(self) -> tuple[float, float]:
         """(min, max) [m]."""
@@ -54,10 +59,10 @@ class RangeIn(StrictModel):
 class RegionIn(StrictModel):
     """A rectangle [m]."""
 
-    x_min_m: Coordinate
-    x_max_m: Coordinate
-    y_min_m: Coordinate
-    y_max_m: Coordinate
+    x_min_m: Coordinate = Field(description="Left edge [m].", examples=[-0.4])
+    x_max_m: Coordinate = Field(description="Right edge [m].", examples=[0.0])
+    y_min_m: Coordinate = Field(description="Lower edge [m].", examples=[-0.2])
+    y_max_m: Coordinate = Field(description="Upper edge [m].", examples=[0.2])
 
     def box(self) -> tuple[float, float, float, float]:
         """(x_min, x_max, y_min, y_max) [m]."""
@@ -103,33 +108,35 @@ class _Dynamics(StrictModel):
 class CrankRockerBoundsIn(StrictModel):
     """Optional length ranges of the links [m]."""
 
-    crank: RangeIn | None = None
-    coupler: RangeIn | None = None
-    rocker: RangeIn | None = None
-    ground: RangeIn | None = None
+    crank: RangeIn | None = Field(None, description="Range of the crank length [m].")
+    coupler: RangeIn | None = Field(None, description="Range of the coupler length [m].")
+    rocker: RangeIn | None = Field(None, description="Range of the rocker length [m].")
+    ground: RangeIn | None = Field(None, description="Range of the ground length [m].")
 
 
 class CrankRockerDensityIn(StrictModel):
     """Mass per unit length of each link [kg/m] (uniform bars)."""
 
-    crank: float = Field(0.0, ge=0, le=1e5)
-    coupler: float = Field(0.0, ge=0, le=1e5)
-    rocker: float = Field(0.0, ge=0, le=1e5)
+    crank: float = Field(0.0, ge=0, le=1e5, description="Mass per metre of the crank [kg/m].")
+    coupler: float = Field(0.0, ge=0, le=1e5, description="Mass per metre of the coupler [kg/m].")
+    rocker: float = Field(0.0, ge=0, le=1e5, description="Mass per metre of the rocker [kg/m].")
 
 
 class CrankRockerIn(_TimeRatio, _Dynamics):
     """A crank-rocker for a rocker swing and a time ratio, best in its whole one-parameter family."""
 
-    swing_deg: float = Field(gt=0.0, lt=180.0, description="Rocker swing psi [deg].")
+    swing_deg: float = Field(gt=0.0, lt=180.0, description="Rocker swing psi [deg].", examples=[40.0])
     scale_link: Literal["rocker", "ground", "crank"] = Field("rocker", description="The link whose length is given.")
-    scale_length_m: Length = Field(description="Its length [m].")
-    bounds_m: CrankRockerBoundsIn = Field(default_factory=CrankRockerBoundsIn)
+    scale_length_m: Length = Field(description="Its length [m].", examples=[0.3])
+    bounds_m: CrankRockerBoundsIn = Field(default_factory=CrankRockerBoundsIn,
+                                          description="Length ranges of the links [m].")
     crank_pivot_region_m: RegionIn | None = Field(
         None, description="Where the crank pivot may go, with the rocker pivot at the origin and the rocker's "
                           "mid-swing position along +x.")
     slow_stroke: Literal["ccw", "cw"] | None = Field(
         None, description="Rocker turning counter-clockwise or clockwise in the slow stroke (crank counter-clockwise).")
-    linear_density_kg_m: CrankRockerDensityIn | None = None
+    linear_density_kg_m: CrankRockerDensityIn | None = Field(None, description="Mass per metre of each link, "
+                                                             "for the dynamic objectives [kg/m].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"swing_deg": 40, "time_ratio": 1.1, "scale_link": "rocker", "scale_length_m": 0.15, "speed_rpm": 180},
@@ -157,27 +164,29 @@ class CrankRockerIn(_TimeRatio, _Dynamics):
 class SliderCrankBoundsIn(StrictModel):
     """Optional length ranges [m]; the offset's range is for its magnitude."""
 
-    crank: RangeIn | None = None
-    rod: RangeIn | None = None
-    offset: RangeIn | None = None
+    crank: RangeIn | None = Field(None, description="Range of the crank length [m].")
+    rod: RangeIn | None = Field(None, description="Range of the rod length [m].")
+    offset: RangeIn | None = Field(None, description="Range of the offset of the slider line [m].")
 
 
 class SliderCrankDensityIn(StrictModel):
     """Mass per unit length of crank and rod [kg/m] (uniform bars)."""
 
-    crank: float = Field(0.0, ge=0, le=1e5)
-    rod: float = Field(0.0, ge=0, le=1e5)
+    crank: float = Field(0.0, ge=0, le=1e5, description="Mass per metre of the crank [kg/m].")
+    rod: float = Field(0.0, ge=0, le=1e5, description="Mass per metre of the rod [kg/m].")
 
 
 class SliderCrankSynthesisIn(_TimeRatio, _Dynamics):
     """An offset slider-crank for a stroke and a time ratio, best in its whole one-parameter family."""
 
-    stroke_m: Length = Field(description="Slider stroke H [m].")
-    bounds_m: SliderCrankBoundsIn = Field(default_factory=SliderCrankBoundsIn)
+    stroke_m: Length = Field(description="Slider stroke H [m].", examples=[0.1])
+    bounds_m: SliderCrankBoundsIn = Field(default_factory=SliderCrankBoundsIn,
+                                          description="Ranges of the crank, rod and offset [m].")
     slow_stroke: Literal["positive", "negative"] | None = Field(
         None, description="Slider moving along +x or -x in the slow stroke (crank counter-clockwise).")
-    linear_density_kg_m: SliderCrankDensityIn | None = None
-    slider_mass_kg: float = Field(0.0, ge=0, le=1e7)
+    linear_density_kg_m: SliderCrankDensityIn | None = Field(None, description="Mass per metre of crank and rod, "
+                                                             "for the dynamic objectives [kg/m].")
+    slider_mass_kg: float = Field(0.0, ge=0, le=1e7, description="Slider mass, for the dynamic objectives [kg].")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"stroke_m": 0.1, "time_ratio": 1.3, "slow_stroke": "positive", "speed_rpm": 120},
@@ -313,7 +322,7 @@ class CrankRockerOut(BaseModel):
         deg = r.objective == "transmission_angle"
         return cls(
             mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
-                                rocker_length_m=fb.rocker, branch=fb.branch, links=links),
+                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch), links=links),
             grashof=fb.grashof, objective=r.objective,
             objective_value=math.degrees(r.objective_value) if deg else r.objective_value,
             objective_unit=_OBJECTIVE_UNIT[r.objective], crank_pivot_m=list(r.crank_pivot), crank_speed_rad_s=speed,
@@ -355,7 +364,7 @@ class SliderCrankSynthesisOut(BaseModel):
         deg = r.objective == "transmission_angle"
         return cls(
             mechanism=SliderCrankIn(crank_length_m=sc.crank, rod_length_m=sc.rod, offset_m=sc.offset,
-                                    branch=sc.branch, links=links),
+                                    branch=one_of(BRANCHES, sc.branch), links=links),
             objective=r.objective, objective_value=math.degrees(r.objective_value) if deg else r.objective_value,
             objective_unit=_OBJECTIVE_UNIT[r.objective], crank_speed_rad_s=speed,
             check=SliderCrankCheckOut(
@@ -368,25 +377,27 @@ class SliderCrankSynthesisOut(BaseModel):
 class PathBoundsIn(StrictModel):
     """Length ranges of the links [m]; a link left out gets D/50 to 4·D, D the targets' extent."""
 
-    crank: RangeIn | None = None
-    coupler: RangeIn | None = None
-    rocker: RangeIn | None = None
-    ground: RangeIn | None = None
+    crank: RangeIn | None = Field(None, description="Range of the crank length [m].")
+    coupler: RangeIn | None = Field(None, description="Range of the coupler length [m].")
+    rocker: RangeIn | None = Field(None, description="Range of the rocker length [m].")
+    ground: RangeIn | None = Field(None, description="Range of the ground length [m].")
 
 
 class PathIn(StrictModel):
     """Target points for a four-bar's coupler point, in the order the crank (turning counter-clockwise) passes them."""
 
-    points_m: list[Vec2] = Field(min_length=3, max_length=synth.synthesis.MAX_POINTS)
+    points_m: list[Vec2] = Field(min_length=3, max_length=MAX_PATH_POINTS, description="Target points of the "
+                                 "coupler point [m], in order along the path.",
+                                 examples=[[[0.1, 0.3], [0.2, 0.35], [0.3, 0.33], [0.35, 0.25]]])
     crank_angle_deg: list[Annotated[float, Field(ge=-3600.0, le=3600.0)]] | None = Field(
         None, description="Crank angle at each point [deg], fixed up to a common shift (timed path generation).")
-    bounds_m: PathBoundsIn = Field(default_factory=PathBoundsIn)
+    bounds_m: PathBoundsIn = Field(default_factory=PathBoundsIn, description="Length ranges of the links [m].")
     pivot_box_m: RegionIn | None = Field(None, description="Where both ground pivots may go; default: within 2·D "
                                                            "of the targets' bounding box.")
     coupler_point_max_m: float | None = Field(None, gt=0, le=1e3,
                                               description="Bound on each coupler-point coordinate; default 4·D.")
     branch: Literal[1, -1] | None = Field(None, description="Assembly branch; null tries both.")
-    starts: int = Field(32, ge=1, le=synth.synthesis.MAX_STARTS, description="Multistart points (scrambled Sobol).")
+    starts: int = Field(32, ge=1, le=MAX_PATH_STARTS, description="Multistart points (scrambled Sobol).")
     seed: int = Field(0, ge=0, le=2**31 - 1, description="Seed of the Sobol scrambling: same seed, same answer.")
     min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission angle.")
 
@@ -448,7 +459,7 @@ class PathOut(BaseModel):
         rms_starts = np.sqrt(r.start_objectives / n)
         return cls(
             mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
-                                rocker_length_m=fb.rocker, branch=fb.branch),
+                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch)),
             trace_point=TracePointIn(name="P", link="coupler", position_m=list(r.coupler_point)),
             crank_pivot_m=list(r.crank_pivot), ground_angle_deg=math.degrees(r.ground_angle),
             crank_angle_deg=np.degrees(r.crank_angles).tolist(), residuals_m=r.residuals.tolist(),

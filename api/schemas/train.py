@@ -7,8 +7,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
-import synth
-
+from ._engine import synth
 from .common import Length, StrictModel
 
 Teeth = Annotated[int, Field(ge=1, le=10_000)]
@@ -19,9 +18,9 @@ MemberName = Literal["sun", "ring", "carrier"]
 class TrainMeshIn(StrictModel):
     """A mesh: the driving wheel on the current shaft drives the driven wheel on the next shaft."""
 
-    type: Literal["mesh"] = "mesh"
-    driving_teeth: Teeth
-    driven_teeth: Teeth
+    type: Literal["mesh"] = Field("mesh", description="A pair of meshing wheels.")
+    driving_teeth: Teeth = Field(description="Teeth of the driving wheel.", examples=[20])
+    driven_teeth: Teeth = Field(description="Teeth of the driven wheel.", examples=[60])
     internal: bool = Field(False, description="One wheel is an annulus: both turn the same way.")
     idler: bool = Field(False, description="The driving wheel is the previous mesh's driven wheel itself.")
     efficiency: float | None = Field(None, gt=0, le=1, description="Default: a closed spur pair's (table).")
@@ -34,14 +33,14 @@ class TrainMeshIn(StrictModel):
 class TrainPlanetaryIn(StrictModel):
     """A planetary stage: sun, planets, ring and carrier, one of sun, ring or carrier held (Willis)."""
 
-    type: Literal["planetary"]
-    sun_teeth: Teeth
-    planet_teeth: Teeth
-    ring_teeth: Teeth
+    type: Literal["planetary"] = Field(description="A planetary stage of sun, planets, ring and carrier.")
+    sun_teeth: Teeth = Field(description="Teeth of the sun wheel.", examples=[20])
+    planet_teeth: Teeth = Field(description="Teeth of each planet (meshing with the sun).", examples=[30])
+    ring_teeth: Teeth = Field(description="Teeth of the ring (annulus).", examples=[80])
     planet_ring_teeth: Teeth | None = Field(None, description="Stepped planet: the teeth meshing with the ring.")
-    fixed: MemberName = "ring"
-    input: MemberName = "sun"
-    output: MemberName = "carrier"
+    fixed: MemberName = Field("ring", description="The member held still.")
+    input: MemberName = Field("sun", description="The member driven by the previous shaft.")
+    output: MemberName = Field("carrier", description="The member that drives the next shaft.")
     efficiency: float | None = Field(None, gt=0, le=1, description="The stage's efficiency; default from "
                                     "basic_efficiency by the loss in the motion relative to the carrier.")
     basic_efficiency: float | None = Field(None, gt=0, le=1, description="Efficiency with the carrier held (both "
@@ -68,7 +67,8 @@ TrainElementIn = Annotated[
 class TrainIn(StrictModel):
     """A serial gear train, input side first: each element starts on the shaft the previous one drove."""
 
-    elements: list[TrainElementIn] = Field(min_length=1, max_length=64)
+    elements: list[TrainElementIn] = Field(min_length=1, max_length=64, description="Meshes and planetary stages, "
+                                           "input side first.")
     module_m: Length | None = Field(None, description="Module of every wheel [m]: pitch diameters d = m·z.")
     input_speed_rad_s: Speed | None = Field(None, description="Input shaft speed [rad/s].")
     output_speed_rad_s: Speed | None = Field(None, description="Output shaft speed [rad/s] (instead of the input's).")

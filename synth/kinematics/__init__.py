@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 
@@ -21,9 +21,9 @@ MAX_SAMPLES = 100_000
 class Mechanism(Protocol):
     """What a mechanism family provides: its topology, link frame origins and a vectorised position solve."""
 
-    family: str
-    topology: Topology
-    origins: dict[str, str]
+    family: ClassVar[str]
+    topology: ClassVar[Topology]
+    origins: ClassVar[dict[str, str]]
 
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with their first and second analogues over ``phi`` [rad]."""

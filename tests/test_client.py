@@ -1,0 +1,162 @@
+"""The light client: it loads with httpx and pydantic alone, the async client answers like the sync one, and a
+busy service is asked again after the Retry-After it names, within bounds."""
+
+from __future__ import annotations
+
+import asyncio
+import importlib.metadata as md
+import inspect
+import json
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+from typing import Any, get_args
+
+import httpx
+import pytest
+
+import synth
+from api.client import AsyncSynthClient, NotAssemblableError, ServiceBusyError, SynthClient
+from api.schemas.analysis import AnalysisIn
+from api.schemas.balancing import RotorIn
+from api.schemas.flywheel import MachineType
+from api.schemas.gearing import STAGE_TYPES
+from api.schemas.synthesis import MAX_PATH_POINTS, MAX_PATH_STARTS
+
+REPO = Path(__file__).resolve().parents[1]
+CLIENT_PROJECT = tomllib.loads((REPO / "client" / "pyproject.toml").read_text())
+EXAMPLE = AnalysisIn.model_validate(AnalysisIn.model_config["json_schema_extra"]["examples"][0])  # type: ignore[index]
+
+
+def _requirement_closure(names: list[str]) -> set[str]:
+    """Distributions the named ones may pull in, normalised, with their own extras, which they import when present
+    (httpx loads pygments for its command line if it finds it)."""
+    norm = lambda n: re.sub(r"[-_.]+", "-", n).lower()  # noqa: E731
+    direct, todo, seen = {norm(n) for n in names}, [norm(n) for n in names], set()
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        try:
+            requires = md.requires(name) or []
+        except md.PackageNotFoundError:     # a requirement for other Pythons or platforms
+            continue
+        for req in requires:
+            if name in direct or "extra ==" not in req:
+                    todo.append(norm(re.match(r"[A-Za-z0-9_.-]+", req).group()))  # type: ignore[union-attr]
+    return seen
+
+
+def test_client_loads_with_httpx_and_pydantic_only() -> None:
+    probe = ("import sys, json, api.client; "
+             "print(json.dumps(sorted(m for m in sys.modules if m not in sys.stdlib_module_names)))")
+    run = subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True)
+    loaded = json.loads(run.stdout)
+    assert not {"fastapi", "starlette", "uvicorn", "cvxpy", "casadi", "matplotlib", "numpy", "scipy", "synth"} & {
+        m.split(".")[0] for m in loaded}
+    deps = CLIENT_PROJECT["project"]["dependencies"]
+    assert sorted(re.match(r"[a-z]+", d).group() for d in deps) == ["httpx", "pydantic"]  # type: ignore[union-attr]
+    allowed = _requirement_closure(["httpx", "pydantic"])
+    owners = md.packages_distributions()
+    # Modules no distribution owns are the interpreter's own (stdlib internals such as _sysconfigdata).
+    for top in {m.split(".")[0] for m in loaded} & set(owners) - {"api", "_distutils_hack"}:
+        dists = {re.sub(r"[-_.]+", "-", d).lower() for d in owners[top]}
+        assert dists & allowed, f"the client imports {top} ({dists}), not a dependency of httpx or pydantic"
+    # Every module of ours it loads is shipped by the client distribution.
+    shipped = CLIENT_PROJECT["tool"]["hatch"]["build"]["targets"]["wheel"]["force-include"]
+    for name in (m for m in loaded if m.split(".")[0] == "api"):
+        path = REPO / Path(*name.split("."))
+        source = path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
+        rel = source.relative_to(REPO).as_posix()
+        assert any(rel == s.removeprefix("../") or rel.startswith(s.removeprefix("../") + "/") for s in shipped), rel
+    assert (REPO / "api" / "py.typed").exists() and "../api/py.typed" in shipped
+
+
+def test_closed_choices_match_the_engine_tables() -> None:
+    assert STAGE_TYPES == tuple(synth.stage_types())
+    assert get_args(MachineType) == tuple(m.name for m in synth.machine_types())
+    assert (MAX_PATH_POINTS, MAX_PATH_STARTS) == (synth.synthesis.MAX_POINTS, synth.synthesis.MAX_STARTS)
+
+
+def _public(cls: type) -> set[str]:
+    return {n for n, v in vars(cls).items() if not n.startswith("_") and callable(v) and n != "in_process"}
+
+
+def test_async_client_has_every_method_as_a_coroutine() -> None:
+    assert _public(SynthClient) - {"close"} == _public(AsyncSynthClient) - {"aclose"}
+    assert all(inspect.iscoroutinefunction(getattr(AsyncSynthClient, n)) for n in _public(AsyncSynthClient))
+
+
+def test_async_client_answers_like_the_sync_one(client: SynthClient) -> None:
+    rotor = RotorIn.model_validate(RotorIn.model_config["json_schema_extra"]["examples"][0])  # type: ignore[index]
+    broken = AnalysisIn.model_validate({"mechanism": {
+        "type": "fourbar", "ground_length_m": 0.2, "crank_length_m": 0.15, "coupler_length_m": 0.1,
+        "rocker_length_m": 0.12}})
+
+    async def run() -> tuple[Any, ...]:
+        async with AsyncSynthClient.in_process() as aclient:
+            with pytest.raises(NotAssemblableError) as err:
+                await aclient.analysis(broken)
+            return (await aclient.analysis(EXAMPLE), await aclient.machine_types(),
+                    await aclient.balance_rotor(rotor), err.value.problem)
+
+    out, types, rotor_out, problem = asyncio.run(run())
+    with pytest.raises(NotAssemblableError) as err:
+        client.analysis(broken)
+    assert out == client.analysis(EXAMPLE)
+    assert types == client.machine_types() and rotor_out == client.balance_rotor(rotor)
+    assert problem == err.value.problem
+
+
+def _busy_then_ok(retry_after: list[str | None]) -> tuple[httpx.MockTransport, list[int]]:
+    calls: list[int] = []
+
+    def handler(request: httpx.Request) -> httpx.Response:
+        calls.append(1)
+        if len(calls) <= len(retry_after):
+            wait = retry_after[len(calls) - 1]
+            busy = {"type": "/problems/busy", "title": "Busy", "status": 503, "detail": "queue full"}
+            return httpx.Response(503, headers={} if wait is None else {"retry-after": wait}, json=busy)
+        return httpx.Response(200, json={"status": "ok"})
+
+    return httpx.MockTransport(handler), calls
+
+
+def test_busy_service_is_asked_again_after_retry_after(monkeypatch: pytest.MonkeyPatch) -> None:
+    waits: list[float] = []
+    monkeypatch.setattr("api.client.time.sleep", waits.append)
+    transport, calls = _busy_then_ok(["2", None, "Wed, 21 Oct 2015 07:28:00 GMT"])
+    c = SynthClient(http=httpx.Client(transport=transport, base_url="http://test"), retries=3, max_retry_wait_s=5)
+    assert c.health() == {"status": "ok"} and len(calls) == 4
+    # 2 s as asked; no header: the first back-off step after one retry (1 s); a date in the past: at once.
+    assert waits == [2.0, 1.0, 0.0]
+
+
+def test_retries_are_bounded_in_count_and_wait(monkeypatch: pytest.MonkeyPatch) -> None:
+    waits: list[float] = []
+    monkeypatch.setattr("api.client.time.sleep", waits.append)
+    transport, calls = _busy_then_ok(["600"] * 10)
+    c = SynthClient(http=httpx.Client(transport=transport, base_url="http://test"), retries=2, max_retry_wait_s=1.5)
+    with pytest.raises(ServiceBusyError) as err:
+        c.health()
+    assert len(calls) == 3 and waits == [1.5, 1.5]
+    assert err.value.status == 503 and err.value.retry_after_s == 600 and err.value.detail == "queue full"
+
+
+def test_async_client_retries_alike(monkeypatch: pytest.MonkeyPatch) -> None:
+    waits: list[float] = []
+
+    async def record(seconds: float) -> None:
+        waits.append(seconds)
+
+    monkeypatch.setattr("api.client.asyncio.sleep", record)
+    transport, calls = _busy_then_ok(["0.25"])
+
+    async def run() -> dict[str, Any]:
+        async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://test")) as c:
+            return await c.health()
+
+    assert asyncio.run(run()) == {"status": "ok"} and waits == [0.25] and len(calls) == 2
