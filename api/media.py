@@ -156,11 +156,3 @@ class Render:
                                      f"({err.get('msg', '')}); check the input's units and sizes",
                                      field=field) from None
         return json_bytes(model), "application/json"
-
-
-def render_for(request: Request, fmt: str | None, offered: Sequence[str], model: Callable[..., BaseModel],
-               export: Callable[..., bytes] | None = None, model_extra: tuple[Any, ...] = (),
-               export_extra: tuple[Any, ...] = ()) -> Render:
-    """The Render a request asks for among the ``offered`` formats (JSON always)."""
-    chosen = negotiate(request, fmt, offered)
-    return Render(model, export, chosen, model_extra, export_extra)

@@ -16,7 +16,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 from fastapi import Request, Response
 
@@ -24,10 +24,8 @@ from synth.errors import SolverTimeout
 from synth.execution import Executor, make_executor
 
 from .media import Render, file_headers, negotiate
+from .plans import Limits, Plan
 from .settings import Settings
-
-if TYPE_CHECKING:
-    from .plans import Plan
 
 T = TypeVar("T")
 
@@ -176,6 +174,11 @@ class RequestSolvers:
     def settings(self) -> Settings:
         """The service settings."""
         return self.solvers.settings
+
+    @property
+    def limits(self) -> Limits:
+        """The limits the request's plan runs under."""
+        return Limits.from_settings(self.solvers.settings)
 
     async def run(self, fn: Callable[..., T], /, *args: Any, **kwargs: Any) -> T:
         """Run engine work in a worker and return its result (an engine object)."""

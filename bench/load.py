@@ -159,21 +159,23 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--limit-s", type=float, default=20.0, help="time bound per scenario [s]")
     parser.add_argument("--soak", type=int, default=0, help="extra analysis requests for the memory check")
     args = parser.parse_args(argv)
-    throughput: dict[int, float] = {}
+    throughput: dict[tuple[str, int], float] = {}
     for workers in (1, 2):
         print(f"== {workers} worker(s)")
         with server(workers) as (url, pid):
             asyncio.run(scenario(url, {"analysis_360": 2, "optimal_balancing": 2, "motor_flywheel": 2}, 3, 30))
             for kind in REQUESTS:
                 run({kind: 4}, url, pid, args.per_client, args.limit_s, f"{kind} alone, 4 clients")
-            start = time.perf_counter()
-            t = run({"optimal_balancing": 4}, url, pid, args.per_client, args.limit_s, "solver throughput")
-            throughput[workers] = len(t["optimal_balancing"].latencies) / (time.perf_counter() - start)
+            for kind in ("optimal_balancing", "motor_flywheel"):
+                start = time.perf_counter()
+                t = run({kind: 4}, url, pid, args.per_client, args.limit_s, f"solver throughput, {kind}")
+                throughput[kind, workers] = len(t[kind].latencies) / (time.perf_counter() - start)
             run({"health": 2, "analysis_360": 8, "optimal_balancing": 1, "motor_flywheel": 1}, url, pid,
                 args.per_client, args.limit_s, "mixed: /health beside busy workers")
             if args.soak:
                 run({"analysis_360": 4}, url, pid, args.soak // 4, 3600, f"soak, {args.soak} analyses")
-    print(f"optimal balancing throughput, 2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x")
+    for kind in ("optimal_balancing", "motor_flywheel"):
+        print(f"{kind} throughput, 2 workers / 1 worker: {throughput[kind, 2] / throughput[kind, 1]:.2f}x")
 
 
 if __name__ == "__main__":

@@ -7,12 +7,12 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
-import synth
 
+from .. import plans
 from ..deps import SolverDep
-from ..media import FIGURES, FormatQuery, file_headers, format_responses, media, render_for
+from ..media import FIGURES, FormatQuery, format_responses, media
 from ..schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
-from ..tasks import analysis_file, mechanism_drawing
+from ..tasks import mechanism_drawing
 
 router = APIRouter(tags=["analysis"])
 FORMATS = (*FIGURES, "csv", "dxf")
@@ -32,21 +32,7 @@ async def analysis(
 
     ``?format=png|svg|pdf``: driving torque, shaking moment, shaking force polar diagram and the mechanism at
     ``angle_deg``; ``csv``: every curve, one row per crank angle; ``dxf``: the mechanism drawing at ``angle_deg``."""
-    render = render_for(request, format, FORMATS, AnalysisOut.from_engine, analysis_file,
-                        export_extra=(plot_angle(body, angle_deg),))
-    return await solvers.answer(
-        render,
-        synth.analyse,
-        body.to_linkage(),
-        body.omega_rad_s,
-        samples=body.samples,
-        phi=body.phi(),
-        crank_acceleration=body.crank_acceleration_rad_s2,
-        max_samples=solvers.settings.max_samples,
-        points=body.trace(),
-        counter_rotors=body.rotors(),
-        headers=file_headers(render.fmt, "analysis"),
-    )
+    return await solvers.answer_plan(plans.analysis(body, solvers.limits, angle_deg), request, format)
 
 
 @router.post("/analysis/drawing", response_class=Response, responses=format_responses(("dxf", "svg")))

@@ -5,10 +5,9 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
-import synth
 
+from .. import plans
 from ..deps import SolverDep
-from ..media import render_for
 from ..schemas.train import TrainIn, TrainOut
 
 router = APIRouter(prefix="/gears", tags=["gearing"])
@@ -18,6 +17,4 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 async def gears_train(body: TrainIn, request: Request, solvers: SolverDep) -> Response:
     """A given serial train of simple, compound and idler meshes and planetary (Willis) stages, from its tooth
     numbers: the ratio with its sign, every shaft's sense and speed, the efficiency and d = m·z of every wheel."""
-    return await solvers.answer(render_for(request, None, (), TrainOut.from_engine), synth.gear_train, body.to_engine(),
-                                module=body.module_m, input_speed=body.input_speed_rad_s,
-                                output_speed=body.output_speed_rad_s)
+    return await solvers.answer_plan(plans.gears_train(body, solvers.limits), request)

@@ -7,8 +7,8 @@ from fastapi.responses import Response
 
 import synth
 
+from .. import plans
 from ..deps import SolverDep
-from ..media import render_for
 from ..schemas.gearing import (
     DriveIn,
     DriveOut,
@@ -27,40 +27,21 @@ router = APIRouter(prefix="/gears", tags=["gearing"])
 async def gears_split(body: SplitIn, request: Request, solvers: SolverDep) -> Response:
     """Split the total ratio between the stages: minimum reduced inertia or gear volume (geometric programs,
     global optimum), or the two-stage handbook rule; optionally snapped to R20 ratios."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
-    return await solvers.answer(
-        render_for(request, None, (), SplitOut.from_engine, model_extra=(stages,)),
-        synth.split_ratio, body.ratio(), stages, body.objective,
-        inertia=body.inertia_model(body.motor_inertia_kgm2), input_torque=body.input_torque_Nm,
-        handbook_factor=body.handbook_factor, snap_r20=body.snap_r20, snap_tolerance=body.snap_tolerance,
-        time_limit_s=solvers.settings.solver_time_limit_s,
-    )
+    return await solvers.answer_plan(plans.gears_split(body, solvers.limits), request)
 
 
 @router.post("/teeth", response_model=TeethOut)
 async def gears_teeth(body: TeethIn, request: Request, solvers: SolverDep) -> Response:
     """Integer tooth numbers whose train ratio is closest to the target (or within a tolerance with the fewest
     teeth), by an exact exhaustive search; undercut, interference, hunting teeth and reverted layouts."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
-    return await solvers.answer(render_for(request, None, (), TeethOut.from_engine),
-                                synth.tooth_numbers, body.total_ratio, stages, body.rules(), body.tolerance,
-                                planets=body.planets)
+    return await solvers.answer_plan(plans.gears_teeth(body, solvers.limits), request)
 
 
 @router.post("/drive", response_model=DriveOut)
 async def gears_drive(body: DriveIn, request: Request, solvers: SolverDep) -> Response:
     """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
     inertia reduced to the motor shaft."""
-    stages = synth.make_stages(body.stage_specs(), max_stages=solvers.settings.max_stages)
-    return await solvers.answer(
-        render_for(request, None, (), DriveOut.from_engine, model_extra=(stages,)),
-        synth.design_drive, body.output_power_W, body.output_speed(), stages,
-        reserve_factor=body.reserve_factor, drive_efficiency=body.drive_efficiency,
-        synchronous_speed=body.synchronous_speed(), motor=body.motor, objective=body.objective,
-        torque_basis=body.torque_basis, inertia=body.inertia_model(), snap_r20=body.snap_r20,
-        snap_tolerance=body.snap_tolerance, time_limit_s=solvers.settings.solver_time_limit_s,
-        catalogue=body.catalogue(),
-    )
+    return await solvers.answer_plan(plans.gears_drive(body, solvers.limits), request)
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])

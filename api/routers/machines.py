@@ -4,13 +4,12 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
+from .. import plans
 from ..deps import SolverDep
-from ..media import Render
 from ..schemas.machine import MachineDesignOut, MachineIn
-from ..tasks import design_file, design_machine, design_out
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -26,13 +25,9 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
 
 
 @router.post("/design", response_model=MachineDesignOut, responses=RESPONSES, name="design_machine")
-async def design(body: MachineIn, solvers: SolverDep, format: ReportFormat = None) -> Response:
+async def design(body: MachineIn, request: Request, solvers: SolverDep, format: ReportFormat = None) -> Response:
     """Design the whole machine in one request: analysis, balancing, the balanced linkage reduced to its crank,
     the motor from the mean power, ratio split and tooth numbers, the flywheel for the chosen motor on the chosen
     shaft, and every shaft's speed, power and peak and RMS torque; checked by simulating the assembled machine
     to its steady state. `alternatives: true` designs it with the other balancing modes too."""
-    spec = body.to_engine(solvers.settings.max_stages)
-    render = Render(design_out, design_file, format or "json")
-    headers = {"content-disposition": 'attachment; filename="machine-design.pdf"'} if format == "pdf" else None
-    return await solvers.answer(render, design_machine, spec, body.alternatives,
-                                solvers.settings.solver_time_limit_s, headers=headers)
+    return await solvers.answer_plan(plans.machine_design(body, solvers.limits), request, format)

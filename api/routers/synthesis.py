@@ -5,10 +5,10 @@ from __future__ import annotations
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
-import synth
 
+from .. import plans
 from ..deps import SolverDep
-from ..media import PNG_RESPONSES, FormatQuery, render_for
+from ..media import PNG_RESPONSES, FormatQuery
 from ..schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
@@ -17,7 +17,6 @@ from ..schemas.synthesis import (
     SliderCrankSynthesisIn,
     SliderCrankSynthesisOut,
 )
-from ..tasks import crank_rocker_png, path_file, slider_crank_png
 
 router = APIRouter(prefix="/synthesis", tags=["synthesis"])
 FORMATS = ("png",)
@@ -30,9 +29,7 @@ async def synthesise_crank_rocker(body: CrankRockerIn, request: Request, solvers
     transmission angle, or least peak driving torque / RMS shaking force) over its whole one-parameter family,
     with the certificate of that, and the swing, time ratio and transmission angles recomputed by the engine.
     `?format=png` draws both dead-centre positions."""
-    render = render_for(request, format, FORMATS, CrankRockerOut.from_engine, crank_rocker_png,
-                        model_extra=(body.omega_rad_s,))
-    return await solvers.answer(render, synth.synthesise_crank_rocker, body.to_spec())
+    return await solvers.answer_plan(plans.synthesis_crank_rocker(body, solvers.limits), request, format)
 
 
 @router.post("/slider-crank", response_model=SliderCrankSynthesisOut, responses=PNG_RESPONSES)
@@ -40,9 +37,7 @@ async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request
                        format: FormatQuery = None) -> Response:
     """The offset slider-crank with the requested stroke and time ratio that is best over its whole
     one-parameter family, with its certificate and the engine's check. `?format=png` draws both dead centres."""
-    render = render_for(request, format, FORMATS, SliderCrankSynthesisOut.from_engine, slider_crank_png,
-                        model_extra=(body.omega_rad_s,))
-    return await solvers.answer(render, synth.synthesise_slider_crank, body.to_spec())
+    return await solvers.answer_plan(plans.synthesis_slider_crank(body, solvers.limits), request, format)
 
 
 @router.post("/path", response_model=PathOut, responses=PNG_RESPONSES)
@@ -50,6 +45,4 @@ async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, fo
     """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: multistart
     IPOPT from seeded Sobol starts, the best of all starts with the residual at every point recomputed by the
     analysis engine. `?format=png` draws the coupler curve through the targets."""
-    spec = body.to_spec(solvers.settings.solver_time_limit_s)
-    render = render_for(request, format, FORMATS, PathOut.from_engine, path_file, export_extra=(spec.targets,))
-    return await solvers.answer(render, synth.synthesise_path, spec)
+    return await solvers.answer_plan(plans.synthesis_path(body, solvers.limits), request, format)
