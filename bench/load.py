@@ -173,7 +173,10 @@ def main(argv: list[str] | None = None) -> None:
             run({"health": 2, "analysis_360": 8, "optimal_balancing": 1, "motor_flywheel": 1}, url, pid,
                 args.per_client, args.limit_s, "mixed: /health beside busy workers")
             if args.soak:
-                run({"analysis_360": 4}, url, pid, args.soak // 4, 3600, f"soak, {args.soak} analyses")
+                # In quarters, so that a plateau (warm-up) tells itself from a leak (growth in every quarter).
+                for quarter in range(4):
+                    run({"analysis_360": 4}, url, pid, args.soak // 16, 3600,
+                        f"soak, analyses {quarter * args.soak // 4 + 1}-{(quarter + 1) * args.soak // 4}")
     for kind in ("optimal_balancing", "motor_flywheel"):
         print(f"{kind} throughput, 2 workers / 1 worker: {throughput[kind, 2] / throughput[kind, 1]:.2f}x")
 
