@@ -49,13 +49,18 @@ def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray
 def system_matrix(motion: Motion, topo: Topology) -> FloatArray:
     """Equilibrium matrix A of shape (N, 3n, 3n): A @ unknowns + known loads = 0 for every link."""
     natural = tuple(range(3 * len(topo.links)))
-    return _assemble(motion, topo, natural, natural)
+    return np.moveaxis(_assemble(motion, topo, natural, natural), -1, 0)
 
 
 def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos: tuple[int, ...]) -> FloatArray:
-    """The equilibrium matrix with equation i in row ``row_pos[i]`` and unknown k in column ``col_pos[k]``."""
+    """The equilibrium matrix, crank angle last (3n, 3n, N), with equation i in row ``row_pos[i]`` and unknown k
+    in column ``col_pos[k]``.
+
+    The angle is the last axis so that each coefficient is one contiguous run over the cycle: filling and
+    combining the small matrices then streams memory instead of striding across it.
+    """
     n_links = len(topo.links)
-    a = np.zeros((motion.samples, 3 * n_links, 3 * n_links))
+    a = np.zeros((3 * n_links, 3 * n_links, motion.samples))
     for j, joint in enumerate(topo.joints):
         cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
         p = motion.point_pos[joint.point]
@@ -67,29 +72,43 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
             fx, fy, mz = row_pos[i], row_pos[i + 1], row_pos[i + 2]
             lever = p - motion.point_pos[motion.link_origin[body]]
             if joint.kind == "revolute":
-                a[:, fx, cx] += sign
-                a[:, fy, cy] += sign
-                a[:, mz, cx] += -sign * lever[:, 1]
-                a[:, mz, cy] += sign * lever[:, 0]
+                a[fx, cx] += sign
+                a[fy, cy] += sign
+                a[mz, cx] -= sign * lever[:, 1]
+                a[mz, cy] += sign * lever[:, 0]
             else:
                 normal = _axis_normal(motion, topo, j)
-                a[:, fx, cx] += sign * normal[:, 0]
-                a[:, fy, cx] += sign * normal[:, 1]
-                a[:, mz, cx] += sign * cross(lever, normal)
-                a[:, mz, cy] += sign
-    a[:, row_pos[3 * topo.links.index(topo.crank) + 2], col_pos[-1]] = 1.0
+                a[fx, cx] += sign * normal[:, 0]
+                a[fy, cx] += sign * normal[:, 1]
+                a[mz, cx] += sign * cross(lever, normal)
+                a[mz, cy] += sign
+    a[row_pos[3 * topo.links.index(topo.crank) + 2], col_pos[-1]] = 1.0
     return a
+
+
+def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Products of stacked small matrices, crank angle last: (i, j, N) @ (j, k, N) -> (i, k, N)."""
+    out = a[:, 0, None, :] * b[None, 0]
+    for j in range(1, a.shape[1]):
+        out += a[:, j, None, :] * b[None, j]
+    return out
 
 
 @dataclass(frozen=True, slots=True)
 class _Reduction:
     """Which unknowns the constant force rows eliminate: ``eliminated`` (2n columns, revolute reactions whose
-    force-row block is the constant ``f_inv``⁻¹) and ``kept`` (the other n unknowns)."""
+    force-row block is the constant ``f_inv``⁻¹) and ``kept`` (the other n unknowns).
+
+    ``g`` is F⁻¹ times the force rows of the kept unknowns when those rows are constant too (revolute joints,
+    slides fixed in the frame, the driving torque): the eliminated reactions are then ``h - g @ kept`` with a
+    constant ``g`` and no per-angle product is needed to form it. None when a slide axis turns with a link.
+    """
 
     eliminated: tuple[int, ...]
     kept: tuple[int, ...]
     f_inv: FloatArray
     f_det: float
+    g: FloatArray | None
 
     @property
     def rows(self) -> tuple[int, ...]:
@@ -131,70 +150,107 @@ def _reduction(topo: Topology) -> _Reduction | None:
         if abs(np.linalg.det(f)) > 0.5:  # integer matrix: its determinant is 0 or at least 1 in magnitude
             eliminated = tuple(col for j in chosen for col in (2 * j, 2 * j + 1))
             kept = tuple(col for col in range(3 * n) if col not in eliminated)
-            return _Reduction(eliminated, kept, np.asarray(np.linalg.inv(f), dtype=float), float(np.linalg.det(f)))
+            f_inv = np.asarray(np.linalg.inv(f), dtype=float)
+            kept_rows = _constant_force_rows(topo, kept)
+            g = None if kept_rows is None else f_inv @ kept_rows
+            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g)
     return None
 
 
+def _constant_force_rows(topo: Topology, columns: tuple[int, ...]) -> FloatArray | None:
+    """The force rows (2n) of the unknowns ``columns`` when they do not depend on the crank angle, else None."""
+    n = len(topo.links)
+    row = {name: 2 * i for i, name in enumerate(topo.links)}
+    out = np.zeros((2 * n, len(columns)))
+    for c, col in enumerate(columns):
+        if col == 3 * n - 1:  # the driving torque has no force
+            continue
+        joint = topo.joints[col // 2]
+        if joint.kind == "revolute":
+            direction = (1.0, 0.0) if col % 2 == 0 else (0.0, 1.0)
+        elif col % 2 == 1:  # a slide's couple has no force
+            continue
+        elif joint.axis_link is None:
+            direction = (-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
+        else:
+            return None
+        giver, receiver = joint.bodies
+        for body, sign in ((receiver, 1.0), (giver, -1.0)):
+            if body is not None:
+                out[row[body], c] += sign * direction[0]
+                out[row[body] + 1, c] += sign * direction[1]
+    return out
+
+
+def _constant_matmul(f: FloatArray, x: FloatArray) -> FloatArray:
+    """F @ x for a constant matrix F and stacked x (j, ..., N), summing only F's nonzero entries: F⁻¹ of the
+    plus-or-minus-one force rows is sparse, and a general product would spend most of its time on zeros."""
+    out = np.zeros((f.shape[0],) + x.shape[1:])
+    for i, j in zip(*np.nonzero(f), strict=True):
+        out[i] += f[i, j] * x[j]
+    return out
+
+
 def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Determinants of the stacked small matrices ``s`` (N, k, k) and the solutions of s @ x = r (N, k, m).
+    """Determinants of the stacked small matrices ``s`` (k, k, N) and the solutions of s @ x = r (k, m, N).
 
     Up to 3 x 3 by the adjugate in closed form (vectorised over N; no per-matrix LAPACK call), larger by LAPACK.
     """
-    k = s.shape[1]
+    k = s.shape[0]
     if k == 1:
-        det = s[:, 0, 0]
+        det = s[0, 0]
         with np.errstate(divide="ignore", invalid="ignore"):
-            return det, r / s
+            return det, r / det
     if k == 2:
-        det = s[:, 0, 0] * s[:, 1, 1] - s[:, 0, 1] * s[:, 1, 0]
-        adj = np.stack([np.stack([s[:, 1, 1], -s[:, 0, 1]], -1), np.stack([-s[:, 1, 0], s[:, 0, 0]], -1)], 1)
+        det = s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]
+        adj = np.stack([np.stack([s[1, 1], -s[0, 1]]), np.stack([-s[1, 0], s[0, 0]])])
     elif k == 3:
         # Rows a, b, c; the adjugate's columns are b x c, c x a, a x b.
-        a0, a1, a2 = s[:, 0, 0], s[:, 0, 1], s[:, 0, 2]
-        b0, b1, b2 = s[:, 1, 0], s[:, 1, 1], s[:, 1, 2]
-        c0, c1, c2 = s[:, 2, 0], s[:, 2, 1], s[:, 2, 2]
+        (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = s
         adj = np.empty_like(s)
-        adj[:, 0, 0], adj[:, 1, 0], adj[:, 2, 0] = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
-        adj[:, 0, 1], adj[:, 1, 1], adj[:, 2, 1] = c1 * a2 - c2 * a1, c2 * a0 - c0 * a2, c0 * a1 - c1 * a0
-        adj[:, 0, 2], adj[:, 1, 2], adj[:, 2, 2] = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-        det = a0 * adj[:, 0, 0] + a1 * adj[:, 1, 0] + a2 * adj[:, 2, 0]
+        adj[0, 0], adj[1, 0], adj[2, 0] = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
+        adj[0, 1], adj[1, 1], adj[2, 1] = c1 * a2 - c2 * a1, c2 * a0 - c0 * a2, c0 * a1 - c1 * a0
+        adj[0, 2], adj[1, 2], adj[2, 2] = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+        det = a0 * adj[0, 0] + a1 * adj[1, 0] + a2 * adj[2, 0]
     else:
-        det = np.linalg.det(s)
+        s_n, r_n = np.moveaxis(s, -1, 0), np.moveaxis(r, -1, 0)
+        det = np.linalg.det(s_n)
         ok = np.abs(det) > 0
-        x = np.full(r.shape, np.nan)
-        x[ok] = np.linalg.solve(s[ok], r[ok])
-        return det, x
+        x = np.full(r_n.shape, np.nan)
+        x[ok] = np.linalg.solve(s_n[ok], r_n[ok])
+        return det, np.moveaxis(x, 0, -1)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return det, np.matmul(adj, r) / det[:, None, None]
+        return det, _batched_matmul(adj, r) / det
 
 
-def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray, matrix: FloatArray | None = None) -> FloatArray:
+def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     """Solve A @ x = b at every angle, b of shape (N, 3n, m); a singular system is a dead point where the
     driving torque is undefined.
 
     Through the reduced moment system of ``_reduction`` when the topology has one (A assembled directly in
-    solving order, or ``matrix`` permuted to it); singularity is judged by the Hadamard ratio
-    |det A| / prod(row norms of A), which lies in [0, 1], with det A = det F · det S.
+    solving order); singularity is judged by the Hadamard ratio |det A| / prod(row norms of A), which lies in
+    [0, 1], with det A = det F · det S.
     """
     red = _reduction(topo)
     if red is None:
-        a = system_matrix(motion, topo) if matrix is None else matrix
-        s, r, f_det = a, b, 1.0
+        natural = tuple(range(3 * len(topo.links)))
+        a = _assemble(motion, topo, natural, natural)
+        s, r, f_det = a, np.moveaxis(b, 0, -1), 1.0
     else:
         rows, cols = red.rows, red.columns
-        if matrix is None:
-            a = _assemble(motion, topo, red.positions(rows), red.positions(cols))
-        else:
-            a = matrix[:, list(rows)][:, :, list(cols)]
-        bp = b[:, list(rows)]
+        a = _assemble(motion, topo, red.positions(rows), red.positions(cols))
+        bp = np.moveaxis(b[:, list(rows)], 0, -1)
         k, f_det = len(red.eliminated), red.f_det
-        m_elim = a[:, k:, :k]
-        g = np.matmul(red.f_inv, a[:, :k, k:])                 # eliminated = h - g @ kept
-        h = np.matmul(red.f_inv, bp[:, :k])
-        s = a[:, k:, k:] - np.matmul(m_elim, g)
-        r = bp[:, k:] - np.matmul(m_elim, h)
+        m_elim = a[k:, :k]
+        h = _constant_matmul(red.f_inv, bp[:k])              # eliminated = h - g @ kept
+        if red.g is None:
+            g = _constant_matmul(red.f_inv, a[:k, k:])
+            s = a[k:, k:] - _batched_matmul(m_elim, g)
+        else:
+            s = a[k:, k:] - _constant_matmul(red.g.T, m_elim.swapaxes(0, 1)).swapaxes(0, 1)
+        r = bp[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
-    rows_norm = np.prod(np.sqrt(np.einsum("nij,nij->ni", a, a)), axis=1)
+    rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(f_det * det) / rows_norm
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
@@ -206,9 +262,10 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray, matrix: FloatA
             ranges_deg=angle_ranges_deg(motion.phi, bad),
         )
     if red is None:
-        return np.asarray(x_kept, dtype=float)
+        return np.moveaxis(x_kept, -1, 0)
     x = np.empty(b.shape)
-    x[:, list(cols)] = np.concatenate([h - np.matmul(g, x_kept), x_kept], axis=1)
+    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
     return x
 
 
@@ -330,12 +387,12 @@ def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, Fl
     return reactions, couples
 
 
-def solve_direct(motion: Motion, linkage: Linkage, matrix: FloatArray | None = None) -> Kinetostatics:
+def solve_direct(motion: Motion, linkage: Linkage) -> Kinetostatics:
     """Kinetostatics from the links' actual loads (the plain model, independent of the linear map)."""
     topo = linkage.mechanism.topology
     loads = external_loads(motion, linkage)
     known = _known_loads_direct(motion, linkage, loads)
-    x = _solve_stacked(motion, topo, -known[..., None], matrix)[..., 0]
+    x = _solve_stacked(motion, topo, -known[..., None])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force
@@ -403,7 +460,7 @@ class LinearMap:
         return np.asarray(np.einsum("nrk,k->nr", self.y, p) + self.y0)
 
 
-def linear_map(motion: Motion, linkage: Linkage, matrix: FloatArray | None = None) -> LinearMap:
+def linear_map(motion: Motion, linkage: Linkage) -> LinearMap:
     """Build the linear-in-parameters map for a fixed motion (loads other than inertia and gravity in y0)."""
     topo = linkage.mechanism.topology
     n, n_links = motion.samples, len(topo.links)
@@ -438,7 +495,7 @@ def linear_map(motion: Motion, linkage: Linkage, matrix: FloatArray | None = Non
             known[:, 3 * i : 3 * i + 2, -1] += loads.force
             known[:, 3 * i + 2, -1] += cross(loads.point - origin, loads.force)
         known[:, 3 * i + 2, -1] += loads.torques.get(link, 0.0)
-    x = _solve_stacked(motion, topo, -known, matrix)
+    x = _solve_stacked(motion, topo, -known)
     force, moment = _frame_action(motion, topo, x)
     force[:, :, -1] -= loads.force
     moment[:, -1] -= cross(loads.point, loads.force) + sum(loads.torques.values(), np.zeros(n))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -65,6 +65,11 @@ class Motion:
     link_omega: Mapping[str, FloatArray]
     link_alpha: Mapping[str, FloatArray]
     link_origin: Mapping[str, str]
+    # Kinetostatics, the virtual-power check and the reduced model all ask for the same centres of mass; each
+    # point is resolved once per motion and handed out read-only so no caller can change another's view of it.
+    _states: dict[tuple[str, float, float], PointState] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         n = len(self.phi)
@@ -84,26 +89,37 @@ class Motion:
 
     def point_on(self, link: str, local: tuple[float, float] | FloatArray) -> PointState:
         """Position, velocity and acceleration of a point fixed in ``link`` at ``local`` (link frame) [m]."""
+        x, y = float(local[0]), float(local[1])
+        key = (link, x, y)
+        if (state := self._states.get(key)) is not None:
+            return state
         origin = self.link_origin[link]
         th, w, a = self.link_angle[link], self.link_omega[link], self.link_alpha[link]
-        x, y = float(local[0]), float(local[1])
         c, s = np.cos(th), np.sin(th)
-        r = np.stack([c * x - s * y, s * x + c * y], axis=-1)
+        r = np.empty((len(th), 2))
+        np.subtract(c * x, s * y, out=r[:, 0])
+        np.add(s * x, c * y, out=r[:, 1])
         k_r = perp(r)
         pos = self.point_pos[origin] + r
         vel = self.point_vel[origin] + w[:, None] * k_r
         acc = self.point_acc[origin] + a[:, None] * k_r - (w * w)[:, None] * r
-        return PointState(pos, vel, acc)
+        for arr in (pos, vel, acc):
+            arr.flags.writeable = False
+        state = PointState(pos, vel, acc)
+        self._states[key] = state
+        return state
 
     def with_points(self, points: Mapping[str, tuple[str, tuple[float, float]]]) -> Motion:
         """A copy with named extra points (centres of mass, coupler points): name -> (link, local xy)."""
         pos, vel, acc = dict(self.point_pos), dict(self.point_vel), dict(self.point_acc)
         for name, (link, local) in points.items():
             pos[name], vel[name], acc[name] = self.point_on(link, local)
-        return Motion(
+        moved = Motion(
             self.phi, self.omega_crank, self.alpha_crank, pos, vel, acc,
             self.link_angle, self.link_omega, self.link_alpha, self.link_origin,
         )
+        moved._states.update(self._states)  # same links, same frames: every resolved point still holds
+        return moved
 
 
 def build_motion(
@@ -115,16 +131,19 @@ def build_motion(
     origins: Mapping[str, str],
 ) -> Motion:
     """Motion from position analogues: v = w·dr/dphi, a = w²·d²r/dphi² + eps·dr/dphi (seed 001:966-1006)."""
+    def acceleration(d1: FloatArray, d2: FloatArray) -> FloatArray:
+        return omega**2 * d2 + alpha * d1 if alpha else omega**2 * d2
+
     return Motion(
         phi=phi,
         omega_crank=float(omega),
         alpha_crank=float(alpha),
         point_pos={k: p.pos for k, p in points.items()},
         point_vel={k: omega * p.d1 for k, p in points.items()},
-        point_acc={k: omega**2 * p.d2 + alpha * p.d1 for k, p in points.items()},
+        point_acc={k: acceleration(p.d1, p.d2) for k, p in points.items()},
         link_angle={k: a.angle for k, a in angles.items()},
         link_omega={k: omega * a.d1 for k, a in angles.items()},
-        link_alpha={k: omega**2 * a.d2 + alpha * a.d1 for k, a in angles.items()},
+        link_alpha={k: acceleration(a.d1, a.d2) for k, a in angles.items()},
         link_origin=dict(origins),
     )
 
