@@ -153,22 +153,24 @@ class ConeProgram:
     """A linear objective over cones in Clarabel's form: min qᵀx s.t. A x + s = b, s in the listed cones.
 
     Rows are appended block by block with ``equal`` (G x = g), ``at_most`` (G x <= g) and ``cone``
-    (G x + g in a second-order cone, first entry the bound).
+    (G x + g in a second-order cone, first entry the bound). The blocks are kept dense: a program has a few
+    dozen columns, and scipy.sparse's per-block bookkeeping cost more than the solve; one sparse matrix is made
+    for Clarabel at the end.
     """
 
     size: int
     q: FloatArray = field(init=False)
-    _a: list[sp.csr_matrix] = field(default_factory=list)
+    _a: list[FloatArray] = field(default_factory=list)
     _b: list[FloatArray] = field(default_factory=list)
     _cones: list[object] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.q = np.zeros(self.size)
 
-    def _rows(self, g: FloatArray | sp.spmatrix) -> sp.csr_matrix:
-        m = sp.csr_matrix(g)
+    def _rows(self, g: FloatArray | sp.spmatrix) -> FloatArray:
+        m = np.atleast_2d(sp.csr_matrix(g).toarray() if sp.issparse(g) else np.asarray(g, dtype=float))
         if m.shape[1] < self.size:
-            m = sp.hstack([m, sp.csr_matrix((m.shape[0], self.size - m.shape[1]))], format="csr")
+            m = np.pad(m, ((0, 0), (0, self.size - m.shape[1])))
         return m
 
     def equal(self, g: FloatArray | sp.spmatrix, rhs: FloatArray) -> None:
@@ -207,7 +209,7 @@ class ConeProgram:
         settings.time_limit = float(time_limit_s)
         for key, value in _TOLERANCES.items():
             setattr(settings, key, value)
-        a = sp.vstack(self._a, format="csc")
+        a = sp.csc_matrix(np.vstack(self._a))
         return clarabel.DefaultSolver(sp.csc_matrix((self.size, self.size)), self.q, a, np.concatenate(self._b),
                                       self._cones, settings)
 
