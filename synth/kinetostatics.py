@@ -191,6 +191,14 @@ def _constant_matmul(f: FloatArray, x: FloatArray) -> FloatArray:
     return out
 
 
+def _times_constant(x: FloatArray, g: FloatArray) -> FloatArray:
+    """x @ G for stacked x (i, j, N) and a constant G (j, l), summing only G's nonzero entries."""
+    out = np.zeros((x.shape[0], g.shape[1], x.shape[-1]))
+    for j, col in zip(*np.nonzero(g), strict=True):
+        out[:, col] += g[j, col] * x[:, j]
+    return out
+
+
 def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Determinants of the stacked small matrices ``s`` (k, k, N) and the solutions of s @ x = r (k, m, N).
 
@@ -247,7 +255,7 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
             g = _constant_matmul(red.f_inv, a[:k, k:])
             s = a[k:, k:] - _batched_matmul(m_elim, g)
         else:
-            s = a[k:, k:] - _constant_matmul(red.g.T, m_elim.swapaxes(0, 1)).swapaxes(0, 1)
+            s = a[k:, k:] - _times_constant(m_elim, red.g)
         r = bp[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
     rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)

@@ -220,3 +220,26 @@ def test_dead_positions_are_judged_as_on_the_full_system(monkeypatch: pytest.Mon
     with pytest.raises(synth.NotAssemblable) as err:
         synth.analyse(linkage, 10.0, phi=phi)
     assert np.asarray(err.value.phi) == pytest.approx(phi[ratio < threshold])
+
+
+
+@settings(max_examples=20, deadline=None)
+@given(linkages, st.booleans(), st.floats(0.0, 50.0))
+def test_constant_elimination_equals_the_per_angle_one(linkage: synth.Linkage, gravity: bool, load: float) -> None:
+    # Where the kept unknowns' force rows are constant (revolute joints, slides fixed in the frame) F⁻¹·G is
+    # formed once per topology; the per-angle product, which a slide turning with a link needs, must give the
+    # same unknowns for the same topology.
+    from dataclasses import replace
+
+    from synth import kinetostatics
+
+    loaded = _with_loads(linkage, gravity, load)
+    red = kinetostatics._reduction(loaded.mechanism.topology)
+    assert red is not None and red.g is not None
+    mot = synth.analyse(loaded, 7.0, samples=90, crank_acceleration=3.0).motion
+    once = kinetostatics.solve_direct(mot, loaded).unknowns
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(kinetostatics, "_reduction", lambda topo: replace(red, g=None))
+        per_angle = kinetostatics.solve_direct(mot, loaded).unknowns
+    scale = 1.0 + float(np.abs(once).max())
+    assert np.abs(once - per_angle).max() <= 1e-12 * scale
