@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import casadi as ca
@@ -146,49 +147,71 @@ def motor_constant_inertia(
     delta·(w_max + w_min)/2, with w_min and w_max results; the speed stays above the breakdown point of the
     characteristic; minimise J_c. ``mean_speed`` [rad/s] only scales the problem and is checked against the
     motor's steady speed by :func:`motor_speed_limits`. ``cycle.torque`` holds the load torque alone; ``guess``
-    [kg·m²] and ``start`` (speeds at the samples [rad/s]) start IPOPT. Built per call, never shared between threads.
+    [kg·m²] and ``start`` (speeds at the samples [rad/s]) start IPOPT.
     """
     lower, upper = motor_speed_limits(cycle, motor, mean_speed, delta)
     floor = max(motor.no_load_speed - motor.max_torque / motor.slope, 0.0)
     phi, _, _ = cycle.closed()
-    h = np.diff(phi)
-    opti = ca.Opti()
-    w = opti.variable(cycle.samples)
-    w_lo = opti.variable()
-    w_hi = opti.variable()
-    jc = opti.variable()
-    energy = 0.5 * (ca.DM(cycle.inertia) + jc) * w**2
-    power = ca.DM(cycle.torque) + motor.slope * (motor.no_load_speed - w)
-    # the sample after the last is the first: periodicity without an extra unknown
-    e_next = ca.vertcat(energy[1:], energy[0])
-    p_next = ca.vertcat(power[1:], power[0])
+    n = cycle.samples
     # in units of the kinetic energy, so IPOPT sees residuals of order one whatever the machine's size
     e_scale = 0.5 * (guess + cycle.mean_inertia) * mean_speed**2
-    opti.subject_to((e_next - energy - 0.5 * ca.DM(h) * (power + p_next)) / e_scale == 0)
-    opti.subject_to((w - w_lo) / mean_speed >= 0)
-    opti.subject_to((w_hi - w) / mean_speed >= 0)
-    opti.subject_to((w_hi - w_lo - 0.5 * delta * (w_hi + w_lo)) / mean_speed <= 0)
-    opti.subject_to(w_lo >= max(floor, 1e-6 * mean_speed))
-    opti.subject_to(jc + float(cycle.inertia.min()) >= 1e-9 * max(guess, 1.0))
     scale = max(guess, 1e-9)
-    opti.minimize(jc / scale)
-    initial = np.clip(start, lower, upper) if start is not None else np.full(cycle.samples, mean_speed)
-    opti.set_initial(w_lo, float(initial.min()))
-    opti.set_initial(w_hi, float(initial.max()))
-    opti.set_initial(w, initial)
-    opti.set_initial(jc, guess)
-    opti.solver(
-        "ipopt",
-        {"print_time": False},
-        {"print_level": 0, "sb": "yes", "max_wall_time": float(time_limit_s), "tol": 1e-9, "max_iter": 1000},
-    )
-    try:
-        sol = opti.solve()
-    except RuntimeError as exc:
-        status = str(opti.stats().get("return_status", "unknown"))
+    params = np.concatenate([cycle.inertia, cycle.torque, np.diff(phi),
+                             [motor.slope, motor.no_load_speed, delta, e_scale, mean_speed, scale]])
+    initial = np.clip(start, lower, upper) if start is not None else np.full(n, mean_speed)
+    x0 = np.concatenate([initial, [initial.min(), initial.max(), guess]])
+    lbx = np.full(n + 3, -np.inf)
+    lbx[n] = max(floor, 1e-6 * mean_speed)
+    lbx[n + 2] = 1e-9 * max(guess, 1.0) - float(cycle.inertia.min())
+    lbg = np.concatenate([np.zeros(n), np.zeros(2 * n), [-np.inf]])
+    ubg = np.concatenate([np.zeros(n), np.full(2 * n, np.inf), [0.0]])
+    solver = _motor_nlp(n, float(time_limit_s))
+    sol = solver(x0=x0, p=params, lbx=lbx, ubx=np.inf, lbg=lbg, ubg=ubg)
+    stats = solver.stats()
+    status = str(stats.get("return_status", "unknown"))
+    x = np.asarray(sol["x"], dtype=float).reshape(-1)
+    if not stats.get("success", False):
         if status == "Maximum_WallTime_Exceeded":
-            raise SolverTimeout(time_limit_s, reached_inertia_kgm2=float(opti.debug.value(jc))) from exc
-        raise SolverFailed(status) from exc
-    return MotorSizing(
-        float(sol.value(jc)), np.asarray(sol.value(w), dtype=float).reshape(-1), str(opti.stats()["return_status"])
-    )
+            raise SolverTimeout(time_limit_s, reached_inertia_kgm2=float(x[n + 2]))
+        raise SolverFailed(status)
+    return MotorSizing(float(x[n + 2]), x[:n], status)
+
+
+_MOTOR_NLPS = threading.local()
+
+
+def _motor_nlp(samples: int, time_limit_s: float) -> ca.Function:
+    """The collocation NLP of :func:`motor_constant_inertia` for ``samples`` speeds, built once per thread.
+
+    Everything that changes between machines (the cycle, the motor, delta, the scales) is a parameter, so a
+    request pays only for IPOPT's iterations; building the program and its derivatives cost several times
+    more. IPOPT instances are not shared between threads, so each thread keeps its own.
+    """
+    cache: dict[tuple[int, float], ca.Function] = _MOTOR_NLPS.__dict__.setdefault("solvers", {})
+    key = (samples, time_limit_s)
+    if key not in cache:
+        n = samples
+        x = ca.SX.sym("x", n + 3)
+        p = ca.SX.sym("p", 3 * n + 6)
+        w, w_lo, w_hi, jc = x[:n], x[n], x[n + 1], x[n + 2]
+        inertia, torque, h = p[:n], p[n : 2 * n], p[2 * n : 3 * n]
+        slope, no_load, delta, e_scale, mean_speed, scale = (p[3 * n + k] for k in range(6))
+        energy = 0.5 * (inertia + jc) * w**2
+        power = torque + slope * (no_load - w)
+        # the sample after the last is the first: periodicity without an extra unknown
+        e_next = ca.vertcat(energy[1:], energy[0])
+        p_next = ca.vertcat(power[1:], power[0])
+        g = ca.vertcat(
+            (e_next - energy - 0.5 * h * (power + p_next)) / e_scale,
+            (w - w_lo) / mean_speed,
+            (w_hi - w) / mean_speed,
+            (w_hi - w_lo - 0.5 * delta * (w_hi + w_lo)) / mean_speed,
+        )
+        cache[key] = ca.nlpsol("motor_flywheel", "ipopt", {"x": x, "p": p, "f": jc / scale, "g": g}, {
+            "print_time": False, "error_on_fail": False,
+            # The adaptive barrier update halves IPOPT's iterations on these programs (11 instead of 21, the same
+            # inertia to 1e-11); each iteration's factorisation is most of the solve.
+            "ipopt": {"print_level": 0, "sb": "yes", "max_wall_time": time_limit_s, "tol": 1e-9, "max_iter": 1000,
+                      "mu_strategy": "adaptive"},
+        })
+    return cache[key]
