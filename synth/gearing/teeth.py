@@ -447,6 +447,16 @@ def _closest(table: _Table, stream: _Stream, target: float,
     return (float(err[k]), int(teeth[k]), int(a_flat[k]), int(b_rows[k])), work
 
 
+def _table_runs(table: FloatArray, low: FloatArray, high: FloatArray) -> tuple[IntArray, IntArray]:
+    """Where each [low, high] starts and stops in the sorted ``table``; the queries are looked up in ascending
+    order, which keeps the binary searches within the cache (random queries cost several times more)."""
+    order = np.argsort(low)
+    lo, hi = np.empty(len(low), np.int64), np.empty(len(low), np.int64)
+    lo[order] = np.searchsorted(table, low[order], side="left")
+    hi[order] = np.searchsorted(table, high[order], side="right")
+    return lo, hi
+
+
 def _fewest(table: _Table, stream: _Stream, target: float,
             tolerance: float) -> tuple[tuple[float, int, int, int] | None, int]:
     """Fewest teeth with a product within ``tolerance``, ties broken by the smaller error.
@@ -480,16 +490,16 @@ def _fewest(table: _Table, stream: _Stream, target: float,
                 continue
             rows = np.repeat(np.arange(stop - start), count)
             cols = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
-            chunk = stream.take(start, rows * n_last + cols)
-            logs = np.log(chunk.ratio)
+            # Screened on sums of the factors' logarithms (the screen's margins dwarf their rounding); only the
+            # survivors are multiplied out.
+            logs = stream.outer_log[start + rows] + stream.last_log[cols]
             x = (math.log(w_lo) - 1e-12 - logs - table.base) * table.inv_step + 1.0
             keep = table.screen(x, (math.log(w_hi) - math.log(w_lo) + 2e-12) * table.inv_step)
-            chunk = _Half(chunk.ratio[keep], chunk.teeth[keep], chunk.flat[keep], chunk.sizes)
+            chunk = stream.take(start, (rows * n_last + cols)[keep])
         if len(chunk.ratio) == 0:
             continue
         ar = chunk.ratio
-        lo = np.searchsorted(tb.ratio, w_lo / ar, side="left")
-        hi = np.searchsorted(tb.ratio, w_hi / ar, side="right")
+        lo, hi = _table_runs(tb.ratio, w_lo / ar, w_hi / ar)
         has = np.nonzero(hi > lo)[0]
         if has.size == 0:
             continue
