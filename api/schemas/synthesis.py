@@ -28,6 +28,13 @@ from .common import (
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _OBJECTIVE_UNIT = {"transmission_angle": "deg", "peak_driving_torque": "N·m", "rms_shaking_force": "N"}
+# What the crank-rocker and the slider-crank answers share, described once.
+ObjectiveName = Annotated[str, Field(description="The objective the family was searched for.")]
+ObjectiveValue = Annotated[float, Field(description="Its value at the answer, in objective_unit: the smallest "
+                                        "transmission angle [deg] (maximised), the peak driving torque [N·m] or "
+                                        "the RMS shaking force [N] (minimised).")]
+ObjectiveUnit = Annotated[str, Field(description="Unit of objective_value: deg, N·m or N.")]
+CrankSpeed = Annotated[float, Field(description="The request's crank speed [rad/s].")]
 
 # The engine's path-generation bounds (synth.synthesis.MAX_POINTS, MAX_STARTS), spelled here so that the
 # schema loads without the engine; a test keeps them equal.
@@ -308,14 +315,12 @@ class CrankRockerOut(BaseModel):
     mechanism: FourBarIn = Field(description="The crank-rocker, with link masses when densities were given: send "
                                  "it to any mechanism endpoint as it is.")
     grashof: str = Field(description="Grashof class of the answer's four-bar.")
-    objective: str = Field(description="The objective the family was searched for.")
-    objective_value: float = Field(description="Its value at the answer, in objective_unit: the smallest "
-                                   "transmission angle [deg] (maximised), the peak driving torque [N·m] or the RMS "
-                                   "shaking force [N] (minimised).")
-    objective_unit: str = Field(description="Unit of objective_value: deg, N·m or N.")
+    objective: ObjectiveName
+    objective_value: ObjectiveValue
+    objective_unit: ObjectiveUnit
     crank_pivot_m: list[float] = Field(description="Crank pivot with the rocker pivot at the origin and the rocker's "
                                                    "mid-swing along +x [m].")
-    crank_speed_rad_s: float = Field(description="The request's crank speed [rad/s].")
+    crank_speed_rad_s: CrankSpeed
     check: CrankRockerCheckOut = Field(description="The answer re-analysed by the kinematics engine: swing, time "
                                        "ratio, stroke times and transmission angles.")
     optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
@@ -358,12 +363,10 @@ class SliderCrankSynthesisOut(BaseModel):
 
     mechanism: SliderCrankIn = Field(description="The slider-crank, with link masses when densities were given: "
                                      "send it to any mechanism endpoint as it is.")
-    objective: str = Field(description="The objective the family was searched for.")
-    objective_value: float = Field(description="Its value at the answer, in objective_unit: the smallest "
-                                   "transmission angle [deg] (maximised), the peak driving torque [N·m] or the RMS "
-                                   "shaking force [N] (minimised).")
-    objective_unit: str = Field(description="Unit of objective_value: deg, N·m or N.")
-    crank_speed_rad_s: float = Field(description="The request's crank speed [rad/s].")
+    objective: ObjectiveName
+    objective_value: ObjectiveValue
+    objective_unit: ObjectiveUnit
+    crank_speed_rad_s: CrankSpeed
     check: SliderCrankCheckOut = Field(description="The answer re-analysed by the kinematics engine: stroke, time "
                                        "ratio, stroke times and transmission angles.")
     optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
