@@ -8,6 +8,10 @@
 raises a :class:`ProblemError` subclass carrying the problem details. A busy service (503) is asked again after
 the ``Retry-After`` it names, at most ``retries`` times and never waiting longer than ``max_retry_wait_s``.
 
+Every export has a method: the figures as PNG, SVG or PDF (``format=`` on the ``*_png`` methods, PNG by default),
+the curves as CSV text (``*_csv``, one row per crank angle), the drawings as DXF or SVG (``analysis_drawing``,
+``balance_dxf``) and the machine's design report as PDF (``design_report_pdf``).
+
 The client needs only httpx and pydantic (``pip install ./client``): the models import the engine only to convert
 to and from engine objects, which happens in the service.
 """
@@ -57,6 +61,7 @@ __all__ = [
     "AsyncSynthClient",
     "BalanceMode",
     "DrawingFormat",
+    "FigureFormat",
     "InfeasibleError",
     "InvalidInputError",
     "NotAssemblableError",
@@ -73,6 +78,7 @@ M = TypeVar("M", bound=BaseModel)
 InProcessExecutor = Literal["serial", "pool"]
 SynthesisKind = Literal["crank-rocker", "slider-crank", "path"]
 DrawingFormat = Literal["dxf", "svg"]
+FigureFormat = Literal["png", "svg", "pdf"]
 
 
 class ProblemError(Exception):
@@ -185,8 +191,9 @@ class _Policy:
         return body.model_dump(mode="json", exclude_none=True)
 
     @staticmethod
-    def _figure_query(params: dict[str, Any]) -> dict[str, Any]:
-        return {"format": "png", **{k: v for k, v in params.items() if v is not None}}
+    def _export_query(fmt: str, params: dict[str, Any]) -> dict[str, Any]:
+        """The query of an export: its format and the extras given (an angle), left out when None."""
+        return {"format": fmt, **{k: v for k, v in params.items() if v is not None}}
 
     @staticmethod
     def _rows(response: httpx.Response, model: type[M]) -> list[M]:
@@ -246,8 +253,8 @@ class SynthClient(_Policy):
         response = self._send("POST", path, json=self._json(body))
         return out.model_validate_json(response.content)
 
-    def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
-        return self._send("POST", path, json=self._json(body), params=self._figure_query(params)).content
+    def _export(self, path: str, body: BaseModel, fmt: str, **params: Any) -> httpx.Response:
+        return self._send("POST", path, json=self._json(body), params=self._export_query(fmt, params))
 
     def _get_rows(self, path: str, model: type[M]) -> list[M]:
         return self._rows(self._send("GET", path), model)
@@ -266,15 +273,20 @@ class SynthClient(_Policy):
         """POST /v1/analysis: the linkage's kinematic and kinetostatic picture over the cycle."""
         return self._post("/v1/analysis", body, AnalysisOut)
 
-    def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
-        """POST /v1/analysis?format=png: driving torque, shaking force polar diagram, mechanism drawing."""
-        return self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+    def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None, format: FigureFormat = "png") -> bytes:
+        """POST /v1/analysis?format=png|svg|pdf: driving torque, shaking moment, shaking force polar diagram and
+        the mechanism at ``angle_deg``."""
+        return self._export("/v1/analysis", body, format, angle_deg=angle_deg).content
+
+    def analysis_csv(self, body: AnalysisIn) -> str:
+        """POST /v1/analysis?format=csv: every curve as CSV text, one row per crank angle, units in the column
+        names."""
+        return self._export("/v1/analysis", body, "csv").text
 
     def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
                          angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis/drawing: the mechanism to scale in millimetres with its counterweights, DXF or SVG."""
-        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
-        return self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query).content
+        return self._export("/v1/analysis/drawing", body, format, angle_deg=angle_deg).content
 
     def machine_types(self) -> list[MachineTypeOut]:
         """GET /v1/machine-types: admissible coefficient of speed fluctuation per machine type."""
@@ -284,9 +296,15 @@ class SynthClient(_Policy):
         """POST /v1/flywheel: flywheel sizing by every method, each with its simulated delta."""
         return self._post("/v1/flywheel", body, FlywheelOut)
 
-    def flywheel_png(self, body: FlywheelIn) -> bytes:
-        """POST /v1/flywheel?format=png: energy-mass diagram with its tangents and the speed over the cycle."""
-        return self._post_png("/v1/flywheel", body)
+    def flywheel_png(self, body: FlywheelIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/flywheel?format=png|svg|pdf: energy-mass diagram with its tangents and the speed over the
+        cycle."""
+        return self._export("/v1/flywheel", body, format).content
+
+    def flywheel_csv(self, body: FlywheelIn) -> str:
+        """POST /v1/flywheel?format=csv: the cycle as sized (J_red, reduced torque, excess work) and every method's
+        simulated speed as CSV text, one row per sample of the cycle."""
+        return self._export("/v1/flywheel", body, "csv").text
 
     def gears_split(self, body: SplitIn) -> SplitOut:
         """POST /v1/gears/split: stage ratios (motor side first) for minimum inertia, volume or the handbook rule."""
@@ -328,9 +346,19 @@ class SynthClient(_Policy):
         """POST /v1/balancing/optimal: weighted trade-off within a mass budget, with the trade-off curve."""
         return self._post("/v1/balancing/optimal", body, OptimalBalanceOut)
 
-    def balance_png(self, mode: BalanceMode, body: BalanceIn) -> bytes:
-        """Before/after figure of a balancing mode (`static`, `full` or `optimal`)."""
-        return self._post_png(f"/v1/balancing/{mode}", body)
+    def balance_png(self, mode: BalanceMode, body: BalanceIn, format: FigureFormat = "png") -> bytes:
+        """Before/after figure of a balancing mode (`static`, `full` or `optimal`) as PNG, SVG or PDF."""
+        return self._export(f"/v1/balancing/{mode}", body, format).content
+
+    def balance_csv(self, mode: BalanceMode, body: BalanceIn) -> str:
+        """Shaking force, shaking moment and driving torque before and after a balancing mode as CSV text, one row
+        per crank angle."""
+        return self._export(f"/v1/balancing/{mode}", body, "csv").text
+
+    def balance_dxf(self, mode: BalanceMode, body: BalanceIn) -> bytes:
+        """The balanced mechanism with its counterweights at the first crank angle, as a DXF drawing in
+        millimetres."""
+        return self._export(f"/v1/balancing/{mode}", body, "dxf").content
 
     def balance_rotor(self, body: RotorIn) -> RotorOut:
         """POST /v1/balancing/rotor: single-plane static or two-plane dynamic rotor balance."""
@@ -346,12 +374,12 @@ class SynthClient(_Policy):
 
     def design_machine_png(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=png: the one-page summary of the design."""
-        return self._post_png("/v1/machines/design", body)
+        return self._export("/v1/machines/design", body, "png").content
 
     def design_report_pdf(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=pdf: the multi-page design report (with the alternatives when the
         request asks for them)."""
-        return self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"}).content
+        return self._export("/v1/machines/design", body, "pdf").content
 
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
@@ -367,7 +395,7 @@ class SynthClient(_Policy):
 
     def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
         """Figure of a synthesis answer (`crank-rocker`, `slider-crank` or `path`): dead centres or coupler curve."""
-        return self._post_png(f"/v1/synthesis/{kind}", body)
+        return self._export(f"/v1/synthesis/{kind}", body, "png").content
 
     def study(self, body: StudyIn) -> StudyHandle:
         """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""
@@ -431,8 +459,8 @@ class AsyncSynthClient(_Policy):
         response = await self._send("POST", path, json=self._json(body))
         return out.model_validate_json(response.content)
 
-    async def _post_png(self, path: str, body: BaseModel, **params: Any) -> bytes:
-        return (await self._send("POST", path, json=self._json(body), params=self._figure_query(params))).content
+    async def _export(self, path: str, body: BaseModel, fmt: str, **params: Any) -> httpx.Response:
+        return await self._send("POST", path, json=self._json(body), params=self._export_query(fmt, params))
 
     async def _get_rows(self, path: str, model: type[M]) -> list[M]:
         return self._rows(await self._send("GET", path), model)
@@ -451,15 +479,19 @@ class AsyncSynthClient(_Policy):
         """POST /v1/analysis."""
         return await self._post("/v1/analysis", body, AnalysisOut)
 
-    async def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None) -> bytes:
-        """POST /v1/analysis?format=png."""
-        return await self._post_png("/v1/analysis", body, angle_deg=angle_deg)
+    async def analysis_png(self, body: AnalysisIn, angle_deg: float | None = None,
+                           format: FigureFormat = "png") -> bytes:
+        """POST /v1/analysis?format=png|svg|pdf."""
+        return (await self._export("/v1/analysis", body, format, angle_deg=angle_deg)).content
+
+    async def analysis_csv(self, body: AnalysisIn) -> str:
+        """POST /v1/analysis?format=csv."""
+        return (await self._export("/v1/analysis", body, "csv")).text
 
     async def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
                                angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis/drawing."""
-        query = {"format": format, **({} if angle_deg is None else {"angle_deg": angle_deg})}
-        return (await self._send("POST", "/v1/analysis/drawing", json=self._json(body), params=query)).content
+        return (await self._export("/v1/analysis/drawing", body, format, angle_deg=angle_deg)).content
 
     async def machine_types(self) -> list[MachineTypeOut]:
         """GET /v1/machine-types."""
@@ -469,9 +501,13 @@ class AsyncSynthClient(_Policy):
         """POST /v1/flywheel."""
         return await self._post("/v1/flywheel", body, FlywheelOut)
 
-    async def flywheel_png(self, body: FlywheelIn) -> bytes:
-        """POST /v1/flywheel?format=png."""
-        return await self._post_png("/v1/flywheel", body)
+    async def flywheel_png(self, body: FlywheelIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/flywheel?format=png|svg|pdf."""
+        return (await self._export("/v1/flywheel", body, format)).content
+
+    async def flywheel_csv(self, body: FlywheelIn) -> str:
+        """POST /v1/flywheel?format=csv."""
+        return (await self._export("/v1/flywheel", body, "csv")).text
 
     async def gears_split(self, body: SplitIn) -> SplitOut:
         """POST /v1/gears/split."""
@@ -505,9 +541,17 @@ class AsyncSynthClient(_Policy):
         """POST /v1/balancing/optimal."""
         return await self._post("/v1/balancing/optimal", body, OptimalBalanceOut)
 
-    async def balance_png(self, mode: BalanceMode, body: BalanceIn) -> bytes:
+    async def balance_png(self, mode: BalanceMode, body: BalanceIn, format: FigureFormat = "png") -> bytes:
         """Before/after figure of a balancing mode."""
-        return await self._post_png(f"/v1/balancing/{mode}", body)
+        return (await self._export(f"/v1/balancing/{mode}", body, format)).content
+
+    async def balance_csv(self, mode: BalanceMode, body: BalanceIn) -> str:
+        """Curves before and after a balancing mode as CSV text."""
+        return (await self._export(f"/v1/balancing/{mode}", body, "csv")).text
+
+    async def balance_dxf(self, mode: BalanceMode, body: BalanceIn) -> bytes:
+        """The balanced mechanism as a DXF drawing."""
+        return (await self._export(f"/v1/balancing/{mode}", body, "dxf")).content
 
     async def balance_rotor(self, body: RotorIn) -> RotorOut:
         """POST /v1/balancing/rotor."""
@@ -531,12 +575,11 @@ class AsyncSynthClient(_Policy):
 
     async def design_machine_png(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=png."""
-        return await self._post_png("/v1/machines/design", body)
+        return (await self._export("/v1/machines/design", body, "png")).content
 
     async def design_report_pdf(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=pdf."""
-        response = await self._send("POST", "/v1/machines/design", json=self._json(body), params={"format": "pdf"})
-        return response.content
+        return (await self._export("/v1/machines/design", body, "pdf")).content
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""
@@ -552,7 +595,7 @@ class AsyncSynthClient(_Policy):
 
     async def synthesis_png(self, kind: SynthesisKind, body: CrankRockerIn | SliderCrankSynthesisIn | PathIn) -> bytes:
         """Figure of a synthesis answer."""
-        return await self._post_png(f"/v1/synthesis/{kind}", body)
+        return (await self._export(f"/v1/synthesis/{kind}", body, "png")).content
 
     async def study(self, body: StudyIn) -> AsyncStudyHandle:
         """POST /v1/studies: start a design study; the handle follows, waits for, reads and cancels it."""

@@ -59,9 +59,10 @@ PROBLEM_SCHEMA: dict[str, Any] = {
                    "constraint, solver status, limit).",
     "properties": {
         "type": {"type": "string", "description": "Relative URI naming the kind of problem."},
-        "title": {"type": "string"},
-        "status": {"type": "integer"},
-        "detail": {"type": "string"},
+        "title": {"type": "string", "description": "Short summary of the kind of problem, the same for every "
+                                                   "occurrence of it."},
+        "status": {"type": "integer", "description": "HTTP status code of this answer."},
+        "detail": {"type": "string", "description": "What went wrong with this request, in words."},
         "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field."},
     },
     "required": ["type", "title", "status", "detail"],

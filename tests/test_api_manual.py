@@ -78,8 +78,21 @@ def test_schema_names_are_readable() -> None:
     assert SCHEMAS and not [name for name in SCHEMAS if "__" in name or "-" in name]
 
 
-@pytest.mark.parametrize("name", REQUEST_SCHEMAS)
-def test_every_request_field_is_described(name: str) -> None:
+# The study answers (api/schemas/studies.py) are being reworked by a change of their own running alongside this
+# one; their fields get descriptions there. Every other schema, request or response, is checked here.
+UNDESCRIBED_STUDY_SCHEMAS = frozenset({"StudyLinks", "StudyOut", "VariantOut", "ResultsOut", "ParetoOut"})
+DESCRIBED_SCHEMAS = sorted(set(SCHEMAS) - UNDESCRIBED_STUDY_SCHEMAS)
+
+
+def test_described_schemas_cover_requests_and_answers() -> None:
+    # The exclusion names real schemas, and what is checked includes every request schema and the answers.
+    assert UNDESCRIBED_STUDY_SCHEMAS <= set(SCHEMAS)
+    assert set(REQUEST_SCHEMAS) <= set(DESCRIBED_SCHEMAS)
+    assert {"AnalysisOut", "BalanceOut", "FlywheelOut", "MachineDesignOut", "Problem"} <= set(DESCRIBED_SCHEMAS)
+
+
+@pytest.mark.parametrize("name", DESCRIBED_SCHEMAS)
+def test_every_field_is_described(name: str) -> None:
     props = SCHEMAS[name].get("properties", {})
     assert not [field for field, spec in props.items() if not spec.get("description")]
 

@@ -1,11 +1,14 @@
-"""The light client: it loads with httpx and pydantic alone, the async client answers like the sync one, and a
-busy service is asked again after the Retry-After it names, within bounds."""
+"""The light client: it loads with httpx and pydantic alone, the async client answers like the sync one, every
+export has a method that answers the format it names, and a busy service is asked again after the Retry-After it
+names, within bounds."""
 
 from __future__ import annotations
 
 import asyncio
+import csv
 import importlib.metadata as md
 import inspect
+import io
 import json
 import re
 import subprocess
@@ -14,20 +17,27 @@ import tomllib
 from pathlib import Path
 from typing import Any, get_args
 
+import ezdxf
 import httpx
+import numpy as np
 import pytest
 
 import synth
-from api.client import AsyncSynthClient, NotAssemblableError, ServiceBusyError, SynthClient
+from api.client import AsyncSynthClient, FigureFormat, NotAssemblableError, ServiceBusyError, SynthClient
 from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import RotorIn
-from api.schemas.flywheel import MachineType
+from api.schemas.balancing import BalanceIn, RotorIn
+from api.schemas.flywheel import FlywheelIn, MachineType
 from api.schemas.gearing import STAGE_TYPES
 from api.schemas.synthesis import MAX_PATH_POINTS, MAX_PATH_STARTS
 
 REPO = Path(__file__).resolve().parents[1]
 CLIENT_PROJECT = tomllib.loads((REPO / "client" / "pyproject.toml").read_text())
 EXAMPLE = AnalysisIn.model_validate(AnalysisIn.model_config["json_schema_extra"]["examples"][0])  # type: ignore[index]
+# The manual's first examples of analysis, static balancing and a flywheel for a linkage, at few samples.
+SAMPLES = 36
+ANALYSIS = AnalysisIn.model_validate({**AnalysisIn.model_json_schema()["examples"][0], "samples": SAMPLES})
+BALANCE = BalanceIn.model_validate({**BalanceIn.model_json_schema()["examples"][0], "samples": SAMPLES})
+FLYWHEEL = FlywheelIn.model_validate({**FlywheelIn.model_json_schema()["examples"][1], "samples": SAMPLES})
 
 
 def _requirement_closure(names: list[str]) -> set[str]:
@@ -109,6 +119,100 @@ def test_async_client_answers_like_the_sync_one(client: SynthClient) -> None:
     assert out == client.analysis(EXAMPLE)
     assert types == client.machine_types() and rotor_out == client.balance_rotor(rotor)
     assert problem == err.value.problem
+
+
+def _is_format(content: bytes, fmt: str) -> bool:
+    """Whether ``content`` is a file of ``fmt`` by its signature: PNG's eight magic bytes, an XML document holding
+    an <svg> element, a PDF's %PDF- header and %%EOF trailer."""
+    if fmt == "png":
+        return content.startswith(b"\x89PNG\r\n\x1a\n")
+    if fmt == "svg":
+        return content.startswith(b"<?xml") and b"<svg" in content
+    return content.startswith(b"%PDF-") and content.rstrip().endswith(b"%%EOF")
+
+
+def _columns(text: str) -> tuple[list[str], dict[str, list[float]], int]:
+    """A CSV answer's header, its columns as numbers and its row count."""
+    rows = list(csv.reader(io.StringIO(text)))
+    header, data = rows[0], rows[1:]
+    return header, {name: [float(row[i]) for row in data] for i, name in enumerate(header)}, len(data)
+
+
+# 12 significant digits in the CSV against the JSON's full doubles.
+CSV_REL, CSV_ABS = 1e-11, 1e-9
+
+
+@pytest.mark.parametrize("fmt", get_args(FigureFormat))
+def test_figure_methods_answer_the_format_asked(client: SynthClient, fmt: FigureFormat) -> None:
+    figures = {"analysis": client.analysis_png(ANALYSIS, angle_deg=30, format=fmt),
+               "balance": client.balance_png("static", BALANCE, format=fmt),
+               "flywheel": client.flywheel_png(FLYWHEEL, format=fmt)}
+    assert {name: _is_format(content, fmt) for name, content in figures.items()} == dict.fromkeys(figures, True)
+
+
+def test_analysis_csv_is_the_json_answer_one_row_per_sample(client: SynthClient) -> None:
+    header, col, rows = _columns(client.analysis_csv(ANALYSIS))
+    out = client.analysis(ANALYSIS)
+    assert header[:4] == ["crank_angle_deg", "driving_torque_Nm", "virtual_power_torque_Nm", "shaking_force_x_N"]
+    assert rows == SAMPLES
+    assert col["crank_angle_deg"] == pytest.approx(out.crank_angle_deg, rel=CSV_REL, abs=CSV_ABS)
+    assert col["driving_torque_Nm"] == pytest.approx(out.driving_torque_Nm, rel=CSV_REL, abs=CSV_ABS)
+    assert col["shaking_force_y_N"] == pytest.approx([f[1] for f in out.shaking_force_N], rel=CSV_REL, abs=CSV_ABS)
+    assert col["rocker_angle_deg"] == pytest.approx(out.links["rocker"].angle_deg, rel=CSV_REL, abs=CSV_ABS)
+
+
+def test_balance_csv_is_before_and_after_of_the_json_answer(client: SynthClient) -> None:
+    header, col, rows = _columns(client.balance_csv("static", BALANCE))
+    out = client.balance_static(BALANCE)
+    unbalanced = client.analysis(AnalysisIn.model_validate(
+        BALANCE.model_dump(mode="json", include={"mechanism", "speed_rpm", "samples"})))
+    # The columns synth.exports.balance_table writes.
+    assert header == ["crank_angle_deg", "shaking_force_x_before_N", "shaking_force_y_before_N",
+                      "shaking_force_x_after_N", "shaking_force_y_after_N", "shaking_moment_before_Nm",
+                      "shaking_moment_after_Nm", "driving_torque_before_Nm", "driving_torque_after_Nm"]
+    assert rows == SAMPLES
+    # Before: the plain analysis of the same linkage; after: what the answer's summary reduces to.
+    assert col["driving_torque_before_Nm"] == pytest.approx(unbalanced.driving_torque_Nm, rel=CSV_REL, abs=CSV_ABS)
+    force_after = np.hypot(col["shaking_force_x_after_N"], col["shaking_force_y_after_N"])
+    assert np.sqrt(np.mean(force_after**2)) == pytest.approx(out.summary_after.rms_shaking_force_N, abs=1e-8)
+    assert np.abs(col["driving_torque_after_Nm"]).max() == pytest.approx(out.summary_after.max_driving_torque_Nm,
+                                                                        rel=CSV_REL)
+
+
+def test_balance_dxf_draws_the_answers_counterweights(client: SynthClient) -> None:
+    doc = ezdxf.read(io.StringIO(client.balance_dxf("static", BALANCE).decode("utf-8")))
+    out = client.balance_static(BALANCE)
+    assert doc.header["$INSUNITS"] == 4   # millimetres
+    # One disc per counterweight of the JSON answer, on the drawing's COUNTERWEIGHTS layer.
+    discs = doc.modelspace().query('CIRCLE[layer=="COUNTERWEIGHTS"]')
+    assert len(out.counterweights) >= 1 and len(discs) == len(out.counterweights)
+
+
+def test_flywheel_csv_is_the_json_cycle_one_row_per_sample(client: SynthClient) -> None:
+    header, col, rows = _columns(client.flywheel_csv(FLYWHEEL))
+    out = client.flywheel(FLYWHEEL)
+    assert header == ["crank_angle_deg", "reduced_inertia_kgm2", "reduced_torque_Nm", "excess_work_J",
+                      *(f"omega_{m.method}_rad_s" for m in out.methods)]
+    assert rows == SAMPLES
+    diagram = out.energy_mass
+    assert col["crank_angle_deg"] == pytest.approx(diagram.crank_angle_deg, rel=CSV_REL, abs=CSV_ABS)
+    assert col["reduced_inertia_kgm2"] == pytest.approx(diagram.reduced_inertia_kgm2, rel=CSV_REL, abs=CSV_ABS)
+    assert col["excess_work_J"] == pytest.approx(diagram.excess_work_J, rel=CSV_REL, abs=CSV_ABS)
+    # Each method's speeds are its dense simulated profile read at the samples: within that profile's extremes.
+    for method in out.methods:
+        omega = col[f"omega_{method.method}_rad_s"]
+        lo, hi = method.omega_min_rad_s * (1 - CSV_REL), method.omega_max_rad_s * (1 + CSV_REL)
+        assert lo <= min(omega) <= max(omega) <= hi, method.method
+
+
+def test_async_exports_answer_like_the_sync_ones(client: SynthClient) -> None:
+    async def run() -> tuple[str, bytes]:
+        async with AsyncSynthClient.in_process() as aclient:
+            return await aclient.analysis_csv(ANALYSIS), await aclient.balance_png("static", BALANCE, format="pdf")
+
+    text, pdf = asyncio.run(run())
+    assert text == client.analysis_csv(ANALYSIS)
+    assert _is_format(pdf, "pdf")
 
 
 def _busy_then_ok(retry_after: list[str | None]) -> tuple[httpx.MockTransport, list[int]]:

@@ -149,47 +149,82 @@ GRASHOF_CLASSES: tuple[Grashof, ...] = get_args(Grashof)
 class PointOut(BaseModel):
     """A point's position [m], velocity [m/s] and acceleration [m/s²] at every sample, as [x, y] pairs."""
 
-    position_m: list[list[float]]
-    velocity_m_s: list[list[float]]
-    acceleration_m_s2: list[list[float]]
+    position_m: list[list[float]] = Field(description="Position [x, y] in the fixed frame (origin at the crank "
+                                          "pivot O) at each crank angle of `crank_angle_deg` [m].")
+    velocity_m_s: list[list[float]] = Field(description="Absolute velocity [vx, vy] at each crank angle [m/s].")
+    acceleration_m_s2: list[list[float]] = Field(description="Absolute acceleration [ax, ay] at each crank angle "
+                                                 "[m/s²].")
 
 
 class LinkMotionOut(BaseModel):
     """A link's angle [deg], angular velocity [rad/s] and angular acceleration [rad/s²] at every sample."""
 
-    angle_deg: list[float]
-    angular_velocity_rad_s: list[float]
-    angular_acceleration_rad_s2: list[float]
+    angle_deg: list[float] = Field(description="Angle of the link frame's x-axis (first joint toward the second) "
+                                   "from the fixed x-axis, counter-clockwise positive, at each crank angle [deg]; a "
+                                   "block on a fixed guide keeps the guide's angle.")
+    angular_velocity_rad_s: list[float] = Field(description="Angular velocity at each crank angle [rad/s], "
+                                                "counter-clockwise positive.")
+    angular_acceleration_rad_s2: list[float] = Field(description="Angular acceleration at each crank angle "
+                                                     "[rad/s²], counter-clockwise positive.")
 
 
 class ChecksOut(BaseModel):
     """Independent check figures carried with the result."""
 
     virtual_power_torque_max_diff_Nm: float = Field(
-        description="Largest difference between the kinetostatic and the virtual-power driving torque."
+        description="Largest difference over the samples between the kinetostatic and the virtual-power driving "
+        "torque [N·m]."
     )
 
 
 class AnalysisOut(BaseModel):
     """Kinematics and kinetostatics over the cycle; reactions are forces of a joint's first link on its second."""
 
-    crank_angle_deg: list[float]
-    driving_torque_Nm: list[float]
-    virtual_power_torque_Nm: list[float]
-    shaking_force_N: list[list[float]]
-    shaking_moment_Nm: list[float]
-    reduced_inertia_kgm2: list[float]
-    reduced_inertia_slope_kgm2_per_rad: list[float]
-    reduced_load_torque_Nm: list[float]
-    kinetic_energy_J: list[float]
-    joint_reactions_N: dict[str, list[list[float]]]
-    prismatic_couples_Nm: dict[str, list[float]]
-    links: dict[str, LinkMotionOut]
-    points: dict[str, PointOut]
-    transmission_angle_deg: list[float] | None = None
+    crank_angle_deg: list[float] = Field(description="Crank angle of each sample [deg], counter-clockwise from "
+                                         "the frame's x-axis (O->Q for a four-bar); every other array has one "
+                                         "entry per sample, in this order.")
+    driving_torque_Nm: list[float] = Field(description="Torque the drive applies to the crank at each sample "
+                                           "[N·m], counter-clockwise positive, the crank's direction of rotation: "
+                                           "positive while the drive puts power in.")
+    virtual_power_torque_Nm: list[float] = Field(description="The driving torque recomputed at each sample from "
+                                                 "virtual power (the powers of all loads and inertia forces sum to "
+                                                 "zero), independently of the reaction solve; same sign [N·m].")
+    shaking_force_N: list[list[float]] = Field(description="Force [Fx, Fy] the linkage exerts on the frame at each "
+                                               "sample, -sum(m·a_S) over the links [N]; gravity and process loads "
+                                               "are reacted by the frame and not part of it.")
+    shaking_moment_Nm: list[float] = Field(description="Moment the linkage exerts on the frame about the crank "
+                                           "pivot O at each sample, counter-clockwise positive [N·m]; includes the "
+                                           "reaction of the driving torque on the motor housing, not gravity or "
+                                           "process loads.")
+    reduced_inertia_kgm2: list[float] = Field(description="Reduced (equivalent) inertia J_red of the whole linkage "
+                                              "on the crank at each sample, sum(m·|v_S/w|² + J_S·(w_i/w)²) "
+                                              "[kg·m²], the crank's own inertia and any counter-rotors included.")
+    reduced_inertia_slope_kgm2_per_rad: list[float] = Field(description="dJ_red/dphi at each sample [kg·m²/rad].")
+    reduced_load_torque_Nm: list[float] = Field(description="Reduced torque of the process loads, link torques and "
+                                                "gravity on the crank at each sample (their power over the crank "
+                                                "speed) [N·m]; positive drives the crank, negative resists.")
+    kinetic_energy_J: list[float] = Field(description="Kinetic energy of the linkage at each sample at the request's "
+                                          "crank speed, J_red·w²/2 [J].")
+    joint_reactions_N: dict[str, list[list[float]]] = Field(description="Per joint by name (O, A, B, Q, guide, "
+                                                            "...): the force [Fx, Fy] its first link exerts on its "
+                                                            "second (the frame first for frame joints) at each "
+                                                            "sample [N]; a prismatic joint's is normal to its "
+                                                            "slide.")
+    prismatic_couples_Nm: dict[str, list[float]] = Field(description="Per prismatic joint by name: the couple its "
+                                                         "first link exerts on its second at each sample, "
+                                                         "counter-clockwise positive [N·m].")
+    links: dict[str, LinkMotionOut] = Field(description="Per link by name: its angle, angular velocity and "
+                                            "angular acceleration at each sample.")
+    points: dict[str, PointOut] = Field(description="Per point by name: every joint, every link's centre of mass "
+                                        "(`S_<link>`) and each trace point, with position, velocity and "
+                                        "acceleration at each sample.")
+    transmission_angle_deg: list[float] | None = Field(None, description="Four-bar: angle between coupler and "
+                                                       "rocker at each sample, in [0, 180] [deg] (90 transmits "
+                                                       "best); null for other mechanisms.")
     grashof: Grashof | None = Field(None, description="Grashof class of a four-bar; null for other mechanisms.")
-    summary: SummaryOut
-    checks: ChecksOut
+    summary: SummaryOut = Field(description="RMS and peak shaking force, shaking moment and driving torque over "
+                                "the samples, and the largest bearing force.")
+    checks: ChecksOut = Field(description="Independent check figures of this answer.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod

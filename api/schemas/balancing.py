@@ -129,44 +129,66 @@ class OptimalBalanceIn(BalanceIn):
 class CounterweightPlacementOut(BaseModel):
     """A counterweight's place: radius and angle in its link frame, and the link's new centre of mass."""
 
-    link: str
-    radius_m: float
-    angle_deg: float
-    link_com_m: list[float]
-    link_mass_kg: float
+    link: str = Field(description="Link that carries the counterweight, by name.")
+    radius_m: float = Field(description="Distance of the counterweight's centre from the link frame's origin (the "
+                            "link's first joint) [m].")
+    angle_deg: float = Field(description="Direction of the counterweight's centre in the link frame, from the "
+                             "link's x-axis (toward its second joint), counter-clockwise positive, in [-180, 180] "
+                             "[deg]: ±180 is straight behind the joint.")
+    link_com_m: list[float] = Field(description="The link's centre of mass with all its counterweights, [x, y] in "
+                                    "the link frame [m].")
+    link_mass_kg: float = Field(description="The link's mass with all its counterweights [kg].")
 
 
 class CounterRotorOut(BaseModel):
     """A counter-rotating inertia geared to a link at -ratio times its speed."""
 
-    link: str
-    inertia_kgm2: float
-    ratio: float
+    link: str = Field(description="Link the rotor is geared to, by name (crank or rocker).")
+    inertia_kgm2: float = Field(description="Rotor inertia about its own axis [kg·m²].")
+    ratio: float = Field(description="Rotor speed over the link's speed, turning the opposite way [-].")
 
 
 class BalanceChecksOut(BaseModel):
     """Re-analysis with the plain kinetostatic model (not the map the program was built on)."""
 
-    residual_shaking_force_N: float
-    residual_shaking_force_rel: float
-    residual_shaking_moment_Nm: float
-    residual_shaking_moment_rel: float
+    residual_shaking_force_N: float = Field(description="Largest magnitude of the shaking force left over the "
+                                            "samples after balancing [N].")
+    residual_shaking_force_rel: float = Field(description="residual_shaking_force_N over the largest shaking force "
+                                              "before balancing [-]; 0 when that was 0.")
+    residual_shaking_moment_Nm: float = Field(description="Largest absolute shaking moment about the crank pivot O "
+                                              "left over the samples after balancing, counter-rotors included "
+                                              "[N·m].")
+    residual_shaking_moment_rel: float = Field(description="residual_shaking_moment_Nm over the largest shaking "
+                                               "moment before balancing [-]; 0 when that was 0.")
 
 
 class BalanceOut(BaseModel):
     """Counterweights (send them back to /v1/analysis as they are), their cost and effect."""
 
-    mode: BalanceMode
-    counterweights: list[CounterweightIn]
-    placements: list[CounterweightPlacementOut]
-    total_added_mass_kg: float
+    mode: BalanceMode = Field(description="The balancing mode that answered: static, full or optimal.")
+    counterweights: list[CounterweightIn] = Field(description="The counterweights to add, each on its link in the "
+                                                  "link frame, in the shape `/v1/analysis` takes them.")
+    placements: list[CounterweightPlacementOut] = Field(description="Each counterweight's radius and angle, in the "
+                                                        "order of `counterweights`, and its link's new mass and "
+                                                        "centre of mass.")
+    total_added_mass_kg: float = Field(description="Sum of the counterweights' masses [kg].")
     added_inertia_kgm2: float = Field(description="Counterweights' inertia about their joints plus counter-rotors.")
-    summary_before: SummaryOut
-    summary_after: SummaryOut
-    checks: BalanceChecksOut
-    coupler_inertia_kgm2: float | None = None
-    counter_rotors: list[CounterRotorOut] | None = None
-    objective: float | None = None
+    summary_before: SummaryOut = Field(description="Shaking force, moment and driving torque of the linkage as "
+                                       "given, before balancing.")
+    summary_after: SummaryOut = Field(description="The same figures of the balanced linkage from a plain "
+                                      "re-analysis (counter-rotors included).")
+    checks: BalanceChecksOut = Field(description="What is left of the shaking force and moment, measured by the "
+                                     "plain kinetostatic model.")
+    coupler_inertia_kgm2: float | None = Field(None, description="Full mode: the coupler's inertia about its centre "
+                                               "of mass that makes it a physical pendulum [kg·m²]; null otherwise.")
+    counter_rotors: list[CounterRotorOut] | None = Field(None, description="Full mode: the counter-rotors geared to "
+                                                         "crank and rocker; null otherwise.")
+    objective: float | None = Field(None, description="The program's objective at the answer: static, the added "
+                                    "mass [kg] (min_mass) or the added inertia about the joints [kg·m²] "
+                                    "(min_inertia), each with 1e-9 of the other; full, the added mass plus 1e-3/"
+                                    "crank length² times the added inertia; optimal, the weighted sum of the terms "
+                                    "(relative weights divided by each term's value before balancing) re-evaluated "
+                                    "on the balanced linkage, plus the added-mass term. Null for fixed_points.")
     weights: WeightsIn | None = Field(None, description="Optimal mode: this point's weights, as given.")
     weight_scale: str | None = Field(None, description="Optimal mode: relative or absolute.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
@@ -208,7 +230,9 @@ class BalanceOut(BaseModel):
 class OptimalBalanceOut(BalanceOut):
     """The optimal design for `weights`, and the trade-off curve over `sweep`."""
 
-    tradeoff: list[BalanceOut] = Field(default_factory=list)
+    tradeoff: list[BalanceOut] = Field(default_factory=list, description="One design per weight set of `sweep`, "
+                                       "in its order, each re-analysed and with its `weights`; empty without a "
+                                       "sweep.")
 
     @classmethod
     def from_results(cls, results: list[synth.BalanceResult]) -> OptimalBalanceOut:
@@ -254,20 +278,27 @@ class RotorIn(StrictModel):
 class CorrectionOut(BaseModel):
     """A correction mass and where it goes."""
 
-    mass_kg: float
-    radius_m: float
-    angle_deg: float
-    axial_position_m: float
+    mass_kg: float = Field(description="Correction mass [kg].")
+    radius_m: float = Field(description="Its distance from the axis [m], as requested for its plane.")
+    angle_deg: float = Field(description="Its angle about the axis in the rotor frame, in [0, 360) [deg]: opposite "
+                             "the unbalance it cancels.")
+    axial_position_m: float = Field(description="Axial position of its correction plane [m].")
 
 
 class RotorOut(BaseModel):
     """Corrections and the check: what is left of the static and the couple unbalance with them added."""
 
-    corrections: list[CorrectionOut]
-    unbalance_before_kgm: float
-    moment_unbalance_before_kgm2: float
-    residual_unbalance_kgm: float
-    residual_moment_unbalance_kgm2: float
+    corrections: list[CorrectionOut] = Field(description="One correction mass per plane: one (static mode) or two "
+                                             "(dynamic mode, in the order of `planes_m`).")
+    unbalance_before_kgm: float = Field(description="Magnitude of the rotor's static unbalance |sum m·r| before "
+                                        "correction [kg·m].")
+    moment_unbalance_before_kgm2: float = Field(description="Magnitude of its moment of unbalance |sum m·r·z| "
+                                                "about the axial origin before correction [kg·m²].")
+    residual_unbalance_kgm: float = Field(description="|sum m·r| with the corrections added [kg·m]; zero to "
+                                          "rounding.")
+    residual_moment_unbalance_kgm2: float = Field(description="|sum m·r·z| with the corrections added [kg·m²]; "
+                                                  "zero to rounding in dynamic mode, what a single plane leaves in "
+                                                  "static mode.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
@@ -300,9 +331,9 @@ class SliderCrankBalanceIn(LinkageRequest):
 class LanchesterOut(BaseModel):
     """A pair of shafts at ±order times crank speed, each carrying mass_kg at radius_m."""
 
-    order: int
-    mass_kg: float
-    radius_m: float
+    order: int = Field(description="Crank order the pair cancels: 1 (shafts at ±1 times crank speed) or 2 (±2).")
+    mass_kg: float = Field(description="Mass on each of the pair's two shafts [kg].")
+    radius_m: float = Field(description="Radius of each mass on its shaft [m].")
     amplitude_N: float = Field(description="Amplitude of the slider's inertia force of this order it cancels [N].")
     phase_deg: float = Field(description="Both masses of the pair point along +x (the slide direction) when "
                                          "order × crank angle equals this angle [deg], in [0, 360).")
@@ -311,15 +342,23 @@ class LanchesterOut(BaseModel):
 class SliderCrankBalanceOut(BaseModel):
     """Masses split to crank pin and slider, the crank counterweight, the balancer, and the residual force."""
 
-    rotating_mass_kg: float
-    reciprocating_mass_kg: float
-    crank_counterweight: CounterweightIn
-    lanchester: list[LanchesterOut]
-    first_order_amplitude_N: float
-    second_order_amplitude_N: float
-    summary_before: SummaryOut
-    residual_shaking_force_N: float
-    residual_shaking_force_rel: float
+    rotating_mass_kg: float = Field(description="The rod's static share at the crank pin A, m_rod·(1 - x_S/l) "
+                                    "[kg], balanced by the crank counterweight with the crank's own mass.")
+    reciprocating_mass_kg: float = Field(description="The slider's mass plus the rod's static share at the slider "
+                                         "pin B, m_rod·x_S/l [kg].")
+    crank_counterweight: CounterweightIn = Field(description="The crank counterweight, in the shape "
+                                                 "`/v1/analysis` takes it.")
+    lanchester: list[LanchesterOut] = Field(description="One Lanchester pair per cancelled order, order 1 first.")
+    first_order_amplitude_N: float = Field(description="Amplitude of the first crank-order harmonic of the "
+                                           "reciprocating mass's inertia force along the slide, -m_B·a_B, from an "
+                                           "FFT of the exact motion [N].")
+    second_order_amplitude_N: float = Field(description="Amplitude of its second-order harmonic [N].")
+    summary_before: SummaryOut = Field(description="Shaking force, moment and driving torque before balancing.")
+    residual_shaking_force_N: float = Field(description="Largest magnitude over the samples of the shaking force "
+                                            "left: the plain engine's with the crank counterweight, plus the "
+                                            "balancer shafts' inertia forces [N].")
+    residual_shaking_force_rel: float = Field(description="residual_shaking_force_N over the largest shaking force "
+                                              "before balancing [-]; 0 when that was 0.")
     residual_by_order_N: list[float] = Field(
         description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
     )

@@ -323,7 +323,7 @@ class WarningOut(BaseModel):
     field: str | None = Field(None, description="The request field it concerns, as this API spells it.")
     value: float | None = Field(None, description="The number that triggered it, in `unit`.")
     unit: str = Field("", description="Unit of `value` (angles in degrees).")
-    message: str
+    message: str = Field(description="What was found and what to check, in words.")
     crank_angle_ranges_deg: list[list[float]] | None = Field(
         None, description="Crank-angle ranges [start, end] where it holds [deg].")
 
@@ -365,13 +365,17 @@ def ensure_finite(*arrays: np.ndarray) -> None:
 class SummaryOut(BaseModel):
     """RMS over the samples and peak absolute values of the frame loads and the driving torque."""
 
-    rms_shaking_force_N: float
-    max_shaking_force_N: float
-    rms_shaking_moment_Nm: float
-    max_shaking_moment_Nm: float
-    rms_driving_torque_Nm: float
-    max_driving_torque_Nm: float
-    max_bearing_force_N: float
+    rms_shaking_force_N: float = Field(description="RMS over the crank-angle samples of the shaking force's "
+                                       "magnitude |F| [N] (the force the linkage exerts on the frame).")
+    max_shaking_force_N: float = Field(description="Largest magnitude of the shaking force over the samples [N].")
+    rms_shaking_moment_Nm: float = Field(description="RMS over the samples of the shaking moment about the crank "
+                                         "pivot O [N·m].")
+    max_shaking_moment_Nm: float = Field(description="Largest absolute shaking moment about O over the samples [N·m].")
+    rms_driving_torque_Nm: float = Field(description="RMS over the samples of the driving torque on the crank [N·m].")
+    max_driving_torque_Nm: float = Field(description="Largest absolute driving torque on the crank over the samples "
+                                         "[N·m].")
+    max_bearing_force_N: float = Field(description="Largest magnitude of any revolute joint's reaction over the "
+                                       "samples [N].")
 
     @classmethod
     def from_engine(cls, s: synth.Summary) -> SummaryOut:

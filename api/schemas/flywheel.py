@@ -230,10 +230,11 @@ class FlywheelIn(LinkageFields):
 class MachineTypeOut(BaseModel):
     """Admissible coefficient of speed fluctuation of one machine type (seed 003:443-453)."""
 
-    machine_type: MachineType
-    label: str
-    delta_min: float
-    delta_max: float
+    machine_type: MachineType = Field(description="Identifier to give as a request's `machine_type`.")
+    label: str = Field(description="The machine type in words, as the seeds' table names it.")
+    delta_min: float = Field(description="Smallest admissible coefficient of speed fluctuation (w_max - w_min)/w_mean "
+                             "of the range [-].")
+    delta_max: float = Field(description="Largest admissible coefficient of speed fluctuation of the range [-].")
     default_delta: float = Field(description="The tightest value, used when a request names this machine type.")
 
     @classmethod
@@ -256,9 +257,11 @@ class MethodOut(BaseModel):
     flywheel_inertia_kgm2: float = Field(description="Inertia to add to the constant inertia already there.")
     achieved_delta: float = Field(description="Delta of the simulated steady motion (2 when the machine stalls).")
     delta_error_rel: float = Field(description="achieved_delta / target delta - 1.")
-    omega_min_rad_s: float
-    omega_max_rad_s: float
-    stalls: bool
+    omega_min_rad_s: float = Field(description="Lowest crank speed of the simulated steady motion over the cycle "
+                                   "[rad/s].")
+    omega_max_rad_s: float = Field(description="Highest crank speed of the simulated steady motion [rad/s].")
+    stalls: bool = Field(description="The simulated speed falls to zero within the cycle: no steady motion at this "
+                         "mean speed (achieved_delta is then 2).")
 
     @classmethod
     def from_engine(cls, m: synth.MethodResult, target: float) -> MethodOut:
@@ -278,37 +281,46 @@ class MethodOut(BaseModel):
 class EnergyMassOut(BaseModel):
     """The energy-mass (Wittenbauer) diagram: excess work over J_red at the samples, and its limit tangents."""
 
-    crank_angle_deg: list[float]
-    reduced_inertia_kgm2: list[float]
-    excess_work_J: list[float]
+    crank_angle_deg: list[float] = Field(description="Crank angle of each sample of the cycle as sized [deg].")
+    reduced_inertia_kgm2: list[float] = Field(description="Reduced inertia J_red of the variable-inertia part at "
+                                              "each sample [kg·m²], constant inertia excluded.")
+    excess_work_J: list[float] = Field(description="Excess work A(phi) at each sample: the work of the reduced "
+                                       "torques, balanced over the cycle by a constant driving torque, from the "
+                                       "first sample [J].")
     tangent_max_slope_J_per_kgm2: float = Field(description="w_max²/2.")
-    tangent_max_intercept_J: float
+    tangent_max_intercept_J: float = Field(description="Work-axis intercept of the upper tangent, of slope "
+                                           "w_max²/2: the largest A - (w_max²/2)·J_red over the cycle [J].")
     tangent_min_slope_J_per_kgm2: float = Field(description="w_min²/2.")
-    tangent_min_intercept_J: float
+    tangent_min_intercept_J: float = Field(description="Work-axis intercept of the lower tangent, of slope "
+                                           "w_min²/2: the smallest A - (w_min²/2)·J_red over the cycle [J].")
 
 
 class SpeedOut(BaseModel):
     """Simulated steady crank speed over the cycle of the design method."""
 
-    method: SizingMethod
-    crank_angle_deg: list[float]
-    omega_rad_s: list[float]
+    method: SizingMethod = Field(description="The method whose inertia was simulated (the design method).")
+    crank_angle_deg: list[float] = Field(description="Crank angles over one cycle [deg]: at most 721 points of the "
+                                         "dense simulation, evenly picked, both ends kept.")
+    omega_rad_s: list[float] = Field(description="Simulated crank speed at each of those angles [rad/s].")
 
 
 class FlywheelPlacementOut(BaseModel):
     """A flywheel on one shaft; ``inertia_check_kgm2`` is recomputed from the dimensions."""
 
-    shaft: str
-    speed_ratio: float
-    shape: Literal["rim", "disc"]
+    shaft: str = Field(description="Shaft that carries it: crank, or a name from `geometry.shafts`.")
+    speed_ratio: float = Field(description="Shaft speed over crank speed [-].")
+    shape: Literal["rim", "disc"] = Field(description="rim: a rim on spokes; disc: a solid disc.")
     inertia_kgm2: float = Field(description="Inertia on this shaft: crank-shaft inertia / speed_ratio².")
     diameter_m: float = Field(description="Mean rim diameter (disc: outer diameter).")
-    outer_diameter_m: float
-    rim_thickness_m: float | None
-    width_m: float
-    mass_kg: float
-    rim_speed_m_s: float
-    inertia_check_kgm2: float
+    outer_diameter_m: float = Field(description="Outer diameter, mean diameter plus rim thickness (disc: the "
+                                    "diameter) [m].")
+    rim_thickness_m: float | None = Field(description="Radial thickness of the rim [m]; null for a disc.")
+    width_m: float = Field(description="Axial width of the rim or disc [m].")
+    mass_kg: float = Field(description="Mass of the rim (spokes and hub not counted) or of the disc [kg].")
+    rim_speed_m_s: float = Field(description="Speed of the outer rim at the shaft's largest simulated speed "
+                                 "[m/s].")
+    inertia_check_kgm2: float = Field(description="Inertia about the shaft recomputed from the dimensions and "
+                                      "density [kg·m²]; equals inertia_kgm2 to the solver's tolerance.")
 
     @classmethod
     def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
@@ -324,18 +336,20 @@ class FlywheelPlacementOut(BaseModel):
 class PlacementMissOut(BaseModel):
     """A shaft that cannot carry the flywheel and the limit that binds there."""
 
-    shaft: str
-    speed_ratio: float
-    constraint: str
+    shaft: str = Field(description="Shaft that cannot carry it.")
+    speed_ratio: float = Field(description="Shaft speed over crank speed [-].")
+    constraint: str = Field(description="The geometry limit that binds there: max_rim_speed_m_s, "
+                            "allowable_stress_Pa or max_diameter_m.")
     max_inertia_kgm2: float = Field(description="Largest inertia on this shaft within the limits.")
 
 
 class GeometryOut(BaseModel):
     """The lightest flywheel and every shaft's outcome."""
 
-    best: FlywheelPlacementOut
-    placements: list[FlywheelPlacementOut]
-    misses: list[PlacementMissOut]
+    best: FlywheelPlacementOut = Field(description="The lightest flywheel over every shaft that can carry one.")
+    placements: list[FlywheelPlacementOut] = Field(description="The least-mass flywheel on each shaft that can "
+                                                   "carry it, the crank shaft first.")
+    misses: list[PlacementMissOut] = Field(description="Shafts that cannot carry it within the limits.")
 
 
 class FlywheelOut(BaseModel):
@@ -348,19 +362,25 @@ class FlywheelOut(BaseModel):
     flywheel_inertia_kgm2: float = Field(description="Inertia to add on the crank, design method.")
     required_constant_inertia_kgm2: float = Field(description="Constant inertia needed on top of J_red, design method.")
     achieved_delta: float = Field(description="Simulated delta with the design method's inertia.")
-    target_delta: float
-    mean_speed_rad_s: float
+    target_delta: float = Field(description="Target coefficient of speed fluctuation (w_max - w_min)/w_mean: the "
+                                "request's delta or its machine type's tightest value [-].")
+    mean_speed_rad_s: float = Field(description="Target mean crank speed w_m = (w_max + w_min)/2 [rad/s].")
     omega_min_rad_s: float = Field(description="Target w_m(1 - delta/2).")
     omega_max_rad_s: float = Field(description="Target w_m(1 + delta/2).")
     constant_inertia_kgm2: float = Field(description="Constant inertia already on the crank, motor rotor included.")
     constant_driving_torque_Nm: float = Field(description="Constant driving torque that balances the cycle's work.")
     cycle_work_J: float = Field(description="Work of the given torques over the cycle, before that balance.")
     motor_mean_speed_rad_s: float | None = Field(None, description="Angle-average steady speed with the motor.")
-    design_method: SizingMethod
-    methods: list[MethodOut]
-    energy_mass: EnergyMassOut
-    speed: SpeedOut
-    geometry: GeometryOut | None = None
+    design_method: SizingMethod = Field(description="The method the top-level figures, the geometry and `speed` "
+                                        "come from: exact for a constant driving torque, motor_nlp with a motor "
+                                        "(simulated when a whole-machine design had to raise it).")
+    methods: list[MethodOut] = Field(description="Every sizing method side by side, each with the steady motion "
+                                     "its inertia gives.")
+    energy_mass: EnergyMassOut = Field(description="The energy-mass (Wittenbauer) diagram with both limit "
+                                       "tangents.")
+    speed: SpeedOut = Field(description="The design method's simulated crank speed over the cycle.")
+    geometry: GeometryOut | None = Field(None, description="The flywheel's shape on each candidate shaft; null "
+                                         "without `geometry` in the request or when no flywheel is needed.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod

@@ -125,11 +125,12 @@ class SplitIn(_InertiaFields):
 class StageOut(BaseModel):
     """A stage as used: type, admissible range and efficiency."""
 
-    type: StageType
-    ratio_min: float
-    ratio_max: float
-    efficiency: float
-    fixed_ratio: float | None = None
+    type: StageType = Field(description="Stage type, from the stage-type table.")
+    ratio_min: float = Field(description="Smallest admissible ratio of this stage, input over output speed [-].")
+    ratio_max: float = Field(description="Largest admissible ratio of this stage [-].")
+    efficiency: float = Field(description="Stage efficiency, output over input power [-].")
+    fixed_ratio: float | None = Field(None, description="The ratio the layout fixes for this stage [-]; null when "
+                                      "the split chooses it.")
 
     @classmethod
     def from_engine(cls, s: synth.Stage) -> StageOut:
@@ -152,23 +153,32 @@ class SplitChecksOut(BaseModel):
 class SplitOut(BaseModel):
     """Stage ratios, motor side first, with the objective and both model figures."""
 
-    total_ratio: float
-    objective: Objective
-    stage_ratios: list[float]
+    total_ratio: float = Field(description="Total ratio to split, motor speed over output speed [-].")
+    objective: Objective = Field(description="The objective the split minimised.")
+    stage_ratios: list[float] = Field(description="Ratio of each stage, input over output speed, motor side first "
+                                      "[-]; their product is the total ratio (within the snap tolerance when "
+                                      "snapped).")
     continuous_ratios: list[float] = Field(description="The optimum before R20 snapping.")
-    objective_value: float
-    objective_unit: Literal["m3", "kgm2"]
+    objective_value: float = Field(description="The objective at the answer, in objective_unit: the train's "
+                                   "inertia reduced to the motor shaft (min_inertia, handbook) or the gear volume "
+                                   "(min_volume).")
+    objective_unit: Literal["m3", "kgm2"] = Field(description="Unit of objective_value: m3 for min_volume, kgm2 "
+                                                  "otherwise.")
     reduced_inertia_kgm2: float = Field(description="Train inertia on the motor shaft at these ratios.")
     gear_volume_m3: float | None = Field(description="Pinion and gear volume sized for contact stress; null when "
                                          "a stage type has no sizing rule.")
-    stages: list[StageOut]
-    snapped: bool
-    snap_tolerance: float | None
-    solver: str
-    solver_status: str
-    solve_time_s: float
-    checks: SplitChecksOut
-    warnings: list[WarningOut]
+    stages: list[StageOut] = Field(description="The stages as used, motor side first: type, admissible ratio "
+                                   "range, efficiency and fixed ratio.")
+    snapped: bool = Field(description="The stage ratios were moved to R20 preferred numbers.")
+    snap_tolerance: float | None = Field(description="Admissible relative deviation of the snapped total ratio "
+                                         "that was used [-]; null without snapping.")
+    solver: str = Field(description="What found the split: clarabel (the geometric programs) or closed form "
+                        "(the handbook rule).")
+    solver_status: str = Field(description="The solver's final status (optimal for the closed form).")
+    solve_time_s: float = Field(description="Solver time [s]; 0 for the closed form.")
+    checks: SplitChecksOut = Field(description="Independent checks of the split.")
+    warnings: list[WarningOut] = Field(description="Likely mistakes and weak points of the split (a ratio outside "
+                                       "a stage type's usual range, say); the answer stands.")
 
     @classmethod
     def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
@@ -228,13 +238,15 @@ class MeshOut(BaseModel):
     """One stage's tooth numbers; ratio = gear_teeth / pinion_teeth. A planetary stage (sun in, ring held,
     carrier out) gives its sun as pinion_teeth, its ring as gear_teeth, ratio = 1 + ring/sun, and the planets."""
 
-    pinion_teeth: int
-    gear_teeth: int
-    ratio: float
-    sun_teeth: int | None = None
-    planet_teeth: int | None = None
-    ring_teeth: int | None = None
-    planets: int | None = None
+    pinion_teeth: int = Field(description="Teeth of the driving wheel (a planetary stage's sun).")
+    gear_teeth: int = Field(description="Teeth of the driven wheel (a planetary stage's ring).")
+    ratio: float = Field(description="Stage ratio, input over output speed: gear_teeth/pinion_teeth, or 1 + "
+                         "ring/sun for a planetary stage [-].")
+    sun_teeth: int | None = Field(None, description="Planetary stage: teeth of the sun; null for a simple pair.")
+    planet_teeth: int | None = Field(None, description="Planetary stage: teeth of each planet; null for a simple "
+                                     "pair.")
+    ring_teeth: int | None = Field(None, description="Planetary stage: teeth of the ring; null for a simple pair.")
+    planets: int | None = Field(None, description="Planetary stage: number of planets; null for a simple pair.")
 
     @classmethod
     def from_engine(cls, m: synth.Mesh) -> MeshOut:
@@ -248,29 +260,37 @@ class MeshOut(BaseModel):
 class TeethChecksOut(BaseModel):
     """A plain enumeration of every combination, run when there are at most a million (else nulls)."""
 
-    enumeration_combinations: int | None
-    enumeration_ratio_error: float | None
-    enumeration_total_teeth: int | None
-    agrees: bool | None
+    enumeration_combinations: int | None = Field(description="Combinations the plain enumeration examined; null when "
+                                                 "it was not run (more than a million).")
+    enumeration_ratio_error: float | None = Field(description="Its best relative ratio error |U/U_target - 1| [-]; "
+                                                  "null when not run.")
+    enumeration_total_teeth: int | None = Field(description="Total teeth of its best train; null when not run.")
+    agrees: bool | None = Field(description="The enumeration found the same ratio error and total teeth as the "
+                                "search; null when not run.")
 
 
 class TeethOut(BaseModel):
     """Tooth numbers, motor side first, with the achieved ratio and how they were found."""
 
-    stages: list[MeshOut]
+    stages: list[MeshOut] = Field(description="Tooth numbers of each stage, motor side first.")
     total_ratio: float = Field(description="Achieved ratio.")
-    target_ratio: float
+    target_ratio: float = Field(description="The requested total ratio [-].")
     ratio_error: float = Field(description="|total_ratio/target_ratio - 1|.")
-    total_teeth: int
-    tolerance: float | None
-    method: str
-    search_time_s: float
-    products_examined: int
+    total_teeth: int = Field(description="Teeth of every wheel of the train added up (a planetary stage: sun, one "
+                             "planet and ring).")
+    tolerance: float | None = Field(description="The relative ratio tolerance asked for [-]; null: the closest "
+                                    "ratio was sought.")
+    method: str = Field(description="How the tooth numbers were found, in words.")
+    search_time_s: float = Field(description="Time the search took [s].")
+    products_examined: int = Field(description="Partial ratio products the search enumerated.")
     undercut_limit: float = Field(description="2 (h_a - x)/sin² alpha.")
-    min_pinion_teeth: int
-    min_gear_teeth: int
-    checks: TeethChecksOut
-    warnings: list[WarningOut]
+    min_pinion_teeth: int = Field(description="Fewest teeth allowed on the smaller wheel of a pair: the undercut "
+                                  "limit rounded up, or the request's min_teeth.")
+    min_gear_teeth: int = Field(description="Fewest teeth allowed on the larger wheel of a pair (its profile shift "
+                                "is -x), or the request's min_teeth.")
+    checks: TeethChecksOut = Field(description="A plain enumeration of every combination, when small enough.")
+    warnings: list[WarningOut] = Field(description="Likely mistakes and weak points (a wheel below the undercut "
+                                       "limit, say); the answer stands.")
 
     @classmethod
     def from_engine(cls, r: synth.ToothResult) -> TeethOut:
@@ -372,11 +392,12 @@ class DriveIn(_InertiaFields):
 class MotorOut(BaseModel):
     """A catalogue motor."""
 
-    name: str
-    rated_power_W: float
-    synchronous_rpm: float
-    rated_rpm: float
-    rotor_inertia_kgm2: float | None
+    name: str = Field(description="Catalogue designation.")
+    rated_power_W: float = Field(description="Rated output power on the shaft [W].")
+    synchronous_rpm: float = Field(description="Synchronous speed, where the torque is zero [rev/min].")
+    rated_rpm: float = Field(description="Speed at rated power [rev/min].")
+    rotor_inertia_kgm2: float | None = Field(description="Rotor inertia [kg·m²]; null when the catalogue does not "
+                                             "give it.")
 
     @classmethod
     def from_engine(cls, m: synth.CatalogueMotor) -> MotorOut:
@@ -388,10 +409,11 @@ class MotorOut(BaseModel):
 class ShaftOut(BaseModel):
     """One shaft, motor shaft first."""
 
-    speed_rpm: float
-    speed_rad_s: float
-    power_W: float
-    torque_Nm: float
+    speed_rpm: float = Field(description="Shaft speed at the motor's rated speed [rev/min].")
+    speed_rad_s: float = Field(description="The same speed [rad/s].")
+    power_W: float = Field(description="Power the shaft carries, after the efficiencies of the stages before it "
+                           "[W].")
+    torque_Nm: float = Field(description="Torque the shaft carries, power over speed [N·m].")
     inertia_kgm2: float = Field(description="What the shaft carries (gears, pinion, extra, load, rotor).")
     reduced_inertia_kgm2: float = Field(description="That inertia reduced to the motor shaft.")
 
@@ -407,20 +429,25 @@ class DriveChecksOut(BaseModel):
 class DriveOut(BaseModel):
     """The motor, the split and every shaft."""
 
-    motor: MotorOut
-    required_power_W: float
-    drive_efficiency: float
-    chain_efficiency: float
-    total_ratio: float
-    stage_ratios: list[float]
-    stage_efficiencies: list[float]
-    shafts: list[ShaftOut]
-    reduced_inertia_kgm2: float
-    output_speed_rpm: float
-    torque_basis: TorqueBasis
-    split: SplitOut
-    checks: DriveChecksOut
-    warnings: list[WarningOut]
+    motor: MotorOut = Field(description="The chosen (or named) catalogue motor.")
+    required_power_W: float = Field(description="Power the motor must deliver, output power × reserve_factor / "
+                                    "drive_efficiency [W].")
+    drive_efficiency: float = Field(description="Efficiency assumed for the motor choice: the request's, or the "
+                                    "product of the stage efficiencies [-].")
+    chain_efficiency: float = Field(description="Product of the stage efficiencies [-].")
+    total_ratio: float = Field(description="The motor's rated speed over the output speed [-].")
+    stage_ratios: list[float] = Field(description="Ratio of each stage, input over output speed, motor side first "
+                                      "[-].")
+    stage_efficiencies: list[float] = Field(description="Efficiency of each stage, motor side first [-].")
+    shafts: list[ShaftOut] = Field(description="Every shaft, motor shaft first, output shaft last.")
+    reduced_inertia_kgm2: float = Field(description="Everything that turns (rotor, wheels, extra shaft inertias, "
+                                        "load) reduced to the motor shaft [kg·m²].")
+    output_speed_rpm: float = Field(description="Output shaft speed the chosen motor and ratios give [rev/min].")
+    torque_basis: TorqueBasis = Field(description="Where the shaft powers start: load, the output power over the "
+                                      "chain efficiency; rated, the motor's rated power.")
+    split: SplitOut = Field(description="The ratio split, as /v1/gears/split answers.")
+    checks: DriveChecksOut = Field(description="Independent checks of the drive.")
+    warnings: list[WarningOut] = Field(description="Likely mistakes and catalogue notes; the answer stands.")
 
     @classmethod
     def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
@@ -443,13 +470,15 @@ class DriveOut(BaseModel):
 class StageTypeOut(BaseModel):
     """A row of the shipped stage-type table."""
 
-    name: StageType
-    description: str
-    ratio_min: float
-    ratio_max: float
-    efficiency: float
-    toothed: bool
-    volume_coefficient_m3_per_Nm: float | None
+    name: StageType = Field(description="Stage type, as a request's stages name it.")
+    description: str = Field(description="The stage type in words.")
+    ratio_min: float = Field(description="Smallest admissible single-stage ratio, input over output speed [-].")
+    ratio_max: float = Field(description="Largest admissible single-stage ratio [-].")
+    efficiency: float = Field(description="Default efficiency of one stage, bearings included [-].")
+    toothed: bool = Field(description="A pinion and gear whose tooth numbers /v1/gears/teeth can search.")
+    volume_coefficient_m3_per_Nm: float | None = Field(description="c of the contact-stress sizing rule, pinion "
+                                                       "plus gear volume = c·T_pinion·(u + 1)(u² + 1)/u "
+                                                       "[m³/(N·m)]; null where no rule is stated.")
 
     @classmethod
     def from_engine(cls, t: synth.StageType) -> StageTypeOut:

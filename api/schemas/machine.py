@@ -204,11 +204,14 @@ class MachineIn(LinkageRequest):
 class MachineMotorOut(BaseModel):
     """The chosen motor and its linear static characteristic through the real train."""
 
-    motor: MotorOut
-    rated_torque_Nm: float
-    breakdown_torque_Nm: float | None
+    motor: MotorOut = Field(description="The catalogue motor.")
+    rated_torque_Nm: float = Field(description="Rated torque on the motor shaft, rated power over rated speed "
+                                   "[N·m].")
+    breakdown_torque_Nm: float | None = Field(description="Largest torque of the characteristic's linear branch on "
+                                              "the motor shaft [N·m]; null when unbounded.")
     train_ratio: float = Field(description="Real ratio from the tooth numbers, motor over crank speed [-].")
-    train_efficiency: float
+    train_efficiency: float = Field(description="Efficiency of the train, the product of the stage efficiencies "
+                                    "[-].")
     required_power_W: float = Field(description="Mean crank power × reserve / efficiency.")
 
 
@@ -216,9 +219,12 @@ class ReducedOut(BaseModel):
     """The balanced linkage reduced to its crank (counterweights, pendulum coupler and counter-rotors included)
     and the constant inertia on top of it."""
 
-    crank_angle_deg: list[float]
-    reduced_inertia_kgm2: list[float]
-    reduced_load_torque_Nm: list[float]
+    crank_angle_deg: list[float] = Field(description="Crank angle of each sample [deg].")
+    reduced_inertia_kgm2: list[float] = Field(description="Reduced inertia J_red of the balanced linkage on the "
+                                              "crank at each sample [kg·m²].")
+    reduced_load_torque_Nm: list[float] = Field(description="Reduced torque of the process loads, link torques and "
+                                                "gravity on the crank at each sample [N·m]; positive drives the "
+                                                "crank, negative resists.")
     driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing.")
     mean_power_W: float = Field(description="Mean power the crank delivers to the linkage.")
     train_inertia_kgm2: float = Field(description="Gears, shafts (and balancer shafts) on the crank, rotor excluded.")
@@ -228,58 +234,73 @@ class ReducedOut(BaseModel):
 class SimulationOut(BaseModel):
     """The assembled machine run to its periodic steady state (the independent check)."""
 
-    achieved_delta: float
-    target_delta: float
+    achieved_delta: float = Field(description="Coefficient of speed fluctuation (w_max - w_min)/w_mean of the "
+                                  "simulated steady motion, w_mean = (w_max + w_min)/2 [-].")
+    target_delta: float = Field(description="The request's target delta (or its machine type's tightest) [-].")
     mean_crank_speed_rad_s: float = Field(description="2·pi over the simulated period.")
-    mean_crank_speed_rpm: float
-    period_s: float
-    motor_peak_torque_Nm: float
+    mean_crank_speed_rpm: float = Field(description="The same mean crank speed [rev/min].")
+    period_s: float = Field(description="Time of one crank revolution in the steady motion [s].")
+    motor_peak_torque_Nm: float = Field(description="Largest absolute motor torque on the motor shaft over the "
+                                        "cycle [N·m].")
     motor_rms_torque_Nm: float = Field(description="RMS over time.")
     breakdown_margin: float | None = Field(description="1 - peak / breakdown torque (current-limit margin).")
-    crank_angle_deg: list[float]
-    omega_rad_s: list[float]
-    motor_torque_Nm: list[float]
+    crank_angle_deg: list[float] = Field(description="Crank angles over one revolution [deg]: at most 721 points "
+                                         "of the simulation's steps, evenly picked, both ends kept.")
+    omega_rad_s: list[float] = Field(description="Crank speed at each of those angles [rad/s].")
+    motor_torque_Nm: list[float] = Field(description="Motor torque on the motor shaft at each of those angles "
+                                         "[N·m]; positive drives the machine.")
 
 
 class MachineShaftOut(BaseModel):
     """One shaft in the simulated steady motion, motor first, crank last: what it passes on."""
 
-    name: str
+    name: str = Field(description='Shaft name: "motor", "shaft 1", ... between the stages, "crank".')
     speed_ratio: float = Field(description="Shaft speed over crank speed.")
-    mean_speed_rpm: float
-    mean_power_W: float
-    mean_torque_Nm: float
-    peak_torque_Nm: float
-    rms_torque_Nm: float
+    mean_speed_rpm: float = Field(description="Mean shaft speed in the steady motion [rev/min].")
+    mean_power_W: float = Field(description="Mean power the shaft passes on toward the crank, over time [W].")
+    mean_torque_Nm: float = Field(description="Mean torque the shaft passes on, over time [N·m]: the motor's "
+                                  "through the stages before it, less what accelerates the shafts up to it.")
+    peak_torque_Nm: float = Field(description="Largest absolute torque the shaft passes on over the cycle [N·m].")
+    rms_torque_Nm: float = Field(description="RMS over time of the torque the shaft passes on [N·m].")
     inertia_kgm2: float = Field(description="What turns with it, the flywheel included when it sits there.")
-    carries_flywheel: bool
+    carries_flywheel: bool = Field(description="The flywheel sits on this shaft.")
 
 
 class MachineCheckOut(BaseModel):
     """One target against the simulated machine."""
 
-    name: str
-    value: float
-    limit: float
-    passed: bool
-    detail: str
+    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque.")
+    value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
+                         "distance of the mean crank speed from speed_rpm [-], or the motor's RMS or peak torque "
+                         "[N·m].")
+    limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
+                         "speed_tolerance, the rated torque or the breakdown torque.")
+    passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
+    detail: str = Field(description="What the check compares, in words.")
 
 
 class AlternativeOut(BaseModel):
     """The same machine with another balancing mode: what it costs."""
 
-    mode: str
-    available: bool
-    reason: str | None = None
-    rms_shaking_force_N: float | None = None
-    rms_shaking_moment_Nm: float | None = None
+    mode: str = Field(description="The balancing mode: none, static, full or optimal.")
+    available: bool = Field(description="The machine could be designed with this mode; false: see `reason`.")
+    reason: str | None = Field(None, description="Why the mode does not apply or its design failed; null when "
+                               "available.")
+    rms_shaking_force_N: float | None = Field(None, description="RMS shaking force over the cycle after balancing "
+                                              "[N]; null when not available.")
+    rms_shaking_moment_Nm: float | None = Field(None, description="RMS shaking moment about the crank pivot O after "
+                                                "balancing [N·m]; null when not available.")
     flywheel_inertia_kgm2: float | None = Field(None, description="On the crank.")
-    flywheel_mass_kg: float | None = None
-    flywheel_shaft: str | None = None
-    motor: str | None = None
-    peak_shaft_torque_Nm: float | None = None
-    achieved_delta: float | None = None
-    passed: bool | None = None
+    flywheel_mass_kg: float | None = Field(None, description="Mass of the flywheel on its shaft [kg]; null when "
+                                           "none is needed.")
+    flywheel_shaft: str | None = Field(None, description="Shaft the flywheel sits on; null when none is needed.")
+    motor: str | None = Field(None, description="Name of the catalogue motor this design uses; null when not "
+                              "available.")
+    peak_shaft_torque_Nm: float | None = Field(None, description="Largest peak torque over every shaft of the drive "
+                                               "[N·m]; null when not available.")
+    achieved_delta: float | None = Field(None, description="Coefficient of speed fluctuation of the simulated "
+                                         "machine [-]; null when not available.")
+    passed: bool | None = Field(None, description="Every check of this design passed; null when not available.")
 
     @classmethod
     def from_engine(cls, a: synth.Alternative) -> AlternativeOut:
@@ -301,23 +322,27 @@ class MachineDesignOut(BaseModel):
     """Every stage of the design in the shape its own endpoint answers with, and the simulated check."""
 
     passed: bool = Field(description="Every check meets its target; `checks` says which does not.")
-    checks: list[MachineCheckOut]
+    checks: list[MachineCheckOut] = Field(description="Each target against the simulated machine.")
     analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
-    balancing_mode: str
+    balancing_mode: str = Field(description="The balancing mode used: none, static, full or optimal.")
     balancing: BalanceOut | None = Field(None, description="A four-bar's balance, as /v1/balancing/* answers.")
-    slider_crank_balancing: SliderCrankBalanceOut | None = None
-    summary_after_balancing: SummaryOut
-    reduced: ReducedOut
-    motor: MachineMotorOut
+    slider_crank_balancing: SliderCrankBalanceOut | None = Field(None, description="A slider-crank's balance, as "
+                                                                 "/v1/balancing/slider-crank answers; null "
+                                                                 "otherwise.")
+    summary_after_balancing: SummaryOut = Field(description="Shaking force, moment and driving torque of the "
+                                                "balanced linkage (Lanchester balancers included in full mode).")
+    reduced: ReducedOut = Field(description="The balanced linkage reduced to its crank.")
+    motor: MachineMotorOut = Field(description="The chosen motor and its characteristic through the real train.")
     drive: DriveOut = Field(description="Motor choice and ratio split, as /v1/gears/drive answers.")
     teeth: TeethOut | None = Field(None, description="Tooth numbers, as /v1/gears/teeth answers.")
     stage_ratios: list[float] = Field(description="Real stage ratios from the teeth.")
     flywheel: FlywheelOut = Field(description="The flywheel for the chosen motor (motor_nlp), checked by the "
                                   "simulated machine.")
-    flywheel_shaft: str | None = None
-    simulation: SimulationOut
-    shafts: list[MachineShaftOut]
-    alternatives: list[AlternativeOut] = Field(default_factory=list)
+    flywheel_shaft: str | None = Field(None, description="Shaft the flywheel sits on; null when none is needed.")
+    simulation: SimulationOut = Field(description="The assembled machine run to its periodic steady state.")
+    shafts: list[MachineShaftOut] = Field(description="Every shaft in the steady motion, motor first, crank last.")
+    alternatives: list[AlternativeOut] = Field(default_factory=list, description="With `alternatives: true`: the "
+                                               "same machine with each other balancing mode; else empty.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes and catalogue notes.")
 
     @classmethod

@@ -75,44 +75,53 @@ class StructureIn(StrictModel):
 class PairOut(BaseModel):
     """A pair's class S, freedoms H = 6 - S, and contact."""
 
-    name: str
-    links: list[str]
-    constraints: int
-    dof: int
-    pair_class: str
-    higher: bool
+    name: str = Field(description="The pair's name, as given.")
+    links: list[str] = Field(description="The two links it joins.")
+    constraints: int = Field(description="Constraints S it imposes, its class number (1..5).")
+    dof: int = Field(description="Relative freedoms H = 6 - S.")
+    pair_class: str = Field(description="Its class as a Roman numeral, I..V (S).")
+    higher: bool = Field(description="A higher pair (point or line contact); false for a lower pair.")
 
 
 class AssurGroupOut(BaseModel):
     """An Assur group: W = 3n - 2p5 = 0; class (II dyad, III triad, IV...) and order (outer pairs)."""
 
-    links: list[str]
-    pairs: list[str]
-    n: int
-    p5: int
-    mobility: int
-    group_class: str
-    order: int
+    links: list[str] = Field(description="The group's links.")
+    pairs: list[str] = Field(description="Its pairs: among its links, then those joining it to links already "
+                             "placed.")
+    n: int = Field(description="Number of links n.")
+    p5: int = Field(description="Number of lower pairs p5 (its inner and outer pairs).")
+    mobility: int = Field(description="W = 3n - 2p5: always 0 for an Assur group.")
+    group_class: str = Field(description="Class as a Roman numeral: II for a dyad; else the most pairs on one link "
+                             "or the longest closed contour of its inner pairs, whichever is larger.")
+    order: int = Field(description="Order: the number of outer pairs joining it to the links already placed.")
     statically_determinate: bool = Field(description="3n = 2p5.")
 
 
 class StructureOut(BaseModel):
     """Mobility by Somov-Malyshev and Chebyshev, redundant constraints, the primary mechanism and Assur groups."""
 
-    moving_links: int
-    pairs: list[PairOut]
+    moving_links: int = Field(description="Number n of moving links (the frame not counted).")
+    pairs: list[PairOut] = Field(description="Every pair with its class and freedoms, as given.")
     pair_counts: dict[str, int] = Field(description="p1..p5: pairs by class.")
-    mobility_somov_malyshev: int
-    mobility_chebyshev: int | None
-    redundant_constraints: int | None
-    primary_links: list[str]
-    primary_pairs: list[str]
-    primary_mobility: int | None
-    assur_groups: list[AssurGroupOut] | None
-    mechanism_class: str | None
+    mobility_somov_malyshev: int = Field(description="W = 6n - 5p5 - 4p4 - 3p3 - 2p2 - p1.")
+    mobility_chebyshev: int | None = Field(description="Planar: W = 3n - 2p5 - p4; null for a spatial mechanism.")
+    redundant_constraints: int | None = Field(description="Planar: Chebyshev's W minus Somov-Malyshev's; spatial: "
+                                              "known_mobility minus Somov-Malyshev's W, null without it.")
+    primary_links: list[str] = Field(description="The primary mechanism: the frame and the input links; empty when "
+                                     "not decomposed.")
+    primary_pairs: list[str] = Field(description="The pairs joining the input links to the frame; empty when "
+                                     "not decomposed.")
+    primary_mobility: int | None = Field(description="Mobility of the primary mechanism, 3·inputs - 2·pairs; null "
+                                         "when not decomposed.")
+    assur_groups: list[AssurGroupOut] | None = Field(description="Assur groups in the order they are added to the "
+                                                     "primary mechanism; null when not decomposed (`note` says "
+                                                     "why).")
+    mechanism_class: str | None = Field(description="Class of the mechanism: the highest class of its groups (I "
+                                        "for the primary mechanism alone); null when not decomposed.")
     replaced_higher_pairs: list[str] = Field(description="Higher pairs replaced by a link with two revolutes "
                                              "for the decomposition.")
-    note: str
+    note: str = Field(description="Why the mechanism was not decomposed into Assur groups; empty when it was.")
 
     @classmethod
     def from_engine(cls, s: synth.Structure) -> StructureOut:

@@ -28,6 +28,13 @@ from .common import (
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
 _OBJECTIVE_UNIT = {"transmission_angle": "deg", "peak_driving_torque": "N·m", "rms_shaking_force": "N"}
+# What the crank-rocker and the slider-crank answers share, described once.
+ObjectiveName = Annotated[str, Field(description="The objective the family was searched for.")]
+ObjectiveValue = Annotated[float, Field(description="Its value at the answer, in objective_unit: the smallest "
+                                        "transmission angle [deg] (maximised), the peak driving torque [N·m] or "
+                                        "the RMS shaking force [N] (minimised).")]
+ObjectiveUnit = Annotated[str, Field(description="Unit of objective_value: deg, N·m or N.")]
+CrankSpeed = Annotated[float, Field(description="The request's crank speed [rad/s].")]
 
 # The engine's path-generation bounds (synth.synthesis.MAX_POINTS, MAX_STARTS), spelled here so that the
 # schema loads without the engine; a test keeps them equal.
@@ -214,16 +221,20 @@ class SliderCrankSynthesisIn(_TimeRatio, _Dynamics):
 class OptimalityOut(BaseModel):
     """Why the answer is the global optimum of its one-parameter family."""
 
-    statement: str
+    statement: str = Field(description="The certificate in words: how the family was searched and why no member "
+                           "beats the answer by more than gap_bound.")
     parameter: float = Field(description="Family parameter u of the answer.")
-    family_evaluations: int
-    grid_points: int
+    family_evaluations: int = Field(description="Family members evaluated in all: grid, refinement and polish.")
+    grid_points: int = Field(description="Members of the first grid spread over the whole family.")
     gap_bound: float = Field(description="Largest possible improvement anywhere in the family, in the objective's unit.")
     kind: str = Field(description="stationary, kink (of a max-min objective) or bound (a constraint is active).")
-    binding_constraint: str | None
-    left_slope: float | None
-    right_slope: float | None
-    conditions_met: bool
+    binding_constraint: str | None = Field(description="The constraint active at the answer when kind is bound; "
+                                           "null otherwise.")
+    left_slope: float | None = Field(description="One-sided derivative of the objective in the family parameter u "
+                                     "from below, in the objective's unit per unit u; null when not finite.")
+    right_slope: float | None = Field(description="One-sided derivative from above, in the same unit; null when not "
+                                      "finite.")
+    conditions_met: bool = Field(description="The first-order optimality conditions of `kind` hold at the answer.")
 
     @classmethod
     def from_engine(cls, o: synth.Optimality, u: float, unit_scale: float) -> OptimalityOut:
@@ -247,10 +258,10 @@ class OptimalityOut(BaseModel):
 class TransmissionOut(BaseModel):
     """Transmission angle extremes over the cycle with the crank angles where they occur [deg]."""
 
-    min_deg: float
-    min_at_crank_deg: float
-    max_deg: float
-    max_at_crank_deg: float
+    min_deg: float = Field(description="Smallest transmission angle over the cycle [deg].")
+    min_at_crank_deg: float = Field(description="Crank angle where it occurs, in [0, 360) [deg].")
+    max_deg: float = Field(description="Largest transmission angle over the cycle [deg].")
+    max_at_crank_deg: float = Field(description="Crank angle where it occurs, in [0, 360) [deg].")
 
     @classmethod
     def from_engine(cls, c: synth.LinkageCheck) -> TransmissionOut:
@@ -264,12 +275,12 @@ class TransmissionOut(BaseModel):
 class StrokesOut(BaseModel):
     """The strokes as the analysis engine finds them."""
 
-    time_ratio: float
-    overlap_angle_deg: float
+    time_ratio: float = Field(description="Slow stroke time over fast stroke time Q at constant crank speed [-].")
+    overlap_angle_deg: float = Field(description="Crank overlap angle theta = 180·(Q - 1)/(Q + 1) [deg].")
     slow_stroke_crank_deg: list[float] = Field(description="Crank angles where the slow stroke starts and ends [deg].")
-    cycle_time_s: float
-    slow_stroke_time_s: float
-    fast_stroke_time_s: float
+    cycle_time_s: float = Field(description="Time of one crank revolution at the request's speed [s].")
+    slow_stroke_time_s: float = Field(description="Time of the slow (working) stroke [s].")
+    fast_stroke_time_s: float = Field(description="Time of the fast (return) stroke [s].")
 
     @classmethod
     def from_engine(cls, c: synth.LinkageCheck, speed: float) -> StrokesOut:
@@ -283,10 +294,10 @@ class StrokesOut(BaseModel):
 class CrankRockerCheckOut(StrokesOut):
     """Swing, time ratio and transmission angles recomputed by the analysis engine."""
 
-    swing_deg: float
+    swing_deg: float = Field(description="Rocker swing between its dead-centre positions [deg].")
     rocker_angle_deg: list[float] = Field(description="Rocker angle at the start and the end of the slow stroke [deg].")
     rocker_tip_chord_m: float = Field(description="Straight distance between the rocker tip's extreme positions [m].")
-    transmission_angle: TransmissionOut
+    transmission_angle: TransmissionOut = Field(description="Extremes of the angle between coupler and rocker.")
 
 
 def _links(lengths: dict[str, float], density: dict[str, float]) -> dict[str, LinkIn]:
@@ -301,16 +312,18 @@ def _links(lengths: dict[str, float], density: dict[str, float]) -> dict[str, Li
 class CrankRockerOut(BaseModel):
     """The optimal crank-rocker as a `mechanism` every other endpoint takes, with its check and certificate."""
 
-    mechanism: FourBarIn
-    grashof: str
-    objective: str
-    objective_value: float
-    objective_unit: str
+    mechanism: FourBarIn = Field(description="The crank-rocker, with link masses when densities were given: send "
+                                 "it to any mechanism endpoint as it is.")
+    grashof: str = Field(description="Grashof class of the answer's four-bar.")
+    objective: ObjectiveName
+    objective_value: ObjectiveValue
+    objective_unit: ObjectiveUnit
     crank_pivot_m: list[float] = Field(description="Crank pivot with the rocker pivot at the origin and the rocker's "
                                                    "mid-swing along +x [m].")
-    crank_speed_rad_s: float
-    check: CrankRockerCheckOut
-    optimality: OptimalityOut
+    crank_speed_rad_s: CrankSpeed
+    check: CrankRockerCheckOut = Field(description="The answer re-analysed by the kinematics engine: swing, time "
+                                       "ratio, stroke times and transmission angles.")
+    optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
 
     @classmethod
     def from_engine(cls, r: synth.CrankRockerResult, speed: float) -> CrankRockerOut:
@@ -339,21 +352,24 @@ class CrankRockerOut(BaseModel):
 class SliderCrankCheckOut(StrokesOut):
     """Stroke, time ratio and transmission angles recomputed by the analysis engine."""
 
-    stroke_m: float
+    stroke_m: float = Field(description="Slider stroke between the dead centres [m].")
     slider_position_m: list[float] = Field(description="Slider x at the start and the end of the slow stroke [m].")
-    transmission_angle: TransmissionOut
+    transmission_angle: TransmissionOut = Field(description="Extremes of the angle between the rod and the normal "
+                                                "to the guide (90° less the rod's inclination to the guide).")
 
 
 class SliderCrankSynthesisOut(BaseModel):
     """The optimal offset slider-crank as a `mechanism` every other endpoint takes, with check and certificate."""
 
-    mechanism: SliderCrankIn
-    objective: str
-    objective_value: float
-    objective_unit: str
-    crank_speed_rad_s: float
-    check: SliderCrankCheckOut
-    optimality: OptimalityOut
+    mechanism: SliderCrankIn = Field(description="The slider-crank, with link masses when densities were given: "
+                                     "send it to any mechanism endpoint as it is.")
+    objective: ObjectiveName
+    objective_value: ObjectiveValue
+    objective_unit: ObjectiveUnit
+    crank_speed_rad_s: CrankSpeed
+    check: SliderCrankCheckOut = Field(description="The answer re-analysed by the kinematics engine: stroke, time "
+                                       "ratio, stroke times and transmission angles.")
+    optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
 
     @classmethod
     def from_engine(cls, r: synth.SliderCrankResult, speed: float) -> SliderCrankSynthesisOut:
@@ -426,30 +442,34 @@ class PathIn(StrictModel):
 class PathCheckOut(BaseModel):
     """Rocker swing, time ratio and transmission angles of the answer, from the analysis engine."""
 
-    grashof: str
-    swing_deg: float
-    time_ratio: float
-    transmission_angle: TransmissionOut
+    grashof: str = Field(description="Grashof class of the answer.")
+    swing_deg: float = Field(description="Rocker swing between its dead-centre positions [deg].")
+    time_ratio: float = Field(description="Crank angle of the slow stroke over that of the fast one [-].")
+    transmission_angle: TransmissionOut = Field(description="Extremes of the angle between coupler and rocker.")
 
 
 class PathOut(BaseModel):
     """The best four-bar of all starts: its `mechanism`, the coupler point as a trace point for /v1/analysis,
     where it sits among the targets, and the residual at every target recomputed by the analysis engine."""
 
-    mechanism: FourBarIn
-    trace_point: TracePointIn
+    mechanism: FourBarIn = Field(description="The four-bar in its own frame (crank pivot at the origin, rocker "
+                                 "pivot on +x), massless: send it to any mechanism endpoint.")
+    trace_point: TracePointIn = Field(description="The coupler point as a trace point for /v1/analysis.")
     crank_pivot_m: list[float] = Field(description="Crank pivot O in the targets' frame [m].")
     ground_angle_deg: float = Field(description="Direction of O->Q in the targets' frame [deg].")
     crank_angle_deg: list[float] = Field(description="Crank angle at each target, in the mechanism's frame [deg].")
-    residuals_m: list[float]
-    max_residual_m: float
-    rms_residual_m: float
-    starts: int
-    starts_converged: int
-    starts_at_best: int
+    residuals_m: list[float] = Field(description="Distance from each target to the coupler point at its crank "
+                                     "angle, recomputed by the analysis engine, in target order [m].")
+    max_residual_m: float = Field(description="Largest of residuals_m [m].")
+    rms_residual_m: float = Field(description="RMS of residuals_m [m].")
+    starts: int = Field(description="Multistart points run.")
+    starts_converged: int = Field(description="Starts from which IPOPT converged.")
+    starts_at_best: int = Field(description="Starts that reached the best sum of squared residuals, to 1e-6 of it "
+                                "(relative) plus a small absolute tolerance.")
     start_rms_residuals_m: list[float | None] = Field(description="RMS residual each start reached; null: no convergence.")
-    solver_status: str
-    check: PathCheckOut
+    solver_status: str = Field(description="IPOPT's status for the best start.")
+    check: PathCheckOut = Field(description="Swing, time ratio and transmission angles of the answer, from the "
+                                "analysis engine.")
 
     @classmethod
     def from_engine(cls, r: synth.PathResult) -> PathOut:

@@ -89,40 +89,43 @@ class TrainIn(StrictModel):
 class TrainShaftOut(BaseModel):
     """A shaft, 0 the input."""
 
-    index: int
+    index: int = Field(description="Shaft number along the train, 0 the input shaft.")
     ratio: float = Field(description="Input speed over this shaft's speed, with sign [-].")
     direction: int = Field(description="+1 turning with the input, -1 against it.")
-    speed_rad_s: float | None
-    speed_rpm: float | None
-    wheels: list[str]
+    speed_rad_s: float | None = Field(description="Shaft speed [rad/s], negative when it turns against the input; "
+                                      "null without a given input or output speed.")
+    speed_rpm: float | None = Field(description="The same speed [rev/min]; null without a given speed.")
+    wheels: list[str] = Field(description="Names of the wheels keyed to this shaft.")
 
 
 class TrainWheelOut(BaseModel):
     """A wheel and its pitch diameter d = m·z."""
 
-    name: str
-    teeth: int
+    name: str = Field(description='Wheel name: "1", "2", "2\'"... along the train, or "sun 1", "planet 1", "ring 1" '
+                      'of a planetary stage.')
+    teeth: int = Field(description="Number of teeth.")
     shaft: int | None = Field(description="The shaft it is keyed to; null for planets and held members.")
-    pitch_diameter_m: float | None
+    pitch_diameter_m: float | None = Field(description="Pitch diameter d = m·z [m]; null without `module_m`.")
 
 
 class TrainChecksOut(BaseModel):
     """The seed's closed form (-1)^k·prod(z_driven/z_driving) times the Willis ratios, against the propagation."""
 
-    formula_ratio: float
-    agrees: bool
+    formula_ratio: float = Field(description="The train's ratio by the closed form (-1)^k·prod(z_driven/z_driving) "
+                                 "times each planetary stage's Willis ratio [-].")
+    agrees: bool = Field(description="The closed form and the mesh-by-mesh propagation agree to 1e-9, relative.")
 
 
 class TrainOut(BaseModel):
     """Ratio, senses, speeds and efficiency of the train."""
 
     ratio: float = Field(description="Input speed over output speed, negative when the output turns the other way.")
-    output_direction: int
+    output_direction: int = Field(description="+1: the output turns with the input; -1: against it.")
     efficiency: float = Field(description="Product of the elements' efficiencies [-].")
-    external_meshes: int
-    shafts: list[TrainShaftOut]
-    wheels: list[TrainWheelOut]
-    checks: TrainChecksOut
+    external_meshes: int = Field(description="Number k of external meshes, the exponent of (-1)^k.")
+    shafts: list[TrainShaftOut] = Field(description="Every shaft, input first, output last.")
+    wheels: list[TrainWheelOut] = Field(description="Every wheel with its teeth, shaft and pitch diameter.")
+    checks: TrainChecksOut = Field(description="The closed-form ratio against the propagation.")
 
     @classmethod
     def from_engine(cls, r: synth.TrainResult) -> TrainOut:
