@@ -17,7 +17,11 @@ from .solvers import Solvers
 from .study_runs import StudyRuns
 
 
-def _routers() -> list[APIRouter]:
+# Every design endpoint lives under this prefix; the studies name endpoints by their full path.
+PREFIX = "/v1"
+
+
+def all_routers() -> list[APIRouter]:
     """Every ``router`` in ``api.routers``, in module-name order."""
     found = []
     for info in sorted(pkgutil.iter_modules(routers.__path__), key=lambda i: i.name):
@@ -70,8 +74,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         status = request.app.state.solvers.status()
         return {"status": "ok" if status["queued"] < status["capacity"] else "busy", **status}
 
-    for router in _routers():
-        app.include_router(router, prefix="/v1")
+    for router in all_routers():
+        app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app
 

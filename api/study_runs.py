@@ -29,6 +29,7 @@ from synth.execution import DaskExecutor, Executor
 from .settings import Settings
 from .solvers import Solvers
 from .plans import Limits
+from .study_paths import check_metrics
 from .study_tasks import validate_request, variant_function
 
 log = logging.getLogger("api.studies")
@@ -112,9 +113,10 @@ class StudyRuns:
             return self._dask
 
     def create(self, spec: dict[str, Any]) -> synth.StudyRecord:
-        """Check a study (its size before anything is generated, its base request against the endpoint), store it
-        and start it."""
+        """Check a study (its metrics against the endpoint's answer, its size before anything is generated, its
+        base request against the endpoint), store it and start it."""
         study = synth.study_from_dict(spec)
+        check_metrics(spec["endpoint"], study.metrics)
         total = study.check_size(self.settings.max_study_variants)
         validate_request(spec["endpoint"], _first_variant(study), field="base")
         study_id = self.store.create(spec, total)
