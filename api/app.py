@@ -7,9 +7,10 @@ import importlib
 import pkgutil
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
-from typing import Any
+from typing import Literal
 
 from fastapi import APIRouter, FastAPI, Request
+from pydantic import BaseModel, Field
 
 from . import manual, problems, routers
 from .settings import Settings
@@ -17,7 +18,11 @@ from .solvers import Solvers
 from .study_runs import StudyRuns
 
 
-def _routers() -> list[APIRouter]:
+# Every design endpoint lives under this prefix; the studies name endpoints by their full path.
+PREFIX = "/v1"
+
+
+def all_routers() -> list[APIRouter]:
     """Every ``router`` in ``api.routers``, in module-name order."""
     found = []
     for info in sorted(pkgutil.iter_modules(routers.__path__), key=lambda i: i.name):
@@ -25,6 +30,30 @@ def _routers() -> list[APIRouter]:
         if isinstance(getattr(module, "router", None), APIRouter):
             found.append(module.router)
     return found
+
+
+class ReadyOut(BaseModel):
+    """What the service's workers are doing: requests (bounded by admission) and design studies (beside it)."""
+
+    status: Literal["ok", "busy"] = Field(description="busy: every request slot is taken; new requests get 503.")
+    executor: Literal["pool", "serial"] = Field(description="Where requests run: worker processes, or one thread.")
+    started: bool = Field(description="The workers have been started.")
+    workers: int = Field(description="Worker processes (1 for serial).")
+    running: int = Field(description="Requests holding a worker slot. A study's tasks are not counted here: "
+                                     "on the same workers, a request may first wait for one study task to end.")
+    queued: int = Field(description="Requests waiting for a worker slot.")
+    capacity: int = Field(description="Requests that may run or wait at once (workers + queue); beyond, 503.")
+    completed: int = Field(description="Requests whose solver work ended, since the start.")
+    timed_out: int = Field(description="Requests stopped at their deadline (504), since the start.")
+    rejected: int = Field(description="Requests refused with 503 because every slot was taken, since the start.")
+    studies_running: int = Field(description="Design studies running now.")
+    study_tasks_in_flight: int = Field(
+        description="Design-study tasks (batches of variants) submitted and not finished, over all running studies: "
+                    "at most workers + 1 per study. They bypass the request slots above, so while they run on "
+                    "the same workers requests are slower, never refused.")
+    study_tasks_on: Literal["workers", "dask"] = Field(
+        description="Where study tasks run: the service's own workers (shared with requests), or the Dask "
+                    "cluster of SYNTH_DASK_SCHEDULER (requests unaffected).")
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -64,14 +93,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         """Liveness probe; answers from the web process without touching the workers."""
         return {"status": "ok"}
 
-    @app.get("/ready", tags=["service"])
-    async def ready(request: Request) -> dict[str, Any]:
-        """Readiness: the executor, its workers, running and queued requests, and the admission capacity."""
+    @app.get("/ready", tags=["service"], response_model=ReadyOut)
+    async def ready(request: Request) -> ReadyOut:
+        """Readiness: the executor, its workers, running and queued requests, the admission capacity, and the
+        design studies' work beside the requests."""
         status = request.app.state.solvers.status()
-        return {"status": "ok" if status["queued"] < status["capacity"] else "busy", **status}
+        return ReadyOut(status="ok" if status["queued"] < status["capacity"] else "busy", **status,
+                        **request.app.state.studies.status())
 
-    for router in _routers():
-        app.include_router(router, prefix="/v1")
+    for router in all_routers():
+        app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app
 

@@ -4,18 +4,22 @@ so the event loop only reads the store; rows go to SQLite batch by batch.
 Studies run on the service's own executor, or on a Dask cluster when ``SYNTH_DASK_SCHEDULER`` is set. Opening
 the store marks studies left running by a stopped service as ``interrupted``; resuming one runs only the variants
 that have no row yet.
+
+Study tasks go to the executor directly, beside the requests' admission bound (a study never gets 503): each
+running study keeps at most one task more than there are workers in flight, and ``/ready`` counts them.
 """
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import csv
 import io
 import logging
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,9 +33,12 @@ from synth.execution import DaskExecutor, Executor
 from .settings import Settings
 from .solvers import Solvers
 from .plans import Limits
+from .study_paths import check_metrics
 from .study_tasks import validate_request, variant_function
 
 log = logging.getLogger("api.studies")
+
+T = TypeVar("T")
 
 
 class StudyNotFound(HTTPException):
@@ -65,6 +72,42 @@ class Scatter:
     staircase: str | None
 
 
+class _InFlight:
+    """Study tasks submitted and not yet finished, over every running study."""
+
+    def __init__(self) -> None:
+        self.count = 0
+        self._lock = threading.Lock()
+
+    def add(self, future: cf.Future[Any]) -> None:
+        with self._lock:
+            self.count += 1
+        future.add_done_callback(self._finished)
+
+    def _finished(self, _: cf.Future[Any]) -> None:
+        with self._lock:
+            self.count -= 1
+
+
+class _Counted:
+    """``executor`` with every task it is given counted in ``in_flight`` until the task finishes."""
+
+    def __init__(self, executor: Executor, in_flight: _InFlight) -> None:
+        self.workers = executor.workers
+        self._executor = executor
+        self._in_flight = in_flight
+
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+               **kwargs: Any) -> cf.Future[T]:
+        """Submit to the executor and count the task."""
+        future = self._executor.submit(fn, *args, timeout=timeout, **kwargs)
+        self._in_flight.add(future)
+        return future
+
+    def shutdown(self) -> None:
+        """Nothing to stop: the executor is the service's (or the Dask connection's), not one study's."""
+
+
 @dataclass
 class _Run:
     thread: threading.Thread
@@ -82,6 +125,7 @@ class StudyRuns:
         self._store: synth.StudyStore | None = None
         self._dask: Executor | None = None
         self._runs: dict[str, _Run] = {}
+        self._tasks = _InFlight()
         self._lock = threading.Lock()
         # Connecting to a scheduler can take its whole timeout; the store stays reachable meanwhile.
         self._dask_lock = threading.Lock()
@@ -111,10 +155,18 @@ class StudyRuns:
                 self._dask = DaskExecutor(self.settings.dask_scheduler)
             return self._dask
 
+    def status(self) -> dict[str, Any]:
+        """Running studies, their tasks in flight and where those run, for ``/ready``; never waits on a study."""
+        with self._lock:
+            running = len(self._runs)
+        return {"studies_running": running, "study_tasks_in_flight": self._tasks.count,
+                "study_tasks_on": "workers" if self.settings.dask_scheduler is None else "dask"}
+
     def create(self, spec: dict[str, Any]) -> synth.StudyRecord:
-        """Check a study (its size before anything is generated, its base request against the endpoint), store it
-        and start it."""
+        """Check a study (its metrics against the endpoint's answer, its size before anything is generated, its
+        base request against the endpoint), store it and start it."""
         study = synth.study_from_dict(spec)
+        check_metrics(spec["endpoint"], study.metrics)
         total = study.check_size(self.settings.max_study_variants)
         validate_request(spec["endpoint"], _first_variant(study), field="base")
         study_id = self.store.create(spec, total)
@@ -242,7 +294,8 @@ class StudyRuns:
         state, message = "failed", None
         try:
             report = synth.run_study(
-                study, variant_function(endpoint, Limits.from_settings(self.settings)), self.executor(),
+                study, variant_function(endpoint, Limits.from_settings(self.settings)),
+                _Counted(self.executor(), self._tasks),
                 partial(self.store.write_rows, study_id), indices=indices, cancel=run.cancel,
                 variant_timeout_s=self.settings.request_deadline_s,
             )

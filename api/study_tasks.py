@@ -24,12 +24,17 @@ from .solvers import render_task
 ENDPOINTS = PLANS
 
 
-def validate_request(endpoint: str, request: Mapping[str, Any], field: str = "") -> BaseModel:
-    """The endpoint's request model of ``request``, parsed as the endpoint parses its JSON body; a bad field is
-    :class:`InvalidInput` naming it (prefixed with ``field``)."""
+def check_endpoint(endpoint: str) -> None:
+    """:class:`InvalidInput` naming the ``endpoint`` field unless a study can vary ``endpoint``."""
     if endpoint not in ENDPOINTS:
         raise InvalidInput(f"{endpoint!r} is not a design endpoint a study can vary; one of {sorted(ENDPOINTS)}",
                            field="endpoint")
+
+
+def validate_request(endpoint: str, request: Mapping[str, Any], field: str = "") -> BaseModel:
+    """The endpoint's request model of ``request``, parsed as the endpoint parses its JSON body; a bad field is
+    :class:`InvalidInput` naming it (prefixed with ``field``)."""
+    check_endpoint(endpoint)
     try:
         return ENDPOINTS[endpoint][0].model_validate_json(json.dumps(request))
     except ValidationError as exc:

@@ -121,24 +121,27 @@ class Study:
             raise InvalidInput("a study varies at least one parameter", field="parameters")
         if not self.metrics:
             raise InvalidInput("a study collects at least one metric", field="metrics")
-        for m in self.metrics:
-            split_path(m)
+        for i, m in enumerate(self.metrics):
+            split_path(m, field=f"metrics[{i}]")
+            if m in self.metrics[:i]:
+                raise InvalidInput(f"metric {m!r} appears twice", field=f"metrics[{i}]")
         paths = [p.path for p in self.parameters]
         if len(set(paths)) != len(paths):
             raise InvalidInput("a parameter path appears twice", field="parameters")
-        if len(set(self.metrics)) != len(self.metrics):
-            raise InvalidInput("a metric appears twice", field="metrics")
         for name, sense in self.objectives.items():
+            # Objectives are keyed by metric, so the field is named by the key as a JSON body spells it.
             if name not in self.metrics:
-                raise InvalidInput(f"objective {name!r} is not one of the metrics", field="objectives")
+                raise InvalidInput(f"objective {name!r} is not one of the metrics {list(self.metrics)}",
+                                   field=f"objectives.{name}")
             if sense not in ("min", "max"):
                 raise InvalidInput(f"objective {name!r}: expected 'min' or 'max', got {sense!r}",
-                                   field="objectives")
+                                   field=f"objectives.{name}")
         if self.objective_digits is not None and not 1 <= self.objective_digits <= 17:
             raise InvalidInput("objective_digits must be 1 to 17", field="objective_digits")
-        for c in self.constraints:
+        for i, c in enumerate(self.constraints):
             if c.metric not in self.metrics:
-                raise InvalidInput(f"constraint on {c.metric!r}: it is not one of the metrics", field="constraints")
+                raise InvalidInput(f"constraint on {c.metric!r}: it is not one of the metrics {list(self.metrics)}",
+                                   field=f"constraints[{i}].metric")
         if self.sampling == "grid":
             if missing := [p.path for p in self.parameters if p.levels is None]:
                 raise InvalidInput(f"grid sampling needs values or a count for {missing}", field="parameters")

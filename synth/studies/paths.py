@@ -13,11 +13,13 @@ from ..errors import InvalidInput
 _MISSING = object()
 
 
-def split_path(path: str) -> tuple[str, ...]:
-    """The parts of a dotted path; an empty part (``a..b``, a leading or trailing dot) is refused."""
+def split_path(path: str, field: str | None = None) -> tuple[str, ...]:
+    """The parts of a dotted path; an empty part (``a..b``, a leading or trailing dot) is refused, naming
+    ``field`` (default: the path itself)."""
     parts = tuple(path.split("."))
     if not path or any(not p for p in parts):
-        raise InvalidInput(f"{path!r} is not a dotted path (expected names separated by single dots)", field=path)
+        raise InvalidInput(f"{path!r} is not a dotted path (expected names separated by single dots)",
+                           field=field or path)
     return parts
 
 

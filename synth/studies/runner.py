@@ -4,10 +4,16 @@ tasks in flight on any executor, each finished batch handed to a sink (the store
 A task is :func:`run_batch`, a module-level function of plain data, so it runs unchanged in this process, on a
 local worker pool or on a Dask worker. Each variant's outcome is a :class:`VariantRow`: its metrics, or the
 engine's problem type and message when it cannot be built, assembled or solved; the study goes on.
+
+A batch whose worker died (:class:`~synth.errors.WorkerLost`) or that ran past its deadline as a whole
+(:class:`~synth.errors.SolverTimeout`) is run again one variant per task, so that the one variant that crashes
+or hangs is the only row with that problem. A variant is run again at most once: a task of one variant that is
+lost is its row.
 """
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
 import logging
 import math
@@ -17,7 +23,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import InvalidInput, SynthError
+from ..errors import InvalidInput, SolverTimeout, SynthError, WorkerLost
 from ..execution import Executor
 from .model import StudyConstraint, Scalar, Study
 from .paths import get_path
@@ -98,6 +104,8 @@ class RunReport:
         Median task duration measured in the workers [s].
     busy_s
         Sum of the task durations measured in the workers [s].
+    retried
+        Variants run again alone because their batch's worker died or the batch ran past its deadline [-].
     """
 
     finished: int
@@ -107,6 +115,7 @@ class RunReport:
     elapsed_s: float
     task_s: float
     busy_s: float
+    retried: int = 0
 
 
 def _metric(answer: Mapping[str, Any], path: str) -> float | None:
@@ -204,21 +213,26 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     limit = max(1, in_flight or executor.workers + 1)
     sizer = _Sizer()
     futures: dict[cf.Future[tuple[list[VariantRow], float]], list[tuple[int, list[Scalar]]]] = {}
-    finished = failed = tasks = 0
+    # Variants of a lost batch, each to run again in a task of its own before any new batch.
+    alone: collections.deque[tuple[int, list[Scalar]]] = collections.deque()
+    finished = failed = tasks = retried = 0
     exhausted = cancelled = False
     stop = cancel or threading.Event()
 
     def submit() -> bool:
-        # The first task is sized 1 and measured before any other is sent, so a study of slow variants never
-        # starts with long tasks.
-        size = sizer.size if sizer.durations else 1
-        items = []
-        for index in pending:
-            items.append((index, sampler.values(index)))
-            if len(items) >= size:
-                break
-        if not items:
-            return False
+        if alone:
+            items = [alone.popleft()]
+        else:
+            # The first task is sized 1 and measured before any other is sent, so a study of slow variants never
+            # starts with long tasks.
+            size = sizer.size if sizer.durations else 1
+            items = []
+            for index in pending:
+                items.append((index, sampler.values(index)))
+                if len(items) >= size:
+                    break
+            if not items:
+                return False
         timeout = None if variant_timeout_s is None else variant_timeout_s * len(items)
         futures[executor.submit(run_batch, spec, items, timeout=timeout)] = items
         return True
@@ -228,8 +242,8 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
             if stop.is_set():
                 cancelled = True
                 break
-            while not exhausted and len(futures) < (limit if sizer.durations else 1):
-                exhausted = not submit()
+            while (alone or not exhausted) and len(futures) < (limit if sizer.durations else 1):
+                exhausted = not submit() or exhausted
             if not futures:
                 break
             done, _ = cf.wait(list(futures), timeout=0.1, return_when=cf.FIRST_COMPLETED)
@@ -242,7 +256,13 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
                 except cf.CancelledError:
                     continue
                 except Exception as exc:
-                    # A task past its deadline or whose worker died: each of its variants is a row with the cause.
+                    if isinstance(exc, (WorkerLost, SolverTimeout)) and len(items) > 1:
+                        # One variant that crashes its worker or hangs must not take its batch with it.
+                        log.warning("a batch of %d variants was lost (%s); running each alone", len(items), exc)
+                        alone.extend(items)
+                        retried += len(items)
+                        continue
+                    # A task of one variant lost, or failed as a whole otherwise: the cause is each variant's row.
                     rows = [_failed_row(i, v, exc) for i, v in items]
                 sink(rows)
                 finished += len(rows)
@@ -254,4 +274,4 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
             future.cancel()
     durations = sorted(sizer.durations)
     median = durations[len(durations) // 2] if durations else 0.0
-    return RunReport(finished, failed, tasks, cancelled, time.perf_counter() - t0, median, sum(durations))
+    return RunReport(finished, failed, tasks, cancelled, time.perf_counter() - t0, median, sum(durations), retried)
