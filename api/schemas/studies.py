@@ -116,18 +116,21 @@ class StudyIn(StrictModel):
 class StudyLinks(BaseModel):
     """Where to find a study's parts."""
 
-    self: str
-    results: str
-    pareto: str
+    self: str = Field(description="Path of this study's status (GET), cancel (DELETE) and resume (POST …/resume).")
+    results: str = Field(description="Path of the variants' results: JSON pages, or CSV with `?format=csv`.")
+    pareto: str = Field(description="Path of the Pareto front: JSON, or a scatter of two metrics with `?format=png`.")
 
 
 class StudyOut(BaseModel):
     """A study's state and progress."""
 
-    id: str
-    name: str | None
-    endpoint: str
-    state: Literal["queued", "running", "done", "cancelled", "interrupted", "failed"]
+    id: str = Field(description="The study's id, as in its paths.")
+    name: str | None = Field(description="The name given at creation; null when none was given.")
+    endpoint: str = Field(description="The design endpoint every variant is a request to (e.g. `/v1/balancing/optimal`).")
+    state: Literal["queued", "running", "done", "cancelled", "interrupted", "failed"] = Field(
+        description="`queued` or `running`; `done` when every variant has a row; `cancelled` by DELETE; "
+        "`interrupted` by a restart of the service (POST …/resume finishes it); `failed` when the study itself "
+        "could not go on (see `message`).")
     total: int = Field(description="Variants in the study.")
     done: int = Field(description="Variants with a result (failed ones included).")
     failed: int = Field(description="Variants that ended as a problem (not assemblable, infeasible, ...).")
@@ -135,7 +138,7 @@ class StudyOut(BaseModel):
     eta_s: float | None = Field(description="Estimated time to finish [s], while running.")
     created_at: float = Field(description="Creation time [s since the epoch].")
     message: str | None = Field(None, description="Why the study failed or stopped.")
-    links: StudyLinks
+    links: StudyLinks = Field(description="Paths of the study's status, results and Pareto front.")
 
     @classmethod
     def from_record(cls, r: synth.StudyRecord) -> StudyOut:
@@ -150,12 +153,14 @@ class StudyOut(BaseModel):
 class VariantOut(BaseModel):
     """One variant: its parameter values and metrics, or the problem it ended with."""
 
-    index: int
-    parameters: dict[str, Any]
-    metrics: dict[str, float | None] | None
+    index: int = Field(description="The variant's position in the study's sampling order, from 0.")
+    parameters: dict[str, Any] = Field(description="The value of every varied path in this variant's request.")
+    metrics: dict[str, float | None] | None = Field(
+        description="The value of every collected metric in this variant's answer, in the answer's units; null "
+        "when the variant failed.")
     feasible: bool | None = Field(description="Within every constraint; null when the variant failed.")
     problem_type: str | None = Field(None, description="Problem type URI, as the endpoint would answer it.")
-    detail: str | None = None
+    detail: str | None = Field(None, description="The problem's message when the variant failed; null otherwise.")
 
     @classmethod
     def from_row(cls, row: synth.VariantRow, paths: list[str], metrics: list[str]) -> VariantOut:
@@ -169,14 +174,16 @@ class VariantOut(BaseModel):
 class ResultsOut(BaseModel):
     """A page of a study's variants in index order."""
 
-    id: str
-    total: int
-    done: int
-    offset: int
-    limit: int
+    id: str = Field(description="The study's id.")
+    total: int = Field(description="Variants in the study.")
+    done: int = Field(description="Variants with a result so far (failed ones included).")
+    offset: int = Field(description="Results skipped before this page, as asked (counted over the variants that "
+                        "have a result, in index order).")
+    limit: int = Field(description="Largest number of variants on a page, as asked.")
     parameters: list[str] = Field(description="The varied paths, in order.")
     metrics: list[str] = Field(description="The collected metrics, in order.")
-    variants: list[VariantOut]
+    variants: list[VariantOut] = Field(description="The results on this page, in index order; a variant still "
+                                       "waiting or running has none yet.")
 
     @classmethod
     def from_page(cls, r: synth.StudyRecord, rows: list[synth.VariantRow], offset: int, limit: int) -> ResultsOut:
@@ -189,10 +196,11 @@ class ResultsOut(BaseModel):
 class ParetoOut(BaseModel):
     """The feasible variants no other feasible variant beats in every objective."""
 
-    id: str
-    objectives: dict[str, Literal["min", "max"]]
+    id: str = Field(description="The study's id.")
+    objectives: dict[str, Literal["min", "max"]] = Field(
+        description="Each objective metric and whether it is minimised or maximised.")
     candidates: int = Field(description="Feasible variants the front was chosen from.")
-    front: list[VariantOut]
+    front: list[VariantOut] = Field(description="The non-dominated feasible variants, in index order.")
 
     @classmethod
     def from_front(cls, r: synth.StudyRecord, candidates: int, rows: list[synth.VariantRow]) -> ParetoOut:
