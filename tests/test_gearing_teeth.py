@@ -178,3 +178,19 @@ def test_streamed_search_in_small_chunks_equals_enumeration(monkeypatch: pytest.
     ref = synth.enumerate_tooth_numbers(target, stages, rules, tol)
     assert ref is not None
     assert abs(got.ratio_error - ref[0]) <= teeth.TIE and got.total_teeth == ref[1]
+
+
+def test_a_reverted_search_too_large_for_its_tables_is_refused_before_it_starts(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # Six reverted stages of up to 1000 teeth: the middle tooth sums give about 127 pairs per stage, 2e6 and
+    # more three-stage products even after pruning, past the table limit. The refusal must come from the probe
+    # of the largest sampled tables, before any tooth sum is searched (it used to come after ~350 of them).
+    from synth.gearing import teeth
+
+    searched: list[int] = []
+    original = teeth._search
+    monkeypatch.setattr(teeth, "_search", lambda *a, **k: searched.append(1) or original(*a, **k))
+    with pytest.raises(synth.TooLarge):
+        synth.tooth_numbers(1997.3, synth.make_stages(6, max_stages=6),
+                            synth.ToothRules(max_teeth=1000, reverted=True))
+    assert searched == []

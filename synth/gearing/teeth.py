@@ -539,6 +539,24 @@ def _windows(first: float) -> list[float]:
     return out + [10.0]
 
 
+def _probe_reverted(stages: Sequence[Stage], rules: ToothRules, sums: range, target: float) -> None:
+    """Build the largest tables of a reverted train's search before the search starts.
+
+    The closest-ratio search visits every tooth sum in ascending order; the pairs per stage peak at a middle sum
+    (small sums have few pairs in the ratio range, large ones few within max_teeth). Building the tables of the
+    sampled sum with the most pairs first, with the window the search would use, raises TooLarge at once
+    instead of after every smaller sum has been searched.
+    """
+    k = len(stages) // 2
+    samples = sums[:: max(1, len(sums) // 16)]
+    sized = [(math.prod(len(zp) for zp, _ in family[:k]), family)
+             for family in (_stage_sets(stages, rules, s) for s in samples)]
+    _, pairs = max(sized, key=lambda item: item[0])
+    sets = [_Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]) for zp, zg in pairs]
+    if all(len(s.num) for s in sets):
+        _tables(sets, target, None, _first_window(sets))
+
+
 def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance: float | None,
             deduped: bool) -> tuple[tuple[float, int, list[tuple[int, int]]] | None, int]:
     """Exact best over one family of per-stage pair sets; returns (error, teeth, pairs) or None, and the work.
@@ -573,32 +591,42 @@ def _first_window(sets: Sequence[_Set]) -> float:
     return float(min(1e-3, max(1e-11, 1e5 * span / (2 * count))))
 
 
-def _search_window(sets: Sequence[_Set], target: float, tolerance: float | None,
-                   window: float) -> tuple[tuple[float, int, list[int]] | None, int]:
-    """Best product within ``window`` (closest mode) or ``tolerance``: the first half of the stages forms a
-    sorted table, the rest is streamed against it chunk by chunk."""
+def _tables(sets: Sequence[_Set], target: float, tolerance: float | None,
+            window: float) -> tuple[tuple[_Table, _Stream] | None, int]:
+    """The meet in the middle's sorted table (the first half of the stages) and the stream of the rest, pruned to
+    what can land within ``window`` (closest mode) or ``tolerance``; None when either is empty. Raises TooLarge
+    when a partial product would pass MAX_TABLE."""
     bounds = [(float(s.ratio.min()), float(s.ratio.max())) for s in sets]
     pad = (tolerance if tolerance is not None else window) + 4 * TIE
     lo, hi = target * max(0.0, 1 - pad), target * (1 + pad)
-    n = len(sets)
-    k = n // 2
+    k = len(sets) // 2
     half, w1 = _combine(sets[:k], lo, hi, bounds, limit=MAX_TABLE)
     if len(half.ratio) == 0:
         return None, w1
-    table = _Table.build(half, pad)
     stream, w2 = _Stream.build(sets[k:], lo, hi, (float(half.ratio.min()), float(half.ratio.max())),
                                by_teeth=tolerance is not None)
     if len(stream.outer.ratio) == 0:
         return None, w1 + w2
+    return (_Table.build(half, pad), stream), w1 + w2
+
+
+def _search_window(sets: Sequence[_Set], target: float, tolerance: float | None,
+                   window: float) -> tuple[tuple[float, int, list[int]] | None, int]:
+    """Best product within ``window`` (closest mode) or ``tolerance``: the first half of the stages forms a
+    sorted table, the rest is streamed against it chunk by chunk."""
+    tables, work = _tables(sets, target, tolerance, window)
+    if tables is None:
+        return None, work
+    table, stream = tables
     if tolerance is None:
-        found, w3 = _closest(table, stream, target, window)
+        found, more = _closest(table, stream, target, window)
     else:
-        found, w3 = _fewest(table, stream, target, tolerance)
+        found, more = _fewest(table, stream, target, tolerance)
     if found is None:
-        return None, w1 + w2 + w3
+        return None, work + more
     err, teeth, stream_flat, table_row = found
     picks = table.half.pick(table_row) + [int(i) for i in np.unravel_index(stream_flat, stream.sizes)]
-    return (err, teeth, picks), w1 + w2 + w3
+    return (err, teeth, picks), work + more
 
 
 def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules,
@@ -710,7 +738,10 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
         best, examined = _search(pairs, target, tolerance, deduped=True)
     elif all(len(p[0]) for p in pairs):
         min_small, min_large = _wheel_minimums(rules)
-        for total_sum in range(min_small + min_large, 2 * rules.max_teeth + 1):
+        sums = range(min_small + min_large, 2 * rules.max_teeth + 1)
+        if tolerance is None:
+            _probe_reverted(stages, rules, sums, target)
+        for total_sum in sums:
             found, work = _search(_stage_sets(stages, rules, total_sum), target, tolerance, deduped=False)
             examined += work
             if found is None:
