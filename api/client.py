@@ -368,6 +368,11 @@ class SynthClient(_Policy):
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
 
+    def balance_slider_crank_png(self, body: SliderCrankBalanceIn, format: FigureFormat = "png") -> bytes:
+        """Figure of a slider-crank balance as PNG, SVG or PDF: shaking force and moment before and after, the
+        force by crank order, the mechanism with its counterweight and Lanchester shafts."""
+        return self._export("/v1/balancing/slider-crank", body, format).content
+
     def design_machine(self, body: MachineIn) -> MachineDesignOut:
         """POST /v1/machines/design: the whole machine, linkage to motor, checked by simulating it."""
         return self._post("/v1/machines/design", body, MachineDesignOut)
@@ -560,6 +565,10 @@ class AsyncSynthClient(_Policy):
     async def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank."""
         return await self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
+
+    async def balance_slider_crank_png(self, body: SliderCrankBalanceIn, format: FigureFormat = "png") -> bytes:
+        """Figure of a slider-crank balance."""
+        return (await self._export("/v1/balancing/slider-crank", body, format)).content
 
     async def gears_train(self, body: TrainIn) -> TrainOut:
         """POST /v1/gears/train."""

@@ -14,7 +14,7 @@ from typing import Any
 from pydantic import BaseModel
 
 import synth
-from synth.exports import balance_export
+from synth.exports import balance_export, slider_crank_balance_export
 
 from .media import FIGURES, Render
 from .schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
@@ -137,11 +137,13 @@ def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
 def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
     """POST /v1/balancing/slider-crank."""
     linkage = b.to_linkage()
-    return Plan(Render(SliderCrankBalanceOut.from_engine, model_extra=(synth.check_linkage(linkage),)),
+    return Plan(Render(SliderCrankBalanceOut.from_engine, slider_crank_balance_export,
+                       model_extra=(synth.check_linkage(linkage),)),
                 synth.balance_slider_crank, (linkage, b.omega_rad_s),
                 dict(counterweight_radius=b.counterweight_radius_m,
                      balancer_radii=(b.balancer_radii_m[0], b.balancer_radii_m[1]), orders=b.orders,
-                     samples=b.samples))
+                     samples=b.samples),
+                FIGURES, "balance_slider_crank")
 
 
 def flywheel(b: FlywheelIn, lim: Limits) -> Plan:

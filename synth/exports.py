@@ -16,6 +16,8 @@ import numpy as np
 from .analysis import Analysis
 from .balancing.fourbar import BalanceResult
 from .balancing.plots import balance_figure, moment_after, torque_after
+from .balancing.slider_crank import SliderCrankBalance
+from .balancing.slider_crank_plots import slider_crank_balance_figure
 from .errors import InvalidInput
 from .flywheel.plots import flywheel_figure
 from .flywheel.problem import FlywheelResult
@@ -290,3 +292,8 @@ def flywheel_export(result: FlywheelResult, fmt: str) -> bytes:
     if fmt == "csv":
         return csv_text(flywheel_table(result)).encode("utf-8")
     return flywheel_figure(result, _figure_format(fmt, ("png", "svg", "pdf", "csv")))
+
+
+def slider_crank_balance_export(result: SliderCrankBalance, fmt: str) -> bytes:
+    """A slider-crank balance as ``png``/``svg``/``pdf``: force and moment before and after, the shafts drawn."""
+    return slider_crank_balance_figure(result, _figure_format(fmt, ("png", "svg", "pdf")))

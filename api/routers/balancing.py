@@ -54,7 +54,9 @@ async def balance_rotor(body: RotorIn, request: Request, solvers: SolverDep) -> 
     return await solvers.answer_plan(plans.balance_rotor(body, solvers.limits), request)
 
 
-@router.post("/slider-crank", response_model=SliderCrankBalanceOut)
-async def balance_slider_crank(body: SliderCrankBalanceIn, request: Request, solvers: SolverDep) -> Response:
-    """Crank counterweight for the rotating masses, Lanchester pairs for the reciprocating ones."""
-    return await solvers.answer_plan(plans.balance_slider_crank(body, solvers.limits), request)
+@router.post("/slider-crank", response_model=SliderCrankBalanceOut, responses=format_responses(FIGURES))
+async def balance_slider_crank(body: SliderCrankBalanceIn, request: Request, solvers: SolverDep,
+                               format: FormatQuery = None) -> Response:
+    """Crank counterweight for the rotating masses, Lanchester pairs on the slide axis for the reciprocating
+    ones, in-line or offset."""
+    return await solvers.answer_plan(plans.balance_slider_crank(body, solvers.limits), request, format)

@@ -315,7 +315,7 @@ class RotorOut(BaseModel):
 
 
 class SliderCrankBalanceIn(LinkageRequest):
-    """An in-line slider-crank: crank counterweight and Lanchester balancer."""
+    """A slider-crank, in-line or offset (desaxé): crank counterweight and Lanchester balancer."""
 
     counterweight_radius_m: Length | None = Field(None, description="Default: the crank length.")
     balancer_radii_m: list[Length] = Field(default_factory=lambda: [0.05, 0.05], min_length=2, max_length=2,
@@ -325,6 +325,7 @@ class SliderCrankBalanceIn(LinkageRequest):
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": SLIDER_CRANK_EXAMPLE, "speed_rpm": 1500, "balancer_radii_m": [0.04, 0.03]},
+        {"mechanism": {**SLIDER_CRANK_EXAMPLE, "offset_m": 0.02}, "speed_rpm": 1500},
     ]})
 
 
@@ -335,8 +336,14 @@ class LanchesterOut(BaseModel):
     mass_kg: float = Field(description="Mass on each of the pair's two shafts [kg].")
     radius_m: float = Field(description="Radius of each mass on its shaft [m].")
     amplitude_N: float = Field(description="Amplitude of the slider's inertia force of this order it cancels [N].")
-    phase_deg: float = Field(description="Both masses of the pair point along +x (the slide direction) when "
-                                         "order × crank angle equals this angle [deg], in [0, 360).")
+    phase_deg: float = Field(description="Angle [deg], in [0, 360), of the mass on the pair's clockwise shaft "
+                                         "(the one at -order times crank speed) at crank angle 0, measured "
+                                         "counter-clockwise from +x (the slide direction); the mass on the "
+                                         "counter-clockwise shaft is its mirror image in the slide axis, at "
+                                         "-phase_deg. Both point along +x when order × crank angle equals "
+                                         "phase_deg, and the pair's force then cancels this order's slider force "
+                                         "(180 for the first order in-line; an offset turns it by about "
+                                         "offset/rod length rad).")
 
 
 class SliderCrankBalanceOut(BaseModel):
@@ -349,6 +356,9 @@ class SliderCrankBalanceOut(BaseModel):
     crank_counterweight: CounterweightIn = Field(description="The crank counterweight, in the shape "
                                                  "`/v1/analysis` takes it.")
     lanchester: list[LanchesterOut] = Field(description="One Lanchester pair per cancelled order, order 1 first.")
+    balancer_line_y_m: float = Field(description="Height of the line the balancer shafts sit on, in mirror image "
+                                     "two by two: the slide axis, y = offset_m [m]. Each pair's force acts along "
+                                     "it, wherever along it the shafts are.")
     first_order_amplitude_N: float = Field(description="Amplitude of the first crank-order harmonic of the "
                                            "reciprocating mass's inertia force along the slide, -m_B·a_B, from an "
                                            "FFT of the exact motion [N].")
@@ -362,6 +372,17 @@ class SliderCrankBalanceOut(BaseModel):
     residual_by_order_N: list[float] = Field(
         description="Largest shaking force of each crank order left after balancing [N]; item 0 is order 1."
     )
+    residual_shaking_moment_Nm: float = Field(description="Largest absolute shaking moment about the crank pivot "
+                                              "O left: the plain engine's with the crank counterweight, plus the "
+                                              "balancer masses' moment [N·m]. The pairs are sized for the force; "
+                                              "on the slide axis their force is in line with the slider's, so "
+                                              "what is left is mostly the driving torque's reaction and the "
+                                              "rod's.")
+    residual_shaking_moment_rel: float = Field(description="residual_shaking_moment_Nm over the largest shaking "
+                                               "moment before balancing [-]; 0 when that was 0.")
+    balancer_moment_Nm: float = Field(description="Largest absolute moment about O of the balancers' forces alone "
+                                      "[N·m]: offset_m times their force, since they act on the slide axis; 0 "
+                                      "in-line.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
@@ -373,9 +394,12 @@ class SliderCrankBalanceOut(BaseModel):
             crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
             lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude,
                                       phase_deg=math.degrees(p.phase)) for p in r.pairs],
-            first_order_amplitude_N=r.first_order_amplitude, second_order_amplitude_N=r.second_order_amplitude,
+            balancer_line_y_m=r.balancer_line_y, first_order_amplitude_N=r.first_order_amplitude,
+            second_order_amplitude_N=r.second_order_amplitude,
             summary_before=SummaryOut.from_engine(r.before),
             residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
             residual_by_order_N=list(r.residual_by_order),
+            residual_shaking_moment_Nm=r.residual_moment, residual_shaking_moment_rel=r.residual_moment_rel,
+            balancer_moment_Nm=r.balancer_moment,
             warnings=warnings_out(warnings or []),
         )

@@ -33,19 +33,18 @@ def torque_after(result: BalanceResult) -> FloatArray:
     return result.analysis_after.kinetostatics.driving_torque
 
 
-def _polar(ax: Axes, result: BalanceResult) -> None:
-    phi = result.analysis_before.motion.phi
-    before = result.analysis_before.kinetostatics.shaking_force
-    after = result.analysis_after.kinetostatics.shaking_force
+def polar_before_after(ax: Axes, before: FloatArray, after: FloatArray, phi: FloatArray, label: str) -> None:
+    """Shaking force polar diagrams [N] before and after balancing on one axes; an after-curve too small to read
+    on the before's scale gets an inset of its own, or a marker at the origin when it is round-off."""
     peak_before = float(np.hypot(*before.T).max())
     peak_after = float(np.hypot(*after.T).max())
     shaking_polar(ax, before, "before", phi, color=BEFORE, lw=1.2)
     if peak_after >= _ZOOM_BELOW * peak_before:
-        shaking_polar(ax, after, f"after ({result.mode})", phi, 90.0, color=AFTER, lw=2.2, zorder=5)
+        shaking_polar(ax, after, label, phi, 90.0, color=AFTER, lw=2.2, zorder=5)
     elif peak_after <= 1e-6 * max(peak_before, 1e-300):
-        ax.plot(0, 0, "o", color=AFTER, ms=8, zorder=6, label=f"after ({result.mode}): {peak_after:.2g} N, a point")
+        ax.plot(0, 0, "o", color=AFTER, ms=8, zorder=6, label=f"{label}: {peak_after:.2g} N, a point")
     else:
-        ax.plot(*np.vstack([after, after[:1]]).T, color=AFTER, lw=2.2, zorder=5, label=f"after ({result.mode})")
+        ax.plot(*np.vstack([after, after[:1]]).T, color=AFTER, lw=2.2, zorder=5, label=label)
         inset = ax.inset_axes((0.64, 0.6, 0.34, 0.34))
         shaking_polar(inset, after, "after", phi, 90.0, color=AFTER, lw=1.5)
         inset.set_title(f"after, own scale (peak {peak_after:.3g} N)", fontsize=7)
@@ -54,6 +53,12 @@ def _polar(ax: Axes, result: BalanceResult) -> None:
         inset.tick_params(labelsize=6)
     ax.set_title(f"shaking force polar diagram (peak {peak_before:.4g} → {peak_after:.3g} N)")
     ax.legend(fontsize=7, loc="lower left")
+
+
+def _polar(ax: Axes, result: BalanceResult) -> None:
+    polar_before_after(ax, result.analysis_before.kinetostatics.shaking_force,
+                       result.analysis_after.kinetostatics.shaking_force, result.analysis_before.motion.phi,
+                       f"after ({result.mode})")
 
 
 def _tradeoff(ax: Axes, results: Sequence[BalanceResult]) -> None:

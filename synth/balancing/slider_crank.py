@@ -1,5 +1,5 @@
 """Slider-crank balancing: crank counterweight for the rotating part, Lanchester balancer for the reciprocating
-part's first and second orders (seed 003:673-733)."""
+part's first and second orders (seed 003:673-733), in-line or offset (desaxé)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis import Summary, analyse
+from ..analysis import Analysis, Summary, analyse
 from ..errors import InvalidInput
 from ..kinematics import SliderCrank
 from ..model import Counterweight, FloatArray, Linkage
@@ -18,8 +18,11 @@ from ..model import Counterweight, FloatArray, Linkage
 class LanchesterPair:
     """Two shafts turning at ±``order`` times crank speed, each with ``mass`` [kg] at ``radius`` [m].
 
-    ``phase``: the shafts are set so that both masses point along +x (the slide direction) when
-    ``order``·phi = ``phase`` [rad], in [0, 2·pi); ``amplitude``: the force amplitude it cancels [N].
+    ``phase`` [rad], in [0, 2·pi): at crank angle 0 the mass on the shaft turning at -``order``·w (clockwise)
+    points at ``phase`` counter-clockwise from +x (the slide direction), the one on the shaft at +``order``·w at
+    -``phase``, its mirror image in the slide axis; both point along +x when ``order``·phi = ``phase``.
+    ``amplitude``: the force amplitude it cancels [N]. The shafts sit in mirror image about the slide axis, the
+    line y = offset, so the pair's force lies on that line wherever along it they are.
     """
 
     order: int
@@ -31,11 +34,15 @@ class LanchesterPair:
 
 @dataclass(frozen=True, slots=True)
 class SliderCrankBalance:
-    """Point-mass split, crank counterweight, Lanchester pairs, and the shaking force before and after.
+    """Point-mass split, crank counterweight, Lanchester pairs, and the shaking force and moment before and after.
 
-    ``after_force`` is the plain engine's shaking force with the crank counterweight, plus the balancer shafts'
+    ``after_force`` is the plain engine's shaking force with the crank counterweight, plus the balancer masses'
     inertia forces; ``residual`` its largest magnitude [N]; ``residual_by_order`` the largest magnitude [N] of
-    each crank-order harmonic of it (index 0 is order 1).
+    each crank-order harmonic of it (index 0 is order 1). ``after_moment`` is the plain engine's shaking moment
+    about O with the counterweight plus the balancer masses' moment [N·m]; ``residual_moment`` its largest
+    magnitude, ``balancer_moment`` the largest moment about O of the balancers alone, which act on the line
+    y = ``balancer_line_y`` [m] (the slide axis). ``analysis_after`` is the plain engine's analysis with the
+    counterweight, without the balancers.
     """
 
     rotating_mass: float
@@ -49,6 +56,13 @@ class SliderCrankBalance:
     first_order_amplitude: float
     second_order_amplitude: float
     residual_by_order: tuple[float, ...]
+    balancer_line_y: float
+    after_moment: FloatArray
+    residual_moment: float
+    residual_moment_rel: float
+    balancer_moment: float
+    analysis_before: Analysis
+    analysis_after: Analysis
 
 
 #: Orders reported in the residual breakdown.
@@ -75,6 +89,27 @@ def _peak_by_order(force: FloatArray, orders: int) -> tuple[float, ...]:
     return tuple(float(v) for v in np.linalg.svd(np.stack([c, s], axis=2), compute_uv=False)[:, 0])
 
 
+def balancer_loads(pairs: tuple[LanchesterPair, ...], phi: FloatArray, speed: float,
+                   line_y: float) -> tuple[FloatArray, FloatArray]:
+    """Force (N, 2) [N] and moment about O (N,) [N·m] the balancer masses put on the frame at constant crank
+    speed ``speed`` [rad/s], each mass followed on its own shaft as ``LanchesterPair`` places it.
+
+    A pair's shafts are put at (0, ``line_y`` ± radius): any mirror-image placement about the line y =
+    ``line_y`` [m] gives the same force and moment, the shafts' opposite y-forces making no couple.
+    """
+    force = np.zeros((len(phi), 2))
+    moment = np.zeros(len(phi))
+    for p in pairs:
+        for turn, side in ((1.0, -1.0), (-1.0, 1.0)):
+            angle = turn * (p.order * phi - p.phase)
+            out = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+            pull = p.mass * p.radius * (p.order * speed) ** 2 * out  # -m·a of a mass turning at a constant rate
+            at = np.array([0.0, line_y + side * p.radius]) + p.radius * out
+            force += pull
+            moment += at[:, 0] * pull[:, 1] - at[:, 1] * pull[:, 0]
+    return force, moment
+
+
 def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius: float | None = None,
                          balancer_radii: tuple[float, float] = (0.05, 0.05), orders: int = 2,
                          samples: int = 360) -> SliderCrankBalance:
@@ -84,15 +119,17 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
     Each order is sized from the harmonic of the exact slider acceleration (an FFT of the engine's motion at
     constant crank speed ``speed`` [rad/s]), not from the series in lambda = r/l: with a_B's k-th harmonic of
     amplitude A_k·r·w² the pair needs m_k = m_B·r·A_k/(2·k²·rho_k) per shaft (A_1 = 1, A_2 ≈ r/l: the seed's
-    6.32-6.33), and its phase follows the branch (the second order changes sign with the slider on the -x side).
+    6.32-6.33), and its phase is that harmonic's: the second order changes sign with the slider on the -x side,
+    and an offset e gives the first order a sine part (about m_B·w²·r·e/l). The rest of x_B is a function of
+    sin(phi), unchanged by phi -> pi - phi, so even orders stay cosines and the odd ones an offset adds are sines.
+    The shafts sit in mirror image about the slide axis y = e, so the pairs' force is in line with the slider's
+    and adds e times itself to the moment about O.
     ``balancer_radii`` [m] are rho_1, rho_2. The check is independent: the plain kinetostatic model with the
-    counterweight, plus the balancer shafts' inertia forces, broken down by order.
+    counterweight, plus the balancer masses followed on their shafts, broken down by order.
     """
     mech = linkage.mechanism
     if not isinstance(mech, SliderCrank):
         raise InvalidInput("slider-crank balancing needs a slider_crank mechanism", field="mechanism.type")
-    if mech.offset != 0:
-        raise InvalidInput("the Lanchester split assumes an in-line slider-crank (offset 0)", field="mechanism.offset_m")
     if orders not in (1, 2):
         raise InvalidInput("orders must be 1 or 2", field="orders")
     r, l_ = mech.crank, mech.rod
@@ -101,7 +138,10 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
         if not (math.isfinite(v) and v > 0):
             raise InvalidInput(f"{name} must be positive", field=name)
     rod, crank, slider = (linkage.params_of(n) for n in ("rod", "crank", "slider"))
-    rod_b = rod[1] / l_  # static split of the rod: m_B·l = m_rod·x_rod
+    # The static split is exact for the shaking force with or without an offset: a centre of mass on AB is the
+    # fixed combination (1 - x/l)·A + (x/l)·B of the joints, so its acceleration is that of a_A and a_B. A centre
+    # of mass off AB (the rod's m·y) is not split: the residual shows what it leaves.
+    rod_b = rod[1] / l_  # m_B·l = m_rod·x_rod
     m_a = rod[0] - rod_b
     m_b = slider[0] + rod_b
     crank_first = complex(crank[1], crank[2]) + m_a * r
@@ -112,23 +152,27 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
     before = analyse(linkage, speed, samples=samples)
     after = analyse(linkage.with_counterweights([cw]), speed, samples=samples)
     phi = after.motion.phi
-    # The reciprocating part puts -m_B·a_B on the frame along x; each order k of it is F_k·cos(k·phi - theta_k).
+    # The reciprocating part puts -m_B·a_B on the frame along x; each order k of it is F_k·cos(k·phi - theta_k),
+    # theta_k = 0 or pi in-line; an offset moves theta_1 off them.
     c, s = _harmonics(-m_b * before.motion.point_acc["B"][:, 0], max(orders, 2))
     amps = np.hypot(c, s)
     theta = np.arctan2(s, c)
-    # A pair's two shafts turn at +k·w and -k·w with both masses along +x when k·phi = psi: together they put
-    # 2·m·rho·(k·w)²·cos(k·phi - psi) on the frame along +x, so psi = theta_k + pi cancels order k.
+    # A pair puts 2·m·rho·(k·w)²·cos(k·phi - psi) on the frame along +x, so psi = theta_k + pi cancels order k.
     pairs = tuple(
         LanchesterPair(k, float(amps[k - 1]) / (2 * balancer_radii[k - 1] * (k * w) ** 2), balancer_radii[k - 1],
                        float(amps[k - 1]), float((theta[k - 1] + math.pi) % (2 * math.pi)))
         for k in range(1, orders + 1)
     )
-    balancer = np.zeros((len(phi), 2))
-    for p in pairs:
-        balancer[:, 0] += 2 * p.mass * p.radius * (p.order * w) ** 2 * np.cos(p.order * phi - p.phase)
-    force = after.kinetostatics.shaking_force + balancer
+    line_y = mech.offset
+    bal_force, bal_moment = balancer_loads(pairs, phi, w, line_y)
+    force = after.kinetostatics.shaking_force + bal_force
+    moment = after.kinetostatics.shaking_moment + bal_moment
     residual = float(np.hypot(*force.T).max())
-    f0 = before.summary().max_shaking_force
+    residual_moment = float(np.abs(moment).max())
+    summary = before.summary()
+    f0, m0 = summary.max_shaking_force, summary.max_shaking_moment
     by_order = _peak_by_order(force, min(RESIDUAL_ORDERS, samples // 2 - 1))
-    return SliderCrankBalance(m_a, m_b, cw, pairs, before.summary(), force, residual,
-                              residual / f0 if f0 > 0 else 0.0, float(amps[0]), float(amps[1]), by_order)
+    return SliderCrankBalance(m_a, m_b, cw, pairs, summary, force, residual, residual / f0 if f0 > 0 else 0.0,
+                              float(amps[0]), float(amps[1]), by_order, line_y, moment, residual_moment,
+                              residual_moment / m0 if m0 > 0 else 0.0, float(np.abs(bal_moment).max()),
+                              before, after)
