@@ -25,8 +25,9 @@ def _linkage() -> synth.Linkage:
 
 
 def _map_objective(lm: synth.LinearMap, p0: np.ndarray, cols: list[int], weights: synth.Weights,
-                   x: cp.Expression | np.ndarray, crank: float) -> cp.Expression:
-    """The weighted RMS objective on the linear map, written plainly over all angles (no compression)."""
+                   x: cp.Expression | np.ndarray, lengths: np.ndarray) -> cp.Expression:
+    """The weighted RMS objective on the linear map, written plainly over all angles (no compression); each
+    counterweight's inertia costs as mass at its link's length (``lengths`` [m], per counterweight)."""
     n = lm.y.shape[0]
     force = [lm.force_rows.start, lm.force_rows.start + 1]
     bearings = list(range(lm.torque_row))
@@ -38,7 +39,7 @@ def _map_objective(lm: synth.LinearMap, p0: np.ndarray, cols: list[int], weights
         c = y @ p0 + lm.y0[:, rows].reshape(-1)
         goal = goal + getattr(weights, key) * cp.norm(y[:, cols] @ x + c, 2) / math.sqrt(count)
     masses, inertias = x[0::4], x[3::4]
-    return goal + weights.added_mass * (cp.sum(masses) + cp.sum(inertias) / crank**2)
+    return goal + weights.added_mass * (cp.sum(masses) + cp.sum(cp.multiply(inertias, 1 / lengths**2)))
 
 
 def test_optimal_program_matches_a_cvxpy_model_of_the_same_problem() -> None:
@@ -52,15 +53,15 @@ def test_optimal_program_matches_a_cvxpy_model_of_the_same_problem() -> None:
     lm = synth.linear_map(an.motion, linkage)
     cols = [c for link in ("crank", "rocker") for c in range(lm.columns(link).start, lm.columns(link).stop)]
     x = cp.Variable(8)
-    r_max = np.array([0.1, 0.25])
+    r_max = np.array([0.1, 0.25])  # the crank's and rocker's lengths: the default limits
     cons = [cp.sum(x[0::4]) <= budget, x[0::4] >= 0, x[3::4] >= 0]
     for i in range(2):
         h = cp.hstack([x[4 * i + 1], x[4 * i + 2]])
         cons += [cp.norm(h, 2) <= r_max[i] * x[4 * i], cp.quad_over_lin(h, x[4 * i]) <= x[4 * i + 3]]
-    problem = cp.Problem(cp.Minimize(_map_objective(lm, linkage.params(), cols, weights, x, 0.1)), cons)
+    problem = cp.Problem(cp.Minimize(_map_objective(lm, linkage.params(), cols, weights, x, r_max)), cons)
     problem.solve(solver=cp.CLARABEL)
     got = np.concatenate([c.params() for c in sorted(ours.counterweights, key=lambda c: c.link)])
-    ours_on_map = float(_map_objective(lm, linkage.params(), cols, weights, got, 0.1).value)
+    ours_on_map = float(_map_objective(lm, linkage.params(), cols, weights, got, r_max).value)
     # Both solvers stop at a relative gap near 1e-8; the radius margin of 1e-7 costs less than that here.
     assert ours_on_map == pytest.approx(problem.value, rel=1e-6)
     # And the reported objective (from the plain re-analysis) is that value too.

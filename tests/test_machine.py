@@ -22,7 +22,7 @@ from api.schemas.balancing import FullBalanceIn
 from api.schemas.common import FOURBAR_EXAMPLE
 from api.schemas.flywheel import FlywheelIn
 from api.schemas.gearing import DriveIn, TeethIn
-from api.schemas.machine import PRESS_EXAMPLE, MachineIn
+from api.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
 from synth.machine.chain import TOOTH_RATIO_ROOM
 from tests.conftest import CASES
 from tests.helpers import shaper_from_case
@@ -130,10 +130,15 @@ def test_seed_shaper_with_the_seed_drive(client: SynthClient) -> None:
     nlp, final = design.flywheel.method("motor_nlp"), design.flywheel.design
     assert final.method == "simulated" and nlp.achieved_delta > 0.001
     assert final.required_constant_inertia == pytest.approx(nlp.required_constant_inertia, rel=0.02)
-    # the shaper has no counterweight balancing; the alternatives say so instead of failing
-    others = synth.alternatives(spec)
-    assert [a.mode for a in others] == ["static", "full", "optimal"]
-    assert all(a.design is None and "SlottedLever" in (a.reason or "") for a in others)
+    # a shaper takes optimal counterweights but neither static nor full balancing: the alternatives say so
+    # instead of failing, and the optimal design is checked on the simulated machine like any other
+    others = {a.mode: a for a in synth.alternatives(spec)}
+    assert list(others) == ["static", "full", "optimal"]
+    assert all(others[m].design is None and "SlottedLever" in (others[m].reason or "") for m in ("static", "full"))
+    optimal = others["optimal"].design
+    assert optimal is not None and optimal.motion.delta == pytest.approx(0.001, rel=1e-3)
+    assert {c.link for c in optimal.balancing.linkage.counterweights} <= {"crank", "rocker"}
+    assert optimal.balancing.after.rms_shaking_force < design.balancing.after.rms_shaking_force
 
 
 def test_simulation_agrees_with_an_adaptive_integrator(press) -> None:  # type: ignore[no-untyped-def]
@@ -183,9 +188,20 @@ def test_report_formats(client: SynthClient) -> None:
 
 
 def test_bad_choices_name_their_field(client: SynthClient) -> None:
+    shaper = MachineIn.model_validate({**SHAPER_EXAMPLE, "samples": SAMPLES, "balancing": {"mode": "static"}})
     with pytest.raises(InvalidInputError) as err:
-        client.design_machine(_press(balancing={"mode": "optimal"}))
+        client.design_machine(shaper)
     assert err.value.problem["field"] == "balancing.mode"
+    # a counterweight on the press's slider: named as the machine request holds it
+    with pytest.raises(InvalidInputError) as err:
+        client.design_machine(_press(balancing={"mode": "optimal", "counterweight_links": ["crank", "slider"]}))
+    assert err.value.problem["field"] == "balancing.counterweight_links"
+    fourbar = MachineIn.model_validate({**FOURBAR_MACHINE_EXAMPLE, "samples": SAMPLES, "alternatives": False,
+                                        "balancing": {"mode": "static", "mass_budget_kg": 0.01}})
+    with pytest.raises(InfeasibleError) as err:
+        client.design_machine(fourbar)
+    assert err.value.problem["constraint"] == "balancing.mass_budget_kg"
+    assert err.value.problem["required_mass_kg"] > 0.01
     with pytest.raises(InvalidInputError) as err:
         client.design_machine(_press(loads=[]))
     assert err.value.problem["field"] == "loads"

@@ -1,4 +1,5 @@
-"""/v1/balancing/*: counterweights for four-bars (static, full, optimal), rotors and slider-cranks."""
+"""/v1/balancing/*: counterweights (four-bars static, full, optimal; slider-cranks and shapers optimal), rotors and
+slider-cranks' Lanchester balancing."""
 
 from __future__ import annotations
 
@@ -44,7 +45,7 @@ async def balance_full(body: FullBalanceIn, request: Request, solvers: SolverDep
 async def balance_optimal(body: OptimalBalanceIn, request: Request, solvers: SolverDep,
                           format: FormatQuery = None) -> Response:
     """The best weighted trade-off of shaking force, moment, driving torque and bearing forces within a mass
-    budget (one SOCP), and the trade-off curve over `sweep`."""
+    budget (one SOCP), and the trade-off curve over `sweep`: four-bars, slider-cranks and shapers."""
     return await solvers.answer_plan(plans.balance_optimal(body, solvers.limits), request, format)
 
 

@@ -40,15 +40,19 @@ SLIDER_CRANK_EXAMPLE: JsonDict = {
 
 
 class BalanceIn(LinkageRequest):
-    """A four-bar and where counterweights may go."""
+    """A linkage and where counterweights may go: a four-bar (static, full, optimal), a slider-crank or a shaper
+    (optimal)."""
 
-    counterweight_links: list[str] = Field(
-        default_factory=lambda: ["crank", "rocker"], min_length=1,
-        description="Links that may carry a counterweight; the textbook variant uses coupler and rocker.",
+    counterweight_links: list[str] | None = Field(
+        None, min_length=1, max_length=5,
+        description="Links that may carry a counterweight, links that turn about a pivot (never a slider, ram or "
+        "block). Default: a four-bar's or a shaper's crank and rocker, a slider-crank's crank (its rod when "
+        "named); a four-bar's textbook variant uses coupler and rocker.",
     )
     max_radius_m: dict[str, Length] = Field(
-        default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length, "
-        "twice the coupler's (without a crank counterweight the coupler's must sit beyond B)."
+        default_factory=dict, description="Largest counterweight radius per link [m]; default the link's length "
+        "(crank, rocker, rod; the shaper's lever O1-B), twice the coupler's (without a crank counterweight the "
+        "coupler's must sit beyond B)."
     )
     angle_deg: dict[str, float] = Field(default_factory=dict, description="Fixed counterweight angle per link [deg].")
     radius_m: dict[str, Length] = Field(default_factory=dict, description="Fixed counterweight radius per link [m].")
@@ -69,7 +73,7 @@ class BalanceIn(LinkageRequest):
     def spec(self) -> synth.CounterweightSpec:
         """Engine counterweight spec (degrees become radians here)."""
         return synth.CounterweightSpec(
-            tuple(self.counterweight_links), dict(self.max_radius_m),
+            tuple(self.counterweight_links or ()), dict(self.max_radius_m),
             {k: math.radians(v) for k, v in self.angle_deg.items()} or None,
             dict(self.radius_m) or None,
         )
@@ -102,7 +106,8 @@ class WeightsIn(StrictModel):
     bearing_forces: float = Field(0.0, ge=0, description="Per (N RMS)² of joint reactions, summed over the joints.")
     peak_shaking_force: float = Field(0.0, ge=0, description="Per N of the largest shaking force over the cycle.")
     peak_shaking_moment: float = Field(0.0, ge=0, description="Per N·m of the largest shaking moment.")
-    added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and kg·m² over crank length²).")
+    added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and per kg·m² of added inertia over "
+                              "its link's length²).")
 
     def to_engine(self) -> synth.Weights:
         """Engine weights."""
@@ -110,7 +115,8 @@ class WeightsIn(StrictModel):
 
 
 class OptimalBalanceIn(BalanceIn):
-    """Optimal balancing: a weighted trade-off within a mass budget, optionally swept over several weight sets."""
+    """Optimal balancing of a four-bar, slider-crank or shaper: a weighted trade-off within a mass budget,
+    optionally swept over several weight sets."""
 
     weights: WeightsIn = Field(default_factory=WeightsIn, description="Weights of the design answered first.")
     sweep: list[WeightsIn] = Field(default_factory=list, max_length=50,
@@ -123,6 +129,8 @@ class OptimalBalanceIn(BalanceIn):
         {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "mass_budget_kg": 4.0,
          "weights": {"shaking_force": 1.0, "shaking_moment": 2.0},
          "sweep": [{"shaking_force": 1.0}, {"shaking_force": 0.0, "shaking_moment": 1.0}]},
+        {"mechanism": SLIDER_CRANK_EXAMPLE, "speed_rpm": 1500, "counterweight_links": ["crank", "rod"],
+         "weights": {"shaking_force": 1.0, "shaking_moment": 1.0}},
     ]})
 
 

@@ -112,13 +112,14 @@ class MachineDriveIn(StrictModel):
 
 
 class MachineBalancingIn(StrictModel):
-    """How to balance the linkage: none, static, full or optimal (four-bars); a slider-crank takes static (crank
-    counterweight) or full (and Lanchester balancers)."""
+    """How to balance the linkage: none, static, full or optimal for a four-bar; a slider-crank takes static (crank
+    counterweight), full (and Lanchester balancers) or optimal; a shaper none or optimal."""
 
     mode: Literal["none", "static", "full", "optimal"] = Field("none", description="Balancing mode as in "
                                                                "POST /v1/balancing/*; none: as it is.")
-    counterweight_links: list[str] = Field(default_factory=lambda: ["crank", "rocker"], min_length=1, max_length=5,
-                                           description="Links that may carry a counterweight.")
+    counterweight_links: list[str] | None = Field(
+        None, min_length=1, max_length=5, description="Links that may carry a counterweight (counterweight modes): "
+        "default a four-bar's or a shaper's crank and rocker, a slider-crank's crank.")
     max_radius_m: dict[str, Length] = Field(default_factory=dict, max_length=5,
                                             description="Largest counterweight radius per link [m].")
     weights: WeightsIn | None = Field(None, description="Optimal mode: dimensionless weights (each term over its "
@@ -130,7 +131,7 @@ class MachineBalancingIn(StrictModel):
     def to_engine(self) -> synth.BalancingChoice:
         """Engine balancing choice."""
         return synth.BalancingChoice(
-            self.mode, synth.CounterweightSpec(tuple(self.counterweight_links), dict(self.max_radius_m)),
+            self.mode, synth.CounterweightSpec(tuple(self.counterweight_links or ()), dict(self.max_radius_m)),
             None if self.weights is None else self.weights.to_engine(), self.mass_budget_kg,
             tuple(self.rotor_ratios.items()),
         )

@@ -1,4 +1,5 @@
-"""Counterweight balancing: four-bar static, full and optimal modes on the linear map; rotors; slider-crank."""
+"""Counterweight balancing on the linear map (four-bar static and full, optimal for every family); rotors;
+slider-crank Lanchester balancing."""
 
 from ..counter_rotors import CounterRotor
 from .fourbar import (

@@ -57,8 +57,7 @@ def fixed_point_counterweights(linkage: Linkage, spec: CounterweightSpec | None 
     fb = linkage.mechanism
     if not isinstance(fb, FourBar):
         raise InvalidInput("fixed-point balancing is for four-bars", field="mechanism.type")
-    spec = spec or CounterweightSpec()
-    spec.validate(linkage)
+    spec = (spec or CounterweightSpec()).resolve(linkage)
     if not {"crank", "rocker"} <= set(spec.links):
         raise InvalidInput("fixed-point balancing puts counterweights on crank and rocker (and the coupler)",
                            field="counterweight_links")

@@ -1,4 +1,5 @@
-"""Four-bar counterweight balancing on the linear-in-parameters map: static, full and optimal.
+"""Counterweight balancing on the linear-in-parameters map: static and full for four-bars, optimal for every
+family (four-bar, slider-crank, shaper).
 
 Every answer is re-analysed with the plain kinetostatic model (``synth.analyse`` on the linkage with the
 counterweights added), never with the map it was optimised on, and carries the residual shaking force and moment.
@@ -16,11 +17,13 @@ import numpy as np
 from ..analysis import Analysis, Summary, analyse
 from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
-from ..kinematics import FourBar
+from ..kinematics import FourBar, SliderCrank
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
+from ..warnings import link_lengths
 from .fixed_points import fixed_point_counterweights
 from .program import (
+    PARAMS,
     ConeProgram,
     CounterweightLayout,
     CounterweightSolution,
@@ -60,11 +63,22 @@ class BalanceResult:
     weight_scale: str | None = None
 
 
-def _require_fourbar(linkage: Linkage) -> FourBar:
+def _require_fourbar(linkage: Linkage, mode: str | None = None) -> FourBar:
+    """The four-bar of ``linkage``; for ``mode`` (static, full) an InvalidInput that says what to use instead."""
     mech = linkage.mechanism
-    if not isinstance(mech, FourBar):
+    if isinstance(mech, FourBar):
+        return mech
+    if mode is None:
         raise InvalidInput("counterweight balancing by this mode is for four-bars", field="mechanism.type")
-    return mech
+    output = mech.topology.output
+    # Rotating counterweights give forces that turn with their links; the output's inertia force stays on the
+    # slide's line, so equalities on the force (or moment) over the cycle have no solution in general.
+    instead = ("the optimal mode (the best trade-off within a mass budget), or the slider-crank balancing "
+               "(a crank counterweight and Lanchester balancers: POST /v1/balancing/slider-crank)"
+               if isinstance(mech, SliderCrank) else "the optimal mode (the best trade-off within a mass budget)")
+    raise InvalidInput(f"{mode} balancing is for four-bars: counterweights on the links that turn cannot cancel "
+                       f"the {output}'s reciprocating inertia force at every angle; use {instead}",
+                       field="mechanism.type")
 
 
 def _var_columns(lm: LinearMap, cw: CounterweightLayout) -> list[int]:
@@ -113,9 +127,9 @@ def _with_default_radii(spec: CounterweightSpec, linkage: Linkage) -> Counterwei
     Without a crank counterweight the coupler's counterweight must sit beyond B whenever the crank's centre of
     mass lies toward A (seed 001:1394: a2 > l2); the link's own length would exclude it by default.
     """
-    fb = _require_fourbar(linkage)
     if "coupler" not in spec.links or "coupler" in (spec.max_radius or {}) or "coupler" in (spec.radius or {}):
         return spec
+    fb = _require_fourbar(linkage)
     return replace(spec, max_radius={**(spec.max_radius or {}), "coupler": 2.0 * fb.coupler})
 
 
@@ -176,12 +190,10 @@ def balance_static(
     realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
     about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
     """
-    _require_fourbar(linkage)
+    _require_fourbar(linkage, "static")
     if method == "fixed_points":
         return _fixed_points(linkage, speed, spec, samples)
-    spec = spec or CounterweightSpec()
-    spec.validate(linkage)
-    spec = _with_default_radii(spec, linkage)
+    spec = _with_default_radii((spec or CounterweightSpec()).resolve(linkage), linkage)
     all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
     if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
@@ -303,9 +315,8 @@ def balance_full(
     (1:1 by default). The moment rows of two motion states (constant speed, and accelerating at eps = w²) are
     imposed, so the balance does not depend on the speed law. Minimum added mass.
     """
-    _require_fourbar(linkage)
-    spec = spec or CounterweightSpec()
-    spec.validate(linkage)
+    _require_fourbar(linkage, "full")
+    spec = (spec or CounterweightSpec()).resolve(linkage)
     ratios = {"crank": 1.0, "rocker": 1.0, **(ratios or {})}
     for link, k in ratios.items():
         if link not in ("crank", "rocker") or not (math.isfinite(k) and k > 0):
@@ -344,7 +355,7 @@ def balance_full(
     program.equal(mr, mb)
     # Added inertia is weighed at the scale of the crank (kg·m² over crank length²) so that the program does
     # not trade a counterweight's own inertia against a counter-rotor's: both cost.
-    inertia_weight = 1e-3 / _require_fourbar(linkage).crank ** 2
+    inertia_weight = 1e-3 / linkage.mechanism.crank ** 2
     program.q[: cw.size] = cw.mass_columns() + inertia_weight * cw.inertia_columns()
     program.q[cw.size + 1:] = inertia_weight
     x = solve(program, time_limit_s, "full balancing",
@@ -437,7 +448,7 @@ class _OptimalProgram:
     layout: CounterweightLayout
     terms: tuple[str, ...]
     scale: tuple[float, ...]  # cost of each term's bound per unit weight
-    crank: float
+    added: FloatArray  # what the added-mass weight multiplies, per counterweight variable (see _added_cost)
 
     def costs(self, weights: Weights) -> FloatArray:
         """Objective vector for ``weights``: the terms, plus a small weight on added mass and inertia."""
@@ -445,7 +456,7 @@ class _OptimalProgram:
         n = self.layout.size
         # The added inertia gets a small weight too: where it does not matter (a crank at constant speed) it is
         # pinned.
-        q[:n] = weights.added_mass * (self.layout.mass_columns() + self.layout.inertia_columns() / self.crank**2)
+        q[:n] = weights.added_mass * self.added
         q[n:] = [getattr(weights, key) * s for key, s in zip(self.terms, self.scale, strict=True)]
         return q
 
@@ -458,7 +469,7 @@ def _optimal_program(lm: LinearMap, linkage: Linkage, cw: CounterweightLayout, t
     p0 = linkage.params()
     cols = _var_columns(lm, cw)
     program = _program(cw, extra=len(terms))
-    bearings = [r for j in lm.joints for r in range(lm.reaction_rows(j).start, lm.reaction_rows(j).stop)]
+    bearings = _bearing_rows(lm, linkage)
     rms_rows = {
         "shaking_force": ([lm.force_rows.start, lm.force_rows.start + 1], n),
         "shaking_moment": ([lm.moment_row], n),
@@ -491,7 +502,32 @@ def _optimal_program(lm: LinearMap, linkage: Linkage, cw: CounterweightLayout, t
             program.at_most(np.vstack([g - bound, -g - bound]), np.concatenate([-c, c]))
             scale.append(1.0)
     program.at_most(cw.mass_columns()[None, :], np.array([mass_budget]))
-    return _OptimalProgram(program, cw, terms, tuple(scale), _require_fourbar(linkage).crank)
+    return _OptimalProgram(program, cw, terms, tuple(scale), _added_cost(cw, linkage))
+
+
+def _added_cost(cw: CounterweightLayout, linkage: Linkage) -> FloatArray:
+    """Per counterweight variable, what the added-mass weight multiplies: each mass [1/kg], and each inertia about
+    its joint over its link's length squared [1/(kg·m²)].
+
+    A counterweight's inertia then costs as its mass would at the link's length, so at a given first moment h the
+    cost m + J/l² >= |h|/r + |h|·r/l² is least with all of the mass at r = l: the lightest counterweight that
+    does the same job, on its radius limit by default. One length for every link would pull a long lever's
+    counterweight in toward that length, heavier for the same h.
+    """
+    lengths = link_lengths(linkage.mechanism)
+    per_link: FloatArray = np.repeat([1.0 / lengths[link] ** 2 for link in cw.links], PARAMS)
+    return cw.mass_columns() + cw.inertia_columns() * per_link
+
+
+def _bearing_rows(lm: LinearMap, linkage: Linkage) -> list[int]:
+    """Rows of the map that are bearing forces: both components of a revolute joint's reaction, the normal force
+    of a sliding pair (its couple is a moment, not a force, and :func:`_term_values` leaves it out too)."""
+    kinds = {j.name: j.kind for j in linkage.mechanism.topology.joints}
+    rows: list[int] = []
+    for joint in lm.joints:
+        r = lm.reaction_rows(joint)
+        rows += list(range(r.start, r.stop if kinds[joint] == "revolute" else r.start + 1))
+    return rows
 
 
 def _term_values(an: Analysis) -> dict[str, float]:
@@ -526,8 +562,8 @@ def relative_weights(an: Analysis, weights: Weights) -> Weights:
 def objective_value(an: Analysis, weights: Weights, counterweights: Sequence[Counterweight]) -> float:
     """The optimal-balancing objective evaluated on a plain analysis of the linkage with ``counterweights``."""
     terms = _term_values(an)
-    crank = _require_fourbar(an.linkage).crank
-    added = sum(c.mass + c.params()[3] / crank**2 for c in counterweights)
+    lengths = link_lengths(an.linkage.mechanism)
+    added = sum(c.mass + c.params()[3] / lengths[c.link] ** 2 for c in counterweights)
     return float(sum(getattr(weights, key) * v for key, v in terms.items()) + weights.added_mass * added)
 
 
@@ -546,6 +582,8 @@ def balance_optimal(
     """Counterweights minimising a weighted sum of RMS (and peak) shaking force, shaking moment, driving torque
     and bearing forces, plus a small weight on added mass, within ``mass_budget`` [kg]: one SOCP.
 
+    Any family: counterweights go on links that turn about a pivot (``spec.links``; by default a four-bar's or a
+    shaper's crank and rocker, a slider-crank's crank; its rod when named), never on a slider, ram or block.
     The default budget is the linkage's own moving mass. ``weight_scale`` ``relative`` (default) makes the
     weights dimensionless: each term is divided by its value before balancing (:func:`relative_weights`);
     ``absolute`` takes them per N and per N·m. The answer echoes the weights as given.
@@ -562,10 +600,7 @@ def _optimal_points(linkage: Linkage, speed: float, spec: CounterweightSpec | No
     with new costs for each set, and every point re-analysed with the plain model."""
     if weight_scale not in ("relative", "absolute"):
         raise InvalidInput("weight_scale must be relative or absolute", field="weight_scale")
-    _require_fourbar(linkage)
-    spec = spec or CounterweightSpec()
-    spec.validate(linkage)
-    spec = _with_default_radii(spec, linkage)
+    spec = _with_default_radii((spec or CounterweightSpec()).resolve(linkage), linkage)
     for weights in weight_sets:
         weights.validate()
     if mass_budget is None:
@@ -612,9 +647,8 @@ def _crank_on_limit(cws: Sequence[Counterweight], spec: CounterweightSpec, linka
     l1: its minimum is on the limit. The term is so flat there that the solver stops short of it by up to a few
     tenths of a per cent; this is its exact minimiser for the same h (same forces, moments and torques).
     """
-    fb = _require_fourbar(linkage)
     r_max = spec.limit(linkage, "crank")
-    if r_max > fb.crank or (spec.radius and "crank" in spec.radius):
+    if r_max > linkage.mechanism.crank or (spec.radius and "crank" in spec.radius):
         return list(cws)
     out = []
     for c in cws:

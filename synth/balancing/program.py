@@ -16,7 +16,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import clarabel
 import numpy as np
@@ -24,25 +24,47 @@ import scipy.sparse as sp
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import Counterweight, FloatArray, Linkage
+from ..warnings import link_lengths
+
+#: Links that carry counterweights when none are named, per mechanism family: the four-bar's and the shaper's
+#: crank and rocker, the slider-crank's crank (its rod may carry one when named).
+DEFAULT_LINKS: Mapping[str, tuple[str, ...]] = {
+    "fourbar": ("crank", "rocker"), "slider_crank": ("crank",), "slotted_lever": ("crank", "rocker"),
+}
+
 
 @dataclass(frozen=True, slots=True)
 class CounterweightSpec:
-    """Where counterweights may go: links, each link's largest radius [m], optional fixed radius [m] and fixed
-    angle [rad] (in the link frame)."""
+    """Where counterweights may go: links (none named: the family's :data:`DEFAULT_LINKS`), each link's largest
+    radius [m], optional fixed radius [m] and fixed angle [rad] (in the link frame)."""
 
-    links: tuple[str, ...] = ("crank", "rocker")
+    links: tuple[str, ...] = ()
     max_radius: Mapping[str, float] | None = None
     angle: Mapping[str, float] | None = None
     radius: Mapping[str, float] | None = None
 
+    def resolve(self, linkage: Linkage) -> CounterweightSpec:
+        """This spec with the family's default links when it names none, validated against ``linkage``."""
+        spec = self if self.links else replace(self, links=DEFAULT_LINKS.get(linkage.mechanism.family, ("crank",)))
+        spec.validate(linkage)
+        return spec
+
     def validate(self, linkage: Linkage) -> None:
-        """InvalidInput naming the field for unknown links or radii that are not positive."""
+        """InvalidInput naming the field for unknown links, links that slide, or radii that are not positive."""
         names = linkage.mechanism.topology.links
+        bars = link_lengths(linkage.mechanism)
         if not self.links:
             raise InvalidInput("at least one counterweight link is needed", field="counterweight_links")
         for link in self.links:
             if link not in names:
                 raise InvalidInput(f"unknown link {link!r}; this mechanism has {list(names)}", field="counterweight_links")
+            if link not in bars:
+                # A slider, ram or block moves along its guide or slot, so whatever it carries moves along too:
+                # more reciprocating mass, never a force against it.
+                raise InvalidInput(
+                    f"{link!r} slides on a guide or in a slot instead of turning about a pivot: a counterweight on "
+                    f"it would slide with it and only add reciprocating mass; counterweights go on {list(bars)}",
+                    field="counterweight_links")
         for link, r in (self.max_radius or {}).items():
             if link not in self.links:
                 raise InvalidInput(f"max_radius_m given for {link!r}, which carries no counterweight",
@@ -60,22 +82,13 @@ class CounterweightSpec:
                 raise InvalidInput(f"radius_m.{link} must be positive, got {r}", field=f"radius_m.{link}")
 
     def limit(self, linkage: Linkage, link: str) -> float:
-        """Largest counterweight radius on ``link`` [m]: its fixed radius, its maximum, or the link's length."""
+        """Largest counterweight radius on ``link`` [m]: its fixed radius, its maximum, or the link's length
+        (crank, coupler, rocker or rod; the shaper's lever O1-B)."""
         if self.radius and link in self.radius:
             return float(self.radius[link])
         if self.max_radius and link in self.max_radius:
             return float(self.max_radius[link])
-        lengths = _link_lengths(linkage)
-        return lengths.get(link, 0.1)
-
-
-def _link_lengths(linkage: Linkage) -> dict[str, float]:
-    mech = linkage.mechanism
-    out: dict[str, float] = {}
-    for name in ("crank", "coupler", "rocker", "rod"):
-        if hasattr(mech, name):
-            out[name] = float(getattr(mech, name))
-    return out
+        return link_lengths(linkage.mechanism)[link]
 
 
 PARAMS = 4  # per counterweight: m [kg], h_x, h_y [kg·m], J about the link's first joint [kg·m²]

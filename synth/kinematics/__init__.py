@@ -25,6 +25,11 @@ class Mechanism(Protocol):
     topology: ClassVar[Topology]
     origins: ClassVar[dict[str, str]]
 
+    @property
+    def crank(self) -> float:
+        """Crank length [m]: every family is driven by one, and it sets the scale of its inertias."""
+        ...
+
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with their first and second analogues over ``phi`` [rad]."""
         ...

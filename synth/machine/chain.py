@@ -60,7 +60,8 @@ TOOTH_RATIO_ROOM = 0.05
 class Balancing:
     """The balancing stage of the chain, the same shape for every family.
 
-    ``result`` a four-bar's answer (static, full, optimal), ``slider_crank`` a slider-crank's; ``linkage`` the
+    ``result`` the counterweights' answer (a four-bar's static or full, any family's optimal), ``slider_crank``
+    a slider-crank's static or full (crank counterweight and Lanchester balancers); ``linkage`` the
     balanced linkage (counterweights, pendulum coupler); ``counter_rotors``; ``balancer_inertia`` the
     Lanchester shafts reduced to the crank [kg·m²]; ``after`` RMS and peaks after balancing [N, N·m].
     """
@@ -162,15 +163,35 @@ def _summary_with_force(summary: Summary, force: np.ndarray) -> Summary:
                    max_shaking_force=float(magnitude.max()))
 
 
+#: Fields of the balancing choice, which the machine request holds under ``balancing``.
+_BALANCING_FIELDS = ("counterweight_links", "max_radius_m", "mass_budget_kg", "weights", "rotor_ratios")
+
+
+def _balancing_field(name: str | None) -> str | None:
+    """A balancing field named as the machine request spells it; the linkage's own fields stay as they are."""
+    if name is not None and name.split(".")[0] in _BALANCING_FIELDS:
+        return f"balancing.{name}"
+    return name
+
+
 def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
     """The balancing stage and the balanced linkage's analysis (counter-rotors included), reusing the
     balancing's own re-analysis where it is the same one."""
+    try:
+        return _balance_stage(spec, before, time_limit_s)
+    except Infeasible as exc:
+        raise Infeasible(exc.reason, _balancing_field(exc.constraint), **exc.details) from exc
+    except InvalidInput as exc:
+        raise InvalidInput(str(exc), field=_balancing_field(exc.field)) from exc
+
+
+def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
     choice, linkage, speed = spec.balancing, spec.linkage, spec.speed
     mode = choice.mode
     if mode == "none":
         return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
-    if isinstance(mech, FourBar):
+    if mode == "optimal" or isinstance(mech, FourBar):
         if mode == "static":
             r = balance_static(linkage, speed, choice.spec, samples=spec.samples, mass_budget=choice.mass_budget,
                                time_limit_s=time_limit_s)
@@ -185,10 +206,6 @@ def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[
             balanced = analyse(balanced.linkage, speed, samples=spec.samples, counter_rotors=r.counter_rotors)
         return Balancing(mode, r, None, balanced.linkage, r.counter_rotors, 0.0, r.after), balanced
     if isinstance(mech, SliderCrank):
-        if mode == "optimal":
-            raise InvalidInput("optimal balancing is for four-bars; a slider-crank takes static (a crank "
-                               "counterweight for the rotating masses) or full (and Lanchester balancers)",
-                               field="balancing.mode")
         sc = balance_slider_crank(linkage, speed, samples=spec.samples)
         balanced = analyse(linkage.with_counterweights([sc.crank_counterweight]), speed, samples=spec.samples)
         after = balanced.summary()
@@ -198,8 +215,10 @@ def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[
         extra = sum(2 * p.mass * p.radius**2 * p.order**2 for p in sc.pairs)
         return (Balancing(mode, None, sc, balanced.linkage, (), extra, _summary_with_force(after, sc.after_force)),
                 balanced)
-    raise InvalidInput(f"counterweight balancing of a {type(mech).__name__} is not offered; use mode none",
-                       field="balancing.mode")
+    raise InvalidInput(f"{mode} balancing takes four-bars (counterweights) and slider-cranks (a crank counterweight "
+                       f"and Lanchester balancers): counterweights turning with a {type(mech).__name__}'s links "
+                       f"cannot cancel its {mech.topology.output}'s reciprocating force at every angle; use mode "
+                       "optimal (the best trade-off within a mass budget) or none", field="balancing.mode")
 
 
 def _teeth(spec: MachineSpec, drive: DriveResult) -> tuple[ToothResult | None, tuple[float, ...]]:
@@ -452,7 +471,7 @@ def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,
     """The same machine designed with each balancing mode in ``modes`` (default: the modes it does not use):
     what each choice costs.
 
-    A mode the linkage cannot take (a slider-crank's optimal mode, a coupler that cannot be a pendulum, a
+    A mode the linkage cannot take (a shaper's static or full mode, a coupler that cannot be a pendulum, a
     budget too small) is reported with the reason instead of a design. The optimal mode without weights of
     its own weighs the RMS shaking force and moment alike (dimensionless).
     """
