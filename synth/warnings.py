@@ -271,8 +271,8 @@ def check_flywheel(result: FlywheelResult, geometry: GeometrySpec | None = None,
     if not lo <= delta <= hi:
         out.append(DesignWarning(
             "delta_out_of_range", "delta", delta,
-            f"a target delta of {delta:.3g} lies outside the usual {lo:.3g}–{hi:.3g} of machines (GET "
-            "/v1/machine-types lists them); the flywheel grows as 1/delta", "1"))
+            f"a target delta of {delta:.3g} lies outside the usual {lo:.3g}–{hi:.3g} of machines (the machine types' "
+            "table lists them); the flywheel grows as 1/delta", "1"))
     if geometry is not None and geometry.max_rim_speed is not None and result.geometry is not None:
         best = result.geometry.best
         limit = geometry.max_rim_speed

@@ -242,7 +242,7 @@ def test_a_counterweight_on_a_sliding_link_is_refused(family: str, link: str) ->
 @pytest.mark.parametrize("mode", ["static", "full"])
 def test_static_and_full_stay_four_bar_modes(mode: str) -> None:
     fn = synth.balance_static if mode == "static" else synth.balance_full
-    with pytest.raises(synth.InvalidInput, match="/v1/balancing/slider-crank") as err:
+    with pytest.raises(synth.InvalidInput, match="Lanchester balancers") as err:
         fn(_slider_crank(), SPEED, samples=36)
     assert err.value.field == "mechanism.type"
     with pytest.raises(synth.InvalidInput, match="optimal mode") as err:

@@ -74,7 +74,7 @@ def _require_fourbar(linkage: Linkage, mode: str | None = None) -> FourBar:
     # Rotating counterweights give forces that turn with their links; the output's inertia force stays on the
     # slide's line, so equalities on the force (or moment) over the cycle have no solution in general.
     instead = ("the optimal mode (the best trade-off within a mass budget), or the slider-crank balancing "
-               "(a crank counterweight and Lanchester balancers: POST /v1/balancing/slider-crank)"
+               "(a crank counterweight and Lanchester balancers, synth.balance_slider_crank)"
                if isinstance(mech, SliderCrank) else "the optimal mode (the best trade-off within a mass budget)")
     raise InvalidInput(f"{mode} balancing is for four-bars: counterweights on the links that turn cannot cancel "
                        f"the {output}'s reciprocating inertia force at every angle; use {instead}",
