@@ -18,7 +18,7 @@ from scipy.integrate import solve_ivp
 import synth
 from api.client import InfeasibleError, InvalidInputError, SynthClient
 from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import FullBalanceIn
+from api.schemas.balancing import FullBalanceIn, SliderCrankBalanceIn
 from api.schemas.common import FOURBAR_EXAMPLE
 from api.schemas.flywheel import FlywheelIn
 from api.schemas.gearing import DriveIn, TeethIn
@@ -84,6 +84,21 @@ def test_press_simulated_delta_meets_the_target(client: SynthClient, mode: str) 
     assert out.simulation.achieved_delta == pytest.approx(out.simulation.target_delta, rel=1e-3)
     assert out.passed and all(c.passed for c in out.checks)
     assert out.summary_after_balancing.rms_shaking_force_N <= out.analysis.summary.rms_shaking_force_N
+
+
+def test_press_full_balance_reports_the_balancers_moment(client: SynthClient) -> None:
+    # The Lanchester shafts sit on the slide axis, off the crank pivot: their forces change the frame's moment as
+    # well as its force. The machine's summary after balancing must be the slider-crank endpoint's, moment included.
+    # An offset press: on an in-line one the slide axis passes through O and the balancers add no moment.
+    mechanism = PRESS_EXAMPLE["mechanism"] | {"offset_m": 0.02}
+    out = client.design_machine(_press(balancing={"mode": "full"}, mechanism=mechanism))
+    alone = client.balance_slider_crank(SliderCrankBalanceIn.model_validate(
+        {k: v for k, v in PRESS_EXAMPLE.items() if k in ("loads", "speed_rpm")}
+        | {"mechanism": mechanism, "samples": SAMPLES}))
+    assert alone.balancer_moment_Nm > 1.0
+    after = out.summary_after_balancing
+    assert after.max_shaking_moment_Nm == pytest.approx(alone.residual_shaking_moment_Nm, rel=1e-9)
+    assert after.max_shaking_force_N == pytest.approx(alone.residual_shaking_force_N, rel=1e-9)
 
 
 def test_fourbar_full_balance_equals_the_balancing_endpoint_and_costs_flywheel(client: SynthClient) -> None:

@@ -157,10 +157,14 @@ class Alternative:
     reason: str | None
 
 
-def _summary_with_force(summary: Summary, force: np.ndarray) -> Summary:
+def _summary_with_balancers(summary: Summary, force: np.ndarray, moment: np.ndarray) -> Summary:
+    """The balanced linkage's summary with the frame's force and moment once the Lanchester balancers act too
+    (their shafts sit off the crank pivot, so they change the moment as well as the force)."""
     magnitude = np.hypot(force[:, 0], force[:, 1])
     return replace(summary, rms_shaking_force=float(np.sqrt(np.mean(magnitude**2))),
-                   max_shaking_force=float(magnitude.max()))
+                   max_shaking_force=float(magnitude.max()),
+                   rms_shaking_moment=float(np.sqrt(np.mean(moment**2))),
+                   max_shaking_moment=float(np.abs(moment).max()))
 
 
 #: Fields of the balancing choice, which the machine request holds under ``balancing``.
@@ -213,7 +217,7 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
             return Balancing(mode, None, sc, balanced.linkage, (), 0.0, after), balanced
         # each pair's two shafts carry m at rho turning at k·w: kinetic energy m·rho²·k²·w², so 2·m·rho²·k²
         extra = sum(2 * p.mass * p.radius**2 * p.order**2 for p in sc.pairs)
-        return (Balancing(mode, None, sc, balanced.linkage, (), extra, _summary_with_force(after, sc.after_force)),
+        return (Balancing(mode, None, sc, balanced.linkage, (), extra, _summary_with_balancers(after, sc.after_force, sc.after_moment)),
                 balanced)
     raise InvalidInput(f"{mode} balancing takes four-bars (counterweights) and slider-cranks (a crank counterweight "
                        f"and Lanchester balancers): counterweights turning with a {type(mech).__name__}'s links "
