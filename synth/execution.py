@@ -143,7 +143,7 @@ class LocalPoolExecutor:
         """Schedule ``fn(*args, **kwargs)`` on a worker; errors come back as the engine's typed errors."""
         with self._lock:
             inner = self._pool.schedule(run_task, args=(fn, args, kwargs), timeout=timeout)
-        outer: cf.Future[T] = _Linked(inner)
+        outer = _Linked(inner)
         inner.add_done_callback(lambda f: _settle(f, outer, timeout))
         return outer
 
@@ -154,18 +154,35 @@ class LocalPoolExecutor:
 
 
 class _Linked(cf.Future):  # type: ignore[type-arg]
-    """A future whose cancellation reaches the pool's future (which kills a running worker)."""
+    """A future whose cancellation reaches the pool's future (which kills a running worker).
+
+    The pool's future keeps its done-callback, which refers to this one: once settled, this future lets go of
+    the pool's, or the pair would be a reference cycle holding the task's answer (megabytes of JSON) until the
+    cyclic garbage collector happens to run.
+    """
 
     def __init__(self, inner: cf.Future[Any]) -> None:
         super().__init__()
-        self._inner = inner
+        self._inner: cf.Future[Any] | None = inner
 
     def cancel(self) -> bool:
-        self._inner.cancel()
+        if self._inner is not None:
+            self._inner.cancel()
         return super().cancel()
 
+    def release(self) -> None:
+        """Drop the link to the pool's future once this one is settled."""
+        self._inner = None
 
-def _settle(inner: cf.Future[Any], outer: cf.Future[Any], timeout: float | None) -> None:
+
+def _settle(inner: cf.Future[Any], outer: _Linked, timeout: float | None) -> None:
+    try:
+        _transfer(inner, outer, timeout)
+    finally:
+        outer.release()
+
+
+def _transfer(inner: cf.Future[Any], outer: cf.Future[Any], timeout: float | None) -> None:
     import pebble
 
     if outer.done():
@@ -209,12 +226,16 @@ class DaskExecutor:
                **kwargs: Any) -> cf.Future[T]:
         """Send ``fn(*args, **kwargs)`` to the cluster; the answer is bridged into a concurrent future."""
         remote = self.client.submit(_run_on_dask, fn, args, kwargs, pure=False)
-        outer: cf.Future[T] = _DaskLinked(remote)
+        outer = _DaskLinked(remote)
+        if timeout is not None:
+            outer.timer = threading.Timer(timeout, _expire, args=(outer, timeout))
+            outer.timer.daemon = True
+            outer.timer.start()
 
         def done(f: Any) -> None:
-            if outer.done():
-                return
             try:
+                if outer.done():
+                    return
                 if f.status == "finished":
                     outer.set_result(f.result())
                 elif f.status == "cancelled":
@@ -223,12 +244,10 @@ class DaskExecutor:
                     outer.set_exception(f.exception())
             except (cf.InvalidStateError, cf.CancelledError):
                 pass
+            finally:
+                outer.release()
 
         remote.add_done_callback(done)
-        if timeout is not None:
-            timer = threading.Timer(timeout, _expire, args=(outer, timeout))
-            timer.daemon = True
-            timer.start()
         return outer
 
     def shutdown(self) -> None:
@@ -244,13 +263,25 @@ def _run_on_dask(fn: Callable[..., T], args: tuple[Any, ...], kwargs: dict[str, 
 
 
 class _DaskLinked(cf.Future):  # type: ignore[type-arg]
+    """A future bridged from a Dask future; once settled it lets go of the Dask future (so the cluster frees the
+    answer) and stops its deadline timer (which would otherwise hold the answer until it fires)."""
+
     def __init__(self, remote: Any) -> None:
         super().__init__()
-        self._remote = remote
+        self._remote: Any = remote
+        self.timer: threading.Timer | None = None
 
     def cancel(self) -> bool:
-        self._remote.cancel()
+        if self._remote is not None:
+            self._remote.cancel()
         return super().cancel()
+
+    def release(self) -> None:
+        """Drop the Dask future and the timer once this future is settled."""
+        self._remote = None
+        if self.timer is not None:
+            self.timer.cancel()
+            self.timer = None
 
 
 def _expire(outer: cf.Future[Any], timeout: float) -> None:
