@@ -4,7 +4,7 @@
 drives it with concurrent clients, each scenario bounded in request count and in time. It reports, per scenario,
 p50/p95/p99 latency, requests per second, non-2xx answers and the server's RSS (all its processes) before and
 after; then the solver throughput ratio from 1 to 2 workers and /health's p99 while every worker is busy.
-``--soak N`` adds N analysis requests to check that memory stays flat.
+``--soak N`` adds N analysis requests of 3600 samples (4 MB answers) to check that memory stays flat.
 """
 
 from __future__ import annotations
@@ -35,6 +35,8 @@ FOURBAR = {"type": "fourbar", "ground_length_m": 0.3, "crank_length_m": 0.1, "co
 REQUESTS: dict[str, tuple[str, str, dict[str, Any] | None]] = {
     "health": ("GET", "/health", None),
     "analysis_360": ("POST", "/v1/analysis", {"mechanism": FOURBAR, "speed_rpm": 300, "samples": 360}),
+    # 4 MB answers: what a leak or a cycle holding answers in the web process shows on
+    "analysis_3600": ("POST", "/v1/analysis", {"mechanism": FOURBAR, "speed_rpm": 300, "samples": 3600}),
     "optimal_balancing": ("POST", "/v1/balancing/optimal", {
         "mechanism": FOURBAR, "speed_rpm": 300, "samples": 360, "mass_budget_kg": 4.0,
         "weights": {"shaking_force": 1.0, "shaking_moment": 1.0, "driving_torque": 1.0}}),
@@ -175,8 +177,8 @@ def main(argv: list[str] | None = None) -> None:
             if args.soak:
                 # In quarters, so that a plateau (warm-up) tells itself from a leak (growth in every quarter).
                 for quarter in range(4):
-                    run({"analysis_360": 4}, url, pid, args.soak // 16, 3600,
-                        f"soak, analyses {quarter * args.soak // 4 + 1}-{(quarter + 1) * args.soak // 4}")
+                    run({"analysis_3600": 4}, url, pid, args.soak // 16, 3600,
+                        f"soak, 3600-sample analyses {quarter * args.soak // 4 + 1}-{(quarter + 1) * args.soak // 4}")
     for kind in ("optimal_balancing", "motor_flywheel"):
         print(f"{kind} throughput, 2 workers / 1 worker: {throughput[kind, 2] / throughput[kind, 1]:.2f}x")
 
