@@ -326,7 +326,8 @@ class MachineDesignOut(BaseModel):
     checks: list[MachineCheckOut] = Field(description="Each target against the simulated machine.")
     analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
     balancing_mode: str = Field(description="The balancing mode used: none, static, full or optimal.")
-    balancing: BalanceOut | None = Field(None, description="A four-bar's balance, as /v1/balancing/* answers.")
+    balancing: BalanceOut | None = Field(None, description="The counterweight balance (a four-bar's static or "
+                                         "full, any family's optimal), as /v1/balancing/* answers; null otherwise.")
     slider_crank_balancing: SliderCrankBalanceOut | None = Field(None, description="A slider-crank's balance, as "
                                                                  "/v1/balancing/slider-crank answers; null "
                                                                  "otherwise.")
