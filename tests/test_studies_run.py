@@ -26,6 +26,7 @@ from api.settings import Settings
 from api.plans import Limits
 from api.study_tasks import run_endpoint, variant_function
 from synth.execution import DaskExecutor, LocalPoolExecutor, SerialExecutor
+from synth.studies import runner
 
 ENDPOINT = "/v1/balancing/static"
 # 10 crank lengths x 5 mass budgets = 50 variants. The longest crank makes a change-point four-bar
@@ -254,7 +255,17 @@ def test_study_problems(service: SynthClient) -> None:
     assert http.get(f"/v1/studies/{'0' * 32}/pareto", params={"x": "nope"}).status_code == 404
 
 
-def test_cancel_then_restart_then_resume(tmp_path: Path, serial_rows: list[synth.VariantRow]) -> None:
+def test_cancel_then_restart_then_resume(tmp_path: Path, serial_rows: list[synth.VariantRow],
+                                        monkeypatch: pytest.MonkeyPatch) -> None:
+    # Each variant made to last 20 ms, so the batches after the first two (1 and 8 variants) take long enough for
+    # the cancel to land before the study ends, however fast the machine.
+    original = runner.run_batch
+
+    def slow_batch(spec: runner.BatchSpec, items: Any) -> tuple[list[synth.VariantRow], float]:
+        time.sleep(0.02 * len(items))
+        return original(spec, items)
+
+    monkeypatch.setattr(runner, "run_batch", slow_batch)
     db = tmp_path / "studies.sqlite"
     settings = Settings(executor="serial", studies_db=str(db))
     with TestClient(create_app(settings)) as http:
