@@ -127,6 +127,7 @@ from .machine import (
     design_machine,
     simulate_machine,
 )
+from .machine import RunDown, StartCheck, StartUp, Transient, simulate_rundown, simulate_startup, start_check
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
@@ -193,6 +194,13 @@ __all__ = [
     "design_machine",
     "rotor_loads",
     "simulate_machine",
+    "RunDown",
+    "StartCheck",
+    "StartUp",
+    "Transient",
+    "simulate_rundown",
+    "simulate_startup",
+    "start_check",
     "Analysis",
     "Counterweight",
     "DriveChecks",
