@@ -129,6 +129,7 @@ from .machine import (
 )
 from .machine import RunDown, StartCheck, StartUp, Transient, simulate_rundown, simulate_startup, start_check
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
+from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .synthesis import (
@@ -194,6 +195,9 @@ __all__ = [
     "design_machine",
     "rotor_loads",
     "simulate_machine",
+    "FrictionAnalysis",
+    "PairFriction",
+    "friction_kinetostatics",
     "RunDown",
     "StartCheck",
     "StartUp",
