@@ -76,7 +76,8 @@ class FrictionAnalysis:
     where the drive puts power in, NaN elsewhere [-]; ``cycle_efficiency`` 1 - lost work/driving work over a
     uniform cycle (None when the drive does no net work or the samples are not one uniform cycle);
     ``residual`` Newton's relative residual reached and ``iterations``; ``power_check`` the largest
-    |T - T0 - loss/w| [N·m] (virtual power with friction: what friction dissipates, the drive adds).
+    |T - T0 - loss/w| [N·m] (virtual power with friction: what friction dissipates, the drive adds);
+    ``warnings`` about the coefficients (above 1).
     """
 
     unknowns: FloatArray
@@ -92,6 +93,7 @@ class FrictionAnalysis:
     residual: float
     iterations: int
     power_check: float
+    warnings: tuple[DesignWarning, ...] = ()
 
 
 def _body_velocity(motion: Motion, body: str | None, point: FloatArray) -> FloatArray:
@@ -275,7 +277,7 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
     Raises InvalidInput for bad coefficients and Infeasible (constraint ``friction``) with the crank angles
     where the linkage self-locks: no driving torque overcomes the friction there.
     """
-    validate_pairs(linkage, pairs)
+    warnings = validate_pairs(linkage, pairs)
     topo = linkage.mechanism.topology
     a = system_matrix(motion, topo)
     x0 = frictionless.unknowns
@@ -320,7 +322,7 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
     reactions, couples = _unpack(motion, topo, x)
     check = float(np.max(np.abs(torque - frictionless.driving_torque - loss_torque)))
     return FrictionAnalysis(x, reactions, couples, torque, frictionless.driving_torque, values, losses, loss_torque,
-                            efficiency, cycle, residual, iterations, check)
+                            efficiency, cycle, residual, iterations, check, tuple(warnings))
 
 
 def breakaway_torque(linkage: Linkage, pairs: Sequence[PairFriction], phi: FloatArray) -> FloatArray:
