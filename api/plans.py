@@ -161,7 +161,8 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
                     (b.tables.to_cycle(b.cycle_deg, lim.max_samples), mean_speed, delta, geometry), sizing,
                     offered, "flywheel")
     return Plan(render, flywheel_for_linkage,
-                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry), sizing, offered, "flywheel")
+                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry),
+                dict(sizing, friction=b.frictions()), offered, "flywheel")
 
 
 def gears_split(b: SplitIn, lim: Limits) -> Plan:

@@ -73,3 +73,19 @@ def test_self_locking_is_a_problem(client: SynthClient) -> None:
     status, problem = _post(client, body)
     assert status == 422 and problem["type"] == "/problems/infeasible"
     assert problem["constraint"] == "friction" and problem["phi_deg"]
+
+
+def test_flywheel_is_sized_with_the_friction_losses(client: SynthClient) -> None:
+    # the cycle's work with friction is the frictionless one less the lost work, 2 pi times the mean loss torque
+    # that /v1/analysis reports for the same linkage and friction (an independent request)
+    friction = {"guide": {"coefficient": 0.15}, "O": {"coefficient": 0.1, "journal_radius_m": 0.03}}
+    body = {"mechanism": PRESS, "mean_speed_rpm": 120.0, "delta": 0.05,
+            "loads": [{"type": "window", "force_N": 2000.0, "start_deg": 0, "end_deg": 180}]}
+    plain = client.http.post("/v1/flywheel", json=body).json()
+    with_friction = client.http.post("/v1/flywheel", json={**body, "friction": friction}).json()
+    an = client.analysis(AnalysisIn.model_validate({"mechanism": PRESS, "speed_rpm": 120.0, "loads": body["loads"],
+                                                    "friction": friction}))
+    assert an.friction is not None
+    lost = 2 * math.pi * float(np.mean(an.friction.loss_torque_Nm))
+    assert with_friction["cycle_work_J"] == pytest.approx(plain["cycle_work_J"] - lost, rel=1e-9)
+    assert with_friction["constant_driving_torque_Nm"] > plain["constant_driving_torque_Nm"]
