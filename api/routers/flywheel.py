@@ -8,7 +8,7 @@ from fastapi.responses import Response
 
 import synth
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses
 from ..schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut

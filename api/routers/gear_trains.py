@@ -6,7 +6,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..schemas.train import TrainIn, TrainOut
 

@@ -7,7 +7,7 @@ from fastapi.responses import Response
 
 import synth
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..schemas.gearing import (
     DriveIn,

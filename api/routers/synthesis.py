@@ -6,7 +6,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import PNG_RESPONSES, FormatQuery
 from ..schemas.synthesis import (
