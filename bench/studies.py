@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import synth
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from api.execution.plans import Limits
 from api.studies.tasks import variant_function
 from synth.execution import DaskExecutor, Executor, LocalPoolExecutor, limit_threads

@@ -17,7 +17,7 @@ import synth
 from api.studies import runs as study_runs
 from api.app import create_app
 from api.execution.plans import Limits
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from api.settings import Settings
 from api.studies.tasks import run_endpoint
 from synth.execution import LocalPoolExecutor, SerialExecutor

@@ -15,8 +15,8 @@ from fastapi.testclient import TestClient
 
 from api.app import create_app
 from api.execution.plans import Limits
-from api.schemas.common import SummaryOut
-from api.schemas.studies import STUDY_EXAMPLE
+from mechsynth_client.schemas.common import SummaryOut
+from mechsynth_client.schemas.studies import STUDY_EXAMPLE
 from api.settings import Settings
 from api.studies.paths import LIST_INDEX, MetricPathError, check_metric, check_metrics, response_models
 from api.studies.tasks import ENDPOINTS, run_endpoint

@@ -19,9 +19,9 @@ from fastapi.testclient import TestClient
 
 import synth
 from api.app import create_app
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
-from api.schemas.studies import StudyIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.studies import StudyIn
 from api.settings import Settings
 from api.execution.plans import Limits
 from api.studies.tasks import run_endpoint, variant_function

@@ -11,7 +11,7 @@ from fastapi.responses import Response
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses, media
-from ..schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from ..execution.tasks import mechanism_drawing
 
 router = APIRouter(tags=["analysis"])

@@ -11,7 +11,7 @@ import synth
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses
-from ..schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
+from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
 FORMATS = (*FIGURES, "csv")

@@ -8,7 +8,7 @@ from fastapi.responses import Response
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.train import TrainIn, TrainOut
+from mechsynth_client.schemas.train import TrainIn, TrainOut
 
 router = APIRouter(prefix="/gears", tags=["gearing"])
 

@@ -9,7 +9,7 @@ import synth
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.gearing import (
+from mechsynth_client.schemas.gearing import (
     DriveIn,
     DriveOut,
     MotorOut,

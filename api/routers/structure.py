@@ -8,7 +8,7 @@ from fastapi.responses import Response
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.structure import StructureIn, StructureOut
+from mechsynth_client.schemas.structure import StructureIn, StructureOut
 
 router = APIRouter(tags=["structure"])
 

@@ -9,7 +9,7 @@ from fastapi.responses import Response
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import PNG_RESPONSES, FormatQuery
-from ..schemas.synthesis import (
+from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
     PathIn,

@@ -11,7 +11,7 @@ from fastapi.responses import Response, StreamingResponse
 
 from ..deps import SolverDep
 from ..media import FormatQuery, json_response, png, wants_png
-from ..schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
+from mechsynth_client.schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
 from .runs import StudyRuns, scatter_png
 
 router = APIRouter(prefix="/studies", tags=["studies"])
