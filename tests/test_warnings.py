@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 SLIDER_CRANK = {"type": "slider_crank", "crank_length_m": 0.05, "rod_length_m": 0.2,
