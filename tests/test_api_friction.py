@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from api.client import SynthClient
-from api.schemas.analysis import AnalysisIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
 
 PRESS = {"type": "slider_crank", "crank_length_m": 0.1, "rod_length_m": 0.35}
 BODY = {"mechanism": PRESS, "speed_rpm": 120.0, "samples": 360,

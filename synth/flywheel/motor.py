@@ -18,7 +18,8 @@ from .sizing import speed_band
 
 class RatedMotor(Protocol):
     """What the flywheel reads of a catalogue motor (:class:`synth.gearing.CatalogueMotor` is one): speeds
-    [rad/s], torques [N·m], rotor inertia [kg·m²] or None when the catalogue does not give it."""
+    [rad/s], torques [N·m] (the starting torque at standstill), rotor inertia [kg·m²] or None when the catalogue
+    does not give it."""
 
     @property
     def synchronous_speed(self) -> float: ...
@@ -28,6 +29,8 @@ class RatedMotor(Protocol):
     def rated_torque(self) -> float: ...
     @property
     def breakdown_torque(self) -> float: ...
+    @property
+    def starting_torque(self) -> float: ...
     @property
     def rotor_inertia(self) -> float | None: ...
 
