@@ -127,6 +127,7 @@ from .machine import (
     design_machine,
     simulate_machine,
 )
+from .machine.running import Efficiency, MachineRunning, machine_running
 from .machine import RunDown, StartCheck, StartUp, Transient, simulate_rundown, simulate_startup, start_check
 from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
@@ -199,6 +200,9 @@ __all__ = [
     "PairFriction",
     "friction_kinetostatics",
     "RunDown",
+    "Efficiency",
+    "MachineRunning",
+    "machine_running",
     "StartCheck",
     "StartUp",
     "Transient",

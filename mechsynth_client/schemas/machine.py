@@ -14,12 +14,14 @@ from .common import (
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
     MAX_MASS_KG,
+    FrictionIn,
     Length,
     LinkageRequest,
     StrictModel,
     SummaryOut,
     WarningOut,
     ensure_finite,
+    pair_frictions,
     warnings_out,
 )
 from .flywheel import FlywheelOut, Ratio
@@ -182,6 +184,19 @@ class MachineIn(LinkageRequest):
     speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
+    friction: FrictionIn | None = Field(None, description="Friction per pair of the linkage: its losses are in the "
+                                        "power the motor is chosen for, in the flywheel sizing and the simulation; "
+                                        "the static coefficients in the start check.")
+    brake_torque_Nm: float = Field(0.0, ge=0, le=1e9, description="Brake torque at the crank during the run-down "
+                                   "[N·m].")
+    start_under_load: bool = Field(False, description="The start check holds the motor's starting torque against "
+                                   "the process load too (a press stopped in the stroke); default gravity, link "
+                                   "torques and breakaway friction alone. The run-up works against the process load "
+                                   "either way.")
+    max_startup_time_s: float = Field(10.0, gt=0, le=1e4, description="Longest acceptable run-up from rest to the "
+                                      "steady cycle [s] (check startup_time).")
+    max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
+                                             "with the motor off [s] (check rundown_time); null: not checked.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE]})
 
@@ -198,7 +213,10 @@ class MachineIn(LinkageRequest):
             linkage=self.to_linkage(), speed=self.omega_rad_s, drive=self.drive.to_engine(max_stages), delta=delta,
             balancing=self.balancing.to_engine(),
             flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
-            samples=self.samples, speed_tolerance=self.speed_tolerance,
+            samples=self.samples, speed_tolerance=self.speed_tolerance, friction=pair_frictions(self.friction),
+            brake_torque=self.brake_torque_Nm, start_under_load=self.start_under_load,
+            max_startup_time=self.max_startup_time_s,
+            max_rundown_time=self.max_rundown_time_s,
         )
 
 
@@ -252,6 +270,92 @@ class SimulationOut(BaseModel):
                                          "[N·m]; positive drives the machine.")
 
 
+#: Points of a start-up or run-down curve in the answer, evenly picked from the simulation's steps.
+TRANSIENT_POINTS = 1001
+
+
+def _picked(size: int) -> np.ndarray:
+    return np.unique(np.linspace(0, size - 1, min(TRANSIENT_POINTS, size)).round().astype(int))
+
+
+class EfficiencyOut(BaseModel):
+    """Efficiency of each stage over the steady cycle."""
+
+    linkage: float | None = Field(description="The linkage with friction in its pairs: 1 - lost work / driving "
+                                  "work over the cycle [-] (1 without friction); null when the drive does no net "
+                                  "work on it.")
+    gears: float = Field(description="The train: the product of the stage efficiencies [-].")
+    overall: float | None = Field(description="Linkage times gears [-].")
+
+
+class StartUpOut(BaseModel):
+    """The run-up from rest at the worst crank angle to the periodic steady state."""
+
+    starts: bool = Field(description="The motor's starting torque through the train exceeds the torque holding the "
+                         "crank at rest at every crank angle.")
+    starting_torque_Nm: float = Field(description="The motor's starting (locked-rotor) torque through the train, "
+                                      "at the crank [N·m].")
+    max_resisting_torque_Nm: float = Field(description="Largest torque holding the crank at rest: gravity, link "
+                                           "torques, breakaway friction and, with start_under_load, the process "
+                                           "load [N·m].")
+    worst_crank_angle_deg: float = Field(description="Where it is largest, and where the run-up starts [deg].")
+    steady_time_s: float | None = Field(description="Time from rest until the crank speed stays within 1 % of the "
+                                        "periodic steady speed [s]; null when it does not get there.")
+    motor_peak_torque_Nm: float = Field(description="Largest motor torque on its shaft over the run-up [N·m].")
+    motor_rms_torque_Nm: float = Field(description="RMS over time of the motor torque until steady (the heating "
+                                       "of the start) [N·m].")
+    energy_residual: float | None = Field(description="Motor work - kinetic energy gained - losses - process work "
+                                          "over the run-up, relative to the largest term [-]: the integration's "
+                                          "check; null without a run-up.")
+    time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points of the simulation.")
+    omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
+    motor_torque_Nm: list[float] = Field(description="Motor torque on its shaft at those times [N·m].")
+
+
+class RunDownOut(BaseModel):
+    """The run-down to rest with the motor switched off in the steady state."""
+
+    stop_time_s: float | None = Field(description="Time until the crank comes to rest [s]; null when nothing stops "
+                                      "it within 600 s.")
+    brake_torque_Nm: float = Field(description="Brake torque at the crank [N·m].")
+    energy_residual: float = Field(description="Kinetic energy given up - losses - process work over the run-down, "
+                                   "relative to the largest term [-].")
+    time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points.")
+    omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
+
+
+class RunningOut(BaseModel):
+    """How the machine really runs: efficiencies, start-up and run-down."""
+
+    efficiency: EfficiencyOut = Field(description="Efficiency of the linkage, the gears and overall.")
+    startup: StartUpOut = Field(description="The run-up from rest.")
+    rundown: RunDownOut = Field(description="The run-down to rest.")
+
+    @classmethod
+    def from_engine(cls, r: synth.MachineRunning) -> RunningOut:
+        """Schema from the engine's running figures (radians become degrees here)."""
+        up, down, e = r.startup, r.rundown, r.efficiency
+        run = up.run
+        pick_up = _picked(run.time.size) if run is not None else np.zeros(0, dtype=int)
+        pick_down = _picked(down.run.time.size)
+        return cls(
+            efficiency=EfficiencyOut(linkage=e.linkage, gears=e.gears, overall=e.overall),
+            startup=StartUpOut(
+                starts=up.check.starts, starting_torque_Nm=up.check.starting_torque,
+                max_resisting_torque_Nm=float(up.check.resisting_torque.max()),
+                worst_crank_angle_deg=float(np.degrees(up.check.worst_angle)), steady_time_s=up.steady_time,
+                motor_peak_torque_Nm=up.peak_motor_torque, motor_rms_torque_Nm=up.rms_motor_torque,
+                energy_residual=None if run is None else run.energy_residual,
+                time_s=[] if run is None else run.time[pick_up].tolist(),
+                omega_rad_s=[] if run is None else run.omega[pick_up].tolist(),
+                motor_torque_Nm=[] if run is None else run.motor_torque[pick_up].tolist()),
+            rundown=RunDownOut(
+                stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
+                energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
+                omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
+        )
+
+
 class MachineShaftOut(BaseModel):
     """One shaft in the simulated steady motion, motor first, crank last: what it passes on."""
 
@@ -270,12 +374,15 @@ class MachineShaftOut(BaseModel):
 class MachineCheckOut(BaseModel):
     """One target against the simulated machine."""
 
-    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque.")
+    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque, motor_peak_torque, "
+                      "motor_starts, startup_time or rundown_time (when max_rundown_time_s is given).")
     value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
-                         "distance of the mean crank speed from speed_rpm [-], or the motor's RMS or peak torque "
-                         "[N·m].")
+                         "distance of the mean crank speed from speed_rpm [-], the motor's RMS or peak torque "
+                         "[N·m], the largest torque holding the crank at rest [N·m], or the start-up or run-down "
+                         "time [s].")
     limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
-                         "speed_tolerance, the rated torque or the breakdown torque.")
+                         "speed_tolerance, the rated torque, the breakdown torque, the motor's starting torque "
+                         "through the train [N·m], max_startup_time_s or max_rundown_time_s.")
     passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
     detail: str = Field(description="What the check compares, in words.")
 
@@ -343,6 +450,8 @@ class MachineDesignOut(BaseModel):
     flywheel_shaft: str | None = Field(None, description="Shaft the flywheel sits on; null when none is needed.")
     simulation: SimulationOut = Field(description="The assembled machine run to its periodic steady state.")
     shafts: list[MachineShaftOut] = Field(description="Every shaft in the steady motion, motor first, crank last.")
+    running: RunningOut | None = Field(None, description="Efficiency of each stage, the start-up from rest and the "
+                                       "run-down to rest of the assembled machine.")
     alternatives: list[AlternativeOut] = Field(default_factory=list, description="With `alternatives: true`: the "
                                                "same machine with each other balancing mode; else empty.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes and catalogue notes.")
@@ -392,6 +501,7 @@ class MachineDesignOut(BaseModel):
                                     mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
                                     peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
+            running=None if d.running is None else RunningOut.from_engine(d.running),
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
         )

@@ -43,8 +43,10 @@ from ..flywheel import (
 )
 from ..gearing import CatalogueMotor, DriveResult, ToothResult, design_drive, motor_catalogue, tooth_numbers
 from ..kinematics import FourBar, SliderCrank
+from ..friction import friction_kinetostatics
 from ..model import Linkage
 from ..warnings import DesignWarning
+from .running import MachineRunning, machine_running
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 
@@ -116,7 +118,8 @@ class MachineDesign:
     real ratios from the teeth [-]; ``motor`` the chosen motor's characteristic through them; ``train_inertia``
     the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
-    ``shafts`` motor first; ``checks`` each target against the simulation.
+    ``shafts`` motor first; ``checks`` each target against the simulation; ``running`` the stages'
+    efficiencies, the start-up and the run-down.
     """
 
     spec: MachineSpec
@@ -136,6 +139,7 @@ class MachineDesign:
     shafts: tuple[MachineShaft, ...]
     checks: tuple[MachineCheck, ...]
     warnings: tuple[DesignWarning, ...]
+    running: MachineRunning | None = None
 
     @property
     def flywheel_inertia(self) -> float:
@@ -364,6 +368,28 @@ def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineM
     return tuple(out)
 
 
+def _running_checks(spec: MachineSpec, running: MachineRunning) -> list[MachineCheck]:
+    up, down = running.startup, running.rundown
+    start = up.check
+    resisting = float(start.resisting_torque.max())
+    checks = [MachineCheck("motor_starts", resisting, start.starting_torque, start.starts,
+                           "largest torque holding the crank at rest (gravity, breakaway friction and, starting "
+                           "under load, the process load; at the worst crank angle) against the motor's starting "
+                           "torque through the train [N·m]")]
+    if start.starts:
+        reached = up.steady_time is not None
+        value = up.steady_time if up.steady_time is not None else float(up.run.time[-1]) if up.run else 0.0
+        checks.append(MachineCheck("startup_time", value, spec.max_startup_time,
+                                   reached and value <= spec.max_startup_time,
+                                   "time from rest to within 1 % of the periodic steady speed [s]"))
+    if spec.max_rundown_time is not None:
+        value = down.stop_time if down.stop_time is not None else float(down.run.time[-1])
+        checks.append(MachineCheck("rundown_time", value, spec.max_rundown_time,
+                                   down.stop_time is not None and value <= spec.max_rundown_time,
+                                   "time from the steady state to rest with the motor off (and the brake) [s]"))
+    return checks
+
+
 def _checks(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> tuple[MachineCheck, ...]:
     delta_ok = motion.delta <= spec.delta * (1 + 1e-3)
     speed_err = abs(motion.mean_speed / spec.speed - 1)
@@ -408,8 +434,12 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
 
 
 def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
-    before = analyse(machine.linkage, machine.speed, samples=machine.samples)
+    before = analyse(machine.linkage, machine.speed, samples=machine.samples, friction=machine.friction)
     bal, balanced = _balance(machine, before, time_limit_s)
+    if machine.friction:
+        # the balanced linkage with friction in its pairs: its losses are in the power the motor is chosen for
+        fr = friction_kinetostatics(balanced.motion, balanced.linkage, balanced.kinetostatics, machine.friction)
+        balanced = replace(balanced, friction=fr, reduced=replace(balanced.reduced, friction_torque=fr.loss_torque))
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
     if not output_power > MIN_POWER:
@@ -420,7 +450,8 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     replaced: list[DesignWarning] = []
     for _ in range(MAX_MOTOR_UPGRADES + 1):
         design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
-        heavy = [c.name for c in design.checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
+        heavy = [c.name for c in design.checks
+                 if c.name in ("motor_rms_torque", "motor_peak_torque", "motor_starts") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
         if bigger is None:
             break
@@ -460,14 +491,26 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     own = np.array([s.inertia for s in drive.shafts])
     train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
     red = balanced.reduced
-    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
+    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.resisting_torque)
     flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     warnings = list(drive.warnings)
     if teeth is not None:
         warnings += list(teeth.warnings)
+    if balanced.friction is not None:
+        warnings += list(balanced.friction.warnings)
+    constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
+    running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
+                              machine.brake_torque, machine.start_under_load)
+    checks = (*_checks(machine, motion, motor), *_running_checks(machine, running))
+    if not running.startup.check.starts:
+        warnings.append(DesignWarning(
+            "motor_cannot_start", "drive.motor", running.startup.check.starting_torque,
+            f"motor {drive.motor.name} cannot start the machine: its starting torque through the train is below the "
+            f"torque holding the crank at rest at {math.degrees(running.startup.check.worst_angle):.4g} deg",
+            "N·m"))
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
-                         train, flywheel, placement, motion, shafts, _checks(machine, motion, motor), tuple(warnings))
+                         train, flywheel, placement, motion, shafts, checks, tuple(warnings), running)
 
 
 def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,

@@ -143,8 +143,10 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
     step = 2 * math.pi / cycle.phi.size
     n = cycle.phi.size
     grid = [list(np.arange(n + 1, dtype=float))]
-    tables = {name: ca.interpolant(name, "linear", grid, _closed(v).tolist()) for name, v in
-              (("J", cycle.inertia), ("dJ", cycle.inertia_slope), ("M", cycle.load_torque), ("F", friction))}
+    # one look-up gives all four tables at a node (values interleaved per node, as CasADi stacks outputs)
+    stacked = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
+                                                    friction)])
+    table = ca.interpolant("tables", "linear", grid, stacked.reshape(-1).tolist())
     x = ca.MX.sym("x", 6)
     i_gear, eta = motor.gear_ratio, motor.efficiency
     n_s, n_b = motor.synchronous_speed, motor.breakdown_speed
@@ -158,13 +160,13 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
         k = ca.floor(u)
         t = u - k
         idx = k - n * ca.floor(k / n)
-        j0, j1 = tables["J"](idx), tables["J"](idx + 1)
-        d0, d1 = tables["dJ"](idx), tables["dJ"](idx + 1)
+        a, b = table(idx), table(idx + 1)
+        j0, d0, j1, d1 = a[0], a[1], b[0], b[1]
         jj = ((2 * t**3 - 3 * t**2 + 1) * j0 + (t**3 - 2 * t**2 + t) * step * d0 + (-2 * t**3 + 3 * t**2) * j1
               + (t**3 - t**2) * step * d1)
         dj = ((6 * t**2 - 6 * t) * (j0 - j1)) / step + (3 * t**2 - 4 * t + 1) * d0 + (3 * t**2 - 2 * t) * d1
-        load = tables["M"](idx) + t * (tables["M"](idx + 1) - tables["M"](idx))
-        fric = tables["F"](idx) + t * (tables["F"](idx + 1) - tables["F"](idx)) + brake
+        load = a[2] + t * (b[2] - a[2])
+        fric = a[3] + t * (b[3] - a[3]) + brake
         speed = i_gear * w
         torque = slope * (n_s - speed)
         if t_start is not None and t_break is not None:
@@ -181,7 +183,8 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
     k3 = rate(x + 0.5 * dt * k2)
     k4 = rate(x + dt * k3)
     one = ca.Function("rk4", [x], [x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
-    return one.mapaccum("run", steps)
+    # expanded to scalar operations (the table look-ups included), a step costs a fraction of the MX graph's
+    return one.expand().mapaccum("run", steps)
 
 
 def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
@@ -253,7 +256,8 @@ def _friction_table(cycle: MachineCycle, values: FloatArray | None, name: str) -
     return arr
 
 
-def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray | None = None) -> StartCheck:
+def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray | None = None,
+                standstill_load: FloatArray | None = None) -> StartCheck:
     """Starting torque against the torque that holds the crank at rest, at every sample.
 
     Parameters
@@ -265,10 +269,15 @@ def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray 
         standstill when it has none) [N·m].
     breakaway_torque
         Friction torque at the crank that must be overcome to break away from rest, per sample [N·m] (>= 0).
+    standstill_load
+        Reduced load torque at rest, per sample [N·m] (positive drives); default the cycle's own (process loads
+        and gravity as they act when turning forward). A machine started without its process load passes its
+        gravity and link torques alone.
     """
     breakaway = _friction_table(cycle, breakaway_torque, "breakaway_torque")
     start = float(motor.start_torque_at(0.0)) * motor.gear_ratio * motor.efficiency
-    resisting = -cycle.load_torque + breakaway
+    load = cycle.load_torque if standstill_load is None else np.asarray(standstill_load, dtype=float)
+    resisting = -load + breakaway
     worst = int(np.argmax(resisting))
     top = float(resisting[worst])
     margin = math.inf if top <= 0 else start / top
@@ -277,7 +286,8 @@ def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray 
 
 def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
                      friction_torque: FloatArray | None = None, breakaway_torque: FloatArray | None = None,
-                     start_angle: float | None = None, tolerance: float = STEADY_TOLERANCE) -> StartUp:
+                     standstill_load: FloatArray | None = None, start_angle: float | None = None,
+                     tolerance: float = STEADY_TOLERANCE) -> StartUp:
     """Run the machine up from rest to its periodic steady state.
 
     Parameters
@@ -292,6 +302,9 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         Friction torque of the pairs reduced to the crank while turning, per sample [N·m] (>= 0, resists).
     breakaway_torque
         Friction torque reduced to the crank at rest, per sample [N·m] (>= 0).
+    standstill_load
+        Reduced load torque at rest for the start check (see :func:`start_check`) [N·m]; the run-up itself
+        works against the cycle's load.
     start_angle
         Crank angle to start from [rad]; default the worst one of the start check.
     tolerance
@@ -303,7 +316,7 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         raise InvalidInput("the steady-state tolerance must lie in (0, 1)", field="tolerance")
     step = _uniform_step(cycle.phi)
     friction = _friction_table(cycle, friction_torque, "friction_torque")
-    check = start_check(cycle, motor, breakaway_torque)
+    check = start_check(cycle, motor, breakaway_torque, standstill_load)
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
     steady = simulate_machine(loaded, constant_inertia, motor)
     phi0 = check.worst_angle if start_angle is None else float(start_angle)
