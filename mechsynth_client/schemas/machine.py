@@ -189,10 +189,10 @@ class MachineIn(LinkageRequest):
                                         "the static coefficients in the start check.")
     brake_torque_Nm: float = Field(0.0, ge=0, le=1e9, description="Brake torque at the crank during the run-down "
                                    "[N·m].")
-    start_under_load: bool = Field(False, description="The start check holds the motor's starting torque against "
-                                   "the process load too (a press stopped in the stroke); default gravity, link "
-                                   "torques and breakaway friction alone. The run-up works against the process load "
-                                   "either way.")
+    start_under_load: bool = Field(False, description="The machine starts and runs up with its process load on (a "
+                                   "press stopped in the stroke); default: it starts and runs up idling, against "
+                                   "gravity, link torques and the friction these cause, to its idle steady state "
+                                   "(the process engaged once it runs, as a press's clutch does).")
     max_startup_time_s: float = Field(10.0, gt=0, le=1e4, description="Longest acceptable run-up from rest to the "
                                       "steady cycle [s] (check startup_time).")
     max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
@@ -298,9 +298,12 @@ class StartUpOut(BaseModel):
     max_resisting_torque_Nm: float = Field(description="Largest torque holding the crank at rest: gravity, link "
                                            "torques, breakaway friction and, with start_under_load, the process "
                                            "load [N·m].")
-    worst_crank_angle_deg: float = Field(description="Where it is largest, and where the run-up starts [deg].")
+    worst_crank_angle_deg: float = Field(description="Where it is largest [deg].")
+    start_crank_angle_deg: float | None = Field(description="Where the run-up starts [deg] (the worst angle); null "
+                                                "without a run-up.")
     steady_time_s: float | None = Field(description="Time from rest until the crank speed stays within 1 % of the "
-                                        "periodic steady speed [s]; null when it does not get there.")
+                                        "periodic steady speed (idling unless start_under_load) [s]; null when it "
+                                        "does not get there.")
     motor_peak_torque_Nm: float = Field(description="Largest motor torque on its shaft over the run-up [N·m].")
     motor_rms_torque_Nm: float = Field(description="RMS over time of the motor torque until steady (the heating "
                                        "of the start) [N·m].")
@@ -343,7 +346,9 @@ class RunningOut(BaseModel):
             startup=StartUpOut(
                 starts=up.check.starts, starting_torque_Nm=up.check.starting_torque,
                 max_resisting_torque_Nm=float(up.check.resisting_torque.max()),
-                worst_crank_angle_deg=float(np.degrees(up.check.worst_angle)), steady_time_s=up.steady_time,
+                worst_crank_angle_deg=float(np.degrees(up.check.worst_angle)),
+                start_crank_angle_deg=None if run is None else float(np.degrees(run.phi[0])),
+                steady_time_s=up.steady_time,
                 motor_peak_torque_Nm=up.peak_motor_torque, motor_rms_torque_Nm=up.rms_motor_torque,
                 energy_residual=None if run is None else run.energy_residual,
                 time_s=[] if run is None else run.time[pick_up].tolist(),

@@ -381,7 +381,8 @@ def _running_checks(spec: MachineSpec, running: MachineRunning) -> list[MachineC
         value = up.steady_time if up.steady_time is not None else float(up.run.time[-1]) if up.run else 0.0
         checks.append(MachineCheck("startup_time", value, spec.max_startup_time,
                                    reached and value <= spec.max_startup_time,
-                                   "time from rest to within 1 % of the periodic steady speed [s]"))
+                                   "time from rest to within 1 % of the periodic steady speed, idling unless "
+                                   "started under load [s]"))
     if spec.max_rundown_time is not None:
         value = down.stop_time if down.stop_time is not None else float(down.run.time[-1])
         checks.append(MachineCheck("rundown_time", value, spec.max_rundown_time,

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from ..plots import draw_mechanism, figure_png, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineDesign  # noqa: E402
+from .running_plots import running_figure  # noqa: E402
 
 _A4 = (11.69, 8.27)
 RPM = np.pi / 30
@@ -112,6 +113,9 @@ def _key_figures(d: MachineDesign) -> list[list[str]]:
         ["flywheel body", "none needed" if fw is None else
          f"{fw.shape} on {fw.shaft}: D {fw.outer_diameter:.3g} m, {fw.mass:.3g} kg"],
     ]
+    if d.running is not None and d.running.efficiency.overall is not None:
+        e = d.running.efficiency
+        rows.append(["efficiency linkage × gears", f"{e.linkage:.4g} × {e.gears:.4g} = {e.overall:.4g}"])
     rows += [[f"check {c.name}", f"{c.value:.4g} / {c.limit:.4g} {'ok' if c.passed else 'FAILS'}"]
              for c in d.checks]
     return rows
@@ -139,7 +143,8 @@ def design_summary_png(design: MachineDesign) -> bytes:
 
 def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative] = ()) -> bytes:
     """The design report: summary; balancing (polar diagrams, shaking moment, driving torque); flywheel
-    (energy-mass diagram, simulated speed, motor torque); the gear train and every shaft; the alternatives [PDF]."""
+    (energy-mass diagram, simulated speed, motor torque); the gear train and every shaft; efficiency, start-up and
+    run-down; the alternatives [PDF]."""
     d = design
     buf = io.BytesIO()
     with PdfPages(buf, metadata={"Title": "Machine design report", "Creator": "mechsynth"}) as pdf:
@@ -178,6 +183,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
         fig.suptitle("drive")
         fig.tight_layout()
         pdf.savefig(fig)
+        if (running := running_figure(d)) is not None:
+            pdf.savefig(running)
         plt.close("all")
         if alternatives:
             fig, ax = plt.subplots(figsize=_A4)

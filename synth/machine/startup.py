@@ -83,8 +83,8 @@ class Transient:
 class StartUp:
     """The run-up from rest to the periodic steady state.
 
-    ``check`` the start at the worst crank angle; ``run`` the simulated run-up from there (None when the
-    motor cannot start the machine); ``steady`` the periodic steady motion it runs into; ``steady_time`` when
+    ``check`` the start at the worst crank angle; ``run`` the simulated run-up (from there unless another
+    start angle is given; None when the motor cannot start the machine); ``steady`` the periodic steady motion it runs into; ``steady_time`` when
     the speed comes within ``tolerance`` of it to stay [s] (None: not within ``MAX_TIME`` or never started);
     ``peak_motor_torque`` the largest motor torque and ``rms_motor_torque`` its RMS over time until steady
     (the heating figure of the start) [N·m]; ``stalled`` True when the speed fell back to zero.
@@ -306,7 +306,8 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         Reduced load torque at rest for the start check (see :func:`start_check`) [N·m]; the run-up itself
         works against the cycle's load.
     start_angle
-        Crank angle to start from [rad]; default the worst one of the start check.
+        Crank angle to start from [rad]; default the worst one of the start check. No run-up is simulated
+        when the start check fails.
     tolerance
         Relative distance from the steady speed counted as steady [-].
 
@@ -320,7 +321,7 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
     steady = simulate_machine(loaded, constant_inertia, motor)
     phi0 = check.worst_angle if start_angle is None else float(start_angle)
-    if not check.starts and start_angle is None:
+    if not check.starts:
         return StartUp(check, None, steady, None, 0.0, 0.0, tolerance, True)
     dt = step / (SUBSTEPS * motor.synchronous_speed / motor.gear_ratio)
     stop = _Stop(steady, tolerance, float(cycle.phi[0]))
