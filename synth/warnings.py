@@ -18,7 +18,9 @@ Codes
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
-``rotor_inertia_missing`` and ``rated_power_exceeds``.
+``rotor_inertia_missing`` and ``rated_power_exceeds``; friction ``friction_coefficient_large`` (a coefficient
+above 1); the machine ``motor_replaced`` and ``motor_cannot_start`` (its starting torque through the train below
+the torque holding the crank at rest).
 """
 
 from __future__ import annotations
