@@ -318,8 +318,8 @@ class StartUpOut(BaseModel):
 class RunDownOut(BaseModel):
     """The run-down to rest with the motor switched off in the steady state."""
 
-    stop_time_s: float | None = Field(description="Time until the crank comes to rest [s]; null when nothing stops "
-                                      "it within 600 s.")
+    stop_time_s: float | None = Field(description="Time until the crank comes to rest [s]; null when it still "
+                                      "turns after 600 s or 400 000 integration steps.")
     brake_torque_Nm: float = Field(description="Brake torque at the crank [N·m].")
     energy_residual: float = Field(description="Kinetic energy given up - losses - process work over the run-down, "
                                    "relative to the largest term [-].")

@@ -29,6 +29,8 @@ from .simulate import MachineCycle, MachineMotion, simulate_machine
 STEADY_TOLERANCE = 0.01
 #: Longest run-up or run-down simulated [s]: a machine not steady or stopped by then is reported as such.
 MAX_TIME = 600.0
+#: Most Runge-Kutta steps of one run (a fast crank with a heavy flywheel would otherwise hold millions of states).
+MAX_STEPS = 400_000
 #: Runge-Kutta steps per sample interval at the no-load crank speed.
 SUBSTEPS = 4
 #: Steps integrated between two looks at the speed (a few revolutions).
@@ -85,7 +87,8 @@ class StartUp:
 
     ``check`` the start at the worst crank angle; ``run`` the simulated run-up (from there unless another
     start angle is given; None when the motor cannot start the machine); ``steady`` the periodic steady motion it runs into; ``steady_time`` when
-    the speed comes within ``tolerance`` of it to stay [s] (None: not within ``MAX_TIME`` or never started);
+    the speed comes within ``tolerance`` of it to stay [s] (None: not within ``MAX_TIME`` or ``MAX_STEPS``
+    steps, or never started);
     ``peak_motor_torque`` the largest motor torque and ``rms_motor_torque`` its RMS over time until steady
     (the heating figure of the start) [N·m]; ``stalled`` True when the speed fell back to zero.
     """
@@ -105,7 +108,7 @@ class RunDown:
     """The run-down from the steady state at the first sample with the motor switched off.
 
     ``run`` the simulated run-down (its motor work is zero); ``stop_time`` when the crank comes to rest [s]
-    (None: still turning after ``MAX_TIME``, nothing stops it); ``brake_torque`` at the crank [N·m].
+    (None: still turning after ``MAX_TIME`` or ``MAX_STEPS`` steps); ``brake_torque`` at the crank [N·m].
     """
 
     run: Transient
@@ -194,7 +197,7 @@ def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, frict
     whether it ended by the speed reaching zero."""
     run = _stepper(cycle, constant_inertia, motor, friction, brake, motor_on, dt, CHUNK_STEPS)
     states = [np.array([[phi0 - float(cycle.phi[0])], [w0], [0.0], [0.0], [0.0], [0.0]])]
-    max_chunks = max(1, math.ceil(MAX_TIME / (dt * CHUNK_STEPS)))
+    max_chunks = max(1, min(math.ceil(MAX_TIME / (dt * CHUNK_STEPS)), MAX_STEPS // CHUNK_STEPS))
     for _ in range(max_chunks):
         chunk = np.asarray(run(states[-1][:, -1]), dtype=float)
         stop = np.flatnonzero(~(chunk[1] > 0))
