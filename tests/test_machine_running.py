@@ -54,8 +54,9 @@ def test_motor_power_carries_the_friction_losses(plain: synth.MachineDesign, rub
 def test_start_up_and_run_down_are_checks_of_the_design(rubbing: synth.MachineDesign) -> None:
     r = rubbing.running
     assert r is not None and r.startup.run is not None
-    names = [c.name for c in rubbing.checks]
-    assert {"motor_starts", "startup_time"} <= set(names) and "rundown_time" not in names
+    names = [c.name for c in rubbing.running_checks]
+    assert names == ["motor_starts", "startup_time"]
+    assert "motor_starts" not in [c.name for c in rubbing.checks]
     # the run-up keeps the energy balance (motor work = kinetic energy gained + losses + process work) to 1e-6
     assert abs(r.startup.run.energy_residual) < 1e-6 and abs(r.rundown.run.energy_residual) < 1e-6
     # idling, the machine runs up faster than its loaded steady speed; the run-down starts from the loaded
@@ -73,7 +74,7 @@ def test_a_motor_that_cannot_start_the_machine_is_a_failed_check_and_a_warning()
     # the chosen motor's starting torque at its worst angle
     spec = _spec(friction=FRICTION, start_under_load=True, drive=dataclasses.replace(_spec().drive, motor="4A100L4"))
     d = synth.design_machine(spec)
-    check = next(c for c in d.checks if c.name == "motor_starts")
+    check = next(c for c in d.running_checks if c.name == "motor_starts")
     assert not check.passed and not d.passed
     assert d.running is not None and d.running.startup.run is None
     cat = synth.find_motor("4A100L4")
@@ -93,7 +94,7 @@ def test_loaded_start_runs_up_to_the_designed_steady_motion() -> None:
 
 def test_rundown_time_checked_when_asked() -> None:
     d = synth.design_machine(_spec(brake_torque=20.0, max_rundown_time=0.01))
-    check = next(c for c in d.checks if c.name == "rundown_time")
+    check = next(c for c in d.running_checks if c.name == "rundown_time")
     assert d.running is not None and d.running.rundown.stop_time == pytest.approx(check.value, rel=1e-12)
     assert not check.passed  # no press stops in 10 ms
 
@@ -107,6 +108,7 @@ def test_machine_answer_carries_friction_and_running(client: SynthClient) -> Non
     assert up.starts and up.steady_time_s is not None and len(up.time_s) == len(up.omega_rad_s) <= 1001
     assert up.energy_residual is not None and abs(up.energy_residual) < 1e-6
     assert out.running.rundown.brake_torque_Nm == 10.0
+    assert [c.name for c in out.running.checks] == ["motor_starts", "startup_time"] and out.passed
     assert 0 < out.running.efficiency.overall < out.running.efficiency.gears < 1  # type: ignore[operator]
     assert math.isclose(up.time_s[0], 0.0)
 

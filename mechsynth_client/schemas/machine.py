@@ -270,6 +270,22 @@ class SimulationOut(BaseModel):
                                          "[N·m]; positive drives the machine.")
 
 
+class MachineCheckOut(BaseModel):
+    """One target against the simulated machine."""
+
+    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque; "
+                      "under `running`: motor_starts, startup_time or rundown_time.")
+    value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
+                         "distance of the mean crank speed from speed_rpm [-], the motor's RMS or peak torque "
+                         "[N·m], the largest torque holding the crank at rest [N·m], or the start-up or run-down "
+                         "time [s].")
+    limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
+                         "speed_tolerance, the rated torque, the breakdown torque, the motor's starting torque "
+                         "through the train [N·m], max_startup_time_s or max_rundown_time_s.")
+    passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
+    detail: str = Field(description="What the check compares, in words.")
+
+
 #: Points of a start-up or run-down curve in the answer, evenly picked from the simulation's steps.
 TRANSIENT_POINTS = 1001
 
@@ -333,9 +349,12 @@ class RunningOut(BaseModel):
     efficiency: EfficiencyOut = Field(description="Efficiency of the linkage, the gears and overall.")
     startup: StartUpOut = Field(description="The run-up from rest.")
     rundown: RunDownOut = Field(description="The run-down to rest.")
+    checks: list[MachineCheckOut] = Field(description="The start, run-up and run-down against their targets: "
+                                          "motor_starts, startup_time, and rundown_time when max_rundown_time_s is "
+                                          "given; the answer's `passed` holds them too.")
 
     @classmethod
-    def from_engine(cls, r: synth.MachineRunning) -> RunningOut:
+    def from_engine(cls, r: synth.MachineRunning, checks: tuple[synth.MachineCheck, ...] = ()) -> RunningOut:
         """Schema from the engine's running figures (radians become degrees here)."""
         up, down, e = r.startup, r.rundown, r.efficiency
         run = up.run
@@ -358,6 +377,8 @@ class RunningOut(BaseModel):
                 stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
                 energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
                 omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
+            checks=[MachineCheckOut(name=c.name, value=c.value, limit=c.limit, passed=c.passed, detail=c.detail)
+                    for c in checks],
         )
 
 
@@ -374,22 +395,6 @@ class MachineShaftOut(BaseModel):
     rms_torque_Nm: float = Field(description="RMS over time of the torque the shaft passes on [N·m].")
     inertia_kgm2: float = Field(description="What turns with it, the flywheel included when it sits there.")
     carries_flywheel: bool = Field(description="The flywheel sits on this shaft.")
-
-
-class MachineCheckOut(BaseModel):
-    """One target against the simulated machine."""
-
-    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque, motor_peak_torque, "
-                      "motor_starts, startup_time or rundown_time (when max_rundown_time_s is given).")
-    value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
-                         "distance of the mean crank speed from speed_rpm [-], the motor's RMS or peak torque "
-                         "[N·m], the largest torque holding the crank at rest [N·m], or the start-up or run-down "
-                         "time [s].")
-    limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
-                         "speed_tolerance, the rated torque, the breakdown torque, the motor's starting torque "
-                         "through the train [N·m], max_startup_time_s or max_rundown_time_s.")
-    passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
-    detail: str = Field(description="What the check compares, in words.")
 
 
 class AlternativeOut(BaseModel):
@@ -434,7 +439,8 @@ class AlternativeOut(BaseModel):
 class MachineDesignOut(BaseModel):
     """Every stage of the design in the shape its own endpoint answers with, and the simulated check."""
 
-    passed: bool = Field(description="Every check meets its target; `checks` says which does not.")
+    passed: bool = Field(description="Every check meets its target, `running.checks` included; the checks say "
+                         "which does not.")
     checks: list[MachineCheckOut] = Field(description="Each target against the simulated machine.")
     analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
     balancing_mode: str = Field(description="The balancing mode used: none, static, full or optimal.")
@@ -506,7 +512,7 @@ class MachineDesignOut(BaseModel):
                                     mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
                                     peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
-            running=None if d.running is None else RunningOut.from_engine(d.running),
+            running=None if d.running is None else RunningOut.from_engine(d.running, d.running_checks),
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
         )

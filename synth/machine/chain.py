@@ -119,7 +119,7 @@ class MachineDesign:
     the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
     ``shafts`` motor first; ``checks`` each target against the simulation; ``running`` the stages'
-    efficiencies, the start-up and the run-down.
+    efficiencies, the start-up and the run-down, and ``running_checks`` the start, run-up and run-down targets.
     """
 
     spec: MachineSpec
@@ -140,6 +140,7 @@ class MachineDesign:
     checks: tuple[MachineCheck, ...]
     warnings: tuple[DesignWarning, ...]
     running: MachineRunning | None = None
+    running_checks: tuple[MachineCheck, ...] = ()
 
     @property
     def flywheel_inertia(self) -> float:
@@ -149,7 +150,7 @@ class MachineDesign:
     @property
     def passed(self) -> bool:
         """True when every check meets its target."""
-        return all(c.passed for c in self.checks)
+        return all(c.passed for c in (*self.checks, *self.running_checks))
 
 
 @dataclass(frozen=True, slots=True)
@@ -451,7 +452,7 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     replaced: list[DesignWarning] = []
     for _ in range(MAX_MOTOR_UPGRADES + 1):
         design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
-        heavy = [c.name for c in design.checks
+        heavy = [c.name for c in (*design.checks, *design.running_checks)
                  if c.name in ("motor_rms_torque", "motor_peak_torque", "motor_starts") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
         if bigger is None:
@@ -503,7 +504,6 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
     running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
                               machine.brake_torque, machine.start_under_load)
-    checks = (*_checks(machine, motion, motor), *_running_checks(machine, running))
     if not running.startup.check.starts:
         warnings.append(DesignWarning(
             "motor_cannot_start", "drive.motor", running.startup.check.starting_torque,
@@ -511,7 +511,8 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
             f"torque holding the crank at rest at {math.degrees(running.startup.check.worst_angle):.4g} deg",
             "N·m"))
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
-                         train, flywheel, placement, motion, shafts, checks, tuple(warnings), running)
+                         train, flywheel, placement, motion, shafts, _checks(machine, motion, motor), tuple(warnings),
+                         running, tuple(_running_checks(machine, running)))
 
 
 def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,

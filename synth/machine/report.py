@@ -117,7 +117,7 @@ def _key_figures(d: MachineDesign) -> list[list[str]]:
         e = d.running.efficiency
         rows.append(["efficiency linkage × gears", f"{e.linkage:.4g} × {e.gears:.4g} = {e.overall:.4g}"])
     rows += [[f"check {c.name}", f"{c.value:.4g} / {c.limit:.4g} {'ok' if c.passed else 'FAILS'}"]
-             for c in d.checks]
+             for c in (*d.checks, *d.running_checks)]
     return rows
 
 
@@ -179,7 +179,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                  f"{s.peak_torque:.4g}", f"{s.rms_torque:.4g}", f"{s.inertia:.4g}", "yes" if s.carries_flywheel else ""]
                 for s in d.shafts])
         _table(axes[2], "checks against the simulated machine", ["check", "value", "limit", "met"],
-               [[c.name, f"{c.value:.4g}", f"{c.limit:.4g}", "yes" if c.passed else "NO"] for c in d.checks])
+               [[c.name, f"{c.value:.4g}", f"{c.limit:.4g}", "yes" if c.passed else "NO"]
+                for c in (*d.checks, *d.running_checks)])
         fig.suptitle("drive")
         fig.tight_layout()
         pdf.savefig(fig)
