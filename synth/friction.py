@@ -132,7 +132,10 @@ def validate_pairs(linkage: Linkage, pairs: Sequence[PairFriction], field: str =
             raise InvalidInput(f"friction of pair {p.joint!r} given twice", field=where)
         seen.add(p.joint)
         joint = topo.joints[names.index(p.joint)]
-        for label, value in (("coefficient", p.coefficient), ("static_coefficient", p.breakaway_coefficient)):
+        given = [("coefficient", p.coefficient)]
+        if p.static_coefficient is not None:
+            given.append(("static_coefficient", p.static_coefficient))
+        for label, value in given:
             if not (math.isfinite(value) and 0 <= value <= MAX_COEFFICIENT):
                 raise InvalidInput(f"pair {p.joint}: the {label.replace('_', ' ')} must lie in [0, {MAX_COEFFICIENT:g}]"
                                    f", got {value!r}", field=f"{where}.{label}")

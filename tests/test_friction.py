@@ -133,7 +133,9 @@ def test_bad_friction_names_the_pair() -> None:
             validate_pairs(an.linkage, [pair])
         assert err.value.field == field
     warned = validate_pairs(an.linkage, [PairFriction("guide", 1.2)])
-    assert [w.field for w in warned] == ["friction.guide.coefficient", "friction.guide.static_coefficient"]
+    assert [w.field for w in warned] == ["friction.guide.coefficient"]
+    warned = validate_pairs(an.linkage, [PairFriction("guide", 0.5, static_coefficient=1.1)])
+    assert [w.field for w in warned] == ["friction.guide.static_coefficient"]
 
 
 def test_self_locking_is_a_problem_naming_the_angles() -> None:
