@@ -89,3 +89,19 @@ def test_flywheel_is_sized_with_the_friction_losses(client: SynthClient) -> None
     lost = 2 * math.pi * float(np.mean(an.friction.loss_torque_Nm))
     assert with_friction["cycle_work_J"] == pytest.approx(plain["cycle_work_J"] - lost, rel=1e-9)
     assert with_friction["constant_driving_torque_Nm"] > plain["constant_driving_torque_Nm"]
+
+
+def test_csv_carries_the_friction_columns(client: SynthClient) -> None:
+    # the CSV's driving torque with friction is the JSON answer's, column for column
+    body = {**BODY, "samples": 36, "friction": {"guide": {"coefficient": 0.12}, "O": {"coefficient": 0.1,
+                                                                                      "journal_radius_m": 0.02}}}
+    r = client.http.post("/v1/analysis?format=csv", json=body)
+    assert r.status_code == 200
+    lines = r.text.strip().splitlines()
+    header = lines[0].split(",")
+    rows = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    out = client.analysis(AnalysisIn.model_validate(body))
+    assert out.friction is not None
+    col = header.index("driving_torque_with_friction_Nm")
+    assert np.allclose(rows[:, col], out.friction.driving_torque_Nm, rtol=1e-9, atol=1e-9)
+    assert {"guide_friction_force_N", "O_friction_moment_Nm", "O_friction_power_loss_W"} <= set(header)
