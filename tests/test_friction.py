@@ -6,8 +6,12 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import event, given, settings
+from hypothesis import strategies as st
 
 import synth
+from helpers import crank_fourbars, slider_cranks
+from synth.warnings import link_lengths
 from synth.friction import PairFriction, breakaway_torque, friction_kinetostatics, validate_pairs
 
 N = 360
@@ -160,3 +164,30 @@ def test_breakaway_torque_is_the_closed_form_at_rest_with_the_static_coefficient
     expected = f0 * np.abs(force * np.sin(beta)) * ratio
     moving = ratio > 1e-9
     assert np.max(np.abs(rest - expected)[moving]) <= 1e-9 * np.max(expected)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.one_of(crank_fourbars(), slider_cranks()), st.floats(0.0, 0.3), st.floats(0.0, 0.01), st.booleans())
+def test_random_linkages_lose_power_and_keep_virtual_power(linkage: synth.Linkage, mu: float, radius: float,
+                                                          gravity: bool) -> None:
+    # on random assemblable four-bars and slider-cranks with friction in every pair: every pair's loss is >= 0,
+    # the drive supplies exactly what friction dissipates (T w = T0 w + P_loss, virtual power), and the
+    # instantaneous efficiency never exceeds one
+    topo = linkage.mechanism.topology
+    loaded = synth.Linkage(linkage.mechanism, linkage.links, gravity=synth.Gravity() if gravity else None,
+                           loads=(synth.ProcessLoad("window", 30.0, 0.5, 3.5),))
+    lengths = [v for v in link_lengths(linkage.mechanism).values()]
+    r = min(radius, 0.5 * min(lengths))
+    pairs = [PairFriction(j.name, mu, 0.0 if j.kind == "prismatic" else r) for j in topo.joints]
+    an = synth.analyse(loaded, 7.0, samples=72)
+    try:
+        fr = friction_kinetostatics(an.motion, an.linkage, an.kinetostatics, pairs)
+    except synth.Infeasible:
+        event("self-locks")
+        return  # a geometry that self-locks at this coefficient: the problem names the angles (tested above)
+    scale = 1.0 + float(np.abs(fr.driving_torque).max())
+    assert fr.residual <= 1e-12
+    assert fr.power_check <= 1e-9 * scale
+    assert all(float(loss.min()) >= -1e-12 * scale * 7.0 for loss in fr.power_loss.values())
+    eff = fr.efficiency[np.isfinite(fr.efficiency)]
+    assert np.all(eff <= 1.0 + 1e-12)
