@@ -105,3 +105,9 @@ def test_csv_carries_the_friction_columns(client: SynthClient) -> None:
     col = header.index("driving_torque_with_friction_Nm")
     assert np.allclose(rows[:, col], out.friction.driving_torque_Nm, rtol=1e-9, atol=1e-9)
     assert {"guide_friction_force_N", "O_friction_moment_Nm", "O_friction_power_loss_W"} <= set(header)
+
+
+def test_figure_with_friction_is_a_png(client: SynthClient) -> None:
+    r = client.http.post("/v1/analysis?format=png", json={**BODY, "samples": 36,
+                                                          "friction": {"guide": {"coefficient": 0.12}}})
+    assert r.status_code == 200 and r.content[:8] == b"\x89PNG\r\n\x1a\n"
