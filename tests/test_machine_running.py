@@ -109,6 +109,11 @@ def test_machine_answer_carries_friction_and_running(client: SynthClient) -> Non
     assert up.energy_residual is not None and abs(up.energy_residual) < 1e-6
     assert out.running.rundown.brake_torque_Nm == 10.0
     assert [c.name for c in out.running.checks] == ["motor_starts", "startup_time"] and out.passed
+    # the mean crank power is that of the load torque less the friction torque the answer reports (identity)
+    assert out.reduced.friction_torque_Nm is not None
+    resisting = np.array(out.reduced.reduced_load_torque_Nm) - np.array(out.reduced.friction_torque_Nm)
+    speed = body["speed_rpm"] * math.pi / 30
+    assert out.reduced.mean_power_W == pytest.approx(-float(np.mean(resisting)) * speed, rel=1e-9)
     assert 0 < out.running.efficiency.overall < out.running.efficiency.gears < 1  # type: ignore[operator]
     assert math.isclose(up.time_s[0], 0.0)
 

@@ -244,8 +244,14 @@ class ReducedOut(BaseModel):
     reduced_load_torque_Nm: list[float] = Field(description="Reduced torque of the process loads, link torques and "
                                                 "gravity on the crank at each sample [N·m]; positive drives the "
                                                 "crank, negative resists.")
-    driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing.")
-    mean_power_W: float = Field(description="Mean power the crank delivers to the linkage.")
+    friction_torque_Nm: list[float] | None = Field(None, description="The pairs' friction losses reduced to the "
+                                                   "crank at each sample [N·m] (resists); the flywheel, the motor "
+                                                   "and the simulation take the load torque less this. Null "
+                                                   "without friction.")
+    driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing (without "
+                                           "friction; with it in `analysis.friction` for the linkage as given).")
+    mean_power_W: float = Field(description="Mean power the crank delivers to the linkage, its friction losses "
+                                "included.")
     train_inertia_kgm2: float = Field(description="Gears, shafts (and balancer shafts) on the crank, rotor excluded.")
     rotor_inertia_kgm2: float = Field(description="Motor rotor reduced to the crank.")
 
@@ -488,6 +494,7 @@ class MachineDesignOut(BaseModel):
             reduced=ReducedOut(
                 crank_angle_deg=np.degrees(red.phi).tolist(), reduced_inertia_kgm2=red.inertia.tolist(),
                 reduced_load_torque_Nm=red.load_torque.tolist(),
+                friction_torque_Nm=None if red.friction_torque is None else red.friction_torque.tolist(),
                 driving_torque_Nm=d.balanced.kinetostatics.driving_torque.tolist(), mean_power_W=d.output_power,
                 train_inertia_kgm2=d.train_inertia, rotor_inertia_kgm2=motor.reduced().inertia,
             ),
