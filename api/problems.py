@@ -63,7 +63,12 @@ PROBLEM_SCHEMA: dict[str, Any] = {
                                                    "occurrence of it."},
         "status": {"type": "integer", "description": "HTTP status code of this answer."},
         "detail": {"type": "string", "description": "What went wrong with this request, in words."},
-        "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field."},
+        "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field, as the "
+                                                             "JSON body spells it."},
+        "stage": {"type": "string", "description": "The stage of a machine design that failed: analysis, "
+                                                   "balancing, drive, teeth, flywheel, motor or simulation."},
+        "code": {"type": "string", "description": "The likely-mistake check that refused the input, e.g. "
+                                                  "length_likely_mm."},
     },
     "required": ["type", "title", "status", "detail"],
     "additionalProperties": True,
@@ -95,7 +100,10 @@ def problem(status: int, slug: str, title: str, detail: str, headers: Mapping[st
 def problem_response(exc: SynthError) -> JSONResponse:
     """Map an engine error to its status code and problem body."""
     status = next((_STATUS[c] for c in type(exc).__mro__ if c in _STATUS), 422)
-    return problem(status, exc.slug, exc.title, str(exc), **exc.extras())
+    extras = exc.extras()
+    if exc.stage is not None:
+        extras["stage"] = exc.stage
+    return problem(status, exc.slug, exc.title, str(exc), **extras)
 
 
 def _field_name(loc: tuple[Any, ...]) -> str:

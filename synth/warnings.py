@@ -61,6 +61,8 @@ class DesignWarning:
     message : One sentence for people.
     unit : Unit of ``value`` (SI: m, kg, kg·m², rad, J, m/s, 1).
     ranges : Crank-angle ranges where it holds [rad], as (start, end) pairs.
+    stage : The stage of a machine design that found it (analysis, balancing, drive, teeth, flywheel, motor,
+        simulation); None outside a machine design.
     """
 
     code: str
@@ -69,6 +71,7 @@ class DesignWarning:
     message: str
     unit: str = ""
     ranges: tuple[tuple[float, float], ...] = ()
+    stage: str | None = None
 
 
 def link_lengths(mechanism: Mechanism) -> dict[str, float]:

@@ -326,6 +326,8 @@ class WarningOut(BaseModel):
     message: str = Field(description="What was found and what to check, in words.")
     crank_angle_ranges_deg: list[list[float]] | None = Field(
         None, description="Crank-angle ranges [start, end] where it holds [deg].")
+    stage: str | None = Field(None, description="In a machine design, the stage that found it: analysis, "
+                              "balancing, drive, teeth, flywheel, motor or simulation; null elsewhere.")
 
     @classmethod
     def from_engine(cls, w: synth.DesignWarning) -> WarningOut:
@@ -335,7 +337,7 @@ class WarningOut(BaseModel):
             value, unit = round(math.degrees(value), 6), "deg"
         ranges = [[round(math.degrees(a) % 360, 6), round(math.degrees(b) % 360, 6)] for a, b in w.ranges]
         return cls(code=w.code, field=w.field, value=value, unit=unit, message=w.message,
-                   crank_angle_ranges_deg=ranges or None)
+                   crank_angle_ranges_deg=ranges or None, stage=w.stage)
 
 
 def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
