@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import synth
-from api.plans import Limits
-from api.study_tasks import variant_function
+from api.execution.plans import Limits
+from api.studies.tasks import variant_function
 from synth.execution import SerialExecutor
 from synth.studies.pareto import SOLVER_NOISE, tolerances
 

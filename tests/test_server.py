@@ -14,8 +14,8 @@ from pathlib import Path
 import httpx
 import pytest
 
-from api.client import SynthClient
-from api.schemas.analysis import AnalysisIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
 
 REPO = Path(__file__).resolve().parents[1]
 README = (REPO / "README.md").read_text()

@@ -14,12 +14,12 @@ import pytest
 from fastapi.testclient import TestClient
 
 from api.app import create_app
-from api.plans import Limits
-from api.schemas.common import SummaryOut
-from api.schemas.studies import STUDY_EXAMPLE
+from api.execution.plans import Limits
+from mechsynth_client.schemas.common import SummaryOut
+from mechsynth_client.schemas.studies import STUDY_EXAMPLE
 from api.settings import Settings
-from api.study_paths import LIST_INDEX, MetricPathError, check_metric, check_metrics, response_models
-from api.study_tasks import ENDPOINTS, run_endpoint
+from api.studies.paths import LIST_INDEX, MetricPathError, check_metric, check_metrics, response_models
+from api.studies.tasks import ENDPOINTS, run_endpoint
 from test_studies_run import SPEC
 
 README = Path(__file__).resolve().parents[1] / "README.md"
