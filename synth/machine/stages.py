@@ -70,10 +70,10 @@ def refuse_likely_mistakes(linkage: Linkage) -> list[DesignWarning]:
     refused = [w for w in found if w.code in REFUSED]
     if refused:
         first = refused[0]
-        others = "; ".join(w.message for w in refused[1:])
+        others = ", ".join(f"{w.field} ({w.value:g} {w.unit})" for w in refused[1:])
         raise InvalidInput(
-            f"{first.message} The machine is refused before its design: give lengths in metres and masses in "
-            f"kilograms{'. Also: ' + others if others else ''}", field=first.field, code=first.code)
+            f"{first.field}: {first.message} The machine is refused before its design: give lengths in metres "
+            f"and masses in kilograms{f' (also {others})' if others else ''}", field=first.field, code=first.code)
     return [w for w in found if w.code not in REFUSED]
 
 
