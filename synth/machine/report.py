@@ -80,7 +80,8 @@ class _Flow:
     def heading(self, text: str) -> None:
         if self.lines:
             self.lines.append(_Line(""))
-        self.lines.append(_Line(text, "bold", 10.5, "DejaVu Sans"))
+        for line in textwrap.wrap(text, 110):
+            self.lines.append(_Line(line, "bold", 10.5, "DejaVu Sans"))
 
     def paragraph(self, text: str) -> None:
         for line in textwrap.wrap(text, _WIDTH) or [""]:
@@ -342,8 +343,10 @@ def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: Machi
     _inputs(flow, record)
     flow.heading("Stages and their check figures")
     flow.table(["stage", "result", "check", "check figure"], _stage_rows(d))
-    flow.heading("Counterweights (link frame: origin at the link's first joint, x toward its second; each a "
-                 "steel disc of its own inertia, or as thick as its radius when that is smaller)")
+    flow.heading("Counterweights")
+    flow.paragraph("Radius and angle in the link frame (origin at the link's first joint, x toward its second); "
+                   "each realised as a steel disc of its own inertia, or as thick as its radius when that inertia "
+                   "is smaller.")
     cw = _counterweight_rows(d)
     if cw:
         flow.table(["link", "mass [kg]", "radius [m]", "angle [deg]", "own inertia [kg·m²]",
