@@ -2,11 +2,11 @@
 
 A ```python block runs as a script; a ```sh block runs with bash when it calls the service with curl. The literal
 address ``http://127.0.0.1:8000`` is replaced by the service under test. What a block prints is written in the
-block itself as comment lines starting with ``# ``: in a Python block, the comment lines right below a line that
-prints (a ``print(`` line, or a line of a loop that prints); in a shell block, the comment lines at its end. Numbers
-are compared with a relative tolerance (:data:`REL_TOL`), everything else exactly.
+block itself, in order, as comment lines starting with ``#> `` (other comments explain and are not compared).
+Numbers are compared with a relative tolerance (:data:`REL_TOL`), everything else exactly.
 
-``python tests/doc_blocks.py --update http://127.0.0.1:8000`` rewrites those comments from a running service.
+``python tests/doc_blocks.py --update http://127.0.0.1:8000 [README]`` rewrites those comments from a running
+service (in the files whose name contains the last argument).
 """
 
 from __future__ import annotations
@@ -63,37 +63,9 @@ def blocks() -> list[Block]:
 
 
 def _output_comments(language: str, lines: list[str]) -> list[tuple[int, str]]:
-    """(line index, text) of each comment line that states output."""
-    out: list[tuple[int, str]] = []
-    if language == "sh":
-        i = len(lines)
-        while i > 0 and lines[i - 1].lstrip().startswith("# "):
-            i -= 1
-        return [(k, lines[k].lstrip()[2:]) for k in range(i, len(lines))]
-    prints = False
-    for k, line in enumerate(lines):
-        stripped = line.lstrip()
-        if stripped.startswith("# ") and prints:
-            out.append((k, stripped[2:]))
-            continue
-        if not stripped.startswith("#"):
-            indent = len(line) - len(stripped)
-            if indent == 0 or not prints:
-                prints = "print(" in line or _loop_prints(lines, k)
-    return out
-
-
-def _loop_prints(lines: list[str], k: int) -> bool:
-    """A ``for``/``with`` header whose indented body prints."""
-    if not re.match(r"\s*(for|with|async with|if)\b.*:\s*$", lines[k]):
-        return False
-    indent = len(lines[k]) - len(lines[k].lstrip())
-    for line in lines[k + 1:]:
-        if line.strip() and len(line) - len(line.lstrip()) <= indent:
-            break
-        if "print(" in line:
-            return True
-    return False
+    """(line index, text) of each comment line that states output: those starting with ``#> ``."""
+    return [(k, line.lstrip()[3:]) for k, line in enumerate(lines)
+            if line.lstrip().startswith("#> ") or line.strip() == "#>"]
 
 
 def run(block: Block, base_url: str, timeout_s: float = 300) -> list[str]:
@@ -108,7 +80,7 @@ def run(block: Block, base_url: str, timeout_s: float = 300) -> list[str]:
         proc = subprocess.run(cmd, cwd=scratch, capture_output=True, text=True, timeout=timeout_s, env=env)
     if proc.returncode:
         raise AssertionError(f"{block.name} failed:\n{proc.stderr[-3000:]}")
-    return proc.stdout.splitlines()
+    return [line.rstrip() for line in proc.stdout.splitlines()]
 
 
 def mismatch(expected: list[str], got: list[str]) -> str | None:
@@ -125,43 +97,61 @@ def mismatch(expected: list[str], got: list[str]) -> str | None:
     return None
 
 
-def update(base_url: str) -> None:
-    """Rewrite every block's output comments with what it prints now."""
+def update(base_url: str, only: str = "") -> None:
+    """Rewrite the output comments of every block (of the files whose name contains ``only``) with what it
+    prints now.
+
+    Each group of ``#> `` lines is replaced by a marker printed where it stands, so the lines printed between two
+    markers are the group's, however many a loop prints."""
     for path in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]:
+        if only not in path.name:
+            continue
         text = path.read_text()
         for m in reversed(list(FENCE.finditer(text))):
             block = Block(path, text.count("\n", 0, m.start()) + 1, m.group(1), m.group(2))
-            if not block.runnable:
-                continue
             lines = block.code.splitlines()
-            new = _rewrite(block.language, lines, _output_comments(block.language, lines), run(block, base_url))
+            groups = _groups(lines)
+            if not block.runnable or not groups:
+                continue
+            marked = list(lines)
+            for group in reversed(groups):
+                indent = _indent(lines[group[0]])
+                say = f'print("{_MARK}")' if block.language == "python" else f'echo "{_MARK}"'
+                marked[group[0]:group[-1] + 1] = [indent + say]
+            printed = run(Block(path, block.line, block.language, "\n".join(marked) + "\n"), base_url)
+            chunks: list[list[str]] = [[]]
+            for line in printed:
+                if line == _MARK:
+                    chunks.append([])
+                else:
+                    chunks[-1].append(line)
+            new = list(lines)
+            for group, chunk in reversed(list(zip(groups, chunks[:-1]))):
+                new[group[0]:group[-1] + 1] = [f"{_indent(lines[group[0]])}#> {c}" for c in chunk]
             text = text[:m.start(2)] + "\n".join(new) + "\n" + text[m.end(2):]
         path.write_text(text)
 
 
-def _rewrite(language: str, lines: list[str], stated: list[tuple[int, str]], got: list[str]) -> list[str]:
-    if language == "sh":
-        keep = lines[:stated[0][0]] if stated else lines
-        return keep + [f"# {g}" for g in got]
+_MARK = "<<stated output>>"
+
+
+def _indent(line: str) -> str:
+    return line[: len(line) - len(line.lstrip())]
+
+
+def _groups(lines: list[str]) -> list[list[int]]:
+    """Runs of consecutive ``#> `` lines, as line indexes."""
     groups: list[list[int]] = []
-    for k, _ in stated:
+    for k, _ in _output_comments("python", lines):
         if groups and groups[-1][-1] == k - 1:
             groups[-1].append(k)
         else:
             groups.append([k])
-    sizes = [len(g) for g in groups]
-    if sum(sizes) != len(got):
-        raise SystemExit(f"cannot place {len(got)} printed lines into {sizes} stated groups: fix by hand")
-    out, it = list(lines), iter(got)
-    for group in groups:
-        indent = lines[group[0]][: len(lines[group[0]]) - len(lines[group[0]].lstrip())]
-        for k in group:
-            out[k] = f"{indent}# {next(it)}"
-    return out
+    return groups
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 3 and sys.argv[1] == "--update":
-        update(sys.argv[2])
+    if len(sys.argv) in (3, 4) and sys.argv[1] == "--update":
+        update(*sys.argv[2:])
     else:
         raise SystemExit(__doc__)
