@@ -3,36 +3,17 @@
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Protocol
 
 import numpy as np
 
 from ..errors import InvalidInput, TooLarge
-from ..model import FloatArray
-from ..topology import Topology
+from ..mechanism import FloatArray, Mechanism
 from .fourbar import FourBar, transmission_angle
-from .motion import AngleAnalogues, Motion, PointAnalogues, PointState, build_motion
+from .motion import Motion, PointState, build_motion
 from .slider_crank import SliderCrank
 from .slotted_lever import SlottedLever
 
 MAX_SAMPLES = 100_000
-
-
-class Mechanism(Protocol):
-    """What a mechanism family provides: its topology, link frame origins and a vectorised position solve."""
-
-    family: ClassVar[str]
-    topology: ClassVar[Topology]
-    origins: ClassVar[dict[str, str]]
-
-    @property
-    def crank(self) -> float:
-        """Crank length [m]: every family is driven by one, and it sets the scale of its inertias."""
-        ...
-
-    def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
-        """Joint positions and link angles with their first and second analogues over ``phi`` [rad]."""
-        ...
 
 
 def cycle_angles(samples: int, cycle: float = 2 * math.pi, max_samples: int = MAX_SAMPLES) -> FloatArray:
