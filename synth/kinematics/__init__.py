@@ -1,4 +1,5 @@
-"""Mechanism families, each producing the same Motion object, vectorised over crank angles."""
+"""Mechanisms (the named families and any linkage of dyads), each producing the same Motion object, vectorised
+over crank angles."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import numpy as np
 from ..errors import InvalidInput, TooLarge
 from ..mechanism import FloatArray, Mechanism
 from .fourbar import FourBar, transmission_angle
+from .linkage import JointSpec, LinkSpec, PlanarLinkage
 from .motion import Motion, PointState, build_motion
 from .slider_crank import SliderCrank
 from .slotted_lever import SlottedLever
@@ -45,6 +47,9 @@ def motion(mechanism: Mechanism, phi: FloatArray, omega: float, alpha: float = 0
 
 __all__ = [
     "FourBar",
+    "JointSpec",
+    "LinkSpec",
+    "PlanarLinkage",
     "SliderCrank",
     "SlottedLever",
     "Mechanism",
