@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..mechanism import AngleAnalogues, FloatArray, PointAnalogues
@@ -40,6 +41,7 @@ from . import jets as J
 from .jets import Jet
 
 FRAME = "frame"
+BoolArray = NDArray[np.bool_]
 DyadKind = Literal["RRR", "RRP", "RPR", "PRP", "RPP"]
 # Below this the two lines of a PRP or RPP dyad are taken as parallel (sine of the angle between them).
 PARALLEL = 1e-12
@@ -305,10 +307,11 @@ def _validate(mech: PlanarLinkage) -> None:
         if name not in joined:
             raise InvalidInput(f"link {name!r} is not connected: no joint joins it", field=f"mechanism.links.{name}")
     _connected(mech, names)
-    n, p = len(names), len(mech.joints)
-    if 3 * n - 2 * p != 1:
-        raise InvalidInput(f"a crank-driven linkage has one degree of freedom: W = 3n - 2p = 3·{n} - 2·{p} = "
-                           f"{3 * n - 2 * p} (n moving links, p lower pairs)", field="mechanism.joints")
+    n_links, n_pairs = len(names), len(mech.joints)
+    if 3 * n_links - 2 * n_pairs != 1:
+        raise InvalidInput(f"a crank-driven linkage has one degree of freedom: W = 3n - 2p = 3·{n_links} - "
+                           f"2·{n_pairs} = {3 * n_links - 2 * n_pairs} (n moving links, p lower pairs)",
+                           field="mechanism.joints")
     if mech.crank_link not in names:
         raise InvalidInput(f"the crank {mech.crank_link!r} is not one of the links {names}", field="mechanism.crank")
     crank = next(link for link in mech.links if link.name == mech.crank_link)
@@ -446,7 +449,7 @@ def _known(j: JointSpec, link: str) -> str:
 
 
 def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Mapping[str, tuple[float, float]]],
-                places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, FloatArray]:
+                places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, BoolArray]:
     """Place the dyad's two links on the ones known; also the samples where it cannot close."""
     l1, l2 = d.links
     o1, o2, inner = joints[d.outer[0]], joints[d.outer[1]], joints[d.inner]
@@ -498,13 +501,12 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         cg, cs = local[g_link][through], local[s_link][point]
         off_g = math.cos(inner.axis_angle) * (qg[1] - cg[1]) - math.sin(inner.axis_angle) * (qg[0] - cg[0])
         off_s = math.cos(inner.slider_angle) * (qs[1] - cs[1]) - math.sin(inner.slider_angle) * (qs[0] - cs[0])
-        e = off_s - off_g
+        gap = off_s - off_g
         v = J.sub(ps, pg)
-        d2 = J.dot(v, v)
-        rest = J.shift(d2, -e * e)
+        rest = J.shift(J.dot(v, v), -gap * gap)
         t = J.scale(d.branch, J.sqrt(rest))
-        psi = J.angle(J.sub(J.mul(t, v), J.scale(e, J.perp(v))))
-        bad = rest.v < -1e-12 * max(1.0, e * e)
+        psi = J.angle(J.sub(J.mul(t, v), J.scale(gap, J.perp(v))))
+        bad = rest.v < -1e-12 * max(1.0, gap * gap)
         g_place = _Place(pg, qg, J.shift(psi, -inner.axis_angle))
         s_place = _Place(ps, qs, J.shift(psi, -inner.slider_angle))
         return (g_place, s_place, bad) if axis == l1 else (s_place, g_place, bad)
