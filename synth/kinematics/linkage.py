@@ -208,7 +208,10 @@ class PlanarLinkage:
         }
         joints = {j.name: j for j in self.joints}
         for dyad in self.dyads:
-            first, second, bad = _solve_dyad(dyad, joints, local, places, n)
+            # Where a dyad cannot close its square roots meet negative numbers: those samples are flagged and
+            # refused below, so their NaNs never leave this loop.
+            with np.errstate(invalid="ignore", divide="ignore"):
+                first, second, bad = _solve_dyad(dyad, joints, local, places, n)
             if bad.any():
                 raise NotAssemblable(
                     f"the {dyad.kind} dyad of links {list(dyad.links)} (inner joint {dyad.inner!r}) cannot be "
