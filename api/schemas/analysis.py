@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
+    SIX_BAR_PRESS_EXAMPLE,
     MAX_INERTIA_KGM2,
     CounterweightIn,
     LinkageRequest,
@@ -112,6 +113,8 @@ class AnalysisIn(LinkageRequest):
         json_schema_extra={
             "examples": [
                 {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 360},
+                {"mechanism": SIX_BAR_PRESS_EXAMPLE, "speed_rpm": 60, "samples": 360,
+                 "loads": [{"type": "window", "force_N": 2000, "start_deg": 200, "end_deg": 300}]},
                 {
                     "mechanism": {
                         "type": "slotted_lever",

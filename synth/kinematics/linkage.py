@@ -212,6 +212,7 @@ class PlanarLinkage:
             # refused below, so their NaNs never leave this loop.
             with np.errstate(invalid="ignore", divide="ignore"):
                 first, second, bad = _solve_dyad(dyad, joints, local, places, n)
+                bad = bad | ~np.isfinite(first.angle.v) | ~np.isfinite(second.angle.v)
             if bad.any():
                 raise NotAssemblable(
                     f"the {dyad.kind} dyad of links {list(dyad.links)} (inner joint {dyad.inner!r}) cannot be "
@@ -409,9 +410,13 @@ def _decompose(mech: PlanarLinkage) -> tuple[Dyad, ...]:
                 f"group of {group.n} links: only class-II groups (dyads) are solved in closed form",
                 field=f"mechanism.links.{group.links[0]}")
         first, second = sorted(group.links, key=names.index)
-        inner = next(p for p in group.pairs if set(kinds[p].links) == {first, second})
-        out1 = next(p for p in group.pairs if p != inner and first in kinds[p].links)
-        out2 = next(p for p in group.pairs if p != inner and second in kinds[p].links)
+        inners = [p for p in group.pairs if set(kinds[p].links) == {first, second}]
+        outs1 = [p for p in group.pairs if p not in inners and first in kinds[p].links]
+        outs2 = [p for p in group.pairs if p not in inners and second in kinds[p].links]
+        if (len(inners), len(outs1), len(outs2)) != (1, 1, 1):
+            raise InvalidInput(f"links {[first, second]} with pairs {list(group.pairs)} form a group that is not a "
+                               "dyad of one inner and two outer pairs", field=f"mechanism.links.{first}")
+        inner, out1, out2 = inners[0], outs1[0], outs2[0]
         letter = {"revolute": "R", "prismatic": "P"}
         code = letter[kinds[out1].kind] + letter[kinds[inner].kind] + letter[kinds[out2].kind]
         if code in ("PRR", "PPR"):  # the mirror images of RRP and RPP: solve with the links swapped
