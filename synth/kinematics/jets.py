@@ -9,6 +9,7 @@ and no numerical differencing. :class:`~synth.mechanism.PointAnalogues` and
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -93,11 +94,16 @@ def cross(a: Jet, b: Jet) -> Jet:
     return Jet(c(a.v, b.v), c(a.d1, b.v) + c(a.v, b.d1), c(a.d2, b.v) + 2 * c(a.d1, b.d1) + c(a.v, b.d2))
 
 
+def _perp(x: FloatArray) -> FloatArray:
+    out = np.empty_like(x)
+    np.negative(x[:, 1], out=out[:, 0])
+    out[:, 1] = x[:, 0]
+    return out
+
+
 def perp(a: Jet) -> Jet:
     """The vector jet turned 90 degrees counter-clockwise."""
-    def p(x: FloatArray) -> FloatArray:
-        return np.stack([-x[:, 1], x[:, 0]], axis=-1)
-    return Jet(p(a.v), p(a.d1), p(a.d2))
+    return Jet(_perp(a.v), _perp(a.d1), _perp(a.d2))
 
 
 def angle(a: Jet) -> Jet:
@@ -111,17 +117,39 @@ def angle(a: Jet) -> Jet:
         return Jet(np.arctan2(v[:, 1], v[:, 0]), c1 / q, c2 / q - 2 * c1 * d1 / q**2)
 
 
+def turn(a: Jet, angle: float) -> Jet:
+    """A vector jet turned by a constant ``angle`` [rad] counter-clockwise."""
+    if angle == 0.0:
+        return a
+    c, s = math.cos(angle), math.sin(angle)
+
+    def t(x: FloatArray) -> FloatArray:
+        out = np.empty_like(x)
+        np.subtract(c * x[:, 0], s * x[:, 1], out=out[:, 0])
+        np.add(s * x[:, 0], c * x[:, 1], out=out[:, 1])
+        return out
+    return Jet(t(a.v), t(a.d1), t(a.d2))
+
+
 def unit(theta: Jet) -> Jet:
     """The unit vector at angle ``theta``: u' = theta'·perp(u), u'' = theta''·perp(u) - theta'²·u."""
-    u = np.stack([np.cos(theta.v), np.sin(theta.v)], axis=-1)
-    k = np.stack([-u[:, 1], u[:, 0]], axis=-1)
+    if not theta.d1.any() and not theta.d2.any() and theta.v.min() == theta.v.max():
+        # A direction fixed in the frame: one cosine and one sine for all the samples.
+        n = len(theta.v)
+        fixed = np.broadcast_to([math.cos(theta.v[0]), math.sin(theta.v[0])], (n, 2)).copy()
+        return Jet(fixed, np.zeros((n, 2)), np.zeros((n, 2)))
+    u = np.empty((len(theta.v), 2))
+    np.cos(theta.v, out=u[:, 0])
+    np.sin(theta.v, out=u[:, 1])
+    k = _perp(u)
     t1, t2 = theta.d1[:, None], theta.d2[:, None]
     return Jet(u, t1 * k, t2 * k - t1 * t1 * u)
 
 
-def rotate(theta: Jet, local: tuple[float, float] | FloatArray) -> Jet:
-    """A constant vector given in a frame at angle ``theta``, seen in the fixed frame."""
+def rotate(theta: Jet, local: tuple[float, float] | FloatArray, u: Jet | None = None) -> Jet:
+    """A constant vector given in a frame at angle ``theta``, seen in the fixed frame; ``u`` is ``unit(theta)``
+    when the caller has it already."""
     x, y = float(local[0]), float(local[1])
-    u = unit(theta)
+    u = unit(theta) if u is None else u
     k = perp(u)
     return Jet(x * u.v + y * k.v, x * u.d1 + y * k.d1, x * u.d2 + y * k.d2)

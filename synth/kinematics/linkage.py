@@ -25,6 +25,7 @@ derivatives in the crank angle with every value.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -101,7 +102,7 @@ class Dyad:
     branch: int
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class _Place:
     """A solved link: the fixed-frame jet of one of its points (``anchor``, at ``local`` in the link) and its
     angle jet."""
@@ -109,12 +110,26 @@ class _Place:
     anchor: Jet
     local: tuple[float, float]
     angle: Jet
+    given_axis: Jet | None = None
+
+    @functools.cached_property
+    def axis(self) -> Jet:
+        """The link frame's unit x-axis, computed once for all of the link's points (or given by the dyad that
+        placed the link, from a vector along it)."""
+        return J.unit(self.angle) if self.given_axis is None else self.given_axis
+
+    @functools.cached_property
+    def _points(self) -> dict[tuple[float, float], Jet]:
+        return {self.local: self.anchor}
 
     def point(self, local: tuple[float, float]) -> Jet:
-        """Fixed-frame jet of the link's point at ``local`` [m]."""
-        if local == self.local:
-            return self.anchor
-        return J.add(self.anchor, J.rotate(self.angle, (local[0] - self.local[0], local[1] - self.local[1])))
+        """Fixed-frame jet of the link's point at ``local`` [m] (each resolved once: the dyads placed on this link
+        and the final list of points ask for the same pins)."""
+        if (found := self._points.get(local)) is not None:
+            return found
+        offset = (local[0] - self.local[0], local[1] - self.local[1])
+        jet = self._points[local] = J.add(self.anchor, J.rotate(self.angle, offset, self.axis))
+        return jet
 
 
 @dataclass(frozen=True, slots=True)
@@ -207,11 +222,12 @@ class PlanarLinkage:
             self.crank_link: _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), Jet(phi.copy(), np.ones(n), np.zeros(n))),
         }
         joints = {j.name: j for j in self.joints}
+        solved: dict[str, Jet] = {}
         for dyad in self.dyads:
             # Where a dyad cannot close its square roots meet negative numbers: those samples are flagged and
             # refused below, so their NaNs never leave this loop.
             with np.errstate(invalid="ignore", divide="ignore"):
-                first, second, bad = _solve_dyad(dyad, joints, local, places, n)
+                first, second, bad, joint = _solve_dyad(dyad, joints, local, places, n)
                 bad = bad | ~np.isfinite(first.angle.v) | ~np.isfinite(second.angle.v)
             if bad.any():
                 raise NotAssemblable(
@@ -222,7 +238,9 @@ class PlanarLinkage:
                     ranges_deg=angle_ranges_deg(phi, bad),
                 )
             places[dyad.links[0]], places[dyad.links[1]] = first, second
-        points: dict[str, PointAnalogues] = {}
+            if joint is not None:  # the dyad's own closed form for its inner pin, not again from a link's pose
+                solved[_revolute_point(joints[dyad.inner])] = joint
+        points: dict[str, PointAnalogues] = {name: PointAnalogues(*jet) for name, jet in solved.items()}
         for name, xy in self.frame_points:
             points[name] = PointAnalogues(*J.constant(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy()))
         for link in self.links:
@@ -457,8 +475,9 @@ def _known(j: JointSpec, link: str) -> str:
 
 
 def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Mapping[str, tuple[float, float]]],
-                places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, BoolArray]:
-    """Place the dyad's two links on the ones known; also the samples where it cannot close."""
+                places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, BoolArray, Jet | None]:
+    """Place the dyad's two links on the ones known; also the samples where it cannot close, and the inner pin
+    when it is a revolute."""
     l1, l2 = d.links
     o1, o2, inner = joints[d.outer[0]], joints[d.outer[1]], joints[d.inner]
     k1, k2 = _known(o1, l1), _known(o2, l2)
@@ -472,14 +491,16 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         d2 = J.dot(e, e)
         dist = J.sqrt(d2)
         x = J.div(J.shift(d2, r1 * r1 - r2 * r2), J.scale(2.0, dist))
-        h2 = J.sub(J.constant(np.full(n, r1 * r1)), J.mul(x, x))
+        h2 = J.shift(J.scale(-1.0, J.mul(x, x)), r1 * r1)
         h = J.sqrt(h2)
         joint = J.add(a1, J.add(J.mul(J.div(x, dist), e), J.scale(d.branch, J.mul(J.div(h, dist), J.perp(e)))))
         bad = (h2.v < -1e-12 * max(r1 * r1, r2 * r2)) | (d2.v == 0)
         g1, g2 = math.atan2(j1[1] - q1[1], j1[0] - q1[0]), math.atan2(j2[1] - q3[1], j2[0] - q3[0])
-        th1 = J.shift(J.angle(J.sub(joint, a1)), -g1)
-        th2 = J.shift(J.angle(J.sub(joint, a3)), -g2)
-        return _Place(a1, q1, th1), _Place(a3, q3, th2), bad
+        v1, v2 = J.sub(joint, a1), J.sub(joint, a3)
+        th1, th2 = J.shift(J.angle(v1), -g1), J.shift(J.angle(v2), -g2)
+        # |v1| = r1 and |v2| = r2 at every angle: the link axes follow from them without a sine or cosine.
+        axis1, axis2 = J.turn(J.scale(1.0 / r1, v1), -g1), J.turn(J.scale(1.0 / r2, v2), -g2)
+        return _Place(a1, q1, th1, axis1), _Place(a3, q3, th2, axis2), bad, joint
     if d.kind == "RRP":
         p1, pj = _revolute_point(o1), _revolute_point(inner)
         a1 = places[k1].point(local[k1][p1])
@@ -490,13 +511,15 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         base = J.add(line.base, J.scale(line.offset(j2), J.perp(u)))
         w = J.sub(a1, base)
         c = J.cross(u, w)
-        h2 = J.sub(J.constant(np.full(n, r1 * r1)), J.mul(c, c))
+        h2 = J.shift(J.scale(-1.0, J.mul(c, c)), r1 * r1)
         t = J.add(J.dot(w, u), J.scale(d.branch, J.sqrt(h2)))
         joint = J.add(base, J.mul(t, u))
         bad = h2.v < -1e-12 * r1 * r1
         g1 = math.atan2(j1[1] - q1[1], j1[0] - q1[0])
-        th1 = J.shift(J.angle(J.sub(joint, a1)), -g1)
-        return _Place(a1, q1, th1), _Place(joint, j2, line.angle), bad
+        v1 = J.sub(joint, a1)
+        th1 = J.shift(J.angle(v1), -g1)
+        return (_Place(a1, q1, th1, J.turn(J.scale(1.0 / r1, v1), -g1)),
+                _Place(joint, j2, line.angle, J.turn(u, -line.local_angle)), bad, joint)
     if d.kind == "RPR":
         pa, pb = _revolute_point(o1), _revolute_point(o2)
         axis, through, other, point = _axis_and_point(inner, local)
@@ -517,7 +540,7 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         bad = rest.v < -1e-12 * max(1.0, gap * gap)
         g_place = _Place(pg, qg, J.shift(psi, -inner.axis_angle))
         s_place = _Place(ps, qs, J.shift(psi, -inner.slider_angle))
-        return (g_place, s_place, bad) if axis == l1 else (s_place, g_place, bad)
+        return (g_place, s_place, bad, None) if axis == l1 else (s_place, g_place, bad, None)
     if d.kind == "PRP":
         pj = _revolute_point(inner)
         j1, j2 = local[l1][pj], local[l2][pj]
@@ -529,7 +552,7 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         t1 = J.div(J.cross(J.sub(b2, b1), u2), s)
         joint = J.add(b1, J.mul(t1, u1))
         bad = np.abs(s.v) < PARALLEL
-        return _Place(joint, j1, line1.angle), _Place(joint, j2, line2.angle), bad
+        return _Place(joint, j1, line1.angle), _Place(joint, j2, line2.angle), bad, joint
     # RPP: l1 turns about a known point and slides in l2, which slides on a known axis.
     p1 = _revolute_point(o1)
     a1 = places[k1].point(local[k1][p1])
@@ -554,7 +577,7 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
     slide = J.div(J.shift(J.cross(w, m), -off), s)
     x2 = J.add(outer.base, J.mul(slide, u))
     bad = np.abs(s.v) < PARALLEL
-    return _Place(a1, q1, th1), _Place(x2, outer.on_axis, outer.angle), bad
+    return _Place(a1, q1, th1), _Place(x2, outer.on_axis, outer.angle), bad, None
 
 
 __all__ = ["Dyad", "JointSpec", "LinkSpec", "PlanarLinkage"]
