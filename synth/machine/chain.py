@@ -42,7 +42,7 @@ from ..flywheel import (
     wittenbauer_tangents,
 )
 from ..gearing import CatalogueMotor, DriveResult, ToothResult, design_drive, motor_catalogue, tooth_numbers
-from ..kinematics import FourBar, SliderCrank
+from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import Linkage
 from ..warnings import DesignWarning
 from .simulate import MachineCycle, MachineMotion, simulate_machine
@@ -195,7 +195,7 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
     if mode == "none":
         return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
-    if mode == "optimal" or isinstance(mech, FourBar):
+    if mode == "optimal" or isinstance(mech, (FourBar, PlanarLinkage)):
         if mode == "static":
             r = balance_static(linkage, speed, choice.spec, samples=spec.samples, mass_budget=choice.mass_budget,
                                time_limit_s=time_limit_s)
