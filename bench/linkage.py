@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 import synth
-from api.schemas.analysis import AnalysisIn
-from api.schemas.common import SIX_BAR_PRESS_EXAMPLE
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
 from bench._timing import best_of
 
 SAMPLES = 3600

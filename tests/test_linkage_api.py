@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.plans import Limits
-from api.schemas.analysis import AnalysisIn
-from api.schemas.common import SIX_BAR_PRESS_EXAMPLE
-from api.study_tasks import variant_function
+from mechsynth_client.client import SynthClient
+from api.execution.plans import Limits
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
+from api.studies.tasks import variant_function
 from synth.execution import SerialExecutor
 from test_linkage import independent
 
