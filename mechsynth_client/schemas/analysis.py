@@ -113,8 +113,6 @@ class AnalysisIn(LinkageRequest):
         json_schema_extra={
             "examples": [
                 {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 360},
-                {"mechanism": SIX_BAR_PRESS_EXAMPLE, "speed_rpm": 60, "samples": 360,
-                 "loads": [{"type": "window", "force_N": 2000, "start_deg": 200, "end_deg": 300}]},
                 {
                     "mechanism": {
                         "type": "slotted_lever",
@@ -132,6 +130,8 @@ class AnalysisIn(LinkageRequest):
                     "gravity": {"g_m_s2": 9.81},
                     "loads": [{"type": "window", "force_N": 1200, "start_deg": -60, "end_deg": 60, "point_m": [0, -0.1]}],
                 },
+                {"mechanism": SIX_BAR_PRESS_EXAMPLE, "speed_rpm": 60, "samples": 360,
+                 "loads": [{"type": "window", "force_N": 2000, "start_deg": 200, "end_deg": 300}]},
             ]
         }
     )

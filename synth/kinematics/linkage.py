@@ -164,8 +164,8 @@ class PlanarLinkage:
     frame_points : fixed points (name, (x, y)) [m]; the crank's pivot is at (0, 0).
     links : the moving links (:class:`LinkSpec`), lengths [m].
     joints : the pairs (:class:`JointSpec`), angles [rad].
-    crank : the driven link, turning about its first point, a frame point at the origin; the crank angle is the
-        angle of its x-axis.
+    crank_link : the driven link, turning about its first point, a frame point at the origin; the crank angle is
+        the angle of its x-axis.
     output : the working member (default the last link), joined to the frame: by a revolute (it turns, its load
         is a torque) or by a prismatic pair (it slides, its load is a force along the slide).
     branches : assembly branch (+1 or -1) per dyad, keyed by the dyad's inner joint; default +1.
@@ -204,11 +204,6 @@ class PlanarLinkage:
     def link_lengths(self) -> dict[str, float]:
         """Length of every link with two or more joints [m]."""
         return {link.name: link.length for link in self.links if len(link.joints) > 1}
-
-    def with_length(self, name: str, length: float) -> PlanarLinkage:
-        """The same linkage with link ``name`` of a different ``length`` [m]."""
-        links = tuple(LinkSpec(k.name, k.joints, length, k.points) if k.name == name else k for k in self.links)
-        return PlanarLinkage(self.frame_points, links, self.joints, self.crank_link, self.output, self.branches)
 
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Every named point and link angle with its analogues over ``phi`` [rad]; NotAssemblable naming the
