@@ -325,3 +325,17 @@ def test_watt_six_bar_static_balance_zeroes_the_shaking_force() -> None:
                                    max_radius={k: 1.0 for k in ("crank", "coupler", "rocker", "link", "output")})
     result = synth.balance_static(linkage, SPEED, spec, samples=90)
     assert result.residual_force < 1e-6 * result.before.max_shaking_force
+
+
+
+def test_a_bar_with_both_pins_at_one_point_is_named() -> None:
+    # The coupler pinned to the rocker at a point P drawn on top of its own pin A: no direction for the bar.
+    base = press()
+    links = tuple(LinkSpec("coupler", ("A", "B"), 0.35, (("P", (0.0, 0.0)),)) if k.name == "coupler" else
+                  LinkSpec("rocker", ("Q", "P"), 0.25, (("C", (0.4, 0.0)),)) if k.name == "rocker" else k
+                  for k in base.links)
+    joints = tuple(rev("B", "coupler", "rocker", "P") if j.name == "B" else j for j in base.joints)
+    mech = PlanarLinkage(base.frame_points, links, joints, "crank", "ram")
+    with pytest.raises(synth.InvalidInput, match="'coupler' has its joints 'A' and 'P' at the same point") as err:
+        synth.motion(mech, synth.cycle_angles(8), SPEED)
+    assert err.value.field == "mechanism.links.coupler.points_m"

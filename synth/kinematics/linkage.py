@@ -461,6 +461,13 @@ def _line(j: JointSpec, known: str, unknown: str, local: Mapping[str, Mapping[st
     return _Line(base, psi, J.shift(psi, -j.axis_angle), local[unknown][through], j.axis_angle)
 
 
+def _apart(link: str, a: str, b: str, distance: float) -> None:
+    """A bar of a dyad needs its two pins apart: at one point it would not set the link's direction."""
+    if not distance > 0:
+        raise InvalidInput(f"link {link!r} has its joints {a!r} and {b!r} at the same point",
+                           field=f"mechanism.links.{link}.points_m")
+
+
 def _revolute_point(j: JointSpec) -> str:
     return j.point or j.name
 
@@ -482,6 +489,8 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         q1, q3 = local[l1][p1], local[l2][p3]
         j1, j2 = local[l1][pj], local[l2][pj]
         r1, r2 = math.hypot(j1[0] - q1[0], j1[1] - q1[1]), math.hypot(j2[0] - q3[0], j2[1] - q3[1])
+        _apart(l1, p1, pj, r1)
+        _apart(l2, p3, pj, r2)
         e = J.sub(a3, a1)
         d2 = J.dot(e, e)
         dist = J.sqrt(d2)
@@ -501,6 +510,7 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         a1 = places[k1].point(local[k1][p1])
         q1, j1, j2 = local[l1][p1], local[l1][pj], local[l2][pj]
         r1 = math.hypot(j1[0] - q1[0], j1[1] - q1[1])
+        _apart(l1, p1, pj, r1)
         line = _line(o2, k2, l2, local, places)
         u = J.unit(line.psi)
         base = J.add(line.base, J.scale(line.offset(j2), J.perp(u)))
