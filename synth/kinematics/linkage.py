@@ -212,8 +212,12 @@ class PlanarLinkage:
         n = len(phi)
         local = {link.name: link.local() for link in self.links}
         local[FRAME] = dict(self.frame_points)
+        frame = _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), _const_angle(0.0, n))
+        fixed = {xy: J.constant(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy())
+                 for _, xy in self.frame_points}
+        frame._points.update(fixed)  # frame points stand still: no rotation to resolve them
         places: dict[str, _Place] = {
-            FRAME: _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), _const_angle(0.0, n)),
+            FRAME: frame,
             self.crank_link: _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), Jet(phi.copy(), np.ones(n), np.zeros(n))),
         }
         joints = {j.name: j for j in self.joints}
@@ -237,7 +241,7 @@ class PlanarLinkage:
                 solved[_revolute_point(joints[dyad.inner])] = joint
         points: dict[str, PointAnalogues] = {name: PointAnalogues(*jet) for name, jet in solved.items()}
         for name, xy in self.frame_points:
-            points[name] = PointAnalogues(*J.constant(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy()))
+            points[name] = PointAnalogues(*fixed[xy])
         for link in self.links:
             place = places[link.name]
             for name, xy in local[link.name].items():
