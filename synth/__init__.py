@@ -127,7 +127,17 @@ from .machine import (
     design_machine,
     simulate_machine,
 )
-from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
+from .kinematics import (
+    FourBar,
+    JointSpec,
+    LinkSpec,
+    Motion,
+    PlanarLinkage,
+    SliderCrank,
+    SlottedLever,
+    cycle_angles,
+    motion,
+)
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .synthesis import (
@@ -198,6 +208,9 @@ __all__ = [
     "DriveChecks",
     "DriveResult",
     "FourBar",
+    "JointSpec",
+    "LinkSpec",
+    "PlanarLinkage",
     "Gravity",
     "InertiaModel",
     "Infeasible",

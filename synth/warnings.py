@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .kinematics import FourBar, SliderCrank, SlottedLever
+from .kinematics import FourBar, PlanarLinkage, SliderCrank, SlottedLever
 from .model import Counterweight, FloatArray, Linkage
 
 if TYPE_CHECKING:
@@ -84,6 +84,10 @@ def link_lengths(mechanism: Mechanism) -> dict[str, float]:
         return {"crank": mechanism.crank, "rod": mechanism.rod}
     if isinstance(mechanism, SlottedLever):
         return {"crank": mechanism.crank, "rocker": mechanism.rocker}
+    if isinstance(mechanism, PlanarLinkage):
+        # A link that slides on the frame carries whatever is fixed to it along its guide, like a block.
+        sliding = {x for j in mechanism.joints if j.kind == "prismatic" and "frame" in j.links for x in j.links}
+        return {k: v for k, v in mechanism.link_lengths().items() if k not in sliding}
     return {}
 
 
@@ -96,6 +100,8 @@ def _length_fields(mechanism: Mechanism) -> dict[str, float]:
     if isinstance(mechanism, SlottedLever):
         return {"crank_length_m": mechanism.crank, "ground_length_m": mechanism.ground,
                 "rocker_length_m": mechanism.rocker, "ram_height_m": mechanism.ram_height}
+    if isinstance(mechanism, PlanarLinkage):
+        return {f"links.{i}.length_m": k.length for i, k in enumerate(mechanism.links) if len(k.joints) > 1}
     return {}
 
 

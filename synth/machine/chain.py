@@ -50,7 +50,7 @@ from ..gearing import (
     motor_catalogue,
     tooth_numbers,
 )
-from ..kinematics import FourBar, SliderCrank
+from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
 from .operating_point import MotorLoad, operating_speed
@@ -205,7 +205,7 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
     if mode == "none":
         return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
-    if mode == "optimal" or isinstance(mech, FourBar):
+    if mode == "optimal" or isinstance(mech, (FourBar, PlanarLinkage)):
         if mode == "static":
             r = balance_static(linkage, speed, choice.spec, samples=spec.samples, mass_budget=choice.mass_budget,
                                time_limit_s=time_limit_s)
