@@ -129,8 +129,18 @@ from .machine import (
 )
 from .machine.running import Efficiency, MachineRunning, machine_running
 from .machine import RunDown, StartCheck, StartUp, Transient, simulate_rundown, simulate_startup, start_check
-from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
 from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
+from .kinematics import (
+    FourBar,
+    JointSpec,
+    LinkSpec,
+    Motion,
+    PlanarLinkage,
+    SliderCrank,
+    SlottedLever,
+    cycle_angles,
+    motion,
+)
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .synthesis import (
@@ -214,6 +224,9 @@ __all__ = [
     "DriveChecks",
     "DriveResult",
     "FourBar",
+    "JointSpec",
+    "LinkSpec",
+    "PlanarLinkage",
     "Gravity",
     "InertiaModel",
     "Infeasible",

@@ -18,9 +18,10 @@ Codes
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
-``rotor_inertia_missing`` and ``rated_power_exceeds``; friction ``friction_coefficient_large`` (a coefficient
-above 1); the machine ``motor_replaced`` and ``motor_cannot_start`` (its starting torque through the train below
-the torque holding the crank at rest).
+``rotor_inertia_missing`` and ``rated_power_exceeds``. A machine design gathers every stage's warnings, each with
+its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
+the simulated machine misses), and ``motor_cannot_start`` (its starting torque through the train below
+the torque holding the crank at rest); friction adds ``friction_coefficient_large`` (a coefficient above 1); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .kinematics import FourBar, SliderCrank, SlottedLever
+from .kinematics import FourBar, PlanarLinkage, SliderCrank, SlottedLever
 from .model import Counterweight, FloatArray, Linkage
 
 if TYPE_CHECKING:
@@ -63,6 +64,8 @@ class DesignWarning:
     message : One sentence for people.
     unit : Unit of ``value`` (SI: m, kg, kg·m², rad, J, m/s, 1).
     ranges : Crank-angle ranges where it holds [rad], as (start, end) pairs.
+    stage : The stage of a machine design that found it (analysis, balancing, drive, teeth, flywheel, motor,
+        simulation); None outside a machine design.
     """
 
     code: str
@@ -71,6 +74,7 @@ class DesignWarning:
     message: str
     unit: str = ""
     ranges: tuple[tuple[float, float], ...] = ()
+    stage: str | None = None
 
 
 def link_lengths(mechanism: Mechanism) -> dict[str, float]:
@@ -81,6 +85,10 @@ def link_lengths(mechanism: Mechanism) -> dict[str, float]:
         return {"crank": mechanism.crank, "rod": mechanism.rod}
     if isinstance(mechanism, SlottedLever):
         return {"crank": mechanism.crank, "rocker": mechanism.rocker}
+    if isinstance(mechanism, PlanarLinkage):
+        # A link that slides on the frame carries whatever is fixed to it along its guide, like a block.
+        sliding = {x for j in mechanism.joints if j.kind == "prismatic" and "frame" in j.links for x in j.links}
+        return {k: v for k, v in mechanism.link_lengths().items() if k not in sliding}
     return {}
 
 
@@ -93,6 +101,8 @@ def _length_fields(mechanism: Mechanism) -> dict[str, float]:
     if isinstance(mechanism, SlottedLever):
         return {"crank_length_m": mechanism.crank, "ground_length_m": mechanism.ground,
                 "rocker_length_m": mechanism.rocker, "ram_height_m": mechanism.ram_height}
+    if isinstance(mechanism, PlanarLinkage):
+        return {f"links.{i}.length_m": k.length for i, k in enumerate(mechanism.links) if len(k.joints) > 1}
     return {}
 
 

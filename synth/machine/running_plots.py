@@ -95,5 +95,5 @@ def running_figure(d: MachineDesign) -> Figure | None:
     table.set_fontsize(8)
     table.scale(1.0, 1.3)
     fig.suptitle("how the machine runs: efficiency, start-up and run-down")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
     return fig
