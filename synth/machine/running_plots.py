@@ -78,10 +78,12 @@ def running_figure(d: MachineDesign) -> Figure | None:
     _start_torque(axes[0, 1], d, r)
     _run_down(axes[1, 0], r)
     e, up = r.efficiency, r.startup
+    held = float(up.check.resisting_torque.max())
+    held = 0.0 if abs(held) <= 1e-9 * abs(up.check.starting_torque) else held  # rounding noise, not a torque
     rows = [["efficiency, linkage", _fmt(e.linkage)], ["efficiency, gears", _fmt(e.gears)],
             ["efficiency, overall", _fmt(e.overall)],
             ["starting torque at the crank", _fmt(up.check.starting_torque, " N·m")],
-            ["largest torque at rest", _fmt(float(up.check.resisting_torque.max()), " N·m")
+            ["largest torque at rest", _fmt(held, " N·m")
              + f" at {np.degrees(up.check.worst_angle):.4g} deg"],
             ["run-up to steady", _fmt(up.steady_time, " s")],
             ["motor peak / RMS over the start", f"{up.peak_motor_torque:.4g} / {up.rms_motor_torque:.4g} N·m"],
