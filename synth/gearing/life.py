@@ -22,7 +22,7 @@ from .materials import contact_life_curve, cycles_to_failure, root_life_curve
 from .rating import Duty, GearPairSpec, PairModel, RatingResult, _pair, _result
 
 MAX_SPECTRUM_SAMPLES = 100_000
-_BISECTION_STEPS = 80
+_BISECTION_STEPS = 50
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,6 +76,24 @@ def _safety(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[f
     return _pair(np.exp((lo + hi) / 2))
 
 
+def spectrum_safety(model: PairModel, torque: FloatArray
+                    ) -> tuple[FloatArray, FloatArray, tuple[float, float], tuple[float, float]]:
+    """Miner sums over the life (contact, root) and the spectrum's safety factors (contact, root) per wheel for
+    pinion torque magnitudes [N·m] sampled evenly over the cycle."""
+    duty = model.duty
+    _, sh, sf, _ = model.stresses(torque)
+    cycles_each = np.asarray(model.cycles) / torque.size
+    # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
+    ref_h = model.sigma_hg / model.z_nt
+    ref_f = model.sigma_fg / model.y_nt
+    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
+    knots_f = [root_life_curve(m) for m in model.mats]
+    one = np.ones(2)
+    d_h = _damage(sh, ref_h, knots_h, cycles_each, one)
+    d_f = _damage(sf, ref_f, knots_f, cycles_each, one)
+    return d_h, d_f, _safety(sh, ref_h, knots_h, cycles_each), _safety(sf, ref_f, knots_f, cycles_each)
+
+
 def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None
                   ) -> SpectrumRating:
     """Rate a pair on pinion torques [N·m] sampled evenly over one machine cycle at a mean speed [rad/s].
@@ -91,19 +109,7 @@ def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: f
         raise InvalidInput("the load spectrum needs finite torques, not all zero", field="load_spectrum.torque_Nm")
     model = PairModel(spec, duty, pinion_speed)
     peak = _result(model, float(torque.max()))
-    _, sh, sf, _ = model.stresses(torque)
-    n = torque.size
-    cycles_each = np.asarray(model.cycles) / n
-    # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
-    ref_h = model.sigma_hg / model.z_nt
-    ref_f = model.sigma_fg / model.y_nt
-    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
-    knots_f = [root_life_curve(m) for m in model.mats]
-    one = np.ones(2)
-    d_h = _damage(sh, ref_h, knots_h, cycles_each, one)
-    d_f = _damage(sf, ref_f, knots_f, cycles_each, one)
-    s_h = _safety(sh, ref_h, knots_h, cycles_each)
-    s_f = _safety(sf, ref_f, knots_f, cycles_each)
+    d_h, d_f, s_h, s_f = spectrum_safety(model, torque)
 
     def life(d: FloatArray) -> tuple[float, float]:
         return _pair(np.where(d > 0, duty.life / np.where(d > 0, d, 1.0), math.inf))
@@ -111,5 +117,5 @@ def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: f
     # A constant torque T_eq gives the same damage: its stress is the spectrum's safety over the rating's.
     eq_h = _pair(peak.pinion_torque * (np.array(peak.safety_contact) / np.array(s_h)) ** 2)
     eq_f = _pair(peak.pinion_torque * np.array(peak.safety_root) / np.array(s_f))
-    return SpectrumRating(peak, n, float(np.sqrt(np.mean(torque**2))), float(np.mean(torque)), _pair(d_h),
+    return SpectrumRating(peak, int(torque.size), float(np.sqrt(np.mean(torque**2))), float(np.mean(torque)), _pair(d_h),
                           _pair(d_f), life(d_h), life(d_f), s_h, s_f, eq_h, eq_f)

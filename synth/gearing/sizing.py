@@ -26,9 +26,9 @@ import numpy as np
 from ..errors import Infeasible, InvalidInput
 from ..model import FloatArray
 from .involute import BasicRack, min_profile_shift
-from .life import rate_spectrum
+from .life import spectrum_safety
 from .materials import gear_material
-from .rating import MM, Duty, GearPairSpec, RatingResult, rate_pair
+from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, rate_pair
 from .split import InertiaModel, SplitResult, gear_volume, split_ratio
 from .stages import Stage
 
@@ -38,7 +38,7 @@ Series = Literal["first", "first_and_second"]
 SizingObjective = Literal["mass", "centre_distance"]
 HELICAL_TYPES = {"helical": math.radians(15.0)}
 SIZED_TYPES = ("spur", "helical", "open_spur")
-_WIDTH_STEPS = 40
+_WIDTH_STEPS = 32
 _SPLIT_PASSES = 4
 
 
@@ -136,13 +136,19 @@ def _spec(rules: SizingRules, z1: int, z2: int, module: float, width: float, hel
                         max_face_width_ratio=rules.max_face_width_ratio * (1 + 1e-9))
 
 
-def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> tuple[FloatArray, RatingResult]:
-    """S_H1, S_H2, S_F1, S_F2 and the rating (at the peak torque of a spectrum)."""
+def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> FloatArray:
+    """S_H1, S_H2, S_F1, S_F2 (on the spectrum when the load is one)."""
+    model = PairModel(spec, rules.duty, load.speed)
     if isinstance(load.torque, np.ndarray):
-        sr = rate_spectrum(spec, load.torque, load.speed, rules.duty)
-        return np.array([*sr.safety_contact, *sr.safety_root]), sr.peak
-    r = rate_pair(spec, float(load.torque), load.speed, rules.duty)
-    return np.array([*r.safety_contact, *r.safety_root]), r
+        _, _, s_h, s_f = spectrum_safety(model, np.abs(load.torque))
+        return np.array([*s_h, *s_f])
+    _, sh, sf, _ = model.stresses(np.array([float(load.torque)]))
+    return np.concatenate([model.sigma_hg / sh[0], model.sigma_fg / sf[0]])
+
+
+def _rating(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> RatingResult:
+    peak = float(np.max(np.abs(load.torque)))
+    return rate_pair(spec, peak, load.speed, rules.duty)
 
 
 def _margins(s: FloatArray, duty: Duty) -> FloatArray:
@@ -171,40 +177,38 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     torque_peak = float(np.max(np.abs(load.torque))) if isinstance(load.torque, np.ndarray) else float(load.torque)
     if not (math.isfinite(torque_peak) and torque_peak > 0):
         raise InvalidInput(f"stage {stage} carries no torque", field=f"stages[{stage}]")
-    best: tuple[float, float, float, FloatArray, RatingResult, str] | None = None
+    best: tuple[float, float, float, FloatArray, str] | None = None
     examined = 0
     modules = module_series(rules.series)
-    widths_at: dict[float, float] = {}
     for m in modules:
         d1 = z1 * m / math.cos(helix)
         b_lo, b_hi = rules.min_face_width_ratio * d1, rules.max_face_width_ratio * d1
         examined += 1
-        s_hi, _ = _safeties(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
+        s_hi = _safeties(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
         if np.min(_margins(s_hi, rules.duty)) < 0:
             continue                     # even the widest face fails: a larger module is needed
-        s_lo, r_lo = _safeties(rules, _spec(rules, z1, z2, m, b_lo, helix), load)
+        s_lo = _safeties(rules, _spec(rules, z1, z2, m, b_lo, helix), load)
         if np.min(_margins(s_lo, rules.duty)) >= 0:
-            b, s, r, binding = b_lo, s_lo, r_lo, "min_face_width"
+            b, s, binding = b_lo, s_lo, "min_face_width"
         else:
             lo, hi = math.log(b_lo), math.log(b_hi)
             for _ in range(_WIDTH_STEPS):
                 mid = (lo + hi) / 2
-                sm, _ = _safeties(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load)
+                sm = _safeties(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load)
                 if np.min(_margins(sm, rules.duty)) >= 0:
                     hi = mid
                 else:
                     lo = mid
             b = math.exp(hi)
-            s, r = _safeties(rules, _spec(rules, z1, z2, m, b, helix), load)
+            s = _safeties(rules, _spec(rules, z1, z2, m, b, helix), load)
             binding = _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
-        widths_at[m] = b
         d = np.array([z1, z2]) * m / math.cos(helix)
         rho = np.array([gear_material(n).density for n in rules.materials])
         mass = float(np.sum(rho * math.pi / 4 * b * d**2))
         a = float(d.sum() / 2)
         key = mass if rules.objective == "mass" else a + 1e-9 * mass
         if best is None or key < best[0]:
-            best = (key, m, b, s, r, binding)
+            best = (key, m, b, s, binding)
         if binding == "min_face_width":
             break                        # larger modules only add mass and centre distance from here
     if best is None:
@@ -212,7 +216,8 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
             f"stage {stage}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
             f"up to {rules.max_face_width_ratio:g} pinion diameters",
             constraint="strength", stage=stage, pinion_torque_Nm=torque_peak)
-    _, m, b, s, r, binding = best
+    _, m, b, s, binding = best
+    r = _rating(rules, _spec(rules, z1, z2, m, b, helix), load)
     d = np.array([z1, z2]) * m / math.cos(helix)
     rho = np.array([gear_material(n).density for n in rules.materials])
     vol = float(np.sum(math.pi / 4 * b * d**2))
@@ -221,7 +226,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     if i > 0:
         ms = modules[i - 1]
         try:
-            s_small, _ = _safeties(rules, _spec(rules, z1, z2, ms, b, helix), load)
+            s_small = _safeties(rules, _spec(rules, z1, z2, ms, b, helix), load)
             marg = _margins(s_small, rules.duty)
             smaller = (ms, _CONSTRAINTS[int(np.argmin(marg))] if np.min(marg) < 0 else "none")
         except InvalidInput as exc:
