@@ -156,6 +156,15 @@ def pair_geometry(z1: int, z2: int, normal_module: float, face_width: float, hel
     if eps_alpha < 1.0:
         raise InvalidInput(f"transverse contact ratio {eps_alpha:.3f} is below 1: the teeth do not mesh "
                            "continuously", field="pinion_profile_shift")
+    # Transverse tooth thickness at the tip circle: a pointed (or nearly pointed) tooth cannot be rated.
+    alpha_at = np.arccos(db / da)
+    s_at = da * ((math.pi + 4 * x * math.tan(an)) / (2 * np.array([z1, z2])) + inv(alpha_t)
+                 - (np.tan(alpha_at) - alpha_at))
+    for i, name in enumerate(("pinion_profile_shift", "gear_profile_shift")):
+        if s_at[i] * math.cos(beta) < 0.1 * mn:
+            raise InvalidInput(f"the {name.split('_')[0]}'s teeth are pointed: tip thickness "
+                               f"{s_at[i] * math.cos(beta) / mn:.3f} modules (at least 0.1); reduce the profile "
+                               "shift", field=name)
     eps_beta = face_width * math.sin(beta) / (math.pi * mn)
     zn = np.array([z1, z2]) / (math.cos(beta_b) ** 2 * math.cos(beta))
     rho = db / 2 * math.tan(alpha_wt)

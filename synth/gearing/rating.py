@@ -234,7 +234,7 @@ def _root_form_factors(g: PairGeometry) -> dict[str, FloatArray]:
     big_h = 2 / zn * (math.pi / 2 - e / mn) - math.pi / 3
     theta = np.full(2, math.pi / 6)
     for _ in range(60):
-        theta = 2 * big_g / zn * np.tan(theta) - big_h
+        theta = np.clip(2 * big_g / zn * np.tan(theta) - big_h, -1.5, 1.5)
     s_fn = mn * (zn * np.sin(math.pi / 3 - theta) + math.sqrt(3) * (big_g / np.cos(theta) - rfp / mn))
     rho_f = rfp + 2 * mn * big_g**2 / (np.cos(theta) * (zn * np.cos(theta) ** 2 - 2 * big_g))
     dn = mn * zn
@@ -262,8 +262,10 @@ def _single_pair_factors(g: PairGeometry) -> tuple[float, float]:
     r1 = math.sqrt((g.da[0] / g.db[0]) ** 2 - 1)
     r2 = math.sqrt((g.da[1] / g.db[1]) ** 2 - 1)
     tw = math.tan(g.alpha_wt)
-    m1 = tw / math.sqrt((r1 - 2 * math.pi / z1) * (r2 - (g.eps_alpha - 1) * 2 * math.pi / z2))
-    m2 = tw / math.sqrt((r2 - 2 * math.pi / z2) * (r1 - (g.eps_alpha - 1) * 2 * math.pi / z1))
+    p1 = (r1 - 2 * math.pi / z1) * (r2 - (g.eps_alpha - 1) * 2 * math.pi / z2)
+    p2 = (r2 - 2 * math.pi / z2) * (r1 - (g.eps_alpha - 1) * 2 * math.pi / z1)
+    m1 = tw / math.sqrt(p1) if p1 > 0 else 1.0
+    m2 = tw / math.sqrt(p2) if p2 > 0 else 1.0
     eb = min(g.eps_beta, 1.0)
     zb = max(1.0, m1 - eb * (m1 - 1))
     zd = max(1.0, m2 - eb * (m2 - 1))
@@ -355,6 +357,7 @@ class PairModel:
         root = _root_form_factors(g)
         self.root = root
         self.y_f, self.y_s = root["Y_F"], root["Y_S"]
+        _check_finite(self)
         self.y_eps = 0.25 + 0.75 / root["eps_an"]
         beta_deg = min(math.degrees(g.helix_angle), 30.0)
         self.y_beta = max(1 - min(eb, 1.0) * beta_deg / 120, 1 - 0.25 * min(eb, 1.0), 0.75)
@@ -431,6 +434,14 @@ def rate_pair(spec: GearPairSpec, pinion_torque: float, pinion_speed: float, dut
         raise InvalidInput(f"pinion_torque_Nm must be positive, got {pinion_torque}", field="pinion_torque_Nm")
     model = PairModel(spec, duty, pinion_speed)
     return _result(model, pinion_torque)
+
+
+def _check_finite(model: PairModel) -> None:
+    """Method B's root section and K factors exist for every rateable pair; say which input left its range."""
+    root = np.concatenate([model.y_f, model.y_s, model.root["q_s"]])
+    if not np.all(np.isfinite(root)) or np.any(model.root["q_s"] <= 0):
+        raise InvalidInput("the tooth root section of method B does not exist for this basic rack and profile "
+                           "shift", field="pinion_profile_shift")
 
 
 def _result(model: PairModel, pinion_torque: float) -> RatingResult:
