@@ -22,7 +22,7 @@ from .materials import contact_life_curve, cycles_to_failure, root_life_curve
 from .rating import Duty, GearPairSpec, PairModel, RatingResult, _pair, _result
 
 MAX_SPECTRUM_SAMPLES = 100_000
-_BISECTION_STEPS = 50
+_BISECTION_STEPS = 36
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,6 +92,19 @@ def spectrum_safety(model: PairModel, torque: FloatArray
     d_h = _damage(sh, ref_h, knots_h, cycles_each, one)
     d_f = _damage(sf, ref_f, knots_f, cycles_each, one)
     return d_h, d_f, _safety(sh, ref_h, knots_h, cycles_each), _safety(sf, ref_f, knots_f, cycles_each)
+
+
+def spectrum_feasible(model: PairModel, torque: FloatArray) -> bool:
+    """Whether the Miner sums with every stress times S_Hmin (contact) and S_Fmin (root) stay within 1, i.e. the
+    spectrum's safety factors reach their minimums, for pinion torque magnitudes [N·m]."""
+    duty = model.duty
+    _, sh, sf, _ = model.stresses(torque)
+    cycles_each = np.asarray(model.cycles) / torque.size
+    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
+    knots_f = [root_life_curve(m) for m in model.mats]
+    d_h = _damage(sh, model.sigma_hg / model.z_nt, knots_h, cycles_each, np.full(2, duty.min_safety_contact))
+    d_f = _damage(sf, model.sigma_fg / model.y_nt, knots_f, cycles_each, np.full(2, duty.min_safety_root))
+    return bool(np.all(d_h <= 1) and np.all(d_f <= 1))
 
 
 def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None

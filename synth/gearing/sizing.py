@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import Infeasible, InvalidInput
 from ..model import FloatArray
 from .involute import BasicRack, min_profile_shift
-from .life import spectrum_safety
+from .life import spectrum_feasible, spectrum_safety
 from .materials import gear_material
 from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, rate_pair
 from .split import InertiaModel, SplitResult, gear_volume, split_ratio
@@ -146,6 +146,13 @@ def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> FloatA
     return np.concatenate([model.sigma_hg / sh[0], model.sigma_fg / sf[0]])
 
 
+def _feasible(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> bool:
+    """Every safety factor reaches its minimum (for a spectrum without finding the factors themselves)."""
+    if isinstance(load.torque, np.ndarray):
+        return spectrum_feasible(PairModel(spec, rules.duty, load.speed), np.abs(load.torque))
+    return bool(np.min(_margins(_safeties(rules, spec, load), rules.duty)) >= 0)
+
+
 def _rating(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> RatingResult:
     peak = float(np.max(np.abs(load.torque)))
     return rate_pair(spec, peak, load.speed, rules.duty)
@@ -184,18 +191,16 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
         d1 = z1 * m / math.cos(helix)
         b_lo, b_hi = rules.min_face_width_ratio * d1, rules.max_face_width_ratio * d1
         examined += 1
-        s_hi = _safeties(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
-        if np.min(_margins(s_hi, rules.duty)) < 0:
+        if not _feasible(rules, _spec(rules, z1, z2, m, b_hi, helix), load):
             continue                     # even the widest face fails: a larger module is needed
-        s_lo = _safeties(rules, _spec(rules, z1, z2, m, b_lo, helix), load)
-        if np.min(_margins(s_lo, rules.duty)) >= 0:
-            b, s, binding = b_lo, s_lo, "min_face_width"
+        if _feasible(rules, _spec(rules, z1, z2, m, b_lo, helix), load):
+            b, s = b_lo, _safeties(rules, _spec(rules, z1, z2, m, b_lo, helix), load)
+            binding = "min_face_width"
         else:
             lo, hi = math.log(b_lo), math.log(b_hi)
             for _ in range(_WIDTH_STEPS):
                 mid = (lo + hi) / 2
-                sm = _safeties(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load)
-                if np.min(_margins(sm, rules.duty)) >= 0:
+                if _feasible(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load):
                     hi = mid
                 else:
                     lo = mid
