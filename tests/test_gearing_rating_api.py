@@ -9,9 +9,9 @@ from typing import Any
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.schemas.gearing import DriveIn
-from api.schemas.rating import GRADES, RatingIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.gearing import DriveIn
+from mechsynth_client.schemas.rating import GRADES, RatingIn
 
 from test_gearing_rating import TR_DUTY, TR_SPEC, TR_SPEED, TR_TORQUE
 

@@ -8,9 +8,9 @@ from fastapi.responses import Response
 
 import synth
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.gearing import (
+from mechsynth_client.schemas.gearing import (
     DriveIn,
     DriveOut,
     MotorOut,
@@ -20,7 +20,7 @@ from ..schemas.gearing import (
     TeethIn,
     TeethOut,
 )
-from ..schemas.rating import GearMaterialOut, RatingIn, RatingOut
+from mechsynth_client.schemas.rating import GearMaterialOut, RatingIn, RatingOut
 
 router = APIRouter(prefix="/gears", tags=["gearing"])
 
