@@ -53,13 +53,14 @@ class SpectrumRating:
 
 def _damage(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
             cycles_each: FloatArray, scale: FloatArray) -> FloatArray:
-    """Miner sums per wheel (2,) for stresses (N, 2) each multiplied by ``scale`` (2,)."""
+    """Miner sums per wheel (2,) for stresses (N, 2) each multiplied by ``scale`` (2,); ``cycles_each`` (2, N)
+    the load cycles each sample carries per wheel."""
     out = np.empty(2)
     for j in (0, 1):
         factor = scale[j] * stress[:, j] / reference[j]
         allowed = cycles_to_failure(knots[j], factor)
         with np.errstate(divide="ignore"):
-            out[j] = np.sum(np.where(factor > 0, cycles_each[j] / allowed, 0.0))
+            out[j] = np.sum(np.where(factor > 0, cycles_each[j] / np.where(factor > 0, allowed, 1.0), 0.0))
     return out
 
 
@@ -76,13 +77,24 @@ def _safety(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[f
     return _pair(np.exp((lo + hi) / 2))
 
 
-def spectrum_safety(model: PairModel, torque: FloatArray
+def _shares(torque: FloatArray, weights: FloatArray | None) -> FloatArray:
+    """Each sample's share of the time (N,): equal, or the given weights normalised."""
+    if weights is None:
+        return np.full(torque.size, 1.0 / torque.size)
+    w = np.asarray(weights, dtype=float).ravel()
+    if w.shape != torque.shape or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
+        raise InvalidInput("the spectrum's time weights need one non-negative value per torque sample",
+                           field="load_spectrum.weights")
+    return np.asarray(w / w.sum(), dtype=float)
+
+
+def spectrum_safety(model: PairModel, torque: FloatArray, weights: FloatArray | None = None
                     ) -> tuple[FloatArray, FloatArray, tuple[float, float], tuple[float, float]]:
     """Miner sums over the life (contact, root) and the spectrum's safety factors (contact, root) per wheel for
-    pinion torque magnitudes [N·m] sampled evenly over the cycle."""
+    pinion torque magnitudes [N·m] sampled over the cycle, evenly or with time ``weights``."""
     duty = model.duty
     _, sh, sf, _ = model.stresses(torque)
-    cycles_each = np.asarray(model.cycles) / torque.size
+    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
     # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
     ref_h = model.sigma_hg / model.z_nt
     ref_f = model.sigma_fg / model.y_nt
@@ -94,12 +106,12 @@ def spectrum_safety(model: PairModel, torque: FloatArray
     return d_h, d_f, _safety(sh, ref_h, knots_h, cycles_each), _safety(sf, ref_f, knots_f, cycles_each)
 
 
-def spectrum_feasible(model: PairModel, torque: FloatArray) -> bool:
+def spectrum_feasible(model: PairModel, torque: FloatArray, weights: FloatArray | None = None) -> bool:
     """Whether the Miner sums with every stress times S_Hmin (contact) and S_Fmin (root) stay within 1, i.e. the
     spectrum's safety factors reach their minimums, for pinion torque magnitudes [N·m]."""
     duty = model.duty
     _, sh, sf, _ = model.stresses(torque)
-    cycles_each = np.asarray(model.cycles) / torque.size
+    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
     knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
     knots_f = [root_life_curve(m) for m in model.mats]
     d_h = _damage(sh, model.sigma_hg / model.z_nt, knots_h, cycles_each, np.full(2, duty.min_safety_contact))
@@ -107,9 +119,10 @@ def spectrum_feasible(model: PairModel, torque: FloatArray) -> bool:
     return bool(np.all(d_h <= 1) and np.all(d_f <= 1))
 
 
-def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None
-                  ) -> SpectrumRating:
-    """Rate a pair on pinion torques [N·m] sampled evenly over one machine cycle at a mean speed [rad/s].
+def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None,
+                  weights: FloatArray | None = None) -> SpectrumRating:
+    """Rate a pair on pinion torques [N·m] sampled over one machine cycle at a mean speed [rad/s]; ``weights``
+    each sample's share of the cycle's time (default equal: samples at equal time steps).
 
     ``duty.application_factor`` multiplies every sample (1 for a spectrum that is the real load).
     Raises InvalidInput for an empty, all-zero or non-finite spectrum, TooLarge beyond MAX_SPECTRUM_SAMPLES.
@@ -122,7 +135,7 @@ def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: f
         raise InvalidInput("the load spectrum needs finite torques, not all zero", field="load_spectrum.torque_Nm")
     model = PairModel(spec, duty, pinion_speed)
     peak = _result(model, float(torque.max()))
-    d_h, d_f, s_h, s_f = spectrum_safety(model, torque)
+    d_h, d_f, s_h, s_f = spectrum_safety(model, torque, weights)
 
     def life(d: FloatArray) -> tuple[float, float]:
         return _pair(np.where(d > 0, duty.life / np.where(d > 0, d, 1.0), math.inf))
@@ -130,5 +143,6 @@ def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: f
     # A constant torque T_eq gives the same damage: its stress is the spectrum's safety over the rating's.
     eq_h = _pair(peak.pinion_torque * (np.array(peak.safety_contact) / np.array(s_h)) ** 2)
     eq_f = _pair(peak.pinion_torque * np.array(peak.safety_root) / np.array(s_f))
-    return SpectrumRating(peak, int(torque.size), float(np.sqrt(np.mean(torque**2))), float(np.mean(torque)), _pair(d_h),
+    share = _shares(torque, weights)
+    return SpectrumRating(peak, int(torque.size), float(np.sqrt(share @ torque**2)), float(share @ torque), _pair(d_h),
                           _pair(d_f), life(d_h), life(d_f), s_h, s_f, eq_h, eq_f)

@@ -114,7 +114,8 @@ def _inverse_life(knots: tuple[tuple[float, float], ...], factor: FloatArray) ->
     # f decreases with n: interpolate on the reversed knots.
     inside = np.interp(logf, f[::-1], n[::-1])
     beyond = n[-1] + (logf - f[-1]) / slope
-    logn = np.where(logf < f[-1], beyond, inside)
+    # Beyond ~1e300 cycles a stress does no damage worth counting: clip before exp so nothing overflows.
+    logn = np.clip(np.where(logf < f[-1], beyond, inside), -700.0, 700.0)
     out = np.exp(logn)
     return np.asarray(np.where(logf > f[0] * (1 + 1e-12), 0.0, out), dtype=float)
 

@@ -8,7 +8,8 @@ S_H = sigma_HG/sigma_H and S_F = sigma_FG/sigma_F per gear.
 Factors: K_V by method B (resonance ratio, ISO 6336-1 §6.5) with the single and mesh stiffness of §9;
 K_Halpha, K_Falpha by method B (§8.3); K_Hbeta by method C (§7.6: mesh misalignment from the pinion's bending
 and torsion, pinion centred between its bearings, plus the helix slope deviation of the accuracy grade) unless
-the request gives it from a shaft analysis; K_Fbeta = K_Hbeta^N_F. Z_beta = 1/sqrt(cos beta) (ISO 6336-2:2019).
+the request gives it from a shaft analysis; K_Fbeta = K_Hbeta^N_F. Line loads below 100 N/mm count as 100 N/mm
+in these factors, as ISO 6336-1 prescribes. Z_beta = 1/sqrt(cos beta) (ISO 6336-2:2019).
 Y_F, Y_S by method B at the outer point of single pair contact (ISO 6336-3:2006 §6.2, §7.2, with Y_eps and Y_beta
 of that edition). Deviations come from ISO 1328-1:2013 for the accuracy grade.
 
@@ -45,6 +46,7 @@ MM = 1e-3
 UM = 1e-6
 Y_ST = 2.0
 _CHI_T = 1.2  # relative stress gradient of the standard test gear [1/mm]
+MIN_LINE_LOAD = 100.0  # [N/mm]: lighter line loads count as this in K_V, K_Hbeta and K_Halpha (ISO 6336-1)
 
 
 @dataclass(frozen=True, slots=True)
@@ -193,9 +195,11 @@ def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], li
     cv7 = 0.75 if eg <= 1.5 else (0.125 * math.sin(math.pi * (eg - 2)) + 0.875 if eg <= 2.5 else 1.0)
     y_p = float(np.mean([running_in(m.group, m.sigma_Hlim, fpb) for m in mats]))
     y_f = float(np.mean([running_in(m.group, m.sigma_Hlim, ff) for m in mats]))
-    bp = c1 * (fpb - y_p) / line_load
-    bf = c1 * (ff - y_f) / line_load
-    bk = np.abs(1 - c1 * tip_relief_um / line_load)
+    # ISO 6336-1 takes line loads below 100 N/mm as 100 N/mm in the deviation terms.
+    floor = np.maximum(line_load, MIN_LINE_LOAD)
+    bp = c1 * (fpb - y_p) / floor
+    bf = c1 * (ff - y_f) / floor
+    bk = np.abs(1 - c1 * tip_relief_um / floor)
     n_s = np.where(line_load < 100, 0.5 + 0.35 * np.sqrt(line_load / 100), 0.85)
     sub = n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1
     main = cv1 * bp + cv2 * bf + cv4 * bk + 1
@@ -210,6 +214,7 @@ def _face_load_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], 
     """K_Hbeta by method C (ISO 6336-1 §7.6): F_betax = 1.33 f_sh + f_ma, f_sh = 0.023 (F_m/b)(b/d1)² for a
     pinion centred between its bearings, f_ma the helix slope deviation, less the running-in allowance."""
     b_d1 = g.face_width / g.d[0]
+    fm_per_b = np.maximum(fm_per_b, MIN_LINE_LOAD)
     f_sh = 0.023 * fm_per_b * b_d1**2
     f_bx = 1.33 * f_sh + f_hbeta
     y_b = np.mean([running_in_helix(m.group, m.sigma_Hlim, f_bx) for m in mats], axis=0)
@@ -390,7 +395,7 @@ class PairModel:
             khb = _face_load_factor(g, self.mats, kv * line, self.c_gb, self.f_hbeta)
         kfb = khb**self.n_f
         y_a = float(np.mean([running_in(m.group, m.sigma_Hlim, self.fpb) for m in self.mats]))
-        fth_b = np.maximum(line * kv * khb, 1e-9)
+        fth_b = np.maximum(line * kv * khb, MIN_LINE_LOAD)
         eg, ea = g.eps_gamma, g.eps_alpha
         core = self.c_ga * (self.fpb - y_a) / fth_b
         if eg <= 2:

@@ -75,11 +75,13 @@ class SizingRules:
 
 @dataclass(frozen=True, slots=True)
 class StageLoad:
-    """The load on a stage's pinion: a nominal ``torque`` [N·m] (times K_A), or torques sampled evenly over the
-    machine cycle (an array, Miner's rule), at the mean ``speed`` [rad/s]."""
+    """The load on a stage's pinion: a nominal ``torque`` [N·m] (times K_A), or torques sampled over the
+    machine cycle (an array, Miner's rule) with each sample's share of the time in ``weights`` (None: equal),
+    at the mean ``speed`` [rad/s]."""
 
     torque: float | FloatArray
     speed: float
+    weights: FloatArray | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,7 +142,7 @@ def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> FloatA
     """S_H1, S_H2, S_F1, S_F2 (on the spectrum when the load is one)."""
     model = PairModel(spec, rules.duty, load.speed)
     if isinstance(load.torque, np.ndarray):
-        _, _, s_h, s_f = spectrum_safety(model, np.abs(load.torque))
+        _, _, s_h, s_f = spectrum_safety(model, np.abs(load.torque), load.weights)
         return np.array([*s_h, *s_f])
     _, sh, sf, _ = model.stresses(np.array([float(load.torque)]))
     return np.concatenate([model.sigma_hg / sh[0], model.sigma_fg / sf[0]])
@@ -149,7 +151,7 @@ def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> FloatA
 def _feasible(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> bool:
     """Every safety factor reaches its minimum (for a spectrum without finding the factors themselves)."""
     if isinstance(load.torque, np.ndarray):
-        return spectrum_feasible(PairModel(spec, rules.duty, load.speed), np.abs(load.torque))
+        return spectrum_feasible(PairModel(spec, rules.duty, load.speed), np.abs(load.torque), load.weights)
     return bool(np.min(_margins(_safeties(rules, spec, load), rules.duty)) >= 0)
 
 

@@ -137,9 +137,25 @@ def design_summary_png(design: MachineDesign) -> bytes:
     return figure_png(_summary_figure(design), dpi=90)
 
 
+def _gear_rows(d: MachineDesign) -> list[list[str]]:
+    """One row per stage of the strength sizing; a stage that is not sized says so."""
+    rows = []
+    for k, s in enumerate(d.spec.drive.stages):
+        g = None if d.gears is None else d.gears.stages[k]
+        if g is None:
+            rows.append([str(k + 1), "not sized" if d.gears is not None else "sizing off", "", "", "", "", "", ""])
+            continue
+        rows.append([str(k + 1), f"{g.module * 1e3:g}", f"{g.face_width * 1e3:.1f}",
+                     f"{g.centre_distance * 1e3:.1f}", f"{g.diameters[0] * 1e3:.1f} / {g.diameters[1] * 1e3:.1f}",
+                     f"{g.safety_contact[0]:.2f} / {g.safety_contact[1]:.2f}",
+                     f"{g.safety_root[0]:.2f} / {g.safety_root[1]:.2f}", g.binding])
+    return rows
+
+
 def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative] = ()) -> bytes:
     """The design report: summary; balancing (polar diagrams, shaking moment, driving torque); flywheel
-    (energy-mass diagram, simulated speed, motor torque); the gear train and every shaft; the alternatives [PDF]."""
+    (energy-mass diagram, simulated speed, motor torque); the gear train, its gears sized for strength (module,
+    face width, centre distance, safety factors) and every shaft; the alternatives [PDF]."""
     d = design
     buf = io.BytesIO()
     with PdfPages(buf, metadata={"Title": "Machine design report", "Creator": "mechsynth"}) as pdf:
@@ -158,7 +174,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
         fig.suptitle("flywheel and motor")
         fig.tight_layout()
         pdf.savefig(fig)
-        fig, axes = plt.subplots(3, 1, figsize=_A4)
+        fig, axes = plt.subplots(4, 1, figsize=_A4)
         stages = d.spec.drive.stages
         meshes = d.teeth.stages if d.teeth is not None else ()
         teeth = {k: m for k, m in zip([i for i, s in enumerate(stages) if s.toothed], meshes, strict=True)}
@@ -167,13 +183,17 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                [[str(k + 1), s.type, f"{d.drive.split.stage_ratios[k]:.4g}",
                  f"{teeth[k].pinion_teeth}:{teeth[k].gear_teeth}" if k in teeth else "-",
                  f"{d.stage_ratios[k]:.5g}", f"{s.efficiency:.3g}"] for k, s in enumerate(stages)])
-        _table(axes[1], "shafts in the simulated steady motion (torque each passes on)",
+        _table(axes[1], "gears sized for strength (ISO 6336 method B, Miner's rule on the cyclic torque)",
+               ["stage", "module [mm]", "face width [mm]", "centre distance [mm]", "d1 / d2 [mm]",
+                "S_H pinion / gear", "S_F pinion / gear", "binding"],
+               _gear_rows(d))
+        _table(axes[2], "shafts in the simulated steady motion (torque each passes on)",
                ["shaft", "speed [rpm]", "power [W]", "mean T [N·m]", "peak T [N·m]", "RMS T [N·m]",
                 "inertia [kg·m²]", "flywheel"],
                [[s.name, f"{s.mean_speed / RPM:.4g}", f"{s.mean_power:.4g}", f"{s.mean_torque:.4g}",
                  f"{s.peak_torque:.4g}", f"{s.rms_torque:.4g}", f"{s.inertia:.4g}", "yes" if s.carries_flywheel else ""]
                 for s in d.shafts])
-        _table(axes[2], "checks against the simulated machine", ["check", "value", "limit", "met"],
+        _table(axes[3], "checks against the simulated machine", ["check", "value", "limit", "met"],
                [[c.name, f"{c.value:.4g}", f"{c.limit:.4g}", "yes" if c.passed else "NO"] for c in d.checks])
         fig.suptitle("drive")
         fig.tight_layout()
