@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import synth
 from synth.gearing.materials import cycles_to_failure, contact_life_curve, root_life_curve
@@ -208,3 +210,26 @@ def test_working_pressure_angle_from_the_shifts() -> None:
     ra, rb = np.array([33.0, 63.0]) * 1e-3, np.array([30.0, 60.0]) * 1e-3 * math.cos(a20)
     eps = (np.sum(np.sqrt(ra**2 - rb**2)) - 0.09 * math.sin(a20)) / (math.pi * 3e-3 * math.cos(a20))
     assert h.eps_alpha == pytest.approx(eps, rel=1e-12)
+
+
+@settings(max_examples=60)
+@given(z1=st.integers(5, 60), extra=st.integers(0, 150), module_mm=st.floats(0.5, 20), width=st.floats(0.05, 1.4),
+       beta=st.floats(0, 35), x1=st.floats(-0.6, 1.2), x2=st.floats(-0.6, 1.2), torque=st.floats(1e-2, 1e5),
+       rpm=st.floats(1, 6000), grade=st.integers(3, 11))
+def test_any_pair_is_rated_or_refused_by_field(z1: int, extra: int, module_mm: float, width: float, beta: float,
+                                               x1: float, x2: float, torque: float, rpm: float, grade: int) -> None:
+    # Property: every input either rates with finite, positive figures and the Hertz identity, or is refused
+    # with InvalidInput naming a field; nothing else escapes.
+    d1 = z1 * module_mm / math.cos(math.radians(beta))
+    spec = synth.GearPairSpec(z1, z1 + extra, module_mm * 1e-3, width * d1 * 1e-3, math.radians(beta), (x1, x2),
+                              accuracy_grade=grade)
+    try:
+        r = synth.rate_pair(spec, torque, rpm * RPM)
+    except synth.InvalidInput as exc:
+        assert exc.field
+        return
+    values = [*r.safety_contact, *r.safety_root, *r.contact_stress, *r.root_stress]
+    assert all(math.isfinite(v) and v > 0 for v in values)
+    assert all(math.isfinite(f.pinion) and math.isfinite(f.gear) for f in r.factors)
+    assert r.checks.hertz_contact_stress == pytest.approx(r.contact_stress[0] / r.factor("Z_B/Z_D").pinion,
+                                                          rel=1e-9)
