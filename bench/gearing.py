@@ -11,7 +11,10 @@
 5. Sizing a stage for strength (ISO 54 modules, a bisection on the face width per module) against a plain grid
    of every module and 200 face widths; the grid's best must not be lighter.
 
-``python -m bench.gearing strength`` runs 4 and 5 only.
+6. The press and four-bar machines of the manual designed with their gears sized from the cyclic shaft torque,
+   against the same design without sizing; the binding constraint per stage.
+
+``python -m bench.gearing strength`` runs 4 to 6 only.
 """
 
 from __future__ import annotations
@@ -199,6 +202,23 @@ def bench_sizing() -> None:
           f"b {sized_s.face_width * 1e3:.2f} mm, {sized_s.mass:.3f} kg, binding {sized_s.binding}")
 
 
+def bench_machines() -> None:
+    from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, MachineIn
+    print("\nmachines of the manual: gears sized from the cyclic torque of the simulated steady motion")
+    for name, body in (("press", PRESS_EXAMPLE), ("four-bar", FOURBAR_MACHINE_EXAMPLE)):
+        m = MachineIn.model_validate(body)
+        off = m.model_copy(update={"drive": m.drive.model_copy(update={"size_gears": False})})
+        t_on, d = _best_of(lambda: synth.design_machine(m.to_engine(12)), 3)
+        t_off, _ = _best_of(lambda: synth.design_machine(off.to_engine(12)), 3)
+        assert d.gears is not None
+        stages = "; ".join(
+            f"stage {g.stage + 1}: m {g.module * 1e3:g} mm, z {g.pinion_teeth}:{g.gear_teeth}, b "
+            f"{g.face_width * 1e3:.1f} mm, a {g.centre_distance * 1e3:.1f} mm, S_H {min(g.safety_contact):.3f}, "
+            f"S_F {min(g.safety_root):.2f}, binding {g.binding}" for g in d.gears.stages if g is not None)
+        print(f"  {name:>8}: {1e3 * t_on:.0f} ms with sizing, {1e3 * t_off:.0f} ms without "
+              f"({t_on / t_off:.1f}x); {stages}")
+
+
 def main(only: str | None = None) -> None:
     """Tooth searches, ratio splits, ratings and sizing against their baselines."""
     if only != "strength":
@@ -207,6 +227,7 @@ def main(only: str | None = None) -> None:
         bench_split()
     bench_rating()
     bench_sizing()
+    bench_machines()
 
 
 if __name__ == "__main__":

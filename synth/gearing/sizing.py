@@ -38,7 +38,7 @@ Series = Literal["first", "first_and_second"]
 SizingObjective = Literal["mass", "centre_distance"]
 HELICAL_TYPES = {"helical": math.radians(15.0)}
 SIZED_TYPES = ("spur", "helical", "open_spur")
-_WIDTH_STEPS = 32
+_WIDTH_STEPS = 26
 _SPLIT_PASSES = 4
 
 
