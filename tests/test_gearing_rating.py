@@ -25,7 +25,9 @@ TR_SPEC = synth.GearPairSpec(
     tip_relief=70e-6, face_load_factor=1.16, rack=synth.BasicRack(1.0, 1.4, 0.39))
 TR_DUTY = synth.Duty(application_factor=1.0, life=50_000.0, min_safety_contact=1.0, min_safety_root=1.0)
 TR_TORQUE, TR_SPEED = 9000.0, 360 * RPM
-# The report's results, printed to 5-6 significant figures (source values, not ours).
+# The report's results, printed to 5-6 significant figures (source values, not ours), as its example 1 table is
+# transcribed in the public gfsReboucas/Drivetrain project (MATISO_6336.m, example_01, "Reference" column).
+# The report states no root-stress figures there; the root side is checked by the identities below.
 TR_RESULTS = {
     "F_t": 127352.0, "v": 2.664, "z_n1": 18.905, "z_n2": 114.543, "N_L1": 1.080e9, "N_L2": 1.783e8,
     "K_V": 1.003, "K_Halpha": 1.0, "K_Falpha": 1.0, "K_Hbeta": 1.16, "K_Fbeta": 1.12803,
