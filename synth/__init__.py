@@ -176,16 +176,9 @@ from .topology import Joint, Topology
 from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
-from .warnings import (
-    DesignWarning,
-    check_analysis,
-    check_balance,
-    check_counterweights,
-    check_flywheel,
-    check_linkage,
-    check_rotor,
-    link_lengths,
-)
+from .warnings import DesignWarning, check_analysis, check_counterweights, check_linkage, link_lengths
+from .balancing.warnings import check_balance, check_rotor
+from .flywheel.warnings import check_flywheel
 
 __all__ = [
     "Alternative",
