@@ -75,6 +75,29 @@ from .flywheel import (
     wittenbauer_tangents,
 )
 from .gearing import (
+    BasicRack,
+    Duty,
+    GearMaterial,
+    GearPairSpec,
+    PairGeometry,
+    RatingFactor,
+    RatingResult,
+    RatingChecks,
+    SizedStage,
+    SizingRules,
+    SpectrumRating,
+    StageLoad,
+    StrengthSplit,
+    TrainSizing,
+    gear_material,
+    gear_materials,
+    module_series,
+    pair_geometry,
+    rate_pair,
+    rate_spectrum,
+    size_stage,
+    size_train,
+    split_for_strength,
     CatalogueMotor,
     DriveChecks,
     DriveResult,
@@ -179,16 +202,9 @@ from .topology import Joint, Topology
 from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
-from .warnings import (
-    DesignWarning,
-    check_analysis,
-    check_balance,
-    check_counterweights,
-    check_flywheel,
-    check_linkage,
-    check_rotor,
-    link_lengths,
-)
+from .warnings import DesignWarning, check_analysis, check_counterweights, check_linkage, link_lengths
+from .balancing.warnings import check_balance, check_rotor
+from .flywheel.warnings import check_flywheel
 
 __all__ = [
     "Alternative",
@@ -287,6 +303,29 @@ __all__ = [
     "total_ratio",
     "train_ratio",
     "undercut_limit",
+    "BasicRack",
+    "Duty",
+    "GearMaterial",
+    "GearPairSpec",
+    "PairGeometry",
+    "RatingFactor",
+    "RatingResult",
+    "RatingChecks",
+    "SizedStage",
+    "SizingRules",
+    "SpectrumRating",
+    "StageLoad",
+    "StrengthSplit",
+    "TrainSizing",
+    "gear_material",
+    "gear_materials",
+    "module_series",
+    "pair_geometry",
+    "rate_pair",
+    "rate_spectrum",
+    "size_stage",
+    "size_train",
+    "split_for_strength",
     "virtual_power_torque",
     # flywheel
     "FlywheelBody",

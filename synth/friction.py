@@ -30,12 +30,9 @@ from .kinematics import motion as linkage_motion
 from .kinetostatics import Kinetostatics, solve_direct, system_matrix
 from .model import FloatArray, Linkage
 from .topology import Joint, Topology
-from .warnings import DesignWarning, link_lengths
 
 #: A coefficient of friction above this is refused: no dry or lubricated pair of machine materials comes near.
 MAX_COEFFICIENT = 3.0
-#: Above this a coefficient is accepted with a warning (the seeds' tables stay below 0.5).
-LARGE_COEFFICIENT = 1.0
 #: Newton's residual, relative to the largest known load of the cycle, at which the solve stops [-].
 TOLERANCE = 1e-12
 MAX_ITERATIONS = 60
@@ -77,7 +74,7 @@ class FrictionAnalysis:
     uniform cycle (None when the drive does no net work or the samples are not one uniform cycle);
     ``residual`` Newton's relative residual reached and ``iterations``; ``power_check`` the largest
     |T - T0 - loss/w| [N·m] (virtual power with friction: what friction dissipates, the drive adds);
-    ``warnings`` about the coefficients (above 1).
+    ``pairs`` the friction it was solved with.
     """
 
     unknowns: FloatArray
@@ -93,7 +90,7 @@ class FrictionAnalysis:
     residual: float
     iterations: int
     power_check: float
-    warnings: tuple[DesignWarning, ...] = ()
+    pairs: tuple[PairFriction, ...] = ()
 
 
 def _body_velocity(motion: Motion, body: str | None, point: FloatArray) -> FloatArray:
@@ -116,14 +113,25 @@ def _slide_axis(motion: Motion, joint: Joint) -> FloatArray:
     return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 
 
-def validate_pairs(linkage: Linkage, pairs: Sequence[PairFriction], field: str = "friction") -> list[DesignWarning]:
-    """InvalidInput naming the pair for an unknown joint, a negative or unreasonably large coefficient, a journal
-    radius on a slide or larger than a link it joins; warnings for coefficients above 1."""
+def _link_lengths(motion: Motion, topo: Topology) -> dict[str, float]:
+    """Length of every link between its farthest two pairs [m] (links that carry one pair only have none)."""
+    out: dict[str, float] = {}
+    for link in topo.links:
+        points = sorted({j.point for j in topo.joints if link in j.bodies})
+        pos = [motion.point_pos[p][0] for p in points]
+        spans = [float(np.hypot(*(a - b))) for i, a in enumerate(pos) for b in pos[i + 1:]]
+        if spans and max(spans) > 0:
+            out[link] = max(spans)
+    return out
+
+
+def validate_pairs(motion: Motion, linkage: Linkage, pairs: Sequence[PairFriction], field: str = "friction") -> None:
+    """InvalidInput naming the pair for an unknown joint, a negative or unreasonably large coefficient, a static
+    coefficient below the sliding one, a journal radius on a slide or not smaller than a link it joins."""
     topo = linkage.mechanism.topology
     names = [j.name for j in topo.joints]
-    lengths = link_lengths(linkage.mechanism)
+    lengths = _link_lengths(motion, topo)
     seen: set[str] = set()
-    warnings: list[DesignWarning] = []
     for p in pairs:
         where = f"{field}.{p.joint}"
         if p.joint not in names:
@@ -132,18 +140,10 @@ def validate_pairs(linkage: Linkage, pairs: Sequence[PairFriction], field: str =
             raise InvalidInput(f"friction of pair {p.joint!r} given twice", field=where)
         seen.add(p.joint)
         joint = topo.joints[names.index(p.joint)]
-        given = [("coefficient", p.coefficient)]
-        if p.static_coefficient is not None:
-            given.append(("static_coefficient", p.static_coefficient))
-        for label, value in given:
+        for label, value in (("coefficient", p.coefficient), ("static_coefficient", p.breakaway_coefficient)):
             if not (math.isfinite(value) and 0 <= value <= MAX_COEFFICIENT):
                 raise InvalidInput(f"pair {p.joint}: the {label.replace('_', ' ')} must lie in [0, {MAX_COEFFICIENT:g}]"
                                    f", got {value!r}", field=f"{where}.{label}")
-            if value > LARGE_COEFFICIENT:
-                warnings.append(DesignWarning(
-                    "friction_coefficient_large", f"{where}.{label}", value,
-                    f"pair {p.joint}: a {label.replace('_', ' ')} of {value:g} is above 1, beyond the dry pairs of "
-                    "the seeds' tables (steel on steel 0.15-0.2); check the value", "1"))
         if p.static_coefficient is not None and p.static_coefficient < p.coefficient:
             raise InvalidInput(f"pair {p.joint}: the static coefficient must not be below the sliding one",
                                field=f"{where}.static_coefficient")
@@ -159,7 +159,6 @@ def validate_pairs(linkage: Linkage, pairs: Sequence[PairFriction], field: str =
         if joined and p.journal_radius >= min(joined):
             raise InvalidInput(f"pair {p.joint}: the journal radius {p.journal_radius:g} m is not smaller than the "
                                f"link it joins ({min(joined):g} m)", field=f"{where}.journal_radius_m")
-    return warnings
 
 
 @dataclass(frozen=True, slots=True)
@@ -280,7 +279,7 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
     Raises InvalidInput for bad coefficients and Infeasible (constraint ``friction``) with the crank angles
     where the linkage self-locks: no driving torque overcomes the friction there.
     """
-    warnings = validate_pairs(linkage, pairs)
+    validate_pairs(motion, linkage, pairs)
     topo = linkage.mechanism.topology
     a = system_matrix(motion, topo)
     x0 = frictionless.unknowns
@@ -325,7 +324,7 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
     reactions, couples = _unpack(motion, topo, x)
     check = float(np.max(np.abs(torque - frictionless.driving_torque - loss_torque)))
     return FrictionAnalysis(x, reactions, couples, torque, frictionless.driving_torque, values, losses, loss_torque,
-                            efficiency, cycle, residual, iterations, check, tuple(warnings))
+                            efficiency, cycle, residual, iterations, check, tuple(pairs))
 
 
 def breakaway_torque(linkage: Linkage, pairs: Sequence[PairFriction], phi: FloatArray) -> FloatArray:

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import synth
 from helpers import crank_fourbars, slider_cranks
-from synth.warnings import link_lengths
+from synth.warnings import check_friction, link_lengths
 from synth.friction import PairFriction, breakaway_torque, friction_kinetostatics, validate_pairs
 
 N = 360
@@ -134,11 +134,11 @@ def test_bad_friction_names_the_pair() -> None:
              (PairFriction("Z", 0.1), "friction.Z")]
     for pair, field in cases:
         with pytest.raises(synth.InvalidInput) as err:
-            validate_pairs(an.linkage, [pair])
+            validate_pairs(an.motion, an.linkage, [pair])
         assert err.value.field == field
-    warned = validate_pairs(an.linkage, [PairFriction("guide", 1.2)])
+    warned = check_friction([PairFriction("guide", 1.2)])
     assert [w.field for w in warned] == ["friction.guide.coefficient"]
-    warned = validate_pairs(an.linkage, [PairFriction("guide", 0.5, static_coefficient=1.1)])
+    warned = check_friction([PairFriction("guide", 0.5, static_coefficient=1.1)])
     assert [w.field for w in warned] == ["friction.guide.static_coefficient"]
 
 

@@ -357,7 +357,7 @@ class AnalysisOut(BaseModel):
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
             friction=None if an.friction is None else FrictionOut.from_engine(
                 an.friction, {j.name: j.kind for j in mech.topology.joints}),
-            warnings=warnings_out([*synth.check_analysis(an), *(an.friction.warnings if an.friction else ())]),
+            warnings=warnings_out(synth.check_analysis(an)),
         )
 
     def to_lists(self) -> AnalysisOut:

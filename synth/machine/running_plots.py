@@ -22,6 +22,13 @@ def _fmt(value: float | None, unit: str = "") -> str:
     return "-" if value is None else f"{value:.4g}{unit}"
 
 
+def _residual(value: float | None) -> str:
+    """The energy balance's relative residual, as met below 1e-9 (integration noise, not a figure)."""
+    if value is None:
+        return "-"
+    return "below 1e-9" if abs(value) < 1e-9 else f"{value:.1e}"
+
+
 def _run_up(ax: Axes, r: MachineRunning) -> None:
     up = r.startup
     if up.run is None:
@@ -88,7 +95,7 @@ def running_figure(d: MachineDesign) -> Figure | None:
             ["run-up to steady", _fmt(up.steady_time, " s")],
             ["motor peak / RMS over the start", f"{up.peak_motor_torque:.4g} / {up.rms_motor_torque:.4g} N·m"],
             ["run-down to rest", _fmt(r.rundown.stop_time, " s")],
-            ["energy balance, run-up", "-" if up.run is None else f"{up.run.energy_residual:.1e}"]]
+            ["energy balance, run-up", _residual(up.run.energy_residual if up.run is not None else None)]]
     ax = axes[1, 1]
     ax.axis("off")
     table = ax.table(cellText=rows, colLabels=["quantity", "value"], loc="upper left", cellLoc="right",

@@ -10,7 +10,7 @@ from ..balancing import CounterweightSpec, Weights
 from ..errors import InvalidInput
 from ..flywheel import GeometrySpec
 from ..friction import PairFriction
-from ..gearing import CatalogueMotor, InertiaModel, Stage, ToothRules
+from ..gearing import CatalogueMotor, InertiaModel, SizingRules, Stage, ToothRules
 from ..model import Linkage
 
 BalancingMode = Literal["none", "static", "full", "optimal"]
@@ -47,7 +47,9 @@ class DriveSpec:
     """The drive from motor to crank: ``stages`` motor side first; a catalogue ``motor`` by name or the smallest
     that covers the power (from ``catalogue``, default the shipped one, within ``synchronous_speed`` [rad/s] if
     given); ``reserve_factor`` [-] on the mean power; the split ``objective``; pinion, load and shaft inertias
-    (``inertia`` [kg·m²]); tooth ``rules`` and the relative ratio ``tooth_tolerance`` [-] of the tooth search."""
+    (``inertia`` [kg·m²]); tooth ``rules`` and the relative ratio ``tooth_tolerance`` [-] of the tooth search;
+    ``strength`` how the cylindrical stages are sized for the cyclic torque each pinion shaft passes on (None:
+    not sized)."""
 
     stages: tuple[Stage, ...]
     motor: str | None = None
@@ -58,6 +60,7 @@ class DriveSpec:
     inertia: InertiaModel | None = None
     tooth_rules: ToothRules | None = None
     tooth_tolerance: float | None = None
+    strength: SizingRules | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,7 +86,7 @@ class MachineSpec:
     friction: tuple[PairFriction, ...] = ()
     brake_torque: float = 0.0
     start_under_load: bool = False
-    max_startup_time: float = 10.0
+    max_startup_time: float = 60.0
     max_rundown_time: float | None = None
 
     def validate(self) -> None:
