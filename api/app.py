@@ -12,7 +12,7 @@ from typing import Literal
 from fastapi import APIRouter, FastAPI, Request
 from pydantic import BaseModel, Field
 
-from . import manual, problems, routers
+from . import manual, problems, routers, workbench
 from .settings import Settings
 from .solvers import Solvers
 from .study_runs import StudyRuns
@@ -87,6 +87,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.studies = studies
     problems.install(app, settings)
     manual.install(app)
+    workbench.install(app)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:
