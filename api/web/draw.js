@@ -85,6 +85,13 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
     s += `<rect class="slider" x="${A2[0] - 7 * sw}" y="${-A2[1] - 5 * sw}" width="${14 * sw}" height="${10 * sw}" stroke-width="${1.5 * sw}"/>` +
       `<rect class="slider" x="${R[0] - 40 * sw}" y="${-R[1] - 7 * sw}" width="${80 * sw}" height="${14 * sw}" stroke-width="${2 * sw}"/>`;
   }
+  // counter-rotors: a geared disc about the pivot of the link it counters
+  for (const cr of extras.counterRotors || []) {
+    const pivot = at({ crank: "O", rocker: fam === "fourbar" ? "Q" : "O1" }[cr.link] || "O");
+    if (!pivot) continue;
+    s += `<circle cx="${pivot[0]}" cy="${-pivot[1]}" r="${14 * sw}" fill="none" stroke="#c25e00" stroke-width="${2 * sw}" ` +
+      `stroke-dasharray="${5 * sw} ${2 * sw}"><title>counter-rotor ${cr.inertia_kgm2.toPrecision(3)} kg·m² at −${cr.ratio}× the ${cr.link}</title></circle>`;
+  }
   // counterweights and centres of mass
   for (const cw of extras.counterweights || []) {
     const p = at(cw.trace);
@@ -101,7 +108,7 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   const joints = fam === "fourbar" ? ["O", "A", "B", "Q"] : fam === "slider_crank" ? ["O", "A", "B"] : ["O", "A", "O1", "B", "R"];
   for (const j of joints) {
     const p = at(j);
-    s += `<circle class="joint" cx="${p[0]}" cy="${-p[1]}" r="${3.6 * sw}" stroke-width="${1.8 * sw}"/>` +
+    s += `<circle class="joint" data-joint="${j}" cx="${p[0]}" cy="${-p[1]}" r="${3.6 * sw}" stroke-width="${1.8 * sw}"/>` +
       `<text x="${p[0] + 6 * sw}" y="${-p[1] - 6 * sw}" style="font-size:${12 * sw}px;font-weight:600">${j}</text>`;
   }
   if (extras.tracePoint && at(extras.tracePoint)) {

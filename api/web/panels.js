@@ -448,11 +448,11 @@ function synthesisPanel() {
     const f = ctx.factor("length"), u = ctx.unitLabel("length");
     const step = 0.05;
     let s = "";
-    for (let x = VIEW.x0; x <= VIEW.x0 + VIEW.w + 1e-9; x += step) {
+    for (let x = VIEW.x0 + step; x < VIEW.x0 + VIEW.w - 1e-9; x += step) {
       s += `<line x1="${x}" x2="${x}" y1="${-(VIEW.y0 + VIEW.h)}" y2="${-VIEW.y0}" stroke="#e3e7ee" stroke-width="0.001"/>` +
         `<text x="${x + 0.002}" y="${-VIEW.y0 - 0.004}" style="font-size:0.011px" fill="#5b6575">${+(x / f).toFixed(3)}</text>`;
     }
-    for (let y = VIEW.y0; y <= VIEW.y0 + VIEW.h + 1e-9; y += step) {
+    for (let y = VIEW.y0 + step; y < VIEW.y0 + VIEW.h - 1e-9; y += step) {
       s += `<line y1="${-y}" y2="${-y}" x1="${VIEW.x0}" x2="${VIEW.x0 + VIEW.w}" stroke="#e3e7ee" stroke-width="0.001"/>` +
         `<text x="${VIEW.x0 + 0.002}" y="${-y - 0.003}" style="font-size:0.011px" fill="#5b6575">${+(y / f).toFixed(3)}</text>`;
     }
@@ -483,6 +483,13 @@ function synthesisPanel() {
     try {
       const a = await post(`/v1/synthesis/${task}`, body);
       answer = { task, ...a };
+      if (task === "path") {
+        // the answer's coupler curve, analysed by the service, drawn among the targets
+        const an = await post("/v1/analysis", { mechanism: a.mechanism, samples: 180, trace_points: [a.trace_point] });
+        const [ox, oy] = a.crank_pivot_m, t = (a.ground_angle_deg * Math.PI) / 180;
+        answer.curve = an.points[a.trace_point.name].position_m.map(([x, y]) => [ox + Math.cos(t) * x - Math.sin(t) * y, oy + Math.sin(t) * x + Math.cos(t) * y]);
+        drawCanvas();
+      }
       busy("syn", "");
       show();
     } catch (err) { busy("syn", ""); panelProblem("syn", err.body && err.body.field === "points_m" ? Object.assign(err, { body: { ...err.body, field: null } }) : err); }
@@ -555,7 +562,7 @@ function studiesPanel() {
         field("stu", { name: `p${n}.count`, label: "values", value: 5 });
     };
     el.innerHTML = `<h2>Design study over the current design</h2><div class="controls study">` + row(0, "mechanism.crank_length_m") +
-      row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path) +
+      row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path) + `</div><div class="controls">` +
       field("stu", { name: "x", label: "Objective 1 (min)", options: METRICS, value: METRICS[0][0] }) +
       field("stu", { name: "y", label: "Objective 2 (min)", options: METRICS, value: METRICS[1][0] }) +
       `</div><div class="actions"><button class="run" id="stu-run">Start the study</button><button class="secondary" id="stu-cancel" disabled>Cancel</button>` +
