@@ -3,33 +3,19 @@
 from __future__ import annotations
 
 import asyncio
-import importlib
-import pkgutil
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from typing import Literal
 
-from fastapi import APIRouter, FastAPI, Request
+from fastapi import FastAPI, Request
 from pydantic import BaseModel, Field
 
-from . import manual, problems, routers, workbench
+from . import manual, problems, workbench
+from .routers import PREFIX, all_routers
 from .settings import Settings
-from .solvers import Solvers
-from .study_runs import StudyRuns
-
-
-# Every design endpoint lives under this prefix; the studies name endpoints by their full path.
-PREFIX = "/v1"
-
-
-def all_routers() -> list[APIRouter]:
-    """Every ``router`` in ``api.routers``, in module-name order."""
-    found = []
-    for info in sorted(pkgutil.iter_modules(routers.__path__), key=lambda i: i.name):
-        module = importlib.import_module(f"{routers.__name__}.{info.name}")
-        if isinstance(getattr(module, "router", None), APIRouter):
-            found.append(module.router)
-    return found
+from .execution.admission import Solvers
+from .studies.router import router as studies_router
+from .studies.runs import StudyRuns
 
 
 class ReadyOut(BaseModel):
@@ -102,7 +88,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         return ReadyOut(status="ok" if status["queued"] < status["capacity"] else "busy", **status,
                         **request.app.state.studies.status())
 
-    for router in all_routers():
+    for router in (*all_routers(), studies_router):
         app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app

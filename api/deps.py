@@ -8,7 +8,7 @@ from typing import Annotated
 from fastapi import Depends, Request
 
 from .settings import Settings
-from .solvers import RequestSolvers, Solvers
+from .execution.admission import RequestSolvers, Solvers
 
 
 def get_settings(request: Request) -> Settings:

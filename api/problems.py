@@ -27,7 +27,7 @@ from synth.errors import (
 )
 
 from .settings import Settings
-from .solvers import Overloaded
+from .execution.admission import Overloaded
 
 log = logging.getLogger("api")
 

@@ -33,7 +33,7 @@ def asgi_medians(requests: dict[str, tuple[str, str, object]], repeat: int) -> d
     """Median wall time [s] of each named request (method, path, JSON body) sent to a fresh in-process app over
     ASGI from one event loop: the service's own work, without the thread hand-offs of the synchronous test
     client (about 2 ms per request on this machine)."""
-    from api.client import AsyncSynthClient
+    from mechsynth_client.client import AsyncSynthClient
 
     async def run() -> dict[str, float]:
         client = AsyncSynthClient.in_process()

@@ -16,10 +16,10 @@ import math
 import numpy as np
 
 import synth
-from api.client import SynthClient
+from mechsynth_client.client import SynthClient
 from api.media import json_bytes
-from api.schemas.analysis import AnalysisIn, AnalysisOut
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from bench._timing import asgi_medians, median_of
 from synth.execution import keep_freed_memory
 

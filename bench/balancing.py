@@ -9,9 +9,9 @@ import numpy as np
 from scipy.optimize import minimize
 
 import synth
-from api.client import SynthClient
-from api.schemas.balancing import BalanceIn, OptimalBalanceIn
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.balancing import BalanceIn, OptimalBalanceIn
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from synth.balancing.fourbar import _optimal_program, _program, _rows, _static_system
 from synth.balancing.program import counterweight_layout, solve
 from bench._timing import asgi_medians, median_of

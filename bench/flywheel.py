@@ -21,8 +21,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import synth
-from api.client import SynthClient
-from api.schemas.flywheel import FlywheelIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.flywheel import FlywheelIn
 from bench._timing import asgi_medians, median_of
 
 SAMPLES = 3600

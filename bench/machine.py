@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable
 
 import synth
-from api.schemas.machine import PRESS_EXAMPLE, MachineIn
+from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
 
 REPEATS = 7
 

@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import Any
 
 import synth
-from api.schemas.common import FOURBAR_EXAMPLE
-from api.plans import Limits
-from api.study_tasks import variant_function
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from api.execution.plans import Limits
+from api.studies.tasks import variant_function
 from synth.execution import DaskExecutor, Executor, LocalPoolExecutor, limit_threads
 from synth.studies import BatchSpec, run_batch, variant_request
 

@@ -19,8 +19,8 @@ import numpy as np
 from scipy.optimize import differential_evolution, minimize
 
 import synth
-from api.client import SynthClient
-from api.schemas.synthesis import CrankRockerIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.synthesis import CrankRockerIn
 from synth.synthesis.crank_rocker import _Evaluate
 from synth.synthesis.family import feasible
 from synth.synthesis.path import _DESIGN, _coupler_points, _program, _starts

@@ -35,7 +35,7 @@ CASES = load_cases()
 @pytest.fixture(scope="session")
 def client():  # type: ignore[no-untyped-def]
     """In-process client of a fresh app."""
-    from api.client import SynthClient
+    from mechsynth_client.client import SynthClient
 
     with SynthClient.in_process() as c:
         yield c

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import InvalidInputError, NotAssemblableError, ProblemError, SynthClient, TooLargeError
-from api.schemas.analysis import AnalysisIn
+from mechsynth_client.client import InvalidInputError, NotAssemblableError, ProblemError, SynthClient, TooLargeError
+from mechsynth_client.schemas.analysis import AnalysisIn
 from conftest import CASES
 
 EXAMPLES = AnalysisIn.model_config["json_schema_extra"]["examples"]  # type: ignore[index]

@@ -8,8 +8,8 @@ import numpy as np
 
 import synth
 from api.media import json_bytes
-from api.schemas.analysis import AnalysisIn, AnalysisOut
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 SLIDER = {"type": "slider_crank", "crank_length_m": 0.05, "rod_length_m": 0.2, "offset_m": 0.01,
           "links": {"rod": {"mass_kg": 0.8, "com_m": [0.06, 0.0], "inertia_kgm2": 0.004}, "slider": {"mass_kg": 1.2}}}

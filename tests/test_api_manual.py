@@ -9,8 +9,8 @@ from typing import Any
 import pytest
 
 from api.app import create_app
-from api.client import SynthClient
-from api.study_client import StudyHandle
+from mechsynth_client.client import SynthClient
+from mechsynth_client.studies import StudyHandle
 
 DOC: dict[str, Any] = create_app().openapi()
 SCHEMAS: dict[str, dict[str, Any]] = DOC["components"]["schemas"]

@@ -11,15 +11,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from api.client import SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn
-from api.schemas.flywheel import FlywheelIn
-from api.schemas.machine import MachineIn
-from api.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
-from api.schemas.gearing import DriveIn, SplitIn, TeethIn
-from api.schemas.structure import StructureIn
-from api.schemas.train import TrainIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.balancing import BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn
+from mechsynth_client.schemas.flywheel import FlywheelIn
+from mechsynth_client.schemas.machine import MachineIn
+from mechsynth_client.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
+from mechsynth_client.schemas.gearing import DriveIn, SplitIn, TeethIn
+from mechsynth_client.schemas.structure import StructureIn
+from mechsynth_client.schemas.train import TrainIn
 
 ENDPOINTS = {
     "/v1/analysis": AnalysisIn,

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import pytest
 
-from api.client import SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import (
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.balancing import (
     BalanceIn,
     FullBalanceIn,
     OptimalBalanceIn,
     RotorIn,
     SliderCrankBalanceIn,
 )
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 MODELS = [BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn]
 PATHS = ["static", "full", "optimal", "rotor", "slider-crank"]

@@ -6,8 +6,8 @@ import copy
 
 import pytest
 
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 
 def _masses(out: dict) -> dict[str, float]:

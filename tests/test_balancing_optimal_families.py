@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.schemas.balancing import SLIDER_CRANK_EXAMPLE, OptimalBalanceIn
-from api.schemas.machine import PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.balancing import SLIDER_CRANK_EXAMPLE, OptimalBalanceIn
+from mechsynth_client.schemas.machine import PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
 from synth.balancing.fourbar import _optimal_program
 from synth.balancing.program import _TOLERANCES, CounterweightSolution, counterweight_layout, solve
 from tests.conftest import CASES

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.schemas.balancing import SLIDER_CRANK_EXAMPLE, SliderCrankBalanceIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.balancing import SLIDER_CRANK_EXAMPLE, SliderCrankBalanceIn
 
 R, L, E = 0.05, 0.2, 0.02  # crank, rod, offset [m]
 W = 1500 * math.pi / 30  # 1500 rpm [rad/s]

@@ -7,8 +7,8 @@ import dataclasses
 import pytest
 
 import synth
-from api.schemas.balancing import OptimalBalanceIn
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.balancing import OptimalBalanceIn
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 
 @pytest.fixture(scope="module")

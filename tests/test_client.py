@@ -14,6 +14,7 @@ import re
 import subprocess
 import sys
 import tomllib
+import zipfile
 from pathlib import Path
 from typing import Any, get_args
 
@@ -23,12 +24,12 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import AsyncSynthClient, FigureFormat, NotAssemblableError, ServiceBusyError, SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import BalanceIn, RotorIn
-from api.schemas.flywheel import FlywheelIn, MachineType
-from api.schemas.gearing import STAGE_TYPES
-from api.schemas.synthesis import MAX_PATH_POINTS, MAX_PATH_STARTS
+from mechsynth_client.client import AsyncSynthClient, FigureFormat, NotAssemblableError, ServiceBusyError, SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.balancing import BalanceIn, RotorIn
+from mechsynth_client.schemas.flywheel import FlywheelIn, MachineType
+from mechsynth_client.schemas.gearing import STAGE_TYPES
+from mechsynth_client.schemas.synthesis import MAX_PATH_POINTS, MAX_PATH_STARTS
 
 REPO = Path(__file__).resolve().parents[1]
 CLIENT_PROJECT = tomllib.loads((REPO / "client" / "pyproject.toml").read_text())
@@ -61,7 +62,7 @@ def _requirement_closure(names: list[str]) -> set[str]:
 
 
 def test_client_loads_with_httpx_and_pydantic_only() -> None:
-    probe = ("import sys, json, api.client; "
+    probe = ("import sys, json, mechsynth_client.client; "
              "print(json.dumps(sorted(m for m in sys.modules if m not in sys.stdlib_module_names)))")
     run = subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True)
     loaded = json.loads(run.stdout)
@@ -72,17 +73,24 @@ def test_client_loads_with_httpx_and_pydantic_only() -> None:
     allowed = _requirement_closure(["httpx", "pydantic"])
     owners = md.packages_distributions()
     # Modules no distribution owns are the interpreter's own (stdlib internals such as _sysconfigdata).
-    for top in {m.split(".")[0] for m in loaded} & set(owners) - {"api", "_distutils_hack"}:
+    ours = {"mechsynth_client", "api", "synth"}
+    assert not {"api", "synth"} & {m.split(".")[0] for m in loaded}, "the client must not load the server"
+    for top in {m.split(".")[0] for m in loaded} & set(owners) - ours - {"_distutils_hack"}:
         dists = {re.sub(r"[-_.]+", "-", d).lower() for d in owners[top]}
         assert dists & allowed, f"the client imports {top} ({dists}), not a dependency of httpx or pydantic"
-    # Every module of ours it loads is shipped by the client distribution.
     shipped = CLIENT_PROJECT["tool"]["hatch"]["build"]["targets"]["wheel"]["force-include"]
-    for name in (m for m in loaded if m.split(".")[0] == "api"):
-        path = REPO / Path(*name.split("."))
-        source = path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
-        rel = source.relative_to(REPO).as_posix()
-        assert any(rel == s.removeprefix("../") or rel.startswith(s.removeprefix("../") + "/") for s in shipped), rel
-    assert (REPO / "api" / "py.typed").exists() and "../api/py.typed" in shipped
+    assert shipped == {"../mechsynth_client": "mechsynth_client"}
+    assert (REPO / "mechsynth_client" / "py.typed").exists()
+
+
+def test_client_wheel_ships_its_own_package_only(tmp_path: Path) -> None:
+    # Built as a user would install it: the wheel holds mechsynth_client and its metadata, no module named api.
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--no-build-isolation",
+                    "--wheel-dir", str(tmp_path), str(REPO / "client")], check=True)
+    (wheel,) = tmp_path.glob("mechsynth_client-*.whl")
+    tops = {name.split("/")[0] for name in zipfile.ZipFile(wheel).namelist()}
+    assert {t for t in tops if not t.endswith(".dist-info")} == {"mechsynth_client"}
+    assert "mechsynth_client/schemas/analysis.py" in zipfile.ZipFile(wheel).namelist()
 
 
 def test_closed_choices_match_the_engine_tables() -> None:
@@ -231,7 +239,7 @@ def _busy_then_ok(retry_after: list[str | None]) -> tuple[httpx.MockTransport, l
 
 def test_busy_service_is_asked_again_after_retry_after(monkeypatch: pytest.MonkeyPatch) -> None:
     waits: list[float] = []
-    monkeypatch.setattr("api.client.time.sleep", waits.append)
+    monkeypatch.setattr("mechsynth_client.client.time.sleep", waits.append)
     transport, calls = _busy_then_ok(["2", None, "Wed, 21 Oct 2015 07:28:00 GMT"])
     c = SynthClient(http=httpx.Client(transport=transport, base_url="http://test"), retries=3, max_retry_wait_s=5)
     assert c.health() == {"status": "ok"} and len(calls) == 4
@@ -241,7 +249,7 @@ def test_busy_service_is_asked_again_after_retry_after(monkeypatch: pytest.Monke
 
 def test_retries_are_bounded_in_count_and_wait(monkeypatch: pytest.MonkeyPatch) -> None:
     waits: list[float] = []
-    monkeypatch.setattr("api.client.time.sleep", waits.append)
+    monkeypatch.setattr("mechsynth_client.client.time.sleep", waits.append)
     transport, calls = _busy_then_ok(["600"] * 10)
     c = SynthClient(http=httpx.Client(transport=transport, base_url="http://test"), retries=2, max_retry_wait_s=1.5)
     with pytest.raises(ServiceBusyError) as err:
@@ -256,7 +264,7 @@ def test_async_client_retries_alike(monkeypatch: pytest.MonkeyPatch) -> None:
     async def record(seconds: float) -> None:
         waits.append(seconds)
 
-    monkeypatch.setattr("api.client.asyncio.sleep", record)
+    monkeypatch.setattr("mechsynth_client.client.asyncio.sleep", record)
     transport, calls = _busy_then_ok(["0.25"])
 
     async def run() -> dict[str, Any]:
@@ -264,3 +272,24 @@ def test_async_client_retries_alike(monkeypatch: pytest.MonkeyPatch) -> None:
             return await c.health()
 
     assert asyncio.run(run()) == {"status": "ok"} and waits == [0.25] and len(calls) == 2
+
+
+def test_a_service_that_is_not_there_is_named_with_its_url() -> None:
+    import socket
+
+    from mechsynth_client import ServiceUnreachableError
+
+    with socket.socket() as probe:   # a loopback port nothing listens on once the probe closes
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    url = f"http://127.0.0.1:{port}"
+    with SynthClient(url, timeout_s=5) as down, pytest.raises(ServiceUnreachableError) as err:
+        down.health()
+    assert err.value.url == url and url in str(err.value) and "is it running" in str(err.value)
+
+    async def run() -> None:
+        async with AsyncSynthClient(url, timeout_s=5) as adown:
+            await adown.health()
+
+    with pytest.raises(ServiceUnreachableError):
+        asyncio.run(run())

@@ -11,8 +11,8 @@ import ezdxf
 import numpy as np
 import pytest
 
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 CW = {"link": "crank", "mass_kg": 1.5, "position_m": [-0.08, 0.0]}
 TRACE = {"name": "P", "link": "coupler", "position_m": [0.15, 0.08]}

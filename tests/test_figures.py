@@ -9,8 +9,8 @@ import matplotlib.image as mpimg
 import numpy as np
 import pytest
 
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 SLIDER_CRANK = {"type": "slider_crank", "crank_length_m": 0.05, "rod_length_m": 0.2,
                 "links": {"crank": {"mass_kg": 1.0, "com_m": [0.02, 0]}, "rod": {"mass_kg": 0.8, "com_m": [0.06, 0]},

@@ -7,9 +7,9 @@ from typing import Any
 
 import pytest
 
-from api.client import InfeasibleError, SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
-from api.schemas.flywheel import FlywheelIn
+from mechsynth_client.client import InfeasibleError, SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.flywheel import FlywheelIn
 from tests.conftest import CASES
 
 EXAMPLES: list[dict[str, Any]] = FlywheelIn.model_json_schema()["examples"]

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from api.client import InvalidInputError, SynthClient
-from api.schemas.train import TrainIn
+from mechsynth_client.client import InvalidInputError, SynthClient
+from mechsynth_client.schemas.train import TrainIn
 from conftest import CASES
 
 

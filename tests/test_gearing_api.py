@@ -8,8 +8,8 @@ import math
 import pytest
 
 import synth
-from api.client import InfeasibleError, SynthClient
-from api.schemas.gearing import DriveIn, SplitIn, TeethIn
+from mechsynth_client.client import InfeasibleError, SynthClient
+from mechsynth_client.schemas.gearing import DriveIn, SplitIn, TeethIn
 
 from conftest import CASES
 

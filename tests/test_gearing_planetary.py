@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from api.client import InfeasibleError, SynthClient
-from api.schemas.gearing import TeethIn
+from mechsynth_client.client import InfeasibleError, SynthClient
+from mechsynth_client.schemas.gearing import TeethIn
 
 
 def _plain_best(target: float, planets: int, max_teeth: int, lowest: int) -> tuple[float, int]:

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from api.client import SynthClient
-from api.schemas.balancing import SLIDER_CRANK_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.balancing import SLIDER_CRANK_EXAMPLE
 
 # The textbook four-bar these checks were derived for (coupler 0.35 m, its centre of mass at 0.175 m).
 FOURBAR_EXAMPLE = {

@@ -16,13 +16,13 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 import synth
-from api.client import InfeasibleError, InvalidInputError, SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import FullBalanceIn, SliderCrankBalanceIn
-from api.schemas.common import FOURBAR_EXAMPLE
-from api.schemas.flywheel import FlywheelIn
-from api.schemas.gearing import DriveIn, TeethIn
-from api.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
+from mechsynth_client.client import InfeasibleError, InvalidInputError, SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.balancing import FullBalanceIn, SliderCrankBalanceIn
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.flywheel import FlywheelIn
+from mechsynth_client.schemas.gearing import DriveIn, TeethIn
+from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
 from synth.machine.chain import TOOTH_RATIO_ROOM
 from tests.conftest import CASES
 from tests.helpers import shaper_from_case

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import InvalidInputError, SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.balancing import FullBalanceIn
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import InvalidInputError, SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.balancing import FullBalanceIn
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
 
 @pytest.fixture(scope="module")

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from api.client import SynthClient
-from api.schemas.flywheel import FlywheelIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.flywheel import FlywheelIn
 from conftest import CASES
 
 

@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from api.client import SynthClient
-from api.schemas.analysis import AnalysisIn, AnalysisOut
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
 from conftest import CASES
 
 EXACT = CASES["l10_shaper_drive_torque_exact"]

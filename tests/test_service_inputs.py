@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from api.client import SynthClient
+from mechsynth_client.client import SynthClient
 from api.problems import PROBLEM_STATUSES
 
 FOURBAR = {"type": "fourbar", "ground_length_m": 0.3, "crank_length_m": 0.1, "coupler_length_m": 0.35,

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from api.client import InvalidInputError, SynthClient
-from api.schemas.structure import SIXBAR_EXAMPLE, StructureIn
+from mechsynth_client.client import InvalidInputError, SynthClient
+from mechsynth_client.schemas.structure import SIXBAR_EXAMPLE, StructureIn
 from conftest import CASES
 
 

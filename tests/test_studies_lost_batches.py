@@ -14,12 +14,12 @@ import pytest
 from fastapi.testclient import TestClient
 
 import synth
-from api import study_runs
+from api.studies import runs as study_runs
 from api.app import create_app
-from api.plans import Limits
-from api.schemas.common import FOURBAR_EXAMPLE
+from api.execution.plans import Limits
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from api.settings import Settings
-from api.study_tasks import run_endpoint
+from api.studies.tasks import run_endpoint
 from synth.execution import LocalPoolExecutor, SerialExecutor
 
 ENDPOINT = "/v1/analysis"

@@ -14,15 +14,15 @@ import pytest
 from fastapi.testclient import TestClient
 
 from api.app import create_app
-from api.plans import Limits
-from api.schemas.common import SummaryOut
-from api.schemas.studies import STUDY_EXAMPLE
+from api.execution.plans import Limits
+from mechsynth_client.schemas.common import SummaryOut
+from mechsynth_client.schemas.studies import STUDY_EXAMPLE
 from api.settings import Settings
-from api.study_paths import LIST_INDEX, MetricPathError, check_metric, check_metrics, response_models
-from api.study_tasks import ENDPOINTS, run_endpoint
+from api.studies.paths import LIST_INDEX, MetricPathError, check_metric, check_metrics, response_models
+from api.studies.tasks import ENDPOINTS, run_endpoint
 from test_studies_run import SPEC
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+STUDIES_PAGE = Path(__file__).resolve().parents[1] / "docs" / "studies.md"
 LIMITS = Limits(max_samples=20_000, max_stages=6, solver_time_limit_s=20.0)
 
 
@@ -153,10 +153,8 @@ def test_every_endpoint_answers_with_the_model_the_manual_documents(http: TestCl
 
 
 def _readme_studies() -> list[dict[str, Any]]:
-    """The endpoint, metrics, objectives and constraints of every study example in the README's studies section."""
-    text = README.read_text()
-    section = text[text.index("## Design studies"):]
-    section = section[:section.index("\n## ", 1)]
+    """The endpoint, metrics, objectives and constraints of every study example of the studies page."""
+    section = STUDIES_PAGE.read_text()
     found = []
     for block in re.split(r'"endpoint": ', section)[1:]:
         endpoint = json.loads(block.split(",", 1)[0])

@@ -19,12 +19,12 @@ from fastapi.testclient import TestClient
 
 import synth
 from api.app import create_app
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
-from api.schemas.studies import StudyIn
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.studies import StudyIn
 from api.settings import Settings
-from api.plans import Limits
-from api.study_tasks import run_endpoint, variant_function
+from api.execution.plans import Limits
+from api.studies.tasks import run_endpoint, variant_function
 from synth.execution import DaskExecutor, LocalPoolExecutor, SerialExecutor
 from synth.studies import runner
 
@@ -114,8 +114,8 @@ def _service_on_dask(address: str) -> None:
     filters, which Dask's threads in this process would race with."""
     import tempfile
 
-    from api.solvers import Solvers
-    from api.study_runs import StudyRuns
+    from api.execution.admission import Solvers
+    from api.studies.runs import StudyRuns
 
     with tempfile.TemporaryDirectory() as tmp:
         settings = Settings(executor="serial", dask_scheduler=address, studies_db=f"{tmp}/s.sqlite")

@@ -13,9 +13,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from api.client import InfeasibleError, InvalidInputError, SynthClient
-from api.schemas.analysis import AnalysisIn
-from api.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
+from mechsynth_client.client import InfeasibleError, InvalidInputError, SynthClient
+from mechsynth_client.schemas.analysis import AnalysisIn
+from mechsynth_client.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
 
 from conftest import CASES
 

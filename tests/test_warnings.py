@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 import synth
-from api.client import SynthClient
-from api.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.client import SynthClient
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+REPO = Path(__file__).resolve().parents[1]
+DOCUMENTATION = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]
 SLIDER_CRANK = {"type": "slider_crank", "crank_length_m": 0.05, "rod_length_m": 0.2,
                 "links": {"crank": {"mass_kg": 1.0, "com_m": [0.02, 0]}, "rod": {"mass_kg": 0.8, "com_m": [0.06, 0]},
                           "slider": {"mass_kg": 1.2}}}
@@ -153,9 +154,9 @@ def test_gearing_warnings_share_the_shape(client: SynthClient) -> None:
 
 
 def _readme_requests() -> list[tuple[str, dict]]:
-    """(path, body) of every curl example in the README that posts JSON."""
+    """(path, body) of every curl example in the README and docs/ that posts JSON."""
     found = []
-    for chunk in README.read_text().split("curl -s ")[1:]:
+    for chunk in "".join(page.read_text() for page in DOCUMENTATION).split("curl -s ")[1:]:
         path = re.match(r"'?http://127\.0\.0\.1:8000(/v1/[\w/-]+)", chunk)
         body = re.search(r"-d '(\{.*?\})'", chunk, re.S)
         if path and body and not path.group(1).startswith("/v1/studies"):

@@ -8,11 +8,11 @@ from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses, media
-from ..schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
-from ..tasks import mechanism_drawing
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from ..execution.tasks import mechanism_drawing
 
 router = APIRouter(tags=["analysis"])
 FORMATS = (*FIGURES, "csv", "dxf")

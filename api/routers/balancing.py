@@ -7,10 +7,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses
-from ..schemas.balancing import (
+from mechsynth_client.schemas.balancing import (
     BalanceIn,
     BalanceOut,
     FullBalanceIn,

@@ -8,10 +8,10 @@ from fastapi.responses import Response
 
 import synth
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses
-from ..schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
+from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
 FORMATS = (*FIGURES, "csv")

@@ -6,9 +6,9 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.train import TrainIn, TrainOut
+from mechsynth_client.schemas.train import TrainIn, TrainOut
 
 router = APIRouter(prefix="/gears", tags=["gearing"])
 

@@ -7,9 +7,9 @@ from fastapi.responses import Response
 
 import synth
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.gearing import (
+from mechsynth_client.schemas.gearing import (
     DriveIn,
     DriveOut,
     MotorOut,

@@ -7,9 +7,9 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.machine import MachineDesignOut, MachineIn
+from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 

@@ -6,9 +6,9 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
-from ..schemas.structure import StructureIn, StructureOut
+from mechsynth_client.schemas.structure import StructureIn, StructureOut
 
 router = APIRouter(tags=["structure"])
 

@@ -6,10 +6,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
 
-from .. import plans
+from ..execution import plans
 from ..deps import SolverDep
 from ..media import PNG_RESPONSES, FormatQuery
-from ..schemas.synthesis import (
+from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
     PathIn,

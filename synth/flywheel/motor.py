@@ -5,15 +5,31 @@ from __future__ import annotations
 import math
 import threading
 from dataclasses import dataclass
+from typing import Protocol
 
 import casadi as ca
 import numpy as np
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
-from ..gearing.motors import CatalogueMotor
 from ..model import FloatArray
 from .cycle import ReducedCycle
 from .sizing import speed_band
+
+
+class RatedMotor(Protocol):
+    """What the flywheel reads of a catalogue motor (:class:`synth.gearing.CatalogueMotor` is one): speeds
+    [rad/s], torques [N·m], rotor inertia [kg·m²] or None when the catalogue does not give it."""
+
+    @property
+    def synchronous_speed(self) -> float: ...
+    @property
+    def rated_speed(self) -> float: ...
+    @property
+    def rated_torque(self) -> float: ...
+    @property
+    def breakdown_torque(self) -> float: ...
+    @property
+    def rotor_inertia(self) -> float | None: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -74,7 +90,7 @@ class Motor:
             raise InvalidInput("the breakdown torque must exceed the rated torque", field="motor.breakdown_torque_Nm")
 
     @staticmethod
-    def from_catalogue(motor: CatalogueMotor, gear_ratio: float = 1.0, efficiency: float = 1.0) -> Motor:
+    def from_catalogue(motor: RatedMotor, gear_ratio: float = 1.0, efficiency: float = 1.0) -> Motor:
         """The static characteristic of a catalogue motor, driving through ``gear_ratio`` (motor over crank speed
         [-]) at ``efficiency`` [-]: rated torque P/w_rated, breakdown torque its ratio times that, the rotor's
         inertia (zero when the catalogue does not give it)."""

@@ -22,11 +22,12 @@ from .teeth import (
     ToothRules,
     enumerate_tooth_numbers,
     interference_limit,
-    tooth_numbers,
+    serial_tooth_numbers,
     train_ratio,
     undercut_limit,
 )
 from .planetary import PlanetaryMesh, planetary_tooth_numbers
+from .tooth_search import tooth_numbers
 from .train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 
 __all__ = [
@@ -34,7 +35,7 @@ __all__ = [
     "StageSpec", "StageType", "ToothChecks", "ToothResult", "ToothRules", "build_split_program",
     "chain_efficiency", "default_snap_tolerance", "design_drive", "enumerate_tooth_numbers", "find_motor",
     "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",
-    "reduced_train_inertia", "select_motor", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
+    "reduced_train_inertia", "select_motor", "serial_tooth_numbers", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
     "train_ratio", "undercut_limit",
     "GearMesh", "PlanetaryMesh", "PlanetaryStage", "planetary_tooth_numbers", "TrainResult", "TrainShaft", "TrainWheel", "gear_train",
 ]

@@ -634,7 +634,7 @@ def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
     """Plain enumeration of every combination of admissible pairs (the baseline and the check).
 
     Returns (ratio error, total teeth, pairs, combinations) of the best combination by the same objective and
-    tie rule as :func:`tooth_numbers`, or None when none qualifies.
+    tie rule as :func:`serial_tooth_numbers`, or None when none qualifies.
     """
     pairs = _stage_sets(stages, rules, None)
     grids = np.meshgrid(*[np.arange(len(p[0])) for p in pairs], indexing="ij")
@@ -706,12 +706,11 @@ def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntAr
                       "max_teeth", constraint="tolerance", tolerance=tolerance)
 
 
-def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | None = None,
-                  tolerance: float | None = None, *, check_limit: int = ENUMERATION_CHECK_LIMIT,
-                  planets: int = 3) -> ToothResult:
-    """Integer tooth numbers of a serial train whose ratio best meets ``target`` [-], motor side first.
-
-    A train with planetary stages (``planets`` planets each) is searched by :mod:`synth.gearing.planetary`.
+def serial_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | None = None,
+                         tolerance: float | None = None, *,
+                         check_limit: int = ENUMERATION_CHECK_LIMIT) -> ToothResult:
+    """Integer tooth numbers of a serial train of external meshes whose ratio best meets ``target`` [-], motor
+    side first.
 
     Parameters
     ----------
@@ -724,10 +723,6 @@ def tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRules | No
     Raises Infeasible when the search is empty (``constraint`` names what to relax), InvalidInput, TooLarge.
     """
     rules = rules or ToothRules()
-    if any(s.type == "planetary" for s in stages):
-        from .planetary import planetary_tooth_numbers  # it builds on this module's rules and results
-
-        return planetary_tooth_numbers(target, stages, rules, tolerance, planets=planets, check_limit=check_limit)
     _validate(target, stages, rules, tolerance)
     t0 = time.perf_counter()
     pairs = _stage_sets(stages, rules, None)

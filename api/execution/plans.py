@@ -16,9 +16,9 @@ from pydantic import BaseModel
 import synth
 from synth.exports import balance_export, slider_crank_balance_export
 
-from .media import FIGURES, Render
-from .schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
-from .schemas.balancing import (
+from ..media import FIGURES, Render
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from mechsynth_client.schemas.balancing import (
     BalanceIn,
     BalanceOut,
     FullBalanceIn,
@@ -28,11 +28,11 @@ from .schemas.balancing import (
     SliderCrankBalanceIn,
     SliderCrankBalanceOut,
 )
-from .schemas.flywheel import FlywheelIn
-from .schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
-from .schemas.machine import MachineIn
-from .schemas.structure import StructureIn, StructureOut
-from .schemas.synthesis import (
+from mechsynth_client.schemas.flywheel import FlywheelIn
+from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
+from mechsynth_client.schemas.machine import MachineIn
+from mechsynth_client.schemas.structure import StructureIn, StructureOut
+from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
     PathIn,
@@ -40,8 +40,8 @@ from .schemas.synthesis import (
     SliderCrankSynthesisIn,
     SliderCrankSynthesisOut,
 )
-from .schemas.train import TrainIn, TrainOut
-from .settings import Settings
+from mechsynth_client.schemas.train import TrainIn, TrainOut
+from ..settings import Settings
 from .tasks import (
     analysis_file,
     crank_rocker_png,

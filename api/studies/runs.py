@@ -30,11 +30,11 @@ from synth.errors import InvalidInput, SynthError
 from synth.model import FloatArray
 from synth.execution import DaskExecutor, Executor
 
-from .settings import Settings
-from .solvers import Solvers
-from .plans import Limits
-from .study_paths import check_metrics
-from .study_tasks import validate_request, variant_function
+from ..settings import Settings
+from ..execution.admission import Solvers
+from ..execution.plans import Limits
+from .paths import check_metrics
+from .tasks import validate_request, variant_function
 
 log = logging.getLogger("api.studies")
 

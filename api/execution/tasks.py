@@ -13,9 +13,9 @@ from synth.exports import analysis_export, balance_export, flywheel_export, mech
 from synth.machine.report import design_report_pdf, design_summary_png
 from synth.synthesis.plots import extremes_png, path_png
 
-from .schemas.balancing import RotorOut
-from .schemas.flywheel import FlywheelOut
-from .schemas.machine import MachineDesignOut
+from mechsynth_client.schemas.balancing import RotorOut
+from mechsynth_client.schemas.flywheel import FlywheelOut
+from mechsynth_client.schemas.machine import MachineDesignOut
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
 FlywheelAndWarnings = tuple[synth.FlywheelResult, list[synth.DesignWarning]]

@@ -11,12 +11,23 @@ from __future__ import annotations
 import asyncio
 import sys
 import time
-from typing import TYPE_CHECKING, Any, TextIO
+from typing import Any, Protocol, TextIO
+
+import httpx
 
 from .schemas.studies import ParetoOut, ResultsOut, StudyOut, VariantOut
 
-if TYPE_CHECKING:
-    from .client import AsyncSynthClient, SynthClient
+
+class Sender(Protocol):
+    """What a study handle needs of a client: one request, retried while busy, a problem raised as an error."""
+
+    def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response: ...
+
+
+class AsyncSender(Protocol):
+    """The same as :class:`Sender`, as a coroutine."""
+
+    async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response: ...
 
 _FINAL = ("done", "cancelled", "interrupted", "failed")
 
@@ -24,7 +35,7 @@ _FINAL = ("done", "cancelled", "interrupted", "failed")
 class StudyHandle:
     """A study on the service, by id."""
 
-    def __init__(self, client: SynthClient, study_id: str, last: StudyOut | None = None) -> None:
+    def __init__(self, client: Sender, study_id: str, last: StudyOut | None = None) -> None:
         self.client = client
         self.id = study_id
         self.last = last
@@ -111,7 +122,7 @@ class StudyHandle:
 class AsyncStudyHandle:
     """A study on the service, by id, for asyncio: status, wait, pages of results, the front, cancel, resume."""
 
-    def __init__(self, client: AsyncSynthClient, study_id: str, last: StudyOut | None = None) -> None:
+    def __init__(self, client: AsyncSender, study_id: str, last: StudyOut | None = None) -> None:
         self.client = client
         self.id = study_id
         self.last = last

@@ -11,8 +11,8 @@ from fastapi.responses import Response, StreamingResponse
 
 from ..deps import SolverDep
 from ..media import FormatQuery, json_response, png, wants_png
-from ..schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
-from ..study_runs import StudyRuns, scatter_png
+from mechsynth_client.schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
+from .runs import StudyRuns, scatter_png
 
 router = APIRouter(prefix="/studies", tags=["studies"])
 

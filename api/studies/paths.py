@@ -17,7 +17,8 @@ from pydantic import BaseModel
 
 from synth.errors import InvalidInput
 
-from .study_tasks import ENDPOINTS, check_endpoint
+from ..routers import PREFIX, all_routers
+from .tasks import ENDPOINTS, check_endpoint
 
 # Stands for a list item among the names valid at a level: any index of the list.
 LIST_INDEX = "<index>"
@@ -43,8 +44,6 @@ def response_models() -> Mapping[str, type[BaseModel]]:
     """The response model of every endpoint a study can vary, as that endpoint's router declares it."""
     from fastapi.routing import APIRoute
 
-    # Imported here: the app imports the studies, so the routers are read once the app is built.
-    from .app import PREFIX, all_routers
 
     found = {PREFIX + route.path: route.response_model
              for router in all_routers() for route in router.routes

@@ -23,9 +23,9 @@ from fastapi import Request, Response
 from synth.errors import SolverTimeout
 from synth.execution import Executor, make_executor
 
-from .media import Render, file_headers, negotiate
+from ..media import Render, file_headers, negotiate
 from .plans import Limits, Plan
-from .settings import Settings
+from ..settings import Settings
 
 T = TypeVar("T")
 
@@ -56,7 +56,7 @@ def _acquire_executor(kind: str, workers: int, memory_limit_mb: int) -> Executor
     with _EXECUTORS_LOCK:
         # Workers import the plans (schemas, exports) once in the fork server, not on their first request.
         executor, users = _EXECUTORS.get(key) or (
-            make_executor(kind, workers, memory_limit_mb=memory_limit_mb, preload=["api.plans"]), 0)
+            make_executor(kind, workers, memory_limit_mb=memory_limit_mb, preload=["api.execution.plans"]), 0)
         _EXECUTORS[key] = (executor, users + 1)
         return executor
 

@@ -19,6 +19,7 @@ to and from engine objects, which happens in the service.
 from __future__ import annotations
 
 import asyncio
+import importlib
 import time
 import warnings
 from datetime import datetime, timezone
@@ -55,7 +56,7 @@ from .schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from .schemas.studies import StudyIn, StudyOut
-from .study_client import AsyncStudyHandle, StudyHandle
+from .studies import AsyncStudyHandle, StudyHandle
 
 __all__ = [
     "AsyncSynthClient",
@@ -67,6 +68,7 @@ __all__ = [
     "NotAssemblableError",
     "ProblemError",
     "ServiceBusyError",
+    "ServiceUnreachableError",
     "SolverFailedError",
     "SolverTimeoutError",
     "SynthClient",
@@ -123,6 +125,32 @@ class ServiceBusyError(ProblemError):
     def __init__(self, status: int, problem: dict[str, Any], retry_after_s: float | None = None) -> None:
         super().__init__(status, problem)
         self.retry_after_s = retry_after_s
+
+
+class ServiceUnreachableError(ConnectionError):
+    """No answer from the service at ``url`` (not running, wrong address or port, or the network); the
+    underlying httpx error is the ``__cause__``."""
+
+    def __init__(self, url: str, reason: str) -> None:
+        self.url = url
+        super().__init__(f"no answer from the mechanism synthesis service at {url} ({reason}): is it running "
+                         f"(`make run`) and is the address right?")
+
+
+def _unreachable(request: httpx.Request, exc: httpx.TransportError) -> ServiceUnreachableError:
+    return ServiceUnreachableError(str(request.url.copy_with(path="/", query=None)).rstrip("/"),
+                                   type(exc).__name__)
+
+
+def _service_app(executor: InProcessExecutor) -> Any:
+    """The service's ASGI app built in this process; the service (distribution ``mechsynth``) must be installed."""
+    try:
+        app_module = importlib.import_module("api.app")
+        settings_module = importlib.import_module("api.settings")
+    except ImportError as exc:
+        raise RuntimeError("in-process mode runs the service itself: install the service (`pip install mechsynth`) "
+                           "or give the client a base_url") from exc
+    return app_module.create_app(settings_module.Settings(executor=executor))
 
 
 _BY_TYPE: dict[str, type[ProblemError]] = {
@@ -223,10 +251,7 @@ class SynthClient(_Policy):
             warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
             from fastapi.testclient import TestClient
 
-        from .app import create_app
-        from .settings import Settings
-
-        return cls(http=TestClient(create_app(Settings(executor=executor))))
+        return cls(http=TestClient(_service_app(executor)))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -241,7 +266,11 @@ class SynthClient(_Policy):
     def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            response = self.http.request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **kwargs)
+            try:
+                response = self.http.send(request)
+            except httpx.TransportError as exc:
+                raise _unreachable(request, exc) from exc
             wait = self._wait_s(response, attempt)
             if wait is None:
                 self._raise_for_problem(response)
@@ -433,11 +462,8 @@ class AsyncSynthClient(_Policy):
     def in_process(cls, executor: InProcessExecutor = "serial") -> AsyncSynthClient:
         """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
         as in :meth:`SynthClient.in_process`."""
-        from .app import create_app
-        from .settings import Settings
-
-        app = create_app(Settings(executor=executor))
-        return cls(http=httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://in-process"))
+        transport = httpx.ASGITransport(app=_service_app(executor))
+        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://in-process"))
 
     async def aclose(self) -> None:
         """Close the underlying HTTP client."""
@@ -452,7 +478,11 @@ class AsyncSynthClient(_Policy):
     async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            response = await self.http.request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **kwargs)
+            try:
+                response = await self.http.send(request)
+            except httpx.TransportError as exc:
+                raise _unreachable(request, exc) from exc
             wait = self._wait_s(response, attempt)
             if wait is None:
                 self._raise_for_problem(response)

@@ -3,7 +3,7 @@ endpoint runs it and answered as the plain JSON it would send.
 
 :func:`run_endpoint` is a module-level function of plain data (with the endpoint's path and the service limits
 bound by ``functools.partial``), so the engine's study runner sends it to a local worker or a Dask worker as it
-is. Each variant runs its endpoint's plan (:mod:`api.plans`), the same one the endpoint's router runs.
+is. Each variant runs its endpoint's plan (:mod:`api.execution.plans`), the same one the endpoint's router runs.
 """
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ from pydantic import BaseModel, ValidationError
 
 from synth.errors import InvalidInput
 
-from .plans import PLANS, Limits
-from .solvers import render_task
+from ..execution.plans import PLANS, Limits
+from ..execution.admission import render_task
 
 # Design endpoints a study may vary: every one with a plan.
 ENDPOINTS = PLANS
