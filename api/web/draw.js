@@ -106,10 +106,14 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   }
   // joints and their names
   const joints = fam === "fourbar" ? ["O", "A", "B", "Q"] : fam === "slider_crank" ? ["O", "A", "B"] : ["O", "A", "O1", "B", "R"];
+  // each name set outwards from the joints' centre, so it stays clear of the links
+  const cx = joints.reduce((t, j) => t + at(j)[0], 0) / joints.length, cy = joints.reduce((t, j) => t + at(j)[1], 0) / joints.length;
   for (const j of joints) {
     const p = at(j);
+    const dx = p[0] - cx, dy = p[1] - cy, d = Math.hypot(dx, dy) || 1;
+    const lx = p[0] + (dx / d) * 11 * sw, ly = p[1] + (dy / d) * 11 * sw;
     s += `<circle class="joint" data-joint="${j}" cx="${p[0]}" cy="${-p[1]}" r="${3.6 * sw}" stroke-width="${1.8 * sw}"/>` +
-      `<text x="${p[0] + 6 * sw}" y="${-p[1] - 6 * sw}" style="font-size:${12 * sw}px;font-weight:600">${j}</text>`;
+      `<text x="${lx}" y="${-ly + 4 * sw}" text-anchor="middle" style="font-size:${12 * sw}px;font-weight:600">${j}</text>`;
   }
   if (extras.tracePoint && at(extras.tracePoint)) {
     const p = at(extras.tracePoint);

@@ -1,6 +1,6 @@
 // Small SVG plots: curves over the crank angle, polar diagrams and scatters, with hover read-outs in units.
 
-const W = 420, H = 220, M = { l: 56, r: 12, t: 10, b: 30 };
+const W = 420, H = 220, M = { l: 56, r: 12, t: 20, b: 30 };
 const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3"];
 
 export function niceTicks(lo, hi, n = 5) {
@@ -78,7 +78,7 @@ function box(container, id, title) {
 
 function legend(series) {
   if (series.length < 2) return "";
-  return series.map((c, i) => `<g transform="translate(${M.l + 8 + i * 110} ${M.t + 8})"><line x1="0" x2="16" y1="0" y2="0" ` +
+  return series.map((c, i) => `<g transform="translate(${M.l + 8 + i * 110} ${M.t - 10})"><line x1="0" x2="16" y1="0" y2="0" ` +
     `stroke="${c.colour || COLOURS[i]}" stroke-width="2" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""}/>` +
     `<text x="20" y="4">${c.name}</text></g>`).join("");
 }
@@ -91,7 +91,7 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
   if (xs[1] <= xs[0]) xs[1] = xs[0] + 1;
   const ys = extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
   const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
-  const yt = niceTicks(ys[0], ys[1], 4).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
+  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
   const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
   let body = s;
   series.forEach((c, i) => {
@@ -190,7 +190,7 @@ export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPi
   const { el, svg } = box(container, id, title);
   const xs = extent([points.map((p) => p.x)], 0.08), ys = extent([points.map((p) => p.y)], 0.08);
   const xt = niceTicks(xs[0], xs[1], 5).ticks.filter((v) => v >= xs[0] && v <= xs[1]);
-  const yt = niceTicks(ys[0], ys[1], 4).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
+  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
   const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
   let body = s + `<clipPath id="clip-${id}"><rect x="${M.l}" y="${M.t}" width="${W - M.l - M.r}" height="${H - M.t - M.b}"/></clipPath>`;
   if (line && points.length > 1) {
