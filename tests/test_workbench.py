@@ -136,6 +136,38 @@ def test_crank_length_edit_redraws_drawing_and_torque(page: Page, base_url: str)
     assert lo == pytest.approx(t.min() - pad, rel=1e-9) and hi == pytest.approx(t.max() + pad, rel=1e-9)
 
 
+def test_units_of_the_form_are_chosen_and_the_api_stays_si(page: Page) -> None:
+    page.select_option("#unit-length", "m")
+    page.select_option("#unit-mass", "g")
+    # The same design read in the other units: 100 mm is 0.1 m, 1 kg is 1000 g.
+    assert float(field(page, "mechanism.crank_length_m").input_value()) == pytest.approx(0.1, rel=1e-12)
+    assert float(field(page, "mechanism.links.crank.mass_kg").input_value()) == pytest.approx(1000, rel=1e-12)
+    edit_and_wait(page, "mechanism.links.crank.mass_kg", "1500")
+    edit_and_wait(page, "mechanism.crank_length_m", "0.11")
+    assert state(page, "design.mechanism.links.crank.mass_kg") == pytest.approx(1.5, rel=1e-12)
+    assert state(page, "design.mechanism.crank_length_m") == pytest.approx(0.11, rel=1e-12)
+    assert "units=m,g" in page.url
+
+
+def test_dragging_joint_a_changes_the_crank_length(page: Page) -> None:
+    joint = page.locator("#drawing .joint[data-joint=A]").bounding_box()
+    origin = page.locator("#drawing .joint[data-joint=O]").bounding_box()
+    assert joint is not None and origin is not None
+    ax, ay = joint["x"] + joint["width"] / 2, joint["y"] + joint["height"] / 2
+    ox, oy = origin["x"] + origin["width"] / 2, origin["y"] + origin["height"] / 2
+    before = page.evaluate("document.body.dataset.analysed")
+    page.mouse.move(ax, ay)
+    page.mouse.down()
+    # A dragged along O->A to 1.3 times its distance from O on screen: the crank 1.3 times as long.
+    for k in range(1, 7):
+        page.mouse.move(ox + (ax - ox) * (1 + 0.05 * k), oy + (ay - oy) * (1 + 0.05 * k))
+    page.mouse.up()
+    page.wait_for_function(f"document.body.dataset.analysed !== '{before}' && window.workbench.state.pending === null")
+    # 0.1 m before; the screen's pixel grid and the page's 4-digit rounding of a dragged length allow 1 %.
+    assert state(page, "design.mechanism.crank_length_m") == pytest.approx(0.13, rel=0.01)
+    assert float(field(page, "mechanism.crank_length_m").input_value()) == pytest.approx(130, rel=0.01)
+
+
 def test_full_balancing_collapses_the_polar_curve_to_the_origin(page: Page) -> None:
     page.click("button[data-panel=balancing]")
     page.select_option("[id='bal-mode']", "full")
@@ -280,7 +312,7 @@ def test_keyboard_alone_reaches_every_input(page: Page) -> None:
             ".filter(e => e.offsetParent !== null && !e.disabled).map(e => e.id || e.dataset.panel)"))
         # From the first control of the page, Tab alone walks through every visible one.
         page.focus("button[data-panel=mechanism]")
-        seen = {"mechanism"} | _focus_walk(page, len(wanted) + 40)
+        seen = {"mechanism"} | _focus_walk(page, len(wanted) + 12)
         assert wanted <= seen, (panel, sorted(wanted - seen))
 
 

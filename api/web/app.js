@@ -70,6 +70,15 @@ export function toDisplay(v, kind) {
 function fieldSpecs(design) {
   const fam = design.mechanism.type;
   const specs = [{ group: "Geometry" }];
+  if (!GEOMETRY[fam]) {
+    // a family the form has no layout for (the engine grows): its mechanism as JSON, described by the manual
+    specs.push({ path: "mechanism", label: `${fam} (JSON)`, json: true });
+    specs.push({ group: "Operation" });
+    specs.push({ path: "speed_rpm", label: "Crank speed" });
+    specs.push({ path: "samples", label: "Samples per cycle" });
+    specs.push({ path: "gravity.g_m_s2", label: "Gravity (empty: off)", optional: true });
+    return specs;
+  }
   for (const [name, label] of GEOMETRY[fam]) {
     specs.push(name === "branch"
       ? { path: "mechanism.branch", label, options: [["1", "+1"], ["-1", "-1"]] }
@@ -142,7 +151,10 @@ export function renderForm() {
     const unit = unitLabel(kind, d.unit);
     const title = `${d.text}`.trim();
     let input;
-    if (spec.options) {
+    if (spec.json) {
+      input = `<textarea id="${id}" name="${spec.path}" rows="12" spellcheck="false" title="${esc(title)}" ` +
+        `aria-describedby="m-${spec.path}">${esc(JSON.stringify(value, null, 1))}</textarea>`;
+    } else if (spec.options) {
       input = `<select id="${id}" name="${spec.path}" title="${esc(title)}" aria-describedby="m-${spec.path}">` +
         spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? 1) === v ? "selected" : ""}>${l}</option>`).join("") +
         "</select>";
@@ -215,6 +227,9 @@ export function showProblem(err, where = "form-problem", fieldMapper = showMessa
 
 function readInput(el) {
   const spec = state.fields.find((s) => s.path === el.name);
+  if (spec.json) {
+    try { return { ok: true, value: JSON.parse(el.value) }; } catch (err) { return { ok: false, message: `not JSON: ${err.message}` }; }
+  }
   const raw = el.value.trim().replace(",", ".");
   if (el.tagName === "SELECT") return { ok: true, value: Number(raw) };
   if (raw === "") {
@@ -245,6 +260,8 @@ function applyInput(el) {
       { name: TRACE, link: COUPLER[fam], position_m: [0, 0] };
     tp.position_m[Number(path.split(".")[3])] = value ?? 0;
     state.design.trace_points = [tp];
+  } else if (path === "mechanism") {
+    state.design.mechanism = { ...value, type: fam };
   } else {
     setPath(state.design, path, value);
   }
@@ -342,6 +359,12 @@ export function drawAll() {
 }
 
 function outputMotion(a, fam) {
+  if (!GEOMETRY[fam]) {
+    const name = Object.keys(a.links).pop(), r = a.links[name];
+    return { name, s: { label: "angle [°]", unit: "°", sym: "θ", values: r.angle_deg },
+      v: { label: "ω [rad/s]", unit: "rad/s", sym: "ω", values: r.angular_velocity_rad_s },
+      a: { label: "ε [rad/s²]", unit: "rad/s²", sym: "ε", values: r.angular_acceleration_rad_s2 } };
+  }
   if (fam === "fourbar") {
     const r = a.links.rocker;
     return { name: "rocker Q-B", s: { label: "ψ [°]", unit: "°", sym: "ψ", values: r.angle_deg },
@@ -422,9 +445,11 @@ function readUrl() {
 }
 
 export function defaultMechanism(fam) {
-  const ex = (name) => state.openapi.components.schemas[name].examples || [];
-  const all = [...ex("AnalysisIn"), ...ex("OptimalBalanceIn")].map((e) => e.mechanism);
-  return structuredClone(all.find((m) => m.type === fam));
+  const schemas = state.openapi.components.schemas;
+  // the manual's own examples: every request example whose mechanism is of this family
+  const all = Object.values(schemas).flatMap((s) => s.examples || []).filter((e) => e && e.mechanism).map((e) => e.mechanism);
+  const found = all.find((m) => m.type === fam);
+  return structuredClone(found || { type: fam });
 }
 
 function defaultDesign() {
@@ -463,6 +488,11 @@ function selectTab(name) {
 
 async function main() {
   state.openapi = await loadOpenApi();
+  const familySelect = document.getElementById("family");
+  const mapping = state.openapi.components.schemas.AnalysisIn.properties.mechanism.discriminator?.mapping || {};
+  for (const fam of Object.keys(mapping)) {
+    if (![...familySelect.options].some((o) => o.value === fam)) familySelect.add(new Option(fam.replace(/_/g, " "), fam));
+  }
   const fromUrl = readUrl();
   document.getElementById("unit-length").value = state.units.length;
   document.getElementById("unit-mass").value = state.units.mass;
@@ -486,6 +516,7 @@ async function main() {
     const fam = e.target.value;
     const mech = defaultMechanism(fam);
     const d = { mechanism: mech, speed_rpm: state.design.speed_rpm, samples: state.design.samples };
+    if (!GEOMETRY[fam]) { setDesign(d); return; }
     if (COUPLER[fam]) {
       const len = mech.coupler_length_m || mech.rod_length_m;
       d.trace_points = [{ name: TRACE, link: COUPLER[fam], position_m: [len * 0.5, len * 0.4] }];

@@ -42,8 +42,17 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   let s = `<g stroke-width="${sw}" font-size="${sw * 11}">`;
   // crank circle, guides, curves: what the cycle sweeps
   const O = at("O"), A = at("A");
-  const rc = Math.hypot(A[0] - O[0], A[1] - O[1]);
-  s += `<circle class="crank-circle" cx="${O[0]}" cy="${-O[1]}" r="${rc}" stroke-width="${sw}" stroke-dasharray="${3 * sw} ${3 * sw}"/>`;
+  if (O && A) {
+    const rc = Math.hypot(A[0] - O[0], A[1] - O[1]);
+    s += `<circle class="crank-circle" cx="${O[0]}" cy="${-O[1]}" r="${rc}" stroke-width="${sw}" stroke-dasharray="${3 * sw} ${3 * sw}"/>`;
+  }
+  if (!LINKS[fam]) {
+    // a family without a drawing of its own: every joint's path over the cycle
+    for (const [name, p] of Object.entries(pts)) {
+      if (name.startsWith("S_") || name.startsWith("cw")) continue;
+      s += `<polyline points="${p.position_m.map(P).join(" ")}" fill="none" stroke="#9fb4d9" stroke-width="${sw}"/>`;
+    }
+  }
   if (fam === "slider_crank") {
     const ys = pts.B.position_m.map((p) => p[1]), xs = pts.B.position_m.map((p) => p[0]);
     const gx0 = Math.min(...xs) - lay.span * 0.08, gx1 = Math.max(...xs) + lay.span * 0.08;
@@ -60,7 +69,7 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   }
   for (const [x, y] of extras.targets || []) s += `<circle class="target" cx="${x}" cy="${-y}" r="${3.5 * sw}" stroke-width="${sw}"/>`;
   // ground pivots
-  for (const g of PIVOTS[fam]) {
+  for (const g of PIVOTS[fam] || []) {
     const p = at(g);
     s += `<path class="ground" d="M${p[0]},${-p[1]} l${-6 * sw},${10 * sw} h${12 * sw} z"/>` +
       `<line x1="${p[0] - 9 * sw}" x2="${p[0] + 9 * sw}" y1="${-p[1] + 10 * sw}" y2="${-p[1] + 10 * sw}" stroke="#8a93a3" stroke-width="${1.5 * sw}"/>`;
@@ -72,7 +81,7 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   if (extras.tracePoint && at(extras.tracePoint) && fam === "slider_crank") {
     s += `<polygon points="${P(at("A"))} ${P(at(extras.tracePoint))} ${P(at("B"))}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${1.5 * sw}"/>`;
   }
-  for (const [name, a, b] of LINKS[fam]) {
+  for (const [name, a, b] of LINKS[fam] || []) {
     const p = at(a), q = at(b);
     s += `<line class="link ${name}" x1="${p[0]}" y1="${-p[1]}" x2="${q[0]}" y2="${-q[1]}" stroke-width="${5 * sw}"/>`;
   }
@@ -105,7 +114,8 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
     s += `<circle class="com" cx="${q[0]}" cy="${-q[1]}" r="${2.2 * sw}"><title>centre of mass of ${name.slice(2)}</title></circle>`;
   }
   // joints and their names
-  const joints = fam === "fourbar" ? ["O", "A", "B", "Q"] : fam === "slider_crank" ? ["O", "A", "B"] : ["O", "A", "O1", "B", "R"];
+  const JOINTS = { fourbar: ["O", "A", "B", "Q"], slider_crank: ["O", "A", "B"], slotted_lever: ["O", "A", "O1", "B", "R"] };
+  const joints = JOINTS[fam] || Object.keys(pts).filter((n) => !n.startsWith("S_") && !n.startsWith("cw") && n !== extras.tracePoint);
   // each name set outwards from the joints' centre, so it stays clear of the links
   const cx = joints.reduce((t, j) => t + at(j)[0], 0) / joints.length, cy = joints.reduce((t, j) => t + at(j)[1], 0) / joints.length;
   for (const j of joints) {

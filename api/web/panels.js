@@ -162,7 +162,7 @@ function balancingPanel() {
       document.body.dataset.balanced = mode;
     } catch (err) { busy("bal", ""); panelProblem("bal", err); }
   }
-  async function show(ans) {
+  async function show(ans, picked = -1) {
     answer = ans;
     // the balanced linkage analysed again by the service: the before/after curves
     const before = ctx.state.answer;
@@ -189,11 +189,11 @@ function balancingPanel() {
     linePlot(box, "bal-torque", { title: "Driving torque: before and after", x, xLabel: "crank angle φ [°]", yLabel: "T [N·m]", unit: "N·m",
       series: [{ name: "before", values: before.driving_torque_Nm, colour: "#8a93a3" }, { name: "after", values: after.driving_torque_Nm, colour: "#1f5fbf" }] });
     if (ans.tradeoff && ans.tradeoff.length) {
-      scatterPlot(box, "bal-tradeoff", { title: "Trade-off sweep (click a point to open its design)", line: true,
+      scatterPlot(box, "bal-tradeoff", { title: "Trade-off sweep (click a point to open its design)", line: true, highlight: [picked],
         xLabel: "RMS shaking force [N]", yLabel: "RMS shaking moment [N·m]",
         points: ans.tradeoff.map((t) => ({ x: t.summary_after.rms_shaking_force_N, y: t.summary_after.rms_shaking_moment_Nm, design: t,
           label: `force weight ${fmt(t.weights.shaking_force)}, moment weight ${fmt(t.weights.shaking_moment)}` })),
-        onPick: (p) => show({ ...p.design, tradeoff: ans.tradeoff }) });
+        onPick: (p, n) => show({ ...p.design, tradeoff: ans.tradeoff }, n) });
     }
     document.getElementById("bal-apply").disabled = false;
   }
@@ -339,7 +339,9 @@ function machinePanel() {
   let last = null;
   const render = () => {
     const fam = ctx.state.design.mechanism.type;
-    const modes = fam === "fourbar" ? ["none", "static", "full", "optimal"] : ["none", "static", "optimal"];
+    // the modes the chain takes per family (docs/machine.md)
+    const modes = { fourbar: ["none", "static", "full", "optimal"], slider_crank: ["none", "static", "full", "optimal"],
+      slotted_lever: ["none", "optimal"] }[fam] || ["none"];
     el.innerHTML = `<h2>The whole machine: linkage, balance, drive, flywheel, simulation</h2><div class="controls">` +
       field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }) +
       field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }) +

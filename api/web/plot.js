@@ -197,9 +197,11 @@ export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPi
     const order = [...points].sort((a, b) => a.x - b.x);
     body += `<polyline class="curve" stroke="#8a93a3" points="${polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y)}"/>`;
   }
+  // many points: smaller dots, so the cloud stays readable
+  const r0 = points.length > 100 ? 3 : 5;
   points.forEach((p, i) => {
     const hot = highlight.includes(i);
-    body += `<circle class="pick" data-index="${i}" cx="${X(p.x)}" cy="${Y(p.y)}" r="${hot ? 6 : 5}" ` +
+    body += `<circle class="pick" data-index="${i}" cx="${X(p.x)}" cy="${Y(p.y)}" r="${hot ? r0 + 2 : r0}" ` +
       `fill="${p.colour || (hot ? "#c25e00" : "#1f5fbf")}" stroke="#fff" stroke-width="1.2" tabindex="0" role="button" ` +
       `aria-label="${p.label || `point ${i}`}" style="cursor:pointer"/>`;
   });
