@@ -248,7 +248,7 @@ function flywheelPanel() {
     res.innerHTML = `<table><tr><td>Flywheel inertia to add</td><td class="num">${fmt(a.flywheel_inertia_kgm2)} kg·m²</td></tr>` +
       `<tr><td>Target δ / simulated δ (check)</td><td class="num">${fmt(a.target_delta)} / ${fmt(a.achieved_delta)}</td></tr>` +
       `<tr><td>Crank speed band</td><td class="num">${fmt(a.omega_min_rad_s)} … ${fmt(a.omega_max_rad_s)} rad/s</td></tr>` +
-      (g ? `<tr><td>Body (${g.shape}) on the ${g.shaft} shaft</td><td class="num">D = ${L(g.diameter_m)}, ` +
+      (g ? `<tr><td>Body (${g.shape}) on the ${g.shaft} shaft</td><td class="num">outer D = ${L(g.outer_diameter_m)} (mean ${L(g.diameter_m)}), ` +
         `b = ${L(g.width_m)}, m = ${fmt(g.mass_kg)} kg, rim speed ${fmt(g.rim_speed_m_s)} m/s</td></tr>` : "") +
       "</table>";
     const box = document.getElementById("fly-plots");
@@ -275,8 +275,8 @@ function flywheelPanel() {
     const div = document.createElement("div");
     div.className = "plot"; div.id = "fly-body";
     const R = g.outer_diameter_m / 2, r = g.shape === "rim" ? R - g.rim_thickness_m : 0, b = g.width_m;
-    const W = 2 * R + b * 3, H = 2 * R * 1.15, sw = R / 60;
-    div.innerHTML = `<h4>The flywheel (${g.shape}): front and section</h4><svg viewBox="${-R * 1.1} ${-R * 1.1} ${W} ${H}" role="img" aria-label="flywheel drawing">` +
+    const W = 2 * R + b * 3, H = 2 * R * 1.25, sw = R / 60;
+    div.innerHTML = `<h4>The flywheel (${g.shape}): front and section</h4><svg viewBox="${-R * 1.1} ${-R * 1.2} ${W} ${H}" role="img" aria-label="flywheel drawing">` +
       `<circle cx="0" cy="0" r="${R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
       (r > 0 ? `<circle cx="0" cy="0" r="${r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` +
         [0, 60, 120].map((a) => `<line x1="${-r * Math.cos(a * Math.PI / 180)}" y1="${-r * Math.sin(a * Math.PI / 180)}" x2="${r * Math.cos(a * Math.PI / 180)}" y2="${r * Math.sin(a * Math.PI / 180)}" stroke="#2d3e5c" stroke-width="${sw * 3}"/>`).join("") : "") +
@@ -284,7 +284,7 @@ function flywheelPanel() {
       `<rect x="${R * 1.3}" y="${-R}" width="${b}" height="${2 * R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
       (r > 0 ? `<rect x="${R * 1.3 + b * 0.35}" y="${-r}" width="${b * 0.3}" height="${2 * r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` : "") +
       `<text x="0" y="${R * 1.08}" text-anchor="middle" style="font-size:${R / 9}px">D = ${L(g.outer_diameter_m)}</text>` +
-      `<text x="${R * 1.3 + b / 2}" y="${-R * 1.03}" text-anchor="middle" style="font-size:${R / 9}px">b = ${L(b)}</text></svg>`;
+      `<text x="${R * 1.3 + b / 2}" y="${-R * 1.06}" text-anchor="middle" style="font-size:${R / 9}px">b = ${L(b)}</text></svg>`;
     box.appendChild(div);
   }
   return render;
@@ -393,9 +393,13 @@ function machinePanel() {
       ["5 flywheel", fw ? `${fmt(fw.mass_kg)} kg ${fw.shape} on the ${m.flywheel_shaft} shaft, D = ${L(fw.outer_diameter_m)}` : "none needed"],
       ["6 simulation", `δ = ${fmt(m.simulation.achieved_delta)}, mean speed ${fmt(m.simulation.mean_crank_speed_rpm)} rpm, motor peak ${fmt(m.simulation.motor_peak_torque_Nm)} N·m`],
     ];
+    // each check beside the stage whose choice it judges
+    const judged = { "3 motor": ["motor_rms_torque", "motor_peak_torque"], "4 gears": ["mean_speed"], "5 flywheel": ["delta"] };
+    const verdict = (stage) => (judged[stage] || []).map((n) => m.checks.find((c) => c.name === n)).filter(Boolean)
+      .map((c) => `${tick(c.passed)} ${esc(c.name)}`).join(" ");
     const res = document.getElementById("mac-result");
     res.innerHTML = `<h3 id="mac-verdict">${tick(m.passed)} ${m.passed ? "every check passed" : "a check failed"}</h3>` +
-      `<table><tr><th>stage</th><th>result</th></tr>${stages.map(([k, v]) => `<tr><td>${k}</td><td>${esc(v)}</td></tr>`).join("")}</table>` +
+      `<table><tr><th>stage</th><th>result</th><th>checks</th></tr>${stages.map(([k, v]) => `<tr><td>${k}</td><td>${esc(v)}</td><td>${verdict(k)}</td></tr>`).join("")}</table>` +
       `<h3>Checks against the simulated machine</h3><table><tr><th></th><th>check</th><th>value</th><th>limit</th><th></th></tr>` +
       m.checks.map((c) => `<tr class="check"><td>${tick(c.passed)}</td><td>${esc(c.name)}</td><td class="num">${fmt(c.value)}</td><td class="num">${fmt(c.limit)}</td><td class="note">${esc(c.detail)}</td></tr>`).join("") + "</table>" +
       (m.alternatives.length ? `<h3>Alternatives side by side</h3><table><tr><th>balancing</th><th>flywheel</th><th>motor</th><th>δ</th><th>checks</th></tr>` +
@@ -458,7 +462,7 @@ function synthesisPanel() {
       s += `<line y1="${-y}" y2="${-y}" x1="${VIEW.x0}" x2="${VIEW.x0 + VIEW.w}" stroke="#e3e7ee" stroke-width="0.001"/>` +
         `<text x="${VIEW.x0 + 0.002}" y="${-y - 0.003}" style="font-size:0.011px" fill="#5b6575">${+(y / f).toFixed(3)}</text>`;
     }
-    s += `<text x="${VIEW.x0 + VIEW.w - 0.004}" y="${-VIEW.y0 - 0.004}" text-anchor="end" style="font-size:0.012px">[${u}]</text>`;
+    s += `<text x="${VIEW.x0 + VIEW.w - 0.004}" y="${-(VIEW.y0 + VIEW.h) + 0.014}" text-anchor="end" style="font-size:0.012px">[${u}]</text>`;
     if (answer && answer.curve) s += `<polygon points="${answer.curve.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#c25e00" stroke-width="0.0015" stroke-dasharray="0.004 0.002"/>`;
     if (points.length > 1) s += `<polyline points="${points.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#d0243a" stroke-width="0.0008"/>`;
     points.forEach((p, n) => {
