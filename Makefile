@@ -21,7 +21,7 @@ run: $(STAMP)
 CHROMIUM := /usr/bin/chromium
 
 test: $(STAMP)
-	test -x $(CHROMIUM) || (apt-get update && apt-get install -y --no-install-recommends chromium)
+	test -x $(CHROMIUM) || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends chromium)
 	$(VENV)/bin/python -m mypy
 	$(VENV)/bin/python -m pytest -q
 
