@@ -88,6 +88,13 @@ function checkNumbers(prefix, names) {
   return ok;
 }
 
+/** Remember the design a panel's answer is for, so that opening the panel later can say when it has changed. */
+function answered(panel) {
+  const el = document.getElementById(`panel-${panel}`);
+  el.dataset.design = JSON.stringify(ctx.state.design);
+  el.querySelector(".stale")?.remove();
+}
+
 function busy(prefix, text) {
   const s = document.getElementById(`${prefix}-status`);
   if (s) s.textContent = text;
@@ -158,6 +165,7 @@ function balancingPanel() {
     try {
       answer = await post(`/v1/balancing/${mode}`, request(mode));
       await show(answer);
+      answered("balancing");
       busy("bal", "");
       document.body.dataset.balanced = mode;
     } catch (err) { busy("bal", ""); panelProblem("bal", err); }
@@ -238,6 +246,7 @@ function flywheelPanel() {
     busy("fly", "sizing…");
     try {
       const a = await post("/v1/flywheel", body);
+      answered("flywheel");
       busy("fly", "");
       show(a);
     } catch (err) { busy("fly", ""); panelProblem("fly", err); }
@@ -317,6 +326,7 @@ function drivePanel() {
       // tooth numbers for each stage of the split, one search per stage
       const teeth = await Promise.all(d.stage_ratios.map((r) => post("/v1/gears/teeth", { total_ratio: r, stages: 1 })));
       busy("drv", "");
+      answered("drive");
       const res = document.getElementById("drv-result");
       res.innerHTML = `<h3>Motor ${d.motor.name}: ${fmt(d.motor.rated_power_W / 1000)} kW at ${fmt(d.motor.rated_rpm)} rpm; required ${fmt(d.required_power_W / 1000)} kW</h3>` +
         `<table><tr><th>stage</th><th>ratio (split)</th><th>teeth</th><th>ratio (teeth)</th><th>efficiency</th></tr>` +
@@ -369,6 +379,7 @@ function machinePanel() {
     busy("mac", "designing…");
     try {
       const m = await post("/v1/machines/design", last);
+      answered("machine");
       busy("mac", "");
       show(m);
       document.getElementById("mac-pdf").disabled = false;
@@ -648,13 +659,24 @@ export function installPanels(c) {
   ctx = c;
   const renders = { balancing: balancingPanel(), flywheel: flywheelPanel(), drive: drivePanel(), machine: machinePanel(),
     synthesis: synthesisPanel(), studies: studiesPanel() };
-  const rendered = {};
+  const rendered = { designs: {} };
   // A panel's form is built when first opened, from the design as it is then; opening it again keeps its answer.
   document.querySelectorAll("#tabs [role=tab]").forEach((t) => t.addEventListener("click", () => {
     const name = t.dataset.panel;
-    if (renders[name] && (!rendered[name] || rendered[name] !== ctx.state.design.mechanism.type)) {
+    if (!renders[name]) return;
+    const el = document.getElementById(`panel-${name}`);
+    const design = JSON.stringify(ctx.state.design);
+    // A new family, or a changed design with no answer shown yet: the panel's fields start again from the design.
+    if (rendered[name] !== ctx.state.design.mechanism.type || (!el.dataset.design && rendered.designs[name] !== design)) {
       renders[name]();
       rendered[name] = ctx.state.design.mechanism.type;
+      rendered.designs[name] = design;
+      delete el.dataset.design;
+    } else if (el.dataset.design && el.dataset.design !== design && !el.querySelector(".stale")) {
+      const note = document.createElement("p");
+      note.className = "stale problem";
+      note.textContent = "The design has changed since this answer: run again for the current one.";
+      el.querySelector("h2").after(note);
     }
   }));
 }
