@@ -551,9 +551,16 @@ function synthesisPanel() {
 }
 
 // --- studies -----------------------------------------------------------------------------------------------------
-const METRICS = [["summary.rms_shaking_force_N", "RMS shaking force [N]"], ["summary.rms_driving_torque_Nm", "RMS driving torque [N·m]"],
-  ["summary.rms_shaking_moment_Nm", "RMS shaking moment [N·m]"], ["summary.max_bearing_force_N", "largest bearing force [N]"],
-  ["summary.max_driving_torque_Nm", "peak driving torque [N·m]"]];
+// What a study can send each variant to, and the figures of its answer offered as objectives.
+const STUDY_ENDPOINTS = {
+  "/v1/analysis": { label: "analysis", metrics: [["summary.rms_shaking_force_N", "RMS shaking force [N]"],
+    ["summary.rms_driving_torque_Nm", "RMS driving torque [N·m]"], ["summary.rms_shaking_moment_Nm", "RMS shaking moment [N·m]"],
+    ["summary.max_bearing_force_N", "largest bearing force [N]"], ["summary.max_driving_torque_Nm", "peak driving torque [N·m]"]] },
+  "/v1/balancing/optimal": { label: "optimal balancing", metrics: [["summary_after.rms_shaking_force_N", "RMS shaking force, balanced [N]"],
+    ["total_added_mass_kg", "added mass [kg]"], ["summary_after.rms_shaking_moment_Nm", "RMS shaking moment, balanced [N·m]"],
+    ["summary_after.rms_driving_torque_Nm", "RMS driving torque, balanced [N·m]"]] },
+};
+const ALL_METRICS = Object.values(STUDY_ENDPOINTS).flatMap((e) => e.metrics);
 
 /** A study's default range around a value: ±20 %, rounded to three digits; a zero spans 0 to 1. */
 function span(v) {
@@ -580,14 +587,23 @@ function studiesPanel() {
     };
     el.innerHTML = `<h2>Design study over the current design</h2><div class="controls study">` + row(0, "mechanism.crank_length_m") +
       row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path) + `</div><div class="controls">` +
-      field("stu", { name: "x", label: "Objective 1 (min)", options: METRICS, value: METRICS[0][0] }) +
-      field("stu", { name: "y", label: "Objective 2 (min)", options: METRICS, value: METRICS[1][0] }) +
+      field("stu", { name: "endpoint", label: "Each variant to", options: Object.entries(STUDY_ENDPOINTS).map(([k, v]) => [k, v.label]), value: "/v1/analysis" }) +
+      field("stu", { name: "x", label: "Objective 1 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[0][0] }) +
+      field("stu", { name: "y", label: "Objective 2 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[1][0] }) +
       `</div><div class="actions"><button class="run" id="stu-run">Start the study</button><button class="secondary" id="stu-cancel" disabled>Cancel</button>` +
       `<button class="secondary" id="stu-resume" disabled>Resume</button><a id="stu-csv" href="#" hidden download="study.csv">Results as CSV</a><span id="stu-status" class="note"></span></div>` +
       `<progress id="stu-progress" max="1" value="0"></progress><p id="stu-problem" class="problem" hidden></p><div id="stu-plots" class="plots"></div>`;
     el.querySelector("#stu-run").addEventListener("click", start);
     el.querySelector("#stu-cancel").addEventListener("click", async () => { if (study) { study = await del(study.links.self); poll(); } });
     el.querySelector("#stu-resume").addEventListener("click", async () => { if (study) { study = await post(`${study.links.self}/resume`, {}); poll(); } });
+    document.getElementById("stu-endpoint").addEventListener("change", (e) => {
+      const metrics = STUDY_ENDPOINTS[e.target.value].metrics;
+      ["x", "y"].forEach((k, n) => {
+        const sel = document.getElementById(`stu-${k}`);
+        sel.innerHTML = metrics.map(([v, l]) => `<option value="${esc(v)}">${esc(l)}</option>`).join("");
+        sel.value = metrics[n][0];
+      });
+    });
     for (const n of [0, 1]) {
       document.getElementById(`stu-p${n}.path`).addEventListener("change", (e) => {
         const v = cur(e.target.value), f = numeric.find((x) => x.path === e.target.value);
@@ -603,9 +619,12 @@ function studiesPanel() {
     clearPanel("stu");
     if (!checkNumbers("stu", ["p0.from", "p0.to", "p0.count", "p1.from", "p1.to", "p1.count"])) return;
     base = structuredClone(ctx.state.design);
+    const endpoint = read("stu", "endpoint");
+    // an analysis varies the design as it is; a balancing study its linkage, with the panel's default weights
+    const request = endpoint === "/v1/analysis" ? base : { ...linkage(), weights: { shaking_force: 1, shaking_moment: 1 } };
     const x = read("stu", "x"), y = read("stu", "y");
     const parameters = [0, 1].map((n) => ({ path: read("stu", `p${n}.path`), range: [read("stu", `p${n}.from`), read("stu", `p${n}.to`)], count: Math.round(read("stu", `p${n}.count`)) }));
-    const body = { endpoint: "/v1/analysis", base, parameters, sampling: "grid", metrics: [...new Set([x, y])], objectives: { [x]: "min", [y]: "min" }, name: "workbench study" };
+    const body = { endpoint, base: request, parameters, sampling: "grid", metrics: [...new Set([x, y])], objectives: { [x]: "min", [y]: "min" }, name: "workbench study" };
     try {
       study = await post("/v1/studies", body);
       document.getElementById("stu-plots").innerHTML = "";
@@ -640,7 +659,7 @@ function studiesPanel() {
     // the front drawn last, on top
     pts.sort((a, b) => Number(onFront.has(a.variant.index)) - Number(onFront.has(b.variant.index)));
     const box = document.getElementById("stu-plots");
-    const label = (m) => METRICS.find((k) => k[0] === m)[1];
+    const label = (m) => ALL_METRICS.find((k) => k[0] === m)[1];
     const plot = scatterPlot(box, "stu-pareto", { title: `Pareto front: ${pareto.front.length} of ${pareto.candidates} variants (click one to open it)`,
       xLabel: label(x), yLabel: label(y), points: pts, onPick: (p) => openVariant(p.variant) });
     plot.el.querySelectorAll("circle.pick").forEach((c, n) => { c.dataset.variant = pts[n].variant.index; c.dataset.front = String(onFront.has(pts[n].variant.index)); });
