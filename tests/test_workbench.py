@@ -288,6 +288,10 @@ def test_a_bad_value_shows_its_message_next_to_its_field(page: Page) -> None:
     edit_and_wait(page, "mechanism.crank_length_m", "1000", outcome="problem")
     whole = page.locator("[id='m-mechanism']")
     assert whole.is_visible() and "longest link" in whole.inner_text()
+    # One that assembles over part of the turn only: the crank-angle gaps the service names, in the same place.
+    edit_and_wait(page, "mechanism.crank_length_m", "100", outcome="analysed")
+    edit_and_wait(page, "mechanism.rocker_length_m", "80", outcome="problem")
+    assert whole.is_visible() and "cannot be assembled" in whole.inner_text()
     # Not a number at all: said at once, without asking the service.
     field(page, "mechanism.coupler_length_m").fill("abc")
     assert page.locator("[id='m-mechanism.coupler_length_m']").inner_text() == '"abc" is not a number'

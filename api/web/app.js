@@ -215,13 +215,14 @@ export function showMessage(field, text, warn = false) {
 export function showProblem(err, where = "form-problem", fieldMapper = showMessage) {
   const box = document.getElementById(where);
   const body = err instanceof Problem ? err.body : { detail: String(err.message || err) };
-  const list = body.errors && body.errors.length ? body.errors : [{ field: body.field, message: body.detail }];
+  // a linkage that cannot be assembled is a property of the linkage as a whole
+  const field = body.field || (body.not_assemblable_ranges_deg ? "mechanism" : undefined);
+  const list = body.errors && body.errors.length ? body.errors : [{ field, message: body.detail }];
   const placed = list.map((e) => fieldMapper(e.field, e.message));
   if (placed.every(Boolean)) return;
   box.hidden = false;
   let text = body.detail || body.title || "the service refused the request";
   if (body.field) text += ` (field ${body.field})`;
-  if (body.phi_deg) text += `; crank angles ${body.phi_deg.slice(0, 6).map((v) => Math.round(v)).join(", ")}${body.phi_deg.length > 6 ? ", …" : ""}°`;
   box.textContent = text;
 }
 
