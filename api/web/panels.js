@@ -442,20 +442,41 @@ function synthesisPanel() {
       field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }) +
       field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }) +
       field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 }) +
-      `</div><p class="note">Path points: choose “four-bar through path points”, then click on the grid (at least 3 points, in order along the path).</p>` +
+      `</div><p class="note">Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path).</p>` +
       `<svg id="synth-canvas" viewBox="${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}" role="application" aria-label="Click to place path points" tabindex="0"></svg>` +
-      `<div class="actions"><button class="secondary" id="syn-clear">Clear points</button><button class="run" id="syn-run">Synthesise</button>` +
+      `<div class="controls">` + field("syn", { name: "px", label: "Point x", kind: "length" }) + field("syn", { name: "py", label: "Point y", kind: "length" }) +
+      `</div><div class="actions"><button class="secondary" id="syn-add">Add the point</button><button class="secondary" id="syn-clear">Clear points</button><button class="run" id="syn-run">Synthesise</button>` +
       `<button class="secondary" id="syn-open" disabled>Open the answer in the editor</button><span id="syn-status" class="note"></span></div>` +
       `<p id="syn-problem" class="problem" hidden></p><div id="syn-result"></div>`;
+    // each task shows the fields it takes
+    const USED = { "crank-rocker": ["swing_deg", "time_ratio", "scale_length_m"], "slider-crank": ["stroke_m", "time_ratio"], path: [] };
+    const showTask = () => {
+      const used = USED[read("syn", "task")];
+      for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m"]) {
+        document.getElementById(`syn-${name}`).closest(".row").hidden = !used.includes(name);
+      }
+    };
+    el.querySelector("#syn-task").addEventListener("change", showTask);
+    showTask();
     const canvas = el.querySelector("#synth-canvas");
     canvas.addEventListener("click", (evt) => {
       if (points.length >= 30) return;
       const p = toModel(canvas, evt);
       points.push([Number(p[0].toFixed(5)), Number(p[1].toFixed(5))]);
-      if (read("syn", "task") !== "path") document.getElementById("syn-task").value = "path";
+      if (read("syn", "task") !== "path") { document.getElementById("syn-task").value = "path"; showTask(); }
       drawCanvas();
     });
     el.querySelector("#syn-clear").addEventListener("click", () => { points = []; drawCanvas(); });
+    // the keyboard's way to place a point: its coordinates typed in the form's unit
+    el.querySelector("#syn-add").addEventListener("click", () => {
+      clearPanel("syn");
+      const x = read("syn", "px"), y = read("syn", "py");
+      if (!checkNumbers("syn", ["px", "py"]) || x === null || y === null) return;
+      points.push([x, y]);
+      document.getElementById("syn-task").value = "path";
+      showTask();
+      drawCanvas();
+    });
     el.querySelector("#syn-run").addEventListener("click", run);
     el.querySelector("#syn-open").addEventListener("click", open);
     drawCanvas();
