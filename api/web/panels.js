@@ -442,9 +442,9 @@ function synthesisPanel() {
       field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }) +
       field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }) +
       field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 }) +
-      `</div><p class="note">Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path).</p>` +
+      `</div><p class="note" id="syn-path-note">Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path).</p>` +
       `<svg id="synth-canvas" viewBox="${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}" role="application" aria-label="Click to place path points" tabindex="0"></svg>` +
-      `<div class="controls">` + field("syn", { name: "px", label: "Point x", kind: "length" }) + field("syn", { name: "py", label: "Point y", kind: "length" }) +
+      `<div class="controls" id="syn-points">` + field("syn", { name: "px", label: "Point x", kind: "length" }) + field("syn", { name: "py", label: "Point y", kind: "length" }) +
       `</div><div class="actions"><button class="secondary" id="syn-add">Add the point</button><button class="secondary" id="syn-clear">Clear points</button><button class="run" id="syn-run">Synthesise</button>` +
       `<button class="secondary" id="syn-open" disabled>Open the answer in the editor</button><span id="syn-status" class="note"></span></div>` +
       `<p id="syn-problem" class="problem" hidden></p><div id="syn-result"></div>`;
@@ -455,6 +455,7 @@ function synthesisPanel() {
       for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m"]) {
         document.getElementById(`syn-${name}`).closest(".row").hidden = !used.includes(name);
       }
+      for (const id of ["syn-path-note", "synth-canvas", "syn-points", "syn-add", "syn-clear"]) document.getElementById(id).hidden = read("syn", "task") !== "path";
     };
     el.querySelector("#syn-task").addEventListener("change", showTask);
     showTask();
