@@ -6,6 +6,8 @@ RUN apt-get update && apt-get install -y --no-install-recommends make \
 WORKDIR /app
 COPY --chown=synth:synth . /app
 USER synth
+# The service alone: the package without its test extra (pytest, hypothesis, mypy, schemathesis stay out).
+ENV EXTRAS=""
 RUN make .venv/.installed
 ENV HOST=0.0.0.0 PORT=8000 MPLBACKEND=Agg
 EXPOSE 8000

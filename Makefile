@@ -5,13 +5,15 @@ VENV := .venv
 STAMP := $(VENV)/.installed
 HOST ?= 127.0.0.1
 PORT ?= 8000
+# Optional dependencies installed with the package: the test tools by default; the Docker image sets it empty.
+EXTRAS ?= [test]
 
 .PHONY: run test bench lint
 
 $(STAMP): pyproject.toml
 	test -x $(VENV)/bin/python || $(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install --quiet --upgrade pip
-	$(VENV)/bin/python -m pip install --quiet -e '.[test]'
+	$(VENV)/bin/python -m pip install --quiet -e '.$(EXTRAS)'
 	touch $(STAMP)
 
 run: $(STAMP)

@@ -26,6 +26,7 @@ from synth.errors import (
     WorkerLost,
 )
 
+from . import validation
 from .settings import Settings
 from .execution.admission import Overloaded
 
@@ -43,7 +44,7 @@ _STATUS: dict[type[SynthError], int] = {
 }
 # Every problem a POST operation can answer, documented in the OpenAPI document with the one Problem schema.
 PROBLEM_STATUSES: dict[int, str] = {
-    400: "The body is not valid JSON.",
+    400: "The body is empty, not valid JSON, or not a JSON object: send JSON with content-type application/json.",
     408: "The client did not send its body within the body timeout.",
     413: "The body, or a count in it (samples, stages, sweep points), is beyond the service's limits.",
     422: "Input that cannot be satisfied: a field out of range, a linkage that cannot assemble, an infeasible "
@@ -63,7 +64,12 @@ PROBLEM_SCHEMA: dict[str, Any] = {
                                                    "occurrence of it."},
         "status": {"type": "integer", "description": "HTTP status code of this answer."},
         "detail": {"type": "string", "description": "What went wrong with this request, in words."},
-        "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field."},
+        "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field, as the "
+                                                             "JSON body spells it."},
+        "stage": {"type": "string", "description": "The stage of a machine design that failed: analysis, "
+                                                   "balancing, drive, teeth, flywheel, motor or simulation."},
+        "code": {"type": "string", "description": "The likely-mistake check that refused the input, e.g. "
+                                                  "length_likely_mm."},
     },
     "required": ["type", "title", "status", "detail"],
     "additionalProperties": True,
@@ -95,12 +101,10 @@ def problem(status: int, slug: str, title: str, detail: str, headers: Mapping[st
 def problem_response(exc: SynthError) -> JSONResponse:
     """Map an engine error to its status code and problem body."""
     status = next((_STATUS[c] for c in type(exc).__mro__ if c in _STATUS), 422)
-    return problem(status, exc.slug, exc.title, str(exc), **exc.extras())
-
-
-def _field_name(loc: tuple[Any, ...]) -> str:
-    parts = [str(p) for p in loc if p not in ("body",)]
-    return ".".join(parts)
+    extras = exc.extras()
+    if exc.stage is not None:
+        extras["stage"] = exc.stage
+    return problem(status, exc.slug, exc.title, str(exc), **extras)
 
 
 async def _synth_handler(_: Request, exc: Exception) -> JSONResponse:
@@ -108,21 +112,65 @@ async def _synth_handler(_: Request, exc: Exception) -> JSONResponse:
     return problem_response(exc)
 
 
-async def _validation_handler(_: Request, exc: Exception) -> JSONResponse:
+#: What every answer to a body that is not a JSON object says to do.
+SEND_JSON = "send JSON with content-type application/json"
+
+
+def _body_problem(request: Request, body: Any) -> JSONResponse:
+    """The body is missing, not JSON, or JSON that is not an object: say what to send."""
+    ctype = request.headers.get("content-type", "")
+    if body is None or body in (b"", ""):
+        detail = f"the body is empty: {SEND_JSON}"
+    elif "json" not in ctype:
+        detail = f"the body was sent as {ctype or 'no content type'}, not as JSON: {SEND_JSON}"
+    else:
+        detail = f"the body is JSON but not an object of the request's fields ({{...}}): {SEND_JSON}"
+    return problem(400, "json-body-expected", "JSON body expected", detail, content_type=ctype or None)
+
+
+def _allowed(request: Request, body: Any, parent: list[str | int]) -> list[str]:
+    """The fields the request schema allows at ``parent``; none when the operation has no JSON body schema."""
+    # the path as the OpenAPI document lists it: the design endpoints have no path parameters
+    doc = request.app.openapi()
+    schema = validation.request_schema(doc, request.url.path, request.method)
+    return [] if schema is None else validation.allowed_fields(schema, doc, body, parent)
+
+
+async def _validation_handler(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, RequestValidationError)
-    errors = [
-        {"field": _field_name(tuple(e.get("loc", ()))), "message": e.get("msg", ""), "type": e.get("type", "")}
-        for e in exc.errors()
-    ]
-    first = errors[0] if errors else {"field": "", "message": "invalid request"}
-    detail = f"{first['field']}: {first['message']}" if first["field"] else str(first["message"])
-    bad_json = next((e for e in exc.errors() if e.get("type") == "json_invalid"), None)
+    raw = list(exc.errors())
+    bad_json = next((e for e in raw if e.get("type") == "json_invalid"), None)
     if bad_json is not None:
         position = bad_json.get("loc", ("body", 0))[-1]
         return problem(400, "malformed-json", "Malformed JSON",
-                       f"the body is not valid JSON ({bad_json.get('msg', '')} at character {position})",
+                       f"the body is not valid JSON ({bad_json.get('msg', '')} at character {position}): {SEND_JSON}",
                        position=position)
-    return problem(422, "invalid-input", "Invalid input", detail, field=first["field"], errors=errors)
+    body = exc.body
+    in_body = [e for e in raw if tuple(e.get("loc", ()))[:1] == ("body",)]
+    if not isinstance(body, Mapping) and in_body and all(len(tuple(e.get("loc", ()))) == 1 for e in in_body):
+        return _body_problem(request, body)
+    errors: list[dict[str, Any]] = []
+    hint: dict[str, Any] = {}
+    for e in raw:
+        loc = tuple(e.get("loc", ()))
+        path = validation.json_path(loc, body) if loc[:1] == ("body",) else [p for p in loc[1:]]
+        field, message = validation.dotted(path), str(e.get("msg", ""))
+        item: dict[str, Any] = {"field": field, "message": message, "type": e.get("type", "")}
+        if e.get("type") == "extra_forbidden" and path and isinstance(path[-1], str):
+            allowed = _allowed(request, body, path[:-1])
+            close = validation.did_you_mean(path[-1], allowed)
+            where = validation.dotted(path[:-1]) or "the body"
+            message = f"{path[-1]!r} is not a field of {where}" + (f"; did you mean {close[0]!r}?" if close else "")
+            if allowed:
+                message += f" The fields there are: {', '.join(allowed)}"
+            item.update(message=message, did_you_mean=close, valid=allowed)
+            hint = {"did_you_mean": close, "valid": allowed}
+        if item not in errors:
+            errors.append(item)
+    # of a union's several errors, the one that went furthest into the body is the one the client made
+    first = max(errors, key=lambda e: len(str(e["field"]))) if errors else {"field": "", "message": "invalid request"}
+    detail = f"{first['field']}: {first['message']}" if first["field"] else str(first["message"])
+    return problem(422, "invalid-input", "Invalid input", detail, field=first["field"], errors=errors, **hint)
 
 
 async def _http_handler(_: Request, exc: Exception) -> JSONResponse:
@@ -228,7 +276,10 @@ def document(app: FastAPI) -> None:
             for method, operation in path.items():
                 responses = operation.setdefault("responses", {})
                 statuses = PROBLEM_STATUSES if method == "post" else {}
-                if method == "post" or any(p.get("in") == "query" for p in operation.get("parameters", [])):
+                # a parameter in the path or the query can be refused (422) like a body: every such operation
+                # says so with the Problem schema, never FastAPI's own validation body
+                if method == "post" or "422" in responses or any(
+                        p.get("in") in ("query", "path") for p in operation.get("parameters", [])):
                     statuses = statuses or {k: v for k, v in PROBLEM_STATUSES.items() if k in (400, 422)}
                 for status, description in statuses.items():
                     responses[str(status)] = {"description": description,

@@ -127,7 +127,17 @@ from .machine import (
     design_machine,
     simulate_machine,
 )
-from .kinematics import FourBar, Motion, SliderCrank, SlottedLever, cycle_angles, motion
+from .kinematics import (
+    FourBar,
+    JointSpec,
+    LinkSpec,
+    Motion,
+    PlanarLinkage,
+    SliderCrank,
+    SlottedLever,
+    cycle_angles,
+    motion,
+)
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
 from .model import Counterweight, Gravity, Linkage, LinkTorque, MassProps, ProcessLoad
 from .synthesis import (
@@ -166,16 +176,9 @@ from .topology import Joint, Topology
 from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
-from .warnings import (
-    DesignWarning,
-    check_analysis,
-    check_balance,
-    check_counterweights,
-    check_flywheel,
-    check_linkage,
-    check_rotor,
-    link_lengths,
-)
+from .warnings import DesignWarning, check_analysis, check_counterweights, check_linkage, link_lengths
+from .balancing.warnings import check_balance, check_rotor
+from .flywheel.warnings import check_flywheel
 
 __all__ = [
     "Alternative",
@@ -198,6 +201,9 @@ __all__ = [
     "DriveChecks",
     "DriveResult",
     "FourBar",
+    "JointSpec",
+    "LinkSpec",
+    "PlanarLinkage",
     "Gravity",
     "InertiaModel",
     "Infeasible",

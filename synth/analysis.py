@@ -11,8 +11,8 @@ import numpy as np
 from .counter_rotors import CounterRotor, rotor_inertia, rotor_loads
 from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
-from .kinematics import FourBar, MAX_SAMPLES, Motion, cycle_angles, motion, transmission_angle
-from .kinetostatics import Kinetostatics, solve_direct, virtual_power_torque
+from .kinematics import FourBar, MAX_SAMPLES, Motion, PointState, cycle_angles, motion, transmission_angle
+from .kinetostatics import Kinetostatics, LinkArrays, link_arrays, solve_direct, virtual_power_torque
 from .model import FloatArray, Linkage
 
 
@@ -120,11 +120,13 @@ def analyse(
             raise InvalidInput(f"point name {name!r} is already a joint of the mechanism", field="trace_points")
     for i, rotor in enumerate(counter_rotors):
         rotor.validate(links, f"counter_rotors[{i}]")
-    coms = {f"S_{link}": (link, linkage.mass_props(link).com) for link in links}
-    mot = base.with_points({**coms, **extra})
-    kin = solve_direct(mot, linkage)
-    vp = virtual_power_torque(mot, linkage)
-    red = reduced_model(mot, linkage)
+    arrays = link_arrays(base, linkage)
+    coms = {f"S_{link}": PointState(arrays.com_pos[i], arrays.com_vel[i], arrays.com_acc[i])
+            for i, link in enumerate(links)}
+    mot = base.with_points(extra, coms)
+    kin = solve_direct(mot, linkage, arrays)
+    vp = virtual_power_torque(mot, linkage, arrays)
+    red = reduced_model(mot, linkage, arrays)
     if counter_rotors:
         moment, torque = rotor_loads(mot, counter_rotors)
         kin = replace(kin, driving_torque=kin.driving_torque + torque, shaking_moment=kin.shaking_moment + moment)

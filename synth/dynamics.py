@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .kinematics.motion import Motion
-from .kinetostatics import external_loads
+from .kinetostatics import LinkArrays, external_loads, link_arrays
 from .model import FloatArray, Linkage
 
 
@@ -27,23 +27,26 @@ class ReducedModel:
     kinetic_energy: FloatArray
 
 
-def reduced_model(motion: Motion, linkage: Linkage) -> ReducedModel:
-    """J_red = sum(m·|v_S/w|² + J_S·(w_i/w)²), its derivative in phi, and M_red from the power of the loads."""
-    topo = linkage.mechanism.topology
+def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> ReducedModel:
+    """J_red = sum(m·|v_S/w|² + J_S·(w_i/w)²), its derivative in phi, and M_red from the power of the loads.
+
+    ``arrays`` are :func:`synth.kinetostatics.link_arrays` of this motion and linkage when the caller has them.
+    """
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
     w, eps = motion.omega_crank, motion.alpha_crank
     n = motion.samples
     inertia, slope, power = np.zeros(n), np.zeros(n), np.zeros(n)
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    for link in topo.links:
-        props = linkage.mass_props(link)
-        s = motion.point_on(link, props.com)
-        d1 = s.vel / w
-        d2 = (s.acc - eps * d1) / w**2
-        t1 = motion.link_omega[link] / w
-        t2 = (motion.link_alpha[link] - eps * t1) / w**2
-        inertia += props.mass * np.einsum("ij,ij->i", d1, d1) + props.inertia * t1**2
-        slope += 2 * props.mass * np.einsum("ij,ij->i", d1, d2) + 2 * props.inertia * t1 * t2
-        power += props.mass * (s.vel @ g)
+    for i in range(len(arrays.links)):
+        mass, j_s = arrays.mass[i], arrays.inertia[i]
+        vel = arrays.com_vel[i]
+        d1 = vel / w
+        d2 = (arrays.com_acc[i] - eps * d1) / w**2
+        t1 = arrays.omega[i] / w
+        t2 = (arrays.alpha[i] - eps * t1) / w**2
+        inertia += mass * np.einsum("ij,ij->i", d1, d1) + j_s * t1**2
+        slope += 2 * mass * np.einsum("ij,ij->i", d1, d2) + 2 * j_s * t1 * t2
+        power += mass * (vel @ g)
     loads = external_loads(motion, linkage)
     power += np.einsum("ij,ij->i", loads.force, loads.point_vel)
     for link, torque in loads.torques.items():

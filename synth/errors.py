@@ -27,6 +27,8 @@ class SynthError(Exception):
 
     slug = "synth-error"
     title = "Mechanism synthesis error"
+    #: The stage of a chain of capabilities (a machine design's analysis, balancing, drive...) that raised it.
+    stage: str | None = None
 
     def extras(self) -> dict[str, Any]:
         """Fields that help the caller act on the problem (angles, statuses, names)."""
@@ -51,13 +53,17 @@ class InvalidInput(SynthError, ValueError):
     slug = "invalid-input"
     title = "Invalid input"
 
-    def __init__(self, message: str, field: str | None = None) -> None:
+    def __init__(self, message: str, field: str | None = None, code: str | None = None) -> None:
         super().__init__(message)
         self.field = field
+        self.code = code
 
     def extras(self) -> dict[str, Any]:
-        """The offending field's dotted name, when known."""
-        return {"field": self.field} if self.field else {}
+        """The offending field's dotted name, when known, and the likely-mistake check's code that refused it."""
+        out: dict[str, Any] = {"field": self.field} if self.field else {}
+        if getattr(self, "code", None):
+            out["code"] = self.code
+        return out
 
 
 def angle_ranges_deg(phi: Sequence[float] | np.ndarray, bad: np.ndarray) -> list[tuple[float, float]]:

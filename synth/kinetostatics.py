@@ -37,6 +37,74 @@ PARAMS_PER_LINK = 4
 SINGULAR_RATIO = 1e-10
 
 
+@dataclass(frozen=True, slots=True)
+class LinkArrays:
+    """Every link's mass properties and the kinematics of its frame and centre of mass, stacked once per motion.
+
+    Links on axis 0 in topology order (counterweights included in the mass properties), crank angle on axis 1.
+    The direct kinetostatics, the linear map, the virtual-power check and the reduced model all read these arrays
+    instead of asking the linkage and the motion link by link.
+
+    ``params`` (L, 4): m [kg], m·x, m·y [kg·m] in the link frame, J about the first joint [kg·m²];
+    ``mass`` (L,) [kg], ``com`` (L, 2) [m] in the link frame, ``inertia`` (L,) about the centre of mass [kg·m²];
+    ``origin_pos`` / ``origin_acc`` (L, N, 2) of each frame origin [m, m/s²]; ``angle``, ``omega``, ``alpha``
+    (L, N) [rad, rad/s, rad/s²]; ``com_pos``, ``com_vel``, ``com_acc`` (L, N, 2) [m, m/s, m/s²].
+    """
+
+    links: tuple[str, ...]
+    params: FloatArray
+    mass: FloatArray
+    com: FloatArray
+    inertia: FloatArray
+    origin_pos: FloatArray
+    origin_acc: FloatArray
+    angle: FloatArray
+    omega: FloatArray
+    alpha: FloatArray
+    com_pos: FloatArray
+    com_vel: FloatArray
+    com_acc: FloatArray
+
+    def index(self, link: str) -> int:
+        """Position of ``link`` on axis 0."""
+        return self.links.index(link)
+
+
+def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
+    """Stack every link's inertial parameters and frame and centre-of-mass kinematics once for ``motion``.
+
+    The centre of mass of a massless link is its frame origin, as :meth:`synth.MassProps.from_params` has it.
+    """
+    links = linkage.mechanism.topology.links
+    params = linkage.params().reshape(len(links), PARAMS_PER_LINK)
+    mass = params[:, 0]
+    heavy = mass > 0.0
+    safe = np.where(heavy, mass, 1.0)
+    com = np.where(heavy[:, None], params[:, 1:3] / safe[:, None], 0.0)
+    inertia = np.where(heavy, params[:, 3] - mass * (com[:, 0] * com[:, 0] + com[:, 1] * com[:, 1]), params[:, 3])
+    origins = [motion.link_origin[link] for link in links]
+    origin_pos = np.stack([motion.point_pos[o] for o in origins])
+    origin_vel = np.stack([motion.point_vel[o] for o in origins])
+    origin_acc = np.stack([motion.point_acc[o] for o in origins])
+    angle = np.stack([motion.link_angle[link] for link in links])
+    omega = np.stack([motion.link_omega[link] for link in links])
+    alpha = np.stack([motion.link_alpha[link] for link in links])
+    # The same arithmetic as Motion.point_on, for all links at once.
+    c, s = np.cos(angle), np.sin(angle)
+    x, y = com[:, 0, None], com[:, 1, None]
+    r = np.empty(angle.shape + (2,))
+    np.subtract(c * x, s * y, out=r[..., 0])
+    np.add(s * x, c * y, out=r[..., 1])
+    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
+    com_pos = origin_pos + r
+    com_vel = origin_vel + omega[..., None] * k_r
+    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    for arr in (com_pos, com_vel, com_acc):
+        arr.flags.writeable = False
+    return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
+                      com_pos, com_vel, com_acc)
+
+
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
     """Unit normal to a prismatic joint's slide axis at every sample, (N, 2)."""
     joint = topo.joints[joint_index]
@@ -319,23 +387,21 @@ def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
     return ExternalLoads(force, point, point_vel, torques)
 
 
-def _known_loads_direct(motion: Motion, linkage: Linkage, loads: ExternalLoads) -> FloatArray:
+def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArrays) -> FloatArray:
     """Sum of gravity, inertia and external loads per link: forces and moments about its first joint, (N, 3n)."""
     topo = linkage.mechanism.topology
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    out = np.zeros((motion.samples, 3 * len(topo.links)))
+    force = arrays.mass[:, None, None] * (g - arrays.com_acc)
+    moment = cross(arrays.com_pos - arrays.origin_pos, force) - arrays.inertia[:, None] * arrays.alpha
+    out = np.zeros((arrays.angle.shape[1], 3 * len(topo.links)))
     for i, link in enumerate(topo.links):
-        props = linkage.mass_props(link)
-        origin = motion.point_pos[motion.link_origin[link]]
-        s = motion.point_on(link, props.com)
-        force = props.mass * (g - s.acc)
-        moment = cross(s.pos - origin, force) - props.inertia * motion.link_alpha[link]
+        f_i, m_i = force[i], moment[i]
         if link == topo.output and topo.output_motion == "translation":
-            force = force + loads.force
-            moment = moment + cross(loads.point - origin, loads.force)
-        moment = moment + loads.torques.get(link, 0.0)
-        out[:, 3 * i : 3 * i + 2] = force
-        out[:, 3 * i + 2] = moment
+            f_i = f_i + loads.force
+            m_i = m_i + cross(loads.point - arrays.origin_pos[i], loads.force)
+        m_i = m_i + loads.torques.get(link, 0.0)
+        out[:, 3 * i : 3 * i + 2] = f_i
+        out[:, 3 * i + 2] = m_i
     return out
 
 
@@ -395,22 +461,25 @@ def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, Fl
     return reactions, couples
 
 
-def solve_direct(motion: Motion, linkage: Linkage) -> Kinetostatics:
-    """Kinetostatics from the links' actual loads (the plain model, independent of the linear map)."""
+def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> Kinetostatics:
+    """Kinetostatics from the links' actual loads (the plain model, independent of the linear map).
+
+    ``arrays`` are :func:`link_arrays` of this motion and linkage when the caller has them already.
+    """
     topo = linkage.mechanism.topology
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
     loads = external_loads(motion, linkage)
-    known = _known_loads_direct(motion, linkage, loads)
+    known = _known_loads_direct(linkage, loads, arrays)
     x = _solve_stacked(motion, topo, -known[..., None])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force
     moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    for link in topo.links:
-        props = linkage.mass_props(link)
-        s = motion.point_on(link, props.com)
-        force = force - props.mass * g
-        moment = moment - props.mass * cross(s.pos, np.broadcast_to(g, s.pos.shape))
+    for i in range(len(topo.links)):
+        pos = arrays.com_pos[i]
+        force = force - arrays.mass[i] * g
+        moment = moment - arrays.mass[i] * cross(pos, np.broadcast_to(g, pos.shape))
     reactions, couples = _unpack(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
 
@@ -468,9 +537,13 @@ class LinearMap:
         return np.asarray(np.einsum("nrk,k->nr", self.y, p) + self.y0)
 
 
-def linear_map(motion: Motion, linkage: Linkage) -> LinearMap:
-    """Build the linear-in-parameters map for a fixed motion (loads other than inertia and gravity in y0)."""
+def linear_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> LinearMap:
+    """Build the linear-in-parameters map for a fixed motion (loads other than inertia and gravity in y0).
+
+    ``arrays`` are :func:`link_arrays` of this motion and linkage when the caller has them already.
+    """
     topo = linkage.mechanism.topology
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
     n, n_links = motion.samples, len(topo.links)
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     known = np.zeros((n, 3 * n_links, PARAMS_PER_LINK * n_links + 1))
@@ -478,9 +551,8 @@ def linear_map(motion: Motion, linkage: Linkage) -> LinearMap:
     grav_moment = np.zeros((n, PARAMS_PER_LINK * n_links))
     for i, link in enumerate(topo.links):
         r0, c0 = 3 * i, PARAMS_PER_LINK * i
-        th, w, al = motion.link_angle[link], motion.link_omega[link], motion.link_alpha[link]
-        origin_name = motion.link_origin[link]
-        a_o, o = motion.point_acc[origin_name], motion.point_pos[origin_name]
+        th, w, al = arrays.angle[i], arrays.omega[i], arrays.alpha[i]
+        a_o, o = arrays.origin_acc[i], arrays.origin_pos[i]
         e1 = np.stack([np.cos(th), np.sin(th)], axis=-1)
         e2 = perp(e1)
         g_rel = g - a_o
@@ -498,7 +570,7 @@ def linear_map(motion: Motion, linkage: Linkage) -> LinearMap:
         grav_moment[:, c0 + 2] = -cross(e2, gb)
     loads = external_loads(motion, linkage)
     for i, link in enumerate(topo.links):
-        origin = motion.point_pos[motion.link_origin[link]]
+        origin = arrays.origin_pos[i]
         if link == topo.output and topo.output_motion == "translation":
             known[:, 3 * i : 3 * i + 2, -1] += loads.force
             known[:, 3 * i + 2, -1] += cross(loads.point - origin, loads.force)
@@ -513,21 +585,21 @@ def linear_map(motion: Motion, linkage: Linkage) -> LinearMap:
     return LinearMap(topo.links, tuple(j.name for j in topo.joints), full[:, :, :-1], full[:, :, -1])
 
 
-def virtual_power_torque(motion: Motion, linkage: Linkage) -> FloatArray:
+def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> FloatArray:
     """Driving torque [N·m] from virtual power: the powers of all loads and inertia forces sum to zero.
 
-    Independent of the reaction solve (Zhukovsky's lever in analytic form, seed 000:138-192).
+    Independent of the reaction solve (Zhukovsky's lever in analytic form, seed 000:138-192). ``arrays`` are
+    :func:`link_arrays` of this motion and linkage when the caller has them already.
     """
     topo = linkage.mechanism.topology
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     loads = external_loads(motion, linkage)
     power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
-    for link in topo.links:
-        props = linkage.mass_props(link)
-        s = motion.point_on(link, props.com)
-        inertia_force = props.mass * (g - s.acc)
-        power = power + np.einsum("ij,ij->i", inertia_force, s.vel)
-        power = power - props.inertia * motion.link_alpha[link] * motion.link_omega[link]
-    return np.asarray(-power / motion.link_omega[topo.crank])
+    for i in range(len(topo.links)):
+        inertia_force = arrays.mass[i] * (g - arrays.com_acc[i])
+        power = power + np.einsum("ij,ij->i", inertia_force, arrays.com_vel[i])
+        power = power - arrays.inertia[i] * arrays.alpha[i] * arrays.omega[i]
+    return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

@@ -5,17 +5,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from .errors import InvalidInput
-
-if TYPE_CHECKING:
-    from .kinematics import Mechanism
-
-FloatArray = NDArray[np.float64]
+from .mechanism import FloatArray as FloatArray
+from .mechanism import Mechanism
 
 
 def _finite(value: float, field_name: str) -> float:

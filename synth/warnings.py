@@ -1,6 +1,9 @@
 """Likely mistakes in a request or a result: plain checks that return notes, never raise and never ``warnings.warn``.
 
-Each check is a function of engine inputs or results and returns a list of :class:`DesignWarning`. A warning
+Each check is a function of engine inputs or results and returns a list of :class:`DesignWarning`. The checks of a
+linkage and its analysis live here; each capability keeps the checks of its own results beside them
+(:mod:`synth.balancing.warnings`, :mod:`synth.flywheel.warnings`, the drive's notes in :mod:`synth.gearing`), so
+this module never imports a capability back. A warning
 names the request field it concerns (as the HTTP edge spells it), the number that triggered it in SI units and
 a sentence for people. The answer is still given: a warning says "look again", an error says "cannot".
 
@@ -18,7 +21,9 @@ Codes
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
-``rotor_inertia_missing`` and ``rated_power_exceeds``.
+``rotor_inertia_missing`` and ``rated_power_exceeds``. A machine design gathers every stage's warnings, each with
+its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
+the simulated machine misses); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
 """
 
 from __future__ import annotations
@@ -31,13 +36,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .kinematics import FourBar, SliderCrank, SlottedLever
+from .kinematics import FourBar, PlanarLinkage, SliderCrank, SlottedLever
 from .model import Counterweight, FloatArray, Linkage
 
 if TYPE_CHECKING:
     from .analysis import Analysis
-    from .balancing import BalanceResult, RotorBalance, RotorMass
-    from .flywheel import FlywheelResult, GeometrySpec
     from .kinematics import Mechanism
 
 # A solid steel cube as large as the machine bounds any one link's mass; beyond it the number was typed in grams.
@@ -61,6 +64,8 @@ class DesignWarning:
     message : One sentence for people.
     unit : Unit of ``value`` (SI: m, kg, kg·m², rad, J, m/s, 1).
     ranges : Crank-angle ranges where it holds [rad], as (start, end) pairs.
+    stage : The stage of a machine design that found it (analysis, balancing, drive, teeth, flywheel, motor,
+        simulation); None outside a machine design.
     """
 
     code: str
@@ -69,6 +74,7 @@ class DesignWarning:
     message: str
     unit: str = ""
     ranges: tuple[tuple[float, float], ...] = ()
+    stage: str | None = None
 
 
 def link_lengths(mechanism: Mechanism) -> dict[str, float]:
@@ -79,6 +85,10 @@ def link_lengths(mechanism: Mechanism) -> dict[str, float]:
         return {"crank": mechanism.crank, "rod": mechanism.rod}
     if isinstance(mechanism, SlottedLever):
         return {"crank": mechanism.crank, "rocker": mechanism.rocker}
+    if isinstance(mechanism, PlanarLinkage):
+        # A link that slides on the frame carries whatever is fixed to it along its guide, like a block.
+        sliding = {x for j in mechanism.joints if j.kind == "prismatic" and "frame" in j.links for x in j.links}
+        return {k: v for k, v in mechanism.link_lengths().items() if k not in sliding}
     return {}
 
 
@@ -91,6 +101,8 @@ def _length_fields(mechanism: Mechanism) -> dict[str, float]:
     if isinstance(mechanism, SlottedLever):
         return {"crank_length_m": mechanism.crank, "ground_length_m": mechanism.ground,
                 "rocker_length_m": mechanism.rocker, "ram_height_m": mechanism.ram_height}
+    if isinstance(mechanism, PlanarLinkage):
+        return {f"links.{i}.length_m": k.length for i, k in enumerate(mechanism.links) if len(k.joints) > 1}
     return {}
 
 
@@ -225,60 +237,4 @@ def check_analysis(an: Analysis) -> list[DesignWarning]:
                 f"the loads do {work:.4g} J of positive work per revolution: they drive the crank and the motor "
                 "would brake; a resisting load is given as a positive magnitude acting against the output's motion, "
                 "a resisting torque on a link turns against it", "J"))
-    return out
-
-
-def check_balance(result: BalanceResult) -> list[DesignWarning]:
-    """:func:`check_analysis` of the linkage before balancing and counterweights placed beyond their links
-    (allowed by a ``max_radius_m`` longer than the link)."""
-    before = result.analysis_before
-    return check_analysis(before) + check_counterweights(before.linkage, result.counterweights, "max_radius_m")
-
-
-def check_rotor(masses: Sequence[RotorMass], result: RotorBalance) -> list[DesignWarning]:
-    """A correction heavier than all the rotor's unbalanced masses together: its radius is chosen small."""
-    total = sum(m.mass for m in masses)
-    out: list[DesignWarning] = []
-    for i, c in enumerate(result.corrections):
-        if total > 0 and c.mass > total:
-            out.append(DesignWarning(
-                "correction_radius_small", f"corrections[{i}].radius_m", c.radius,
-                f"the correction needs {c.mass:.4g} kg, more than the {total:.4g} kg of unbalanced masses: "
-                "a larger correction radius needs less", "m"))
-    return out
-
-
-def check_flywheel(result: FlywheelResult, geometry: GeometrySpec | None = None,
-                   analysis: Analysis | None = None) -> list[DesignWarning]:
-    """Loads that drive the machine, a target delta outside every machine type's range, a rim near its speed limit;
-    with the ``analysis`` of a linkage also :func:`check_linkage` and the transmission angle.
-
-    The load sign is judged on the cycle's work as sized (``tables`` without an analysis, ``loads`` with one).
-    """
-    out: list[DesignWarning] = []
-    load_field = "tables"
-    if analysis is not None:
-        out += [w for w in check_analysis(analysis) if w.code != "load_work_positive"]
-        load_field = "loads" if analysis.linkage.loads else "torques"
-    if result.driving_torque < 0:
-        out.append(DesignWarning(
-            "load_work_positive", load_field, result.cycle_work,
-            f"the given torques do {result.cycle_work:.4g} J of positive work per cycle, so the constant driving "
-            f"torque that balances them is negative ({result.driving_torque:.4g} N·m): resisting torques are "
-            "negative, driving ones positive", "J"))
-    lo, hi = DELTA_RANGE
-    delta = result.target_delta
-    if not lo <= delta <= hi:
-        out.append(DesignWarning(
-            "delta_out_of_range", "delta", delta,
-            f"a target delta of {delta:.3g} lies outside the usual {lo:.3g}–{hi:.3g} of machines (the machine types' "
-            "table lists them); the flywheel grows as 1/delta", "1"))
-    if geometry is not None and geometry.max_rim_speed is not None and result.geometry is not None:
-        best = result.geometry.best
-        limit = geometry.max_rim_speed
-        if best.rim_speed >= RIM_SPEED_MARGIN * limit:
-            out.append(DesignWarning(
-                "rim_speed_near_limit", "geometry.max_rim_speed_m_s", best.rim_speed,
-                f"the flywheel's rim runs at {best.rim_speed:.3g} m/s, {best.rim_speed / limit:.0%} of the "
-                f"{limit:g} m/s limit: no margin for overspeed; a larger width or another shaft gives one", "m/s"))
     return out

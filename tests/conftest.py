@@ -10,10 +10,14 @@ from typing import Any
 
 import pytest
 from hypothesis import settings
+from hypothesis.configuration import set_hypothesis_home_dir
 
 # The same examples on every run: a commit that is green stays green. Set SYNTH_HYPOTHESIS_RANDOM=1 to explore.
-settings.register_profile("repeatable", derandomize=True, deadline=None)
-settings.register_profile("explore", deadline=None)
+# Tests leave no files in the repository: no example database, and hypothesis's own cache (constants of the code
+# under test) in a scratch directory instead of .hypothesis/ in the working directory.
+set_hypothesis_home_dir(tempfile.mkdtemp(prefix="synth-hypothesis-"))
+settings.register_profile("repeatable", derandomize=True, deadline=None, database=None)
+settings.register_profile("explore", deadline=None, database=None)
 settings.load_profile("explore" if os.environ.get("SYNTH_HYPOTHESIS_RANDOM") else "repeatable")
 
 # Studies started by tests (fuzzing included) go to a scratch database, never into the working directory.
@@ -30,6 +34,15 @@ def load_cases() -> dict[str, dict[str, Any]]:
 
 
 CASES = load_cases()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _repository_root_stays_clean():  # type: ignore[no-untyped-def]
+    """The whole run leaves no new file or directory in the repository root (databases, caches, figures)."""
+    before = set(os.listdir(REPO))
+    yield
+    left = sorted(set(os.listdir(REPO)) - before)
+    assert not left, f"the tests left these in the repository root: {left}"
 
 
 @pytest.fixture(scope="session")

@@ -52,7 +52,18 @@ def test_press_stages_equal_the_single_endpoints(client: SynthClient, press) -> 
     drive = client.gears_drive(DriveIn.model_validate({
         "output_power_W": press.reduced.mean_power_W, "output_speed_rpm": body.speed_rpm, "stages": ["helical"],
         "synchronous_rpm": 1500}))
-    assert press.drive.motor == drive.motor and press.drive.total_ratio == pytest.approx(drive.total_ratio, rel=1e-12)
+    assert press.drive.motor == drive.motor
+    # the drive endpoint takes the ratio from the rated speed; the machine from the speed the motor runs at
+    # under the mean load: on the linear characteristic k·(n_s - n)·n = P/eta, the upper root (written here
+    # from the catalogue data, apart from the engine)
+    m = drive.motor
+    k = m.rated_power_W / (m.rated_rpm * math.pi / 30) / ((m.synchronous_rpm - m.rated_rpm) * math.pi / 30)
+    ws = m.synchronous_rpm * math.pi / 30
+    eta = press.motor.train_efficiency
+    w_op = 0.5 * (ws + math.sqrt(ws**2 - 4 * press.reduced.mean_power_W / eta / k))
+    assert drive.total_ratio == pytest.approx(m.rated_rpm / body.speed_rpm, rel=1e-12)
+    assert press.drive.total_ratio == pytest.approx(w_op / (body.speed_rpm * math.pi / 30), rel=1e-12)
+    assert press.motor.operating_speed_rpm == pytest.approx(w_op * 30 / math.pi, rel=1e-12)
     # teeth: /v1/gears/teeth on the split ratio with the room the chain gives it
     u = press.drive.stage_ratios[0]
     teeth = client.gears_teeth(TeethIn.model_validate({"total_ratio": u, "stages": [{
@@ -73,7 +84,9 @@ def test_press_stages_equal_the_single_endpoints(client: SynthClient, press) -> 
     ours = next(m for m in press.flywheel.methods if m.method == "motor_nlp")
     assert ours.required_constant_inertia_kgm2 == pytest.approx(nlp.required_constant_inertia_kgm2, rel=1e-6)
     # and the flywheel endpoint's own check (shooting on the energy form) agrees with the machine simulation
-    assert nlp.achieved_delta == pytest.approx(ours.achieved_delta, rel=1e-4)
+    # (Runge-Kutta on the velocity form): at 120 samples the two discretisations differ by about 1e-4 of delta,
+    # a fifth of the 1e-3 the delta check allows
+    assert nlp.achieved_delta == pytest.approx(ours.achieved_delta, rel=2e-4)
 
 
 @pytest.mark.parametrize("mode", ["none", "static", "full"])

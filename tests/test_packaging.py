@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import re
+import subprocess
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -23,3 +25,19 @@ def test_dockerfile_uses_the_readme_commands() -> None:
 
 def test_ci_runs_the_readme_test_command() -> None:
     assert "make test" in (REPO / ".ci" / "run").read_text()
+
+
+def test_docker_image_installs_no_test_tools() -> None:
+    # The image sets EXTRAS empty before the install target; make, given that environment, must install the
+    # package without its test extra (dry run: the commands make would run, nothing installed).
+    docker = (REPO / "Dockerfile").read_text()
+    env_line = docker.index('ENV EXTRAS=""')
+    assert env_line < docker.index("RUN make .venv/.installed")
+    def dry_run(env: dict[str, str]) -> str:
+        return subprocess.run(["make", "-n", "-B", ".venv/.installed"], cwd=REPO, capture_output=True, text=True,
+                              check=True, env=env).stdout
+    image = dry_run({**os.environ, "EXTRAS": ""})
+    assert "pip install --quiet -e '.'" in image and "[test]" not in image
+    # a developer's checkout still gets them
+    plain = dry_run({k: v for k, v in os.environ.items() if k != "EXTRAS"})
+    assert "pip install --quiet -e '.[test]'" in plain

@@ -25,7 +25,7 @@ TABLES = {"crank_angle_deg": [0, 120, 240, 360], "resisting_torque_Nm": [-10, -2
     ("/v1/gears/teeth", {"total_ratio": 17.3, "stages": 2, "addendum_coefficient": 1e308}, "addendum_coefficient"),
     ("/v1/gears/teeth", {"total_ratio": 17.3, "stages": 2, "profile_shift": 1e308}, "profile_shift"),
     ("/v1/flywheel", {"tables": {**TABLES, "resisting_torque_Nm": [1e308, -1e308, 1e308, 1e308]},
-                      "mean_speed_rad_s": 10, "delta": 0.1}, "tables.resisting_torque_Nm.0"),
+                      "mean_speed_rad_s": 10, "delta": 0.1}, "tables.resisting_torque_Nm[0]"),
     ("/v1/flywheel", {"tables": TABLES, "mean_speed_rad_s": 1e308, "delta": 0.1}, "mean_speed_rad_s"),
     ("/v1/flywheel", {"tables": TABLES, "mean_speed_rad_s": 1e-300, "delta": 0.1}, "mean_speed_rad_s"),
     ("/v1/analysis", {"mechanism": FOURBAR, "speed_rpm": True}, "speed_rpm"),

@@ -133,8 +133,12 @@ def test_pareto_compares_to_significant_digits_of_each_objective_when_asked() ->
     # Equal designs but for solver noise: a budget met to 1e-11 kg, residual forces of 1e-12 N next to 160 N.
     points = np.array([[98.8, 1.0000000000095], [152.0, 1.0000000000009], [160.0, 2.0],
                        [1e-12, 4.5], [3e-12, 4.0]])
-    assert list(synth.pareto_mask(points, ["min", "min"])) == [True, True, False, True, True]
-    assert list(synth.pareto_mask(points, ["min", "min"], digits=9)) == [True, False, False, False, True]
+    assert list(synth.pareto_mask(points, ["min", "min"], noise=0.0)) == [True, True, False, True, True]
+    assert list(synth.pareto_mask(points, ["min", "min"])) == [True, False, False, False, True]
+    # two digits of 98.9 N is 1 N: 98.8 and 98.9 N are then one force, and the lighter design beats the other
+    coarse = np.array([[98.8, 1.0], [98.9, 0.5]])
+    assert list(synth.pareto_mask(coarse, ["min", "min"], digits=2)) == [False, True]
+    assert list(synth.pareto_mask(coarse, ["min", "min"])) == [True, True]
     # Nine digits of 160 N is a micronewton; nine digits of 4.5 kg is 10 micrograms.
     assert quantise(points, 9)[:, 0] == pytest.approx([98.8, 152.0, 160.0, 0.0, 0.0], abs=1e-15, rel=1e-15)
     assert quantise(points, 9)[:, 1] == pytest.approx([1.0, 1.0, 2.0, 4.5, 4.0], abs=0, rel=1e-15)

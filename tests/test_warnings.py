@@ -166,9 +166,11 @@ def _readme_requests() -> list[tuple[str, dict]]:
 
 
 # The README's drive example shows the shipped catalogue's notes: representative data (without a rotor inertia for
-# that motor) and torques at the rated power, as the textbook example computes them.
+# that motor) and torques at the rated power, as the textbook example computes them. Its press machine gathers
+# every stage's notes: the catalogue's (drive) and, its lightest flywheel being the one at the rim speed limit,
+# no margin for overspeed (flywheel).
 DOCUMENTED = {"/v1/gears/drive": {"representative_catalogue", "rotor_inertia_missing", "rated_power_exceeds"},
-              "/v1/machines/design": {"representative_catalogue"}}
+              "/v1/machines/design": {"representative_catalogue", "rim_speed_near_limit"}}
 
 
 # Answers that are exact bookkeeping of what was given (a train's ratios, a structure's counts) or a synthesis

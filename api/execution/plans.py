@@ -9,12 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from importlib import metadata
 from typing import Any
 
 from pydantic import BaseModel
 
 import synth
 from synth.exports import balance_export, slider_crank_balance_export
+from synth.machine.record import DesignRecord
 
 from ..media import FIGURES, Render
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
@@ -59,6 +61,8 @@ from .tasks import (
 )
 
 CURVES = (*FIGURES, "csv", "dxf")
+#: The installed service's version, printed in every design record.
+SERVICE_VERSION = metadata.version("mechsynth")
 
 
 @dataclass(frozen=True, slots=True)
@@ -225,8 +229,10 @@ def synthesis_path(b: PathIn, lim: Limits) -> Plan:
 
 
 def machine_design(b: MachineIn, lim: Limits) -> Plan:
-    """POST /v1/machines/design: the design and, when asked, its alternatives; a summary PNG or the PDF report."""
-    return Plan(Render(design_out, design_file), design_machine,
+    """POST /v1/machines/design: the design and, when asked, its alternatives; a summary PNG or the PDF design
+    record, titled and identified by the request's hash."""
+    record = DesignRecord.of(b.model_dump(mode="json"), name=b.name, version=SERVICE_VERSION)
+    return Plan(Render(design_out, design_file, model_extra=(record,), export_extra=(record,)), design_machine,
                 (b.to_engine(lim.max_stages), b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
                 stem="machine-design")
 

@@ -10,6 +10,7 @@ from typing import Any
 
 import synth
 from synth.exports import analysis_export, balance_export, flywheel_export, mechanism_dxf, mechanism_svg
+from synth.machine.record import DesignRecord
 from synth.machine.report import design_report_pdf, design_summary_png
 from synth.synthesis.plots import extremes_png, path_png
 
@@ -76,14 +77,14 @@ def design_machine(spec: synth.MachineSpec, alternatives: bool, time_limit_s: fl
     return result, others
 
 
-def design_out(pair: DesignAndAlternatives) -> MachineDesignOut:
-    """The design's JSON answer."""
-    return MachineDesignOut.from_engine(*pair)
+def design_out(pair: DesignAndAlternatives, record: DesignRecord) -> MachineDesignOut:
+    """The design's JSON answer, identified by its request's hash."""
+    return MachineDesignOut.from_engine(*pair, request_sha256=record.request_sha256)
 
 
-def design_file(pair: DesignAndAlternatives, fmt: str) -> bytes:
-    """The design's one-page summary (png) or its multi-page report (pdf)."""
-    return design_summary_png(pair[0]) if fmt == "png" else design_report_pdf(*pair)
+def design_file(pair: DesignAndAlternatives, fmt: str, record: DesignRecord) -> bytes:
+    """The design's one-page summary (png) or its design record (pdf)."""
+    return design_summary_png(pair[0]) if fmt == "png" else design_report_pdf(*pair, record=record)
 
 
 def crank_rocker_png(result: synth.CrankRockerResult, fmt: str) -> bytes:

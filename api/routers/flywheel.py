@@ -2,19 +2,28 @@
 
 from __future__ import annotations
 
+from typing import Annotated, Literal
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 import synth
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..media import FIGURES, FormatQuery, format_responses
+from ..media import FIGURES, format_responses
 from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
 FORMATS = (*FIGURES, "csv")
+# Only what this endpoint serves: a flywheel has no mechanism to draw, so no DXF.
+FlywheelFormat = Annotated[
+    Literal["json", "png", "svg", "pdf", "csv"] | None,
+    Query(description="Answer format: `json` (default); `png`, `svg` or `pdf` for the energy-mass diagram and "
+                      "the speed over the cycle; `csv` for the cycle and every method's speed, one row per crank "
+                      "angle. An `Accept` header (image/png, image/svg+xml, application/pdf, text/csv) chooses the "
+                      "same way."),
+]
 
 
 @router.get("/machine-types", response_model=list[MachineTypeOut])
@@ -24,7 +33,8 @@ def machine_types() -> list[MachineTypeOut]:
 
 
 @router.post("/flywheel", response_model=FlywheelOut, responses=format_responses(FORMATS))
-async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
+async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep,
+                   format: FlywheelFormat = None) -> Response:
     """Smallest flywheel for a target delta by the exact (Wittenbauer), Mertsalov and energy methods, and with
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With
     ``?format=png|svg|pdf`` the energy-mass diagram with its tangents (the excess-work curve for a constant

@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
+    SIX_BAR_PRESS_EXAMPLE,
     MAX_INERTIA_KGM2,
     CounterweightIn,
     LinkageRequest,
@@ -129,6 +130,8 @@ class AnalysisIn(LinkageRequest):
                     "gravity": {"g_m_s2": 9.81},
                     "loads": [{"type": "window", "force_N": 1200, "start_deg": -60, "end_deg": 60, "point_m": [0, -0.1]}],
                 },
+                {"mechanism": SIX_BAR_PRESS_EXAMPLE, "speed_rpm": 60, "samples": 360,
+                 "loads": [{"type": "window", "force_N": 2000, "start_deg": 200, "end_deg": 300}]},
             ]
         }
     )

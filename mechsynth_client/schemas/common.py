@@ -135,7 +135,91 @@ class SlottedLeverIn(StrictModel):
         return synth.SlottedLever(self.crank_length_m, self.ground_length_m, self.rocker_length_m, self.ram_height_m)
 
 
-MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn], Field(discriminator="type")]
+MAX_LINKAGE_LINKS = 24
+Name = Annotated[str, Field(min_length=1, max_length=64)]
+
+
+class LinkageLinkIn(LinkIn):
+    """A moving link of a general linkage: its points in its own frame, and its mass properties there."""
+
+    name: Name = Field(description="Link name, unique; `frame` is the fixed link.", examples=["rod"])
+    joints: list[Name] = Field(min_length=1, max_length=2, description="One or two point names: the first is "
+                               "the link frame's origin; the second lies on its x-axis at `length_m`. A block "
+                               "(slider) has one, and its x-axis runs along its slide.", examples=[["C", "D"]])
+    length_m: float = Field(0.0, ge=0, le=MAX_LENGTH_M, description="Distance from the first point to the second "
+                            "[m]; needed when the link has two.", examples=[0.5])
+    points_m: dict[Name, Vec2] = Field(default_factory=dict, max_length=16, description="Further named points in "
+                                       "the link frame [m] (a ternary link's third joint, a coupler point).",
+                                       examples=[{"C": [0.4, 0.0]}])
+
+
+class LinkageJointIn(StrictModel):
+    """A lower pair between two links: a revolute at a point both carry, or a prismatic pair (a slide axis fixed in
+    one link along which a point of the other runs, the two turning together)."""
+
+    name: Name = Field(description="Joint name, unique; a revolute's point by default.", examples=["D"])
+    kind: Literal["revolute", "prismatic"] = Field(description="`revolute` (turning pair) or `prismatic` (sliding "
+                                                   "pair).")
+    links: list[Name] = Field(min_length=2, max_length=2, description="The two links it joins (`frame` for the "
+                              "fixed one); its reaction is reported as the force the first exerts on the second.",
+                              examples=[["rod", "ram"]])
+    point: Name | None = Field(None, description="Revolute: the point both links carry (default the joint's name). "
+                               "Prismatic: the point of the sliding link that runs on the axis (default its "
+                               "origin).")
+    axis_link: Name | None = Field(None, description="Prismatic: the link that carries the slide axis (default the "
+                                   "first of `links`).")
+    axis_deg: float = Field(0.0, ge=-3600, le=3600, description="Prismatic: the slide axis's direction in the axis "
+                            "link's frame [deg] (in the frame: from the x-axis, counter-clockwise).")
+    through: Name | None = Field(None, description="Prismatic: a point of the axis link on the slide axis (default "
+                                 "its origin; a frame point for a fixed guide).")
+    slider_axis_deg: float = Field(0.0, ge=-3600, le=3600, description="Prismatic: the slide axis's direction in "
+                                   "the sliding link's frame [deg]; 0 for a block whose x-axis runs along it.")
+
+    def to_engine(self) -> synth.JointSpec:
+        """Engine joint; degrees become radians."""
+        return synth.JointSpec(self.name, self.kind, (self.links[0], self.links[1]), self.point, self.axis_link,
+                               math.radians(self.axis_deg), self.through, math.radians(self.slider_axis_deg))
+
+
+class PlanarLinkageIn(StrictModel):
+    """Any crank-driven planar linkage of revolute and prismatic pairs, split into the crank and dyads (RRR, RRP,
+    RPR, PRP, RPP) solved in closed form: six-bar presses, Watt and Stephenson chains, quick-return mechanisms."""
+
+    type: Literal["linkage"] = Field("linkage", description="Mechanism family: a general linkage given by its "
+                                     "links and joints.")
+    frame_points_m: dict[Name, Vec2] = Field(max_length=32, description="Fixed points by name [m]; the crank pivot "
+                                             "is at [0, 0].", examples=[{"O": [0, 0], "Q": [0.3, 0]}])
+    links: list[LinkageLinkIn] = Field(min_length=1, max_length=MAX_LINKAGE_LINKS, description="The moving links, "
+                                       "each with its points and mass properties in its own frame.")
+    joints: list[LinkageJointIn] = Field(min_length=1, max_length=2 * MAX_LINKAGE_LINKS,
+                                         description="The pairs; one degree of freedom: 3·links - 2·joints = 1.")
+    crank: Name = Field(description="The driven link: it turns about its first point, the frame point at the "
+                        "origin; the crank angle is the angle of its x-axis.", examples=["crank"])
+    output: Name | None = Field(None, description="The working member (default the last link), joined to the "
+                                "frame: its load is a torque if it turns, a force along the slide if it slides.")
+    branches: dict[Name, Literal[1, -1]] = Field(default_factory=dict, max_length=MAX_LINKAGE_LINKS,
+                                                 description="Assembly branch per dyad, keyed by its inner joint; "
+                                                 "+1 (default) or -1 (see docs/linkages.md).")
+
+    def to_mechanism(self) -> synth.PlanarLinkage:
+        """Engine mechanism."""
+        return synth.PlanarLinkage(
+            frame_points=tuple((k, (v[0], v[1])) for k, v in self.frame_points_m.items()),
+            links=tuple(synth.LinkSpec(k.name, tuple(k.joints), k.length_m,
+                                       tuple((p, (xy[0], xy[1])) for p, xy in k.points_m.items()))
+                        for k in self.links),
+            joints=tuple(j.to_engine() for j in self.joints),
+            crank_link=self.crank,
+            output=self.output,
+            branches=tuple(self.branches.items()),
+        )
+
+    def link_props(self) -> dict[str, synth.MassProps]:
+        """Engine mass properties per link."""
+        return {k.name: k.to_props() for k in self.links}
+
+
+MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn, PlanarLinkageIn], Field(discriminator="type")]
 
 
 class GravityIn(StrictModel):
@@ -263,7 +347,7 @@ class LinkageFields(StrictModel):
     """A linkage with its loads and counterweights, where a subclass may leave the mechanism and its speed out."""
 
     mechanism: MechanismIn | None = Field(None, description="The linkage, chosen by `type`: fourbar, "
-                                          "slider_crank or slotted_lever.")
+                                          "slider_crank, slotted_lever or a general linkage.")
     speed_rpm: float | None = Field(None, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
     crank_acceleration_rad_s2: float = Field(
         0.0, ge=-1e9, le=1e9, description="Crank angular acceleration, the same at every angle [rad/s²]."
@@ -289,7 +373,11 @@ class LinkageFields(StrictModel):
             raise synth.InvalidInput("give the mechanism", field="mechanism")
         mech = self.mechanism.to_mechanism()
         output_motion = mech.topology.output_motion
-        links = {name: link.to_props() for name, link in self.mechanism.links}
+        mechanism = self.mechanism
+        if isinstance(mechanism, PlanarLinkageIn):
+            links = mechanism.link_props()
+        else:
+            links = {name: link.to_props() for name, link in mechanism.links}
         gravity = None
         if self.gravity is not None:
             gravity = synth.Gravity(self.gravity.g_m_s2, math.radians(self.gravity.direction_deg))
@@ -306,8 +394,8 @@ class LinkageFields(StrictModel):
 class LinkageRequest(LinkageFields):
     """A linkage at a crank speed: what every mechanism endpoint takes."""
 
-    mechanism: MechanismIn = Field(description="The linkage, chosen by `type`: fourbar, slider_crank or "
-                                   "slotted_lever.")
+    mechanism: MechanismIn = Field(description="The linkage, chosen by `type`: fourbar, slider_crank, "
+                                   "slotted_lever or a general linkage of links and joints.")
     speed_rpm: float = Field(60.0, ge=1e-6, le=1e6, description="Crank speed [rev/min].")
 
     @property
@@ -326,6 +414,8 @@ class WarningOut(BaseModel):
     message: str = Field(description="What was found and what to check, in words.")
     crank_angle_ranges_deg: list[list[float]] | None = Field(
         None, description="Crank-angle ranges [start, end] where it holds [deg].")
+    stage: str | None = Field(None, description="In a machine design, the stage that found it: analysis, "
+                              "balancing, drive, teeth, flywheel, motor or simulation; null elsewhere.")
 
     @classmethod
     def from_engine(cls, w: synth.DesignWarning) -> WarningOut:
@@ -335,7 +425,7 @@ class WarningOut(BaseModel):
             value, unit = round(math.degrees(value), 6), "deg"
         ranges = [[round(math.degrees(a) % 360, 6), round(math.degrees(b) % 360, 6)] for a, b in w.ranges]
         return cls(code=w.code, field=w.field, value=value, unit=unit, message=w.message,
-                   crank_angle_ranges_deg=ranges or None)
+                   crank_angle_ranges_deg=ranges or None, stage=w.stage)
 
 
 def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
@@ -403,4 +493,32 @@ FOURBAR_EXAMPLE: JsonDict = {
         "coupler": {"mass_kg": 2.0, "com_m": [0.125, 0.0], "inertia_kgm2": 0.02},
         "rocker": {"mass_kg": 1.5, "com_m": [0.125, 0.0], "inertia_kgm2": 0.008},
     },
+}
+
+#: A six-bar press: a crank-rocker (O-A-B-Q) whose rocker drives a ram on a vertical guide through a rod C-D.
+SIX_BAR_PRESS_EXAMPLE: JsonDict = {
+    "type": "linkage",
+    "frame_points_m": {"O": [0.0, 0.0], "Q": [0.3, 0.0], "G": [0.45, 0.0]},
+    "links": [
+        {"name": "crank", "joints": ["O", "A"], "length_m": 0.1, "mass_kg": 1.0, "com_m": [0.05, 0.0],
+         "inertia_kgm2": 0.001},
+        {"name": "coupler", "joints": ["A", "B"], "length_m": 0.35, "mass_kg": 2.0, "com_m": [0.175, 0.0],
+         "inertia_kgm2": 0.02},
+        {"name": "rocker", "joints": ["Q", "B"], "length_m": 0.25, "points_m": {"C": [0.4, 0.0]}, "mass_kg": 3.0,
+         "com_m": [0.2, 0.0], "inertia_kgm2": 0.04},
+        {"name": "rod", "joints": ["C", "D"], "length_m": 0.5, "mass_kg": 2.5, "com_m": [0.25, 0.0],
+         "inertia_kgm2": 0.05},
+        {"name": "ram", "joints": ["D"], "mass_kg": 8.0},
+    ],
+    "joints": [
+        {"name": "O", "kind": "revolute", "links": ["frame", "crank"]},
+        {"name": "A", "kind": "revolute", "links": ["crank", "coupler"]},
+        {"name": "B", "kind": "revolute", "links": ["coupler", "rocker"]},
+        {"name": "Q", "kind": "revolute", "links": ["frame", "rocker"]},
+        {"name": "C", "kind": "revolute", "links": ["rocker", "rod"]},
+        {"name": "D", "kind": "revolute", "links": ["rod", "ram"]},
+        {"name": "guide", "kind": "prismatic", "links": ["frame", "ram"], "through": "G", "axis_deg": 90.0},
+    ],
+    "crank": "crank",
+    "output": "ram",
 }

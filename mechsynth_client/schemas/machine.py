@@ -182,6 +182,8 @@ class MachineIn(LinkageRequest):
     speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
+    name: str | None = Field(None, max_length=200, description="A label for people: the design record's title "
+                             "(?format=pdf); default \"machine design\".")
 
     model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE]})
 
@@ -214,6 +216,13 @@ class MachineMotorOut(BaseModel):
     train_efficiency: float = Field(description="Efficiency of the train, the product of the stage efficiencies "
                                     "[-].")
     required_power_W: float = Field(description="Mean crank power × reserve / efficiency.")
+    operating_speed_rpm: float = Field(description="Motor speed under the machine's mean load on its linear "
+                                       "characteristic (zero torque at synchronous speed, through the rated point), "
+                                       "where k·(n_s - n)·n meets the mean crank power / efficiency [rev/min]: the "
+                                       "speed the train ratio is taken from, between the rated and the synchronous "
+                                       "speed.")
+    simulated_mean_speed_rpm: float = Field(description="Mean motor speed of the simulated machine, train ratio × "
+                                            "its mean crank speed [rev/min]: the check of the operating point.")
 
 
 class ReducedOut(BaseModel):
@@ -280,6 +289,36 @@ class MachineCheckOut(BaseModel):
     detail: str = Field(description="What the check compares, in words.")
 
 
+class MachineFlywheelBodyOut(BaseModel):
+    """The flywheel where it sits: its inertia on its own shaft, its crank-equivalent beside it, and the body's
+    geometry on that shaft."""
+
+    shaft: str = Field(description='Shaft that carries it: "motor", "shaft 1", ... or "crank".')
+    speed_ratio: float = Field(description="That shaft's speed over the crank's [-].")
+    inertia_on_shaft_kgm2: float = Field(description="The flywheel's inertia about its own shaft [kg·m²]: the "
+                                         "body's.")
+    crank_equivalent_inertia_kgm2: float = Field(description="The same flywheel reduced to the crank, inertia on "
+                                                 "its shaft × speed_ratio² [kg·m²]; what `flywheel."
+                                                 "flywheel_inertia_kgm2` reports.")
+    shape: str = Field(description="rim: a rim on spokes; disc: a solid disc.")
+    mean_diameter_m: float = Field(description="Mean rim diameter (a disc's outer diameter) [m].")
+    outer_diameter_m: float = Field(description="Outer diameter [m].")
+    rim_thickness_m: float | None = Field(description="Radial thickness of the rim [m]; null for a disc.")
+    width_m: float = Field(description="Axial width of the rim or disc [m].")
+    mass_kg: float = Field(description="Mass of the rim (spokes and hub not counted) or of the disc [kg].")
+    rim_speed_m_s: float = Field(description="Speed of the outer rim at the shaft's largest simulated speed [m/s].")
+    inertia_check_kgm2: float = Field(description="Inertia about its shaft recomputed from the dimensions and "
+                                      "density [kg·m²].")
+
+    @classmethod
+    def from_engine(cls, b: synth.FlywheelBody) -> MachineFlywheelBodyOut:
+        """Schema from the body on its shaft."""
+        return cls(shaft=b.shaft, speed_ratio=b.speed_ratio, inertia_on_shaft_kgm2=b.inertia,
+                   crank_equivalent_inertia_kgm2=b.inertia * b.speed_ratio**2, shape=b.shape,
+                   mean_diameter_m=b.diameter, outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness,
+                   width_m=b.width, mass_kg=b.mass, rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check)
+
+
 class AlternativeOut(BaseModel):
     """The same machine with another balancing mode: what it costs."""
 
@@ -291,7 +330,10 @@ class AlternativeOut(BaseModel):
                                               "[N]; null when not available.")
     rms_shaking_moment_Nm: float | None = Field(None, description="RMS shaking moment about the crank pivot O after "
                                                 "balancing [N·m]; null when not available.")
-    flywheel_inertia_kgm2: float | None = Field(None, description="On the crank.")
+    flywheel_inertia_kgm2: float | None = Field(None, description="The flywheel reduced to the crank "
+                                                "(crank-equivalent) [kg·m²]; null when not available.")
+    flywheel_inertia_on_shaft_kgm2: float | None = Field(None, description="The flywheel's inertia on its own "
+                                                         "shaft [kg·m²]; null when none is needed.")
     flywheel_mass_kg: float | None = Field(None, description="Mass of the flywheel on its shaft [kg]; null when "
                                            "none is needed.")
     flywheel_shaft: str | None = Field(None, description="Shaft the flywheel sits on; null when none is needed.")
@@ -313,6 +355,7 @@ class AlternativeOut(BaseModel):
             mode=a.mode, available=True, rms_shaking_force_N=d.balancing.after.rms_shaking_force,
             rms_shaking_moment_Nm=d.balancing.after.rms_shaking_moment, flywheel_inertia_kgm2=d.flywheel_inertia,
             flywheel_mass_kg=None if d.placement is None else d.placement.mass,
+            flywheel_inertia_on_shaft_kgm2=None if d.placement is None else d.placement.inertia,
             flywheel_shaft=None if d.placement is None else d.placement.shaft, motor=d.drive.motor.name,
             peak_shaft_torque_Nm=max(s.peak_torque for s in d.shafts), achieved_delta=d.motion.delta,
             passed=d.passed,
@@ -338,18 +381,28 @@ class MachineDesignOut(BaseModel):
     drive: DriveOut = Field(description="Motor choice and ratio split, as /v1/gears/drive answers.")
     teeth: TeethOut | None = Field(None, description="Tooth numbers, as /v1/gears/teeth answers.")
     stage_ratios: list[float] = Field(description="Real stage ratios from the teeth.")
-    flywheel: FlywheelOut = Field(description="The flywheel for the chosen motor (motor_nlp), checked by the "
-                                  "simulated machine.")
+    flywheel: FlywheelOut = Field(description="The flywheel sizing for the chosen motor (motor_nlp), checked by the "
+                                  "simulated machine; its inertias are reduced to the crank (crank-equivalent), "
+                                  "`flywheel_body` holds the body on its own shaft.")
     flywheel_shaft: str | None = Field(None, description="Shaft the flywheel sits on; null when none is needed.")
+    flywheel_body: MachineFlywheelBodyOut | None = Field(None, description="The flywheel where it sits: inertia on "
+                                                         "its own shaft, its crank-equivalent, its geometry; null "
+                                                         "when none is needed.")
     simulation: SimulationOut = Field(description="The assembled machine run to its periodic steady state.")
     shafts: list[MachineShaftOut] = Field(description="Every shaft in the steady motion, motor first, crank last.")
     alternatives: list[AlternativeOut] = Field(default_factory=list, description="With `alternatives: true`: the "
                                                "same machine with each other balancing mode; else empty.")
-    warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes and catalogue notes.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Every stage's likely mistakes, weak "
+                                       "points and catalogue notes, each with its `stage` (analysis, balancing, "
+                                       "drive, teeth, flywheel, motor, simulation) and its field as this request "
+                                       "spells it; a failed check is here too (code check_failed).")
+    request_sha256: str | None = Field(None, description="SHA-256 of the request's canonical JSON (validated, "
+                                       "defaults included, keys sorted): the design record's identity, printed "
+                                       "in the report's title block.")
 
     @classmethod
-    def from_engine(cls, d: synth.MachineDesign,
-                    alternatives: tuple[synth.Alternative, ...] = ()) -> MachineDesignOut:
+    def from_engine(cls, d: synth.MachineDesign, alternatives: tuple[synth.Alternative, ...] = (),
+                    request_sha256: str | None = None) -> MachineDesignOut:
         """Schema from an engine design (radians and rad/s become degrees and rpm here)."""
         m, red, bal = d.motion, d.balanced.reduced, d.balancing
         ensure_finite(m.omega, m.motor_torque, red.inertia, red.load_torque)
@@ -375,12 +428,15 @@ class MachineDesignOut(BaseModel):
                 motor=MotorOut.from_engine(d.drive.motor), rated_torque_Nm=motor.rated_torque,
                 breakdown_torque_Nm=motor.breakdown_torque, train_ratio=d.train_ratio,
                 train_efficiency=motor.efficiency, required_power_W=d.drive.required_power,
+                operating_speed_rpm=d.drive.shafts[0].speed / RPM,
+                simulated_mean_speed_rpm=motor.gear_ratio * m.mean_speed / RPM,
             ),
             drive=DriveOut.from_engine(d.drive, d.spec.drive.stages),
             teeth=None if d.teeth is None else TeethOut.from_engine(d.teeth),
             stage_ratios=list(d.stage_ratios),
             flywheel=FlywheelOut.from_engine(d.flywheel),
             flywheel_shaft=None if d.placement is None else d.placement.shaft,
+            flywheel_body=None if d.placement is None else MachineFlywheelBodyOut.from_engine(d.placement),
             simulation=SimulationOut(
                 achieved_delta=m.delta, target_delta=d.spec.delta, mean_crank_speed_rad_s=m.mean_speed,
                 mean_crank_speed_rpm=m.mean_speed / RPM, period_s=m.period, motor_peak_torque_Nm=m.motor_peak_torque,
@@ -394,6 +450,7 @@ class MachineDesignOut(BaseModel):
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
+            request_sha256=request_sha256,
         )
 
 

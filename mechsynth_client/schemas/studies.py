@@ -89,8 +89,9 @@ class StudyIn(StrictModel):
                                                              "and kept off the Pareto front.")
     objective_digits: int | None = Field(
         9, ge=1, le=17, description="Objectives are compared on the Pareto front to this many significant digits "
-                                    "of their largest value, so solver noise does not split designs that are "
-                                    "equal; null: exactly.")
+                                    "of their largest value, and never finer than the solvers' noise (1e-6 of "
+                                    "it), so designs that differ only by noise do not beat each other; null: to "
+                                    "the noise only.")
     name: str | None = Field(None, max_length=200, description="A label for people.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [STUDY_EXAMPLE]})

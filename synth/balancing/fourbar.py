@@ -17,7 +17,7 @@ import numpy as np
 from ..analysis import Analysis, Summary, analyse
 from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
-from ..kinematics import FourBar, SliderCrank
+from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..kinetostatics import LinearMap, linear_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
 from ..warnings import link_lengths
@@ -81,6 +81,21 @@ def _require_fourbar(linkage: Linkage, mode: str | None = None) -> FourBar:
                        field="mechanism.type")
 
 
+def _require_turning(linkage: Linkage) -> None:
+    """Static balancing takes four-bars and general linkages whose links all turn (no prismatic pair); for any
+    other an InvalidInput that says what to use instead."""
+    mech = linkage.mechanism
+    if isinstance(mech, PlanarLinkage):
+        sliding = [j.name for j in mech.joints if j.kind == "prismatic"]
+        if not sliding:
+            return
+        raise InvalidInput(
+            f"static balancing needs a linkage whose links all turn: through its prismatic pairs {sliding} a link "
+            f"slides, and counterweights on turning links cannot cancel that link's reciprocating inertia force at "
+            "every angle; use the optimal mode (the best trade-off within a mass budget)", field="mechanism.type")
+    _require_fourbar(linkage, "static")
+
+
 def _var_columns(lm: LinearMap, cw: CounterweightLayout) -> list[int]:
     """Columns of the map the counterweight variables add to, in the layout's order."""
     cols: list[int] = []
@@ -127,7 +142,8 @@ def _with_default_radii(spec: CounterweightSpec, linkage: Linkage) -> Counterwei
     Without a crank counterweight the coupler's counterweight must sit beyond B whenever the crank's centre of
     mass lies toward A (seed 001:1394: a2 > l2); the link's own length would exclude it by default.
     """
-    if "coupler" not in spec.links or "coupler" in (spec.max_radius or {}) or "coupler" in (spec.radius or {}):
+    if ("coupler" not in spec.links or "coupler" in (spec.max_radius or {}) or "coupler" in (spec.radius or {})
+            or not isinstance(linkage.mechanism, FourBar)):
         return spec
     fb = _require_fourbar(linkage)
     return replace(spec, max_radius={**(spec.max_radius or {}), "coupler": 2.0 * fb.coupler})
@@ -140,7 +156,7 @@ def _coupler_shift(linkage: Linkage, spec: CounterweightSpec) -> complex | None:
     From the static condition on the crank's first moment h1 = -(l1/l2)·(m2·l2 - h2) (seed 3.8) with the coupler's
     totals m2 + m_c, h2 + m_c·z_c: D = m2·l2 + (l2/l1)·h1 - h2.
     """
-    if "crank" in spec.links or "coupler" not in spec.links:
+    if "crank" in spec.links or "coupler" not in spec.links or not isinstance(linkage.mechanism, FourBar):
         return None
     fb = _require_fourbar(linkage)
     h1 = complex(*linkage.params_of("crank")[1:3])
@@ -190,7 +206,7 @@ def balance_static(
     realisability cone per counterweight; minimum total added mass [kg] by default, or minimum added inertia
     about the links' joints [kg·m²] within ``mass_budget`` [kg]. Solved by Clarabel.
     """
-    _require_fourbar(linkage, "static")
+    _require_turning(linkage)
     if method == "fixed_points":
         return _fixed_points(linkage, speed, spec, samples)
     spec = _with_default_radii((spec or CounterweightSpec()).resolve(linkage), linkage)

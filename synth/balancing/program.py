@@ -33,9 +33,20 @@ DEFAULT_LINKS: Mapping[str, tuple[str, ...]] = {
 }
 
 
+def _default_links(linkage: Linkage) -> tuple[str, ...]:
+    """The family's default counterweight links; for a general linkage, every link turning about a frame pivot."""
+    mech = linkage.mechanism
+    if mech.family in DEFAULT_LINKS:
+        return DEFAULT_LINKS[mech.family]
+    bars = link_lengths(mech)
+    pivoted = [j.bodies[1] for j in mech.topology.joints if j.kind == "revolute" and j.bodies[0] is None]
+    return tuple(link for link in mech.topology.links if link in pivoted and link in bars) or (mech.topology.crank,)
+
+
 @dataclass(frozen=True, slots=True)
 class CounterweightSpec:
-    """Where counterweights may go: links (none named: the family's :data:`DEFAULT_LINKS`), each link's largest
+    """Where counterweights may go: links (none named: the family's :data:`DEFAULT_LINKS`, or a general linkage's
+    links that turn about frame pivots), each link's largest
     radius [m], optional fixed radius [m] and fixed angle [rad] (in the link frame)."""
 
     links: tuple[str, ...] = ()
@@ -45,7 +56,7 @@ class CounterweightSpec:
 
     def resolve(self, linkage: Linkage) -> CounterweightSpec:
         """This spec with the family's default links when it names none, validated against ``linkage``."""
-        spec = self if self.links else replace(self, links=DEFAULT_LINKS.get(linkage.mechanism.family, ("crank",)))
+        spec = self if self.links else replace(self, links=_default_links(linkage))
         spec.validate(linkage)
         return spec
 

@@ -40,7 +40,7 @@ class DriveShaft:
 class DriveChecks:
     """Independent check figures: ``power_balance_error`` |P_out - P_0 * prod(eta)|/P_out [-] from the shaft
     torques and speeds; ``kinetic_energy`` sum of 1/2 J_k w_k² over the shafts and ``reduced_kinetic_energy``
-    1/2 J_red w_0² at rated speed [J], which must agree."""
+    1/2 J_red w_0² at the motor speed the drive uses [J], which must agree."""
 
     power_balance_error: float
     kinetic_energy: float
@@ -52,7 +52,8 @@ class DriveResult:
     """A drive design.
 
     ``required_power`` P_out * reserve / eta [W]; ``drive_efficiency`` the eta used there [-];
-    ``chain_efficiency`` product of stage efficiencies [-]; ``total_ratio`` rated motor speed / output speed [-];
+    ``chain_efficiency`` product of stage efficiencies [-]; ``total_ratio`` motor speed (rated, or the one given
+    by ``motor_speed``) / output speed [-];
     ``stage_efficiencies`` [-]; ``shafts`` motor shaft first; ``reduced_inertia`` everything on the motor shaft
     [kg·m²]; ``output_speed`` reached [rad/s]; ``torque_basis``: ``rated`` (motor's rated power, as the seed
     does) or ``load`` (the power the output needs).
@@ -73,10 +74,15 @@ class DriveResult:
     warnings: tuple[DesignWarning, ...] = field(default=())
 
 
-def _reachable(stages: Sequence[Stage], output_speed: float) -> Callable[[CatalogueMotor], bool]:
+def _reachable(stages: Sequence[Stage], output_speed: float,
+               motor_speed: Callable[[CatalogueMotor], float]) -> Callable[[CatalogueMotor], bool]:
     lo = math.prod(s.ratio if s.ratio is not None else s.ratio_min for s in stages)
     hi = math.prod(s.ratio if s.ratio is not None else s.ratio_max for s in stages)
-    return lambda m: lo <= m.rated_speed / output_speed <= hi
+    return lambda m: lo <= motor_speed(m) / output_speed <= hi
+
+
+def _rated_speed(motor: CatalogueMotor) -> float:
+    return motor.rated_speed
 
 
 def design_drive(
@@ -95,6 +101,7 @@ def design_drive(
     snap_tolerance: float | None = None,
     time_limit_s: float = 20.0,
     catalogue: Sequence[CatalogueMotor] | None = None,
+    motor_speed: Callable[[CatalogueMotor], float] | None = None,
 ) -> DriveResult:
     """Choose the motor, split the ratio and find every shaft's speed, power, torque and reduced inertia.
 
@@ -111,6 +118,9 @@ def design_drive(
     inertia : pinion, load and shaft inertias of the reduced-inertia model [kg·m²] (the motor rotor is added).
     time_limit_s : the split solver's time limit [s].
     catalogue : the motors to choose from (a vendor's data); default the shipped representative catalogue.
+    motor_speed : the speed a motor runs at in this drive [rad/s], which the total ratio is taken from;
+        default its rated speed (the seed's rule). A machine passes the speed on the motor's characteristic
+        under its mean load.
 
     Raises InvalidInput, Infeasible (no motor covers the power; the stages cannot reach the ratio), solver errors.
     """
@@ -137,9 +147,10 @@ def design_drive(
             raise Infeasible(f"motor {motor} ({chosen.rated_power:.4g} W) does not cover the required "
                              f"{required:.4g} W", constraint="motor_power", required_power_W=required)
     else:
-        ok = _reachable(stages, output_speed)
+        ok = _reachable(stages, output_speed, motor_speed or _rated_speed)
         chosen = select_motor(required, synchronous_speed=synchronous_speed, acceptable=ok, catalogue=catalogue)
-    total = chosen.rated_speed / output_speed
+    running = (motor_speed or _rated_speed)(chosen)
+    total = running / output_speed
     model = inertia or InertiaModel()
     if chosen.rotor_inertia is None:
         warnings.append(DesignWarning(
@@ -151,7 +162,7 @@ def design_drive(
                         time_limit_s=time_limit_s)
     u = np.array(split.stage_ratios)
     etas = np.array([s.efficiency for s in stages])
-    speeds = chosen.rated_speed / np.concatenate([[1.0], np.cumprod(u)])
+    speeds = running / np.concatenate([[1.0], np.cumprod(u)])
     p0 = chosen.rated_power if torque_basis == "rated" else output_power / eta_chain
     powers = p0 * np.concatenate([[1.0], np.cumprod(etas)])
     torques = powers / speeds

@@ -1,38 +1,21 @@
-"""Mechanism families, each producing the same Motion object, vectorised over crank angles."""
+"""Mechanisms (the named families and any linkage of dyads), each producing the same Motion object, vectorised
+over crank angles."""
 
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Protocol
 
 import numpy as np
 
 from ..errors import InvalidInput, TooLarge
-from ..model import FloatArray
-from ..topology import Topology
+from ..mechanism import FloatArray, Mechanism
 from .fourbar import FourBar, transmission_angle
-from .motion import AngleAnalogues, Motion, PointAnalogues, PointState, build_motion
+from .linkage import JointSpec, LinkSpec, PlanarLinkage
+from .motion import Motion, PointState, build_motion
 from .slider_crank import SliderCrank
 from .slotted_lever import SlottedLever
 
 MAX_SAMPLES = 100_000
-
-
-class Mechanism(Protocol):
-    """What a mechanism family provides: its topology, link frame origins and a vectorised position solve."""
-
-    family: ClassVar[str]
-    topology: ClassVar[Topology]
-    origins: ClassVar[dict[str, str]]
-
-    @property
-    def crank(self) -> float:
-        """Crank length [m]: every family is driven by one, and it sets the scale of its inertias."""
-        ...
-
-    def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
-        """Joint positions and link angles with their first and second analogues over ``phi`` [rad]."""
-        ...
 
 
 def cycle_angles(samples: int, cycle: float = 2 * math.pi, max_samples: int = MAX_SAMPLES) -> FloatArray:
@@ -64,6 +47,9 @@ def motion(mechanism: Mechanism, phi: FloatArray, omega: float, alpha: float = 0
 
 __all__ = [
     "FourBar",
+    "JointSpec",
+    "LinkSpec",
+    "PlanarLinkage",
     "SliderCrank",
     "SlottedLever",
     "Mechanism",

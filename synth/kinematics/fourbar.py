@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..model import FloatArray
 from ..topology import Joint, Topology
+from .linkage import JointSpec, LinkSpec, PlanarLinkage
 from .motion import AngleAnalogues, PointAnalogues, crank_point, cross, fixed_point, perp
 
 
@@ -162,6 +163,17 @@ class FourBar:
         return points, angles
 
     origins: ClassVar[dict[str, str]] = {"crank": "O", "coupler": "A", "rocker": "Q"}
+
+    def as_linkage(self) -> PlanarLinkage:
+        """The same four-bar as a linkage of links and joints: the crank and one RRR dyad."""
+        return PlanarLinkage(
+            frame_points=(("O", (0.0, 0.0)), ("Q", (self.ground, 0.0))),
+            links=(LinkSpec("crank", ("O", "A"), self.crank), LinkSpec("coupler", ("A", "B"), self.coupler),
+                   LinkSpec("rocker", ("Q", "B"), self.rocker)),
+            joints=tuple(JointSpec(j.name, "revolute", (j.bodies[0] or "frame", j.bodies[1]))
+                         for j in self.topology.joints),
+            crank_link="crank", output="rocker", branches=(("B", self.branch),),
+        )
 
 
 def transmission_angle(coupler_angle: FloatArray, rocker_angle: FloatArray) -> FloatArray:

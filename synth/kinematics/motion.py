@@ -9,23 +9,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import InvalidInput
-from ..model import FloatArray
-
-
-class PointAnalogues(NamedTuple):
-    """Position [m] and its first and second derivatives with respect to the crank angle, each (N, 2)."""
-
-    pos: FloatArray
-    d1: FloatArray
-    d2: FloatArray
-
-
-class AngleAnalogues(NamedTuple):
-    """Link angle [rad] and its first and second derivatives with respect to the crank angle, each (N,)."""
-
-    angle: FloatArray
-    d1: FloatArray
-    d2: FloatArray
+from ..mechanism import AngleAnalogues as AngleAnalogues
+from ..mechanism import FloatArray
+from ..mechanism import PointAnalogues as PointAnalogues
 
 
 class PointState(NamedTuple):
@@ -109,9 +95,14 @@ class Motion:
         self._states[key] = state
         return state
 
-    def with_points(self, points: Mapping[str, tuple[str, tuple[float, float]]]) -> Motion:
-        """A copy with named extra points (centres of mass, coupler points): name -> (link, local xy)."""
+    def with_points(self, points: Mapping[str, tuple[str, tuple[float, float]]],
+                    states: Mapping[str, PointState] | None = None) -> Motion:
+        """A copy with named extra points (centres of mass, coupler points): name -> (link, local xy), and
+        points whose kinematics the caller has already resolved (``states``: name -> position, velocity,
+        acceleration)."""
         pos, vel, acc = dict(self.point_pos), dict(self.point_vel), dict(self.point_acc)
+        for name, state in (states or {}).items():
+            pos[name], vel[name], acc[name] = state
         for name, (link, local) in points.items():
             pos[name], vel[name], acc[name] = self.point_on(link, local)
         moved = Motion(

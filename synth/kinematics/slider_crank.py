@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..model import FloatArray
 from ..topology import Joint, Topology
+from .linkage import JointSpec, LinkSpec, PlanarLinkage
 from .motion import AngleAnalogues, PointAnalogues, constant_angle, crank_point, fixed_point
 
 
@@ -51,6 +52,18 @@ class SliderCrank:
             raise InvalidInput("offset_m must be finite", field="mechanism.offset_m")
         if self.branch not in (1, -1):
             raise InvalidInput("branch must be +1 or -1", field="mechanism.branch")
+
+    def as_linkage(self) -> PlanarLinkage:
+        """The same slider-crank as a linkage of links and joints: the crank and one RRP dyad."""
+        return PlanarLinkage(
+            frame_points=(("O", (0.0, 0.0)), ("G", (0.0, self.offset))),
+            links=(LinkSpec("crank", ("O", "A"), self.crank), LinkSpec("rod", ("A", "B"), self.rod),
+                   LinkSpec("slider", ("B",))),
+            joints=(JointSpec("O", "revolute", ("frame", "crank")), JointSpec("A", "revolute", ("crank", "rod")),
+                    JointSpec("B", "revolute", ("rod", "slider")),
+                    JointSpec("guide", "prismatic", ("frame", "slider"), point="B", through="G")),
+            crank_link="crank", output="slider", branches=(("B", self.branch),),
+        )
 
     def assembly_gaps_deg(self) -> list[tuple[float, float]]:
         """Exact crank-angle ranges [deg] in [0, 360) where the rod cannot reach the guide: |offset - a·sin(phi)| >= l."""

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InvalidInput
 from ..model import FloatArray
 from ..topology import Joint, Topology
+from .linkage import JointSpec, LinkSpec, PlanarLinkage
 from .motion import AngleAnalogues, PointAnalogues, constant_angle, crank_point, cross, fixed_point, perp
 
 
@@ -75,6 +76,26 @@ class SlottedLever:
                 f"rocker ({self.rocker} m) must reach past the crank pin (O1-A up to {self.ground + self.crank} m)",
                 field="mechanism.rocker_length_m",
             )
+
+    def as_linkage(self) -> PlanarLinkage:
+        """The same shaper as a linkage of links and joints: the crank, an RPR dyad (block and slotted lever) and an
+        RPP dyad (block and ram); ``G`` is the frame point of the ram guide straight above O1."""
+        half = math.pi / 2
+        return PlanarLinkage(
+            frame_points=(("O", (0.0, 0.0)), ("O1", (0.0, -self.ground)),
+                          ("G", (0.0, -self.ground + self.ram_height))),
+            links=(LinkSpec("crank", ("O", "A"), self.crank), LinkSpec("slider", ("A",)),
+                   LinkSpec("rocker", ("O1", "B"), self.rocker), LinkSpec("ram_slider", ("B",)),
+                   LinkSpec("ram", ("R",))),
+            joints=(JointSpec("O", "revolute", ("frame", "crank")), JointSpec("A", "revolute", ("crank", "slider")),
+                    JointSpec("A_slot", "prismatic", ("slider", "rocker"), axis_link="rocker"),
+                    JointSpec("O1", "revolute", ("frame", "rocker")),
+                    JointSpec("B", "revolute", ("rocker", "ram_slider")),
+                    JointSpec("B_slot", "prismatic", ("ram_slider", "ram"), axis_link="ram", axis_angle=half,
+                              slider_angle=half),
+                    JointSpec("R", "prismatic", ("frame", "ram"), through="G")),
+            crank_link="crank", output="ram",
+        )
 
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with analogues (always assemblable for a valid shaper)."""

@@ -41,12 +41,22 @@ from ..flywheel import (
     motor_constant_inertia,
     wittenbauer_tangents,
 )
-from ..gearing import CatalogueMotor, DriveResult, ToothResult, design_drive, motor_catalogue, tooth_numbers
-from ..kinematics import FourBar, SliderCrank
+from ..gearing import (
+    CatalogueMotor,
+    DriveResult,
+    ToothResult,
+    chain_efficiency,
+    design_drive,
+    motor_catalogue,
+    tooth_numbers,
+)
+from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import Linkage
-from ..warnings import DesignWarning
+from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
+from .operating_point import MotorLoad, operating_speed
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
+from .stages import gathered, refuse_likely_mistakes, stage, staged
 
 #: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
 MIN_POWER = 1e-3
@@ -195,7 +205,7 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
     if mode == "none":
         return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
-    if mode == "optimal" or isinstance(mech, FourBar):
+    if mode == "optimal" or isinstance(mech, (FourBar, PlanarLinkage)):
         if mode == "static":
             r = balance_static(linkage, speed, choice.spec, samples=spec.samples, mass_budget=choice.mass_budget,
                                time_limit_s=time_limit_s)
@@ -292,12 +302,14 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
     used = max(nlp.constant_inertia, existing)
     # the NLP's periodic speed at the first sample starts the shooting next to the answer
-    motion = simulate_machine(machine_cycle, used, motor, start=float(nlp.omega[0]))
+    with stage("simulation"):
+        motion = simulate_machine(machine_cycle, used, motor, start=float(nlp.omega[0]))
     methods = [MethodResult("motor_nlp", nlp.constant_inertia, used - existing, _profile(motion))]
     if used > existing and motion.delta > spec.delta * (1 + 1e-4):
         # the NLP holds the speed at the samples; between them (a load step, say) the simulated machine can
         # swing a little further: raise the inertia until the simulation itself meets the target
-        used, motion = _raise_to_target(machine_cycle, motor, used, motion, spec.delta)
+        with stage("simulation"):
+            used, motion = _raise_to_target(machine_cycle, motor, used, motion, spec.delta)
         methods.append(MethodResult("simulated", used, used - existing, _profile(motion)))
     method = methods[-1]
     names = _shaft_names(len(ratios))
@@ -364,15 +376,27 @@ def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineM
     return tuple(out)
 
 
+def ratio_for_speed(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> float:
+    """The train ratio [-] that would turn the crank at the working speed: the motor keeps its speed (its
+    operating point moves little with the ratio at a given power), so the ratio scales with the crank's."""
+    return motor.gear_ratio * motion.mean_speed / spec.speed
+
+
 def _checks(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> tuple[MachineCheck, ...]:
     delta_ok = motion.delta <= spec.delta * (1 + 1e-3)
     speed_err = abs(motion.mean_speed / spec.speed - 1)
+    speed_ok = speed_err <= spec.speed_tolerance
+    speed_detail = "relative distance of the simulated mean crank speed from the working speed"
+    if not speed_ok:
+        speed_detail += (f": the crank turns at {motion.mean_speed * 30 / math.pi:.4g} rpm for "
+                         f"{spec.speed * 30 / math.pi:.4g} rpm; a train ratio of "
+                         f"{ratio_for_speed(spec, motion, motor):.4g} (not {motor.gear_ratio:.4g}) would give the "
+                         "working speed: free the stage ratios (ratio_min, ratio_max) or choose another speed class")
     rms_ok = motion.motor_rms_torque <= motor.rated_torque
     checks = [
         MachineCheck("delta", motion.delta, spec.delta, delta_ok,
                      "simulated coefficient of speed fluctuation against the target (1e-3 relative)"),
-        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_err <= spec.speed_tolerance,
-                     "relative distance of the simulated mean crank speed from the working speed"),
+        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_ok, speed_detail),
         MachineCheck("motor_rms_torque", motion.motor_rms_torque, motor.rated_torque, rms_ok,
                      "motor torque RMS over time against its rated torque (heating)"),
     ]
@@ -398,23 +422,28 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
     ratio, no shaft holds the flywheel, ...), SolverFailed or SolverTimeout, each naming what binds.
     """
     machine.validate()
+    notes = refuse_likely_mistakes(machine.linkage)
     # a load or mass typed a hundred orders of magnitude off overflows somewhere down the chain: say so once
     with np.errstate(over="raise"):
         try:
-            return _design(machine, time_limit_s)
+            design = _design(machine, time_limit_s)
+            return replace(design, warnings=gathered([*staged(notes, "analysis"), *design.warnings]))
         except FloatingPointError as exc:
             raise InvalidInput("the machine overflows floating point: a load, mass, inertia or speed is far "
                                "outside any physical range") from exc
 
 
 def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
-    before = analyse(machine.linkage, machine.speed, samples=machine.samples)
-    bal, balanced = _balance(machine, before, time_limit_s)
+    with stage("analysis"):
+        before = analyse(machine.linkage, machine.speed, samples=machine.samples)
+    with stage("balancing"):
+        bal, balanced = _balance(machine, before, time_limit_s)
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
     if not output_power > MIN_POWER:
-        raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
-                           "give its process load", field="loads")
+        with stage("drive"):
+            raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor "
+                               "for: give its process load", field="loads")
     d = machine.drive
     motor_name = d.motor
     replaced: list[DesignWarning] = []
@@ -428,7 +457,7 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
         replaced.append(DesignWarning(
             "motor_replaced", "drive.motor", bigger.rated_power,
             f"motor {design.drive.motor.name} chosen from the mean power fails {', '.join(heavy)} on the simulated "
-            f"cycle; replaced by {bigger.name}", "W"))
+            f"cycle; replaced by {bigger.name}", "W", stage="motor"))
         motor_name = bigger.name
     return replace(design, warnings=tuple(replaced) + design.warnings)
 
@@ -445,15 +474,24 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
                    cycle: ReducedCycle, output_power: float, motor_name: str | None,
                    time_limit_s: float) -> MachineDesign:
     d = machine.drive
+    # the motor runs where its characteristic gives the machine's mean power, not at its rated point:
+    # the ratio is taken from that speed, so the crank turns at its working speed
+    motor_power = output_power / chain_efficiency(d.stages)
     try:
-        drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
-                             synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
-                             torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
-                             catalogue=d.catalogue)
-        teeth, ratios = _teeth(machine, drive)
+        with stage("drive"):
+            drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+                                 synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
+                                 torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
+                                 catalogue=d.catalogue, motor_speed=MotorLoad(motor_power))
+            if d.motor is not None:
+                operating_speed(drive.motor, motor_power)  # a named motor too small for the mean power says so
+        with stage("teeth"):
+            teeth, ratios = _teeth(machine, drive)
     except InvalidInput as exc:
         # the machine request holds these fields under drive: name them as the request spells them
-        raise InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}") from exc
+        again = InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}", code=exc.code)
+        again.stage = exc.stage
+        raise again from exc
     train_ratio = math.prod(ratios)
     motor = Motor.from_catalogue(drive.motor, train_ratio, drive.chain_efficiency)
     speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
@@ -461,13 +499,55 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
     red = balanced.reduced
     machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
-    flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
+    with stage("flywheel"):
+        flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
-    warnings = list(drive.warnings)
+    checks = _checks(machine, motion, motor)
+    warnings = [*staged(check_analysis(before), "analysis"), *_balancing_warnings(before, bal),
+                *staged(drive.warnings, "drive", "drive")]
     if teeth is not None:
-        warnings += list(teeth.warnings)
+        warnings += staged(teeth.warnings, "teeth", "drive")
+    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks)
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
-                         train, flywheel, placement, motion, shafts, _checks(machine, motion, motor), tuple(warnings))
+                         train, flywheel, placement, motion, shafts, checks, tuple(warnings))
+
+
+def _balancing_warnings(before: Analysis, bal: Balancing) -> list[DesignWarning]:
+    """Counterweights the balancing placed beyond their links (a max_radius_m longer than the link)."""
+    if bal.result is None:
+        return []
+    return staged(check_counterweights(before.linkage, bal.result.counterweights, "max_radius_m"), "balancing",
+                  "balancing")
+
+
+def _flywheel_warnings(spec: MachineSpec, flywheel: FlywheelResult,
+                       placement: FlywheelBody | None) -> list[DesignWarning]:
+    """A target delta outside every machine type's range; the flywheel's rim near its speed limit."""
+    lo, hi = DELTA_RANGE
+    out = []
+    if not lo <= spec.delta <= hi:
+        out.append(DesignWarning(
+            "delta_out_of_range", "delta", spec.delta,
+            f"a target delta of {spec.delta:.3g} lies outside the usual {lo:.3g}–{hi:.3g} of machines (the machine "
+            "types' table lists them); the flywheel grows as 1/delta", "1", stage="flywheel"))
+    limit = spec.flywheel.geometry.max_rim_speed
+    if placement is not None and limit is not None and placement.rim_speed >= RIM_SPEED_MARGIN * limit:
+        out.append(DesignWarning(
+            "rim_speed_near_limit", "flywheel.geometry.max_rim_speed_m_s", placement.rim_speed,
+            f"the flywheel's rim on the {placement.shaft} shaft runs at {placement.rim_speed:.3g} m/s, "
+            f"{placement.rim_speed / limit:.0%} of the {limit:g} m/s limit: no margin for overspeed; a larger "
+            "width or another shaft gives one", "m/s", stage="flywheel"))
+    return out
+
+
+def _check_warnings(checks: Sequence[MachineCheck]) -> list[DesignWarning]:
+    """A check the simulated machine fails, as a warning of the simulation stage with what to change."""
+    fields = {"delta": "delta", "mean_speed": "speed_tolerance", "motor_rms_torque": "drive.motor",
+              "motor_peak_torque": "drive.motor"}
+    return [DesignWarning("check_failed", fields.get(c.name), c.value,
+                          f"the simulated machine fails its {c.name} check ({c.value:.4g} against {c.limit:.4g}): "
+                          f"{c.detail}", stage="simulation")
+            for c in checks if not c.passed]
 
 
 def alternatives(machine: MachineSpec, *, time_limit_s: float = 20.0,

@@ -102,8 +102,8 @@ class Study:
     constraints
         Bounds on metrics; a variant outside them is infeasible and never on the front [-].
     objective_digits
-        Objectives are compared on the front to this many significant digits of their largest value; None:
-        exactly [-].
+        Objectives are compared on the front to this many significant digits of their largest value, never
+        finer than the solvers' noise (:data:`synth.studies.pareto.SOLVER_NOISE`); None: to the noise only [-].
     """
 
     base: Mapping[str, Any]

@@ -1,0 +1,592 @@
+"""Any planar linkage built from a driving crank and class-II Assur groups (dyads), solved in closed form.
+
+A linkage is given by its links and joints: every moving link carries named points in its own frame (origin at
+its first point, x-axis toward its second, at ``length``), the frame carries fixed points, and each joint is a
+revolute (a point shared by two links) or a prismatic pair (a slide axis fixed in one link along which a point of
+the other runs, both links turning together). The structural analysis (:func:`synth.structure.analyse_structure`)
+splits it into the crank and its dyads in the order they can be added; each dyad is then placed on the links known
+before it in closed form, with its assembly branch, for all crank angles at once (seed 001:767-1190, the digest's
+section 1).
+
+The five dyads, named by their pairs outer-inner-outer (R revolute, P prismatic):
+
+* RRR: two bars on two known points; the inner joint at a circle-circle intersection. Branch +1: the inner
+  joint to the left of the line from the first link's outer joint to the second's (links in request order).
+* RRP: a bar on a known point and a block on a known axis; the inner joint at a circle-line intersection.
+  Branch +1: the inner joint ahead, along the slide axis, of the foot of the perpendicular from the bar's pivot.
+* RPR: two links turning about known points, sliding in each other (a slotted lever). Branch +1: the pivot
+  of the sliding link ahead of the pivot of the link that carries the slide axis, along that axis.
+* PRP: two blocks on two known axes pinned together; the pin at the intersection of two lines. No branch.
+* RPP: a link turning about a known point sliding in a link that slides on a known axis (a Scotch yoke). No branch.
+
+Their closed-form positions are written with :mod:`synth.kinematics.jets`, which carries the first and second
+derivatives in the crank angle with every value.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
+from ..mechanism import AngleAnalogues, FloatArray, PointAnalogues
+from ..structure import Pair, analyse_structure
+from ..topology import Joint, Topology
+from . import jets as J
+from .jets import Jet
+
+FRAME = "frame"
+BoolArray = NDArray[np.bool_]
+DyadKind = Literal["RRR", "RRP", "RPR", "PRP", "RPP"]
+# Below this the two lines of a PRP or RPP dyad are taken as parallel (sine of the angle between them).
+PARALLEL = 1e-12
+
+
+@dataclass(frozen=True, slots=True)
+class LinkSpec:
+    """A moving link: its points in its own frame [m].
+
+    ``joints[0]`` is the frame origin (0, 0); ``joints[1]``, when given, lies on the x-axis at ``length``;
+    ``points`` are further named points (name, (x, y)). A block has one point and its x-axis along its slide.
+    """
+
+    name: str
+    joints: tuple[str, ...]
+    length: float = 0.0
+    points: tuple[tuple[str, tuple[float, float]], ...] = ()
+
+    def local(self) -> dict[str, tuple[float, float]]:
+        """Every named point of the link in its frame [m]."""
+        out: dict[str, tuple[float, float]] = {self.joints[0]: (0.0, 0.0)}
+        if len(self.joints) > 1:
+            out[self.joints[1]] = (self.length, 0.0)
+        out.update({name: (float(xy[0]), float(xy[1])) for name, xy in self.points})
+        return out
+
+
+@dataclass(frozen=True, slots=True)
+class JointSpec:
+    """A lower pair between two links (``"frame"`` for the fixed link).
+
+    The reaction is reported as the force (and for a prismatic pair the couple) ``links[0]`` exerts on ``links[1]``.
+    Revolute: ``point`` (default the joint's name) is a point of both links. Prismatic: the slide axis is fixed in
+    ``axis_link`` (one of the two; default ``links[0]``) at ``axis_angle`` [rad] in its frame, through its point
+    ``through`` (default its origin); the other link's point ``point`` (default its origin) runs along it, with the
+    axis at ``slider_angle`` [rad] in that link's frame.
+    """
+
+    name: str
+    kind: Literal["revolute", "prismatic"]
+    links: tuple[str, str]
+    point: str | None = None
+    axis_link: str | None = None
+    axis_angle: float = 0.0
+    through: str | None = None
+    slider_angle: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class Dyad:
+    """One class-II group as it is solved: kind, its two links in solving order, inner and outer joints."""
+
+    kind: DyadKind
+    links: tuple[str, str]
+    inner: str
+    outer: tuple[str, str]
+    branch: int
+
+
+@dataclass(frozen=True)
+class _Place:
+    """A solved link: the fixed-frame jet of one of its points (``anchor``, at ``local`` in the link) and its
+    angle jet."""
+
+    anchor: Jet
+    local: tuple[float, float]
+    angle: Jet
+    given_axis: Jet | None = None
+
+    @functools.cached_property
+    def axis(self) -> Jet:
+        """The link frame's unit x-axis, computed once for all of the link's points (or given by the dyad that
+        placed the link, from a vector along it)."""
+        return J.unit(self.angle) if self.given_axis is None else self.given_axis
+
+    @functools.cached_property
+    def _points(self) -> dict[tuple[float, float], Jet]:
+        return {self.local: self.anchor}
+
+    def point(self, local: tuple[float, float]) -> Jet:
+        """Fixed-frame jet of the link's point at ``local`` [m] (each resolved once: the dyads placed on this link
+        and the final list of points ask for the same pins)."""
+        if (found := self._points.get(local)) is not None:
+            return found
+        offset = (local[0] - self.local[0], local[1] - self.local[1])
+        jet = self._points[local] = J.add(self.anchor, J.rotate(self.angle, offset, self.axis))
+        return jet
+
+
+@dataclass(frozen=True, slots=True)
+class _Line:
+    """A prismatic pair seen from its known side: the slide axis in the fixed frame (a point ``base`` on it and
+    its direction ``psi``), the unknown link's angle, and the unknown link's point on the axis with the axis
+    direction in that link's frame."""
+
+    base: Jet
+    psi: Jet
+    angle: Jet
+    on_axis: tuple[float, float]
+    local_angle: float
+
+    def offset(self, local: tuple[float, float]) -> float:
+        """Signed distance [m] of the unknown link's point ``local`` from the axis (left of its direction +)."""
+        c, s = math.cos(self.local_angle), math.sin(self.local_angle)
+        dx, dy = local[0] - self.on_axis[0], local[1] - self.on_axis[1]
+        return c * dy - s * dx
+
+
+def _const_angle(value: float, n: int) -> Jet:
+    return Jet(np.full(n, value), np.zeros(n), np.zeros(n))
+
+
+@dataclass(frozen=True)
+class PlanarLinkage:
+    """A one-degree-of-freedom planar linkage of revolute and prismatic pairs, driven by a crank about the origin.
+
+    Parameters
+    ----------
+    frame_points : fixed points (name, (x, y)) [m]; the crank's pivot is at (0, 0).
+    links : the moving links (:class:`LinkSpec`), lengths [m].
+    joints : the pairs (:class:`JointSpec`), angles [rad].
+    crank_link : the driven link, turning about its first point, a frame point at the origin; the crank angle is
+        the angle of its x-axis.
+    output : the working member (default the last link), joined to the frame: by a revolute (it turns, its load
+        is a torque) or by a prismatic pair (it slides, its load is a force along the slide).
+    branches : assembly branch (+1 or -1) per dyad, keyed by the dyad's inner joint; default +1.
+    """
+
+    frame_points: tuple[tuple[str, tuple[float, float]], ...]
+    links: tuple[LinkSpec, ...]
+    joints: tuple[JointSpec, ...]
+    crank_link: str
+    output: str | None = None
+    branches: tuple[tuple[str, int], ...] = ()
+    family: str = field(default="linkage", init=False)
+    topology: Topology = field(init=False, compare=False)
+    origins: dict[str, str] = field(init=False, compare=False)
+    dyads: tuple[Dyad, ...] = field(init=False, compare=False)
+
+    def __post_init__(self) -> None:
+        _validate(self)
+        topo = _topology(self)
+        object.__setattr__(self, "topology", topo)
+        object.__setattr__(self, "origins", {link.name: link.joints[0] for link in self.links})
+        object.__setattr__(self, "dyads", _decompose(self))
+
+    def __hash__(self) -> int:
+        return hash((self.frame_points, self.links, self.joints, self.crank_link, self.output, self.branches))
+
+    @property
+    def crank(self) -> float:
+        """Crank length [m] (from its pivot to its second point)."""
+        return self.link(self.crank_link).length
+
+    def link(self, name: str) -> LinkSpec:
+        """The link called ``name``."""
+        return next(link for link in self.links if link.name == name)
+
+    def link_lengths(self) -> dict[str, float]:
+        """Length of every link with two or more joints [m]."""
+        return {link.name: link.length for link in self.links if len(link.joints) > 1}
+
+    def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
+        """Every named point and link angle with its analogues over ``phi`` [rad]; NotAssemblable naming the
+        dyad and the crank-angle ranges where it cannot be placed."""
+        phi = np.asarray(phi, dtype=float)
+        n = len(phi)
+        local = {link.name: link.local() for link in self.links}
+        local[FRAME] = dict(self.frame_points)
+        frame = _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), _const_angle(0.0, n))
+        fixed = {xy: J.constant(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy())
+                 for _, xy in self.frame_points}
+        frame._points.update(fixed)  # frame points stand still: no rotation to resolve them
+        places: dict[str, _Place] = {
+            FRAME: frame,
+            self.crank_link: _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), Jet(phi.copy(), np.ones(n), np.zeros(n))),
+        }
+        joints = {j.name: j for j in self.joints}
+        solved: dict[str, Jet] = {}
+        for dyad in self.dyads:
+            # Where a dyad cannot close its square roots meet negative numbers: those samples are flagged and
+            # refused below, so their NaNs never leave this loop.
+            with np.errstate(invalid="ignore", divide="ignore"):
+                first, second, bad, joint = _solve_dyad(dyad, joints, local, places, n)
+                bad = bad | ~np.isfinite(first.angle.v) | ~np.isfinite(second.angle.v)
+            if bad.any():
+                raise NotAssemblable(
+                    f"the {dyad.kind} dyad of links {list(dyad.links)} (inner joint {dyad.inner!r}) cannot be "
+                    f"assembled at {int(bad.sum())} of {n} crank angles, ranges (deg): "
+                    f"{angle_ranges_deg(phi, bad)}",
+                    phi=phi[bad],
+                    ranges_deg=angle_ranges_deg(phi, bad),
+                )
+            places[dyad.links[0]], places[dyad.links[1]] = first, second
+            if joint is not None:  # the dyad's own closed form for its inner pin, not again from a link's pose
+                solved[_revolute_point(joints[dyad.inner])] = joint
+        points: dict[str, PointAnalogues] = {name: PointAnalogues(*jet) for name, jet in solved.items()}
+        for name, xy in self.frame_points:
+            points[name] = PointAnalogues(*fixed[xy])
+        for link in self.links:
+            place = places[link.name]
+            for name, xy in local[link.name].items():
+                if name not in points:
+                    points[name] = PointAnalogues(*place.point(xy))
+        angles = {link.name: AngleAnalogues(*places[link.name].angle) for link in self.links}
+        return points, angles
+
+
+def _validate(mech: PlanarLinkage) -> None:
+    names = [link.name for link in mech.links]
+    if not names:
+        raise InvalidInput("a linkage needs at least one moving link", field="mechanism.links")
+    if FRAME in names or len(set(names)) != len(names):
+        raise InvalidInput(f"link names must be unique and not {FRAME!r}: {names}", field="mechanism.links")
+    frame_names = [p for p, _ in mech.frame_points]
+    if len(set(frame_names)) != len(frame_names):
+        raise InvalidInput("frame point names must be unique", field="mechanism.frame_points_m")
+    for p, xy in mech.frame_points:
+        if not all(math.isfinite(v) for v in xy):
+            raise InvalidInput(f"frame point {p!r} must be finite", field=f"mechanism.frame_points_m.{p}")
+    owners: dict[str, list[str]] = {p: [FRAME] for p in frame_names}
+    for link in mech.links:
+        where = f"mechanism.links.{link.name}"
+        if not 1 <= len(link.joints) <= 2 or len(set(link.joints)) != len(link.joints):
+            raise InvalidInput(f"link {link.name!r} names one or two distinct joints (its origin and the point on "
+                               "its x-axis)", field=f"{where}.joints")
+        if len(link.joints) == 2 and not (math.isfinite(link.length) and link.length > 0):
+            raise InvalidInput(f"link {link.name!r} needs a positive length, got {link.length!r}",
+                               field=f"{where}.length_m")
+        extra = [p for p, _ in link.points]
+        if len(set(extra)) != len(extra) or set(extra) & set(link.joints):
+            raise InvalidInput(f"link {link.name!r} names a point twice", field=f"{where}.points_m")
+        for p, xy in link.points:
+            if not all(math.isfinite(v) for v in xy):
+                raise InvalidInput(f"point {p!r} of link {link.name!r} must be finite", field=f"{where}.points_m.{p}")
+        for p in link.local():
+            owners.setdefault(p, []).append(link.name)
+    joint_names = [j.name for j in mech.joints]
+    if len(set(joint_names)) != len(joint_names):
+        raise InvalidInput("joint names must be unique", field="mechanism.joints")
+    local = {link.name: link.local() for link in mech.links}
+    local[FRAME] = dict(mech.frame_points)
+    revolute_at: dict[str, set[str]] = {}
+    for j in mech.joints:
+        where = f"mechanism.joints.{j.name}"
+        unknown = [x for x in j.links if x not in local]
+        if unknown:
+            raise InvalidInput(f"joint {j.name!r} is on no link called {unknown[0]!r}; links are "
+                               f"{[FRAME, *names]}", field=f"{where}.links")
+        a, b = j.links
+        if a == b:
+            raise InvalidInput(f"joint {j.name!r} joins {a!r} to itself", field=f"{where}.links")
+        if j.kind == "revolute":
+            p = j.point or j.name
+            missing = [x for x in j.links if p not in local[x]]
+            if missing:
+                raise InvalidInput(f"revolute joint {j.name!r} is at point {p!r}, which link {missing[0]!r} does not "
+                                   "have", field=f"{where}.point")
+            revolute_at.setdefault(p, set()).update(j.links)
+        else:
+            axis = j.axis_link or a
+            if axis not in j.links:
+                raise InvalidInput(f"prismatic joint {j.name!r}: the axis link must be one of {list(j.links)}",
+                                   field=f"{where}.axis_link")
+            other = b if axis == a else a
+            through = j.through or (None if axis == FRAME else next(iter(local[axis])))
+            if through is None or through not in local[axis]:
+                raise InvalidInput(f"prismatic joint {j.name!r}: give the point of {axis!r} the slide axis passes "
+                                   "through", field=f"{where}.through")
+            point = j.point or (None if other == FRAME else next(iter(local[other])))
+            if point is None or point not in local[other]:
+                raise InvalidInput(f"prismatic joint {j.name!r}: give the point of {other!r} that runs on the slide "
+                                   "axis", field=f"{where}.point")
+            for v in (j.axis_angle, j.slider_angle):
+                if not math.isfinite(v):
+                    raise InvalidInput(f"prismatic joint {j.name!r}: angles must be finite", field=where)
+    for p, on in owners.items():
+        if len(on) > 1 and not set(on) <= revolute_at.get(p, set()):
+            raise InvalidInput(f"point {p!r} is on {on} but no revolute joint joins them there: name the points of "
+                               "different links differently, or join them", field=f"mechanism.links.{on[1]}")
+    joined = {x for j in mech.joints for x in j.links}
+    for name in names:
+        if name not in joined:
+            raise InvalidInput(f"link {name!r} is not connected: no joint joins it", field=f"mechanism.links.{name}")
+    _connected(mech, names)
+    n_links, n_pairs = len(names), len(mech.joints)
+    if 3 * n_links - 2 * n_pairs != 1:
+        raise InvalidInput(f"a crank-driven linkage has one degree of freedom: W = 3n - 2p = 3·{n_links} - "
+                           f"2·{n_pairs} = {3 * n_links - 2 * n_pairs} (n moving links, p lower pairs)",
+                           field="mechanism.joints")
+    if mech.crank_link not in names:
+        raise InvalidInput(f"the crank {mech.crank_link!r} is not one of the links {names}", field="mechanism.crank")
+    crank = next(link for link in mech.links if link.name == mech.crank_link)
+    pivot = crank.joints[0]
+    frame_pivot = dict(mech.frame_points).get(pivot)
+    at_frame = any(j.kind == "revolute" and set(j.links) == {FRAME, crank.name} and (j.point or j.name) == pivot
+                   for j in mech.joints)
+    if len(crank.joints) < 2 or frame_pivot is None or not at_frame:
+        raise InvalidInput(f"the crank {crank.name!r} turns about its first point, a frame point joined to it by a "
+                           "revolute, and has a second point at its length", field="mechanism.crank")
+    if frame_pivot != (0.0, 0.0):
+        raise InvalidInput(f"the crank pivot {pivot!r} is the origin of the frame: put it at [0, 0] (shaking "
+                           f"moments are taken about it), got {list(frame_pivot)}",
+                           field=f"mechanism.frame_points_m.{pivot}")
+    output = mech.output or names[-1]
+    if output not in names:
+        raise InvalidInput(f"the output {output!r} is not one of the links {names}", field="mechanism.output")
+    if not any(FRAME in j.links and output in j.links for j in mech.joints):
+        raise InvalidInput(f"the output {output!r} must be joined to the frame (a rocker or a slide), so that its "
+                           "load is a torque or a force along the slide", field="mechanism.output")
+    inner = {j.name for j in mech.joints}
+    for key, value in mech.branches:
+        if key not in inner:
+            raise InvalidInput(f"branch given for {key!r}, which is not a joint", field=f"mechanism.branches.{key}")
+        if value not in (1, -1):
+            raise InvalidInput("a branch is +1 or -1", field=f"mechanism.branches.{key}")
+
+
+def _connected(mech: PlanarLinkage, names: Sequence[str]) -> None:
+    adj: dict[str, set[str]] = {x: set() for x in [FRAME, *names]}
+    for j in mech.joints:
+        a, b = j.links
+        adj[a].add(b)
+        adj[b].add(a)
+    seen, todo = {FRAME}, [FRAME]
+    while todo:
+        for y in adj[todo.pop()] - seen:
+            seen.add(y)
+            todo.append(y)
+    if left := [x for x in names if x not in seen]:
+        raise InvalidInput(f"links {left} are not connected to the frame", field=f"mechanism.links.{left[0]}")
+
+
+def _axis_and_point(j: JointSpec, local: Mapping[str, Mapping[str, tuple[float, float]]]) -> tuple[str, str, str, str]:
+    """(axis link, its point on the axis, the other link, its point on the axis) of a prismatic joint."""
+    a, b = j.links
+    axis = j.axis_link or a
+    other = b if axis == a else a
+    through = j.through or next(iter(local[axis]))
+    point = j.point or next(iter(local[other]))
+    return axis, through, other, point
+
+
+def _topology(mech: PlanarLinkage) -> Topology:
+    local = {link.name: link.local() for link in mech.links}
+    local[FRAME] = dict(mech.frame_points)
+    joints = []
+    output = mech.output or mech.links[-1].name
+    motion: Literal["rotation", "translation"] = "rotation"
+    axis_angle = 0.0
+    for j in mech.joints:
+        giver = None if j.links[0] == FRAME else j.links[0]
+        if j.kind == "revolute":
+            joints.append(Joint(j.name, "revolute", (giver, j.links[1]), at=j.point or j.name))
+            continue
+        axis, _, other, point = _axis_and_point(j, local)
+        joints.append(Joint(j.name, "prismatic", (giver, j.links[1]), axis_link=None if axis == FRAME else axis,
+                            axis_angle=j.axis_angle, at=point))
+        if FRAME in j.links and output in j.links:
+            motion = "translation"
+            axis_angle = j.axis_angle if axis == FRAME else j.slider_angle
+    return Topology(tuple(link.name for link in mech.links), tuple(joints), mech.crank_link, output, motion,
+                    axis_angle)
+
+
+def _decompose(mech: PlanarLinkage) -> tuple[Dyad, ...]:
+    """The dyads in the order they can be placed, from the structural analysis; a larger group is refused."""
+    names = [link.name for link in mech.links]
+    pairs = [Pair(j.name, j.links, j.kind) for j in mech.joints]
+    structure = analyse_structure([FRAME, *names], pairs, frame=FRAME, input_links=[mech.crank_link])
+    if structure.groups is None:
+        raise InvalidInput(f"the linkage does not split into a crank and Assur groups: {structure.note}",
+                           field="mechanism.joints")
+    kinds = {j.name: j for j in mech.joints}
+    branches = dict(mech.branches)
+    dyads: list[Dyad] = []
+    used: set[str] = set()
+    for group in structure.groups:
+        if group.n != 2:
+            raise InvalidInput(
+                f"links {list(group.links)} with pairs {list(group.pairs)} form a class-{group.group_class} Assur "
+                f"group of {group.n} links: only class-II groups (dyads) are solved in closed form",
+                field=f"mechanism.links.{group.links[0]}")
+        first, second = sorted(group.links, key=names.index)
+        inners = [p for p in group.pairs if set(kinds[p].links) == {first, second}]
+        outs1 = [p for p in group.pairs if p not in inners and first in kinds[p].links]
+        outs2 = [p for p in group.pairs if p not in inners and second in kinds[p].links]
+        if (len(inners), len(outs1), len(outs2)) != (1, 1, 1):
+            raise InvalidInput(f"links {[first, second]} with pairs {list(group.pairs)} form a group that is not a "
+                               "dyad of one inner and two outer pairs", field=f"mechanism.links.{first}")
+        inner, out1, out2 = inners[0], outs1[0], outs2[0]
+        letter = {"revolute": "R", "prismatic": "P"}
+        code = letter[kinds[out1].kind] + letter[kinds[inner].kind] + letter[kinds[out2].kind]
+        if code in ("PRR", "PPR"):  # the mirror images of RRP and RPP: solve with the links swapped
+            first, second, out1, out2 = second, first, out2, out1
+            code = code[::-1]
+        if code == "PPP":
+            raise InvalidInput(f"links {[first, second]} with three prismatic pairs cannot be positioned by the crank",
+                               field=f"mechanism.joints.{inner}")
+        used.add(inner)
+        dyads.append(Dyad(code, (first, second), inner, (out1, out2), branches.get(inner, 1)))  # type: ignore[arg-type]
+    for key, _ in mech.branches:
+        if key not in used:
+            raise InvalidInput(f"branch given for {key!r}, which is not the inner joint of a dyad",
+                               field=f"mechanism.branches.{key}")
+    return tuple(dyads)
+
+
+def _line(j: JointSpec, known: str, unknown: str, local: Mapping[str, Mapping[str, tuple[float, float]]],
+          places: Mapping[str, _Place]) -> _Line:
+    """A prismatic pair between a placed link ``known`` and the link ``unknown``, as a fixed-frame axis."""
+    axis, through, other, point = _axis_and_point(j, local)
+    place = places[known]
+    if axis == known:
+        base = place.point(local[known][through])
+        psi = J.shift(place.angle, j.axis_angle)
+        return _Line(base, psi, J.shift(psi, -j.slider_angle), local[unknown][point], j.slider_angle)
+    base = place.point(local[known][point])
+    psi = J.shift(place.angle, j.slider_angle)
+    return _Line(base, psi, J.shift(psi, -j.axis_angle), local[unknown][through], j.axis_angle)
+
+
+def _apart(link: str, a: str, b: str, distance: float) -> None:
+    """A bar of a dyad needs its two pins apart: at one point it would not set the link's direction."""
+    if not distance > 0:
+        raise InvalidInput(f"link {link!r} has its joints {a!r} and {b!r} at the same point",
+                           field=f"mechanism.links.{link}.points_m")
+
+
+def _revolute_point(j: JointSpec) -> str:
+    return j.point or j.name
+
+
+def _known(j: JointSpec, link: str) -> str:
+    return j.links[1] if j.links[0] == link else j.links[0]
+
+
+def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Mapping[str, tuple[float, float]]],
+                places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, BoolArray, Jet | None]:
+    """Place the dyad's two links on the ones known; also the samples where it cannot close, and the inner pin
+    when it is a revolute."""
+    l1, l2 = d.links
+    o1, o2, inner = joints[d.outer[0]], joints[d.outer[1]], joints[d.inner]
+    k1, k2 = _known(o1, l1), _known(o2, l2)
+    if d.kind == "RRR":
+        p1, p3, pj = _revolute_point(o1), _revolute_point(o2), _revolute_point(inner)
+        a1, a3 = places[k1].point(local[k1][p1]), places[k2].point(local[k2][p3])
+        q1, q3 = local[l1][p1], local[l2][p3]
+        j1, j2 = local[l1][pj], local[l2][pj]
+        r1, r2 = math.hypot(j1[0] - q1[0], j1[1] - q1[1]), math.hypot(j2[0] - q3[0], j2[1] - q3[1])
+        _apart(l1, p1, pj, r1)
+        _apart(l2, p3, pj, r2)
+        e = J.sub(a3, a1)
+        d2 = J.dot(e, e)
+        dist = J.sqrt(d2)
+        x = J.div(J.shift(d2, r1 * r1 - r2 * r2), J.scale(2.0, dist))
+        h2 = J.shift(J.scale(-1.0, J.mul(x, x)), r1 * r1)
+        h = J.sqrt(h2)
+        joint = J.add(a1, J.add(J.mul(J.div(x, dist), e), J.scale(d.branch, J.mul(J.div(h, dist), J.perp(e)))))
+        bad = (h2.v < -1e-12 * max(r1 * r1, r2 * r2)) | (d2.v == 0)
+        g1, g2 = math.atan2(j1[1] - q1[1], j1[0] - q1[0]), math.atan2(j2[1] - q3[1], j2[0] - q3[0])
+        v1, v2 = J.sub(joint, a1), J.sub(joint, a3)
+        th1, th2 = J.shift(J.angle(v1), -g1), J.shift(J.angle(v2), -g2)
+        # |v1| = r1 and |v2| = r2 at every angle: the link axes follow from them without a sine or cosine.
+        axis1, axis2 = J.turn(J.scale(1.0 / r1, v1), -g1), J.turn(J.scale(1.0 / r2, v2), -g2)
+        return _Place(a1, q1, th1, axis1), _Place(a3, q3, th2, axis2), bad, joint
+    if d.kind == "RRP":
+        p1, pj = _revolute_point(o1), _revolute_point(inner)
+        a1 = places[k1].point(local[k1][p1])
+        q1, j1, j2 = local[l1][p1], local[l1][pj], local[l2][pj]
+        r1 = math.hypot(j1[0] - q1[0], j1[1] - q1[1])
+        _apart(l1, p1, pj, r1)
+        line = _line(o2, k2, l2, local, places)
+        u = J.unit(line.psi)
+        base = J.add(line.base, J.scale(line.offset(j2), J.perp(u)))
+        w = J.sub(a1, base)
+        c = J.cross(u, w)
+        h2 = J.shift(J.scale(-1.0, J.mul(c, c)), r1 * r1)
+        t = J.add(J.dot(w, u), J.scale(d.branch, J.sqrt(h2)))
+        joint = J.add(base, J.mul(t, u))
+        bad = h2.v < -1e-12 * r1 * r1
+        g1 = math.atan2(j1[1] - q1[1], j1[0] - q1[0])
+        v1 = J.sub(joint, a1)
+        th1 = J.shift(J.angle(v1), -g1)
+        return (_Place(a1, q1, th1, J.turn(J.scale(1.0 / r1, v1), -g1)),
+                _Place(joint, j2, line.angle, J.turn(u, -line.local_angle)), bad, joint)
+    if d.kind == "RPR":
+        pa, pb = _revolute_point(o1), _revolute_point(o2)
+        axis, through, other, point = _axis_and_point(inner, local)
+        g_link, s_link = (l1, l2) if axis == l1 else (l2, l1)
+        g_pivot, s_pivot = (pa, pb) if axis == l1 else (pb, pa)
+        g_known, s_known = (k1, k2) if axis == l1 else (k2, k1)
+        pg = places[g_known].point(local[g_known][g_pivot])
+        ps = places[s_known].point(local[s_known][s_pivot])
+        qg, qs = local[g_link][g_pivot], local[s_link][s_pivot]
+        cg, cs = local[g_link][through], local[s_link][point]
+        off_g = math.cos(inner.axis_angle) * (qg[1] - cg[1]) - math.sin(inner.axis_angle) * (qg[0] - cg[0])
+        off_s = math.cos(inner.slider_angle) * (qs[1] - cs[1]) - math.sin(inner.slider_angle) * (qs[0] - cs[0])
+        gap = off_s - off_g
+        v = J.sub(ps, pg)
+        rest = J.shift(J.dot(v, v), -gap * gap)
+        t = J.scale(d.branch, J.sqrt(rest))
+        psi = J.angle(J.sub(J.mul(t, v), J.scale(gap, J.perp(v))))
+        bad = rest.v < -1e-12 * max(1.0, gap * gap)
+        g_place = _Place(pg, qg, J.shift(psi, -inner.axis_angle))
+        s_place = _Place(ps, qs, J.shift(psi, -inner.slider_angle))
+        return (g_place, s_place, bad, None) if axis == l1 else (s_place, g_place, bad, None)
+    if d.kind == "PRP":
+        pj = _revolute_point(inner)
+        j1, j2 = local[l1][pj], local[l2][pj]
+        line1, line2 = _line(o1, k1, l1, local, places), _line(o2, k2, l2, local, places)
+        u1, u2 = J.unit(line1.psi), J.unit(line2.psi)
+        b1 = J.add(line1.base, J.scale(line1.offset(j1), J.perp(u1)))
+        b2 = J.add(line2.base, J.scale(line2.offset(j2), J.perp(u2)))
+        s = J.cross(u1, u2)
+        t1 = J.div(J.cross(J.sub(b2, b1), u2), s)
+        joint = J.add(b1, J.mul(t1, u1))
+        bad = np.abs(s.v) < PARALLEL
+        return _Place(joint, j1, line1.angle), _Place(joint, j2, line2.angle), bad, joint
+    # RPP: l1 turns about a known point and slides in l2, which slides on a known axis.
+    p1 = _revolute_point(o1)
+    a1 = places[k1].point(local[k1][p1])
+    q1 = local[l1][p1]
+    outer = _line(o2, k2, l2, local, places)
+    axis, through, other, point = _axis_and_point(inner, local)
+    if axis == l2:
+        psi_in = J.shift(outer.angle, inner.axis_angle)
+        th1 = J.shift(psi_in, -inner.slider_angle)
+        q2 = local[l2][through]
+        s1, beta = local[l1][point], inner.slider_angle
+    else:
+        psi_in = J.shift(outer.angle, inner.slider_angle)
+        th1 = J.shift(psi_in, -inner.axis_angle)
+        q2 = local[l2][point]
+        s1, beta = local[l1][through], inner.axis_angle
+    off = math.cos(beta) * (q1[1] - s1[1]) - math.sin(beta) * (q1[0] - s1[0])
+    u, w = J.unit(outer.psi), J.unit(psi_in)
+    rho = J.rotate(outer.angle, (q2[0] - outer.on_axis[0], q2[1] - outer.on_axis[1]))
+    m = J.sub(J.sub(a1, outer.base), rho)
+    s = J.cross(w, u)
+    slide = J.div(J.shift(J.cross(w, m), -off), s)
+    x2 = J.add(outer.base, J.mul(slide, u))
+    bad = np.abs(s.v) < PARALLEL
+    return _Place(a1, q1, th1), _Place(x2, outer.on_axis, outer.angle), bad, None
+
+
+__all__ = ["Dyad", "JointSpec", "LinkSpec", "PlanarLinkage"]

@@ -1,0 +1,104 @@
+"""What makes a machine design report a design record: who, when, which service, which request, every input.
+
+The request is kept as the client sent it (after validation, defaults included) and identified by the SHA-256 of
+its canonical JSON (keys sorted, no spaces), so a signed report can be matched to the request that made it and
+the design repeated. Every input is listed with its unit, read from the field name's unit suffix (the JSON field
+names carry their unit: ``length_m``, ``mass_kg``, ``torque_Nm``, ``speed_rpm``, ``angle_deg``).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+#: Unit suffixes of the request's field names, longest first so that ``_m_s`` is not read as ``_s``.
+_UNITS: tuple[tuple[str, str], ...] = (
+    ("_kg_m3", "kg/m³"), ("_m_s2", "m/s²"), ("_kgm2", "kg·m²"), ("_m_s", "m/s"), ("_rad_s2", "rad/s²"),
+    ("_rad_s", "rad/s"), ("_rpm", "rpm"), ("_deg", "°"), ("_Nm", "N·m"), ("_Pa", "Pa"), ("_kg", "kg"),
+    ("_W", "W"), ("_N", "N"), ("_m", "m"), ("_s", "s"),
+)
+#: Dimensionless inputs and choices, named so that the inputs page says so instead of leaving the unit blank.
+_DIMENSIONLESS = ("delta", "speed_tolerance", "reserve_factor", "efficiency", "ratio", "ratio_min", "ratio_max",
+                  "tooth_tolerance", "thickness_ratio", "width_ratio", "breakdown_torque_ratio", "weights",
+                  "shaking_force", "shaking_moment", "driving_torque", "added_mass", "rotor_ratios")
+
+
+@dataclass(frozen=True, slots=True)
+class DesignRecord:
+    """The title block of a design report and the request it answers.
+
+    ``name`` a label for people; ``created`` UTC time, ISO 8601; ``version`` of the service; ``request`` the
+    request as JSON-compatible data; ``request_sha256`` the hash of its canonical JSON.
+    """
+
+    name: str
+    created: str
+    version: str
+    request: Mapping[str, Any] = field(default_factory=dict)
+    request_sha256: str = ""
+
+    @staticmethod
+    def of(request: Mapping[str, Any], *, name: str | None, version: str,
+           created: _dt.datetime | None = None) -> DesignRecord:
+        """The record of ``request``, hashed; ``created`` default now (UTC)."""
+        when = (created or _dt.datetime.now(_dt.timezone.utc)).astimezone(_dt.timezone.utc)
+        return DesignRecord(name or "machine design", when.strftime("%Y-%m-%d %H:%M:%S UTC"), version,
+                            request, request_sha256(request))
+
+
+def request_sha256(request: Mapping[str, Any]) -> str:
+    """SHA-256 of the request's canonical JSON: keys sorted, no spaces, UTF-8 [hex]."""
+    text = json.dumps(request, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def unit_of(key: str) -> str:
+    """The unit a field name carries in its suffix; ``-`` for a dimensionless input, blank for a choice or a
+    name."""
+    for suffix, unit in _UNITS:
+        if key.endswith(suffix):
+            return unit
+    return "-" if key in _DIMENSIONLESS else ""
+
+
+def _value(v: Any) -> str:
+    if isinstance(v, bool) or v is None:
+        return json.dumps(v)
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    return str(v)
+
+
+def input_rows(request: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+    """Every input of the request as (JSON path, value, unit), in the request's order.
+
+    Objects are walked down to their values; lists of numbers (a centre of mass, a ratio range) stay one row;
+    lists of objects (loads, stages) get their index in the path. A value's unit is its own field's, or for a
+    map of names (``max_radius_m.crank``) the map's.
+    """
+    rows: list[tuple[str, str, str]] = []
+
+    def walk(value: Any, path: str, unit_key: str) -> None:
+        if isinstance(value, Mapping):
+            if not value:
+                rows.append((path, "{}", ""))
+            for k, v in value.items():
+                key = str(k)
+                # a map keyed by names (links) carries the unit in its own name
+                own = key if unit_of(key) or not unit_of(unit_key) else unit_key
+                walk(v, f"{path}.{key}" if path else key, own)
+            return
+        if isinstance(value, (list, tuple)) and value and any(isinstance(x, (Mapping, list, tuple)) for x in value):
+            for i, v in enumerate(value):
+                walk(v, f"{path}[{i}]", unit_key)
+            return
+        rows.append((path, _value(value), unit_of(unit_key)))
+
+    walk(request, "", "")
+    return rows
