@@ -169,6 +169,28 @@ def test_dragging_joint_a_changes_the_crank_length(page: Page) -> None:
     assert float(field(page, "mechanism.crank_length_m").input_value()) == pytest.approx(130, rel=0.01)
 
 
+def test_a_general_linkage_from_the_manual_is_edited_as_json_and_drawn(page: Page) -> None:
+    before = page.evaluate("document.body.dataset.analysed")
+    page.select_option("#family", "linkage")
+    page.wait_for_function(f"document.body.dataset.analysed !== '{before}'", timeout=15_000)
+    _shot(page, "linkage")
+    mech = state(page, "design.mechanism")
+    assert mech["type"] == "linkage"
+    # Every link of the description is drawn: a bar between two points, a plate through more, a block on one.
+    drawn = page.evaluate("[...document.querySelectorAll('#drawing title')].map(t => t.textContent)")
+    assert {link["name"] for link in mech["links"]} <= set(drawn)
+    # The JSON in the form is the mechanism sent; a changed crank length in it is analysed again.
+    text = json.loads(field(page, "mechanism").input_value())
+    assert text == mech
+    crank = next(link for link in text["links"] if link["name"] == text["crank"])
+    crank["length_m"] = round(crank["length_m"] * 1.1, 6)
+    edit_and_wait(page, "mechanism", json.dumps(text))
+    drawn_crank = state(page, "answer.points")
+    a, o = (np.asarray(drawn_crank[n]["position_m"][0]) for n in crank["joints"][::-1])
+    # the crank's two joints now lie the new length apart (the answer's positions)
+    assert float(np.hypot(*(a - o))) == pytest.approx(crank["length_m"], rel=1e-9)
+
+
 def test_full_balancing_collapses_the_polar_curve_to_the_origin(page: Page) -> None:
     page.click("button[data-panel=balancing]")
     page.select_option("[id='bal-mode']", "full")

@@ -152,8 +152,10 @@ export function renderForm() {
     const title = `${d.text}`.trim();
     let input;
     if (spec.json) {
-      input = `<textarea id="${id}" name="${spec.path}" rows="12" spellcheck="false" title="${esc(title)}" ` +
-        `aria-describedby="m-${spec.path}">${esc(JSON.stringify(value, null, 1))}</textarea>`;
+      // one line per entry, short lists of numbers or names kept on one line
+      const text = JSON.stringify(value, null, 1).replace(/\[\s+([^[\]{}]*?)\s+\]/g, (_, inner) => `[${inner.replace(/\s+/g, " ")}]`);
+      input = `<textarea id="${id}" name="${spec.path}" rows="18" spellcheck="false" title="${esc(title)}" ` +
+        `aria-describedby="m-${spec.path}">${esc(text)}</textarea>`;
     } else if (spec.options) {
       input = `<select id="${id}" name="${spec.path}" title="${esc(title)}" aria-describedby="m-${spec.path}">` +
         spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? 1) === v ? "selected" : ""}>${l}</option>`).join("") +
@@ -360,6 +362,20 @@ export function drawAll() {
 }
 
 function outputMotion(a, fam) {
+  const mech = state.design.mechanism;
+  if (fam === "linkage") {
+    // the working member: a slider's point along its guide, or a turning link's angle
+    const out = mech.output || mech.links[mech.links.length - 1].name;
+    const link = mech.links.find((l) => l.name === out);
+    const slide = (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(out) && j.links.includes("frame"));
+    if (link && slide && link.joints && a.points[link.joints[0]]) {
+      const p = a.points[link.joints[0]], t = ((slide.axis_deg || 0) * Math.PI) / 180, c = Math.cos(t), s = Math.sin(t);
+      const along = (q) => q[0] * c + q[1] * s, f = factor("length"), u = state.units.length;
+      return { name: `${out} (along its guide)`, s: { label: `s [${u}]`, unit: u, sym: "s", values: p.position_m.map((q) => along(q) / f) },
+        v: { label: "v [m/s]", unit: "m/s", sym: "v", values: p.velocity_m_s.map(along) },
+        a: { label: "a [m/s²]", unit: "m/s²", sym: "a", values: p.acceleration_m_s2.map(along) } };
+    }
+  }
   if (!GEOMETRY[fam]) {
     const name = Object.keys(a.links).pop(), r = a.links[name];
     return { name, s: { label: "angle [°]", unit: "°", sym: "θ", values: r.angle_deg },
@@ -492,7 +508,8 @@ async function main() {
   const familySelect = document.getElementById("family");
   const mapping = state.openapi.components.schemas.AnalysisIn.properties.mechanism.discriminator?.mapping || {};
   for (const fam of Object.keys(mapping)) {
-    if (![...familySelect.options].some((o) => o.value === fam)) familySelect.add(new Option(fam.replace(/_/g, " "), fam));
+    const label = { linkage: "general linkage (JSON)" }[fam] || fam.replace(/_/g, " ");
+    if (![...familySelect.options].some((o) => o.value === fam)) familySelect.add(new Option(label, fam));
   }
   const fromUrl = readUrl();
   document.getElementById("unit-length").value = state.units.length;

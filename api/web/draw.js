@@ -46,7 +46,33 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
     const rc = Math.hypot(A[0] - O[0], A[1] - O[1]);
     s += `<circle class="crank-circle" cx="${O[0]}" cy="${-O[1]}" r="${rc}" stroke-width="${sw}" stroke-dasharray="${3 * sw} ${3 * sw}"/>`;
   }
-  if (!LINKS[fam]) {
+  const general = fam === "linkage" ? design.mechanism : null;
+  if (general) {
+    // a general linkage drawn from its own description: each link through its points, each frame point grounded,
+    // each slide on the frame a guide through its point along its axis
+    for (const j of general.joints || []) {
+      if (j.kind !== "prismatic" || !(j.links || []).includes("frame") || !j.through || !at(j.through)) continue;
+      const g = at(j.through), a = ((j.axis_deg || 0) * Math.PI) / 180, L = lay.span * 0.6;
+      s += `<line class="guide" x1="${g[0] - Math.cos(a) * L}" y1="${-(g[1] - Math.sin(a) * L)}" x2="${g[0] + Math.cos(a) * L}" ` +
+        `y2="${-(g[1] + Math.sin(a) * L)}" stroke-width="${sw}" stroke-dasharray="${8 * sw} ${3 * sw} ${2 * sw} ${3 * sw}"/>`;
+    }
+    for (const name of Object.keys(general.frame_points_m || {})) {
+      const p = at(name);
+      if (p) s += `<path class="ground" d="M${p[0]},${-p[1]} l${-6 * sw},${10 * sw} h${12 * sw} z"/>`;
+    }
+    (general.links || []).forEach((link) => {
+      const names = [...(link.joints || []), ...Object.keys(link.points_m || {})].filter((n, k, all) => at(n) && all.indexOf(n) === k);
+      if (names.length === 1) {
+        const p = at(names[0]);
+        s += `<rect class="slider" x="${p[0] - 14 * sw}" y="${-p[1] - 8 * sw}" width="${28 * sw}" height="${16 * sw}" stroke-width="${2 * sw}"><title>${link.name}</title></rect>`;
+      } else if (names.length === 2) {
+        const [p, q] = names.map(at);
+        s += `<line class="link ${link.name === general.crank ? "crank" : ""}" x1="${p[0]}" y1="${-p[1]}" x2="${q[0]}" y2="${-q[1]}" stroke-width="${5 * sw}"><title>${link.name}</title></line>`;
+      } else if (names.length > 2) {
+        s += `<polygon points="${names.map((n) => P(at(n))).join(" ")}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${4 * sw}" stroke-linejoin="round"><title>${link.name}</title></polygon>`;
+      }
+    });
+  } else if (!LINKS[fam]) {
     // a family without a drawing of its own: every joint's path over the cycle
     for (const [name, p] of Object.entries(pts)) {
       if (name.startsWith("S_") || name.startsWith("cw")) continue;
@@ -115,7 +141,8 @@ export function drawLinkage(svg, answer, design, i, lay, extras) {
   }
   // joints and their names
   const JOINTS = { fourbar: ["O", "A", "B", "Q"], slider_crank: ["O", "A", "B"], slotted_lever: ["O", "A", "O1", "B", "R"] };
-  const joints = JOINTS[fam] || Object.keys(pts).filter((n) => !n.startsWith("S_") && !n.startsWith("cw") && n !== extras.tracePoint);
+  const joints = JOINTS[fam] || Object.keys(pts).filter((n) => !n.startsWith("S_") && !n.startsWith("cw") && n !== extras.tracePoint &&
+    !(general && (general.joints || []).some((j) => j.kind === "prismatic" && j.through === n && !(general.links || []).some((l) => (l.joints || []).includes(n)))));
   // each name set outwards from the joints' centre, so it stays clear of the links
   const cx = joints.reduce((t, j) => t + at(j)[0], 0) / joints.length, cy = joints.reduce((t, j) => t + at(j)[1], 0) / joints.length;
   for (const j of joints) {
