@@ -107,6 +107,8 @@ function fieldSpecs(design) {
     optional: true, schema: ["WindowLoadIn", loadKey] });
   specs.push({ path: "loads.0.start_deg", label: "From crank angle", schema: ["WindowLoadIn", "start_deg"] });
   specs.push({ path: "loads.0.end_deg", label: "To crank angle", schema: ["WindowLoadIn", "end_deg"] });
+  specs.push({ path: "loads.0.stroke", label: "While the output moves", schema: ["WindowLoadIn", "stroke"],
+    options: [["0", "either way"], ["1", "in +"], ["-1", "in −"]] });
   (design.counterweights || []).forEach((cw, n) => {
     specs.push({ group: `Counterweight ${n + 1} on the ${cw.link}`, remove: n });
     specs.push({ path: `counterweights.${n}.mass_kg`, label: "Mass" });
@@ -158,7 +160,7 @@ export function renderForm() {
         `aria-describedby="m-${spec.path}">${esc(text)}</textarea>`;
     } else if (spec.options) {
       input = `<select id="${id}" name="${spec.path}" title="${esc(title)}" aria-describedby="m-${spec.path}">` +
-        spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? 1) === v ? "selected" : ""}>${l}</option>`).join("") +
+        spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? spec.options[0][0]) === v ? "selected" : ""}>${l}</option>`).join("") +
         "</select>";
     } else {
       // a field left out takes the schema's default: shown greyed as the placeholder
