@@ -12,7 +12,8 @@ from .counter_rotors import CounterRotor, rotor_inertia, rotor_loads
 from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
 from .kinematics import FourBar, MAX_SAMPLES, Motion, PointState, cycle_angles, motion, transmission_angle
-from .kinetostatics import Kinetostatics, LinkArrays, link_arrays, solve_direct, virtual_power_torque
+from .kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays, solve_direct,
+                            virtual_power_torque)
 from .model import FloatArray, Linkage
 
 
@@ -124,9 +125,10 @@ def analyse(
     coms = {f"S_{link}": PointState(arrays.com_pos[i], arrays.com_vel[i], arrays.com_acc[i])
             for i, link in enumerate(links)}
     mot = base.with_points(extra, coms)
-    kin = solve_direct(mot, linkage, arrays)
-    vp = virtual_power_torque(mot, linkage, arrays)
-    red = reduced_model(mot, linkage, arrays)
+    loads = external_loads(mot, linkage)
+    kin = solve_direct(mot, linkage, arrays, loads)
+    vp = virtual_power_torque(mot, linkage, arrays, loads)
+    red = reduced_model(mot, linkage, arrays, loads)
     if counter_rotors:
         moment, torque = rotor_loads(mot, counter_rotors)
         kin = replace(kin, driving_torque=kin.driving_torque + torque, shaking_moment=kin.shaking_moment + moment)

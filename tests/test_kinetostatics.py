@@ -243,3 +243,28 @@ def test_constant_elimination_equals_the_per_angle_one(linkage: synth.Linkage, g
         per_angle = kinetostatics.solve_direct(mot, loaded).unknowns
     scale = 1.0 + float(np.abs(once).max())
     assert np.abs(once - per_angle).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("blocked", [True, False])
+def test_stacked_solves_of_more_than_three_unknowns_equal_lapack(blocked: bool) -> None:
+    # Systems of more than 3 unknowns (linkages of more than three moving links) are solved either block by block
+    # (a lower block-triangular pattern, as dyads give) or by vectorised elimination with partial pivoting; both
+    # against numpy's LAPACK determinant and solve of the same matrices, angle by angle.
+    from synth import kinetostatics
+
+    rng = np.random.default_rng(24)
+    k, n = 6, 200
+    s = rng.normal(size=(k, k, n))
+    if blocked:  # blocks {0, 3}, {1}, {2, 4, 5} in a scrambled order: zero wherever a later block would feed back
+        order = [[0, 3], [1], [2, 4, 5]]
+        for b, block in enumerate(order):
+            for later in order[b + 1 :]:
+                s[np.ix_(block, later)] = 0.0
+    r = rng.normal(size=(k, 2, n))
+    det, x = kinetostatics._det_and_solve(s, r)
+    assert (kinetostatics._block_det_and_solve(s, r) is not None) == blocked
+    per_angle = np.moveaxis(s, -1, 0)
+    expected_x = np.linalg.solve(per_angle, np.moveaxis(r, -1, 0))
+    expected_det = np.linalg.det(per_angle)
+    assert np.abs(det - expected_det).max() <= 1e-12 * np.abs(expected_det).max()
+    assert np.abs(np.moveaxis(x, -1, 0) - expected_x).max() <= 1e-9 * (1 + np.abs(expected_x).max())
