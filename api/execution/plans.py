@@ -18,7 +18,7 @@ import synth
 from synth.exports import balance_export, slider_crank_balance_export
 from synth.machine.record import DesignRecord
 
-from ..media import FIGURES, Render
+from ..media import ARRAYS, FIGURES, Render
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (
     BalanceIn,
@@ -98,7 +98,7 @@ def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan
                 synth.analyse, (b.to_linkage(), b.omega_rad_s),
                 dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
                      max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors()),
-                CURVES, "analysis")
+                (*CURVES, *ARRAYS), "analysis")
 
 
 def balance_static(b: BalanceIn, lim: Limits) -> Plan:
@@ -157,7 +157,7 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
     sizing = dict(constant_inertia=b.constant_inertia_kgm2, motor=None if b.motor is None else b.motor.to_engine(),
                   time_limit_s=lim.solver_time_limit_s)
     render = Render(flywheel_out, flywheel_file)
-    offered = (*FIGURES, "csv")
+    offered = (*FIGURES, "csv", *ARRAYS)
     if b.uses_tables():
         assert b.tables is not None
         return Plan(render, flywheel_from_tables,
