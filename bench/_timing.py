@@ -6,6 +6,14 @@ import asyncio
 import statistics
 import time
 from collections.abc import Callable
+from typing import Any
+
+
+def timed(fn: Callable[..., Any], args: tuple[Any, ...]) -> tuple[Any, float]:
+    """``fn(*args)`` and its wall time [s] where it ran (a worker process, when submitted as a task)."""
+    t0 = time.perf_counter()
+    out = fn(*args)
+    return out, time.perf_counter() - t0
 
 
 def best_of(fn: Callable[[], object], repeat: int) -> float:
