@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -49,6 +49,9 @@ class Analysis:
     virtual_power_torque: FloatArray
     reduced: ReducedModel
     counter_rotors: tuple[CounterRotor, ...] = ()
+    #: The mechanism's own motion (without centres of mass or trace points): what a re-analysis of the same
+    #: mechanism with other masses passes as ``base_motion``.
+    mechanism_motion: Motion | None = field(default=None, repr=False, compare=False)
 
     @property
     def torque_check(self) -> float:
@@ -97,13 +100,16 @@ def analyse(
     max_samples: int = MAX_SAMPLES,
     points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
     counter_rotors: Sequence[CounterRotor] = (),
+    base_motion: Motion | None = None,
 ) -> Analysis:
     """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
 
     ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
     coupler points, to the motion. ``counter_rotors`` (a full-balance answer's) add their moment on the frame,
-    their share of the driving torque and their reduced inertia. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
-    NotAssemblable (with the ranges).
+    their share of the driving torque and their reduced inertia. ``base_motion`` is
+    :func:`synth.kinematics.motion` of this mechanism at these angles, speed and acceleration when the caller has
+    it already (the same mechanism analysed again with other masses: balancing's before and after). Raises
+    InvalidInput, TooLarge (more samples than ``max_samples``) or NotAssemblable (with the ranges).
     """
     if phi is None:
         angles = cycle_angles(samples, 2 * math.pi, max_samples)
@@ -111,7 +117,13 @@ def analyse(
         angles = np.asarray(phi, dtype=float).reshape(-1)
         if angles.size > max_samples:
             raise TooLarge("crank angles", max_samples, angles.size)
-    base = motion(linkage.mechanism, angles, speed, crank_acceleration)
+    if base_motion is None:
+        base = motion(linkage.mechanism, angles, speed, crank_acceleration)
+    elif (base_motion.samples != angles.size or base_motion.omega_crank != speed
+          or base_motion.alpha_crank != crank_acceleration or not np.array_equal(base_motion.phi, angles)):
+        raise ValueError("base_motion is not this mechanism's motion at these angles, speed and acceleration")
+    else:
+        base = base_motion
     links = linkage.mechanism.topology.links
     extra = dict(points or {})
     for name, (link, _) in extra.items():
@@ -145,6 +157,7 @@ def analyse(
         virtual_power_torque=vp,
         reduced=red,
         counter_rotors=tuple(counter_rotors),
+        mechanism_motion=base,
     )
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)

@@ -268,3 +268,22 @@ def test_stacked_solves_of_more_than_three_unknowns_equal_lapack(blocked: bool) 
     expected_det = np.linalg.det(per_angle)
     assert np.abs(det - expected_det).max() <= 1e-12 * np.abs(expected_det).max()
     assert np.abs(np.moveaxis(x, -1, 0) - expected_x).max() <= 1e-9 * (1 + np.abs(expected_x).max())
+
+
+def test_a_reanalysis_on_the_shared_motion_equals_a_fresh_one() -> None:
+    # Balancing analyses the same mechanism before and after adding counterweights on one motion; the shared
+    # motion must give the very numbers a fresh analysis gives (the kinematics are deterministic).
+    from mechsynth_client.schemas.analysis import AnalysisIn
+    from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+
+    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "gravity": {"g_m_s2": 9.81}}).to_linkage()
+    before = synth.analyse(linkage, 12.0, samples=90)
+    heavier = linkage.with_counterweights([synth.Counterweight("crank", 0.8, (-0.04, 0.01))])
+    shared = synth.analyse(heavier, 12.0, samples=90, base_motion=before.mechanism_motion)
+    fresh = synth.analyse(heavier, 12.0, samples=90)
+    for a, b in ((shared.kinetostatics.unknowns, fresh.kinetostatics.unknowns),
+                 (shared.kinetostatics.shaking_moment, fresh.kinetostatics.shaking_moment),
+                 (shared.reduced.inertia, fresh.reduced.inertia), (shared.virtual_power_torque, fresh.virtual_power_torque)):
+        assert np.array_equal(a, b)
+    with pytest.raises(ValueError, match="base_motion"):
+        synth.analyse(heavier, 13.0, samples=90, base_motion=before.mechanism_motion)
