@@ -3,23 +3,16 @@ against it."""
 
 from __future__ import annotations
 
-import os
 import re
-import signal
-import socket
-import shutil
-import subprocess
-import tempfile
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
-import httpx
 import pytest
 
 import doc_blocks
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
+from service import running_service
 
 REPO = Path(__file__).resolve().parents[1]
 README = (REPO / "README.md").read_text()
@@ -31,41 +24,10 @@ def _run_command() -> list[str]:
     return match.group(1).split()
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
-def server_url() -> Iterator[str]:
-    port = _free_port()
-    scratch = tempfile.mkdtemp(prefix="synth-server-")
-    env = {**os.environ, "SYNTH_STUDIES_DB": os.path.join(scratch, "studies.sqlite")}
-    proc = subprocess.Popen(
-        [*_run_command(), f"PORT={port}"], cwd=REPO, start_new_session=True, env=env,
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-    )
-    url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 120
-        while True:
-            try:
-                if httpx.get(f"{url}/health", timeout=1).status_code == 200:
-                    break
-            except httpx.TransportError:
-                pass
-            if proc.poll() is not None or time.monotonic() > deadline:
-                err = proc.stderr.read().decode() if proc.stderr else ""
-                pytest.fail(f"server did not start with {' '.join(_run_command())}: {err[-2000:]}")
-            time.sleep(0.3)
+def server_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    with running_service(lambda port: [*_run_command(), f"PORT={port}"], tmp_path_factory.mktemp("studies")) as url:
         yield url
-    finally:
-        os.killpg(proc.pid, signal.SIGTERM)
-        proc.wait(timeout=30)
-        if proc.stderr:
-            proc.stderr.close()
-        shutil.rmtree(scratch, ignore_errors=True)
 
 
 def test_client_against_real_server(server_url: str) -> None:

@@ -1,0 +1,54 @@
+"""A real service on a free loopback port for the tests that need one (the README's command, the workbench)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import httpx
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def free_port() -> int:
+    """A loopback port nothing listens on now."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@contextmanager
+def running_service(command: Callable[[int], list[str]], studies_dir: Path,
+                    start_timeout_s: float = 120) -> Iterator[str]:
+    """Start ``command(port)`` in the repository with its study store in ``studies_dir``; yield its base URL once
+    ``/health`` answers, and stop the whole process group afterwards."""
+    port = free_port()
+    env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite")}
+    proc = subprocess.Popen(command(port), cwd=REPO, env=env, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + start_timeout_s
+        while True:
+            try:
+                if httpx.get(f"{url}/health", timeout=1).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            if proc.poll() is not None or time.monotonic() > deadline:
+                err = proc.stderr.read().decode() if proc.stderr else ""
+                pytest.fail(f"the service did not start with {' '.join(command(port))}: {err[-2000:]}")
+            time.sleep(0.2)
+        yield url
+    finally:
+        os.killpg(proc.pid, signal.SIGTERM)
+        proc.wait(timeout=30)
+        if proc.stderr:
+            proc.stderr.close()
