@@ -193,16 +193,17 @@ class Gain:
 @dataclass(frozen=True, slots=True)
 class MachineOptimum:
     """The optimised machine: its whole ``design`` (as :func:`design_machine` answers), the family ``parameter``,
-    its ``values`` and weighted normalised ``score``; the ``chain`` design and its score; ``gains`` per
-    objective; ``pareto`` the non-dominated members of the two ``pareto_objectives``; every member designed;
-    the certificate."""
+    its ``values`` and weighted normalised ``score``; the ``chain``'s machine (as the scan designed it), its
+    member ``chain_linkage`` and its score; ``gains`` per objective; ``pareto`` the non-dominated members of the two ``pareto_objectives``; every
+    member designed; the certificate."""
 
     spec: OptimiseSpec
     design: MachineDesign
     parameter: float
     values: tuple[float, float, float]
     score: float
-    chain: MachineDesign | None
+    chain: MemberScore
+    chain_linkage: Linkage
     chain_score: float | None
     chain_reason: str | None
     normalisers: tuple[float, float, float]
@@ -454,7 +455,8 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     if design is None or again.values is None:
         raise SolverFailed("not_reproduced", "the best member's chain did not run again")
     values = again.values
-    chain_member, chain_design = _score_member(spec, scan.chain_parameter, "chain", time_limit_s)
+    # the chain's own member was designed in the scan, as /v1/machines/design designs it
+    chain_member = next(m for m in members if m.parameter == scan.chain_parameter)
     chain_values = chain_member.values
     gains = []
     for k, (name, unit) in enumerate(zip(OBJECTIVES, OBJECTIVE_UNITS, strict=True)):
@@ -476,8 +478,8 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     certificate = Certificate(scan, designed, feasible, tuple(refinements), None, binding, statement)
     return MachineOptimum(
         spec=spec, design=design, parameter=best.parameter, values=values, score=score(spec, values, norm),
-        chain=chain_design, chain_score=(score(spec, chain_values, norm)
-                                         if chain_values is not None and chain_member.feasible else None),
+        chain=chain_member, chain_linkage=_member(spec, scan.chain_parameter),
+        chain_score=score(spec, chain_values, norm) if chain_values is not None and chain_member.feasible else None,
         chain_reason=chain_member.reason, normalisers=norm, gains=tuple(gains),
         pareto_objectives=spec.pareto, pareto=_pareto(members, a, b), members=members, certificate=certificate,
     )
