@@ -85,7 +85,10 @@ def _plain(value: Any) -> Any:
         return {name: _plain(getattr(value, name)) for name in type(value).model_fields}
     if isinstance(value, dict):
         return {key: _plain(item) for key, item in value.items()}
-    if isinstance(value, (list, tuple)) and value and isinstance(value[0], (BaseModel, dict, list, tuple)):
+    if isinstance(value, (list, tuple)) and value and (
+            isinstance(value[0], (BaseModel, dict, list, tuple))
+            or (value[0] is None and any(isinstance(item, BaseModel) for item in value))):
+        # a list of models may open with a null (a stage that has none)
         return [_plain(item) for item in value]
     return value
 

@@ -44,6 +44,7 @@ from .schemas.balancing import (
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
+from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
@@ -364,6 +365,14 @@ class SynthClient(_Policy):
         """GET /v1/gears/motors: the shipped motor catalogue."""
         return self._get_rows("/v1/gears/motors", MotorOut)
 
+    def gears_rating(self, body: RatingIn) -> RatingOut:
+        """POST /v1/gears/rating: ISO 6336 method B load capacity of a pair."""
+        return self._post("/v1/gears/rating", body, RatingOut)
+
+    def gears_materials(self) -> list[GearMaterialOut]:
+        """GET /v1/gears/materials: the shipped gear material grades."""
+        return self._get_rows("/v1/gears/materials", GearMaterialOut)
+
     def balance_static(self, body: BalanceIn) -> BalanceOut:
         """POST /v1/balancing/static: counterweights that zero the shaking force."""
         return self._post("/v1/balancing/static", body, BalanceOut)
@@ -568,6 +577,14 @@ class AsyncSynthClient(_Policy):
     async def gears_motors(self) -> list[MotorOut]:
         """GET /v1/gears/motors."""
         return await self._get_rows("/v1/gears/motors", MotorOut)
+
+    async def gears_rating(self, body: RatingIn) -> RatingOut:
+        """POST /v1/gears/rating."""
+        return await self._post("/v1/gears/rating", body, RatingOut)
+
+    async def gears_materials(self) -> list[GearMaterialOut]:
+        """GET /v1/gears/materials."""
+        return await self._get_rows("/v1/gears/materials", GearMaterialOut)
 
     async def balance_static(self, body: BalanceIn) -> BalanceOut:
         """POST /v1/balancing/static."""

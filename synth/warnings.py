@@ -21,7 +21,8 @@ Codes
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
-``rotor_inertia_missing`` and ``rated_power_exceeds``. A machine design gathers every stage's warnings, each with
+``rotor_inertia_missing``, ``rated_power_exceeds`` and ``stage_not_sized`` (a stage the strength sizing cannot
+size: not a cylindrical pair, or no module carries it). A machine design gathers every stage's warnings, each with
 its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
 the simulated machine misses); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
 """

@@ -32,6 +32,7 @@ from mechsynth_client.schemas.balancing import (
 )
 from mechsynth_client.schemas.flywheel import FlywheelIn
 from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
+from mechsynth_client.schemas.rating import RatingIn, RatingOut
 from mechsynth_client.schemas.machine import MachineIn
 from mechsynth_client.schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from mechsynth_client.schemas.structure import StructureIn, StructureOut
@@ -194,7 +195,17 @@ def gears_drive(b: DriveIn, lim: Limits) -> Plan:
                      synchronous_speed=b.synchronous_speed(), motor=b.motor, objective=b.objective,
                      torque_basis=b.torque_basis, inertia=b.inertia_model(), snap_r20=b.snap_r20,
                      snap_tolerance=b.snap_tolerance, time_limit_s=lim.solver_time_limit_s,
-                     catalogue=b.catalogue()))
+                     catalogue=b.catalogue(), strength=None if b.strength is None else b.strength.to_engine()))
+
+
+def gears_rating(b: RatingIn, lim: Limits) -> Plan:
+    """POST /v1/gears/rating: at a nominal torque, or on a load spectrum (Miner)."""
+    if b.load_spectrum is not None:
+        return Plan(Render(RatingOut.from_engine), synth.rate_spectrum,
+                    (b.to_engine(), b.spectrum(), b.speed(), b.duty()))
+    assert b.pinion_torque_Nm is not None
+    return Plan(Render(RatingOut.from_engine), synth.rate_pair,
+                (b.to_engine(), b.pinion_torque_Nm, b.speed(), b.duty()))
 
 
 def gears_train(b: TrainIn, lim: Limits) -> Plan:
@@ -265,6 +276,7 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/gears/split": (SplitIn, gears_split),
     "/v1/gears/teeth": (TeethIn, gears_teeth),
     "/v1/gears/drive": (DriveIn, gears_drive),
+    "/v1/gears/rating": (RatingIn, gears_rating),
     "/v1/gears/train": (TrainIn, gears_train),
     "/v1/structure": (StructureIn, structure),
     "/v1/synthesis/crank-rocker": (CrankRockerIn, synthesis_crank_rocker),

@@ -1,4 +1,5 @@
-"""Drive design: POST /v1/gears/split, /v1/gears/teeth, /v1/gears/drive; the stage-type table and motor catalogue."""
+"""Drive design: POST /v1/gears/split, /teeth, /drive, /rating; the stage-type table, motor catalogue and gear
+materials."""
 
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from mechsynth_client.schemas.gearing import (
     TeethIn,
     TeethOut,
 )
+from mechsynth_client.schemas.rating import GearMaterialOut, RatingIn, RatingOut
 
 router = APIRouter(prefix="/gears", tags=["gearing"])
 
@@ -42,6 +44,20 @@ async def gears_drive(body: DriveIn, request: Request, solvers: SolverDep) -> Re
     """Choose the motor from the catalogue, split the ratio and report every shaft's speed, power, torque and
     inertia reduced to the motor shaft."""
     return await solvers.answer_plan(plans.gears_drive(body, solvers.limits), request)
+
+
+@router.post("/rating", response_model=RatingOut)
+async def gears_rating(body: RatingIn, request: Request, solvers: SolverDep) -> Response:
+    """Load capacity of an external spur or helical pair by ISO 6336 method B: contact and root stresses,
+    their limits and the safety factors per wheel with every factor named; on a load spectrum, the life by
+    Miner's rule."""
+    return await solvers.answer_plan(plans.gears_rating(body, solvers.limits), request)
+
+
+@router.get("/materials", response_model=list[GearMaterialOut])
+def gears_materials() -> list[GearMaterialOut]:
+    """The shipped gear material grades with their ISO 6336-5 allowable stress numbers."""
+    return [GearMaterialOut.from_engine(m) for m in synth.gear_materials().values()]
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])

@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import synth
 from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, one_of, warnings_out
+from .rating import SizedStageOut, StrengthIn, sized_stages_out
 
 RPM = math.pi / 30.0
 
@@ -356,8 +357,16 @@ class DriveIn(_InertiaFields):
     snap_r20: bool = Field(False, description="Snap the stage ratios to R20 preferred numbers.")
     snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
                                          "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
+    strength: StrengthIn | None = Field(None, description="Size every cylindrical stage for strength (ISO 6336) "
+                                        "from its shaft torque: module, face width, centre distance, safety "
+                                        "factors. With objective min_volume and only spur or helical stages, "
+                                        "the split's volume model is the sizing's.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
+        {"output_power_W": 3000, "output_speed_rpm": 60, "stages": ["helical", "spur"], "objective": "min_volume",
+         "strength": {"pinion_material": "case_hardened_MQ", "gear_material": "case_hardened_MQ",
+                      "application_factor": 1.25, "life_h": 20000, "min_safety_contact": 1.1,
+                      "min_safety_root": 1.5}},
         {"output_power_W": 20000, "output_speed_rad_s": 9.0, "drive_efficiency": 0.8, "torque_basis": "rated",
          "stages": [{"type": "bevel", "ratio": 3, "efficiency": 0.931}, {"type": "open_spur", "efficiency": 0.891}]},
         {"output_power_W": 3000, "output_speed_rpm": 60, "stages": ["helical", "helical"], "load_inertia_kgm2": 2.0},
@@ -446,6 +455,12 @@ class DriveOut(BaseModel):
     torque_basis: TorqueBasis = Field(description="Where the shaft powers start: load, the output power over the "
                                       "chain efficiency; rated, the motor's rated power.")
     split: SplitOut = Field(description="The ratio split, as /v1/gears/split answers.")
+    gears: list[SizedStageOut | None] | None = Field(None, description="Every stage sized for strength, motor "
+                                                     "side first (null for a stage that is not a cylindrical "
+                                                     "pair); null when no strength block was sent.")
+    gear_mass_kg: float | None = Field(None, description="Mass of all sized wheels [kg]; null without sizing.")
+    volume_agreement: float | None = Field(None, description="|V_split/V_sized - 1| of a strength-based split: "
+                                           "the split's predicted wheel volume against the sized one [-].")
     checks: DriveChecksOut = Field(description="Independent checks of the drive.")
     warnings: list[WarningOut] = Field(description="Likely mistakes and catalogue notes; the answer stands.")
 
@@ -463,7 +478,8 @@ class DriveOut(BaseModel):
             checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
                                   kinetic_energy_J=r.checks.kinetic_energy,
                                   reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
-            warnings=warnings_out(r.warnings),
+            warnings=warnings_out(r.warnings), gears=sized_stages_out(r.gears),
+            gear_mass_kg=None if r.gears is None else r.gears.mass, volume_agreement=r.volume_agreement,
         )
 
 

@@ -24,6 +24,7 @@ from .common import (
 )
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
+from .rating import SizedStageOut, StrengthIn, sized_stages_out
 
 #: The README's slider-crank press: a 2.5 kN pressing stroke over half the turn at 480 rpm, one helical stage.
 PRESS_EXAMPLE: JsonDict = {
@@ -95,6 +96,11 @@ class MachineDriveIn(StrictModel):
     max_teeth: int = Field(100, ge=2, le=400, description="Largest wheel of the tooth search.")
     min_teeth: int | None = Field(None, ge=1, le=400, description="Your bound on every wheel (else undercut).")
     tooth_tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance of the teeth.")
+    size_gears: bool = Field(True, description="Size every spur or helical stage for strength (ISO 6336) from "
+                             "the torque its pinion shaft passes on over the simulated cycle.")
+    strength: StrengthIn = Field(
+        default_factory=StrengthIn, description="How the stages are sized: materials, life, minimum safety "
+        "factors, module series (Miner's rule on the real cyclic load, so the application factor stays 1).")
 
     def to_engine(self, max_stages: int) -> synth.DriveSpec:
         """Engine drive (rpm become rad/s here)."""
@@ -108,6 +114,7 @@ class MachineDriveIn(StrictModel):
                                        tuple(self.shaft_inertias_kgm2 or ())),
             tooth_rules=synth.ToothRules(min_teeth=self.min_teeth, max_teeth=self.max_teeth),
             tooth_tolerance=self.tooth_tolerance,
+            strength=self.strength.to_engine() if self.size_gears else None,
         )
 
 
@@ -381,6 +388,11 @@ class MachineDesignOut(BaseModel):
     drive: DriveOut = Field(description="Motor choice and ratio split, as /v1/gears/drive answers.")
     teeth: TeethOut | None = Field(None, description="Tooth numbers, as /v1/gears/teeth answers.")
     stage_ratios: list[float] = Field(description="Real stage ratios from the teeth.")
+    gears: list[SizedStageOut | None] | None = Field(
+        None, description="Every stage sized for strength from the cyclic torque its pinion shaft passes on "
+        "(module, face width, centre distance, diameters, S_H and S_F on the cycle by Miner's rule, the binding "
+        "constraint), motor side first; null for a stage that is not a spur or helical pair or could not be "
+        "sized (warnings say why), and null throughout when drive.size_gears is false.")
     flywheel: FlywheelOut = Field(description="The flywheel sizing for the chosen motor (motor_nlp), checked by the "
                                   "simulated machine; its inertias are reduced to the crank (crank-equivalent), "
                                   "`flywheel_body` holds the body on its own shaft.")
@@ -432,7 +444,7 @@ class MachineDesignOut(BaseModel):
                 simulated_mean_speed_rpm=motor.gear_ratio * m.mean_speed / RPM,
             ),
             drive=DriveOut.from_engine(d.drive, d.spec.drive.stages),
-            teeth=None if d.teeth is None else TeethOut.from_engine(d.teeth),
+            teeth=None if d.teeth is None else TeethOut.from_engine(d.teeth), gears=sized_stages_out(d.gears),
             stage_ratios=list(d.stage_ratios),
             flywheel=FlywheelOut.from_engine(d.flywheel),
             flywheel_shaft=None if d.placement is None else d.placement.shaft,

@@ -1,5 +1,21 @@
-"""Drive design: stage types, ratio splitting, tooth numbers, shaft speeds and torques, motor choice."""
+"""Drive design: stage types, ratio splitting, tooth numbers, shaft speeds and torques, motor choice, and load
+capacity (ISO 6336) with sizing for strength."""
 
+from .involute import BasicRack, PairGeometry, pair_geometry
+from .life import SpectrumRating, rate_spectrum
+from .materials import GearMaterial, gear_material, gear_materials
+from .rating import Duty, GearPairSpec, RatingChecks, RatingFactor, RatingResult, rate_pair
+from .sizing import (
+    SizedStage,
+    SizingRules,
+    StageLoad,
+    StrengthSplit,
+    TrainSizing,
+    module_series,
+    size_stage,
+    size_train,
+    split_for_strength,
+)
 from .drive import DriveChecks, DriveResult, DriveShaft, design_drive
 from .motors import CatalogueMotor, find_motor, motor_catalogue, select_motor
 from .split import (
@@ -37,5 +53,6 @@ __all__ = [
     "gear_volume", "interference_limit", "make_stage", "make_stages", "motor_catalogue", "r20_values",
     "reduced_train_inertia", "select_motor", "serial_tooth_numbers", "split_ratio", "stage_types", "tooth_numbers", "total_ratio",
     "train_ratio", "undercut_limit",
+    "BasicRack", "Duty", "GearMaterial", "GearPairSpec", "PairGeometry", "RatingFactor", "RatingResult", "RatingChecks", "SizedStage", "SizingRules", "SpectrumRating", "StageLoad", "StrengthSplit", "TrainSizing", "gear_material", "gear_materials", "module_series", "pair_geometry", "rate_pair", "rate_spectrum", "size_stage", "size_train", "split_for_strength",
     "GearMesh", "PlanetaryMesh", "PlanetaryStage", "planetary_tooth_numbers", "TrainResult", "TrainShaft", "TrainWheel", "gear_train",
 ]

@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import Infeasible, InvalidInput
 from ..warnings import DesignWarning
 from .motors import CatalogueMotor, find_motor, select_motor
+from .sizing import SIZED_TYPES, SizingRules, StageLoad, TrainSizing, size_train, split_for_strength
 from .split import InertiaModel, SplitResult, split_ratio
 from .stages import Stage, chain_efficiency
 
@@ -56,7 +57,9 @@ class DriveResult:
     by ``motor_speed``) / output speed [-];
     ``stage_efficiencies`` [-]; ``shafts`` motor shaft first; ``reduced_inertia`` everything on the motor shaft
     [kg·m²]; ``output_speed`` reached [rad/s]; ``torque_basis``: ``rated`` (motor's rated power, as the seed
-    does) or ``load`` (the power the output needs).
+    does) or ``load`` (the power the output needs); ``gears`` every cylindrical stage sized for strength from
+    its shaft torque (None when no strength rules were given); ``volume_agreement`` |V_split/V_sized - 1| of
+    a strength-based split (None otherwise).
     """
 
     motor: CatalogueMotor
@@ -72,6 +75,8 @@ class DriveResult:
     torque_basis: str
     checks: DriveChecks
     warnings: tuple[DesignWarning, ...] = field(default=())
+    gears: TrainSizing | None = None
+    volume_agreement: float | None = None
 
 
 def _reachable(stages: Sequence[Stage], output_speed: float,
@@ -101,6 +106,7 @@ def design_drive(
     snap_tolerance: float | None = None,
     time_limit_s: float = 20.0,
     catalogue: Sequence[CatalogueMotor] | None = None,
+    strength: SizingRules | None = None,
     motor_speed: Callable[[CatalogueMotor], float] | None = None,
 ) -> DriveResult:
     """Choose the motor, split the ratio and find every shaft's speed, power, torque and reduced inertia.
@@ -118,6 +124,8 @@ def design_drive(
     inertia : pinion, load and shaft inertias of the reduced-inertia model [kg·m²] (the motor rotor is added).
     time_limit_s : the split solver's time limit [s].
     catalogue : the motors to choose from (a vendor's data); default the shipped representative catalogue.
+    strength : size every cylindrical stage for strength (ISO 6336) from its shaft torque and speed; with the
+        ``min_volume`` objective and only cylindrical stages, the split's volume model is the sizing's.
     motor_speed : the speed a motor runs at in this drive [rad/s], which the total ratio is taken from;
         default its rated speed (the seed's rule). A machine passes the speed on the motor's characteristic
         under its mean load.
@@ -158,12 +166,19 @@ def design_drive(
             f"the catalogue gives no rotor inertia for {chosen.name}; the reduced inertia leaves it out"))
     model = InertiaModel(model.pinion_inertia, model.load_inertia, model.shaft_inertias,
                          model.motor_inertia + (chosen.rotor_inertia or 0.0))
-    split = split_ratio(total, stages, objective, inertia=model, snap_r20=snap_r20, snap_tolerance=snap_tolerance,
-                        time_limit_s=time_limit_s)
+    p0 = chosen.rated_power if torque_basis == "rated" else output_power / eta_chain
+    strength_split = None
+    if (strength is not None and objective == "min_volume" and not snap_r20
+            and all(s.type in SIZED_TYPES and s.ratio is None for s in stages)):
+        strength_split = split_for_strength(total, stages, p0 / running, running, strength,
+                                            inertia=model, time_limit_s=time_limit_s)
+        split = strength_split.split
+    else:
+        split = split_ratio(total, stages, objective, inertia=model, snap_r20=snap_r20,
+                            snap_tolerance=snap_tolerance, time_limit_s=time_limit_s)
     u = np.array(split.stage_ratios)
     etas = np.array([s.efficiency for s in stages])
     speeds = running / np.concatenate([[1.0], np.cumprod(u)])
-    p0 = chosen.rated_power if torque_basis == "rated" else output_power / eta_chain
     powers = p0 * np.concatenate([[1.0], np.cumprod(etas)])
     torques = powers / speeds
     n = len(stages)
@@ -188,6 +203,17 @@ def design_drive(
             "rated_power_exceeds", "torque_basis", delivered,
             f"torques follow the motor's rated power: the output carries {delivered:.4g} W, "
             f"more than the {output_power:.4g} W required", "W"))
+    gears = None
+    if strength_split is not None:
+        gears = strength_split.sizing
+    elif strength is not None:
+        gears = size_train(split.stage_ratios, [StageLoad(float(t), float(w)) for t, w in
+                                                zip(torques[:-1], speeds[:-1], strict=True)], stages, strength)
+    if gears is not None:
+        warnings += [DesignWarning("stage_not_sized", f"stages[{k}]", None,
+                                   f"stage {k} ({stages[k].type}) is not a cylindrical pair; it is not sized")
+                     for k, g in enumerate(gears.stages) if g is None]
     return DriveResult(chosen, required, eta, eta_chain, total, split, tuple(map(float, etas)), shafts,
                        split.reduced_inertia, float(speeds[-1]), torque_basis, checks,
-                       tuple(warnings) + split.warnings)
+                       tuple(warnings) + split.warnings, gears,
+                       None if strength_split is None else strength_split.volume_agreement)

@@ -44,14 +44,19 @@ from ..flywheel import (
 from ..gearing import (
     CatalogueMotor,
     DriveResult,
+    SizedStage,
+    StageLoad,
     ToothResult,
+    TrainSizing,
     chain_efficiency,
     design_drive,
     motor_catalogue,
+    size_stage,
     tooth_numbers,
 )
+from ..gearing.sizing import HELICAL_TYPES, SIZED_TYPES
 from ..kinematics import FourBar, PlanarLinkage, SliderCrank
-from ..model import Linkage
+from ..model import FloatArray, Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
 from .operating_point import MotorLoad, operating_speed
 from .simulate import MachineCycle, MachineMotion, simulate_machine
@@ -126,7 +131,9 @@ class MachineDesign:
     real ratios from the teeth [-]; ``motor`` the chosen motor's characteristic through them; ``train_inertia``
     the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
-    ``shafts`` motor first; ``checks`` each target against the simulation.
+    ``shafts`` motor first; ``checks`` each target against the simulation; ``gears`` every cylindrical stage
+    sized for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive
+    asks for no sizing).
     """
 
     spec: MachineSpec
@@ -146,6 +153,7 @@ class MachineDesign:
     shafts: tuple[MachineShaft, ...]
     checks: tuple[MachineCheck, ...]
     warnings: tuple[DesignWarning, ...]
+    gears: TrainSizing | None = None
 
     @property
     def flywheel_inertia(self) -> float:
@@ -352,8 +360,10 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
                      shaft=wanted, max_inertia_kgm2=miss.max_inertia)
 
 
-def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion,
-            placement: FlywheelBody | None, flywheel_inertia: float) -> tuple[MachineShaft, ...]:
+def _shaft_torques(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion,
+                   placement: FlywheelBody | None, flywheel_inertia: float) -> FloatArray:
+    """The torque each shaft passes on at the motion's samples, (shafts, M) [N·m], motor shaft first:
+    T_k·w_k = eta_0k·T_m·w_m - d/dt(kinetic energy of shafts 0..k)."""
     n = len(design_ratios)
     names = _shaft_names(n)
     r = np.array([math.prod(design_ratios[k:]) for k in range(n)] + [1.0])
@@ -361,12 +371,65 @@ def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineM
     own = np.array([s.inertia for s in drive.shafts])
     if placement is not None:
         own[names.index(placement.shaft)] += flywheel_inertia / r[names.index(placement.shaft)] ** 2
-    upstream = np.cumsum(own * r**2)  # inertia of shafts 0..k reduced to the crank [kg·m²]
+    upstream = np.cumsum(own * r**2)
+    return np.asarray((eta[:, None] * motion.motor_torque[None, :] * r[0] - upstream[:, None] * motion.alpha[None, :])
+                      / r[:, None], dtype=float)
+
+
+def _time_weights(motion: MachineMotion) -> FloatArray:
+    """Each sample's share of the period: trapezoid weights in phi over the crank speed (as time_mean)."""
+    phi = motion.phi
+    w = np.zeros_like(phi)
+    step = np.diff(phi) / 2
+    w[:-1] += step
+    w[1:] += step
+    return np.asarray(w / motion.omega / np.sum(w / motion.omega), dtype=float)
+
+
+def _gears(machine: MachineSpec, teeth: ToothResult | None, ratios: Sequence[float], torques: FloatArray,
+           motion: MachineMotion, shafts: Sequence[MachineShaft]) -> tuple[TrainSizing | None, list[DesignWarning]]:
+    """Each cylindrical stage sized for the torque its pinion shaft passes on over the simulated cycle; a stage
+    that cannot be sized is reported, not fatal (the machine design stands without it)."""
+    rules = machine.drive.strength
+    if rules is None:
+        return None, []
+    stages = machine.drive.stages
+    toothed = [k for k, s in enumerate(stages) if s.toothed]
+    meshes = dict(zip(toothed, teeth.stages, strict=True)) if teeth is not None else {}
+    weights = _time_weights(motion)
+    out: list[SizedStage | None] = []
+    warnings = []
+    for k, s in enumerate(stages):
+        if s.type not in SIZED_TYPES or k not in meshes:
+            out.append(None)
+            continue
+        mesh = meshes[k]
+        helix = rules.helix_angle if rules.helix_angle is not None else HELICAL_TYPES.get(s.type, 0.0)
+        load = StageLoad(torques[k], shafts[k].mean_speed, weights)
+        try:
+            out.append(size_stage(mesh.gear_teeth / mesh.pinion_teeth, load, rules, stage=k, helix_angle=helix,
+                                  pinion_teeth=mesh.pinion_teeth))
+        except (InvalidInput, Infeasible) as exc:
+            out.append(None)
+            warnings.append(DesignWarning("stage_not_sized", f"drive.stages[{k}]", None,
+                                          f"stage {k + 1} could not be sized for strength: {exc}", stage="drive"))
+    sized = [g for g in out if g is not None]
+    return (TrainSizing(tuple(out), sum(g.mass for g in sized), sum(g.volume for g in sized),
+                        sum(g.centre_distance for g in sized)), warnings)
+
+
+def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineMotion,
+            placement: FlywheelBody | None, flywheel_inertia: float) -> tuple[MachineShaft, ...]:
+    n = len(design_ratios)
+    names = _shaft_names(n)
+    r = np.array([math.prod(design_ratios[k:]) for k in range(n)] + [1.0])
+    own = np.array([s.inertia for s in drive.shafts])
+    if placement is not None:
+        own[names.index(placement.shaft)] += flywheel_inertia / r[names.index(placement.shaft)] ** 2
+    torques = _shaft_torques(design_ratios, drive, motion, placement, flywheel_inertia)
     out = []
     for k in range(n + 1):
-        # the torque shaft k passes on: the motor's, through the stages before it, less what accelerates
-        # everything up to it; power balance T_k·w_k = eta_0k·T_m·w_m - d/dt(kinetic energy up to k)
-        torque = (eta[k] * motion.motor_torque * r[0] - upstream[k] * motion.alpha) / r[k]
+        torque = torques[k]
         power = torque * r[k] * motion.omega
         out.append(MachineShaft(
             names[k], float(r[k]), float(r[k] * motion.mean_speed), motion.time_mean(power),
@@ -503,13 +566,15 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
         flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     checks = _checks(machine, motion, motor)
+    torques = _shaft_torques(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
+    gears, not_sized = _gears(machine, teeth, ratios, torques, motion, shafts)
     warnings = [*staged(check_analysis(before), "analysis"), *_balancing_warnings(before, bal),
                 *staged(drive.warnings, "drive", "drive")]
     if teeth is not None:
         warnings += staged(teeth.warnings, "teeth", "drive")
-    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks)
+    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks) + not_sized
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
-                         train, flywheel, placement, motion, shafts, checks, tuple(warnings))
+                         train, flywheel, placement, motion, shafts, checks, tuple(warnings), gears)
 
 
 def _balancing_warnings(before: Analysis, bal: Balancing) -> list[DesignWarning]:

@@ -28,6 +28,7 @@ from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+from ..gearing import SizedStage  # noqa: E402
 from ..model import Counterweight  # noqa: E402
 from ..plots import draw_mechanism, figure_png, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineDesign  # noqa: E402
@@ -288,6 +289,44 @@ GEAR_COLUMNS: list[GearColumn] = [
 ]
 
 
+def _sized(d: MachineDesign, k: int) -> SizedStage | None:
+    return None if d.gears is None else d.gears.stages[k]
+
+
+def _gear_cell(fmt: Callable[[SizedStage], str]) -> Callable[[MachineDesign, int], str]:
+    return lambda d, k: "-" if (g := _sized(d, k)) is None else fmt(g)
+
+
+#: The strength sizing's table, one row per stage (ISO 6336, Miner's rule on the pinion shaft's cyclic torque).
+STRENGTH_COLUMNS: list[GearColumn] = [
+    ("stage", lambda d, k: str(k + 1)),
+    ("module [mm]", _gear_cell(lambda g: f"{g.module * 1e3:g}")),
+    ("face width [mm]", _gear_cell(lambda g: num(g.face_width * 1e3))),
+    ("centre distance [mm]", _gear_cell(lambda g: num(g.centre_distance * 1e3))),
+    ("d1 / d2 [mm]", _gear_cell(lambda g: f"{num(g.diameters[0] * 1e3)} / {num(g.diameters[1] * 1e3)}")),
+    ("S_H pinion / gear", _gear_cell(lambda g: f"{num(g.safety_contact[0], digits=3)} / "
+                                               f"{num(g.safety_contact[1], digits=3)}")),
+    ("S_F pinion / gear", _gear_cell(lambda g: f"{num(g.safety_root[0], digits=3)} / "
+                                               f"{num(g.safety_root[1], digits=3)}")),
+    ("binding", _gear_cell(lambda g: g.binding)),
+    ("mass [kg]", _gear_cell(lambda g: num(g.mass))),
+]
+
+
+def _sizing_paragraph(d: MachineDesign) -> str:
+    """What sized the gears and which constraint binds at each stage."""
+    if d.gears is None:
+        return "Gears not sized for strength (drive.size_gears false)."
+    rules = d.spec.drive.strength
+    head = ("Module (ISO 54) and least face width per stage for S_H and S_F on the cyclic torque of its pinion "
+            "shaft (ISO 6336 method B, Miner's rule over the required life")
+    if rules is not None:
+        head += (f" of {rules.duty.life:g} h, S_Hmin {rules.duty.min_safety_contact:g}, S_Fmin "
+                 f"{rules.duty.min_safety_root:g}, {rules.materials[0]} / {rules.materials[1]}")
+    return head + "); binding: the constraint that fixes the face width; - : a stage that is not a spur or " \
+        "helical pair, or could not be sized (see the warnings)."
+
+
 def _flywheel_rows(d: MachineDesign) -> list[list[str]]:
     b = d.placement
     if b is None:
@@ -356,6 +395,11 @@ def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: Machi
     flow.heading("Gear train, motor side first")
     flow.table([h for h, _ in GEAR_COLUMNS],
                [[cell(d, k) for _, cell in GEAR_COLUMNS] for k in range(len(d.spec.drive.stages))])
+    flow.heading("Gears sized for strength")
+    flow.paragraph(_sizing_paragraph(d))
+    if d.gears is not None:
+        flow.table([h for h, _ in STRENGTH_COLUMNS],
+                   [[cell(d, k) for _, cell in STRENGTH_COLUMNS] for k in range(len(d.spec.drive.stages))])
     flow.heading("Flywheel")
     flow.table(["quantity", "value"], _flywheel_rows(d))
     flow.heading("Motor")

@@ -9,7 +9,7 @@ from typing import Literal
 from ..balancing import CounterweightSpec, Weights
 from ..errors import InvalidInput
 from ..flywheel import GeometrySpec
-from ..gearing import CatalogueMotor, InertiaModel, Stage, ToothRules
+from ..gearing import CatalogueMotor, InertiaModel, SizingRules, Stage, ToothRules
 from ..model import Linkage
 
 BalancingMode = Literal["none", "static", "full", "optimal"]
@@ -46,7 +46,9 @@ class DriveSpec:
     """The drive from motor to crank: ``stages`` motor side first; a catalogue ``motor`` by name or the smallest
     that covers the power (from ``catalogue``, default the shipped one, within ``synchronous_speed`` [rad/s] if
     given); ``reserve_factor`` [-] on the mean power; the split ``objective``; pinion, load and shaft inertias
-    (``inertia`` [kg·m²]); tooth ``rules`` and the relative ratio ``tooth_tolerance`` [-] of the tooth search."""
+    (``inertia`` [kg·m²]); tooth ``rules`` and the relative ratio ``tooth_tolerance`` [-] of the tooth search;
+    ``strength`` how the cylindrical stages are sized for the cyclic torque each pinion shaft passes on (None:
+    not sized)."""
 
     stages: tuple[Stage, ...]
     motor: str | None = None
@@ -57,6 +59,7 @@ class DriveSpec:
     inertia: InertiaModel | None = None
     tooth_rules: ToothRules | None = None
     tooth_tolerance: float | None = None
+    strength: SizingRules | None = None
 
 
 @dataclass(frozen=True, slots=True)

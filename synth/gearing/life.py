@@ -1,0 +1,148 @@
+"""Life of a pair under the real load: a torque spectrum over the machine cycle, Miner's rule on the S-N curves.
+
+The pinion torque is sampled at equal time steps over one machine cycle; every sample carries an equal share of
+the load cycles each wheel sees in the required life (60 n L_h for the pinion, that over u for the gear). The
+S-N curve of each wheel is its endurance stress times Z_NT (contact) or Y_NT (root) as functions of the load
+cycles (ISO 6336-2/-3 method B), so a stress sigma allows N(sigma) cycles where the curve reaches it. Damage
+is D = sum n_i / N(sigma_i) (Miner, as ISO 6336-6 uses it); the safety factor on the spectrum is the factor
+S by which every stress may grow before D reaches 1, found by bisection. Torques of either sign count with
+their magnitude: reversed torque loads the other flank, so counting both on one flank errs safe.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InvalidInput, TooLarge
+from ..model import FloatArray
+from .materials import contact_life_curve, cycles_to_failure, root_life_curve
+from .rating import Duty, GearPairSpec, PairModel, RatingResult, _pair, _result
+
+MAX_SPECTRUM_SAMPLES = 100_000
+_BISECTION_STEPS = 36
+
+
+@dataclass(frozen=True, slots=True)
+class SpectrumRating:
+    """A pair rated on a load spectrum.
+
+    ``peak`` the ordinary rating at the largest torque; ``rms_torque`` and ``mean_torque`` of the samples'
+    magnitudes [N·m]; ``damage_contact``/``damage_root`` Miner sums over the required life per wheel [-];
+    ``life_contact``/``life_root`` hours until the sum reaches 1 [h] (inf: no sample damages);
+    ``safety_contact``/``safety_root`` the factor on every stress that brings the sum to 1 [-];
+    ``equivalent_torque_contact``/``_root`` the constant pinion torque with the same damage per wheel, stress
+    taken as growing with sqrt(T) in contact and with T at the root, the peak's K factors held [N·m].
+    """
+
+    peak: RatingResult
+    samples: int
+    rms_torque: float
+    mean_torque: float
+    damage_contact: tuple[float, float]
+    damage_root: tuple[float, float]
+    life_contact: tuple[float, float]
+    life_root: tuple[float, float]
+    safety_contact: tuple[float, float]
+    safety_root: tuple[float, float]
+    equivalent_torque_contact: tuple[float, float]
+    equivalent_torque_root: tuple[float, float]
+
+
+def _damage(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
+            cycles_each: FloatArray, scale: FloatArray) -> FloatArray:
+    """Miner sums per wheel (2,) for stresses (N, 2) each multiplied by ``scale`` (2,); ``cycles_each`` (2, N)
+    the load cycles each sample carries per wheel."""
+    out = np.empty(2)
+    for j in (0, 1):
+        factor = scale[j] * stress[:, j] / reference[j]
+        allowed = cycles_to_failure(knots[j], factor)
+        with np.errstate(divide="ignore"):
+            out[j] = np.sum(np.where(factor > 0, cycles_each[j] / np.where(factor > 0, allowed, 1.0), 0.0))
+    return out
+
+
+def _safety(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
+            cycles_each: FloatArray) -> tuple[float, float]:
+    """The factor S per wheel with D(S) = 1, by bisection in log S (D grows with S)."""
+    lo, hi = np.full(2, -12.0), np.full(2, 12.0)
+    for _ in range(_BISECTION_STEPS):
+        mid = (lo + hi) / 2
+        d = _damage(stress, reference, knots, cycles_each, np.exp(mid))
+        over = d > 1
+        hi = np.where(over, mid, hi)
+        lo = np.where(over, lo, mid)
+    return _pair(np.exp((lo + hi) / 2))
+
+
+def _shares(torque: FloatArray, weights: FloatArray | None) -> FloatArray:
+    """Each sample's share of the time (N,): equal, or the given weights normalised."""
+    if weights is None:
+        return np.full(torque.size, 1.0 / torque.size)
+    w = np.asarray(weights, dtype=float).ravel()
+    if w.shape != torque.shape or not np.all(np.isfinite(w)) or np.any(w < 0) or not w.sum() > 0:
+        raise InvalidInput("the spectrum's time weights need one non-negative value per torque sample",
+                           field="load_spectrum.weights")
+    return np.asarray(w / w.sum(), dtype=float)
+
+
+def spectrum_safety(model: PairModel, torque: FloatArray, weights: FloatArray | None = None
+                    ) -> tuple[FloatArray, FloatArray, tuple[float, float], tuple[float, float]]:
+    """Miner sums over the life (contact, root) and the spectrum's safety factors (contact, root) per wheel for
+    pinion torque magnitudes [N·m] sampled over the cycle, evenly or with time ``weights``."""
+    duty = model.duty
+    _, sh, sf, _ = model.stresses(torque)
+    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
+    # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
+    ref_h = model.sigma_hg / model.z_nt
+    ref_f = model.sigma_fg / model.y_nt
+    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
+    knots_f = [root_life_curve(m) for m in model.mats]
+    one = np.ones(2)
+    d_h = _damage(sh, ref_h, knots_h, cycles_each, one)
+    d_f = _damage(sf, ref_f, knots_f, cycles_each, one)
+    return d_h, d_f, _safety(sh, ref_h, knots_h, cycles_each), _safety(sf, ref_f, knots_f, cycles_each)
+
+
+def spectrum_feasible(model: PairModel, torque: FloatArray, weights: FloatArray | None = None) -> bool:
+    """Whether the Miner sums with every stress times S_Hmin (contact) and S_Fmin (root) stay within 1, i.e. the
+    spectrum's safety factors reach their minimums, for pinion torque magnitudes [N·m]."""
+    duty = model.duty
+    _, sh, sf, _ = model.stresses(torque)
+    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
+    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
+    knots_f = [root_life_curve(m) for m in model.mats]
+    d_h = _damage(sh, model.sigma_hg / model.z_nt, knots_h, cycles_each, np.full(2, duty.min_safety_contact))
+    d_f = _damage(sf, model.sigma_fg / model.y_nt, knots_f, cycles_each, np.full(2, duty.min_safety_root))
+    return bool(np.all(d_h <= 1) and np.all(d_f <= 1))
+
+
+def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None,
+                  weights: FloatArray | None = None) -> SpectrumRating:
+    """Rate a pair on pinion torques [N·m] sampled over one machine cycle at a mean speed [rad/s]; ``weights``
+    each sample's share of the cycle's time (default equal: samples at equal time steps).
+
+    ``duty.application_factor`` multiplies every sample (1 for a spectrum that is the real load).
+    Raises InvalidInput for an empty, all-zero or non-finite spectrum, TooLarge beyond MAX_SPECTRUM_SAMPLES.
+    """
+    duty = duty or Duty()
+    torque = np.abs(np.asarray(pinion_torque, dtype=float).ravel())
+    if torque.size > MAX_SPECTRUM_SAMPLES:
+        raise TooLarge("load_spectrum.torque_Nm", MAX_SPECTRUM_SAMPLES, int(torque.size))
+    if torque.size == 0 or not np.all(np.isfinite(torque)) or not np.any(torque > 0):
+        raise InvalidInput("the load spectrum needs finite torques, not all zero", field="load_spectrum.torque_Nm")
+    model = PairModel(spec, duty, pinion_speed)
+    peak = _result(model, float(torque.max()))
+    d_h, d_f, s_h, s_f = spectrum_safety(model, torque, weights)
+
+    def life(d: FloatArray) -> tuple[float, float]:
+        return _pair(np.where(d > 0, duty.life / np.where(d > 0, d, 1.0), math.inf))
+
+    # A constant torque T_eq gives the same damage: its stress is the spectrum's safety over the rating's.
+    eq_h = _pair(peak.pinion_torque * (np.array(peak.safety_contact) / np.array(s_h)) ** 2)
+    eq_f = _pair(peak.pinion_torque * np.array(peak.safety_root) / np.array(s_f))
+    share = _shares(torque, weights)
+    return SpectrumRating(peak, int(torque.size), float(np.sqrt(share @ torque**2)), float(share @ torque), _pair(d_h),
+                          _pair(d_f), life(d_h), life(d_f), s_h, s_f, eq_h, eq_f)
