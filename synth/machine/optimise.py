@@ -117,8 +117,9 @@ class OptimiseSpec:
 
     def machine(self, linkage: Linkage) -> MachineSpec:
         """The chain's machine with ``linkage`` as its linkage."""
-        return MachineSpec(linkage, self.speed, self.drive, self.delta, self.balancing, self.flywheel,
-                           self.samples, self.speed_tolerance)
+        return MachineSpec(linkage=linkage, speed=self.speed, drive=self.drive, delta=self.delta,
+                           balancing=self.balancing, flywheel=self.flywheel, samples=self.samples,
+                           speed_tolerance=self.speed_tolerance)
 
 
 @dataclass(frozen=True, slots=True)
@@ -295,8 +296,14 @@ def scan_family(spec: OptimiseSpec) -> FamilyScan:
 
 def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float) -> tuple[MemberScore,
                                                                                           MachineDesign | None]:
+    machine = spec.machine(_member(spec, u))
+    if stage in ("scan", "refine"):
+        # the gears are sized last, for the torques of the simulated machine, and feed nothing back: no
+        # objective, check or limit here depends on them, so the search leaves them out and the optimum's own
+        # design sizes them as the request asks
+        machine = replace(machine, drive=replace(machine.drive, strength=None))
     try:
-        d = design_machine(spec.machine(_member(spec, u)), time_limit_s=time_limit_s)
+        d = design_machine(machine, time_limit_s=time_limit_s)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage), None
     values = objective_values(d)
