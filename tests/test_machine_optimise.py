@@ -47,12 +47,14 @@ def slider_crank_answer(client: SynthClient) -> MachineOptimiseOut:
     return client.optimise_machine(_body(SLIDER_CRANK_OPTIMISE_EXAMPLE))
 
 
-def _machine_request(example: dict[str, Any], mechanism: dict[str, Any]) -> MachineIn:
+def _machine_request(example: dict[str, Any], mechanism: Any) -> MachineIn:
     """The /v1/machines/design request of one family member with the optimisation's machine around it."""
     keep = ("loads", "speed_rpm", "samples", "delta", "machine_type", "drive", "balancing", "flywheel",
             "speed_tolerance")
     body = {k: copy.deepcopy(v) for k, v in example.items() if k in keep}
     body.setdefault("samples", 120)  # the optimisation's default
+    if not isinstance(mechanism, dict):
+        mechanism = mechanism.model_dump(mode="json")
     return MachineIn.model_validate({**body, "mechanism": mechanism})
 
 
@@ -111,9 +113,9 @@ def test_crank_rocker_optimum_is_resimulated_and_meets_every_check(crank_rocker_
     cycle = synth.MachineCycle(np.radians(red.crank_angle_deg), np.array(red.reduced_inertia_kgm2),
                                np.gradient(np.array(red.reduced_inertia_kgm2), np.radians(red.crank_angle_deg)),
                                np.array(red.reduced_load_torque_Nm))
-    assert spec.linkage.mechanism == synth.FourBar(a.mechanism["ground_length_m"], a.mechanism["crank_length_m"],
-                                                   a.mechanism["coupler_length_m"], a.mechanism["rocker_length_m"],
-                                                   a.mechanism["branch"])
+    m = a.mechanism.model_dump()
+    assert spec.linkage.mechanism == synth.FourBar(m["ground_length_m"], m["crank_length_m"], m["coupler_length_m"],
+                                                   m["rocker_length_m"], m["branch"])
     motor = synth.Motor.from_catalogue(
         next(m for m in synth.motor_catalogue() if m.name == d.drive.motor.name), d.motor.train_ratio,
         d.motor.train_efficiency)
@@ -193,7 +195,8 @@ def test_pareto_set_is_not_dominated(crank_rocker_answer: MachineOptimiseOut,
 def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
                                                    slider_crank_answer: MachineOptimiseOut) -> None:
     a = slider_crank_answer
-    assert a.design.passed and a.mechanism["type"] == "slider_crank"
+    m = a.mechanism.model_dump()
+    assert a.design.passed and m["type"] == "slider_crank"
     assert a.design.simulation.achieved_delta <= a.design.simulation.target_delta * (1 + 1e-3)
     c = a.certificate
     assert c.kinematic_members == engine.KINEMATIC_GRID and 0 < c.kinematic_feasible <= c.kinematic_members
@@ -202,8 +205,7 @@ def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
     for r in c.refinements:
         assert r.lo <= r.best_parameter <= r.hi and 0 < r.evaluations <= engine.REFINE_EVALUATIONS
     # the offset and the stroke: the member's own kinematics give the requested stroke and time ratio
-    mech = synth.SliderCrank(a.mechanism["crank_length_m"], a.mechanism["rod_length_m"], a.mechanism["offset_m"],
-                             a.mechanism["branch"])
+    mech = synth.SliderCrank(m["crank_length_m"], m["rod_length_m"], m["offset_m"], m["branch"])
     check = synth.check_slider_crank(mech)
     assert check.travel == pytest.approx(SLIDER_CRANK_OPTIMISE_EXAMPLE["function"]["stroke_m"], rel=1e-9)
     assert check.time_ratio == pytest.approx(SLIDER_CRANK_OPTIMISE_EXAMPLE["function"]["time_ratio"], rel=1e-9)

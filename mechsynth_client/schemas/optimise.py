@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import Length, LoadIn, StrictModel
+from .common import FourBarIn, Length, LoadIn, SliderCrankIn, StrictModel
 from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
 from .synthesis import CrankRockerBoundsIn, CrankRockerDensityIn, SliderCrankBoundsIn, SliderCrankDensityIn, _within_limits
 
@@ -187,6 +187,15 @@ def mechanism_json(linkage: synth.Linkage) -> dict[str, Any]:
             "offset_m": mech.offset, "branch": mech.branch, "links": links}
 
 
+MemberMechanism = Annotated[Union[FourBarIn, SliderCrankIn], Field(discriminator="type")]
+
+
+def mechanism_out(linkage: synth.Linkage) -> FourBarIn | SliderCrankIn:
+    """A family member as the `mechanism` model of a /v1/machines/design request."""
+    body = mechanism_json(linkage)
+    return FourBarIn.model_validate(body) if body["type"] == "fourbar" else SliderCrankIn.model_validate(body)
+
+
 class FamilyMemberOut(BaseModel):
     """One member of the family the whole chain designed, and what its machine gives."""
 
@@ -279,8 +288,8 @@ class MachineOptimiseOut(BaseModel):
 
     design: MachineDesignOut = Field(description="The optimised machine, designed and simulated as "
                                      "/v1/machines/design answers it.")
-    mechanism: dict[str, Any] = Field(description="The chosen member as the `mechanism` of a /v1/machines/design "
-                                      "request.")
+    mechanism: MemberMechanism = Field(description="The chosen member as the `mechanism` of a "
+                                       "/v1/machines/design request.")
     parameter: float = Field(description="Its family parameter u [-].")
     weights: dict[str, float] = Field(description="The objectives' weights.")
     score: float = Field(description="Weighted sum of the normalised objectives of the optimum [-].")
@@ -288,7 +297,7 @@ class MachineOptimiseOut(BaseModel):
                                       "check or limit.")
     chain_parameter: float = Field(description="Family parameter of the chain's member (the synthesis endpoint's "
                                    "default: the largest least transmission angle) [-].")
-    chain_mechanism: dict[str, Any] = Field(description="The chain's member as a `mechanism`.")
+    chain_mechanism: MemberMechanism = Field(description="The chain's member as a `mechanism`.")
     chain_reason: str | None = Field(description="Why the chain's machine is not feasible; null when it is.")
     gains: list[GainOut] = Field(description="Every objective on the chain's machine and on the optimum.")
     certificate: OptimiseCertificateOut = Field(description="How the family was covered and what binds.")
@@ -302,9 +311,9 @@ class MachineOptimiseOut(BaseModel):
         """Schema from the engine's optimum."""
         return cls(
             design=MachineDesignOut.from_engine(r.design),
-            mechanism=mechanism_json(r.design.spec.linkage), parameter=r.parameter, weights=dict(r.spec.weights),
+            mechanism=mechanism_out(r.design.spec.linkage), parameter=r.parameter, weights=dict(r.spec.weights),
             score=r.score, chain_score=r.chain_score, chain_parameter=r.certificate.scan.chain_parameter,
-            chain_mechanism=mechanism_json(r.chain_linkage),
+            chain_mechanism=mechanism_out(r.chain_linkage),
             chain_reason=r.chain_reason,
             gains=[GainOut(objective=g.objective, unit=g.unit, chain=_finite(g.chain), optimum=g.optimum,
                            gain=_finite(g.gain), relative_gain=_finite(g.relative)) for g in r.gains],
