@@ -19,7 +19,11 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(VENV)/bin/python -m uvicorn api.app:app --host $(HOST) --port $(PORT)
 
+# The workbench's browser tests drive Debian's Chromium (Playwright's own download is not used).
+CHROMIUM := /usr/bin/chromium
+
 test: $(STAMP)
+	test -x $(CHROMIUM) || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends chromium)
 	$(VENV)/bin/python -m mypy
 	$(VENV)/bin/python -m pytest -q
 

@@ -10,7 +10,7 @@ from typing import Literal
 from fastapi import FastAPI, Request
 from pydantic import BaseModel, Field
 
-from . import manual, problems
+from . import manual, problems, workbench
 from .routers import PREFIX, all_routers
 from .settings import Settings
 from .execution.admission import Solvers
@@ -73,6 +73,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.studies = studies
     problems.install(app, settings)
     manual.install(app)
+    workbench.install(app)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:

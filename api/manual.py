@@ -1,4 +1,4 @@
-"""The offline manual: Swagger UI at /docs and ReDoc at /redoc from packaged assets, and / leading to /docs.
+"""The offline manual: Swagger UI at /docs and ReDoc at /redoc from packaged assets (the workbench at / links it).
 
 A design office's network often has no way out, so the pages load nothing from outside: the scripts, styles
 and icon come from the ``fastapi_offline`` package's data, served by the app itself; Swagger UI's online
@@ -11,7 +11,7 @@ from importlib.resources import files
 
 from fastapi import FastAPI
 from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html, get_swagger_ui_oauth2_redirect_html
-from fastapi.responses import HTMLResponse, RedirectResponse
+from fastapi.responses import HTMLResponse
 from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 
@@ -29,10 +29,6 @@ def install(app: FastAPI) -> None:
     app.mount(ASSETS_URL, StaticFiles(directory=str(_ASSETS)), name="manual-assets")
     openapi_url = app.openapi_url or "/openapi.json"
     favicon = f"{ASSETS_URL}/favicon.png"
-
-    @app.get("/", include_in_schema=False)
-    def root() -> RedirectResponse:
-        return RedirectResponse("/docs")
 
     @app.get("/docs", include_in_schema=False)
     def swagger_ui() -> HTMLResponse:

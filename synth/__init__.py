@@ -153,6 +153,9 @@ from .machine import (
     optimise_machine,
     simulate_machine,
 )
+from .machine.running import Efficiency, MachineRunning, machine_running
+from .machine import RunDown, StartCheck, StartUp, Transient, simulate_rundown, simulate_startup, start_check
+from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
 from .kinematics import (
     FourBar,
     JointSpec,
@@ -225,6 +228,19 @@ __all__ = [
     "optimise_machine",
     "rotor_loads",
     "simulate_machine",
+    "FrictionAnalysis",
+    "PairFriction",
+    "friction_kinetostatics",
+    "RunDown",
+    "Efficiency",
+    "MachineRunning",
+    "machine_running",
+    "StartCheck",
+    "StartUp",
+    "Transient",
+    "simulate_rundown",
+    "simulate_startup",
+    "start_check",
     "Analysis",
     "Counterweight",
     "DriveChecks",

@@ -11,6 +11,7 @@ import numpy as np
 from .counter_rotors import CounterRotor, rotor_inertia, rotor_loads
 from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
+from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
 from .kinematics import FourBar, MAX_SAMPLES, Motion, PointState, cycle_angles, motion, transmission_angle
 from .kinetostatics import Kinetostatics, LinkArrays, link_arrays, solve_direct, virtual_power_torque
 from .model import FloatArray, Linkage
@@ -40,6 +41,8 @@ class Analysis:
     ``motion`` carries the centres of mass as points ``S_<link>``. ``virtual_power_torque`` is the driving
     torque recomputed from the power balance, independently of the reaction solve. ``counter_rotors`` are in the
     driving torque, the shaking moment and the reduced model (their gear forces are not in the joint reactions).
+    ``friction`` the kinetostatics with friction in the pairs (None without); its losses are in the reduced
+    model's ``friction_torque``.
     """
 
     linkage: Linkage
@@ -48,6 +51,7 @@ class Analysis:
     virtual_power_torque: FloatArray
     reduced: ReducedModel
     counter_rotors: tuple[CounterRotor, ...] = ()
+    friction: FrictionAnalysis | None = None
 
     @property
     def torque_check(self) -> float:
@@ -96,12 +100,14 @@ def analyse(
     max_samples: int = MAX_SAMPLES,
     points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
     counter_rotors: Sequence[CounterRotor] = (),
+    friction: Sequence[PairFriction] = (),
 ) -> Analysis:
     """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
 
     ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
     coupler points, to the motion. ``counter_rotors`` (a full-balance answer's) add their moment on the frame,
-    their share of the driving torque and their reduced inertia. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
+    their share of the driving torque and their reduced inertia. ``friction`` per pair adds the kinetostatics with
+    friction and its losses in the reduced model. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
     NotAssemblable (with the ranges).
     """
     if phi is None:
@@ -136,6 +142,10 @@ def analyse(
         vp = vp + (j_rot * mot.alpha_crank + 0.5 * slope_rot * w**2)
         red = replace(red, inertia=red.inertia + j_rot, inertia_slope=red.inertia_slope + slope_rot,
                       kinetic_energy=red.kinetic_energy + 0.5 * j_rot * w**2)
+    fric = None
+    if friction:
+        fric = friction_kinetostatics(mot, linkage, kin, friction)
+        red = replace(red, friction_torque=fric.loss_torque)
     result = Analysis(
         linkage=linkage,
         motion=mot,
@@ -143,6 +153,7 @@ def analyse(
         virtual_power_torque=vp,
         reduced=red,
         counter_rotors=tuple(counter_rotors),
+        friction=fric,
     )
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)

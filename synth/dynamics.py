@@ -17,7 +17,9 @@ class ReducedModel:
 
     ``inertia`` J_red(phi) [kg·m²], ``inertia_slope`` dJ_red/dphi [kg·m²/rad], ``load_torque`` M_red(phi) of
     process loads, link torques and gravity [N·m] (positive drives the crank), ``kinetic_energy`` at the
-    motion's crank speed [J]; all (N,).
+    motion's crank speed [J]; all (N,). ``friction_torque`` the pairs' friction losses reduced to the crank
+    [N·m] (their power over the crank speed at the analysed speed; resists, >= 0 where friction only takes),
+    None without friction.
     """
 
     phi: FloatArray
@@ -25,6 +27,12 @@ class ReducedModel:
     inertia_slope: FloatArray
     load_torque: FloatArray
     kinetic_energy: FloatArray
+    friction_torque: FloatArray | None = None
+
+    @property
+    def resisting_torque(self) -> FloatArray:
+        """The load torque with the friction losses taken off, M_red - M_friction [N·m] (positive drives)."""
+        return self.load_torque if self.friction_torque is None else self.load_torque - self.friction_torque
 
 
 def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> ReducedModel:

@@ -80,6 +80,14 @@ def analysis_table(an: Analysis) -> Columns:
     for joint, force in k.reactions.items():
         cols[f"{joint}_reaction_x_N"] = force[:, 0]
         cols[f"{joint}_reaction_y_N"] = force[:, 1]
+    if an.friction is not None:
+        fr = an.friction
+        kinds = {j.name: j.kind for j in an.linkage.mechanism.topology.joints}
+        cols["driving_torque_with_friction_Nm"] = fr.driving_torque
+        cols["friction_loss_torque_Nm"] = fr.loss_torque
+        for joint, value in fr.friction.items():
+            cols[f"{joint}_friction_{'moment_Nm' if kinds[joint] == 'revolute' else 'force_N'}"] = value
+            cols[f"{joint}_friction_power_loss_W"] = fr.power_loss[joint]
     return cols
 
 

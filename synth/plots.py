@@ -287,14 +287,19 @@ def _curve(ax: Axes, deg: FloatArray, series: Sequence[tuple[FloatArray, str, di
 
 
 def analysis_figure(an: Analysis, phi: float = 0.0, fmt: FigureFormat = "png") -> bytes:
-    """Driving torque (with the virtual-power check), shaking moment, shaking force polar diagram and the
-    mechanism at ``phi`` [rad], as PNG, SVG or PDF."""
+    """Driving torque (with the virtual-power check, and with friction when the analysis has it), shaking
+    moment, shaking force polar diagram and the mechanism at ``phi`` [rad], as PNG, SVG or PDF."""
     fig, axes = plt.subplots(2, 2, figsize=(13, 10))
     k = an.kinetostatics
     deg = np.degrees(an.motion.phi)
-    _curve(axes[0, 0], deg, [(k.driving_torque, "kinetostatics", {"lw": 2}),
-                             (an.virtual_power_torque, "virtual power (check)", {"ls": "--", "color": "k", "lw": 1})],
-           "driving torque [N·m]", "driving torque on the crank")
+    torques: list[tuple[FloatArray, str, dict[str, Any]]] = [
+        (k.driving_torque, "kinetostatics", {"lw": 2}),
+        (an.virtual_power_torque, "virtual power (check)", {"ls": "--", "color": "k", "lw": 1})]
+    if an.friction is not None:
+        eta = an.friction.cycle_efficiency
+        label = "with friction" + ("" if eta is None else f" (cycle efficiency {eta:.3g})")
+        torques.append((an.friction.driving_torque, label, {"lw": 1.5, "color": "tab:red"}))
+    _curve(axes[0, 0], deg, torques, "driving torque [N·m]", "driving torque on the crank")
     _curve(axes[0, 1], deg, [(k.shaking_moment, "shaking moment about O", {"lw": 2, "color": "tab:green"})],
            "shaking moment [N·m]", "shaking moment on the frame")
     shaking_polar(axes[1, 0], k.shaking_force, "shaking force", an.motion.phi, lw=1.5)

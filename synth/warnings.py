@@ -24,7 +24,8 @@ Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut`
 ``rotor_inertia_missing``, ``rated_power_exceeds`` and ``stage_not_sized`` (a stage the strength sizing cannot
 size: not a cylindrical pair, or no module carries it). A machine design gathers every stage's warnings, each with
 its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
-the simulated machine misses); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
+the simulated machine misses), and ``motor_cannot_start`` (its starting torque through the train below
+the torque holding the crank at rest); friction adds ``friction_coefficient_large`` (a coefficient above 1); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .kinematics import FourBar, PlanarLinkage, SliderCrank, SlottedLever
+from .friction import PairFriction
 from .model import Counterweight, FloatArray, Linkage
 
 if TYPE_CHECKING:
@@ -51,6 +53,8 @@ MIN_TRANSMISSION_ANGLE = math.radians(40.0)  # [rad]
 # The seeds' table spans 1/300 to 1/20; presses, shears and crushers run up to about 1/5.
 DELTA_RANGE = (1.0 / 600.0, 0.2)
 RIM_SPEED_MARGIN = 0.95
+#: Above this a coefficient of friction is accepted with a warning (the seeds' tables stay below 0.5).
+LARGE_FRICTION_COEFFICIENT = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -238,4 +242,23 @@ def check_analysis(an: Analysis) -> list[DesignWarning]:
                 f"the loads do {work:.4g} J of positive work per revolution: they drive the crank and the motor "
                 "would brake; a resisting load is given as a positive magnitude acting against the output's motion, "
                 "a resisting torque on a link turns against it", "J"))
+    if an.friction is not None:
+        out += check_friction(an.friction.pairs)
+    return out
+
+
+def check_friction(pairs: Sequence[PairFriction], field: str = "friction") -> list[DesignWarning]:
+    """Coefficients of friction above 1, beyond the dry pairs of the seeds' tables (steel on steel 0.15-0.2,
+    seed 000:557-569)."""
+    out = []
+    for p in pairs:
+        given = [("coefficient", p.coefficient)]
+        if p.static_coefficient is not None:
+            given.append(("static_coefficient", p.static_coefficient))
+        for label, value in given:
+            if value > LARGE_FRICTION_COEFFICIENT:
+                out.append(DesignWarning(
+                    "friction_coefficient_large", f"{field}.{p.joint}.{label}", value,
+                    f"pair {p.joint}: a {label.replace('_', ' ')} of {value:g} is above 1, beyond the dry pairs of "
+                    "the seeds' tables (steel on steel 0.15-0.2); check the value", "1"))
     return out

@@ -99,7 +99,8 @@ def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan
     return Plan(Render(AnalysisOut.from_engine, analysis_file, export_extra=(plot_angle(b, angle_deg),)),
                 synth.analyse, (b.to_linkage(), b.omega_rad_s),
                 dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
-                     max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors()),
+                     max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors(),
+                     friction=b.frictions()),
                 CURVES, "analysis")
 
 
@@ -166,7 +167,8 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
                     (b.tables.to_cycle(b.cycle_deg, lim.max_samples), mean_speed, delta, geometry), sizing,
                     offered, "flywheel")
     return Plan(render, flywheel_for_linkage,
-                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry), sizing, offered, "flywheel")
+                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry),
+                dict(sizing, friction=b.frictions()), offered, "flywheel")
 
 
 def gears_split(b: SplitIn, lim: Limits) -> Plan:

@@ -52,9 +52,11 @@ def flywheel_from_tables(cycle: synth.ReducedCycle, mean_speed: float, delta: fl
 
 
 def flywheel_for_linkage(linkage: synth.Linkage, mean_speed: float, samples: int, max_samples: int,
-                         delta: float, geometry: synth.GeometrySpec | None, **sizing: Any) -> FlywheelAndWarnings:
-    """Analyse a linkage at its mean speed, size the flywheel on its reduced model and check the answer."""
-    analysis = synth.analyse(linkage, mean_speed, samples=samples, max_samples=max_samples)
+                         delta: float, geometry: synth.GeometrySpec | None,
+                         friction: tuple[synth.PairFriction, ...] = (), **sizing: Any) -> FlywheelAndWarnings:
+    """Analyse a linkage at its mean speed (with friction in its pairs, whose losses the reduced load torque then
+    carries), size the flywheel on its reduced model and check the answer."""
+    analysis = synth.analyse(linkage, mean_speed, samples=samples, max_samples=max_samples, friction=friction)
     result = synth.size_flywheel(synth.cycle_from_reduced(analysis.reduced), mean_speed, delta, geometry=geometry,
                                  **sizing)
     return result, synth.check_flywheel(result, geometry, analysis)

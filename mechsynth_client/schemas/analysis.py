@@ -13,6 +13,7 @@ from .common import (
     SIX_BAR_PRESS_EXAMPLE,
     MAX_INERTIA_KGM2,
     CounterweightIn,
+    FrictionIn,
     LinkageRequest,
     StrictModel,
     SummaryOut,
@@ -21,6 +22,7 @@ from .common import (
     degree_array,
     ensure_finite,
     one_of,
+    pair_frictions,
     warnings_out,
 )
 
@@ -76,6 +78,9 @@ class AnalysisIn(LinkageRequest):
     balancing: BalancingAnswerIn | None = Field(
         None, description="A /v1/balancing answer as it is: its counterweights, coupler inertia and counter-rotors "
         "are added to this linkage.")
+    friction: FrictionIn | None = Field(
+        None, description="Friction per pair: the answer's `friction` block then holds the reactions and the "
+        "driving torque with friction, each pair's friction and power loss, and the efficiency.")
 
     def to_linkage(self) -> synth.Linkage:
         """Engine linkage with the coupler inertia and a balancing answer's counterweights applied."""
@@ -104,6 +109,10 @@ class AnalysisIn(LinkageRequest):
         if self.balancing is not None and self.balancing.counter_rotors:
             given += [r.to_engine() for r in self.balancing.counter_rotors]
         return tuple(given)
+
+    def frictions(self) -> tuple[synth.PairFriction, ...]:
+        """Engine pair frictions of the ``friction`` block."""
+        return pair_frictions(self.friction)
 
     def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
         """Trace points as the engine takes them: name -> (link, position in the link frame)."""
@@ -180,6 +189,73 @@ class ChecksOut(BaseModel):
     )
 
 
+class PairFrictionOut(BaseModel):
+    """One pair's friction at every sample."""
+
+    kind: Literal["revolute", "prismatic"] = Field(description="The pair's kind: a revolute pair's friction is a "
+                                                   "moment, a slide's a force.")
+    friction_moment_Nm: list[float] | None = Field(None, description="Revolute pair: the friction moment on the "
+                                                   "pair's second link at each sample, counter-clockwise positive "
+                                                   "[N·m]; null for a slide.")
+    friction_force_N: list[float] | None = Field(None, description="Slide: the friction force on the pair's second "
+                                                 "link along the slide axis at each sample [N]; null for a revolute "
+                                                 "pair.")
+    power_loss_W: list[float] = Field(description="Power the pair's friction dissipates at each sample [W] (>= 0).")
+    mean_power_loss_W: float = Field(description="Power loss averaged over the samples [W].")
+
+
+class FrictionChecksOut(BaseModel):
+    """How the friction solve ended, and its independent check."""
+
+    newton_residual: float = Field(description="Largest equilibrium residual over the samples at the end, relative "
+                                   "to the largest known load [-]; the solve stops below 1e-12.")
+    newton_iterations: int = Field(description="Newton iterations taken (all samples at once).")
+    virtual_power_max_diff_Nm: float = Field(description="Largest |T - T0 - P_loss/w| over the samples [N·m]: the "
+                                             "drive supplies exactly what friction dissipates (virtual power).")
+
+
+class FrictionOut(BaseModel):
+    """The kinetostatics with friction in the pairs; the shaking force and moment do not change (friction acts
+    between the frame and the linkage, and the motor housing takes back what the frame's pairs lose)."""
+
+    driving_torque_Nm: list[float] = Field(description="Driving torque with friction at each sample [N·m], same "
+                                           "sign convention as the frictionless `driving_torque_Nm`.")
+    loss_torque_Nm: list[float] = Field(description="Total friction power loss over the crank speed at each "
+                                        "sample [N·m]: the driving torque with friction less the one without.")
+    joint_reactions_N: dict[str, list[list[float]]] = Field(description="Per joint: the force [Fx, Fy] its first "
+                                                            "link exerts on its second with friction [N]; a slide's "
+                                                            "is its normal force (the friction force is in "
+                                                            "`pairs`).")
+    prismatic_couples_Nm: dict[str, list[float]] = Field(description="Per slide: its couple with friction [N·m].")
+    pairs: dict[str, PairFrictionOut] = Field(description="Per pair with friction, by joint name.")
+    efficiency: list[float | None] = Field(description="Instantaneous mechanical efficiency 1 - P_loss/(T·w) at "
+                                           "each sample where the drive puts power in [-]; null where it does not.")
+    cycle_efficiency: float | None = Field(description="1 - lost work / driving work over the cycle [-]; null when "
+                                           "the drive does no net work or the samples are not one uniform cycle.")
+    mean_power_loss_W: float = Field(description="All pairs' power loss averaged over the samples [W].")
+    checks: FrictionChecksOut = Field(description="Solve residual and the virtual-power check.")
+
+    @classmethod
+    def from_engine(cls, fr: synth.FrictionAnalysis, joints: dict[str, str]) -> FrictionOut:
+        """Schema from the engine's friction analysis; ``joints`` gives each pair's kind."""
+        ensure_finite(fr.unknowns, fr.driving_torque, fr.loss_torque)
+        pairs = {}
+        for name, value in fr.friction.items():
+            revolute = joints[name] == "revolute"
+            pairs[name] = _unchecked(
+                PairFrictionOut, kind=one_of(("revolute", "prismatic"), joints[name]),
+                friction_moment_Nm=value if revolute else None, friction_force_N=None if revolute else value,
+                power_loss_W=fr.power_loss[name], mean_power_loss_W=float(np.mean(fr.power_loss[name])))
+        total = sum(fr.power_loss.values(), np.zeros(fr.driving_torque.size))
+        return _unchecked(
+            cls, driving_torque_Nm=fr.driving_torque, loss_torque_Nm=fr.loss_torque,
+            joint_reactions_N=dict(fr.reactions), prismatic_couples_Nm=dict(fr.couples), pairs=pairs,
+            efficiency=[None if not math.isfinite(e) else float(e) for e in fr.efficiency],
+            cycle_efficiency=fr.cycle_efficiency, mean_power_loss_W=float(np.mean(total)),
+            checks=FrictionChecksOut(newton_residual=fr.residual, newton_iterations=fr.iterations,
+                                     virtual_power_max_diff_Nm=fr.power_check))
+
+
 class AnalysisOut(BaseModel):
     """Kinematics and kinetostatics over the cycle; reactions are forces of a joint's first link on its second."""
 
@@ -228,6 +304,8 @@ class AnalysisOut(BaseModel):
     summary: SummaryOut = Field(description="RMS and peak shaking force, shaking moment and driving torque over "
                                 "the samples, and the largest bearing force.")
     checks: ChecksOut = Field(description="Independent check figures of this answer.")
+    friction: FrictionOut | None = Field(None, description="With friction in the pairs (when the request gives "
+                                         "any): reactions, driving torque, losses and efficiency; null without.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
     @classmethod
@@ -277,6 +355,8 @@ class AnalysisOut(BaseModel):
             grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
             checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
+            friction=None if an.friction is None else FrictionOut.from_engine(
+                an.friction, {j.name: j.kind for j in mech.topology.joints}),
             warnings=warnings_out(synth.check_analysis(an)),
         )
 

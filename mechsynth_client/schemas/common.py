@@ -18,6 +18,8 @@ MAX_INERTIA_KGM2 = 1e9
 Coordinate = Annotated[float, Field(ge=-MAX_LENGTH_M, le=MAX_LENGTH_M)]
 Vec2 = Annotated[list[Coordinate], Field(min_length=2, max_length=2)]
 MIN_LENGTH_M = 1e-6
+# The engine's bound (synth.friction.MAX_COEFFICIENT): the schemas load without the engine.
+MAX_FRICTION_COEFFICIENT = 3.0
 Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
 
 
@@ -341,6 +343,41 @@ class LinkTorqueIn(StrictModel):
     link: str = Field(description="Link the torque acts on, by name.", examples=["rocker"])
     torque_Nm: float = Field(description="Torque from outside on the link [N·m], counter-clockwise positive.",
                              examples=[-20.0])
+
+
+class PairFrictionIn(StrictModel):
+    """Friction in one pair: Coulomb (a coefficient; for a revolute pair with its journal radius, the friction
+    circle f·r) and an optional viscous term."""
+
+    coefficient: float = Field(ge=0, le=MAX_FRICTION_COEFFICIENT,
+                               description="Sliding (kinetic) coefficient of friction f [-]; above 1 is "
+                               "accepted with a warning (steel on steel 0.15-0.2, seed 000:557-569).",
+                               examples=[0.15])
+    static_coefficient: float | None = Field(None, ge=0, le=MAX_FRICTION_COEFFICIENT,
+                                             description="Coefficient for breaking away from rest f0 >= f [-]; "
+                                             "default f.", examples=[0.17])
+    journal_radius_m: float = Field(0.0, ge=0, le=MAX_LENGTH_M,
+                                    description="Revolute pair: pin (journal) radius r [m]; the reaction is "
+                                    "tangent to the friction circle of radius f·r. Zero (default) or left out "
+                                    "for a slide.", examples=[0.02])
+    viscous: float = Field(0.0, ge=0, le=1e9, description="Viscous coefficient c: friction c·w_rel [N·m·s/rad] in "
+                           "a revolute pair, c·v_rel [N·s/m] in a slide.")
+
+    def to_engine(self, joint: str) -> synth.PairFriction:
+        """Engine pair friction for ``joint``."""
+        return synth.PairFriction(joint, self.coefficient, self.journal_radius_m, self.viscous,
+                                  self.static_coefficient)
+
+
+FrictionIn = Annotated[dict[str, PairFrictionIn], Field(
+    max_length=20, description="Friction per pair, keyed by the pair's (joint's) name as the answer's "
+    "`joint_reactions_N` names them (O, A, B, Q, guide, ...); pairs left out are frictionless.",
+    examples=[{"O": {"coefficient": 0.1, "journal_radius_m": 0.02}, "guide": {"coefficient": 0.15}}])]
+
+
+def pair_frictions(friction: dict[str, PairFrictionIn] | None) -> tuple[synth.PairFriction, ...]:
+    """Engine pair frictions of a request's friction block."""
+    return tuple(p.to_engine(name) for name, p in (friction or {}).items())
 
 
 class LinkageFields(StrictModel):

@@ -12,6 +12,7 @@ from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
+    FrictionIn,
     LinkageFields,
     MechanismIn,
     StrictModel,
@@ -19,6 +20,7 @@ from .common import (
     degree_list,
     ensure_finite,
     one_of,
+    pair_frictions,
     warnings_out,
 )
 
@@ -172,6 +174,13 @@ class FlywheelIn(LinkageFields):
     constant_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Constant inertia already on the crank [kg·m²].")
     motor: MotorIn | None = Field(None, description="Motor characteristic; left out: constant driving torque.")
     geometry: GeometryIn | None = Field(None, description="Shape and place the flywheel; left out: size it only.")
+    friction: FrictionIn | None = Field(None, description="A linkage's friction per pair: its losses at the mean "
+                                        "speed are taken off the reduced load torque, so the flywheel and the motor "
+                                        "are sized for the machine with its losses.")
+
+    def frictions(self) -> tuple[synth.PairFriction, ...]:
+        """Engine pair frictions of the ``friction`` block."""
+        return pair_frictions(self.friction)
 
     model_config = ConfigDict(
         json_schema_extra={
@@ -214,7 +223,7 @@ class FlywheelIn(LinkageFields):
         if (self.tables is None) == (self.mechanism is None):
             raise synth.InvalidInput("give tables or a mechanism (one of them)", field="tables")
         if self.tables is not None:
-            for name in ("loads", "torques", "counterweights", "gravity", "speed_rpm", "crank_angle_deg"):
+            for name in ("loads", "torques", "counterweights", "gravity", "speed_rpm", "crank_angle_deg", "friction"):
                 if getattr(self, name):
                     raise synth.InvalidInput(f"{name} belongs to a linkage; tables already hold the torques", field=name)
         if self.mechanism is not None:

@@ -14,12 +14,14 @@ from .common import (
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
     MAX_MASS_KG,
+    FrictionIn,
     Length,
     LinkageRequest,
     StrictModel,
     SummaryOut,
     WarningOut,
     ensure_finite,
+    pair_frictions,
     warnings_out,
 )
 from .flywheel import FlywheelOut, Ratio
@@ -189,6 +191,20 @@ class MachineIn(LinkageRequest):
     speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
                                    "from speed_rpm [-].")
     alternatives: bool = Field(False, description="Also design the machine with the other balancing modes.")
+    friction: FrictionIn | None = Field(None, description="Friction per pair of the linkage: its losses are in the "
+                                        "power the motor is chosen for, in the flywheel sizing and the simulation; "
+                                        "the static coefficients in the start check.")
+    brake_torque_Nm: float = Field(0.0, ge=0, le=1e9, description="Brake torque at the crank during the run-down "
+                                   "[N·m].")
+    start_under_load: bool = Field(False, description="The machine starts and runs up with its process load on (a "
+                                   "press stopped in the stroke); default: it starts and runs up idling, against "
+                                   "gravity, link torques and the friction these cause, to its idle steady state "
+                                   "(the process engaged once it runs, as a press's clutch does).")
+    max_startup_time_s: float = Field(60.0, gt=0, le=1e4, description="Longest acceptable run-up from rest to the "
+                                      "steady cycle [s] (check startup_time); a minute by default, the overload "
+                                      "a motor takes at its start.")
+    max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
+                                             "with the motor off [s] (check rundown_time); null: not checked.")
     name: str | None = Field(None, max_length=200, description="A label for people: the design record's title "
                              "(?format=pdf); default \"machine design\".")
 
@@ -207,7 +223,10 @@ class MachineIn(LinkageRequest):
             linkage=self.to_linkage(), speed=self.omega_rad_s, drive=self.drive.to_engine(max_stages), delta=delta,
             balancing=self.balancing.to_engine(),
             flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
-            samples=self.samples, speed_tolerance=self.speed_tolerance,
+            samples=self.samples, speed_tolerance=self.speed_tolerance, friction=pair_frictions(self.friction),
+            brake_torque=self.brake_torque_Nm, start_under_load=self.start_under_load,
+            max_startup_time=self.max_startup_time_s,
+            max_rundown_time=self.max_rundown_time_s,
         )
 
 
@@ -242,8 +261,14 @@ class ReducedOut(BaseModel):
     reduced_load_torque_Nm: list[float] = Field(description="Reduced torque of the process loads, link torques and "
                                                 "gravity on the crank at each sample [N·m]; positive drives the "
                                                 "crank, negative resists.")
-    driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing.")
-    mean_power_W: float = Field(description="Mean power the crank delivers to the linkage.")
+    friction_torque_Nm: list[float] | None = Field(None, description="The pairs' friction losses reduced to the "
+                                                   "crank at each sample [N·m] (resists); the flywheel, the motor "
+                                                   "and the simulation take the load torque less this. Null "
+                                                   "without friction.")
+    driving_torque_Nm: list[float] = Field(description="At constant crank speed, after balancing (without "
+                                           "friction; with it in `analysis.friction` for the linkage as given).")
+    mean_power_W: float = Field(description="Mean power the crank delivers to the linkage, its friction losses "
+                                "included.")
     train_inertia_kgm2: float = Field(description="Gears, shafts (and balancer shafts) on the crank, rotor excluded.")
     rotor_inertia_kgm2: float = Field(description="Motor rotor reduced to the crank.")
 
@@ -268,6 +293,118 @@ class SimulationOut(BaseModel):
                                          "[N·m]; positive drives the machine.")
 
 
+class MachineCheckOut(BaseModel):
+    """One target against the simulated machine."""
+
+    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque; "
+                      "under `running`: motor_starts, startup_time or rundown_time.")
+    value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
+                         "distance of the mean crank speed from speed_rpm [-], the motor's RMS or peak torque "
+                         "[N·m], the largest torque holding the crank at rest [N·m], or the start-up or run-down "
+                         "time [s].")
+    limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
+                         "speed_tolerance, the rated torque, the breakdown torque, the motor's starting torque "
+                         "through the train [N·m], max_startup_time_s or max_rundown_time_s.")
+    passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
+    detail: str = Field(description="What the check compares, in words.")
+
+
+#: Points of a start-up or run-down curve in the answer, evenly picked from the simulation's steps.
+TRANSIENT_POINTS = 1001
+
+
+def _picked(size: int) -> np.ndarray:
+    return np.unique(np.linspace(0, size - 1, min(TRANSIENT_POINTS, size)).round().astype(int))
+
+
+class EfficiencyOut(BaseModel):
+    """Efficiency of each stage over the steady cycle."""
+
+    linkage: float | None = Field(description="The linkage with friction in its pairs: 1 - lost work / driving "
+                                  "work over the cycle [-] (1 without friction); null when the drive does no net "
+                                  "work on it.")
+    gears: float = Field(description="The train: the product of the stage efficiencies [-].")
+    overall: float | None = Field(description="Linkage times gears [-].")
+
+
+class StartUpOut(BaseModel):
+    """The run-up from rest at the worst crank angle to the periodic steady state."""
+
+    starts: bool = Field(description="The motor's starting torque through the train exceeds the torque holding the "
+                         "crank at rest at every crank angle.")
+    starting_torque_Nm: float = Field(description="The motor's starting (locked-rotor) torque through the train, "
+                                      "at the crank [N·m].")
+    max_resisting_torque_Nm: float = Field(description="Largest torque holding the crank at rest: gravity, link "
+                                           "torques, breakaway friction and, with start_under_load, the process "
+                                           "load [N·m].")
+    worst_crank_angle_deg: float = Field(description="Where it is largest [deg].")
+    start_crank_angle_deg: float | None = Field(description="Where the run-up starts [deg] (the worst angle); null "
+                                                "without a run-up.")
+    steady_time_s: float | None = Field(description="Time from rest until the crank speed stays within 1 % of the "
+                                        "periodic steady speed (idling unless start_under_load) [s]; null when it "
+                                        "does not get there.")
+    motor_peak_torque_Nm: float = Field(description="Largest motor torque on its shaft over the run-up [N·m].")
+    motor_rms_torque_Nm: float = Field(description="RMS over time of the motor torque until steady (the heating "
+                                       "of the start) [N·m].")
+    energy_residual: float | None = Field(description="Motor work - kinetic energy gained - losses - process work "
+                                          "over the run-up, relative to the largest term [-]: the integration's "
+                                          "check; null without a run-up.")
+    time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points of the simulation.")
+    omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
+    motor_torque_Nm: list[float] = Field(description="Motor torque on its shaft at those times [N·m].")
+
+
+class RunDownOut(BaseModel):
+    """The run-down to rest with the motor switched off in the steady state."""
+
+    stop_time_s: float | None = Field(description="Time until the crank comes to rest [s]; null when it still "
+                                      "turns after 600 s or 400 000 integration steps.")
+    brake_torque_Nm: float = Field(description="Brake torque at the crank [N·m].")
+    energy_residual: float = Field(description="Kinetic energy given up - losses - process work over the run-down, "
+                                   "relative to the largest term [-].")
+    time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points.")
+    omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
+
+
+class RunningOut(BaseModel):
+    """How the machine really runs: efficiencies, start-up and run-down."""
+
+    efficiency: EfficiencyOut = Field(description="Efficiency of the linkage, the gears and overall.")
+    startup: StartUpOut = Field(description="The run-up from rest.")
+    rundown: RunDownOut = Field(description="The run-down to rest.")
+    checks: list[MachineCheckOut] = Field(description="The start, run-up and run-down against their targets: "
+                                          "motor_starts, startup_time, and rundown_time when max_rundown_time_s is "
+                                          "given; the answer's `passed` holds them too.")
+
+    @classmethod
+    def from_engine(cls, r: synth.MachineRunning, checks: tuple[synth.MachineCheck, ...] = ()) -> RunningOut:
+        """Schema from the engine's running figures (radians become degrees here)."""
+        up, down, e = r.startup, r.rundown, r.efficiency
+        run = up.run
+        pick_up = _picked(run.time.size) if run is not None else np.zeros(0, dtype=int)
+        pick_down = _picked(down.run.time.size)
+        return cls(
+            efficiency=EfficiencyOut(linkage=e.linkage, gears=e.gears, overall=e.overall),
+            startup=StartUpOut(
+                starts=up.check.starts, starting_torque_Nm=up.check.starting_torque,
+                max_resisting_torque_Nm=float(up.check.resisting_torque.max()),
+                worst_crank_angle_deg=float(np.degrees(up.check.worst_angle)),
+                start_crank_angle_deg=None if run is None else float(np.degrees(run.phi[0])),
+                steady_time_s=up.steady_time,
+                motor_peak_torque_Nm=up.peak_motor_torque, motor_rms_torque_Nm=up.rms_motor_torque,
+                energy_residual=None if run is None else run.energy_residual,
+                time_s=[] if run is None else run.time[pick_up].tolist(),
+                omega_rad_s=[] if run is None else run.omega[pick_up].tolist(),
+                motor_torque_Nm=[] if run is None else run.motor_torque[pick_up].tolist()),
+            rundown=RunDownOut(
+                stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
+                energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
+                omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
+            checks=[MachineCheckOut(name=c.name, value=c.value, limit=c.limit, passed=c.passed, detail=c.detail)
+                    for c in checks],
+        )
+
+
 class MachineShaftOut(BaseModel):
     """One shaft in the simulated steady motion, motor first, crank last: what it passes on."""
 
@@ -281,19 +418,6 @@ class MachineShaftOut(BaseModel):
     rms_torque_Nm: float = Field(description="RMS over time of the torque the shaft passes on [N·m].")
     inertia_kgm2: float = Field(description="What turns with it, the flywheel included when it sits there.")
     carries_flywheel: bool = Field(description="The flywheel sits on this shaft.")
-
-
-class MachineCheckOut(BaseModel):
-    """One target against the simulated machine."""
-
-    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque.")
-    value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
-                         "distance of the mean crank speed from speed_rpm [-], or the motor's RMS or peak torque "
-                         "[N·m].")
-    limit: float = Field(description="The limit it is held against, in the same unit: the target delta, "
-                         "speed_tolerance, the rated torque or the breakdown torque.")
-    passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
-    detail: str = Field(description="What the check compares, in words.")
 
 
 class MachineFlywheelBodyOut(BaseModel):
@@ -372,7 +496,8 @@ class AlternativeOut(BaseModel):
 class MachineDesignOut(BaseModel):
     """Every stage of the design in the shape its own endpoint answers with, and the simulated check."""
 
-    passed: bool = Field(description="Every check meets its target; `checks` says which does not.")
+    passed: bool = Field(description="Every check meets its target, `running.checks` included; the checks say "
+                         "which does not.")
     checks: list[MachineCheckOut] = Field(description="Each target against the simulated machine.")
     analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
     balancing_mode: str = Field(description="The balancing mode used: none, static, full or optimal.")
@@ -402,6 +527,8 @@ class MachineDesignOut(BaseModel):
                                                          "when none is needed.")
     simulation: SimulationOut = Field(description="The assembled machine run to its periodic steady state.")
     shafts: list[MachineShaftOut] = Field(description="Every shaft in the steady motion, motor first, crank last.")
+    running: RunningOut | None = Field(None, description="Efficiency of each stage, the start-up from rest and the "
+                                       "run-down to rest of the assembled machine.")
     alternatives: list[AlternativeOut] = Field(default_factory=list, description="With `alternatives: true`: the "
                                                "same machine with each other balancing mode; else empty.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Every stage's likely mistakes, weak "
@@ -433,6 +560,7 @@ class MachineDesignOut(BaseModel):
             reduced=ReducedOut(
                 crank_angle_deg=np.degrees(red.phi).tolist(), reduced_inertia_kgm2=red.inertia.tolist(),
                 reduced_load_torque_Nm=red.load_torque.tolist(),
+                friction_torque_Nm=None if red.friction_torque is None else red.friction_torque.tolist(),
                 driving_torque_Nm=d.balanced.kinetostatics.driving_torque.tolist(), mean_power_W=d.output_power,
                 train_inertia_kgm2=d.train_inertia, rotor_inertia_kgm2=motor.reduced().inertia,
             ),
@@ -460,6 +588,7 @@ class MachineDesignOut(BaseModel):
                                     mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
                                     peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
+            running=None if d.running is None else RunningOut.from_engine(d.running, d.running_checks),
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
             request_sha256=request_sha256,

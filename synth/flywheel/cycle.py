@@ -189,10 +189,11 @@ def cycle_from_tables(
 
 
 def cycle_from_reduced(reduced: ReducedModel) -> ReducedCycle:
-    """The reduced cycle of an analysed linkage over one crank revolution (J_red and the reduced load torque)."""
+    """The reduced cycle of an analysed linkage over one crank revolution (J_red and the reduced load torque,
+    less the pairs' friction losses when the analysis has friction)."""
     return ReducedCycle(
         np.asarray(reduced.phi, dtype=float),
         np.asarray(reduced.inertia, dtype=float),
-        np.asarray(reduced.load_torque, dtype=float),
+        np.asarray(reduced.resisting_torque, dtype=float),
         2 * math.pi,
     )

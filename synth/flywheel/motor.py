@@ -18,7 +18,8 @@ from .sizing import speed_band
 
 class RatedMotor(Protocol):
     """What the flywheel reads of a catalogue motor (:class:`synth.gearing.CatalogueMotor` is one): speeds
-    [rad/s], torques [N·m], rotor inertia [kg·m²] or None when the catalogue does not give it."""
+    [rad/s], torques [N·m] (the starting torque at standstill), rotor inertia [kg·m²] or None when the catalogue
+    does not give it."""
 
     @property
     def synchronous_speed(self) -> float: ...
@@ -28,6 +29,8 @@ class RatedMotor(Protocol):
     def rated_torque(self) -> float: ...
     @property
     def breakdown_torque(self) -> float: ...
+    @property
+    def starting_torque(self) -> float: ...
     @property
     def rotor_inertia(self) -> float | None: ...
 
@@ -64,7 +67,9 @@ class Motor:
 
     Speeds on the motor shaft [rad/s], torques [N·m], ``gear_ratio`` motor speed over crank speed [-],
     ``efficiency`` of the gearing [-], ``rotor_inertia`` [kg·m²], ``breakdown_torque`` the largest torque of the
-    linear branch [N·m] (None: unbounded).
+    linear branch [N·m] (None: unbounded), ``starting_torque`` the locked-rotor torque at standstill [N·m] (None:
+    the linear branch holds down to standstill). Between standstill and the breakdown speed the torque runs
+    linearly from the starting torque to the breakdown torque; only a start passes there.
     """
 
     synchronous_speed: float
@@ -74,6 +79,7 @@ class Motor:
     efficiency: float = 1.0
     rotor_inertia: float = 0.0
     breakdown_torque: float | None = None
+    starting_torque: float | None = None
 
     def __post_init__(self) -> None:
         if not 0 < self.rated_speed < self.synchronous_speed:
@@ -88,19 +94,46 @@ class Motor:
             raise InvalidInput("the rotor inertia must not be negative", field="motor.rotor_inertia_kgm2")
         if self.breakdown_torque is not None and not self.breakdown_torque > self.rated_torque:
             raise InvalidInput("the breakdown torque must exceed the rated torque", field="motor.breakdown_torque_Nm")
+        if self.starting_torque is not None:
+            if not (math.isfinite(self.starting_torque) and self.starting_torque > 0):
+                raise InvalidInput("the starting torque must be positive", field="motor.starting_torque_Nm")
+            if self.breakdown_torque is None or self.starting_torque > self.breakdown_torque:
+                raise InvalidInput("a starting torque needs a breakdown torque at least as large",
+                                   field="motor.starting_torque_Nm")
 
     @staticmethod
     def from_catalogue(motor: RatedMotor, gear_ratio: float = 1.0, efficiency: float = 1.0) -> Motor:
         """The static characteristic of a catalogue motor, driving through ``gear_ratio`` (motor over crank speed
         [-]) at ``efficiency`` [-]: rated torque P/w_rated, breakdown torque its ratio times that, the rotor's
-        inertia (zero when the catalogue does not give it)."""
+        inertia (zero when the catalogue does not give it), the starting torque its ratio times the rated."""
         return Motor(motor.synchronous_speed, motor.rated_speed, motor.rated_torque, gear_ratio, efficiency,
-                     motor.rotor_inertia or 0.0, motor.breakdown_torque)
+                     motor.rotor_inertia or 0.0, motor.breakdown_torque,
+                     min(motor.starting_torque, motor.breakdown_torque))
 
     def torque_at(self, speed: FloatArray | float) -> FloatArray:
         """Torque on the motor shaft at motor speed ``speed`` [rad/s] -> [N·m] (the linear branch)."""
         slope = self.rated_torque / (self.synchronous_speed - self.rated_speed)
         return np.asarray(slope * (self.synchronous_speed - np.asarray(speed, dtype=float)), dtype=float)
+
+    @property
+    def breakdown_speed(self) -> float:
+        """Motor speed where the linear branch reaches the breakdown torque [rad/s]; 0 without one."""
+        if self.breakdown_torque is None:
+            return 0.0
+        slope = self.rated_torque / (self.synchronous_speed - self.rated_speed)
+        return max(self.synchronous_speed - self.breakdown_torque / slope, 0.0)
+
+    def start_torque_at(self, speed: FloatArray | float) -> FloatArray:
+        """Torque on the motor shaft [N·m] over the whole speed range from standstill, at motor speed ``speed``
+        [rad/s]: the linear branch above the breakdown speed, below it the line from the starting torque at
+        standstill to the breakdown torque (the linear branch alone without a starting torque)."""
+        n = np.asarray(speed, dtype=float)
+        branch = self.torque_at(n)
+        if self.starting_torque is None or self.breakdown_torque is None:
+            return branch
+        n_b = self.breakdown_speed
+        low = self.starting_torque + (self.breakdown_torque - self.starting_torque) * n / max(n_b, 1e-300)
+        return np.asarray(np.where(n >= n_b, branch, low), dtype=float)
 
     def reduced(self) -> ReducedMotor:
         """The characteristic reduced to the crank: torque i·eta·T(i·w), rotor inertia i²·J_rotor."""

@@ -18,10 +18,13 @@ RPM = math.pi / 30.0
 class CatalogueMotor:
     """A catalogue motor: ``rated_power`` [W], ``synchronous_speed`` and ``rated_speed`` [rad/s],
     ``rotor_inertia`` [kg·m²] or None when the catalogue does not give it, ``breakdown_ratio`` breakdown over
-    rated torque [-] (2.2 is typical of four-pole induction motors of this size).
+    rated torque [-] (2.2 is typical of four-pole induction motors of this size), ``starting_ratio`` locked-rotor
+    (starting) torque over rated torque [-] (2.0 is typical of the series up to 11 kW).
 
     Its static characteristic is linear from zero torque at synchronous speed through the rated point, up to the
-    breakdown torque: the one motor model the flywheel NLP, the drive and the machine simulation share.
+    breakdown torque: the one motor model the flywheel NLP, the drive and the machine simulation share. Below
+    the breakdown speed (only a start passes there) the torque runs linearly from the breakdown torque down to
+    the starting torque at standstill.
     """
 
     name: str
@@ -30,6 +33,7 @@ class CatalogueMotor:
     rated_speed: float
     rotor_inertia: float | None
     breakdown_ratio: float = 2.2
+    starting_ratio: float = 2.0
 
     @property
     def rated_torque(self) -> float:
@@ -41,6 +45,11 @@ class CatalogueMotor:
         """Largest torque of the linear branch [N·m]."""
         return self.breakdown_ratio * self.rated_torque
 
+    @property
+    def starting_torque(self) -> float:
+        """Locked-rotor torque at standstill [N·m]."""
+        return self.starting_ratio * self.rated_torque
+
 
 @cache
 def motor_catalogue() -> tuple[CatalogueMotor, ...]:
@@ -48,7 +57,8 @@ def motor_catalogue() -> tuple[CatalogueMotor, ...]:
     text = resources.files(__package__).joinpath("motors.json").read_text(encoding="utf-8")
     rows = json.loads(text)["motors"]
     motors = [CatalogueMotor(r["name"], float(r["rated_power_W"]), r["synchronous_rpm"] * RPM, r["rated_rpm"] * RPM,
-                             r["rotor_inertia_kgm2"], float(r.get("breakdown_torque_ratio", 2.2))) for r in rows]
+                             r["rotor_inertia_kgm2"], float(r.get("breakdown_torque_ratio", 2.2)),
+                             float(r.get("starting_torque_ratio", 2.0))) for r in rows]
     return tuple(sorted(motors, key=lambda m: (m.rated_power, m.synchronous_speed)))
 
 

@@ -59,6 +59,8 @@ from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import FloatArray, Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
 from .operating_point import MotorLoad, operating_speed
+from ..friction import friction_kinetostatics
+from .running import MachineRunning, machine_running
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 from .stages import gathered, refuse_likely_mistakes, stage, staged
@@ -133,7 +135,8 @@ class MachineDesign:
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
     ``shafts`` motor first; ``checks`` each target against the simulation; ``gears`` every cylindrical stage
     sized for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive
-    asks for no sizing).
+    asks for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down, and
+    ``running_checks`` the start, run-up and run-down targets.
     """
 
     spec: MachineSpec
@@ -154,6 +157,8 @@ class MachineDesign:
     checks: tuple[MachineCheck, ...]
     warnings: tuple[DesignWarning, ...]
     gears: TrainSizing | None = None
+    running: MachineRunning | None = None
+    running_checks: tuple[MachineCheck, ...] = ()
 
     @property
     def flywheel_inertia(self) -> float:
@@ -163,7 +168,7 @@ class MachineDesign:
     @property
     def passed(self) -> bool:
         """True when every check meets its target."""
-        return all(c.passed for c in self.checks)
+        return all(c.passed for c in (*self.checks, *self.running_checks))
 
 
 @dataclass(frozen=True, slots=True)
@@ -439,6 +444,29 @@ def _shafts(design_ratios: Sequence[float], drive: DriveResult, motion: MachineM
     return tuple(out)
 
 
+def _running_checks(spec: MachineSpec, running: MachineRunning) -> list[MachineCheck]:
+    up, down = running.startup, running.rundown
+    start = up.check
+    resisting = float(start.resisting_torque.max())
+    checks = [MachineCheck("motor_starts", resisting, start.starting_torque, start.starts,
+                           "largest torque holding the crank at rest (gravity, breakaway friction and, starting "
+                           "under load, the process load; at the worst crank angle) against the motor's starting "
+                           "torque through the train [N·m]")]
+    if start.starts:
+        reached = up.steady_time is not None
+        value = up.steady_time if up.steady_time is not None else float(up.run.time[-1]) if up.run else 0.0
+        checks.append(MachineCheck("startup_time", value, spec.max_startup_time,
+                                   reached and value <= spec.max_startup_time,
+                                   "time from rest to within 1 % of the periodic steady speed, idling unless "
+                                   "started under load [s]"))
+    if spec.max_rundown_time is not None:
+        value = down.stop_time if down.stop_time is not None else float(down.run.time[-1])
+        checks.append(MachineCheck("rundown_time", value, spec.max_rundown_time,
+                                   down.stop_time is not None and value <= spec.max_rundown_time,
+                                   "time from the steady state to rest with the motor off (and the brake) [s]"))
+    return checks
+
+
 def ratio_for_speed(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> float:
     """The train ratio [-] that would turn the crank at the working speed: the motor keeps its speed (its
     operating point moves little with the ratio at a given power), so the ratio scales with the crank's."""
@@ -498,9 +526,14 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
 
 def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     with stage("analysis"):
-        before = analyse(machine.linkage, machine.speed, samples=machine.samples)
+        before = analyse(machine.linkage, machine.speed, samples=machine.samples, friction=machine.friction)
     with stage("balancing"):
         bal, balanced = _balance(machine, before, time_limit_s)
+    if machine.friction:
+        # the balanced linkage with friction in its pairs: its losses are in the power the motor is chosen for
+        with stage("analysis"):
+            fr = friction_kinetostatics(balanced.motion, balanced.linkage, balanced.kinetostatics, machine.friction)
+        balanced = replace(balanced, friction=fr, reduced=replace(balanced.reduced, friction_torque=fr.loss_torque))
     cycle = cycle_from_reduced(balanced.reduced)
     output_power = -cycle.cycle_work / cycle.period * machine.speed
     if not output_power > MIN_POWER:
@@ -512,7 +545,8 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     replaced: list[DesignWarning] = []
     for _ in range(MAX_MOTOR_UPGRADES + 1):
         design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
-        heavy = [c.name for c in design.checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
+        heavy = [c.name for c in (*design.checks, *design.running_checks)
+                 if c.name in ("motor_rms_torque", "motor_peak_torque", "motor_starts") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
         if bigger is None:
             break
@@ -561,7 +595,7 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     own = np.array([s.inertia for s in drive.shafts])
     train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
     red = balanced.reduced
-    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
+    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.resisting_torque)
     with stage("flywheel"):
         flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
@@ -572,9 +606,22 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
                 *staged(drive.warnings, "drive", "drive")]
     if teeth is not None:
         warnings += staged(teeth.warnings, "teeth", "drive")
+    constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
+    with stage("simulation"):
+        running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
+                                  machine.brake_torque, machine.start_under_load)
+    running_checks = tuple(_running_checks(machine, running))
     warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks) + not_sized
+    warnings += _check_warnings([c for c in running_checks if c.name != "motor_starts"])
+    if not running.startup.check.starts:
+        warnings.append(DesignWarning(
+            "motor_cannot_start", "drive.motor", running.startup.check.starting_torque,
+            f"motor {drive.motor.name} cannot start the machine: its starting torque through the train is below the "
+            f"torque holding the crank at rest at {math.degrees(running.startup.check.worst_angle):.4g} deg",
+            "N·m", stage="simulation"))
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
-                         train, flywheel, placement, motion, shafts, checks, tuple(warnings), gears)
+                         train, flywheel, placement, motion, shafts, checks, tuple(warnings), gears,
+                         running, running_checks)
 
 
 def _balancing_warnings(before: Analysis, bal: Balancing) -> list[DesignWarning]:
@@ -608,7 +655,8 @@ def _flywheel_warnings(spec: MachineSpec, flywheel: FlywheelResult,
 def _check_warnings(checks: Sequence[MachineCheck]) -> list[DesignWarning]:
     """A check the simulated machine fails, as a warning of the simulation stage with what to change."""
     fields = {"delta": "delta", "mean_speed": "speed_tolerance", "motor_rms_torque": "drive.motor",
-              "motor_peak_torque": "drive.motor"}
+              "motor_peak_torque": "drive.motor", "startup_time": "max_startup_time_s",
+              "rundown_time": "max_rundown_time_s"}
     return [DesignWarning("check_failed", fields.get(c.name), c.value,
                           f"the simulated machine fails its {c.name} check ({c.value:.4g} against {c.limit:.4g}): "
                           f"{c.detail}", stage="simulation")

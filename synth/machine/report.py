@@ -33,6 +33,7 @@ from ..model import Counterweight  # noqa: E402
 from ..plots import draw_mechanism, figure_png, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineDesign  # noqa: E402
 from .record import DesignRecord, input_rows  # noqa: E402
+from .running_plots import running_figure  # noqa: E402
 
 #: A4 landscape [in]: every page of the report.
 A4 = (11.69, 8.27)
@@ -146,7 +147,7 @@ def _footer(fig: Figure, record: DesignRecord, page: int) -> None:
 def _verdict(d: MachineDesign) -> str:
     if d.passed:
         return "every check met"
-    return "FAILS: " + ", ".join(c.name for c in d.checks if not c.passed)
+    return "FAILS: " + ", ".join(c.name for c in (*d.checks, *d.running_checks) if not c.passed)
 
 
 def _title_block(fig: Figure, record: DesignRecord, d: MachineDesign) -> float:
@@ -180,8 +181,22 @@ def _key_figures(d: MachineDesign) -> list[list[str]]:
          f"crank-equivalent), {body.shape}, outer diameter {num(body.outer_diameter)} m, {num(body.mass)} kg"],
         ["simulated delta", f"{num(d.motion.delta)} (target {num(d.spec.delta)})"],
         ["simulated mean crank speed", f"{num(d.motion.mean_speed / RPM)} rpm"],
+        *_efficiency_rows(d),
         ["warnings", str(len(d.warnings))],
     ]
+
+
+def _efficiency_rows(d: MachineDesign) -> list[list[str]]:
+    """Each stage's efficiency, the start and the run-down, when the design has them."""
+    r = d.running
+    if r is None:
+        return []
+    e, up, down = r.efficiency, r.startup, r.rundown
+    return [["efficiency linkage / gears / overall", f"{num(e.linkage)} / {num(e.gears)} / {num(e.overall)}"],
+            ["start", f"starting torque {num(up.check.starting_torque)} N·m at the crank against "
+                      f"{num(float(up.check.resisting_torque.max()), up.check.starting_torque)} N·m at rest; "
+                      f"steady after {num(up.steady_time)} s"],
+            ["run-down", f"at rest after {num(down.stop_time)} s (brake {num(down.brake_torque)} N·m)"]]
 
 
 def _inputs(flow: _Flow, record: DesignRecord) -> None:
@@ -372,7 +387,7 @@ def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: Machi
     flow.heading("Checks against the simulated machine")
     flow.table(["check", "value", "limit", "met", "what it compares"],
                [[c.name, num(c.value, c.limit), num(c.limit), "yes" if c.passed else "NO", c.detail]
-                for c in d.checks])
+                for c in (*d.checks, *d.running_checks)])
     flow.heading(f"Warnings ({len(d.warnings)})")
     if d.warnings:
         for w in d.warnings:
@@ -565,7 +580,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                       record: DesignRecord | None = None) -> bytes:
     """The design record [PDF, A4 landscape]: title block and verdict, key figures, checks, warnings, every
     input with its unit, each stage with its check figure, counterweights, gear train, flywheel, motor and
-    shafts, the alternatives; then the diagrams (summary, balancing, flywheel and motor).
+    shafts, the alternatives; then the diagrams (summary, balancing, flywheel and motor, start-up and run-down).
 
     ``record`` names the design and holds the request; without one the report says so and lists no inputs.
     """
@@ -591,6 +606,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
         fig.suptitle("flywheel and motor")
         fig.tight_layout(rect=(0, 0.03, 1, 1))
         figures.append(fig)
+        if (running := running_figure(d)) is not None:
+            figures.append(running)
         for fig in figures:
             page += 1
             _footer(fig, record, page)

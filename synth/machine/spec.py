@@ -9,6 +9,7 @@ from typing import Literal
 from ..balancing import CounterweightSpec, Weights
 from ..errors import InvalidInput
 from ..flywheel import GeometrySpec
+from ..friction import PairFriction
 from ..gearing import CatalogueMotor, InertiaModel, SizingRules, Stage, ToothRules
 from ..model import Linkage
 
@@ -68,7 +69,10 @@ class MachineSpec:
 
     ``speed`` the crank's working speed [rad/s]; ``delta`` the target coefficient of speed fluctuation [-];
     ``speed_tolerance`` how far the simulated mean crank speed may lie from ``speed`` [-]; ``samples`` crank
-    angles per revolution for every stage of the chain.
+    angles per revolution for every stage of the chain; ``friction`` per pair of the linkage; ``brake_torque``
+    at the crank during the run-down [N·m]; ``start_under_load`` the start check holds the process load too;
+    ``max_startup_time`` and ``max_rundown_time`` (None: not checked)
+    the limits of the start-up and run-down checks [s].
     """
 
     linkage: Linkage
@@ -79,6 +83,11 @@ class MachineSpec:
     flywheel: FlywheelChoice = field(default_factory=FlywheelChoice)
     samples: int = 360
     speed_tolerance: float = 0.05
+    friction: tuple[PairFriction, ...] = ()
+    brake_torque: float = 0.0
+    start_under_load: bool = False
+    max_startup_time: float = 60.0
+    max_rundown_time: float | None = None
 
     def validate(self) -> None:
         """InvalidInput naming the field for a speed, target or tolerance out of range, or no stages."""
@@ -89,6 +98,11 @@ class MachineSpec:
                                "1/300", field="delta")
         if not 0 < self.speed_tolerance < 1:
             raise InvalidInput("speed_tolerance must lie in (0, 1)", field="speed_tolerance")
+        if not (math.isfinite(self.max_startup_time) and self.max_startup_time > 0):
+            raise InvalidInput("max_startup_time must be positive", field="max_startup_time_s")
+        if self.max_rundown_time is not None and not (math.isfinite(self.max_rundown_time)
+                                                      and self.max_rundown_time > 0):
+            raise InvalidInput("max_rundown_time must be positive", field="max_rundown_time_s")
         if not self.drive.stages:
             raise InvalidInput("the drive needs at least one stage", field="drive.stages")
         if self.balancing.mode not in BALANCING_MODES:

@@ -1,0 +1,723 @@
+// The capability panels: each builds a request from the current design and its own fields, posts it to the
+// public API and draws the answer. Nothing here computes what the service answers.
+import { post, get, del, postFile, describe } from "./api.js";
+import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
+import { toModel } from "./draw.js";
+
+let ctx = null;
+
+const LINKAGE_FIELDS = ["mechanism", "speed_rpm", "crank_acceleration_rad_s2", "samples", "crank_angle_deg", "gravity",
+  "loads", "torques", "counterweights"];
+
+/** The design's linkage part, as every mechanism endpoint takes it. */
+function linkage() {
+  const out = {};
+  for (const k of LINKAGE_FIELDS) if (ctx.state.design[k] !== undefined && ctx.state.design[k] !== null) out[k] = structuredClone(ctx.state.design[k]);
+  return out;
+}
+
+/** A length [m] in the form's unit, rounded for reading. */
+function L(v) { return `${fmt(v / ctx.factor("length"))} ${ctx.unitLabel("length")}`; }
+
+function esc(s) { return String(s).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/"/g, "&quot;"); }
+
+/** One labelled input of a panel, described by the OpenAPI document (model, path); `kind` length or mass turns the
+ *  form's units on. */
+function field(prefix, { name, label, model, path, kind = "plain", value = "", options = null, choose = {} }) {
+  const d = model ? describe(model, path || name, choose) : { text: "", unit: "" };
+  const id = `${prefix}-${name}`;
+  const unit = ctx.unitLabel(kind, d.unit);
+  const shown = value === "" || value === null || value === undefined ? "" : (kind === "plain" ? String(value) : ctx.toDisplay(value, kind));
+  const input = options
+    ? `<select id="${id}" name="${name}" title="${esc(d.text)}">${options.map(([v, l]) => `<option value="${esc(v)}" ${String(value) === String(v) ? "selected" : ""}>${esc(l)}</option>`).join("")}</select>`
+    : `<input id="${id}" name="${name}" type="text" inputmode="decimal" autocomplete="off" value="${esc(shown)}" title="${esc(d.text)}" data-kind="${kind}">`;
+  return `<div class="row" data-field="${name}"><label for="${id}" title="${esc(d.text)}">${esc(label)}</label>${input}` +
+    `<span class="unit">${esc(options ? "" : unit)}</span><p class="msg" id="${id}-msg" hidden></p></div>`;
+}
+
+/** A panel input's value in SI: null when empty, NaN when not a number. */
+function read(prefix, name) {
+  const el = document.getElementById(`${prefix}-${name}`);
+  if (el.tagName === "SELECT") return el.value;
+  const raw = el.value.trim().replace(",", ".");
+  if (raw === "") return null;
+  const v = Number(raw);
+  return Number.isFinite(v) ? v * ctx.factor(el.dataset.kind) : NaN;
+}
+
+function clearPanel(prefix) {
+  document.querySelectorAll(`[id^="${prefix}-"].msg, [id$="-msg"][id^="${prefix}-"]`).forEach((m) => { m.hidden = true; m.textContent = ""; });
+  document.querySelectorAll(`[id^="${prefix}-"][aria-invalid]`).forEach((i) => i.removeAttribute("aria-invalid"));
+  const p = document.getElementById(`${prefix}-problem`);
+  if (p) { p.hidden = true; p.textContent = ""; }
+}
+
+/** Show a problem next to the panel field it names (the field's last name part that the panel has), else in the
+ *  panel's problem box; a field of the linkage itself goes to the editor's form. */
+function panelProblem(prefix, err) {
+  clearPanel(prefix);
+  ctx.showProblem(err, `${prefix}-problem`, (fieldName, message) => {
+    if (!fieldName) return false;
+    const parts = fieldName.split(".");
+    for (let n = 0; n < parts.length; n++) {
+      const id = `${prefix}-${parts.slice(n).join(".")}`;
+      const el = document.getElementById(id);
+      if (el) {
+        const m = document.getElementById(`${id}-msg`);
+        m.textContent = message; m.hidden = false; el.setAttribute("aria-invalid", "true");
+        return true;
+      }
+    }
+    // a field of the linkage itself: marked in the editor's form too, and said in the panel
+    ctx.showMessage(fieldName, message);
+    return false;
+  });
+}
+
+function checkNumbers(prefix, names) {
+  let ok = true;
+  for (const n of names) {
+    const v = read(prefix, n);
+    if (Number.isNaN(v)) {
+      const m = document.getElementById(`${prefix}-${n}-msg`);
+      m.textContent = "enter a number"; m.hidden = false;
+      document.getElementById(`${prefix}-${n}`).setAttribute("aria-invalid", "true");
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+/** Remember the design a panel's answer is for, so that opening the panel later can say when it has changed. */
+function answered(panel) {
+  const el = document.getElementById(`panel-${panel}`);
+  el.dataset.design = JSON.stringify(ctx.state.design);
+  el.querySelector(".stale")?.remove();
+}
+
+function busy(prefix, text) {
+  const s = document.getElementById(`${prefix}-status`);
+  if (s) s.textContent = text;
+}
+
+function download(blob, name) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob); a.download = name;
+  document.body.appendChild(a); a.click(); a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 5000);
+}
+
+function summaryTable(rows, before, after) {
+  return `<table><tr><th></th><th>before</th><th>after</th></tr>` + rows.map(([k, label, unit]) =>
+    `<tr><td>${label}</td><td class="num">${fmt(before[k])} ${unit}</td><td class="num">${after ? fmt(after[k]) + " " + unit : ""}</td></tr>`).join("") + "</table>";
+}
+
+const SUMMARY_ROWS = [["rms_shaking_force_N", "RMS shaking force", "N"], ["max_shaking_force_N", "peak shaking force", "N"],
+  ["rms_shaking_moment_Nm", "RMS shaking moment", "N·m"], ["rms_driving_torque_Nm", "RMS driving torque", "N·m"],
+  ["max_driving_torque_Nm", "peak driving torque", "N·m"], ["max_bearing_force_N", "largest bearing force", "N"]];
+
+// --- balancing ---------------------------------------------------------------------------------------------------
+function balancingPanel() {
+  const el = document.getElementById("panel-balancing");
+  const render = () => {
+    const fam = ctx.state.design.mechanism.type;
+    const modes = fam === "fourbar" ? [["static", "static: force zero"], ["full", "full: force, moment zero"], ["optimal", "optimal trade-off"]]
+      : [["optimal", "optimal trade-off"]];
+    const links = fam === "fourbar" ? ["crank", "rocker"] : fam === "slider_crank" ? ["crank"] : ["crank", "rocker"];
+    el.innerHTML = `<h2>Balancing with counterweights</h2><div class="controls">` +
+      field("bal", { name: "mode", label: "Mode", options: modes, value: modes[0][0] }) +
+      links.map((l) => field("bal", { name: `max_radius_m.${l}`, label: `Largest radius on the ${l}`, model: "BalanceIn", path: "max_radius_m", kind: "length" })).join("") +
+      field("bal", { name: "mass_budget_kg", label: "Mass budget (optimal)", model: "BalanceIn", path: "mass_budget_kg", kind: "mass" }) +
+      field("bal", { name: "weights.shaking_force", label: "Weight: shaking force", model: "WeightsIn", path: "shaking_force", value: 1 }) +
+      field("bal", { name: "weights.shaking_moment", label: "Weight: shaking moment", model: "WeightsIn", path: "shaking_moment", value: 1 }) +
+      field("bal", { name: "weights.driving_torque", label: "Weight: driving torque", model: "WeightsIn", path: "driving_torque", value: 0 }) +
+      `</div><div class="actions"><button class="run" id="bal-run">Balance</button>` +
+      `<button class="secondary" id="bal-apply" disabled>Put these counterweights on the design</button><span id="bal-status" class="note"></span></div>` +
+      `<p id="bal-problem" class="problem" hidden></p><div id="bal-result"></div><div id="bal-plots" class="plots"></div>`;
+    el.querySelector("#bal-run").addEventListener("click", run);
+    el.querySelector("#bal-apply").addEventListener("click", apply);
+  };
+  let answer = null;
+  const request = (mode) => {
+    const fam = ctx.state.design.mechanism.type;
+    const body = { ...linkage() };
+    const radii = {};
+    for (const l of (fam === "slider_crank" ? ["crank"] : ["crank", "rocker"])) {
+      const v = read("bal", `max_radius_m.${l}`);
+      if (v !== null) radii[l] = v;
+    }
+    body.max_radius_m = radii;
+    if (mode === "optimal") {
+      body.weights = { shaking_force: read("bal", "weights.shaking_force") ?? 0, shaking_moment: read("bal", "weights.shaking_moment") ?? 0,
+        driving_torque: read("bal", "weights.driving_torque") ?? 0 };
+      const budget = read("bal", "mass_budget_kg");
+      if (budget !== null) body.mass_budget_kg = budget;
+      // the trade-off curve: from all force to all moment, each point re-analysed by the service
+      body.sweep = [0, 0.25, 0.5, 0.75, 1].map((t) => ({ shaking_force: 1 - t, shaking_moment: t }));
+    }
+    return body;
+  };
+  async function run() {
+    clearPanel("bal");
+    const mode = read("bal", "mode");
+    if (!checkNumbers("bal", ["mass_budget_kg", "weights.shaking_force", "weights.shaking_moment", "weights.driving_torque"])) return;
+    busy("bal", "balancing…");
+    try {
+      answer = await post(`/v1/balancing/${mode}`, request(mode));
+      await show(answer);
+      answered("balancing");
+      busy("bal", "");
+      document.body.dataset.balanced = mode;
+    } catch (err) { busy("bal", ""); panelProblem("bal", err); }
+  }
+  async function show(ans, picked = -1) {
+    answer = ans;
+    // the balanced linkage analysed again by the service: the before/after curves
+    const before = ctx.state.answer;
+    const after = await post("/v1/analysis", { ...linkage(), balancing: ans });
+    const res = document.getElementById("bal-result");
+    res.innerHTML = `<h3>${ans.mode} balance: ${ans.counterweights.length} counterweight(s), ${fmt(ans.total_added_mass_kg)} kg added</h3>` +
+      `<table><tr><th>link</th><th>mass</th><th>radius</th><th>angle</th></tr>` + ans.placements.map((p, n) =>
+        `<tr><td>${p.link}</td><td class="num">${fmt(ans.counterweights[n].mass_kg)} kg</td><td class="num">${L(p.radius_m)}</td>` +
+        `<td class="num">${fmt(p.angle_deg)}°</td></tr>`).join("") + "</table>" +
+      (ans.counter_rotors ? `<p>Counter-rotors: ${ans.counter_rotors.map((r) => `${r.link} ${fmt(r.inertia_kgm2)} kg·m² at −${fmt(r.ratio)}×`).join(", ")}` +
+        (ans.coupler_inertia_kgm2 !== null ? `; coupler inertia about its centre ${fmt(ans.coupler_inertia_kgm2)} kg·m²` : "") + "</p>" : "") +
+      summaryTable(SUMMARY_ROWS, ans.summary_before, ans.summary_after) +
+      `<p class="note">Check: residual shaking force ${fmt(ans.checks.residual_shaking_force_N)} N, residual shaking moment ${fmt(ans.checks.residual_shaking_moment_Nm)} N·m ` +
+      `(the balanced linkage re-analysed by the service).</p>`;
+    const box = document.getElementById("bal-plots");
+    box.innerHTML = "";
+    const x = after.crank_angle_deg;
+    polarPlot(box, "bal-polar", { title: "Shaking force: before and after", unit: "N",
+      series: Object.assign([{ name: "before", points: before.shaking_force_N, colour: "#8a93a3" }, { name: "after", points: after.shaking_force_N, colour: "#1f5fbf" }], { angles: x }) });
+    document.getElementById("bal-polar").dataset.afterRadius = Math.max(...after.shaking_force_N.map((p) => Math.hypot(p[0], p[1])));
+    document.getElementById("bal-polar").dataset.beforeRadius = Math.max(...before.shaking_force_N.map((p) => Math.hypot(p[0], p[1])));
+    linePlot(box, "bal-moment", { title: "Shaking moment: before and after", x, xLabel: "crank angle φ [°]", yLabel: "M [N·m]", unit: "N·m",
+      series: [{ name: "before", values: before.shaking_moment_Nm, colour: "#8a93a3" }, { name: "after", values: after.shaking_moment_Nm, colour: "#1f5fbf" }] });
+    linePlot(box, "bal-torque", { title: "Driving torque: before and after", x, xLabel: "crank angle φ [°]", yLabel: "T [N·m]", unit: "N·m",
+      series: [{ name: "before", values: before.driving_torque_Nm, colour: "#8a93a3" }, { name: "after", values: after.driving_torque_Nm, colour: "#1f5fbf" }] });
+    if (ans.tradeoff && ans.tradeoff.length) {
+      scatterPlot(box, "bal-tradeoff", { title: "Trade-off sweep (click a point to open its design)", line: true, highlight: [picked],
+        xLabel: "RMS shaking force [N]", yLabel: "RMS shaking moment [N·m]",
+        points: ans.tradeoff.map((t) => ({ x: t.summary_after.rms_shaking_force_N, y: t.summary_after.rms_shaking_moment_Nm, design: t,
+          label: `force weight ${fmt(t.weights.shaking_force)}, moment weight ${fmt(t.weights.shaking_moment)}` })),
+        onPick: (p, n) => show({ ...p.design, tradeoff: ans.tradeoff }, n) });
+    }
+    document.getElementById("bal-apply").disabled = false;
+  }
+  function apply() {
+    if (!answer) return;
+    const d = structuredClone(ctx.state.design);
+    d.counterweights = [...(d.counterweights || []), ...answer.counterweights];
+    if (answer.counter_rotors) d.counter_rotors = [...(d.counter_rotors || []), ...answer.counter_rotors.map((r) => ({ link: r.link, inertia_kgm2: r.inertia_kgm2, ratio: r.ratio }))];
+    if (answer.coupler_inertia_kgm2 !== null && answer.coupler_inertia_kgm2 !== undefined) d.coupler_inertia_kgm2 = answer.coupler_inertia_kgm2;
+    ctx.setDesign(d);
+    ctx.selectTab("mechanism");
+  }
+  return render;
+}
+
+// --- flywheel ----------------------------------------------------------------------------------------------------
+function flywheelPanel() {
+  const el = document.getElementById("panel-flywheel");
+  let types = [];
+  const render = async () => {
+    if (!types.length) { try { types = await get("/v1/machine-types"); } catch { types = []; } }
+    el.innerHTML = `<h2>Flywheel</h2><div class="controls">` +
+      field("fly", { name: "delta", label: "Target δ (empty: machine type)", model: "FlywheelIn", path: "delta", value: 0.05 }) +
+      field("fly", { name: "machine_type", label: "Machine type", options: [["", "–"], ...types.map((t) => [t.machine_type, `${t.label} (δ ≤ ${fmt(t.default_delta, 3)})`])], value: "" }) +
+      field("fly", { name: "geometry.shape", label: "Shape", options: [["rim", "rim on spokes"], ["disc", "solid disc"]], value: "rim" }) +
+      field("fly", { name: "geometry.density_kg_m3", label: "Density", model: "GeometryIn", path: "density_kg_m3", value: 7200 }) +
+      field("fly", { name: "geometry.max_rim_speed_m_s", label: "Largest rim speed", model: "GeometryIn", path: "max_rim_speed_m_s", value: 30 }) +
+      `</div><div class="actions"><button class="run" id="fly-run">Size the flywheel</button><span id="fly-status" class="note"></span></div>` +
+      `<p id="fly-problem" class="problem" hidden></p><div id="fly-result"></div><div id="fly-plots" class="plots"></div>`;
+    el.querySelector("#fly-run").addEventListener("click", run);
+  };
+  async function run() {
+    clearPanel("fly");
+    if (!checkNumbers("fly", ["delta", "geometry.density_kg_m3", "geometry.max_rim_speed_m_s"])) return;
+    const body = linkage();
+    body.mean_speed_rpm = body.speed_rpm; delete body.speed_rpm;
+    const delta = read("fly", "delta"), type = read("fly", "machine_type");
+    if (delta !== null) body.delta = delta;
+    if (type) body.machine_type = type;
+    body.geometry = { shape: read("fly", "geometry.shape"), density_kg_m3: read("fly", "geometry.density_kg_m3"),
+      max_rim_speed_m_s: read("fly", "geometry.max_rim_speed_m_s") };
+    busy("fly", "sizing…");
+    try {
+      const a = await post("/v1/flywheel", body);
+      answered("flywheel");
+      busy("fly", "");
+      show(a);
+    } catch (err) { busy("fly", ""); panelProblem("fly", err); }
+  }
+  function show(a) {
+    const g = a.geometry && a.geometry.best;
+    const res = document.getElementById("fly-result");
+    res.innerHTML = `<table><tr><td>Flywheel inertia to add</td><td class="num">${fmt(a.flywheel_inertia_kgm2)} kg·m²</td></tr>` +
+      `<tr><td>Target δ / simulated δ (check)</td><td class="num">${fmt(a.target_delta)} / ${fmt(a.achieved_delta)}</td></tr>` +
+      `<tr><td>Crank speed band</td><td class="num">${fmt(a.omega_min_rad_s)} … ${fmt(a.omega_max_rad_s)} rad/s</td></tr>` +
+      (g ? `<tr><td>Body (${g.shape}) on the ${g.shaft} shaft</td><td class="num">outer D = ${L(g.outer_diameter_m)} (mean ${L(g.diameter_m)}), ` +
+        `b = ${L(g.width_m)}, m = ${fmt(g.mass_kg)} kg, rim speed ${fmt(g.rim_speed_m_s)} m/s</td></tr>` : "") +
+      "</table>";
+    const box = document.getElementById("fly-plots");
+    box.innerHTML = "";
+    const s = a.speed;
+    linePlot(box, "fly-speed", { title: "Crank speed over the cycle, within its band", x: s.crank_angle_deg, xLabel: "crank angle φ [°]",
+      yLabel: "ω [rad/s]", unit: "rad/s", series: [{ name: "ω", values: s.omega_rad_s }],
+      limits: [{ y: a.mean_speed_rad_s * (1 + a.target_delta / 2), label: "ω_mean(1+δ/2)" }, { y: a.mean_speed_rad_s * (1 - a.target_delta / 2), label: "ω_mean(1−δ/2)" }] });
+    const em = a.energy_mass;
+    const plot = scatterPlot(box, "fly-energy-mass", { title: "Energy-mass diagram (Wittenbauer) with its tangents", xLabel: "J_red [kg·m²]", yLabel: "ΔA [J]",
+      points: em.reduced_inertia_kgm2.map((j, n) => ({ x: j, y: em.excess_work_J[n], label: `φ = ${fmt(em.crank_angle_deg[n])}°` })).filter((_, n) => n % 4 === 0) });
+    const svg = plot.el.querySelector("svg");
+    svg.querySelectorAll("circle.pick").forEach((c) => { c.setAttribute("r", 2); c.removeAttribute("tabindex"); });
+    const js = em.reduced_inertia_kgm2, x0 = Math.min(...js), x1 = Math.max(...js);
+    for (const [k, b, colour] of [[em.tangent_max_slope_J_per_kgm2, em.tangent_max_intercept_J, "#1b7a3a"], [em.tangent_min_slope_J_per_kgm2, em.tangent_min_intercept_J, "#b3261e"]]) {
+      const l = document.createElementNS("http://www.w3.org/2000/svg", "line");
+      l.setAttribute("x1", plot.X(x0)); l.setAttribute("x2", plot.X(x1)); l.setAttribute("y1", plot.Y(k * x0 + b)); l.setAttribute("y2", plot.Y(k * x1 + b));
+      l.setAttribute("stroke", colour); l.setAttribute("stroke-width", "1.2"); l.setAttribute("clip-path", plot.clip);
+      svg.appendChild(l);
+    }
+    if (g) drawBody(box, g);
+  }
+  function drawBody(box, g) {
+    const div = document.createElement("div");
+    div.className = "plot"; div.id = "fly-body";
+    const R = g.outer_diameter_m / 2, r = g.shape === "rim" ? R - g.rim_thickness_m : 0, b = g.width_m;
+    const W = 2 * R + b * 3, H = 2 * R * 1.25, sw = R / 60;
+    div.innerHTML = `<h4>The flywheel (${g.shape}): front and section</h4><svg viewBox="${-R * 1.1} ${-R * 1.2} ${W} ${H}" role="img" aria-label="flywheel drawing">` +
+      `<circle cx="0" cy="0" r="${R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
+      (r > 0 ? `<circle cx="0" cy="0" r="${r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` +
+        [0, 60, 120].map((a) => `<line x1="${-r * Math.cos(a * Math.PI / 180)}" y1="${-r * Math.sin(a * Math.PI / 180)}" x2="${r * Math.cos(a * Math.PI / 180)}" y2="${r * Math.sin(a * Math.PI / 180)}" stroke="#2d3e5c" stroke-width="${sw * 3}"/>`).join("") : "") +
+      `<circle cx="0" cy="0" r="${R * 0.08}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` +
+      `<rect x="${R * 1.3}" y="${-R}" width="${b}" height="${2 * R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
+      (r > 0 ? `<rect x="${R * 1.3 + b * 0.35}" y="${-r}" width="${b * 0.3}" height="${2 * r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` : "") +
+      `<text x="0" y="${R * 1.08}" text-anchor="middle" style="font-size:${R / 9}px">D = ${L(g.outer_diameter_m)}</text>` +
+      `<text x="${R * 1.3 + b / 2}" y="${-R * 1.06}" text-anchor="middle" style="font-size:${R / 9}px">b = ${L(b)}</text></svg>`;
+    box.appendChild(div);
+  }
+  return render;
+}
+
+// --- drive -------------------------------------------------------------------------------------------------------
+function drivePanel() {
+  const el = document.getElementById("panel-drive");
+  const render = () => {
+    const a = ctx.state.answer;
+    // The mean power the crank takes, read off the analysis answer as a starting value the user may change.
+    const w = (ctx.state.design.speed_rpm * Math.PI) / 30;
+    const mean = a ? a.driving_torque_Nm.reduce((s, v) => s + v, 0) / a.driving_torque_Nm.length * w : 1000;
+    el.innerHTML = `<h2>Drive: motor, ratio split, teeth</h2><div class="controls">` +
+      field("drv", { name: "output_power_W", label: "Power at the crank", model: "DriveIn", path: "output_power_W", value: Math.max(1, Number(mean.toPrecision(4))) }) +
+      field("drv", { name: "output_speed_rpm", label: "Crank speed", model: "DriveIn", path: "output_speed_rpm", value: ctx.state.design.speed_rpm }) +
+      field("drv", { name: "stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"], ["3", "3 helical"]], value: "2" }) +
+      `</div><div class="actions"><button class="run" id="drv-run">Design the drive</button><span id="drv-status" class="note"></span></div>` +
+      `<p id="drv-problem" class="problem" hidden></p><div id="drv-result"></div>`;
+    el.querySelector("#drv-run").addEventListener("click", run);
+  };
+  async function run() {
+    clearPanel("drv");
+    if (!checkNumbers("drv", ["output_power_W", "output_speed_rpm"])) return;
+    const stages = Array(Number(read("drv", "stages"))).fill("helical");
+    const body = { output_power_W: read("drv", "output_power_W"), output_speed_rpm: read("drv", "output_speed_rpm"), stages };
+    busy("drv", "designing…");
+    try {
+      const d = await post("/v1/gears/drive", body);
+      // tooth numbers for each stage of the split, one search per stage
+      const teeth = await Promise.all(d.stage_ratios.map((r) => post("/v1/gears/teeth", { total_ratio: r, stages: 1 })));
+      busy("drv", "");
+      answered("drive");
+      const res = document.getElementById("drv-result");
+      res.innerHTML = `<h3>Motor ${d.motor.name}: ${fmt(d.motor.rated_power_W / 1000)} kW at ${fmt(d.motor.rated_rpm)} rpm; required ${fmt(d.required_power_W / 1000)} kW</h3>` +
+        `<table><tr><th>stage</th><th>ratio (split)</th><th>teeth</th><th>ratio (teeth)</th><th>efficiency</th></tr>` +
+        d.stage_ratios.map((r, n) => `<tr><td>${n + 1}</td><td class="num">${fmt(r)}</td><td class="num">${teeth[n].stages[0].pinion_teeth} / ${teeth[n].stages[0].gear_teeth}</td>` +
+          `<td class="num">${fmt(teeth[n].stages[0].ratio)} (${fmt(100 * teeth[n].ratio_error, 3)} %)</td><td class="num">${fmt(d.stage_efficiencies[n])}</td></tr>`).join("") + "</table>" +
+        `<p>Total ratio ${fmt(d.total_ratio)}; tooth numbers: ${esc(teeth[0].method)}.</p>` +
+        `<h3>Shafts</h3><table><tr><th>shaft</th><th>speed</th><th>torque</th><th>power</th></tr>` +
+        d.shafts.map((s, n) => `<tr><td>${n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `shaft ${n}`}</td><td class="num">${fmt(s.speed_rpm)} rpm</td>` +
+          `<td class="num">${fmt(s.torque_Nm)} N·m</td><td class="num">${fmt(s.power_W)} W</td></tr>`).join("") + "</table>" +
+        `<p class="note">Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J.</p>` +
+        (d.warnings || []).map((w) => `<p class="note">⚠ ${esc(w.message)}</p>`).join("");
+    } catch (err) { busy("drv", ""); panelProblem("drv", err); }
+  }
+  return render;
+}
+
+// --- the whole machine -------------------------------------------------------------------------------------------
+function machinePanel() {
+  const el = document.getElementById("panel-machine");
+  let last = null;
+  const render = () => {
+    const fam = ctx.state.design.mechanism.type;
+    // the modes the chain takes per family (docs/machine.md)
+    const modes = { fourbar: ["none", "static", "full", "optimal"], slider_crank: ["none", "static", "full", "optimal"],
+      slotted_lever: ["none", "optimal"] }[fam] || ["none"];
+    el.innerHTML = `<h2>The whole machine: linkage, balance, drive, flywheel, simulation</h2><div class="controls">` +
+      field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }) +
+      field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }) +
+      field("mac", { name: "drive.stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"]], value: "1" }) +
+      field("mac", { name: "alternatives", label: "Alternatives side by side", options: [["true", "yes"], ["false", "no"]], value: "true" }) +
+      `</div><div class="actions"><button class="run" id="mac-run">Design the machine</button>` +
+      `<button class="secondary" id="mac-pdf" disabled>Download the design record (PDF)</button><span id="mac-status" class="note"></span></div>` +
+      `<p id="mac-problem" class="problem" hidden></p><div id="mac-result"></div>`;
+    el.querySelector("#mac-run").addEventListener("click", run);
+    el.querySelector("#mac-pdf").addEventListener("click", pdf);
+  };
+  const request = () => {
+    const body = linkage();
+    body.samples = Math.min(body.samples || 360, 3600);
+    body.delta = read("mac", "delta");
+    body.balancing = { mode: read("mac", "balancing.mode") };
+    body.drive = { stages: Array(Number(read("mac", "drive.stages"))).fill("helical"), synchronous_rpm: 1500 };
+    body.alternatives = read("mac", "alternatives") === "true";
+    return body;
+  };
+  async function run() {
+    clearPanel("mac");
+    if (!checkNumbers("mac", ["delta"])) return;
+    last = request();
+    busy("mac", "designing…");
+    try {
+      const m = await post("/v1/machines/design", last);
+      answered("machine");
+      busy("mac", "");
+      show(m);
+      document.getElementById("mac-pdf").disabled = false;
+    } catch (err) { busy("mac", ""); panelProblem("mac", err); }
+  }
+  async function pdf() {
+    busy("mac", "writing the design record…");
+    try {
+      const blob = await postFile("/v1/machines/design?format=pdf", last);
+      download(blob, "design-record.pdf");
+      busy("mac", "design record downloaded");
+    } catch (err) { busy("mac", ""); panelProblem("mac", err); }
+  }
+  function show(m) {
+    const tick = (ok) => (ok ? '<span class="ok">✔</span>' : '<span class="ko">✘</span>');
+    const fw = m.flywheel.geometry && m.flywheel.geometry.best;
+    const stages = [
+      ["1 linkage", `${ctx.state.design.mechanism.type}, RMS driving torque ${fmt(m.analysis.summary.rms_driving_torque_Nm)} N·m, RMS shaking force ${fmt(m.analysis.summary.rms_shaking_force_N)} N`],
+      ["2 balance", `${m.balancing_mode}: RMS shaking force ${fmt(m.summary_after_balancing.rms_shaking_force_N)} N, moment ${fmt(m.summary_after_balancing.rms_shaking_moment_Nm)} N·m`],
+      ["3 motor", `${m.motor.motor.name}, ${fmt(m.motor.motor.rated_power_W / 1000)} kW; required ${fmt(m.motor.required_power_W / 1000)} kW`],
+      ["4 gears", `ratios ${m.stage_ratios.map((r) => fmt(r)).join(" × ")}` + (m.teeth ? `, teeth ${m.teeth.stages.map((s) => `${s.pinion_teeth}/${s.gear_teeth}`).join(", ")}` : "")],
+      ["5 flywheel", fw ? `${fmt(fw.mass_kg)} kg ${fw.shape} on the ${m.flywheel_shaft} shaft, D = ${L(fw.outer_diameter_m)}` : "none needed"],
+      ["6 simulation", `δ = ${fmt(m.simulation.achieved_delta)}, mean speed ${fmt(m.simulation.mean_crank_speed_rpm)} rpm, motor peak ${fmt(m.simulation.motor_peak_torque_Nm)} N·m`],
+    ];
+    // each check beside the stage whose choice it judges
+    const judged = { "3 motor": ["motor_rms_torque", "motor_peak_torque"], "4 gears": ["mean_speed"], "5 flywheel": ["delta"] };
+    const verdict = (stage) => (judged[stage] || []).map((n) => m.checks.find((c) => c.name === n)).filter(Boolean)
+      .map((c) => `${tick(c.passed)} ${esc(c.name)}`).join(" ");
+    const res = document.getElementById("mac-result");
+    res.innerHTML = `<h3 id="mac-verdict">${tick(m.passed)} ${m.passed ? "every check passed" : "a check failed"}</h3>` +
+      `<table><tr><th>stage</th><th>result</th><th>checks</th></tr>${stages.map(([k, v]) => `<tr><td>${k}</td><td>${esc(v)}</td><td>${verdict(k)}</td></tr>`).join("")}</table>` +
+      `<h3>Checks against the simulated machine</h3><table><tr><th></th><th>check</th><th>value</th><th>limit</th><th></th></tr>` +
+      m.checks.map((c) => `<tr class="check"><td>${tick(c.passed)}</td><td>${esc(c.name)}</td><td class="num">${fmt(c.value)}</td><td class="num">${fmt(c.limit)}</td><td class="note">${esc(c.detail)}</td></tr>`).join("") + "</table>" +
+      (m.alternatives.length ? `<h3>Alternatives side by side</h3><table><tr><th>balancing</th><th>flywheel</th><th>motor</th><th>δ</th><th>checks</th></tr>` +
+        m.alternatives.map((a) => `<tr><td>${a.mode}</td><td>${a.available ? (a.flywheel_mass_kg !== null ? `${fmt(a.flywheel_mass_kg)} kg on ${a.flywheel_shaft}` : "none") : esc(a.reason || "")}</td>` +
+          `<td>${a.motor || "–"}</td><td class="num">${a.achieved_delta !== null ? fmt(a.achieved_delta) : "–"}</td><td>${a.passed === null ? "–" : tick(a.passed)}</td></tr>`).join("") + "</table>" : "") +
+      (m.warnings || []).map((w) => `<p class="note">⚠ ${esc(w.message)}</p>`).join("");
+    const box = document.createElement("div");
+    box.className = "plots";
+    res.appendChild(box);
+    linePlot(box, "mac-speed", { title: "Simulated crank speed of the assembled machine", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
+      yLabel: "ω [rad/s]", unit: "rad/s", series: [{ name: "ω", values: m.simulation.omega_rad_s }] });
+    linePlot(box, "mac-motor", { title: "Motor torque over the cycle", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
+      yLabel: "T_motor [N·m]", unit: "N·m", series: [{ name: "motor torque", values: m.simulation.motor_torque_Nm }],
+      limits: [{ y: m.motor.rated_torque_Nm, label: "rated" }] });
+  }
+  return render;
+}
+
+// --- synthesis ---------------------------------------------------------------------------------------------------
+function synthesisPanel() {
+  const el = document.getElementById("panel-synthesis");
+  let points = [];
+  let answer = null;
+  const VIEW = { x0: -0.1, y0: -0.05, w: 0.4, h: 0.3 };
+  const render = () => {
+    el.innerHTML = `<h2>Synthesis</h2><div class="controls">` +
+      field("syn", { name: "task", label: "Task", options: [["crank-rocker", "crank-rocker: swing and time ratio"], ["slider-crank", "slider-crank: stroke and time ratio"], ["path", "four-bar through path points"]], value: "crank-rocker" }) +
+      field("syn", { name: "swing_deg", label: "Rocker swing", model: "CrankRockerIn", path: "swing_deg", value: 40 }) +
+      field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }) +
+      field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }) +
+      field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 }) +
+      `</div><p class="note" id="syn-path-note">Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path).</p>` +
+      `<svg id="synth-canvas" viewBox="${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}" role="application" aria-label="Click to place path points" tabindex="0"></svg>` +
+      `<div class="controls" id="syn-points">` + field("syn", { name: "px", label: "Point x", kind: "length" }) + field("syn", { name: "py", label: "Point y", kind: "length" }) +
+      `</div><div class="actions"><button class="secondary" id="syn-add">Add the point</button><button class="secondary" id="syn-clear">Clear points</button><button class="run" id="syn-run">Synthesise</button>` +
+      `<button class="secondary" id="syn-open" disabled>Open the answer in the editor</button><span id="syn-status" class="note"></span></div>` +
+      `<p id="syn-problem" class="problem" hidden></p><div id="syn-result"></div>`;
+    // each task shows the fields it takes
+    const USED = { "crank-rocker": ["swing_deg", "time_ratio", "scale_length_m"], "slider-crank": ["stroke_m", "time_ratio"], path: [] };
+    const showTask = () => {
+      const used = USED[read("syn", "task")];
+      for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m"]) {
+        document.getElementById(`syn-${name}`).closest(".row").hidden = !used.includes(name);
+      }
+      for (const id of ["syn-path-note", "synth-canvas", "syn-points", "syn-add", "syn-clear"]) document.getElementById(id).hidden = read("syn", "task") !== "path";
+    };
+    el.querySelector("#syn-task").addEventListener("change", showTask);
+    showTask();
+    const canvas = el.querySelector("#synth-canvas");
+    canvas.addEventListener("click", (evt) => {
+      if (points.length >= 30) return;
+      const p = toModel(canvas, evt);
+      points.push([Number(p[0].toFixed(5)), Number(p[1].toFixed(5))]);
+      if (read("syn", "task") !== "path") { document.getElementById("syn-task").value = "path"; showTask(); }
+      drawCanvas();
+    });
+    el.querySelector("#syn-clear").addEventListener("click", () => { points = []; drawCanvas(); });
+    // the keyboard's way to place a point: its coordinates typed in the form's unit
+    el.querySelector("#syn-add").addEventListener("click", () => {
+      clearPanel("syn");
+      const x = read("syn", "px"), y = read("syn", "py");
+      if (!checkNumbers("syn", ["px", "py"]) || x === null || y === null) return;
+      points.push([x, y]);
+      document.getElementById("syn-task").value = "path";
+      showTask();
+      drawCanvas();
+    });
+    el.querySelector("#syn-run").addEventListener("click", run);
+    el.querySelector("#syn-open").addEventListener("click", open);
+    drawCanvas();
+  };
+  function drawCanvas() {
+    const canvas = document.getElementById("synth-canvas");
+    const f = ctx.factor("length"), u = ctx.unitLabel("length");
+    const step = 0.05;
+    let s = "";
+    for (let x = VIEW.x0 + step; x < VIEW.x0 + VIEW.w - 1e-9; x += step) {
+      s += `<line x1="${x}" x2="${x}" y1="${-(VIEW.y0 + VIEW.h)}" y2="${-VIEW.y0}" stroke="#e3e7ee" stroke-width="0.001"/>` +
+        `<text x="${x + 0.002}" y="${-VIEW.y0 - 0.004}" style="font-size:0.011px" fill="#5b6575">${+(x / f).toFixed(3)}</text>`;
+    }
+    for (let y = VIEW.y0 + step; y < VIEW.y0 + VIEW.h - 1e-9; y += step) {
+      s += `<line y1="${-y}" y2="${-y}" x1="${VIEW.x0}" x2="${VIEW.x0 + VIEW.w}" stroke="#e3e7ee" stroke-width="0.001"/>` +
+        `<text x="${VIEW.x0 + 0.002}" y="${-y - 0.003}" style="font-size:0.011px" fill="#5b6575">${+(y / f).toFixed(3)}</text>`;
+    }
+    s += `<text x="${VIEW.x0 + VIEW.w - 0.004}" y="${-(VIEW.y0 + VIEW.h) + 0.014}" text-anchor="end" style="font-size:0.012px">[${u}]</text>`;
+    if (answer && answer.curve) s += `<polygon points="${answer.curve.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#c25e00" stroke-width="0.0015" stroke-dasharray="0.004 0.002"/>`;
+    if (points.length > 1) s += `<polyline points="${points.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#d0243a" stroke-width="0.0008"/>`;
+    points.forEach((p, n) => {
+      s += `<circle class="target" cx="${p[0]}" cy="${-p[1]}" r="0.004"/><text x="${p[0] + 0.005}" y="${-p[1] - 0.004}" style="font-size:0.012px">${n + 1}</text>`;
+    });
+    canvas.innerHTML = s;
+    canvas.dataset.points = JSON.stringify(points);
+  }
+  async function run() {
+    clearPanel("syn");
+    const task = read("syn", "task");
+    let body;
+    if (task === "crank-rocker") {
+      if (!checkNumbers("syn", ["swing_deg", "time_ratio", "scale_length_m"])) return;
+      body = { swing_deg: read("syn", "swing_deg"), time_ratio: read("syn", "time_ratio"), scale_link: "rocker",
+        scale_length_m: read("syn", "scale_length_m"), speed_rpm: ctx.state.design.speed_rpm };
+    } else if (task === "slider-crank") {
+      if (!checkNumbers("syn", ["stroke_m", "time_ratio"])) return;
+      body = { stroke_m: read("syn", "stroke_m"), time_ratio: read("syn", "time_ratio"), speed_rpm: ctx.state.design.speed_rpm };
+    } else {
+      body = { points_m: points, starts: 16, seed: 1 };
+    }
+    busy("syn", "synthesising…");
+    try {
+      const a = await post(`/v1/synthesis/${task}`, body);
+      answer = { task, ...a };
+      if (task === "path") {
+        // the answer's coupler curve, analysed by the service, drawn among the targets
+        const an = await post("/v1/analysis", { mechanism: a.mechanism, samples: 180, trace_points: [a.trace_point] });
+        const [ox, oy] = a.crank_pivot_m, t = (a.ground_angle_deg * Math.PI) / 180;
+        answer.curve = an.points[a.trace_point.name].position_m.map(([x, y]) => [ox + Math.cos(t) * x - Math.sin(t) * y, oy + Math.sin(t) * x + Math.cos(t) * y]);
+        drawCanvas();
+      }
+      busy("syn", "");
+      show();
+    } catch (err) { busy("syn", ""); panelProblem("syn", err.body && err.body.field === "points_m" ? Object.assign(err, { body: { ...err.body, field: null } }) : err); }
+  }
+  /** Target points in the answer mechanism's own frame (crank pivot at the origin, O->Q along x). */
+  function targetsInMechanismFrame() {
+    const [ox, oy] = answer.crank_pivot_m, t = (answer.ground_angle_deg * Math.PI) / 180;
+    return points.map(([x, y]) => [Math.cos(t) * (x - ox) + Math.sin(t) * (y - oy), -Math.sin(t) * (x - ox) + Math.cos(t) * (y - oy)]);
+  }
+  function show() {
+    const a = answer, m = a.mechanism;
+    const res = document.getElementById("syn-result");
+    const lengths = Object.entries(m).filter(([k]) => k.endsWith("_length_m") || k === "offset_m").map(([k, v]) => `${k.replace(/_m$/, "")} ${L(v)}`).join(", ");
+    let text = `<h3>${m.type}: ${esc(lengths)}</h3>`;
+    if (a.task === "path") {
+      text += `<p>Coupler point ${L(a.trace_point.position_m[0])}, ${L(a.trace_point.position_m[1])} in the coupler frame; largest distance from a target ` +
+        `${L(a.max_residual_m)} (RMS ${L(a.rms_residual_m)}); ${a.check.grashof}, swing ${fmt(a.check.swing_deg)}°, ${a.starts_converged}/${a.starts} starts converged.</p>`;
+    } else {
+      text += `<p>${esc(a.objective)} = ${fmt(a.objective_value)} ${esc(a.objective_unit)}; check by the kinematics engine: time ratio ${fmt(a.check.time_ratio)}` +
+        (a.check.swing_deg !== undefined ? `, swing ${fmt(a.check.swing_deg)}°` : `, stroke ${L(a.check.stroke_m)}`) +
+        `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.</p>`;
+    }
+    res.innerHTML = text;
+    document.getElementById("syn-open").disabled = false;
+    document.body.dataset.synthesised = a.task;
+  }
+  function open() {
+    if (!answer) return;
+    const d = { mechanism: structuredClone(answer.mechanism), speed_rpm: ctx.state.design.speed_rpm, samples: ctx.state.design.samples || 360 };
+    let targets = [];
+    if (answer.task === "path") {
+      d.trace_points = [structuredClone(answer.trace_point)];
+      targets = targetsInMechanismFrame();
+    } else if (answer.mechanism.type === "fourbar") {
+      const len = answer.mechanism.coupler_length_m;
+      d.trace_points = [{ name: "P", link: "coupler", position_m: [len / 2, len * 0.4] }];
+    }
+    ctx.setDesign(d, { targets });
+    ctx.selectTab("mechanism");
+  }
+  return render;
+}
+
+// --- studies -----------------------------------------------------------------------------------------------------
+// What a study can send each variant to, and the figures of its answer offered as objectives.
+const STUDY_ENDPOINTS = {
+  "/v1/analysis": { label: "analysis", metrics: [["summary.rms_shaking_force_N", "RMS shaking force [N]"],
+    ["summary.rms_driving_torque_Nm", "RMS driving torque [N·m]"], ["summary.rms_shaking_moment_Nm", "RMS shaking moment [N·m]"],
+    ["summary.max_bearing_force_N", "largest bearing force [N]"], ["summary.max_driving_torque_Nm", "peak driving torque [N·m]"]] },
+  "/v1/balancing/optimal": { label: "optimal balancing", metrics: [["summary_after.rms_shaking_force_N", "RMS shaking force, balanced [N]"],
+    ["total_added_mass_kg", "added mass [kg]"], ["summary_after.rms_shaking_moment_Nm", "RMS shaking moment, balanced [N·m]"],
+    ["summary_after.rms_driving_torque_Nm", "RMS driving torque, balanced [N·m]"]] },
+};
+const ALL_METRICS = Object.values(STUDY_ENDPOINTS).flatMap((e) => e.metrics);
+
+/** A study's default range around a value: ±20 %, rounded to three digits; a zero spans 0 to 1. */
+function span(v) {
+  if (!v) return [0, 1];
+  const r = (x) => Number(x.toPrecision(3));
+  return [r(Math.min(v * 0.8, v * 1.2)), r(Math.max(v * 0.8, v * 1.2))];
+}
+
+function studiesPanel() {
+  const el = document.getElementById("panel-studies");
+  let study = null, timer = null, base = null;
+  const render = () => {
+    const numeric = ctx.state.fields.filter((f) => !f.options && !f.path.startsWith("loads") && f.path !== "samples" && typeof ctx.getPath(ctx.state.design, f.path) === "number");
+    const opts = numeric.map((f) => [f.path, `${f.groupLabel}: ${f.label}`]);
+    const cur = (p) => ctx.getPath(ctx.state.design, p);
+    const row = (n, path) => {
+      const f = numeric.find((x) => x.path === path) || numeric[0];
+      const v = cur(f.path);
+      const [lo, hi] = span(v);
+      return field("stu", { name: `p${n}.path`, label: `Parameter ${n + 1}`, options: opts, value: f.path }) +
+        field("stu", { name: `p${n}.from`, label: "from", kind: f.kind, value: lo }) +
+        field("stu", { name: `p${n}.to`, label: "to", kind: f.kind, value: hi }) +
+        field("stu", { name: `p${n}.count`, label: "values", value: 5 });
+    };
+    el.innerHTML = `<h2>Design study over the current design</h2><div class="controls study">` + row(0, "mechanism.crank_length_m") +
+      row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path) + `</div><div class="controls">` +
+      field("stu", { name: "endpoint", label: "Each variant to", options: Object.entries(STUDY_ENDPOINTS).map(([k, v]) => [k, v.label]), value: "/v1/analysis" }) +
+      field("stu", { name: "x", label: "Objective 1 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[0][0] }) +
+      field("stu", { name: "y", label: "Objective 2 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[1][0] }) +
+      `</div><div class="actions"><button class="run" id="stu-run">Start the study</button><button class="secondary" id="stu-cancel" disabled>Cancel</button>` +
+      `<button class="secondary" id="stu-resume" disabled>Resume</button><a id="stu-csv" href="#" hidden download="study.csv">Results as CSV</a><span id="stu-status" class="note"></span></div>` +
+      `<progress id="stu-progress" max="1" value="0"></progress><p id="stu-problem" class="problem" hidden></p><div id="stu-plots" class="plots"></div>`;
+    el.querySelector("#stu-run").addEventListener("click", start);
+    el.querySelector("#stu-cancel").addEventListener("click", async () => { if (study) { study = await del(study.links.self); poll(); } });
+    el.querySelector("#stu-resume").addEventListener("click", async () => { if (study) { study = await post(`${study.links.self}/resume`, {}); poll(); } });
+    document.getElementById("stu-endpoint").addEventListener("change", (e) => {
+      const metrics = STUDY_ENDPOINTS[e.target.value].metrics;
+      ["x", "y"].forEach((k, n) => {
+        const sel = document.getElementById(`stu-${k}`);
+        sel.innerHTML = metrics.map(([v, l]) => `<option value="${esc(v)}">${esc(l)}</option>`).join("");
+        sel.value = metrics[n][0];
+      });
+    });
+    for (const n of [0, 1]) {
+      document.getElementById(`stu-p${n}.path`).addEventListener("change", (e) => {
+        const v = cur(e.target.value), f = numeric.find((x) => x.path === e.target.value);
+        span(v).forEach((s, k) => {
+          const inp = document.getElementById(`stu-p${n}.${k ? "to" : "from"}`);
+          inp.dataset.kind = f.kind; inp.value = ctx.toDisplay(s, f.kind);
+          inp.closest(".row").querySelector(".unit").textContent = ctx.unitLabel(f.kind, describe("AnalysisIn", f.schemaPath || f.path, { type: ctx.state.design.mechanism.type }).unit);
+        });
+      });
+    }
+  };
+  async function start() {
+    clearPanel("stu");
+    if (!checkNumbers("stu", ["p0.from", "p0.to", "p0.count", "p1.from", "p1.to", "p1.count"])) return;
+    base = structuredClone(ctx.state.design);
+    const endpoint = read("stu", "endpoint");
+    // an analysis varies the design as it is; a balancing study its linkage, with the panel's default weights
+    const request = endpoint === "/v1/analysis" ? base : { ...linkage(), weights: { shaking_force: 1, shaking_moment: 1 } };
+    const x = read("stu", "x"), y = read("stu", "y");
+    const parameters = [0, 1].map((n) => ({ path: read("stu", `p${n}.path`), range: [read("stu", `p${n}.from`), read("stu", `p${n}.to`)], count: Math.round(read("stu", `p${n}.count`)) }));
+    const body = { endpoint, base: request, parameters, sampling: "grid", metrics: [...new Set([x, y])], objectives: { [x]: "min", [y]: "min" }, name: "workbench study" };
+    try {
+      study = await post("/v1/studies", body);
+      document.getElementById("stu-plots").innerHTML = "";
+      poll();
+    } catch (err) { panelProblem("stu", err.body && err.body.field ? Object.assign(err, { body: { ...err.body, field: err.body.field.replace(/^parameters\.(\d)\.range.*/, "p$1.from") } }) : err); }
+  }
+  async function poll() {
+    clearTimeout(timer);
+    if (!study) return;
+    study = await get(study.links.self);
+    const bar = document.getElementById("stu-progress");
+    bar.max = study.total; bar.value = study.done;
+    const pct = study.total ? Math.round((100 * study.done) / study.total) : 0;
+    busy("stu", `${study.state}: ${study.done}/${study.total} variants (${pct} %)` + (study.failed ? `, ${study.failed} failed` : "") +
+      (study.eta_s !== null && study.state === "running" ? `, about ${Math.ceil(study.eta_s)} s to go` : "") + (study.message ? ` — ${study.message}` : ""));
+    document.getElementById("stu-status").dataset.percent = String(pct);
+    document.getElementById("stu-cancel").disabled = !["queued", "running"].includes(study.state);
+    document.getElementById("stu-resume").disabled = !["cancelled", "interrupted"].includes(study.state);
+    const csv = document.getElementById("stu-csv");
+    csv.href = `${study.links.results}?format=csv`; csv.hidden = false;
+    if (["queued", "running"].includes(study.state)) { timer = setTimeout(poll, 300); return; }
+    if (study.state === "done") await front();
+  }
+  async function front() {
+    const x = read("stu", "x"), y = read("stu", "y");
+    const [all, pareto] = await Promise.all([get(`${study.links.results}?limit=1000`), get(study.links.pareto)]);
+    const onFront = new Set(pareto.front.map((v) => v.index));
+    const pts = all.variants.filter((v) => v.metrics && v.metrics[x] !== null && v.metrics[y] !== null).map((v) => ({
+      x: v.metrics[x], y: v.metrics[y], variant: v, colour: onFront.has(v.index) ? "#c25e00" : "#b8c2d3",
+      label: `variant ${v.index}${onFront.has(v.index) ? " (Pareto front)" : ""}: ` + Object.entries(v.parameters).map(([k, val]) => `${k} = ${fmt(val)}`).join(", "),
+    }));
+    // the front drawn last, on top
+    pts.sort((a, b) => Number(onFront.has(a.variant.index)) - Number(onFront.has(b.variant.index)));
+    const box = document.getElementById("stu-plots");
+    const label = (m) => ALL_METRICS.find((k) => k[0] === m)[1];
+    const plot = scatterPlot(box, "stu-pareto", { title: `Pareto front: ${pareto.front.length} of ${pareto.candidates} variants (click one to open it)`,
+      xLabel: label(x), yLabel: label(y), points: pts, onPick: (p) => openVariant(p.variant) });
+    plot.el.querySelectorAll("circle.pick").forEach((c, n) => { c.dataset.variant = pts[n].variant.index; c.dataset.front = String(onFront.has(pts[n].variant.index)); });
+  }
+  function openVariant(v) {
+    const d = structuredClone(base);
+    for (const [path, value] of Object.entries(v.parameters)) ctx.setPath(d, path, value);
+    ctx.setDesign(d);
+    ctx.selectTab("mechanism");
+    document.body.dataset.openedVariant = String(v.index);
+  }
+  return render;
+}
+
+export function installPanels(c) {
+  ctx = c;
+  const renders = { balancing: balancingPanel(), flywheel: flywheelPanel(), drive: drivePanel(), machine: machinePanel(),
+    synthesis: synthesisPanel(), studies: studiesPanel() };
+  const rendered = { designs: {} };
+  // A panel's form is built when first opened, from the design as it is then; opening it again keeps its answer.
+  document.querySelectorAll("#tabs [role=tab]").forEach((t) => t.addEventListener("click", () => {
+    const name = t.dataset.panel;
+    if (!renders[name]) return;
+    const el = document.getElementById(`panel-${name}`);
+    const design = JSON.stringify(ctx.state.design);
+    // A new family, or a changed design with no answer shown yet: the panel's fields start again from the design.
+    if (rendered[name] !== ctx.state.design.mechanism.type || (!el.dataset.design && rendered.designs[name] !== design)) {
+      renders[name]();
+      rendered[name] = ctx.state.design.mechanism.type;
+      rendered.designs[name] = design;
+      delete el.dataset.design;
+    } else if (el.dataset.design && el.dataset.design !== design && !el.querySelector(".stale")) {
+      const note = document.createElement("p");
+      note.className = "stale problem";
+      note.textContent = "The design has changed since this answer: run again for the current one.";
+      el.querySelector("h2").after(note);
+    }
+  }));
+}

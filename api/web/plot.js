@@ -1,0 +1,218 @@
+// Small SVG plots: curves over the crank angle, polar diagrams and scatters, with hover read-outs in units.
+
+const W = 420, H = 220, M = { l: 56, r: 12, t: 20, b: 30 };
+const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3"];
+
+export function niceTicks(lo, hi, n = 5) {
+  if (!(hi > lo)) { const d = Math.abs(lo) || 1; lo -= d * 0.5; hi += d * 0.5; }
+  const raw = (hi - lo) / n, mag = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 2.5, 5, 10].map((s) => s * mag).find((s) => raw <= s) || 10 * mag;
+  const ticks = [];
+  for (let v = Math.ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9; v += step) ticks.push(Math.abs(v) < step * 1e-9 ? 0 : v);
+  return { ticks, step };
+}
+
+export function fmt(v, digits = 4) {
+  if (v === null || v === undefined || Number.isNaN(v)) return "–";
+  if (v === 0) return "0";
+  const a = Math.abs(v);
+  if (a >= 1e5 || a < 1e-3) return v.toExponential(2);
+  return Number(v.toPrecision(digits)).toString();
+}
+
+const tooltip = () => document.getElementById("tooltip");
+
+function showTip(evt, text) {
+  const t = tooltip();
+  t.textContent = text;
+  t.hidden = false;
+  t.style.left = `${evt.clientX + 14}px`;
+  t.style.top = `${evt.clientY + 10}px`;
+}
+
+function hideTip() { tooltip().hidden = true; }
+
+function extent(arrays, pad = 0.05) {
+  let lo = Infinity, hi = -Infinity;
+  for (const a of arrays) for (const v of a) { if (v < lo) lo = v; if (v > hi) hi = v; }
+  if (!Number.isFinite(lo)) return [0, 1];
+  const d = (hi - lo) || Math.abs(hi) || 1;
+  return [lo - d * pad, hi + d * pad];
+}
+
+function frame(xs, ys, xt, yt, xLabel, yLabel) {
+  const X = (v) => M.l + ((v - xs[0]) / (xs[1] - xs[0])) * (W - M.l - M.r);
+  const Y = (v) => H - M.b - ((v - ys[0]) / (ys[1] - ys[0])) * (H - M.t - M.b);
+  let s = "";
+  for (const v of yt) s += `<line class="grid" x1="${M.l}" x2="${W - M.r}" y1="${Y(v)}" y2="${Y(v)}"/>` +
+    `<text class="tick" x="${M.l - 4}" y="${Y(v) + 4}" text-anchor="end">${fmt(v, 3)}</text>`;
+  for (const v of xt) s += `<line class="grid" y1="${M.t}" y2="${H - M.b}" x1="${X(v)}" x2="${X(v)}"/>` +
+    `<text class="tick" x="${X(v)}" y="${H - M.b + 13}" text-anchor="middle">${fmt(v, 3)}</text>`;
+  s += `<line class="axis" x1="${M.l}" x2="${W - M.r}" y1="${H - M.b}" y2="${H - M.b}"/>` +
+    `<line class="axis" x1="${M.l}" x2="${M.l}" y1="${M.t}" y2="${H - M.b}"/>` +
+    `<text x="${(M.l + W - M.r) / 2}" y="${H - 3}" text-anchor="middle">${xLabel}</text>` +
+    `<text transform="translate(11 ${(M.t + H - M.b) / 2}) rotate(-90)" text-anchor="middle">${yLabel}</text>`;
+  return { X, Y, s };
+}
+
+function polyline(xv, yv, X, Y) {
+  let p = "";
+  for (let i = 0; i < xv.length; i++) p += `${X(xv[i]).toFixed(1)},${Y(yv[i]).toFixed(1)} `;
+  return p;
+}
+
+function box(container, id, title) {
+  let el = container.querySelector(`#${id}`);
+  if (!el) {
+    el = document.createElement("div");
+    el.className = "plot";
+    el.id = id;
+    el.innerHTML = `<h4></h4><svg viewBox="0 0 ${W} ${H}" role="img"></svg>`;
+    container.appendChild(el);
+  }
+  el.querySelector("h4").textContent = title;
+  const svg = el.querySelector("svg");
+  svg.setAttribute("aria-label", title);
+  return { el, svg };
+}
+
+function legend(series) {
+  if (series.length < 2) return "";
+  return series.map((c, i) => `<g transform="translate(${M.l + 8 + i * 110} ${M.t - 10})"><line x1="0" x2="16" y1="0" y2="0" ` +
+    `stroke="${c.colour || COLOURS[i]}" stroke-width="2" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""}/>` +
+    `<text x="20" y="4">${c.name}</text></g>`).join("");
+}
+
+/** Curves y(x) over one x axis (the crank angle), with optional horizontal limits, a cursor at one sample and a
+ *  hover read-out of every curve at the nearest sample. */
+export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null }) {
+  const { el, svg } = box(container, id, title);
+  const xs = [x[0], x[x.length - 1]];
+  if (xs[1] <= xs[0]) xs[1] = xs[0] + 1;
+  const ys = extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
+  const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
+  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
+  const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
+  let body = s;
+  series.forEach((c, i) => {
+    body += `<polyline class="curve" data-series="${c.name}" stroke="${c.colour || COLOURS[i]}" ` +
+      `${c.dash ? `stroke-dasharray="${c.dash}"` : ""} points="${polyline(x, c.values, X, Y)}"/>`;
+  });
+  for (const l of limits) body += `<line class="limit" x1="${M.l}" x2="${W - M.r}" y1="${Y(l.y)}" y2="${Y(l.y)}"/>` +
+    `<text x="${W - M.r - 4}" y="${Y(l.y) - 4}" text-anchor="end" fill="#b3261e">${l.label}</text>`;
+  body += legend(series);
+  body += `<line class="cursor" y1="${M.t}" y2="${H - M.b}" x1="${M.l}" x2="${M.l}"/>` +
+    `<line class="hover" y1="${M.t}" y2="${H - M.b}" x1="0" x2="0" visibility="hidden"/>`;
+  svg.innerHTML = body;
+  const cursorLine = svg.querySelector(".cursor"), hoverLine = svg.querySelector(".hover");
+  const setCursor = (i) => {
+    if (i === null || i === undefined || i >= x.length) { cursorLine.setAttribute("visibility", "hidden"); return; }
+    cursorLine.setAttribute("visibility", "visible");
+    cursorLine.setAttribute("x1", X(x[i])); cursorLine.setAttribute("x2", X(x[i]));
+  };
+  setCursor(cursor);
+  svg.onmousemove = (evt) => {
+    const r = svg.getBoundingClientRect();
+    const px = ((evt.clientX - r.left) / r.width) * W;
+    const xv = xs[0] + ((px - M.l) / (W - M.l - M.r)) * (xs[1] - xs[0]);
+    let best = 0;
+    for (let i = 1; i < x.length; i++) if (Math.abs(x[i] - xv) < Math.abs(x[best] - xv)) best = i;
+    hoverLine.setAttribute("x1", X(x[best])); hoverLine.setAttribute("x2", X(x[best])); hoverLine.setAttribute("visibility", "visible");
+    showTip(evt, `${xLabel} = ${fmt(x[best])}\n` + series.map((c) => `${c.name} = ${fmt(c.values[best])} ${unit}`).join("\n"));
+  };
+  svg.onmouseleave = () => { hideTip(); hoverLine.setAttribute("visibility", "hidden"); };
+  el.dataset.ymin = ys[0]; el.dataset.ymax = ys[1];
+  return { setCursor, el };
+}
+
+/** Polar diagram of a planar vector over the cycle (the shaking force as the textbooks draw it): equal scales,
+ *  origin marked, one curve per series. */
+export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null }) {
+  const { el, svg } = box(container, id, title);
+  let r = 0;
+  for (const c of series) for (const [a, b] of c.points) r = Math.max(r, Math.hypot(a, b));
+  r = r > 0 ? r * 1.08 : 1;
+  const side = H - M.t - M.b, cx = M.l + (W - M.l - M.r) / 2, cy = M.t + side / 2;
+  const k = side / (2 * r);
+  const X = (v) => cx + v * k, Y = (v) => cy - v * k;
+  const { ticks } = niceTicks(-r, r, 4);
+  let body = "";
+  for (const v of ticks) {
+    if (Math.abs(v) > r) continue;
+    body += `<line class="grid" x1="${X(v)}" x2="${X(v)}" y1="${Y(-r)}" y2="${Y(r)}"/>` +
+      `<line class="grid" y1="${Y(v)}" y2="${Y(v)}" x1="${X(-r)}" x2="${X(r)}"/>` +
+      `<text class="tick" x="${X(v)}" y="${Y(-r) + 12}" text-anchor="middle">${fmt(v, 3)}</text>`;
+  }
+  body += `<line class="axis" x1="${X(-r)}" x2="${X(r)}" y1="${cy}" y2="${cy}"/>` +
+    `<line class="axis" x1="${cx}" x2="${cx}" y1="${Y(-r)}" y2="${Y(r)}"/>` +
+    `<text x="${X(r) + 4}" y="${cy + 4}">${labels[0]}</text><text x="${cx + 4}" y="${Y(r) + 10}">${labels[1]}</text>` +
+    `<text x="${W - M.r}" y="${H - 4}" text-anchor="end" class="tick">[${unit}]</text>`;
+  series.forEach((c, i) => {
+    const xs = c.points.map((p) => p[0]), ys = c.points.map((p) => p[1]);
+    body += `<polygon class="curve" data-series="${c.name}" stroke="${c.colour || COLOURS[i]}" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""} ` +
+      `points="${polyline(xs, ys, X, Y)}"/>`;
+  });
+  body += `<circle cx="${cx}" cy="${cy}" r="2.5" fill="#223047"/>`;
+  body += series.length > 1 ? series.map((c, i) => `<g transform="translate(${W - M.r - 110} ${M.t + 8 + i * 14})"><line x1="0" x2="16" ` +
+    `stroke="${c.colour || COLOURS[i]}" stroke-width="2" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""}/><text x="20" y="4">${c.name}</text></g>`).join("") : "";
+  body += `<line class="cursor" x1="${cx}" y1="${cy}" x2="${cx}" y2="${cy}"/><circle class="hover-dot" r="3.5" cx="0" cy="0" fill="#d0a000" visibility="hidden"/>`;
+  svg.innerHTML = body;
+  const ray = svg.querySelector(".cursor"), dot = svg.querySelector(".hover-dot");
+  const first = series[0];
+  const setCursor = (i) => {
+    if (i === null || i === undefined || !first || i >= first.points.length) return;
+    ray.setAttribute("x2", X(first.points[i][0])); ray.setAttribute("y2", Y(first.points[i][1]));
+  };
+  setCursor(cursor);
+  svg.onmousemove = (evt) => {
+    const b = svg.getBoundingClientRect();
+    const scale = Math.min(b.width / W, b.height / H);
+    const ox = (b.width - W * scale) / 2, oy = (b.height - H * scale) / 2;
+    const px = (evt.clientX - b.left - ox) / scale, py = (evt.clientY - b.top - oy) / scale;
+    let best = null, bd = Infinity;
+    series.forEach((c) => c.points.forEach((p, i) => {
+      const d = (X(p[0]) - px) ** 2 + (Y(p[1]) - py) ** 2;
+      if (d < bd) { bd = d; best = { c, i, p }; }
+    }));
+    if (!best) return;
+    dot.setAttribute("cx", X(best.p[0])); dot.setAttribute("cy", Y(best.p[1])); dot.setAttribute("visibility", "visible");
+    const angle = series.angles ? series.angles[best.i] : best.i;
+    showTip(evt, `${best.c.name}, crank ${fmt(angle)}°\n${labels[0]} = ${fmt(best.p[0])} ${unit}\n${labels[1]} = ` +
+      `${fmt(best.p[1])} ${unit}\n|F| = ${fmt(Math.hypot(best.p[0], best.p[1]))} ${unit}`);
+  };
+  svg.onmouseleave = () => { hideTip(); dot.setAttribute("visibility", "hidden"); };
+  el.dataset.radius = r / 1.08;
+  return { setCursor, el };
+}
+
+/** Scatter of points with a click handler per point (a Pareto front, a trade-off sweep). */
+export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPick, line = false, highlight = [] }) {
+  const { el, svg } = box(container, id, title);
+  const xs = extent([points.map((p) => p.x)], 0.08), ys = extent([points.map((p) => p.y)], 0.08);
+  const xt = niceTicks(xs[0], xs[1], 5).ticks.filter((v) => v >= xs[0] && v <= xs[1]);
+  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
+  const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
+  let body = s + `<clipPath id="clip-${id}"><rect x="${M.l}" y="${M.t}" width="${W - M.l - M.r}" height="${H - M.t - M.b}"/></clipPath>`;
+  if (line && points.length > 1) {
+    const order = [...points].sort((a, b) => a.x - b.x);
+    body += `<polyline class="curve" stroke="#8a93a3" points="${polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y)}"/>`;
+  }
+  // many points: smaller dots, so the cloud stays readable
+  const r0 = points.length > 100 ? 3 : 5;
+  points.forEach((p, i) => {
+    const hot = highlight.includes(i);
+    body += `<circle class="pick" data-index="${i}" cx="${X(p.x)}" cy="${Y(p.y)}" r="${hot ? r0 + 2 : r0}" ` +
+      `fill="${p.colour || (hot ? "#c25e00" : "#1f5fbf")}" stroke="#fff" stroke-width="1.2" tabindex="0" role="button" ` +
+      `aria-label="${p.label || `point ${i}`}" style="cursor:pointer"/>`;
+  });
+  svg.innerHTML = body;
+  svg.querySelectorAll("circle.pick").forEach((c) => {
+    const p = points[Number(c.dataset.index)];
+    c.addEventListener("mousemove", (evt) => showTip(evt, `${p.label || ""}\n${xLabel} = ${fmt(p.x)}\n${yLabel} = ${fmt(p.y)}`));
+    c.addEventListener("mouseleave", hideTip);
+    const pick = () => { hideTip(); onPick && onPick(p, Number(c.dataset.index)); };
+    c.addEventListener("click", pick);
+    c.addEventListener("keydown", (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); pick(); } });
+  });
+  return { el, X, Y, clip: `url(#clip-${id})` };
+}

@@ -1,0 +1,372 @@
+"""The machine from standstill to its steady cycle, and from its steady cycle to standstill.
+
+The run-up integrates the equation of motion in time, J(phi)·dw/dt = M_motor(w) + M_load(phi) - M_friction(phi)
+- J'(phi)·w²/2 (seed 000:597-612: run-up with the motor on, run-down with -M_PC - M_T), from rest at the
+crank angle where starting is hardest, with the motor's whole characteristic from its starting torque
+(:meth:`synth.flywheel.Motor.start_torque_at`), until the speed lies on the periodic steady state that
+:func:`synth.machine.simulate.simulate_machine` finds for the same machine. Between the samples J is the cubic
+Hermite curve through the tables of J_red and its analytic slope, and J' is that curve's own derivative, so
+the integrated motion keeps the energy balance (motor work = kinetic energy gained + losses + process work)
+the answer reports as its check. Classical Runge-Kutta steps in time, a fixed step of a quarter of a sample
+interval at the motor's no-load speed, compiled once per call with CasADi; the work integrals are states of
+the same integration.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ..errors import InvalidInput
+from ..flywheel import Motor
+from ..model import FloatArray
+from .simulate import MachineCycle, MachineMotion, simulate_machine
+
+#: Relative distance from the periodic steady speed, (w - w_steady(phi))/w_mean, counted as steady [-].
+STEADY_TOLERANCE = 0.01
+#: Longest run-up or run-down simulated [s]: a machine not steady or stopped by then is reported as such.
+MAX_TIME = 600.0
+#: Most Runge-Kutta steps of one run (a fast crank with a heavy flywheel would otherwise hold millions of states).
+MAX_STEPS = 400_000
+#: Runge-Kutta steps per sample interval at the no-load crank speed.
+SUBSTEPS = 4
+#: Steps integrated between two looks at the speed (a few revolutions).
+CHUNK_STEPS = 4096
+
+
+@dataclass(frozen=True, slots=True)
+class StartCheck:
+    """Can the motor start the machine from rest at every crank angle?
+
+    ``starting_torque`` the motor's locked-rotor torque reduced to the crank (train ratio and efficiency)
+    [N·m]; ``resisting_torque`` at every sample the torque that holds the crank at rest, the reduced load
+    (process loads and gravity as they act when turning forward) plus breakaway friction [N·m], (N,);
+    ``worst_angle`` where it is largest [rad]; ``margin`` starting over the largest resisting torque [-].
+    """
+
+    starting_torque: float
+    resisting_torque: FloatArray
+    worst_angle: float
+    margin: float
+
+    @property
+    def starts(self) -> bool:
+        """True when the starting torque exceeds the resistance at the worst crank angle."""
+        return self.margin > 1.0
+
+
+@dataclass(frozen=True, slots=True)
+class Transient:
+    """A simulated run-up or run-down: ``time`` [s], ``phi`` crank angle [rad, unwrapped], ``omega`` crank speed
+    [rad/s] and ``motor_torque`` on the motor shaft [N·m] at every step, (M,) each.
+
+    Energy over the run [J]: ``motor_work`` on the motor shaft, ``kinetic_energy_change`` of the whole machine,
+    ``gear_loss`` in the train, ``friction_loss`` in the pairs and the brake, ``process_work`` done on the
+    process loads and against gravity; ``energy_residual`` the balance motor work - kinetic energy gained -
+    losses - process work over the largest of those terms [-] (the check of the integration).
+    """
+
+    time: FloatArray
+    phi: FloatArray
+    omega: FloatArray
+    motor_torque: FloatArray
+    motor_work: float
+    kinetic_energy_change: float
+    gear_loss: float
+    friction_loss: float
+    process_work: float
+    energy_residual: float
+
+
+@dataclass(frozen=True, slots=True)
+class StartUp:
+    """The run-up from rest to the periodic steady state.
+
+    ``check`` the start at the worst crank angle; ``run`` the simulated run-up (from there unless another
+    start angle is given; None when the motor cannot start the machine); ``steady`` the periodic steady motion it runs into; ``steady_time`` when
+    the speed comes within ``tolerance`` of it to stay [s] (None: not within ``MAX_TIME`` or ``MAX_STEPS``
+    steps, or never started);
+    ``peak_motor_torque`` the largest motor torque and ``rms_motor_torque`` its RMS over time until steady
+    (the heating figure of the start) [N·m]; ``stalled`` True when the speed fell back to zero.
+    """
+
+    check: StartCheck
+    run: Transient | None
+    steady: MachineMotion
+    steady_time: float | None
+    peak_motor_torque: float
+    rms_motor_torque: float
+    tolerance: float
+    stalled: bool
+
+
+@dataclass(frozen=True, slots=True)
+class RunDown:
+    """The run-down from the steady state at the first sample with the motor switched off.
+
+    ``run`` the simulated run-down (its motor work is zero); ``stop_time`` when the crank comes to rest [s]
+    (None: still turning after ``MAX_TIME`` or ``MAX_STEPS`` steps); ``brake_torque`` at the crank [N·m].
+    """
+
+    run: Transient
+    stop_time: float | None
+    brake_torque: float
+
+
+def _closed(values: FloatArray) -> FloatArray:
+    return np.append(values, values[0])
+
+
+def _uniform_step(phi: FloatArray) -> float:
+    step = 2 * math.pi / phi.size
+    if not np.allclose(np.diff(phi), step, rtol=1e-9, atol=1e-12):
+        raise InvalidInput("the start-up simulation takes uniformly spaced crank angles over one revolution",
+                           field="samples")
+    return step
+
+
+def _hermite(phi_rel: FloatArray, step: float, j: FloatArray, dj: FloatArray) -> FloatArray:
+    """J on the Hermite curve through the closed tables at angles ``phi_rel`` from the first sample [rad]."""
+    n = j.size - 1
+    u = np.asarray(phi_rel) / step
+    k = np.floor(u)
+    t = u - k
+    i = (k - n * np.floor(k / n)).astype(int)
+    h00, h10, h01, h11 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
+    return np.asarray(h00 * j[i] + h10 * step * dj[i] + h01 * j[i + 1] + h11 * step * dj[i + 1], dtype=float)
+
+
+def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
+             motor_on: bool, dt: float, steps: int) -> ca.Function:
+    """``steps`` Runge-Kutta steps of the state (phi - phi_0, w, motor work, gear loss, friction loss, process
+    work), every state after each step returned."""
+    step = 2 * math.pi / cycle.phi.size
+    n = cycle.phi.size
+    grid = [list(np.arange(n + 1, dtype=float))]
+    # one look-up gives all four tables at a node (values interleaved per node, as CasADi stacks outputs)
+    stacked = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
+                                                    friction)])
+    table = ca.interpolant("tables", "linear", grid, stacked.reshape(-1).tolist())
+    x = ca.MX.sym("x", 6)
+    i_gear, eta = motor.gear_ratio, motor.efficiency
+    n_s, n_b = motor.synchronous_speed, motor.breakdown_speed
+    slope = motor.rated_torque / (motor.synchronous_speed - motor.rated_speed)
+    t_start = motor.starting_torque
+    t_break = motor.breakdown_torque
+
+    def rate(state: ca.MX) -> ca.MX:
+        phi, w = state[0], state[1]
+        u = phi / step
+        k = ca.floor(u)
+        t = u - k
+        idx = k - n * ca.floor(k / n)
+        a, b = table(idx), table(idx + 1)
+        j0, d0, j1, d1 = a[0], a[1], b[0], b[1]
+        jj = ((2 * t**3 - 3 * t**2 + 1) * j0 + (t**3 - 2 * t**2 + t) * step * d0 + (-2 * t**3 + 3 * t**2) * j1
+              + (t**3 - t**2) * step * d1)
+        dj = ((6 * t**2 - 6 * t) * (j0 - j1)) / step + (3 * t**2 - 4 * t + 1) * d0 + (3 * t**2 - 2 * t) * d1
+        load = a[2] + t * (b[2] - a[2])
+        fric = a[3] + t * (b[3] - a[3]) + brake
+        speed = i_gear * w
+        torque = slope * (n_s - speed)
+        if t_start is not None and t_break is not None:
+            torque = ca.if_else(speed >= n_b, torque, t_start + (t_break - t_start) * speed / max(n_b, 1e-300))
+        if not motor_on:
+            torque = 0 * torque
+        drive = i_gear * eta * torque
+        acc = (drive + load - fric - 0.5 * dj * w * w) / (jj + constant_inertia)
+        shaft_power = torque * speed
+        return ca.vertcat(w, acc, shaft_power, (1 - eta) * shaft_power, fric * w, -load * w)
+
+    k1 = rate(x)
+    k2 = rate(x + 0.5 * dt * k1)
+    k3 = rate(x + 0.5 * dt * k2)
+    k4 = rate(x + dt * k3)
+    one = ca.Function("rk4", [x], [x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
+    # expanded to scalar operations (the table look-ups included), a step costs a fraction of the MX graph's
+    return one.expand().mapaccum("run", steps)
+
+
+def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
+               motor_on: bool, phi0: float, w0: float, dt: float,
+               done: _Stop) -> tuple[FloatArray, bool]:
+    """States (6, M) from (phi0, w0) until ``done`` says so, the speed reaches zero or MAX_TIME passes; and
+    whether it ended by the speed reaching zero."""
+    run = _stepper(cycle, constant_inertia, motor, friction, brake, motor_on, dt, CHUNK_STEPS)
+    states = [np.array([[phi0 - float(cycle.phi[0])], [w0], [0.0], [0.0], [0.0], [0.0]])]
+    max_chunks = max(1, min(math.ceil(MAX_TIME / (dt * CHUNK_STEPS)), MAX_STEPS // CHUNK_STEPS))
+    for _ in range(max_chunks):
+        chunk = np.asarray(run(states[-1][:, -1]), dtype=float)
+        stop = np.flatnonzero(~(chunk[1] > 0))
+        if stop.size:
+            states.append(chunk[:, : stop[0] + 1])
+            return np.hstack(states), True
+        states.append(chunk)
+        if done(np.hstack(states)):
+            break
+    return np.hstack(states), False
+
+
+class _Stop:
+    """Whether a run-up has reached its steady state: the speed within the tolerance over a whole revolution."""
+
+    def __init__(self, steady: MachineMotion, tolerance: float, phi0: float) -> None:
+        self.steady, self.tolerance, self.phi0 = steady, tolerance, phi0
+
+    def errors(self, states: FloatArray) -> FloatArray:
+        """|w - w_steady(phi)| / w_mean at every state."""
+        s = self.steady
+        target = np.interp(states[0] + self.phi0, s.phi, s.omega, period=2 * math.pi)
+        return np.asarray(np.abs(states[1] - target) / s.mean_speed, dtype=float)
+
+    def __call__(self, states: FloatArray) -> bool:
+        bad = np.flatnonzero(self.errors(states) > self.tolerance)
+        last = states[0, bad[-1]] if bad.size else states[0, 0]
+        return bool(states[0, -1] - last >= 2 * math.pi)
+
+
+class _Never(_Stop):
+    def __init__(self) -> None:
+        pass
+
+    def __call__(self, states: FloatArray) -> bool:
+        return False
+
+
+def _transient(cycle: MachineCycle, constant_inertia: float, motor: Motor, states: FloatArray, dt: float,
+               motor_on: bool) -> Transient:
+    step = 2 * math.pi / cycle.phi.size
+    j, dj = _closed(cycle.inertia), _closed(cycle.inertia_slope)
+    phi_rel, w = states[0], states[1]
+    energy = 0.5 * (_hermite(phi_rel, step, j, dj) + constant_inertia) * w**2
+    gained = float(energy[-1] - energy[0])
+    work, gear, fric, proc = (float(v) for v in states[2:, -1])
+    scale = max(abs(work), abs(gained), abs(fric), abs(proc), 1e-300)
+    torque = motor.start_torque_at(motor.gear_ratio * w) if motor_on else np.zeros_like(w)
+    return Transient(np.arange(w.size) * dt, phi_rel + float(cycle.phi[0]), w, torque, work, gained, gear, fric,
+                     proc, (work - gained - gear - fric - proc) / scale)
+
+
+def _friction_table(cycle: MachineCycle, values: FloatArray | None, name: str) -> FloatArray:
+    if values is None:
+        return np.zeros(cycle.phi.size)
+    arr = np.broadcast_to(np.asarray(values, dtype=float), cycle.phi.shape).copy()
+    if not (np.all(np.isfinite(arr)) and np.all(arr >= 0)):
+        raise InvalidInput(f"{name} must be finite and not negative at every crank angle", field=name)
+    return arr
+
+
+def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray | None = None,
+                standstill_load: FloatArray | None = None) -> StartCheck:
+    """Starting torque against the torque that holds the crank at rest, at every sample.
+
+    Parameters
+    ----------
+    cycle
+        The linkage reduced to its crank [kg·m², N·m].
+    motor
+        The motor with the train's ratio and efficiency; its ``starting_torque`` (the linear branch's torque at
+        standstill when it has none) [N·m].
+    breakaway_torque
+        Friction torque at the crank that must be overcome to break away from rest, per sample [N·m] (>= 0).
+    standstill_load
+        Reduced load torque at rest, per sample [N·m] (positive drives); default the cycle's own (process loads
+        and gravity as they act when turning forward). A machine started without its process load passes its
+        gravity and link torques alone.
+    """
+    breakaway = _friction_table(cycle, breakaway_torque, "breakaway_torque")
+    start = float(motor.start_torque_at(0.0)) * motor.gear_ratio * motor.efficiency
+    load = cycle.load_torque if standstill_load is None else np.asarray(standstill_load, dtype=float)
+    resisting = -load + breakaway
+    worst = int(np.argmax(resisting))
+    top = float(resisting[worst])
+    margin = math.inf if top <= 0 else start / top
+    return StartCheck(start, resisting, float(cycle.phi[worst]), margin)
+
+
+def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
+                     friction_torque: FloatArray | None = None, breakaway_torque: FloatArray | None = None,
+                     standstill_load: FloatArray | None = None, start_angle: float | None = None,
+                     tolerance: float = STEADY_TOLERANCE) -> StartUp:
+    """Run the machine up from rest to its periodic steady state.
+
+    Parameters
+    ----------
+    cycle
+        The linkage reduced to its crank (uniform samples over one revolution) [kg·m², N·m].
+    constant_inertia
+        Rotor, train and flywheel reduced to the crank [kg·m²].
+    motor
+        Characteristic with starting torque, through the train's ratio and efficiency.
+    friction_torque
+        Friction torque of the pairs reduced to the crank while turning, per sample [N·m] (>= 0, resists).
+    breakaway_torque
+        Friction torque reduced to the crank at rest, per sample [N·m] (>= 0).
+    standstill_load
+        Reduced load torque at rest for the start check (see :func:`start_check`) [N·m]; the run-up itself
+        works against the cycle's load.
+    start_angle
+        Crank angle to start from [rad]; default the worst one of the start check. No run-up is simulated
+        when the start check fails.
+    tolerance
+        Relative distance from the steady speed counted as steady [-].
+
+    The steady state is :func:`simulate_machine`'s, on the same cycle less the friction torque.
+    """
+    if not 0 < tolerance < 1:
+        raise InvalidInput("the steady-state tolerance must lie in (0, 1)", field="tolerance")
+    step = _uniform_step(cycle.phi)
+    friction = _friction_table(cycle, friction_torque, "friction_torque")
+    check = start_check(cycle, motor, breakaway_torque, standstill_load)
+    loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
+    steady = simulate_machine(loaded, constant_inertia, motor)
+    phi0 = check.worst_angle if start_angle is None else float(start_angle)
+    if not check.starts:
+        return StartUp(check, None, steady, None, 0.0, 0.0, tolerance, True)
+    dt = step / (SUBSTEPS * motor.synchronous_speed / motor.gear_ratio)
+    stop = _Stop(steady, tolerance, float(cycle.phi[0]))
+    states, stalled = _integrate(cycle, constant_inertia, motor, friction, 0.0, True, phi0, 0.0, dt, stop)
+    run = _transient(cycle, constant_inertia, motor, states, dt, True)
+    steady_time: float | None = None
+    upto = run.time.size
+    if not stalled and stop(states):
+        bad = np.flatnonzero(stop.errors(states) > tolerance)
+        first = int(bad[-1]) + 1 if bad.size else 0
+        steady_time = float(run.time[first])
+        upto = first + 1
+    torque = run.motor_torque[:upto]
+    peak = float(np.abs(torque).max())
+    rms = math.sqrt(float(np.trapezoid(torque**2, run.time[:upto])) / run.time[upto - 1]) if upto > 1 else peak
+    return StartUp(check, run, steady, steady_time, peak, rms, tolerance, stalled)
+
+
+def simulate_rundown(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
+                     friction_torque: FloatArray | None = None, brake_torque: float = 0.0) -> RunDown:
+    """Switch the motor off in the steady state at the first sample and let the machine run down.
+
+    Parameters
+    ----------
+    cycle, constant_inertia, motor, friction_torque
+        As for :func:`simulate_startup`; the motor's rotor still turns with the train.
+    brake_torque
+        Constant brake torque at the crank while turning [N·m] (>= 0).
+    """
+    if not (math.isfinite(brake_torque) and brake_torque >= 0):
+        raise InvalidInput("the brake torque must be finite and not negative", field="brake_torque_Nm")
+    step = _uniform_step(cycle.phi)
+    friction = _friction_table(cycle, friction_torque, "friction_torque")
+    loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
+    steady = simulate_machine(loaded, constant_inertia, motor)
+    dt = step / (SUBSTEPS * max(float(steady.omega.max()), 1e-300))
+    states, stopped = _integrate(cycle, constant_inertia, motor, friction, brake_torque, False,
+                                 float(cycle.phi[0]), float(steady.omega[0]), dt, _Never())
+    run = _transient(cycle, constant_inertia, motor, states, dt, False)
+    stop_time = None
+    if stopped:
+        # the speed crosses zero within the last step: where, by the line between its two ends
+        w_a, w_b = run.omega[-2], run.omega[-1]
+        stop_time = float(run.time[-2] + dt * w_a / (w_a - w_b))
+    return RunDown(run, stop_time, brake_torque)
