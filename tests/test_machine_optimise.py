@@ -248,3 +248,31 @@ def test_a_function_no_linkage_meets_is_named(client: SynthClient) -> None:
     response = client.http.post("/v1/machines/optimise", json=body)
     assert response.status_code == 422, response.text
     assert response.json()["field"].startswith("function.")
+
+
+FRICTION = {"O": {"coefficient": 0.1, "journal_radius_m": 0.02}, "A": {"coefficient": 0.1, "journal_radius_m": 0.015},
+            "B": {"coefficient": 0.1, "journal_radius_m": 0.015}, "Q": {"coefficient": 0.1, "journal_radius_m": 0.02}}
+
+
+def test_friction_is_in_every_member_and_the_chain(client: SynthClient) -> None:
+    example = {**copy.deepcopy(CRANK_ROCKER_OPTIMISE_EXAMPLE), "friction": FRICTION, "scan_members": 8}
+    a = client.optimise_machine(MachineOptimiseIn.model_validate(example))
+    friction = a.design.reduced.friction_torque_Nm
+    assert friction is not None
+    # the chain's machine with the same friction through /v1/machines/design: the answer's chain figures
+    chain = client.design_machine(_machine_request(example, a.chain_mechanism).model_copy(update={
+        "friction": MachineIn.model_validate({"mechanism": a.chain_mechanism.model_dump(mode="json"),
+                                              "friction": FRICTION}).friction}))
+    for g, v in zip(a.gains, _objectives(chain), strict=True):
+        assert g.chain == pytest.approx(v, rel=1e-9, abs=1e-9)
+    # the pairs' losses reduced to the crank, reported as the torque they take (positive), at every sample: every
+    # journal carries a reaction all the time here
+    assert min(friction) > 0
+
+
+def test_a_start_no_member_makes_is_infeasible(client: SynthClient) -> None:
+    body = {**copy.deepcopy(CRANK_ROCKER_OPTIMISE_EXAMPLE), "max_startup_time_s": 1e-3, "scan_members": 4}
+    response = client.http.post("/v1/machines/optimise", json=body)
+    assert response.status_code == 422, response.text
+    problem = response.json()
+    assert problem["type"] == "/problems/infeasible" and "startup_time" in problem["detail"]

@@ -10,9 +10,15 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import FourBarIn, Length, LoadIn, SliderCrankIn, StrictModel
+from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, pair_frictions
 from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
-from .synthesis import CrankRockerBoundsIn, CrankRockerDensityIn, SliderCrankBoundsIn, SliderCrankDensityIn, _within_limits
+from .synthesis import (
+    CrankRockerBoundsIn,
+    CrankRockerDensityIn,
+    SliderCrankBoundsIn,
+    SliderCrankDensityIn,
+    _within_limits,
+)
 
 OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
@@ -145,8 +151,18 @@ class MachineOptimiseIn(StrictModel):
     max_rms_shaking_moment_Nm: float | None = Field(None, gt=0, le=1e9, description="Largest RMS shaking moment "
                                                     "about the crank pivot after balancing [N·m].")
     pareto: list[OptimiseObjective] = Field(
-        default_factory=lambda: list(DEFAULT_PARETO), min_length=2, max_length=2, description="The two objectives of the Pareto set over every member "
-        "designed.")
+        default_factory=lambda: list(DEFAULT_PARETO), min_length=2, max_length=2,
+        description="The two objectives of the Pareto set over every member designed.")
+    friction: FrictionIn | None = Field(None, description="Friction per pair of the linkage, as "
+                                        "/v1/machines/design takes it.")
+    brake_torque_Nm: float = Field(0.0, ge=0, le=1e9, description="Brake torque at the crank during the run-down "
+                                   "[N·m].")
+    start_under_load: bool = Field(False, description="The start check holds the process load too, as "
+                                   "/v1/machines/design takes it.")
+    max_startup_time_s: float = Field(60.0, gt=0, le=1e4, description="Longest acceptable run-up from rest to the "
+                                      "steady cycle [s]: a constraint on every member.")
+    max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
+                                             "with the motor off [s]; null: not checked.")
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
                               "feasible family that the whole chain designs before the refinement.")
 
@@ -167,9 +183,12 @@ class MachineOptimiseIn(StrictModel):
             function=self.function.to_spec(loads), speed=self.speed_rpm * math.pi / 30.0,
             drive=self.drive.to_engine(max_stages), delta=delta, balancing=self.balancing.to_engine(),
             flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
-            samples=self.samples, speed_tolerance=self.speed_tolerance, weights={str(k): v for k, v in weights.items()},
-            max_rms_shaking_force=self.max_rms_shaking_force_N,
-            max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]), scan=self.scan_members,
+            samples=self.samples, speed_tolerance=self.speed_tolerance,
+            weights={str(k): v for k, v in weights.items()}, max_rms_shaking_force=self.max_rms_shaking_force_N,
+            max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
+            scan=self.scan_members, friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
+            start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
+            max_rundown_time=self.max_rundown_time_s,
         )
 
 

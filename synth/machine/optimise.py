@@ -35,6 +35,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..friction import PairFriction
 from ..model import FloatArray, Linkage
 from ..synthesis import CrankRockerSpec, SliderCrankSpec, synthesise_crank_rocker, synthesise_slider_crank
 from ..synthesis import crank_rocker as _cr
@@ -74,7 +75,9 @@ class OptimiseSpec:
     ``balancing``, ``flywheel``, ``samples``, ``speed_tolerance`` [-] as in :class:`MachineSpec`; ``weights``
     objective name -> weight [-] of its normalised value; ``max_rms_shaking_force`` [N] and
     ``max_rms_shaking_moment`` [N·m] optional limits after balancing; ``pareto`` the two objectives of the
-    Pareto set; ``scan`` members the chain designs in the scan.
+    Pareto set; ``scan`` members the chain designs in the scan; ``friction``, ``brake_torque`` [N·m],
+    ``start_under_load``, ``max_startup_time`` and ``max_rundown_time`` [s] as in :class:`MachineSpec` (the start
+    and run-down checks are constraints like the others).
     """
 
     function: CrankRockerSpec | SliderCrankSpec
@@ -90,6 +93,11 @@ class OptimiseSpec:
     max_rms_shaking_moment: float | None = None
     pareto: tuple[str, str] = ("motor_power", "rms_shaking_force")
     scan: int = DEFAULT_SCAN
+    friction: tuple[PairFriction, ...] = ()
+    brake_torque: float = 0.0
+    start_under_load: bool = False
+    max_startup_time: float = 60.0
+    max_rundown_time: float | None = None
 
     def validate(self) -> None:
         """InvalidInput naming the field for an unknown objective, no weight, a bad limit or scan size."""
@@ -119,7 +127,9 @@ class OptimiseSpec:
         """The chain's machine with ``linkage`` as its linkage."""
         return MachineSpec(linkage=linkage, speed=self.speed, drive=self.drive, delta=self.delta,
                            balancing=self.balancing, flywheel=self.flywheel, samples=self.samples,
-                           speed_tolerance=self.speed_tolerance)
+                           speed_tolerance=self.speed_tolerance, friction=self.friction,
+                           brake_torque=self.brake_torque, start_under_load=self.start_under_load,
+                           max_startup_time=self.max_startup_time, max_rundown_time=self.max_rundown_time)
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,8 +205,8 @@ class Gain:
 class MachineOptimum:
     """The optimised machine: its whole ``design`` (as :func:`design_machine` answers), the family ``parameter``,
     its ``values`` and weighted normalised ``score``; the ``chain``'s machine (as the scan designed it), its
-    member ``chain_linkage`` and its score; ``gains`` per objective; ``pareto`` the non-dominated members of the two ``pareto_objectives``; every
-    member designed; the certificate."""
+    member ``chain_linkage`` and its score; ``gains`` per objective; ``pareto`` the non-dominated members of
+    the two ``pareto_objectives``; every member designed; the certificate."""
 
     spec: OptimiseSpec
     design: MachineDesign
@@ -307,7 +317,7 @@ def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage), None
     values = objective_values(d)
-    reasons = [f"fails its {c.name} check" for c in d.checks if not c.passed]
+    reasons = [f"fails its {c.name} check" for c in (*d.checks, *d.running_checks) if not c.passed]
     after = d.balancing.after
     if spec.max_rms_shaking_force is not None and after.rms_shaking_force > spec.max_rms_shaking_force:
         reasons.append("exceeds max_rms_shaking_force_N")
@@ -435,7 +445,7 @@ def _binding(spec: OptimiseSpec, scan: FamilyScan, d: MachineDesign, u: float) -
                 out.append(at_lo or "parameter range")
             if hi - u <= BINDING_STEPS * scan.step:
                 out.append(at_hi or "parameter range")
-    for c in d.checks:
+    for c in (*d.checks, *d.running_checks):
         if c.name != "mean_speed" and c.limit > 0 and c.value >= (1 - BINDING_FRACTION) * c.limit:
             out.append(c.name)
     after = d.balancing.after
