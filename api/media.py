@@ -1,11 +1,14 @@
-"""Content negotiation shared by the routers: JSON by default; figures (PNG, SVG, PDF), curves (CSV) and
-drawings (DXF) when asked for with ``?format=`` or an ``Accept`` header."""
+"""Content negotiation shared by the routers: JSON by default; figures (PNG, SVG, PDF), curves (CSV), drawings
+(DXF) and the answer's arrays as a NumPy ``.npz`` archive when asked for with ``?format=`` or an ``Accept`` header."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
+
+import io
+import zipfile
 
 import numpy as np
 import orjson
@@ -15,14 +18,16 @@ from pydantic import BaseModel, ValidationError
 
 import synth
 
-Format = Literal["json", "png", "svg", "pdf", "csv", "dxf"]
+Format = Literal["json", "png", "svg", "pdf", "csv", "dxf", "npz"]
 
 FormatQuery = Annotated[
     Format | None,
     Query(description="Answer format: `json` (default); `png`, `svg` or `pdf` for the figure; `csv` for the curves, "
                       "one row per crank angle with units in the column names; `dxf` for a drawing of the mechanism "
-                      "in millimetres. An `Accept` header (image/png, image/svg+xml, application/pdf, text/csv, "
-                      "image/vnd.dxf) chooses the same way."),
+                      "in millimetres; `npz` (array-heavy answers) for every number of the JSON answer as a NumPy "
+                      "archive, one array per JSON path (`joint_reactions_N/A`, `links/crank/angle_deg`). An `Accept` "
+                      "header (image/png, image/svg+xml, application/pdf, text/csv, image/vnd.dxf, "
+                      "application/x-npz) chooses the same way."),
 ]
 
 MEDIA_TYPES: dict[str, str] = {
@@ -32,7 +37,10 @@ MEDIA_TYPES: dict[str, str] = {
     "pdf": "application/pdf",
     "csv": "text/csv; charset=utf-8",
     "dxf": "image/vnd.dxf",
+    "npz": "application/x-npz",
 }
+#: The answers a binary array format suits: those whose size grows with the crank angles.
+ARRAYS: tuple[str, ...] = ("npz",)
 _ACCEPT_ALIASES = {"application/dxf": "dxf", "application/x-dxf": "dxf", "image/x-dxf": "dxf"}
 FIGURES: tuple[str, ...] = ("png", "svg", "pdf")
 
@@ -109,6 +117,47 @@ def json_bytes(model: BaseModel) -> bytes:
     return orjson.dumps(_plain(model), default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
 
 
+def _numeric(value: Any) -> bool:
+    """A number, a numpy array of numbers, or a (nested) list of numbers: one array of the archive."""
+    while isinstance(value, (list, tuple)) and value:
+        value = value[0]
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "biuf"
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def array_columns(model: BaseModel) -> dict[str, np.ndarray]:
+    """Every number of a response model's JSON answer as arrays keyed by their JSON path (names joined by ``/``,
+    list positions as numbers), in the JSON's order: scalars as 0-d arrays, lists of numbers as 1-d, lists of
+    pairs as (N, 2). Text, booleans and nulls are left to the JSON answer."""
+    out: dict[str, np.ndarray] = {}
+
+    def walk(value: Any, path: str) -> None:
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(item, f"{path}/{key}" if path else str(key))
+        elif _numeric(value):
+            array = np.asarray(value, dtype=float)
+            out[path] = np.ascontiguousarray(array) if array.ndim else array
+        elif isinstance(value, (list, tuple)):
+            for i, item in enumerate(value):
+                walk(item, f"{path}/{i}")
+
+    walk(_plain(model), "")
+    return out
+
+
+def npz_bytes(model: BaseModel) -> bytes:
+    """A response model's numbers as an uncompressed NumPy ``.npz`` archive (see :func:`array_columns`)."""
+    buffer = io.BytesIO()
+    # What np.savez writes, without its keyword arguments: a JSON path may be any name.
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as archive:
+        for key, array in array_columns(model).items():
+            with archive.open(f"{key}.npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, array, allow_pickle=False)
+    return buffer.getvalue()
+
+
 def json_response(model: BaseModel) -> Response:
     """Serialise a response model built from engine arrays straight to JSON.
 
@@ -146,7 +195,7 @@ class Render:
 
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
-        if self.fmt != "json" and self.export is not None:
+        if self.fmt not in ("json", *ARRAYS) and self.export is not None:
             return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
         try:
             model = self.model(result, *self.model_extra)
@@ -158,4 +207,6 @@ class Render:
             raise synth.InvalidInput(f"the answer's {field} would be beyond any physical range "
                                      f"({err.get('msg', '')}); check the input's units and sizes",
                                      field=field) from None
+        if self.fmt == "npz":
+            return npz_bytes(model), MEDIA_TYPES["npz"]
         return json_bytes(model), "application/json"

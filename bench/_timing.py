@@ -6,6 +6,14 @@ import asyncio
 import statistics
 import time
 from collections.abc import Callable
+from typing import Any
+
+
+def timed(fn: Callable[..., Any], args: tuple[Any, ...]) -> tuple[Any, float]:
+    """``fn(*args)`` and its wall time [s] where it ran (a worker process, when submitted as a task)."""
+    t0 = time.perf_counter()
+    out = fn(*args)
+    return out, time.perf_counter() - t0
 
 
 def best_of(fn: Callable[[], object], repeat: int) -> float:
@@ -55,3 +63,17 @@ def asgi_medians(requests: dict[str, tuple[str, str, object]], repeat: int) -> d
         return out
 
     return asyncio.run(run())
+
+
+def interleaved(fns: dict[str, Callable[[], object]], repeat: int) -> dict[str, tuple[float, float]]:
+    """Minimum and median wall time [s] of each named call over ``repeat`` rounds that call every one in turn,
+    after one warm-up round: a burst of load from other work on the machine falls on all of them alike."""
+    for fn in fns.values():
+        fn()
+    times: dict[str, list[float]] = {name: [] for name in fns}
+    for _ in range(repeat):
+        for name, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - t0)
+    return {name: (min(t), statistics.median(t)) for name, t in times.items()}

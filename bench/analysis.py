@@ -1,17 +1,19 @@
-"""Four-bar analysis at 3600 samples: the generic engine against hand-written closed forms in the same run.
+"""Analysis against hand-written closed forms in the same run, then the request and its serialisation.
 
-Two baselines, both written for the four-bar alone and checked against the engine before they are timed:
-a vectorised closed form (law of cosines for the positions, Cramer's rule for velocities, accelerations and the
-reactions of the coupler-rocker dyad, then the crank), and the per-angle loop a user would write (the same
-closed form angle by angle, with a 9x9 numpy solve for the reactions). Then POST /v1/analysis at 3600 samples
-in-process, and the response's JSON written by orjson against pydantic's model_dump_json of the same answer.
+For every family (four-bar, slider-crank, and the six-bar press as a linkage of dyads) ``bench.closed_forms`` has a
+vectorised numpy closed form that computes every array ``synth.analyse`` returns; each is checked equal to the
+engine to 1e-12 of its scale before it is timed. Engine and closed form are timed in alternation (a burst of load
+from other developers' work on the shared machine falls on both), at 90, 360, 3600 and 20 000 crank angles, with
+the allocator as the service's workers set it; minimum and median of each, and their ratio. Then the per-angle
+loop a user would write, POST /v1/analysis at 3600 samples in-process, and the response's JSON written by orjson
+against pydantic's model_dump_json of the same answer.
 """
 
 from __future__ import annotations
 
-
 import json
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -19,64 +21,60 @@ import synth
 from mechsynth_client.client import SynthClient
 from api.media import json_bytes
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
-from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
-from bench._timing import asgi_medians, median_of
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE, SIX_BAR_PRESS_EXAMPLE
+from bench import closed_forms
+from bench._timing import asgi_medians, interleaved, median_of
 from synth.execution import keep_freed_memory
 
 SAMPLES = 3600
+SIZES = (90, 360, 3600, 20_000)
 OMEGA = 30.0
+TOLERANCE = 1e-12
+SLIDER_CRANK = {
+    "type": "slider_crank", "crank_length_m": 0.1, "rod_length_m": 0.35, "offset_m": 0.02, "branch": 1,
+    "links": {"crank": {"mass_kg": 1.0, "com_m": [0.03, 0.01], "inertia_kgm2": 0.001},
+              "rod": {"mass_kg": 2.0, "com_m": [0.12, 0.01], "inertia_kgm2": 0.02},
+              "slider": {"mass_kg": 3.0, "com_m": [0.0, 0.0], "inertia_kgm2": 0.0}},
+}
+FAMILIES: dict[str, tuple[dict[str, object], Callable[[synth.Linkage, np.ndarray, float], closed_forms.Outputs]]] = {
+    "four-bar": (FOURBAR_EXAMPLE, closed_forms.fourbar),
+    "slider-crank": (SLIDER_CRANK, closed_forms.slider_crank),
+    "six-bar press (linkage of dyads)": (SIX_BAR_PRESS_EXAMPLE, closed_forms.six_bar_press),
+}
 
 
-def _linkage() -> synth.Linkage:
-    return AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()
+def _linkage(mechanism: dict[str, object] = FOURBAR_EXAMPLE) -> synth.Linkage:
+    """The mechanism with gravity on, so that every term of the closed forms is exercised."""
+    return AnalysisIn.model_validate({"mechanism": mechanism, "gravity": {"g_m_s2": 9.81}}).to_linkage()
 
 
+def compare_families(sizes: tuple[int, ...] = SIZES) -> list[tuple[str, int, float, float, float, float]]:
+    """Each family at each size: (family, angles, engine min, engine median, closed-form min, median) [s], after
+    checking that the closed form computes every array the engine returns, equal to ``TOLERANCE``."""
+    rows = []
+    for family, (mechanism, closed) in FAMILIES.items():
+        linkage = _linkage(mechanism)
+        for n in sizes:
+            phi = synth.cycle_angles(n)
+            reference = closed(linkage, phi, OMEGA)
+            engine = closed_forms.engine_outputs(synth.analyse(linkage, OMEGA, samples=n), list(reference))
+            worst, where = closed_forms.worst_relative_difference(engine, reference)
+            assert worst < TOLERANCE, f"{family}, {n} angles: the closed form disagrees at {where} by {worst:.1e}"
+            repeat = max(5, min(61, 600_000 // (n * 40)))
+            t = interleaved({"engine": lambda: synth.analyse(linkage, OMEGA, samples=n),
+                             "closed": lambda: closed(linkage, phi, OMEGA)}, repeat)
+            rows.append((family, n, *t["engine"], *t["closed"]))
+    return rows
 
-def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
-
-def closed_form(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> tuple[np.ndarray, np.ndarray]:
-    """Driving torque and the crank-coupler reaction of a four-bar at constant crank speed, vectorised."""
-    fb = linkage.mechanism
-    assert isinstance(fb, synth.FourBar)
-    a, b, c, d = fb.crank, fb.coupler, fb.rocker, fb.ground
-    pa = a * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-    aq = np.array([d, 0.0]) - pa
-    dist = np.hypot(aq[:, 0], aq[:, 1])
-    gamma = np.arccos((b * b + dist * dist - c * c) / (2 * b * dist))
-    t2 = np.arctan2(aq[:, 1], aq[:, 0]) + fb.branch * gamma
-    pb = pa + b * np.stack([np.cos(t2), np.sin(t2)], axis=-1)
-    t3 = np.arctan2(pb[:, 1], pb[:, 0] - d)
-    s32 = np.sin(t3 - t2)
-    w2 = a * omega * np.sin(phi - t3) / (b * s32)
-    w3 = a * omega * np.sin(phi - t2) / (c * s32)
-    # accelerations: b al2 k x e2 - c al3 k x e3 = a w² e1 + b w2² e2 - c w3² e3 (components along e3, e2)
-    e1, e2, e3 = (np.stack([np.cos(t), np.sin(t)], axis=-1) for t in (phi, t2, t3))
-    rhs = a * omega**2 * e1 + b * (w2**2)[:, None] * e2 - c * (w3**2)[:, None] * e3
-    al2 = np.einsum("ij,ij->i", rhs, e3) / (b * s32)
-    al3 = np.einsum("ij,ij->i", rhs, e2) / (c * s32)
-    props = [linkage.mass_props(n) for n in ("crank", "coupler", "rocker")]
-    frames = [(np.zeros_like(pa), phi, np.full_like(phi, omega), np.zeros_like(phi), np.zeros_like(pa)),
-              (pa, t2, w2, al2, -a * omega**2 * e1),
-              (np.broadcast_to([d, 0.0], pa.shape), t3, w3, al3, np.zeros_like(pa))]
-    force, moment, com = [], [], []
-    for p, (origin, th, w, al, acc_o) in zip(props, frames, strict=True):
-        ct, st = np.cos(th), np.sin(th)
-        r = np.stack([ct * p.com[0] - st * p.com[1], st * p.com[0] + ct * p.com[1]], axis=-1)
-        kr = np.stack([-r[:, 1], r[:, 0]], axis=-1)
-        acc = acc_o + al[:, None] * kr - (w * w)[:, None] * r
-        force.append(-p.mass * acc)
-        moment.append(-p.inertia * al)   # inertia couple (the inertia is about the centre of mass)
-        com.append(origin + r)
-    # Dyad: coupler moments about B and rocker moments about Q give the crank's force on the coupler, R_A.
-    u, v = pa - pb, pb - np.array([d, 0.0])
-    c1 = -(_cross(com[1] - pb, force[1]) + moment[1])
-    c2 = -(_cross(v, force[1]) + _cross(com[2] - np.array([d, 0.0]), force[2]) + moment[2])
-    det = _cross(u, v)
-    r_a = np.stack([(c1 * v[:, 0] - u[:, 0] * c2) / det, (c1 * v[:, 1] - u[:, 1] * c2) / det], axis=-1)
-    torque = _cross(pa, r_a) - _cross(com[0], force[0]) - moment[0]
-    return torque, r_a
+def print_families(rows: list[tuple[str, int, float, float, float, float]]) -> None:
+    """The table of engine against closed form."""
+    print(f"synth.analyse against a vectorised closed form of every output it returns (checked equal to "
+          f"{TOLERANCE:.0e} of scale), alternated, min / median [ms]:")
+    print(f"  {'mechanism':34s} {'angles':>6s} {'engine':>17s} {'closed form':>17s} {'ratio min/median':>17s}")
+    for family, n, e_min, e_med, c_min, c_med in rows:
+        print(f"  {family:34s} {n:6d} {e_min * 1e3:8.3f}/{e_med * 1e3:8.3f} {c_min * 1e3:8.3f}/{c_med * 1e3:8.3f}"
+              f" {e_min / c_min:8.2f}/{e_med / c_med:.2f}")
 
 
 def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> np.ndarray:
@@ -136,38 +134,19 @@ def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> n
 
 
 def main() -> None:
-    """Engine against both closed forms, then the request and its serialisation."""
-    linkage = _linkage()
+    """Every family against its closed form at every size, the per-angle loop, then the request and its JSON."""
+    keep_freed_memory()  # the allocator as the service's workers set it, for both sides of every ratio
+    print_families(compare_families())
+    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()  # the loop has no gravity
     phi = synth.cycle_angles(SAMPLES)
     engine = synth.analyse(linkage, OMEGA, samples=SAMPLES)
-    torque = engine.kinetostatics.driving_torque
-    vec_torque, r_a = closed_form(linkage, phi, OMEGA)
     loop_torque = per_angle_torque(linkage, phi, OMEGA)
-    scale = 1 + float(np.abs(torque).max())
-    for name, other in (("vectorised closed form", vec_torque), ("per-angle loop", loop_torque)):
-        diff = float(np.abs(torque - other).max())
-        assert diff < 1e-9 * scale, f"{name} disagrees with the engine by {diff}"
-    diff_ra = float(np.abs(engine.kinetostatics.reactions["A"] - r_a).max())
-    assert diff_ra < 1e-9 * scale, f"the closed form's reaction at A disagrees by {diff_ra}"
-
-    # First with the allocator as a plain Python process has it, then as the service's workers set it (freed
-    # cycle-sized arrays kept for reuse); both sides of each ratio are timed under the same setting.
-    t_engine_plain = median_of(lambda: synth.analyse(linkage, OMEGA, samples=SAMPLES), 31)
-    t_vec_plain = median_of(lambda: closed_form(linkage, phi, OMEGA), 31)
-    tuned = keep_freed_memory()
-    t_engine = median_of(lambda: synth.analyse(linkage, OMEGA, samples=SAMPLES), 31)
-    t_vec = median_of(lambda: closed_form(linkage, phi, OMEGA), 31)
-    t_loop = median_of(lambda: per_angle_torque(linkage, phi, OMEGA), 3)
-    print(f"four-bar analysis, {SAMPLES} samples, medians (the closed forms agree with the engine to "
-          f"{float(np.abs(torque - vec_torque).max()):.1e} N·m)")
-    print("  engine synth.analyse (generic: kinematics, all reactions, torque, shaking force and moment, virtual"
-          " power, reduced model) against the vectorised closed form (kinematics, reaction at A, torque):")
-    print(f"    plain allocator:           engine {t_engine_plain * 1e3:6.2f} ms, closed form {t_vec_plain * 1e3:5.2f} ms"
-          f"   engine / closed form = {t_engine_plain / t_vec_plain:.1f}")
-    print(f"    as in a worker{'' if tuned else ' (not glibc: unchanged)'}:  engine {t_engine * 1e3:6.2f} ms, "
-          f"closed form {t_vec * 1e3:5.2f} ms   engine / closed form = {t_engine / t_vec:.1f}")
-    print(f"  per-angle closed-form loop (torque):                        {t_loop * 1e3:7.2f} ms   "
-          f"speed-up {t_loop / t_engine:.0f}x")
+    diff = float(np.abs(engine.kinetostatics.driving_torque - loop_torque).max())
+    assert diff < 1e-9 * (1 + float(np.abs(loop_torque).max())), f"the per-angle loop disagrees by {diff}"
+    t = interleaved({"engine": lambda: synth.analyse(linkage, OMEGA, samples=SAMPLES),
+                     "loop": lambda: per_angle_torque(linkage, phi, OMEGA)}, 3)
+    print(f"  per-angle closed-form loop (torque only), four-bar, {SAMPLES} angles: {t['loop'][1] * 1e3:7.2f} ms median,"
+          f" engine {t['loop'][1] / t['engine'][1]:.0f}x faster")
 
     client = SynthClient.in_process()
     body = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": SAMPLES})

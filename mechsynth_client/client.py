@@ -9,7 +9,8 @@ raises a :class:`ProblemError` subclass carrying the problem details. A busy ser
 the ``Retry-After`` it names, at most ``retries`` times and never waiting longer than ``max_retry_wait_s``.
 
 Every export has a method: the figures as PNG, SVG or PDF (``format=`` on the ``*_png`` methods, PNG by default),
-the curves as CSV text (``*_csv``, one row per crank angle), the drawings as DXF or SVG (``analysis_drawing``,
+the curves as CSV text (``*_csv``, one row per crank angle), the arrays of array-heavy answers as numpy arrays
+(``analysis_arrays``, ``flywheel_arrays``: a NumPy ``.npz`` answer, the only methods that need numpy), the drawings as DXF or SVG (``analysis_drawing``,
 ``balance_dxf``) and the machine's design report as PDF (``design_report_pdf``).
 
 The client needs only httpx and pydantic (``pip install ./client``): the models import the engine only to convert
@@ -226,6 +227,16 @@ class _Policy:
         return {"format": fmt, **{k: v for k, v in params.items() if v is not None}}
 
     @staticmethod
+    def _arrays(response: httpx.Response) -> dict[str, Any]:
+        """An ``.npz`` answer as a dict of numpy arrays keyed by JSON path (numpy is needed only here)."""
+        import io
+
+        import numpy as np
+
+        with np.load(io.BytesIO(response.content), allow_pickle=False) as archive:
+            return {key: archive[key] for key in archive.files}
+
+    @staticmethod
     def _rows(response: httpx.Response, model: type[M]) -> list[M]:
         return [model.model_validate(row) for row in response.json()]
 
@@ -314,6 +325,11 @@ class SynthClient(_Policy):
         names."""
         return self._export("/v1/analysis", body, "csv").text
 
+    def analysis_arrays(self, body: AnalysisIn) -> dict[str, Any]:
+        """POST /v1/analysis?format=npz: every number of the answer as numpy arrays keyed by JSON path
+        (``driving_torque_Nm``, ``joint_reactions_N/A``, ``links/crank/angle_deg``); needs numpy."""
+        return self._arrays(self._export("/v1/analysis", body, "npz"))
+
     def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
                          angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis/drawing: the mechanism to scale in millimetres with its counterweights, DXF or SVG."""
@@ -336,6 +352,11 @@ class SynthClient(_Policy):
         """POST /v1/flywheel?format=csv: the cycle as sized (J_red, reduced torque, excess work) and every method's
         simulated speed as CSV text, one row per sample of the cycle."""
         return self._export("/v1/flywheel", body, "csv").text
+
+    def flywheel_arrays(self, body: FlywheelIn) -> dict[str, Any]:
+        """POST /v1/flywheel?format=npz: every number of the answer as numpy arrays keyed by JSON path; needs
+        numpy."""
+        return self._arrays(self._export("/v1/flywheel", body, "npz"))
 
     def gears_split(self, body: SplitIn) -> SplitOut:
         """POST /v1/gears/split: stage ratios (motor side first) for minimum inertia, volume or the handbook rule."""
@@ -537,6 +558,10 @@ class AsyncSynthClient(_Policy):
         """POST /v1/analysis?format=csv."""
         return (await self._export("/v1/analysis", body, "csv")).text
 
+    async def analysis_arrays(self, body: AnalysisIn) -> dict[str, Any]:
+        """POST /v1/analysis?format=npz."""
+        return self._arrays(await self._export("/v1/analysis", body, "npz"))
+
     async def analysis_drawing(self, body: AnalysisIn, format: DrawingFormat = "dxf",
                                angle_deg: float | None = None) -> bytes:
         """POST /v1/analysis/drawing."""
@@ -557,6 +582,10 @@ class AsyncSynthClient(_Policy):
     async def flywheel_csv(self, body: FlywheelIn) -> str:
         """POST /v1/flywheel?format=csv."""
         return (await self._export("/v1/flywheel", body, "csv")).text
+
+    async def flywheel_arrays(self, body: FlywheelIn) -> dict[str, Any]:
+        """POST /v1/flywheel?format=npz."""
+        return self._arrays(await self._export("/v1/flywheel", body, "npz"))
 
     async def gears_split(self, body: SplitIn) -> SplitOut:
         """POST /v1/gears/split."""

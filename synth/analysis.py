@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -13,7 +13,8 @@ from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
 from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
 from .kinematics import FourBar, MAX_SAMPLES, Motion, PointState, cycle_angles, motion, transmission_angle
-from .kinetostatics import Kinetostatics, LinkArrays, link_arrays, solve_direct, virtual_power_torque
+from .kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays, solve_direct,
+                            virtual_power_torque)
 from .model import FloatArray, Linkage
 
 
@@ -52,6 +53,9 @@ class Analysis:
     reduced: ReducedModel
     counter_rotors: tuple[CounterRotor, ...] = ()
     friction: FrictionAnalysis | None = None
+    #: The mechanism's own motion (without centres of mass or trace points): what a re-analysis of the same
+    #: mechanism with other masses passes as ``base_motion``.
+    mechanism_motion: Motion | None = field(default=None, repr=False, compare=False)
 
     @property
     def torque_check(self) -> float:
@@ -101,14 +105,17 @@ def analyse(
     points: Mapping[str, tuple[str, tuple[float, float]]] | None = None,
     counter_rotors: Sequence[CounterRotor] = (),
     friction: Sequence[PairFriction] = (),
+    base_motion: Motion | None = None,
 ) -> Analysis:
     """Analyse ``linkage`` at crank speed ``speed`` [rad/s] over a uniform grid of ``samples`` or at ``phi`` [rad].
 
     ``points`` adds named points fixed in links (name -> (link, position in the link frame [m])), such as
     coupler points, to the motion. ``counter_rotors`` (a full-balance answer's) add their moment on the frame,
     their share of the driving torque and their reduced inertia. ``friction`` per pair adds the kinetostatics with
-    friction and its losses in the reduced model. Raises InvalidInput, TooLarge (more samples than ``max_samples``) or
-    NotAssemblable (with the ranges).
+    friction and its losses in the reduced model. ``base_motion`` is :func:`synth.kinematics.motion` of this
+    mechanism at these angles, speed and acceleration when the caller has it already (the same mechanism analysed
+    again with other masses: balancing's before and after). Raises InvalidInput, TooLarge (more samples than
+    ``max_samples``) or NotAssemblable (with the ranges).
     """
     if phi is None:
         angles = cycle_angles(samples, 2 * math.pi, max_samples)
@@ -116,7 +123,13 @@ def analyse(
         angles = np.asarray(phi, dtype=float).reshape(-1)
         if angles.size > max_samples:
             raise TooLarge("crank angles", max_samples, angles.size)
-    base = motion(linkage.mechanism, angles, speed, crank_acceleration)
+    if base_motion is None:
+        base = motion(linkage.mechanism, angles, speed, crank_acceleration)
+    elif (base_motion.samples != angles.size or base_motion.omega_crank != speed
+          or base_motion.alpha_crank != crank_acceleration or not np.array_equal(base_motion.phi, angles)):
+        raise ValueError("base_motion is not this mechanism's motion at these angles, speed and acceleration")
+    else:
+        base = base_motion
     links = linkage.mechanism.topology.links
     extra = dict(points or {})
     for name, (link, _) in extra.items():
@@ -130,9 +143,10 @@ def analyse(
     coms = {f"S_{link}": PointState(arrays.com_pos[i], arrays.com_vel[i], arrays.com_acc[i])
             for i, link in enumerate(links)}
     mot = base.with_points(extra, coms)
-    kin = solve_direct(mot, linkage, arrays)
-    vp = virtual_power_torque(mot, linkage, arrays)
-    red = reduced_model(mot, linkage, arrays)
+    loads = external_loads(mot, linkage)
+    kin = solve_direct(mot, linkage, arrays, loads)
+    vp = virtual_power_torque(mot, linkage, arrays, loads)
+    red = reduced_model(mot, linkage, arrays, loads)
     if counter_rotors:
         moment, torque = rotor_loads(mot, counter_rotors)
         kin = replace(kin, driving_torque=kin.driving_torque + torque, shaking_moment=kin.shaking_moment + moment)
@@ -154,6 +168,7 @@ def analyse(
         reduced=red,
         counter_rotors=tuple(counter_rotors),
         friction=fric,
+        mechanism_motion=base,
     )
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .kinematics.motion import Motion
-from .kinetostatics import LinkArrays, external_loads, link_arrays
+from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays
 from .model import FloatArray, Linkage
 
 
@@ -35,27 +35,30 @@ class ReducedModel:
         return self.load_torque if self.friction_torque is None else self.load_torque - self.friction_torque
 
 
-def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> ReducedModel:
+def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None,
+                  loads: ExternalLoads | None = None) -> ReducedModel:
     """J_red = sum(m·|v_S/w|² + J_S·(w_i/w)²), its derivative in phi, and M_red from the power of the loads.
 
-    ``arrays`` are :func:`synth.kinetostatics.link_arrays` of this motion and linkage when the caller has them.
+    ``arrays`` are :func:`synth.kinetostatics.link_arrays` and ``loads`` :func:`synth.kinetostatics.external_loads`
+    of this motion and linkage when the caller has them.
     """
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     w, eps = motion.omega_crank, motion.alpha_crank
-    n = motion.samples
-    inertia, slope, power = np.zeros(n), np.zeros(n), np.zeros(n)
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    for i in range(len(arrays.links)):
-        mass, j_s = arrays.mass[i], arrays.inertia[i]
-        vel = arrays.com_vel[i]
-        d1 = vel / w
-        d2 = (arrays.com_acc[i] - eps * d1) / w**2
-        t1 = arrays.omega[i] / w
-        t2 = (arrays.alpha[i] - eps * t1) / w**2
-        inertia += mass * np.einsum("ij,ij->i", d1, d1) + j_s * t1**2
-        slope += 2 * mass * np.einsum("ij,ij->i", d1, d2) + 2 * j_s * t1 * t2
-        power += mass * (vel @ g)
-    loads = external_loads(motion, linkage)
+    # All links at once (links on axis 0): velocity and acceleration analogues of the centres of mass and the
+    # link angles, then the sums over the links.
+    d1 = arrays.com_vel / w
+    t1 = arrays.omega / w
+    if eps:
+        d2 = (arrays.com_acc - eps * d1) / w**2
+        t2 = (arrays.alpha - eps * t1) / w**2
+    else:
+        d2 = arrays.com_acc / w**2
+        t2 = arrays.alpha / w**2
+    inertia = np.einsum("l,lnk,lnk->n", arrays.mass, d1, d1) + np.einsum("l,ln,ln->n", arrays.inertia, t1, t1)
+    slope = 2 * (np.einsum("l,lnk,lnk->n", arrays.mass, d1, d2) + np.einsum("l,ln,ln->n", arrays.inertia, t1, t2))
+    power = np.einsum("l,lnk,k->n", arrays.mass, arrays.com_vel, g)
+    loads = external_loads(motion, linkage) if loads is None else loads
     power += np.einsum("ij,ij->i", loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power += torque * motion.link_omega[link]

@@ -267,10 +267,138 @@ def _times_constant(x: FloatArray, g: FloatArray) -> FloatArray:
     return out
 
 
+def _lu_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Determinants and solutions of stacked k x k systems (k, k, N), (k, m, N) by Gaussian elimination with
+    partial pivoting, each step one array operation over all crank angles (LAPACK's batched routines factorise
+    the small matrices one at a time, and twice: once for the determinant, once for the solve)."""
+    k, n = s.shape[0], s.shape[-1]
+    s, r = s.copy(), r.copy()
+    det = np.ones(n)
+    for i in range(k):
+        if i < k - 1:
+            pivot = i + np.argmax(np.abs(s[i:, i]), axis=0)
+            swap = np.flatnonzero(pivot != i)
+            if swap.size:
+                rows = pivot[swap]
+                s[i, :, swap], s[rows, :, swap] = s[rows, :, swap], s[i, :, swap].copy()
+                r[i, :, swap], r[rows, :, swap] = r[rows, :, swap], r[i, :, swap].copy()
+                det[swap] = -det[swap]
+        det *= s[i, i]
+        if i < k - 1:
+            factor = s[i + 1 :, i] / s[i, i]
+            s[i + 1 :, i + 1 :] -= factor[:, None] * s[i, None, i + 1 :]
+            r[i + 1 :] -= factor[:, None] * r[i, None]
+    x = np.empty_like(r)
+    for i in range(k - 1, -1, -1):
+        rest = r[i].copy()
+        for j in range(i + 1, k):
+            rest -= s[i, j, None] * x[j]
+        x[i] = rest / s[i, i]
+    return det, x
+
+
+@functools.lru_cache(maxsize=64)
+def _block_order(k: int, pattern: bytes) -> tuple[tuple[tuple[int, ...], tuple[int, ...]], ...] | None:
+    """Blocks (rows, columns) in which a k x k system of nonzero ``pattern`` (row-major booleans) can be solved one
+    after another: a lower block-triangular form, found once per pattern.
+
+    A linkage of dyads is solved dyad by dyad by hand; this finds the same order from the matrix alone: a
+    matching of equations to unknowns (a zero-free diagonal), then the strongly connected components of
+    "equation needs unknown", which Tarjan's algorithm emits dependencies first. None when no matching exists
+    (the system is structurally singular).
+    """
+    mask = np.frombuffer(pattern, dtype=bool).reshape(k, k)
+    match_col: dict[int, int] = {}                 # column -> its row
+
+    def augment(row: int, seen: set[int]) -> bool:
+        for col in np.flatnonzero(mask[row]):
+            c = int(col)
+            if c not in seen:
+                seen.add(c)
+                if c not in match_col or augment(match_col[c], seen):
+                    match_col[c] = row
+                    return True
+        return False
+
+    for row in range(k):
+        if not augment(row, set()):
+            return None
+    row_of = [match_col[c] for c in range(k)]
+    needs = [[int(c) for c in np.flatnonzero(mask[row_of[j]]) if c != j] for j in range(k)]
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    stack: list[int] = []
+    blocks: list[tuple[tuple[int, ...], tuple[int, ...]]] = []
+
+    def connect(v: int) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in needs[v]:
+            if w not in index:
+                connect(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            cols: list[int] = []
+            while True:
+                w = stack.pop()
+                cols.append(w)
+                if w == v:
+                    break
+            cols.sort()
+            blocks.append((tuple(row_of[c] for c in cols), tuple(cols)))
+
+    for v in range(k):
+        if v not in index:
+            connect(v)
+    return tuple(blocks)
+
+
+def _permutation_sign(order: list[int]) -> float:
+    """+1 or -1: the sign of a permutation given as the list of images."""
+    sign, seen = 1.0, [False] * len(order)
+    for start in range(len(order)):
+        length, i = 0, start
+        while not seen[i]:
+            seen[i] = True
+            i = order[i]
+            length += 1
+        if length and length % 2 == 0:
+            sign = -sign
+    return sign
+
+
+def _block_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray] | None:
+    """``_det_and_solve`` through the lower block-triangular form of ``s`` (k, k, N) when it has blocks of at most
+    3 x 3 (each then solved in closed form), else None."""
+    k = s.shape[0]
+    blocks = _block_order(k, np.ascontiguousarray(np.any(s != 0, axis=-1)).tobytes())
+    if blocks is None or max(len(cols) for _, cols in blocks) > 3:
+        return None
+    mask = np.any(s != 0, axis=-1)
+    x = np.empty(r.shape)
+    det = np.full(s.shape[-1], _permutation_sign([row for rows, _ in blocks for row in rows])
+                  * _permutation_sign([col for _, cols in blocks for col in cols]))
+    solved: list[int] = []
+    for rows, cols in blocks:
+        rhs = r[list(rows)].copy()
+        for a, row in enumerate(rows):
+            for col in solved:
+                if mask[row, col]:
+                    rhs[a] -= s[row, col, None] * x[col]
+        block_det, block_x = _det_and_solve(s[np.ix_(rows, cols)], rhs)
+        det = det * block_det
+        x[list(cols)] = block_x
+        solved.extend(cols)
+    return det, x
+
+
 def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Determinants of the stacked small matrices ``s`` (k, k, N) and the solutions of s @ x = r (k, m, N).
 
-    Up to 3 x 3 by the adjugate in closed form (vectorised over N; no per-matrix LAPACK call), larger by LAPACK.
+    Up to 3 x 3 by the adjugate in closed form, larger by Gaussian elimination with partial pivoting; both
+    vectorised over N, with no per-matrix LAPACK call.
     """
     k = s.shape[0]
     if k == 1:
@@ -289,12 +417,9 @@ def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray
         adj[0, 2], adj[1, 2], adj[2, 2] = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
         det = a0 * adj[0, 0] + a1 * adj[1, 0] + a2 * adj[2, 0]
     else:
-        s_n, r_n = np.moveaxis(s, -1, 0), np.moveaxis(r, -1, 0)
-        det = np.linalg.det(s_n)
-        ok = np.abs(det) > 0
-        x = np.full(r_n.shape, np.nan)
-        x[ok] = np.linalg.solve(s_n[ok], r_n[ok])
-        return det, np.moveaxis(x, 0, -1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            blocked = _block_det_and_solve(s, r)
+            return _lu_det_and_solve(s, r) if blocked is None else blocked
     with np.errstate(divide="ignore", invalid="ignore"):
         return det, _batched_matmul(adj, r) / det
 
@@ -393,16 +518,17 @@ def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArra
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     force = arrays.mass[:, None, None] * (g - arrays.com_acc)
     moment = cross(arrays.com_pos - arrays.origin_pos, force) - arrays.inertia[:, None] * arrays.alpha
-    out = np.zeros((arrays.angle.shape[1], 3 * len(topo.links)))
-    for i, link in enumerate(topo.links):
-        f_i, m_i = force[i], moment[i]
-        if link == topo.output and topo.output_motion == "translation":
-            f_i = f_i + loads.force
-            m_i = m_i + cross(loads.point - arrays.origin_pos[i], loads.force)
-        m_i = m_i + loads.torques.get(link, 0.0)
-        out[:, 3 * i : 3 * i + 2] = f_i
-        out[:, 3 * i + 2] = m_i
-    return out
+    n_links, n = len(topo.links), arrays.angle.shape[1]
+    out = np.empty((n, n_links, 3))
+    out[:, :, :2] = force.transpose(1, 0, 2)
+    out[:, :, 2] = moment.T
+    if topo.output_motion == "translation":
+        i = topo.links.index(topo.output)
+        out[:, i, :2] += loads.force
+        out[:, i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
+    for link, torque in loads.torques.items():
+        out[:, topo.links.index(link), 2] += torque
+    return out.reshape(n, 3 * n_links)
 
 
 def _frame_action(motion: Motion, topo: Topology, x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -461,25 +587,27 @@ def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, Fl
     return reactions, couples
 
 
-def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> Kinetostatics:
+def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None,
+                 loads: ExternalLoads | None = None) -> Kinetostatics:
     """Kinetostatics from the links' actual loads (the plain model, independent of the linear map).
 
-    ``arrays`` are :func:`link_arrays` of this motion and linkage when the caller has them already.
+    ``arrays`` are :func:`link_arrays` and ``loads`` :func:`external_loads` of this motion and linkage when the
+    caller has them already.
     """
     topo = linkage.mechanism.topology
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
-    loads = external_loads(motion, linkage)
+    loads = external_loads(motion, linkage) if loads is None else loads
     known = _known_loads_direct(linkage, loads, arrays)
     x = _solve_stacked(motion, topo, -known[..., None])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force
     moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
-    g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    for i in range(len(topo.links)):
-        pos = arrays.com_pos[i]
-        force = force - arrays.mass[i] * g
-        moment = moment - arrays.mass[i] * cross(pos, np.broadcast_to(g, pos.shape))
+    if linkage.gravity is not None:  # the weights' resultant and its moment about O
+        g = linkage.gravity.vector
+        force = force - arrays.mass.sum() * g
+        first = np.einsum("l,lnk->nk", arrays.mass, arrays.com_pos)
+        moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = _unpack(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
 
@@ -585,21 +713,21 @@ def linear_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = Non
     return LinearMap(topo.links, tuple(j.name for j in topo.joints), full[:, :, :-1], full[:, :, -1])
 
 
-def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> FloatArray:
+def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None,
+                         loads: ExternalLoads | None = None) -> FloatArray:
     """Driving torque [N·m] from virtual power: the powers of all loads and inertia forces sum to zero.
 
     Independent of the reaction solve (Zhukovsky's lever in analytic form, seed 000:138-192). ``arrays`` are
-    :func:`link_arrays` of this motion and linkage when the caller has them already.
+    :func:`link_arrays` and ``loads`` :func:`external_loads` of this motion and linkage when the caller has them.
     """
     topo = linkage.mechanism.topology
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    loads = external_loads(motion, linkage)
+    loads = external_loads(motion, linkage) if loads is None else loads
     power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
-    for i in range(len(topo.links)):
-        inertia_force = arrays.mass[i] * (g - arrays.com_acc[i])
-        power = power + np.einsum("ij,ij->i", inertia_force, arrays.com_vel[i])
-        power = power - arrays.inertia[i] * arrays.alpha[i] * arrays.omega[i]
+    # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
+    power = power + np.einsum("l,lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
+    power = power - np.einsum("l,ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

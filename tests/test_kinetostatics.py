@@ -243,3 +243,47 @@ def test_constant_elimination_equals_the_per_angle_one(linkage: synth.Linkage, g
         per_angle = kinetostatics.solve_direct(mot, loaded).unknowns
     scale = 1.0 + float(np.abs(once).max())
     assert np.abs(once - per_angle).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("blocked", [True, False])
+def test_stacked_solves_of_more_than_three_unknowns_equal_lapack(blocked: bool) -> None:
+    # Systems of more than 3 unknowns (linkages of more than three moving links) are solved either block by block
+    # (a lower block-triangular pattern, as dyads give) or by vectorised elimination with partial pivoting; both
+    # against numpy's LAPACK determinant and solve of the same matrices, angle by angle.
+    from synth import kinetostatics
+
+    rng = np.random.default_rng(24)
+    k, n = 6, 200
+    s = rng.normal(size=(k, k, n))
+    if blocked:  # blocks {0, 3}, {1}, {2, 4, 5} in a scrambled order: zero wherever a later block would feed back
+        order = [[0, 3], [1], [2, 4, 5]]
+        for b, block in enumerate(order):
+            for later in order[b + 1 :]:
+                s[np.ix_(block, later)] = 0.0
+    r = rng.normal(size=(k, 2, n))
+    det, x = kinetostatics._det_and_solve(s, r)
+    assert (kinetostatics._block_det_and_solve(s, r) is not None) == blocked
+    per_angle = np.moveaxis(s, -1, 0)
+    expected_x = np.linalg.solve(per_angle, np.moveaxis(r, -1, 0))
+    expected_det = np.linalg.det(per_angle)
+    assert np.abs(det - expected_det).max() <= 1e-12 * np.abs(expected_det).max()
+    assert np.abs(np.moveaxis(x, -1, 0) - expected_x).max() <= 1e-9 * (1 + np.abs(expected_x).max())
+
+
+def test_a_reanalysis_on_the_shared_motion_equals_a_fresh_one() -> None:
+    # Balancing analyses the same mechanism before and after adding counterweights on one motion; the shared
+    # motion must give the very numbers a fresh analysis gives (the kinematics are deterministic).
+    from mechsynth_client.schemas.analysis import AnalysisIn
+    from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+
+    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "gravity": {"g_m_s2": 9.81}}).to_linkage()
+    before = synth.analyse(linkage, 12.0, samples=90)
+    heavier = linkage.with_counterweights([synth.Counterweight("crank", 0.8, (-0.04, 0.01))])
+    shared = synth.analyse(heavier, 12.0, samples=90, base_motion=before.mechanism_motion)
+    fresh = synth.analyse(heavier, 12.0, samples=90)
+    for a, b in ((shared.kinetostatics.unknowns, fresh.kinetostatics.unknowns),
+                 (shared.kinetostatics.shaking_moment, fresh.kinetostatics.shaking_moment),
+                 (shared.reduced.inertia, fresh.reduced.inertia), (shared.virtual_power_torque, fresh.virtual_power_torque)):
+        assert np.array_equal(a, b)
+    with pytest.raises(ValueError, match="base_motion"):
+        synth.analyse(heavier, 13.0, samples=90, base_motion=before.mechanism_motion)

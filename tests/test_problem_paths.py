@@ -99,9 +99,9 @@ def test_openapi_documents_study_errors_as_problems_and_flywheel_formats_served(
     # /v1/flywheel: the formats it serves, and only those (no DXF: a flywheel has no mechanism to draw)
     op = doc["paths"]["/v1/flywheel"]["post"]
     fmt = next(p for p in op["parameters"] if p["name"] == "format")
-    assert fmt["schema"]["anyOf"][0]["enum"] == ["json", "png", "svg", "pdf", "csv"]
+    assert fmt["schema"]["anyOf"][0]["enum"] == ["json", "png", "svg", "pdf", "csv", "npz"]
     assert set(op["responses"]["200"]["content"]) == {"application/json", "image/png", "image/svg+xml",
-                                                      "application/pdf", "text/csv"}
+                                                      "application/pdf", "text/csv", "application/x-npz"}
     tables = {"crank_angle_deg": [0, 120, 240, 360], "resisting_torque_Nm": [-10, -20, -5, -10],
               "driving_torque_Nm": [0, 0, 0, 0]}
     r = client.http.post("/v1/flywheel?format=dxf", json={"tables": tables, "mean_speed_rad_s": 10, "delta": 0.1})

@@ -13,9 +13,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import synth
+
 from mechsynth_client.client import InfeasibleError, InvalidInputError, SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
-from mechsynth_client.schemas.synthesis import CrankRockerIn, PathIn, SliderCrankSynthesisIn
+from mechsynth_client.schemas.synthesis import CrankRockerIn, PathIn, PathOut, SliderCrankSynthesisIn
 
 from conftest import CASES
 
@@ -137,3 +139,21 @@ def test_mutated_requests_never_answer_500(client: SynthClient, case: tuple[str,
     path, body = case
     r = client.http.post(path, json=body)
     assert r.status_code in (200, 413, 422, 504), (path, body, r.status_code, r.text[:500])
+
+
+def test_path_over_two_workers_answers_what_one_run_of_all_starts_does() -> None:
+    # The service deals the starts to its workers and keeps the best; the answer must be the engine's serial one
+    # for the same seed, number for number.
+    from fastapi.testclient import TestClient
+
+    from api.app import create_app
+    from api.settings import Settings
+
+    example = PathIn.model_config["json_schema_extra"]["examples"][0]
+    body = PathIn.model_validate(example)
+    serial = PathOut.from_engine(synth.synthesise_path(body.to_spec(60.0)))
+    with TestClient(create_app(Settings(executor="pool", workers=2))) as http:
+        assert http.get("/ready").json()["workers"] == 2
+        answer = http.post("/v1/synthesis/path", json=example)
+    assert answer.status_code == 200
+    assert answer.json() == json.loads(serial.model_dump_json())

@@ -7,7 +7,7 @@ runs the same plans for its variants, so a study row is exactly what the endpoin
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from importlib import metadata
 from typing import Any
@@ -17,8 +17,9 @@ from pydantic import BaseModel
 import synth
 from synth.exports import balance_export, slider_crank_balance_export
 from synth.machine.record import DesignRecord
+from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
-from ..media import FIGURES, Render
+from ..media import ARRAYS, FIGURES, Render
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (
     BalanceIn,
@@ -101,7 +102,7 @@ def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan
                 dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
                      max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors(),
                      friction=b.frictions()),
-                CURVES, "analysis")
+                (*CURVES, *ARRAYS), "analysis")
 
 
 def balance_static(b: BalanceIn, lim: Limits) -> Plan:
@@ -160,7 +161,7 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
     sizing = dict(constant_inertia=b.constant_inertia_kgm2, motor=None if b.motor is None else b.motor.to_engine(),
                   time_limit_s=lim.solver_time_limit_s)
     render = Render(flywheel_out, flywheel_file)
-    offered = (*FIGURES, "csv")
+    offered = (*FIGURES, "csv", *ARRAYS)
     if b.uses_tables():
         assert b.tables is not None
         return Plan(render, flywheel_from_tables,
@@ -236,10 +237,23 @@ def synthesis_slider_crank(b: SliderCrankSynthesisIn, lim: Limits) -> Plan:
 
 
 def synthesis_path(b: PathIn, lim: Limits) -> Plan:
-    """POST /v1/synthesis/path."""
+    """POST /v1/synthesis/path, all starts in one task (a design study's variant)."""
     spec = b.to_spec(lim.solver_time_limit_s)
     return Plan(Render(PathOut.from_engine, path_file, export_extra=(spec.targets,)), synth.synthesise_path,
                 (spec,), offered=("png",))
+
+
+def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpec, list[tuple[int, ...]]]:
+    """POST /v1/synthesis/path, first step: the starts dealt into one chunk per worker, each a task of
+    :func:`synth.synthesis.path.path_starts`."""
+    spec = b.to_spec(lim.solver_time_limit_s)
+    return spec, start_chunks(spec, workers)
+
+
+def synthesis_path_best(spec: PathSpec, parts: Sequence[PathStarts]) -> Plan:
+    """POST /v1/synthesis/path, last step: the best of the chunks' starts, placed and checked, then rendered."""
+    return Plan(Render(PathOut.from_engine, path_file, export_extra=(spec.targets,)), best_path,
+                (spec, tuple(parts)), offered=("png",))
 
 
 def machine_design(b: MachineIn, lim: Limits) -> Plan:

@@ -10,12 +10,12 @@ from fastapi.responses import Response
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..media import FIGURES, FormatQuery, format_responses, media
+from ..media import ARRAYS, FIGURES, FormatQuery, format_responses, media
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from ..execution.tasks import mechanism_drawing
 
 router = APIRouter(tags=["analysis"])
-FORMATS = (*FIGURES, "csv", "dxf")
+FORMATS = (*FIGURES, "csv", "dxf", *ARRAYS)
 AngleQuery = Annotated[float | None, Query(ge=-1e6, le=1e6, description="Crank angle of the mechanism drawing [deg].")]
 
 
@@ -31,7 +31,8 @@ async def analysis(
     and the reduced model of a linkage over one crank revolution, with the virtual-power check.
 
     ``?format=png|svg|pdf``: driving torque, shaking moment, shaking force polar diagram and the mechanism at
-    ``angle_deg``; ``csv``: every curve, one row per crank angle; ``dxf``: the mechanism drawing at ``angle_deg``."""
+    ``angle_deg``; ``csv``: every curve, one row per crank angle; ``dxf``: the mechanism drawing at ``angle_deg``;
+    ``npz``: every number of the JSON answer as NumPy arrays keyed by their JSON path."""
     return await solvers.answer_plan(plans.analysis(body, solvers.limits, angle_deg), request, format)
 
 

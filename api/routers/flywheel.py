@@ -11,18 +11,19 @@ import synth
 
 from ..execution import plans
 from ..deps import SolverDep
-from ..media import FIGURES, format_responses
+from ..media import ARRAYS, FIGURES, format_responses
 from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
-FORMATS = (*FIGURES, "csv")
+FORMATS = (*FIGURES, "csv", *ARRAYS)
 # Only what this endpoint serves: a flywheel has no mechanism to draw, so no DXF.
 FlywheelFormat = Annotated[
-    Literal["json", "png", "svg", "pdf", "csv"] | None,
+    Literal["json", "png", "svg", "pdf", "csv", "npz"] | None,
     Query(description="Answer format: `json` (default); `png`, `svg` or `pdf` for the energy-mass diagram and "
                       "the speed over the cycle; `csv` for the cycle and every method's speed, one row per crank "
-                      "angle. An `Accept` header (image/png, image/svg+xml, application/pdf, text/csv) chooses the "
-                      "same way."),
+                      "angle; `npz` for every number of the JSON answer as a NumPy archive, one array per JSON "
+                      "path. An `Accept` header (image/png, image/svg+xml, application/pdf, text/csv, "
+                      "application/x-npz) chooses the same way."),
 ]
 
 
@@ -38,5 +39,6 @@ async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep,
     """Smallest flywheel for a target delta by the exact (Wittenbauer), Mertsalov and energy methods, and with
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With
     ``?format=png|svg|pdf`` the energy-mass diagram with its tangents (the excess-work curve for a constant
-    reduced inertia) and the speed over the cycle; ``csv`` the cycle and every method's speed per crank angle."""
+    reduced inertia) and the speed over the cycle; ``csv`` the cycle and every method's speed per crank angle;
+    ``npz`` the JSON answer's numbers as NumPy arrays keyed by their JSON path."""
     return await solvers.answer_plan(plans.flywheel(body, solvers.limits), request, format)

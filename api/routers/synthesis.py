@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import asyncio
+
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 
+
+from synth.synthesis.path import path_starts
 
 from ..execution import plans
 from ..deps import SolverDep
@@ -44,5 +48,16 @@ async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request
 async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
     """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: multistart
     IPOPT from seeded Sobol starts, the best of all starts with the residual at every point recomputed by the
-    analysis engine. `?format=png` draws the coupler curve through the targets."""
-    return await solvers.answer_plan(plans.synthesis_path(body, solvers.limits), request, format)
+    analysis engine. `?format=png` draws the coupler curve through the targets.
+
+    The starts are independent: they run as one task per worker, side by side, and the best of all is the answer
+    (the same as one run of every start in order)."""
+    spec, chunks = plans.synthesis_path_chunks(body, solvers.limits, solvers.solvers.workers)
+    tasks = [asyncio.ensure_future(solvers.run(path_starts, spec, chunk)) for chunk in chunks]
+    try:
+        parts = await asyncio.gather(*tasks)
+    except BaseException:
+        for task in tasks:  # one chunk failed (a timeout, a lost worker): the others' work is moot
+            task.cancel()
+        raise
+    return await solvers.answer_plan(plans.synthesis_path_best(spec, parts), request, format)

@@ -120,12 +120,15 @@ def _rows(lm: LinearMap, which: Sequence[int]) -> tuple[FloatArray, FloatArray]:
 
 def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequence[Counterweight],
            before: Analysis, rotor_moment: FloatArray | None = None) -> tuple[Analysis, float, float, float, float]:
-    after = analyse(linkage.with_counterweights(counterweights), speed, samples=samples)
+    # The re-analysis is the plain model with the counterweights' masses, on the mechanism's motion as the
+    # analysis before computed it (one motion per request).
+    after = analyse(linkage.with_counterweights(counterweights), speed, samples=samples,
+                    base_motion=before.mechanism_motion)
     force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
     moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
     moment = float(np.abs(moment_series).max())
-    f0 = before.summary().max_shaking_force
-    m0 = before.summary().max_shaking_moment
+    summary = before.summary()
+    f0, m0 = summary.max_shaking_force, summary.max_shaking_moment
     return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 

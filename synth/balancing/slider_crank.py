@@ -150,7 +150,7 @@ def balance_slider_crank(linkage: Linkage, speed: float, *, counterweight_radius
                        if abs(crank_first) > 0 else (0.0, 0.0))
     w = speed
     before = analyse(linkage, speed, samples=samples)
-    after = analyse(linkage.with_counterweights([cw]), speed, samples=samples)
+    after = analyse(linkage.with_counterweights([cw]), speed, samples=samples, base_motion=before.mechanism_motion)
     phi = after.motion.phi
     # The reciprocating part puts -m_B·a_B on the frame along x; each order k of it is F_k·cos(k·phi - theta_k),
     # theta_k = 0 or pi in-line; an offset moves theta_1 off them.

@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, cast
 
@@ -227,12 +228,27 @@ def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
     return np.array(lo), np.array(hi)
 
 
-def synthesise_path(spec: PathSpec) -> PathResult:
-    """The crank-rocker whose coupler point passes nearest to ``spec.targets``: best of all multistart solves.
+@dataclass(frozen=True, slots=True)
+class PathStarts:
+    """What one chunk of the multistart reached: the objective of each start it ran [scaled], NaN where IPOPT
+    failed, and its best start (the first of the lowest objective) as (index, objective, solution, branch, IPOPT
+    status), None when none of its starts converged."""
 
-    Raises InvalidInput/TooLarge for unusable requests, SolverFailed when no start converges and SolverTimeout
-    (with the best residual reached) when the starts outrun ``spec.time_limit``.
-    """
+    indices: tuple[int, ...]
+    objectives: FloatArray
+    best: tuple[int, float, FloatArray, int, str] | None
+
+
+def start_chunks(spec: PathSpec, chunks: int) -> list[tuple[int, ...]]:
+    """The starts dealt into at most ``chunks`` groups (start k to group k mod chunks) to run side by side: each
+    group mixes both assembly branches and early and late Sobol points, so the groups take about equally long."""
+    count = max(1, min(chunks, spec.starts))
+    return [tuple(range(i, spec.starts, count)) for i in range(count)]
+
+
+def _problem(spec: PathSpec) -> tuple[FloatArray, FloatArray, bool, float, FloatArray, dict[str, FloatArray]]:
+    """Targets, crank-angle offsets, whether the angles are prescribed, the scale [m], the NLP's parameters and
+    its bounds; Infeasible when the crank cannot be the shortest link."""
     spec.validate()
     crank_lo = spec.bounds["crank"][0]
     if crank_lo >= min(spec.bounds[n][1] for n in ("coupler", "rocker", "ground")):
@@ -249,21 +265,33 @@ def synthesise_path(spec: PathSpec) -> PathResult:
     # The ground angle is periodic: a wider box than one turn lets a start slide past +-pi.
     lbx_z[2], ubx_z[2] = -3 * math.pi, 3 * math.pi
     n_phi = 1 if timed else n
-    lbx = np.concatenate([lbx_z, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)])
-    ubx = np.concatenate([ubx_z, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)])
     n_g = 10 + (0 if timed else n)
     # A margin keeps the answer off the Grashof limit, where the coupler and rocker would fold flat.
-    lbg = np.concatenate([np.full(6, GRASHOF_MARGIN * scale), np.zeros(n_g - 6), np.zeros(2 * n)])
-    ubg = np.concatenate([np.full(n_g, np.inf), np.zeros(2 * n)])
+    bounds = {
+        "lbx": np.concatenate([lbx_z, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)]),
+        "ubx": np.concatenate([ubx_z, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)]),
+        "lbg": np.concatenate([np.full(6, GRASHOF_MARGIN * scale), np.zeros(n_g - 6), np.zeros(2 * n)]),
+        "ubg": np.concatenate([np.full(n_g, np.inf), np.zeros(2 * n)]),
+    }
+    return targets, offsets, timed, scale, params, bounds
+
+
+def path_starts(spec: PathSpec, indices: Sequence[int]) -> PathStarts:
+    """Run the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), each from its own Sobol
+    point: a plain function of plain data, so chunks run in separate workers. SolverTimeout past
+    ``spec.time_limit`` counted from this call."""
+    targets, offsets, timed, scale, params, bounds = _problem(spec)
+    n = targets.shape[0]
     starts = _starts(spec)
     deadline = time.monotonic() + spec.time_limit
-    objectives = np.full(spec.starts, np.nan)
-    best: tuple[float, FloatArray, int, str] | None = None
-    for k, start in enumerate(starts):
+    objectives = np.full(len(indices), np.nan)
+    best: tuple[int, float, FloatArray, int, str] | None = None
+    for done, k in enumerate(indices):
         remaining = deadline - time.monotonic()
         if remaining <= 0:
-            raise SolverTimeout(spec.time_limit, starts_completed=k,
-                                best_rms_residual_m=None if best is None else math.sqrt(best[0] * scale**2 / n))
+            raise SolverTimeout(spec.time_limit, starts_completed=done,
+                                best_rms_residual_m=None if best is None else math.sqrt(best[1] * scale**2 / n))
+        start = starts[k]
         branch = spec.branch or (1 if k % 2 == 0 else -1)
         solver = _program(n, timed, branch)
         angles0 = _first_angles(start, targets, offsets, timed, branch)
@@ -271,15 +299,27 @@ def synthesise_path(spec: PathSpec) -> PathResult:
             px0, py0 = _coupler_points(start[:_DESIGN], angles0[0] + offsets if timed else angles0, float(branch))
         r0 = np.nan_to_num(np.concatenate([px0 - targets[:, 0], py0 - targets[:, 1]]))
         x0 = np.concatenate([start[:_DESIGN], angles0, r0])
-        sol = solver(x0=x0, p=params, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
+        sol = solver(x0=x0, p=params, **bounds)
         status = str(solver.stats()["return_status"])
         if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
-            objectives[k] = float(sol["f"])
-            if best is None or objectives[k] < best[0]:
-                best = (objectives[k], np.asarray(sol["x"]).reshape(-1), branch, status)
-    if best is None:
+            objectives[done] = float(sol["f"])
+            if best is None or objectives[done] < best[1]:
+                best = (k, objectives[done], np.asarray(sol["x"]).reshape(-1), branch, status)
+    return PathStarts(tuple(indices), objectives, best)
+
+
+def best_path(spec: PathSpec, parts: Sequence[PathStarts]) -> PathResult:
+    """The answer from every chunk's starts: the lowest objective, the earliest start among equals (as one run
+    of all starts in order keeps it), placed in the targets' frame with the engine's residuals."""
+    targets, offsets, timed, scale, _, _ = _problem(spec)
+    n = targets.shape[0]
+    objectives = np.full(spec.starts, np.nan)
+    for part in parts:
+        objectives[list(part.indices)] = part.objectives
+    found = [part.best for part in parts if part.best is not None]
+    if not found:
         raise SolverFailed("no_start_converged", f"none of the {spec.starts} starts converged")
-    f_best, x, branch, status = best
+    _, f_best, x, branch, status = min(found, key=lambda b: (b[1], b[0]))
     z = x[:_DESIGN]
     phi = x[_DESIGN] + offsets if timed else x[_DESIGN:_DESIGN + n]
     near = objectives[np.isfinite(objectives)] <= f_best + 1e-9 / scale**2 + 1e-6 * f_best
@@ -297,6 +337,16 @@ def synthesise_path(spec: PathSpec) -> PathResult:
         status=status,
         check=check_fourbar(fb),
     )
+
+
+def synthesise_path(spec: PathSpec) -> PathResult:
+    """The crank-rocker whose coupler point passes nearest to ``spec.targets``: best of all multistart solves.
+
+    Raises InvalidInput/TooLarge for unusable requests, SolverFailed when no start converges and SolverTimeout
+    (with the best residual reached) when the starts outrun ``spec.time_limit``. The same as :func:`best_path`
+    of :func:`path_starts` over the chunks of :func:`start_chunks`, whichever the number of chunks.
+    """
+    return best_path(spec, [path_starts(spec, range(spec.starts))])
 
 
 def _engine_residuals(fb: FourBar, z: FloatArray, phi: FloatArray, targets: FloatArray) -> FloatArray:
