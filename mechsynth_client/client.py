@@ -47,6 +47,7 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
 from .schemas.synthesis import (
@@ -445,6 +446,10 @@ class SynthClient(_Policy):
         request asks for them)."""
         return self._export("/v1/machines/design", body, "pdf").content
 
+    def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
+        """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
+        return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -665,6 +670,10 @@ class AsyncSynthClient(_Policy):
     async def design_report_pdf(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=pdf."""
         return (await self._export("/v1/machines/design", body, "pdf")).content
+
+    async def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
+        """POST /v1/machines/optimise."""
+        return await self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""

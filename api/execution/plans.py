@@ -35,6 +35,7 @@ from mechsynth_client.schemas.flywheel import FlywheelIn
 from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
 from mechsynth_client.schemas.rating import RatingIn, RatingOut
 from mechsynth_client.schemas.machine import MachineIn
+from mechsynth_client.schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from mechsynth_client.schemas.structure import StructureIn, StructureOut
 from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
@@ -264,6 +265,21 @@ def machine_design(b: MachineIn, lim: Limits) -> Plan:
                 stem="machine-design")
 
 
+def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
+    """POST /v1/machines/optimise as one task: every stage of the optimisation one after another (a study's
+    variant); the endpoint itself spreads the candidates' chains over the workers and ends with
+    :func:`machine_optimise_conclusion`, which gives the same answer."""
+    return Plan(Render(MachineOptimiseOut.from_engine), synth.optimise_machine, (b.to_engine(lim.max_stages),),
+                dict(time_limit_s=lim.solver_time_limit_s))
+
+
+def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any) -> Plan:
+    """The last task of POST /v1/machines/optimise: ``fn(spec, scan, members, refinements, time_limit_s)``
+    concludes and its answer is rendered in the worker."""
+    *head, time_limit_s = args
+    return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
+
+
 # The design endpoints by path: request schema and plan. A study may vary any of them.
 PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/analysis": (AnalysisIn, analysis),
@@ -283,4 +299,5 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/synthesis/slider-crank": (SliderCrankSynthesisIn, synthesis_slider_crank),
     "/v1/synthesis/path": (PathIn, synthesis_path),
     "/v1/machines/design": (MachineIn, machine_design),
+    "/v1/machines/optimise": (MachineOptimiseIn, machine_optimise),
 }

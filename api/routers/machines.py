@@ -8,8 +8,10 @@ from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
 from ..execution import plans
+from ..execution.optimise import answer_optimisation
 from ..deps import SolverDep
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
+from mechsynth_client.schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -31,3 +33,16 @@ async def design(body: MachineIn, request: Request, solvers: SolverDep, format: 
     shaft, and every shaft's speed, power and peak and RMS torque; checked by simulating the assembled machine
     to its steady state. `alternatives: true` designs it with the other balancing modes too."""
     return await solvers.answer_plan(plans.machine_design(body, solvers.limits), request, format)
+
+
+@router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine")
+async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep) -> Response:
+    """Optimise the machine as a whole: the linkage's family member (for its function: swing or stroke and time
+    ratio), the counterweights, the flywheel and its shaft, the motor and the ratio together, for the least motor
+    power, added mass, RMS shaking force or a weighted sum of these, each normalised by its value on the chain's
+    machine; within the transmission-angle limit, the delta target, the motor's heating and breakdown checks and
+    the optional shaking limits. The family is scanned kinematically at once, the whole chain runs on evenly
+    spread members (side by side on the workers) and bounded Brent refines the best brackets. The answer holds
+    the design as /v1/machines/design answers it, the gain over the chain in every objective, the certificate of
+    how the family was covered and the Pareto set of two objectives over every member designed."""
+    return await answer_optimisation(body, request, solvers)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal, cast
 
 import numpy as np
@@ -239,6 +239,29 @@ class _Evaluate:
         return FamilyValues(value, slack)
 
 
+def parameter_range(spec: CrankRockerSpec) -> tuple[float, float]:
+    """The family parameter's range [-]: the sign of u is the side of the chord the crank pivot is on, and with
+    it the way the rocker turns in its slow stroke; at Q = 1 both sides are the chord's own line."""
+    lo, hi = (-1.0, 1.0) if spec.time_ratio > 1.0 else (0.0, 1.0)
+    if spec.time_ratio > 1.0 and spec.slow_stroke:
+        lo, hi = (0.0, 1.0) if spec.slow_stroke > 0 else (-1.0, 0.0)
+    return lo, hi
+
+
+def family_slack(spec: CrankRockerSpec, u: FloatArray) -> Mapping[str, FloatArray]:
+    """Named constraint slacks of the members at parameters u, (n,) each, feasible when all exceed the
+    degeneracy margin: kinematics only, vectorised over the members."""
+    return _Evaluate(replace(spec, objective="transmission_angle"))(u).slack
+
+
+def member(spec: CrankRockerSpec, u: float) -> Linkage:
+    """The family's member at parameter u, with the link masses of ``spec.linear_density`` and its loads."""
+    fam = _family(spec, np.array([u]))
+    fb = FourBar(float(fam.ground[0]), float(fam.crank[0]), float(fam.coupler[0]), float(fam.rocker[0]),
+                 int(fam.branch[0]))
+    return _linkage(spec, fb)
+
+
 def synthesise_crank_rocker(spec: CrankRockerSpec) -> CrankRockerResult:
     """The crank-rocker with rocker swing ``spec.swing`` and time ratio ``spec.time_ratio`` that is best for
     ``spec.objective`` over the whole one-parameter family, with the certificate of that and the engine's check.
@@ -248,11 +271,7 @@ def synthesise_crank_rocker(spec: CrankRockerSpec) -> CrankRockerResult:
     """
     spec.validate()
     evaluate = _Evaluate(spec)
-    # The sign of u is the side of the chord the crank pivot is on, and with it the way the rocker turns in its
-    # slow stroke; at Q = 1 both sides are the chord's own line.
-    lo, hi = (-1.0, 1.0) if spec.time_ratio > 1.0 else (0.0, 1.0)
-    if spec.time_ratio > 1.0 and spec.slow_stroke:
-        lo, hi = (0.0, 1.0) if spec.slow_stroke > 0 else (-1.0, 0.0)
+    lo, hi = parameter_range(spec)
     if spec.objective == "transmission_angle":
         u, optimality = maximise_family(evaluate, lo, hi, grid=256, tol=1e-6, max_evaluations=8_000)
     else:

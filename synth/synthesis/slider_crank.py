@@ -155,6 +155,29 @@ class _Evaluate:
         return FamilyValues(value, slack)
 
 
+def family_slack(spec: SliderCrankSpec, u: FloatArray) -> Mapping[str, FloatArray]:
+    """Named constraint slacks of the members at parameters u in [0, 1], (n,) each, feasible when all exceed
+    the degeneracy margin: kinematics only, vectorised over the members."""
+    return _Evaluate(replace(spec, objective="transmission_angle"))(u).slack
+
+
+def member(spec: SliderCrankSpec, u: float) -> Linkage:
+    """The family's member at parameter u, turned to the requested slow stroke, with its masses and loads."""
+    a, b, e, _ = (float(v[0]) for v in _members(spec, np.array([u])))
+    sc = SliderCrank(a, b, e, 1)
+    return _linkage(spec, _slow_stroke_side(spec, sc))
+
+
+def _slow_stroke_side(spec: SliderCrankSpec, sc: SliderCrank) -> SliderCrank:
+    if spec.slow_stroke:
+        check = check_slider_crank(sc)
+        if np.sign(check.output_extremes[1] - check.output_extremes[0]) != spec.slow_stroke:
+            # The mirror image about the guide line, run the same way round, moves the slider the other way in
+            # its slow stroke; every objective here is symmetric under that reflection.
+            return replace(sc, offset=-sc.offset)
+    return sc
+
+
 def synthesise_slider_crank(spec: SliderCrankSpec) -> SliderCrankResult:
     """The offset slider-crank with stroke ``spec.stroke`` and time ratio ``spec.time_ratio`` that is best for
     ``spec.objective`` over the whole one-parameter family, with its certificate and the engine's check.
@@ -169,13 +192,8 @@ def synthesise_slider_crank(spec: SliderCrankSpec) -> SliderCrankResult:
     else:
         u, optimality = maximise_family(evaluate, 0.0, 1.0, grid=48, tol=0.0, rel_tol=1e-6, max_evaluations=240)
     a, b, e, _ = (float(v[0]) for v in _members(spec, np.array([u])))
-    sc = SliderCrank(a, b, e, 1)
+    sc = _slow_stroke_side(spec, SliderCrank(a, b, e, 1))
     check = check_slider_crank(sc)
-    if spec.slow_stroke and np.sign(check.output_extremes[1] - check.output_extremes[0]) != spec.slow_stroke:
-        # The mirror image about the guide line, run the same way round, moves the slider the other way in its
-        # slow stroke; every objective here is symmetric under that reflection.
-        sc = replace(sc, offset=-e)
-        check = check_slider_crank(sc)
     value = float(evaluate(np.array([u])).value[0])
     return SliderCrankResult(
         linkage=_linkage(spec, sc),

@@ -1,0 +1,39 @@
+"""POST /v1/machines/optimise on the executor's workers: the candidates' chains run side by side.
+
+The engine's :func:`synth.optimise_machine` runs its four stages one after another in one process (a design
+study's variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's
+members in one task per worker, one refinement per bracket, and the conclusion, which renders the answer in its
+worker. The members are put back in the order the engine's own loop makes them, so both give the same answer.
+"""
+
+from __future__ import annotations
+
+import asyncio
+
+from fastapi import Request, Response
+
+from synth.machine.optimise import BRACKETS, MemberScore, conclude, design_members, refine_bracket, scan_family
+
+from .admission import RequestSolvers
+from .plans import machine_optimise_conclusion
+from mechsynth_client.schemas.optimise import MachineOptimiseIn
+
+
+async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers) -> Response:
+    """Answer the request with the optimised machine, its chains spread over the workers."""
+    lim = solvers.limits
+    spec = body.to_engine(lim.max_stages)
+    t = lim.solver_time_limit_s
+    scan = await solvers.run(scan_family, spec)
+    n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
+    # interleaved, so every worker gets members from the whole family and about the same work
+    shares = [scan.candidates[k::n] for k in range(n)]
+    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t) for share in shares))
+    by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
+    members = tuple(by_parameter[u] for u in scan.candidates)
+    refined = await asyncio.gather(*(solvers.run(refine_bracket, spec, scan, members, k, time_limit_s=t)
+                                     for k in range(BRACKETS)))
+    refinements = tuple(r for r, _ in refined if r is not None)
+    extra = tuple(m for _, seen in refined for m in seen)
+    plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t)
+    return await solvers.answer_plan(plan, request)

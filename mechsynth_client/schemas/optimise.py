@@ -1,0 +1,343 @@
+"""Schemas of POST /v1/machines/optimise: the machine's function and choices in, the machine optimised as a whole
+over its linkage family out, with its gains over the chain, its certificate and a Pareto set."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field
+from pydantic.config import JsonDict
+
+from ._engine import synth
+from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, pair_frictions
+from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
+from .synthesis import (
+    CrankRockerBoundsIn,
+    CrankRockerDensityIn,
+    SliderCrankBoundsIn,
+    SliderCrankDensityIn,
+    _within_limits,
+)
+
+OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force"]
+DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
+# The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN), spelled here so that the
+# schema loads without the engine; a test keeps them equal.
+MIN_SCAN, MAX_SCAN, DEFAULT_SCAN = 4, 64, 20
+
+#: A crank-rocker machine: 40° of rocker swing at a time ratio of 1.15 from a 0.25 m rocker, 40 N·m against the
+#: rocker over half the turn at 120 rpm, two helical stages, statically balanced, the least added mass.
+CRANK_ROCKER_OPTIMISE_EXAMPLE: JsonDict = {
+    "function": {"type": "crank_rocker", "swing_deg": 40, "time_ratio": 1.15, "scale_length_m": 0.25,
+                 "linear_density_kg_m": {"crank": 4, "coupler": 3, "rocker": 5}, "min_transmission_angle_deg": 35},
+    "loads": [{"type": "window", "torque_Nm": 40, "start_deg": 0, "end_deg": 180}],
+    "speed_rpm": 120,
+    "delta": 0.02,
+    "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500},
+    "balancing": {"mode": "static"},
+    "objective": "added_mass",
+}
+
+#: A slider-crank press: 0.12 m stroke at a time ratio of 1.2, 2 kN over the pressing half turn at 240 rpm,
+#: motor power and RMS shaking force weighed alike, no balancing.
+SLIDER_CRANK_OPTIMISE_EXAMPLE: JsonDict = {
+    "function": {"type": "slider_crank", "stroke_m": 0.12, "time_ratio": 1.2,
+                 "linear_density_kg_m": {"crank": 6, "rod": 4}, "slider_mass_kg": 8,
+                 "min_transmission_angle_deg": 40},
+    "loads": [{"type": "window", "force_N": 2000, "start_deg": 0, "end_deg": 180}],
+    "speed_rpm": 240,
+    "delta": 0.03,
+    "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500},
+    "weights": {"motor_power": 1, "rms_shaking_force": 1},
+}
+
+
+class CrankRockerFunctionIn(StrictModel):
+    """What a crank-rocker must do: the rocker's swing and time ratio, with one length that sets the scale."""
+
+    type: Literal["crank_rocker"] = Field("crank_rocker", description="A crank-rocker four-bar.")
+    swing_deg: float = Field(gt=0.0, lt=180.0, description="Rocker swing psi [deg].", examples=[40.0])
+    time_ratio: float = Field(1.0, ge=1.0, le=100.0, description="Slow stroke time over fast stroke time (Q).")
+    scale_link: Literal["rocker", "ground", "crank"] = Field("rocker", description="The link whose length is given.")
+    scale_length_m: Length = Field(description="Its length [m].", examples=[0.25])
+    bounds_m: CrankRockerBoundsIn = Field(default_factory=CrankRockerBoundsIn,
+                                          description="Length ranges of the links [m].")
+    slow_stroke: Literal["ccw", "cw"] | None = Field(
+        None, description="Rocker turning counter-clockwise or clockwise in the slow stroke (crank counter-clockwise).")
+    linear_density_kg_m: CrankRockerDensityIn = Field(description="Mass per metre of each link (uniform bars) "
+                                                      "[kg/m].")
+    min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission "
+                                              "angle [deg].")
+    max_length_ratio: float = Field(4.0, gt=1.0, le=100.0, description="No link longer than this many rocker "
+                                    "lengths.")
+
+    def to_spec(self, loads: tuple[synth.ProcessLoad, ...]) -> synth.CrankRockerSpec:
+        """Engine synthesis spec (its dynamic objective unused); degrees become radians here."""
+        bounds = _within_limits({n: r.pair() for n, r in self.bounds_m if r is not None},
+                                ("crank", "coupler", "rocker", "ground"))
+        return synth.CrankRockerSpec(
+            swing=math.radians(self.swing_deg), time_ratio=self.time_ratio, scale_link=self.scale_link,
+            scale_length=self.scale_length_m, bounds=bounds, max_length_ratio=self.max_length_ratio,
+            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
+            slow_stroke={"ccw": 1, "cw": -1, None: 0}[self.slow_stroke],
+            linear_density={k: v for k, v in dict(self.linear_density_kg_m).items() if v > 0}, loads=loads,
+        )
+
+
+class SliderCrankFunctionIn(StrictModel):
+    """What an offset slider-crank must do: the stroke and time ratio."""
+
+    type: Literal["slider_crank"] = Field("slider_crank", description="An offset slider-crank.")
+    stroke_m: Length = Field(description="Slider stroke H [m].", examples=[0.12])
+    time_ratio: float = Field(1.0, ge=1.0, le=100.0, description="Slow stroke time over fast stroke time (Q).")
+    bounds_m: SliderCrankBoundsIn = Field(default_factory=SliderCrankBoundsIn,
+                                          description="Ranges of the crank, rod and offset [m].")
+    slow_stroke: Literal["positive", "negative"] | None = Field(
+        None, description="Slider moving along +x or -x in the slow stroke (crank counter-clockwise).")
+    linear_density_kg_m: SliderCrankDensityIn = Field(description="Mass per metre of crank and rod [kg/m].")
+    slider_mass_kg: float = Field(0.0, ge=0, le=1e7, description="Slider mass [kg].")
+    min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission "
+                                              "angle [deg].")
+    max_length_ratio: float = Field(4.0, gt=1.0, le=100.0, description="The rod at most this many strokes.")
+
+    def to_spec(self, loads: tuple[synth.ProcessLoad, ...]) -> synth.SliderCrankSpec:
+        """Engine synthesis spec (its dynamic objective unused); degrees become radians here."""
+        given = {n: r.pair() for n, r in self.bounds_m if r is not None}
+        bounds = {**_within_limits(given, ("crank", "rod")),
+                  **(_within_limits(given, ("offset",), lowest=0.0) if "offset" in given else {})}
+        return synth.SliderCrankSpec(
+            stroke=self.stroke_m, time_ratio=self.time_ratio, bounds=bounds, max_length_ratio=self.max_length_ratio,
+            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
+            slow_stroke={"positive": 1, "negative": -1, None: 0}[self.slow_stroke],
+            linear_density={k: v for k, v in dict(self.linear_density_kg_m).items() if v > 0},
+            slider_mass=self.slider_mass_kg, loads=loads,
+        )
+
+
+FunctionIn = Annotated[Union[CrankRockerFunctionIn, SliderCrankFunctionIn], Field(discriminator="type")]
+Weight = Annotated[float, Field(ge=0, le=1e6)]
+
+
+class MachineOptimiseIn(StrictModel):
+    """A machine optimised as a whole: its linkage's function, the process load, the working speed, the target
+    delta (or a machine type), the drive and the balancing and flywheel choices, and what to minimise."""
+
+    function: FunctionIn = Field(description="What the linkage must do, chosen by `type`: crank_rocker (swing, time "
+                                 "ratio, one length) or slider_crank (stroke, time ratio).")
+    loads: list[LoadIn] = Field(default_factory=list, max_length=8, description="Process loads on the output: "
+                                "torque_Nm on a rocker, force_N on a slider.")
+    speed_rpm: float = Field(ge=1e-3, le=1e5, description="Working crank speed [rev/min].", examples=[120])
+    samples: int = Field(120, ge=12, le=720, description="Crank angles per revolution for every member's chain.")
+    delta: float | None = Field(None, ge=1e-4, lt=1, description="Target (w_max - w_min)/w_mean [-].")
+    machine_type: str | None = Field(None, max_length=80, description="A machine type of GET /v1/machine-types.")
+    drive: MachineDriveIn = Field(default_factory=MachineDriveIn, description="Gear stages and the motor "
+                                  "catalogue or speed class.")
+    balancing: MachineBalancingIn = Field(default_factory=MachineBalancingIn, description="Counterweights (or "
+                                          "none), as /v1/machines/design takes them.")
+    flywheel: MachineFlywheelIn = Field(default_factory=MachineFlywheelIn, description="Where the flywheel may sit "
+                                        "and what it is made of.")
+    speed_tolerance: float = Field(0.05, gt=0, lt=1, description="How far the simulated mean crank speed may lie "
+                                   "from speed_rpm [-].")
+    objective: OptimiseObjective | None = Field(
+        None, description="One objective to minimise: motor_power (rated power of the catalogue motor), added_mass "
+        "(counterweights, balancer masses and the flywheel body) or rms_shaking_force (after balancing); "
+        "or give weights.")
+    weights: dict[OptimiseObjective, Weight] | None = Field(
+        None, max_length=3, description="Weights of the objectives, each normalised by its value on the chain's "
+        "machine (/v1/machines/design on the synthesis endpoint's default member); instead of objective.")
+    max_rms_shaking_force_N: float | None = Field(None, gt=0, le=1e9, description="Largest RMS shaking force "
+                                                  "after balancing [N].")
+    max_rms_shaking_moment_Nm: float | None = Field(None, gt=0, le=1e9, description="Largest RMS shaking moment "
+                                                    "about the crank pivot after balancing [N·m].")
+    pareto: list[OptimiseObjective] = Field(
+        default_factory=lambda: list(DEFAULT_PARETO), min_length=2, max_length=2,
+        description="The two objectives of the Pareto set over every member designed.")
+    friction: FrictionIn | None = Field(None, description="Friction per pair of the linkage, as "
+                                        "/v1/machines/design takes it.")
+    brake_torque_Nm: float = Field(0.0, ge=0, le=1e9, description="Brake torque at the crank during the run-down "
+                                   "[N·m].")
+    start_under_load: bool = Field(False, description="The start check holds the process load too, as "
+                                   "/v1/machines/design takes it.")
+    max_startup_time_s: float = Field(60.0, gt=0, le=1e4, description="Longest acceptable run-up from rest to the "
+                                      "steady cycle [s]: a constraint on every member.")
+    max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
+                                             "with the motor off [s]; null: not checked.")
+    scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
+                              "feasible family that the whole chain designs before the refinement.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [CRANK_ROCKER_OPTIMISE_EXAMPLE,
+                                                              SLIDER_CRANK_OPTIMISE_EXAMPLE]})
+
+    def to_engine(self, max_stages: int) -> synth.OptimiseSpec:
+        """Engine optimisation (degrees and rpm become radians and rad/s here)."""
+        if (self.delta is None) == (self.machine_type is None):
+            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
+        if (self.objective is None) == (self.weights is None):
+            raise synth.InvalidInput("give objective or weights (one of them)", field="objective")
+        delta = self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
+        motion = "rotation" if isinstance(self.function, CrankRockerFunctionIn) else "translation"
+        loads = tuple(load.to_engine(motion) for load in self.loads)
+        weights = {self.objective: 1.0} if self.objective is not None else dict(self.weights or {})
+        return synth.OptimiseSpec(
+            function=self.function.to_spec(loads), speed=self.speed_rpm * math.pi / 30.0,
+            drive=self.drive.to_engine(max_stages), delta=delta, balancing=self.balancing.to_engine(),
+            flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
+            samples=self.samples, speed_tolerance=self.speed_tolerance,
+            weights={str(k): v for k, v in weights.items()}, max_rms_shaking_force=self.max_rms_shaking_force_N,
+            max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
+            scan=self.scan_members, friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
+            start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
+            max_rundown_time=self.max_rundown_time_s,
+        )
+
+
+def mechanism_json(linkage: synth.Linkage) -> dict[str, Any]:
+    """A family member as the `mechanism` of a /v1/machines/design request (lengths [m], link masses)."""
+    mech = linkage.mechanism
+    links = {name: {"mass_kg": p.mass, "com_m": [p.com[0], p.com[1]], "inertia_kgm2": p.inertia}
+             for name, p in linkage.links.items()}
+    if isinstance(mech, synth.FourBar):
+        return {"type": "fourbar", "ground_length_m": mech.ground, "crank_length_m": mech.crank,
+                "coupler_length_m": mech.coupler, "rocker_length_m": mech.rocker, "branch": mech.branch,
+                "links": links}
+    assert isinstance(mech, synth.SliderCrank)
+    return {"type": "slider_crank", "crank_length_m": mech.crank, "rod_length_m": mech.rod,
+            "offset_m": mech.offset, "branch": mech.branch, "links": links}
+
+
+MemberMechanism = Annotated[Union[FourBarIn, SliderCrankIn], Field(discriminator="type")]
+
+
+def mechanism_out(linkage: synth.Linkage) -> FourBarIn | SliderCrankIn:
+    """A family member as the `mechanism` model of a /v1/machines/design request."""
+    body = mechanism_json(linkage)
+    return FourBarIn.model_validate(body) if body["type"] == "fourbar" else SliderCrankIn.model_validate(body)
+
+
+class FamilyMemberOut(BaseModel):
+    """One member of the family the whole chain designed, and what its machine gives."""
+
+    parameter: float = Field(description="Family parameter u of the member (the crank pivot's place on its "
+                             "circle; its sign the side of the chord for a crank-rocker) [-].")
+    stage: str = Field(description="scan, refine (bounded Brent), optimum or chain.")
+    feasible: bool = Field(description="Its machine passes every check and meets the shaking limits.")
+    reason: str | None = Field(description="Why not, when not feasible; null otherwise.")
+    motor_power_W: float | None = Field(description="Rated power of its catalogue motor [W]; null when the chain "
+                                        "refused the member.")
+    added_mass_kg: float | None = Field(description="Counterweights, balancer masses and flywheel body [kg].")
+    rms_shaking_force_N: float | None = Field(description="RMS shaking force after balancing [N].")
+    rms_shaking_moment_Nm: float | None = Field(description="RMS shaking moment about the crank pivot after "
+                                                "balancing [N·m].")
+
+    @classmethod
+    def from_engine(cls, m: Any) -> FamilyMemberOut:
+        """Schema from an engine member score."""
+        v = m.values
+        return cls(parameter=m.parameter, stage=m.stage, feasible=m.feasible, reason=m.reason,
+                   motor_power_W=None if v is None else v[0], added_mass_kg=None if v is None else v[1],
+                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment)
+
+
+class GainOut(BaseModel):
+    """One objective on the chain's machine and on the optimum."""
+
+    objective: str = Field(description="motor_power, added_mass or rms_shaking_force.")
+    unit: str = Field(description="W, kg or N.")
+    chain: float | None = Field(description="Its value on the chain's machine; null when the chain refused its "
+                                "member.")
+    optimum: float = Field(description="Its value on the optimised machine.")
+    gain: float | None = Field(description="Chain less optimum, in `unit`: positive is better.")
+    relative_gain: float | None = Field(description="The gain over the objective's scale (its value on the "
+                                        "chain's machine) [-].")
+
+
+class RefinementOut(BaseModel):
+    """One bracket refined by bounded Brent on the whole chain."""
+
+    lo: float = Field(description="Lower end of the bracket in u [-].")
+    hi: float = Field(description="Upper end [-].")
+    start: float = Field(description="The scan's local minimum it brackets [-].")
+    evaluations: int = Field(description="Chain runs it spent.")
+    best_parameter: float = Field(description="Best member it found [-].")
+
+
+class OptimiseCertificateOut(BaseModel):
+    """How the family was covered and what binds at the answer."""
+
+    statement: str = Field(description="The certificate in words.")
+    parameter_range: list[float] = Field(description="The family parameter's whole range [lo, hi].")
+    kinematic_members: int = Field(description="Members whose kinematic constraints (bounds, Grashof, the "
+                                   "transmission-angle limit) were checked at once on a uniform grid.")
+    kinematic_feasible: int = Field(description="Of these, the members within every kinematic constraint.")
+    feasible_runs: list[list[float]] = Field(description="Intervals [lo, hi] of u the kinematic constraints "
+                                             "admit.")
+    members_designed: int = Field(description="Members the whole chain designed: scan and refinements.")
+    feasible_designed: int = Field(description="Of these, the machines that pass every check and limit.")
+    scan_members: int = Field(description="Members of the evenly spread scan (the chain's member among them).")
+    refinements: list[RefinementOut] = Field(description="The brackets refined around the scan's best local "
+                                             "minima (a multistart).")
+    gap_bound: float | None = Field(description="A bound on how much any member could beat the answer, in the "
+                                    "score's unit; null: the motor catalogue makes the objective step, so no "
+                                    "Lipschitz bound holds.")
+    binding_constraints: list[str] = Field(description="Constraints active at the answer: a kinematic limit at "
+                                           "the end of its feasible run, checks within 2 % of their limit "
+                                           "(delta, motor_rms_torque, motor_peak_torque), the shaking limits.")
+
+    @classmethod
+    def from_engine(cls, c: Any) -> OptimiseCertificateOut:
+        """Schema from the engine's certificate."""
+        s = c.scan
+        return cls(statement=c.statement, parameter_range=list(s.parameter_range), kinematic_members=s.grid_points,
+                   kinematic_feasible=s.feasible_points, feasible_runs=[list(r) for r in s.runs],
+                   members_designed=c.members_designed, feasible_designed=c.feasible_designed,
+                   scan_members=len(s.candidates),
+                   refinements=[RefinementOut(lo=r.lo, hi=r.hi, start=r.start, evaluations=r.evaluations,
+                                              best_parameter=r.best_parameter) for r in c.refinements],
+                   gap_bound=c.gap_bound, binding_constraints=list(c.binding))
+
+
+def _finite(v: float) -> float | None:
+    return v if math.isfinite(v) else None
+
+
+class MachineOptimiseOut(BaseModel):
+    """The machine optimised as a whole: its design as /v1/machines/design answers it, the family member, the
+    gains over the chain, the certificate and the Pareto set."""
+
+    design: MachineDesignOut = Field(description="The optimised machine, designed and simulated as "
+                                     "/v1/machines/design answers it.")
+    mechanism: MemberMechanism = Field(description="The chosen member as the `mechanism` of a "
+                                       "/v1/machines/design request.")
+    parameter: float = Field(description="Its family parameter u [-].")
+    weights: dict[str, float] = Field(description="The objectives' weights.")
+    score: float = Field(description="Weighted sum of the normalised objectives of the optimum [-].")
+    chain_score: float | None = Field(description="The same for the chain's machine [-]; null when it fails a "
+                                      "check or limit.")
+    chain_parameter: float = Field(description="Family parameter of the chain's member (the synthesis endpoint's "
+                                   "default: the largest least transmission angle) [-].")
+    chain_mechanism: MemberMechanism = Field(description="The chain's member as a `mechanism`.")
+    chain_reason: str | None = Field(description="Why the chain's machine is not feasible; null when it is.")
+    gains: list[GainOut] = Field(description="Every objective on the chain's machine and on the optimum.")
+    certificate: OptimiseCertificateOut = Field(description="How the family was covered and what binds.")
+    pareto_objectives: list[str] = Field(description="The two objectives of the Pareto set.")
+    pareto: list[FamilyMemberOut] = Field(description="Members designed that no other designed member beats in "
+                                          "both Pareto objectives, by the first objective.")
+    members: list[FamilyMemberOut] = Field(description="Every member the chain designed, by parameter.")
+
+    @classmethod
+    def from_engine(cls, r: synth.MachineOptimum) -> MachineOptimiseOut:
+        """Schema from the engine's optimum."""
+        return cls(
+            design=MachineDesignOut.from_engine(r.design),
+            mechanism=mechanism_out(r.design.spec.linkage), parameter=r.parameter, weights=dict(r.spec.weights),
+            score=r.score, chain_score=r.chain_score, chain_parameter=r.certificate.scan.chain_parameter,
+            chain_mechanism=mechanism_out(r.chain_linkage),
+            chain_reason=r.chain_reason,
+            gains=[GainOut(objective=g.objective, unit=g.unit, chain=_finite(g.chain), optimum=g.optimum,
+                           gain=_finite(g.gain), relative_gain=_finite(g.relative)) for g in r.gains],
+            certificate=OptimiseCertificateOut.from_engine(r.certificate),
+            pareto_objectives=list(r.pareto_objectives),
+            pareto=[FamilyMemberOut.from_engine(m) for m in r.pareto],
+            members=[FamilyMemberOut.from_engine(m) for m in sorted(r.members, key=lambda m: m.parameter)],
+        )
