@@ -27,7 +27,7 @@ import numpy as np
 from .errors import Infeasible, InvalidInput, angle_ranges_deg
 from .kinematics.motion import Motion, cross, perp
 from .kinematics import motion as linkage_motion
-from .kinetostatics import Kinetostatics, solve_direct, system_matrix
+from .kinetostatics import Kinetostatics, solve_direct, system_matrix, unpack_unknowns
 from .model import FloatArray, Linkage
 from .topology import Joint, Topology
 
@@ -237,19 +237,6 @@ def _friction_loads(motion: Motion, topo: Topology, pairs: list[_Pair], x: Float
     return phi, jac, values
 
 
-def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, FloatArray], dict[str, FloatArray]]:
-    reactions: dict[str, FloatArray] = {}
-    couples: dict[str, FloatArray] = {}
-    for j, joint in enumerate(topo.joints):
-        if joint.kind == "revolute":
-            reactions[joint.name] = x[:, 2 * j : 2 * j + 2]
-        else:
-            axis = _slide_axis(motion, joint)
-            reactions[joint.name] = x[:, 2 * j, None] * perp(axis)
-            couples[joint.name] = x[:, 2 * j + 1]
-    return reactions, couples
-
-
 def _uniform_cycle(phi: FloatArray) -> bool:
     n = phi.size
     return n > 1 and bool(np.allclose(np.diff(phi), 2 * math.pi / n, rtol=1e-9, atol=1e-12))
@@ -321,7 +308,7 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
         driving_work = float(np.mean(torque))
         if driving_work > 0:
             cycle = 1.0 - float(np.mean(loss_torque)) / driving_work
-    reactions, couples = _unpack(motion, topo, x)
+    reactions, couples = unpack_unknowns(motion, topo, x)
     check = float(np.max(np.abs(torque - frictionless.driving_torque - loss_torque)))
     return FrictionAnalysis(x, reactions, couples, torque, frictionless.driving_torque, values, losses, loss_torque,
                             efficiency, cycle, residual, iterations, check, tuple(pairs))

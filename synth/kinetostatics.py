@@ -575,7 +575,10 @@ class Kinetostatics:
     shaking_moment: FloatArray
 
 
-def _unpack(motion: Motion, topo: Topology, x: FloatArray) -> tuple[dict[str, FloatArray], dict[str, FloatArray]]:
+def unpack_unknowns(motion: Motion, topo: Topology, x: FloatArray
+                    ) -> tuple[dict[str, FloatArray], dict[str, FloatArray]]:
+    """The solved unknowns ``x`` (N, 2·joints) as each joint's reaction [N], (N, 2), and each slide's couple
+    [N·m], (N,): a revolute joint's two components, a slide's force normal to its axis and its couple."""
     reactions: dict[str, FloatArray] = {}
     couples: dict[str, FloatArray] = {}
     for j, joint in enumerate(topo.joints):
@@ -608,7 +611,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
         force = force - arrays.mass.sum() * g
         first = np.einsum("l,lnk->nk", arrays.mass, arrays.com_pos)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
-    reactions, couples = _unpack(motion, topo, x)
+    reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
 
 
