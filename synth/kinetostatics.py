@@ -49,6 +49,8 @@ class LinkArrays:
     ``mass`` (L,) [kg], ``com`` (L, 2) [m] in the link frame, ``inertia`` (L,) about the centre of mass [kg·m²];
     ``origin_pos`` / ``origin_acc`` (L, N, 2) of each frame origin [m, m/s²]; ``angle``, ``omega``, ``alpha``
     (L, N) [rad, rad/s, rad/s²]; ``com_pos``, ``com_vel``, ``com_acc`` (L, N, 2) [m, m/s, m/s²].
+    From :func:`link_arrays_per_sample` the mass properties vary per sample: ``params`` (L, N, 4), ``mass`` and
+    ``inertia`` (L, N), ``com`` (L, N, 2).
     """
 
     links: tuple[str, ...]
@@ -103,6 +105,57 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
                       com_pos, com_vel, com_acc)
+
+
+def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray) -> LinkArrays:
+    """:func:`link_arrays` with every link's inertial parameters given per sample, ``params`` (L, N, 4).
+
+    For a stack of variants of one topology laid end to end along the sample axis (each variant its own
+    masses over its own block of samples): ``params`` (L, N, 4), ``mass`` and ``inertia`` (L, N), ``com``
+    (L, N, 2). The direct kinetostatics, the virtual-power check and the reduced model take these arrays as they
+    take :func:`link_arrays`'s.
+    """
+    links = linkage.mechanism.topology.links
+    params = np.asarray(params, dtype=float)
+    if params.shape != (len(links), motion.samples, PARAMS_PER_LINK):
+        raise ValueError(f"params must be (links, samples, {PARAMS_PER_LINK}), got {params.shape}")
+    mass = params[..., 0]
+    heavy = mass > 0.0
+    safe = np.where(heavy, mass, 1.0)
+    com = np.where(heavy[..., None], params[..., 1:3] / safe[..., None], 0.0)
+    inertia = np.where(heavy, params[..., 3] - mass * (com[..., 0] * com[..., 0] + com[..., 1] * com[..., 1]),
+                       params[..., 3])
+    origins = [motion.link_origin[link] for link in links]
+    origin_pos = np.stack([motion.point_pos[o] for o in origins])
+    origin_vel = np.stack([motion.point_vel[o] for o in origins])
+    origin_acc = np.stack([motion.point_acc[o] for o in origins])
+    angle = np.stack([motion.link_angle[link] for link in links])
+    omega = np.stack([motion.link_omega[link] for link in links])
+    alpha = np.stack([motion.link_alpha[link] for link in links])
+    c, s = np.cos(angle), np.sin(angle)
+    x, y = com[..., 0], com[..., 1]
+    r = np.empty(angle.shape + (2,))
+    np.subtract(c * x, s * y, out=r[..., 0])
+    np.add(s * x, c * y, out=r[..., 1])
+    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
+    com_pos = origin_pos + r
+    com_vel = origin_vel + omega[..., None] * k_r
+    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    for arr in (com_pos, com_vel, com_acc):
+        arr.flags.writeable = False
+    return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
+                      com_pos, com_vel, com_acc)
+
+
+def per_sample(values: FloatArray) -> FloatArray:
+    """A link property of :class:`LinkArrays` (``mass``, ``inertia``), (L,) or per sample (L, N), as an array
+    that broadcasts against (L, N): (L, 1) or (L, N)."""
+    return values if values.ndim == 2 else values[:, None]
+
+
+def link_axes(values: FloatArray) -> str:
+    """Einsum subscripts of a link property of :class:`LinkArrays`: ``l`` for (L,), ``ln`` per sample (L, N)."""
+    return "ln" if values.ndim == 2 else "l"
 
 
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
@@ -516,8 +569,8 @@ def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArra
     """Sum of gravity, inertia and external loads per link: forces and moments about its first joint, (N, 3n)."""
     topo = linkage.mechanism.topology
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    force = arrays.mass[:, None, None] * (g - arrays.com_acc)
-    moment = cross(arrays.com_pos - arrays.origin_pos, force) - arrays.inertia[:, None] * arrays.alpha
+    force = per_sample(arrays.mass)[..., None] * (g - arrays.com_acc)
+    moment = cross(arrays.com_pos - arrays.origin_pos, force) - per_sample(arrays.inertia) * arrays.alpha
     n_links, n = len(topo.links), arrays.angle.shape[1]
     out = np.empty((n, n_links, 3))
     out[:, :, :2] = force.transpose(1, 0, 2)
@@ -608,8 +661,8 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
-        force = force - arrays.mass.sum() * g
-        first = np.einsum("l,lnk->nk", arrays.mass, arrays.com_pos)
+        force = force - per_sample(arrays.mass).sum(axis=0)[:, None] * g
+        first = np.einsum(f"{link_axes(arrays.mass)},lnk->nk", arrays.mass, arrays.com_pos)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
@@ -731,6 +784,6 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
-    power = power + np.einsum("l,lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
-    power = power - np.einsum("l,ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
+    power = power + np.einsum(f"{link_axes(arrays.mass)},lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
+    power = power - np.einsum(f"{link_axes(arrays.inertia)},ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

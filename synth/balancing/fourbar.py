@@ -124,12 +124,19 @@ def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequenc
     # analysis before computed it (one motion per request).
     after = analyse(linkage.with_counterweights(counterweights), speed, samples=samples,
                     base_motion=before.mechanism_motion)
+    return (after, *_residuals(after, before, rotor_moment))
+
+
+def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | None = None
+               ) -> tuple[float, float, float, float]:
+    """Largest shaking force [N] and moment [N·m] left in the re-analysis ``after``, each also over its largest
+    value ``before``."""
     force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
     moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
     moment = float(np.abs(moment_series).max())
     summary = before.summary()
     f0, m0 = summary.max_shaking_force, summary.max_shaking_moment
-    return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
+    return force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 
 def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> tuple[FloatArray, FloatArray]:
@@ -212,13 +219,32 @@ def balance_static(
     _require_turning(linkage)
     if method == "fixed_points":
         return _fixed_points(linkage, speed, spec, samples)
+    spec = _static_spec(linkage, spec, objective, mass_budget)
+    before = analyse(linkage, speed, samples=samples)
+    lm = linear_map(before.motion, linkage)
+    cw, program, x = _static_solution(linkage, lm, spec, objective, mass_budget, time_limit_s)
+    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
+    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
+    after = _check(linkage, speed, samples, cws, before)[0]
+    return _static_result(cws, before, after, float(program.q @ x))
+
+
+def _static_spec(linkage: Linkage, spec: CounterweightSpec | None, objective: str,
+                 mass_budget: float | None) -> CounterweightSpec:
+    """The static program's spec: resolved on ``linkage``, the coupler's default radius, and the objective's
+    need of a budget checked."""
     spec = _with_default_radii((spec or CounterweightSpec()).resolve(linkage), linkage)
     all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
     if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
                            "always has less inertia", field="mass_budget_kg")
-    before = analyse(linkage, speed, samples=samples)
-    lm = linear_map(before.motion, linkage)
+    return spec
+
+
+def _static_solution(linkage: Linkage, lm: LinearMap, spec: CounterweightSpec, objective: str,
+                     mass_budget: float | None, time_limit_s: float
+                     ) -> tuple[CounterweightLayout, ConeProgram, FloatArray]:
+    """The static program on the map ``lm`` and its solution; an infeasible budget says the mass it needs."""
     cw = counterweight_layout(spec, linkage)
     ar, br = _static_system(linkage, lm, cw)
     program = _program(cw)
@@ -237,24 +263,26 @@ def balance_static(
             if cause is not None:
                 raise cause from exc
             raise
-        needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
+        least, _, x_least = _static_solution(linkage, lm, spec, "min_mass", None, time_limit_s)
+        needed = sum(c.mass for c in CounterweightSolution(least, x_least).counterweights())
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
-    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
-    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
+    return cw, program, x
+
+
+def _static_result(cws: Sequence[Counterweight], before: Analysis, after: Analysis,
+                   objective: float | None) -> BalanceResult:
+    """A static answer from its counterweights and the plain analyses before and after."""
+    f, f_rel, m, m_rel = _residuals(after, before)
     return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
                          f, f_rel, m, m_rel, before, after,
-                         added_inertia=sum(c.params()[3] for c in cws), objective=float(program.q @ x))
-
+                         added_inertia=sum(c.params()[3] for c in cws), objective=objective)
 
 
 def _fixed_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, samples: int) -> BalanceResult:
     before = analyse(linkage, speed, samples=samples)
     cws = fixed_point_counterweights(linkage, spec)
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
-    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
-                         f, f_rel, m, m_rel, before, after, added_inertia=sum(c.params()[3] for c in cws))
+    return _static_result(cws, before, _check(linkage, speed, samples, cws, before)[0], None)
 
 
 def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:

@@ -1,0 +1,220 @@
+"""Static balancing of many variants of one linkage at once: the answers of :func:`balance_static`, one per
+case, with every array operation run once over the whole batch.
+
+At a few hundred samples a single request's cost is the fixed cost of each of its hundreds of small array
+operations, not the samples. So the variants of a batch that share a topology, sample count, crank speed and
+gravity are laid end to end along the sample axis (:func:`synth.kinematics.stacking.stack_motions`): one direct
+kinetostatic solve with each sample's own mass properties gives every variant's analysis before balancing, one
+linear map every variant's map (its block of samples), and one direct solve with the counterweights added every
+variant's independent re-analysis. Each variant's program is its own (its row space of the force rows, its
+realisability cones and budget), built and solved by Clarabel exactly as :func:`balance_static` builds and
+solves it.
+
+A case the stack cannot take (the fixed-points method, loads or torques on the links, a singular position
+anywhere in the stack) is run by :func:`balance_static` itself; an error of one variant is that variant's
+answer, as the single request would raise it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, fields, replace
+from typing import Any, Literal, TypeVar
+
+import numpy as np
+
+from ..analysis import Analysis
+from ..dynamics import reduced_model
+from ..errors import SynthError
+from ..kinematics import MAX_SAMPLES, Motion, PointState, cycle_angles, motion
+from ..kinematics.stacking import motion_block, stack_motions
+from ..kinetostatics import (LinearMap, external_loads, link_arrays_per_sample, linear_map, solve_direct,
+                             virtual_power_torque)
+from ..model import Linkage
+from .fourbar import (BalanceResult, _require_turning, _static_result, _static_solution, _static_spec,
+                      balance_static)
+from .program import CounterweightSolution, CounterweightSpec
+
+#: Most samples laid end to end in one stack: past a few tens of thousands the arrays leave the caches and a
+#: larger stack gains nothing.
+MAX_STACK_SAMPLES = 20_000
+
+
+@dataclass(frozen=True, slots=True)
+class StaticCase:
+    """One static-balancing request: the arguments of :func:`balance_static` (same names, same units)."""
+
+    linkage: Linkage
+    speed: float
+    spec: CounterweightSpec | None = None
+    samples: int = 360
+    objective: Literal["min_mass", "min_inertia"] = "min_mass"
+    mass_budget: float | None = None
+    time_limit_s: float = 20.0
+    method: Literal["program", "fixed_points"] = "program"
+
+
+@dataclass(frozen=True, slots=True)
+class _Prepared:
+    """A case checked and its spec resolved as :func:`balance_static` does before analysing, with its motion."""
+
+    index: int
+    case: StaticCase
+    spec: CounterweightSpec
+    base: Motion
+
+
+def balance_static_batch(cases: Sequence[StaticCase]) -> list[BalanceResult | SynthError]:
+    """:func:`balance_static` of every case: its result, or the engine error it raises, in the cases' order.
+
+    The same results as calling :func:`balance_static` case by case (the same programs, solved the same way;
+    the analyses the same plain model, on the stack), computed with one kinetostatic solve per stack.
+    """
+    out: dict[int, BalanceResult | SynthError] = {}
+    groups: list[list[_Prepared]] = []
+    for index, case in enumerate(cases):
+        try:
+            prepared = _prepare(index, case)
+        except SynthError as exc:
+            out[index] = exc
+            continue
+        if prepared is None:
+            out[index] = _alone(case)
+            continue
+        for group in groups:
+            if _stackable(group[0], prepared):
+                group.append(prepared)
+                break
+        else:
+            groups.append([prepared])
+    for group in groups:
+        per_stack = max(1, MAX_STACK_SAMPLES // group[0].base.samples)
+        for start in range(0, len(group), per_stack):
+            chunk = group[start : start + per_stack]
+            for p, result in zip(chunk, _stacked(chunk), strict=True):
+                out[p.index] = result
+    return [out[i] for i in range(len(cases))]
+
+
+def _alone(case: StaticCase) -> BalanceResult | SynthError:
+    try:
+        return balance_static(case.linkage, case.speed, case.spec, samples=case.samples, objective=case.objective,
+                              mass_budget=case.mass_budget, time_limit_s=case.time_limit_s, method=case.method)
+    except SynthError as exc:
+        return exc
+
+
+def _prepare(index: int, case: StaticCase) -> _Prepared | None:
+    """The checks of :func:`balance_static` and :func:`synth.analyse` in their order, and the motion; None
+    for a case the stack does not take."""
+    linkage = case.linkage
+    _require_turning(linkage)
+    if case.method != "program" or linkage.loads or linkage.torques:
+        return None
+    spec = _static_spec(linkage, case.spec, case.objective, case.mass_budget)
+    angles = cycle_angles(case.samples, 2 * math.pi, MAX_SAMPLES)
+    return _Prepared(index, case, spec, motion(linkage.mechanism, angles, case.speed))
+
+
+def _stackable(a: _Prepared, b: _Prepared) -> bool:
+    la, lb = a.case.linkage, b.case.linkage
+    return (type(la.mechanism) is type(lb.mechanism) and la.mechanism.topology == lb.mechanism.topology
+            and a.base.samples == b.base.samples and a.base.omega_crank == b.base.omega_crank
+            and la.gravity == lb.gravity and dict(a.base.link_origin) == dict(b.base.link_origin))
+
+
+_T = TypeVar("_T")
+
+
+def _block(obj: _T, s: slice) -> _T:
+    """A dataclass of per-sample arrays (and dicts of them) cut to the samples ``s``."""
+    cut: dict[str, Any] = {}
+    for f in fields(obj):  # type: ignore[arg-type]
+        value = getattr(obj, f.name)
+        if isinstance(value, np.ndarray):
+            cut[f.name] = value[s]
+        elif isinstance(value, dict):
+            cut[f.name] = {k: v[s] for k, v in value.items()}
+    return replace(obj, **cut)  # type: ignore[type-var]
+
+
+def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Linkage]) -> list[Analysis | None]:
+    """:func:`synth.analyse` of each linkage on its block of ``stack``, all in one solve; None for a variant
+    whose figures overflow (the single request says why)."""
+    reference = linkages[0]
+    n = group[0].base.samples
+    params = np.stack([lk.params().reshape(-1, 4) for lk in linkages], axis=1)  # (L, K, 4)
+    arrays = link_arrays_per_sample(stack, reference, np.repeat(params, n, axis=1))
+    links = reference.mechanism.topology.links
+    coms = {f"S_{link}": PointState(arrays.com_pos[i], arrays.com_vel[i], arrays.com_acc[i])
+            for i, link in enumerate(links)}
+    mot = stack.with_points({}, coms)
+    loads = external_loads(mot, reference)
+    kin = solve_direct(mot, reference, arrays, loads)
+    vp = virtual_power_torque(mot, reference, arrays, loads)
+    red = reduced_model(mot, reference, arrays, loads)
+    # The finiteness check of synth.analyse, per variant.
+    checked = (kin.unknowns, kin.shaking_force, kin.shaking_moment, vp, red.inertia, red.load_torque)
+    finite = np.ones(len(group), dtype=bool)
+    for a in checked:
+        finite &= np.isfinite(a.reshape(len(group), -1)).all(axis=1)
+    out: list[Analysis | None] = []
+    for k, (p, linkage) in enumerate(zip(group, linkages, strict=True)):
+        s = slice(k * n, (k + 1) * n)
+        out.append(Analysis(linkage=linkage, motion=motion_block(mot, s.start, s.stop),
+                            kinetostatics=_block(kin, s), virtual_power_torque=vp[s], reduced=_block(red, s),
+                            mechanism_motion=p.base) if finite[k] else None)
+    return out
+
+
+def _stacked(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]:
+    """The results of one stack; a stack that cannot be solved as one (a dead position somewhere) is run
+    case by case."""
+    try:
+        return _solve_stack(group)
+    except SynthError:
+        return [_alone(p.case) for p in group]
+
+
+def _solve_stack(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]:
+    n = group[0].base.samples
+    stack = stack_motions([p.base for p in group])
+    linkages = [p.case.linkage for p in group]
+    before = _analyses(stack, group, linkages)
+    lm_all = linear_map(stack, linkages[0])
+    answers: list[tuple[list[Any], float] | SynthError | None] = []
+    for k, (p, an) in enumerate(zip(group, before, strict=True)):
+        if an is None:
+            answers.append(None)
+            continue
+        s = slice(k * n, (k + 1) * n)
+        lm = LinearMap(lm_all.links, lm_all.joints, lm_all.y[s], lm_all.y0[s])
+        case = p.case
+        try:
+            cw, program, x = _static_solution(case.linkage, lm, p.spec, case.objective, case.mass_budget,
+                                              case.time_limit_s)
+        except SynthError as exc:
+            answers.append(exc)
+            continue
+        # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
+        cws = CounterweightSolution(cw, x).counterweights(
+            point_masses=case.objective == "min_mass" and not p.spec.radius)
+        answers.append((cws, float(program.q @ x)))
+    # The independent check: the plain model again, every variant with its counterweights, in one solve.
+    balanced = [lk.with_counterweights(a[0]) if isinstance(a, tuple) else lk
+                for lk, a in zip(linkages, answers, strict=True)]
+    after = _analyses(stack, group, balanced)
+    results: list[BalanceResult | SynthError] = []
+    for p, an_before, an_after, answer in zip(group, before, after, answers, strict=True):
+        if isinstance(answer, SynthError):
+            results.append(answer)
+        elif answer is None or an_before is None or an_after is None:
+            results.append(_alone(p.case))
+        else:
+            cws, objective = answer
+            results.append(_static_result(cws, an_before, an_after, objective))
+    return results
+
+
+__all__ = ["MAX_STACK_SAMPLES", "StaticCase", "balance_static_batch"]

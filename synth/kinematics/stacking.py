@@ -1,0 +1,52 @@
+"""Motions of several variants of one mechanism laid end to end along the sample axis, and the blocks back.
+
+A batch of variants (a design study's) is analysed as one long motion: every array operation of the
+kinetostatics then runs once over all the variants' samples instead of once per variant, and each variant's
+answer is its block of samples.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..mechanism import FloatArray
+from .motion import Motion
+
+
+def _joined(parts: Sequence[Mapping[str, FloatArray]]) -> dict[str, FloatArray]:
+    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+
+
+def stack_motions(motions: Sequence[Motion]) -> Motion:
+    """One motion whose samples are those of ``motions`` in order (variant k's at k·N to (k+1)·N for N each).
+
+    The motions must share their crank speed and acceleration, points, links and link frames (one mechanism
+    family and topology); ValueError otherwise.
+    """
+    first = motions[0]
+    for m in motions[1:]:
+        if (m.omega_crank != first.omega_crank or m.alpha_crank != first.alpha_crank
+                or m.point_pos.keys() != first.point_pos.keys() or m.link_angle.keys() != first.link_angle.keys()
+                or dict(m.link_origin) != dict(first.link_origin)):
+            raise ValueError("only motions of one topology at one crank speed and acceleration stack")
+    return Motion(
+        np.concatenate([m.phi for m in motions]), first.omega_crank, first.alpha_crank,
+        _joined([m.point_pos for m in motions]), _joined([m.point_vel for m in motions]),
+        _joined([m.point_acc for m in motions]), _joined([m.link_angle for m in motions]),
+        _joined([m.link_omega for m in motions]), _joined([m.link_alpha for m in motions]),
+        dict(first.link_origin),
+    )
+
+
+def motion_block(motion: Motion, start: int, stop: int) -> Motion:
+    """Samples ``start`` to ``stop`` of ``motion`` (one variant of a stack) as a motion of its own (views)."""
+    s = slice(start, stop)
+    return Motion(
+        motion.phi[s], motion.omega_crank, motion.alpha_crank,
+        {k: v[s] for k, v in motion.point_pos.items()}, {k: v[s] for k, v in motion.point_vel.items()},
+        {k: v[s] for k, v in motion.point_acc.items()}, {k: v[s] for k, v in motion.link_angle.items()},
+        {k: v[s] for k, v in motion.link_omega.items()}, {k: v[s] for k, v in motion.link_alpha.items()},
+        motion.link_origin,
+    )
