@@ -769,6 +769,28 @@ def linear_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = Non
     return LinearMap(topo.links, tuple(j.name for j in topo.joints), full[:, :, :-1], full[:, :, -1])
 
 
+def shaking_force_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> FloatArray:
+    """The shaking-force rows of :func:`linear_map`, (N, 2, 4·L), from their definition -Σ m·a_S, without the
+    reaction solve: for a program that needs only these rows (static balancing).
+
+    Per link, m·a_S = m·a_O + h_x(al·e2 - w²·e1) + h_y(-al·e1 - w²·e2) with J absent; the rows' constant part
+    is zero (process loads and weights react on the frame, so they shake nothing). ``arrays`` are
+    :func:`link_arrays` (or :func:`link_arrays_per_sample`) of this motion when the caller has them already.
+    """
+    topo = linkage.mechanism.topology
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
+    th, w2, al = arrays.angle, arrays.omega * arrays.omega, arrays.alpha
+    c, s = np.cos(th), np.sin(th)
+    y = np.zeros((motion.samples, 2, len(topo.links), PARAMS_PER_LINK))
+    y[:, :, :, 0] = -np.moveaxis(arrays.origin_acc, 0, -1)
+    # -(al·e2 - w²·e1) and -(-al·e1 - w²·e2) with e1 = (c, s), e2 = (-s, c)
+    y[:, 0, :, 1] = (al * s + w2 * c).T
+    y[:, 1, :, 1] = (w2 * s - al * c).T
+    y[:, 0, :, 2] = (al * c - w2 * s).T
+    y[:, 1, :, 2] = (al * s + w2 * c).T
+    return y.reshape(motion.samples, 2, len(topo.links) * PARAMS_PER_LINK)
+
+
 def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None,
                          loads: ExternalLoads | None = None) -> FloatArray:
     """Driving torque [N·m] from virtual power: the powers of all loads and inertia forces sum to zero.

@@ -155,3 +155,25 @@ def test_only_endpoints_with_a_batched_engine_have_a_batch_function() -> None:
     assert batch_function(ENDPOINT, LIMITS) is not None
     assert batch_function("/v1/analysis", LIMITS) is None
     assert math.isfinite(batch_module.MAX_STACK_SAMPLES)
+
+
+@pytest.mark.parametrize("mechanism", ["fourbar", "slider_crank", "six_bar"])
+def test_the_shaking_force_rows_from_their_definition_are_the_linear_maps(mechanism: str) -> None:
+    # Static balancing takes the map's shaking-force rows from -Σ m·a_S; the independent computation is
+    # linear_map's rows, from the reaction solve, with gravity, a process load, a link torque and a crank
+    # acceleration that the definition says shake nothing beyond the inertia forces.
+    from mechsynth_client.schemas.balancing import SLIDER_CRANK_EXAMPLE
+    from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
+    from synth.kinematics import cycle_angles, motion
+    from synth.kinetostatics import linear_map, shaking_force_map
+
+    body = {"fourbar": FOURBAR_EXAMPLE, "slider_crank": SLIDER_CRANK_EXAMPLE, "six_bar": SIX_BAR_PRESS_EXAMPLE}
+    request = {"mechanism": body[mechanism], "speed_rpm": 300, "gravity": {"g_m_s2": 9.81},
+               "loads": [{"type": "window", "force_N" if mechanism != "fourbar" else "torque_Nm": 50.0}],
+               "torques": [{"link": "crank", "torque_Nm": 3.0}]}
+    linkage = validate_request("/v1/analysis", request).to_linkage()  # type: ignore[attr-defined]
+    mot = motion(linkage.mechanism, cycle_angles(72, 2 * math.pi, 1000), 31.4, 12.0)
+    lm = linear_map(mot, linkage)
+    want = lm.y[:, lm.force_rows, :]
+    np.testing.assert_allclose(shaking_force_map(mot, linkage), want, rtol=0, atol=1e-12 * np.abs(want).max())
+    assert np.abs(lm.y0[:, lm.force_rows]).max() <= 1e-12 * np.abs(want).max()

@@ -5,8 +5,8 @@ At a few hundred samples a single request's cost is the fixed cost of each of it
 operations, not the samples. So the variants of a batch that share a topology, sample count, crank speed and
 gravity are laid end to end along the sample axis (:func:`synth.kinematics.stacking.stack_motions`): one direct
 kinetostatic solve with each sample's own mass properties gives every variant's analysis before balancing, one
-linear map every variant's map (its block of samples), and one direct solve with the counterweights added every
-variant's independent re-analysis. Each variant's program is its own (its row space of the force rows, its
+evaluation of the map's shaking-force rows every variant's rows (its block of samples; the program needs no
+other rows), and one direct solve with the counterweights added every variant's independent re-analysis. Each variant's program is its own (its row space of the force rows, its
 realisability cones and budget), built and solved by Clarabel exactly as :func:`balance_static` builds and
 solves it.
 
@@ -29,7 +29,7 @@ from ..dynamics import reduced_model
 from ..errors import SynthError
 from ..kinematics import MAX_SAMPLES, Motion, PointState, cycle_angles, motion
 from ..kinematics.stacking import motion_block, stack_motions
-from ..kinetostatics import (LinearMap, external_loads, link_arrays_per_sample, linear_map, solve_direct,
+from ..kinetostatics import (LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map, solve_direct,
                              virtual_power_torque)
 from ..model import Linkage
 from .fourbar import (BalanceResult, _require_turning, _static_result, _static_solution, _static_spec,
@@ -139,9 +139,10 @@ def _block(obj: _T, s: slice) -> _T:
     return replace(obj, **cut)  # type: ignore[type-var]
 
 
-def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Linkage]) -> list[Analysis | None]:
-    """:func:`synth.analyse` of each linkage on its block of ``stack``, all in one solve; None for a variant
-    whose figures overflow (the single request says why)."""
+def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Linkage]
+              ) -> tuple[list[Analysis | None], LinkArrays]:
+    """:func:`synth.analyse` of each linkage on its block of ``stack``, all in one solve (None for a variant
+    whose figures overflow: the single request says why), and the stack's link arrays."""
     reference = linkages[0]
     n = group[0].base.samples
     params = np.stack([lk.params().reshape(-1, 4) for lk in linkages], axis=1)  # (L, K, 4)
@@ -165,7 +166,7 @@ def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Link
         out.append(Analysis(linkage=linkage, motion=motion_block(mot, s.start, s.stop),
                             kinetostatics=_block(kin, s), virtual_power_torque=vp[s], reduced=_block(red, s),
                             mechanism_motion=p.base) if finite[k] else None)
-    return out
+    return out, arrays
 
 
 def _stacked(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]:
@@ -181,19 +182,21 @@ def _solve_stack(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]
     n = group[0].base.samples
     stack = stack_motions([p.base for p in group])
     linkages = [p.case.linkage for p in group]
-    before = _analyses(stack, group, linkages)
-    lm_all = linear_map(stack, linkages[0])
+    before, arrays = _analyses(stack, group, linkages)
+    # The program needs only the map's shaking-force rows (as balance_static takes them): every variant's from
+    # one evaluation on the stack.
+    rows = shaking_force_map(stack, linkages[0], arrays)
+    rows = rows.reshape(len(group), 2 * n, rows.shape[-1])
+    no_offset = np.zeros(2 * n)
     answers: list[tuple[list[Any], float] | SynthError | None] = []
     for k, (p, an) in enumerate(zip(group, before, strict=True)):
         if an is None:
             answers.append(None)
             continue
-        s = slice(k * n, (k + 1) * n)
-        lm = LinearMap(lm_all.links, lm_all.joints, lm_all.y[s], lm_all.y0[s])
         case = p.case
         try:
-            cw, program, x = _static_solution(case.linkage, lm, p.spec, case.objective, case.mass_budget,
-                                              case.time_limit_s)
+            cw, program, x = _static_solution(case.linkage, (rows[k], no_offset), p.spec, case.objective,
+                                              case.mass_budget, case.time_limit_s)
         except SynthError as exc:
             answers.append(exc)
             continue
@@ -204,7 +207,7 @@ def _solve_stack(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]
     # The independent check: the plain model again, every variant with its counterweights, in one solve.
     balanced = [lk.with_counterweights(a[0]) if isinstance(a, tuple) else lk
                 for lk, a in zip(linkages, answers, strict=True)]
-    after = _analyses(stack, group, balanced)
+    after = _analyses(stack, group, balanced)[0]
     results: list[BalanceResult | SynthError] = []
     for p, an_before, an_after, answer in zip(group, before, after, answers, strict=True):
         if isinstance(answer, SynthError):

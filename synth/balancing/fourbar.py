@@ -17,8 +17,8 @@ import numpy as np
 from ..analysis import Analysis, Summary, analyse
 from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
-from ..kinematics import FourBar, PlanarLinkage, SliderCrank
-from ..kinetostatics import LinearMap, linear_map
+from ..kinematics import FourBar, Motion, PlanarLinkage, SliderCrank
+from ..kinetostatics import LinearMap, linear_map, shaking_force_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
 from ..warnings import link_lengths
 from .fixed_points import fixed_point_counterweights
@@ -139,9 +139,23 @@ def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | Non
     return force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 
-def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> tuple[FloatArray, FloatArray]:
-    a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
-    cols = _var_columns(lm, cw)
+def _force_rows(lm: LinearMap) -> tuple[FloatArray, FloatArray]:
+    """The shaking-force rows of the map over all angles: (2N, params) and (2N,), x and y of each angle."""
+    return _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+
+
+def _shaking_force_rows(motion: Motion, linkage: Linkage) -> tuple[FloatArray, FloatArray]:
+    """The map's shaking-force rows over all angles as :func:`_force_rows` has them, from their definition
+    (:func:`synth.kinetostatics.shaking_force_map`): static balancing needs no other row of the map."""
+    y = shaking_force_map(motion, linkage)
+    return y.reshape(-1, y.shape[-1]), np.zeros(2 * motion.samples)
+
+
+def _static_system(linkage: Linkage, force: tuple[FloatArray, FloatArray], cw: CounterweightLayout
+                   ) -> tuple[FloatArray, FloatArray]:
+    a, b0 = force
+    links = linkage.mechanism.topology.links
+    cols = [PARAMS * links.index(link) + c for link in cw.links for c in range(PARAMS)]
     rhs = -(a @ linkage.params() + b0)
     return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
 
@@ -221,8 +235,8 @@ def balance_static(
         return _fixed_points(linkage, speed, spec, samples)
     spec = _static_spec(linkage, spec, objective, mass_budget)
     before = analyse(linkage, speed, samples=samples)
-    lm = linear_map(before.motion, linkage)
-    cw, program, x = _static_solution(linkage, lm, spec, objective, mass_budget, time_limit_s)
+    cw, program, x = _static_solution(linkage, _shaking_force_rows(before.motion, linkage), spec, objective,
+                                      mass_budget, time_limit_s)
     # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
     cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
     after = _check(linkage, speed, samples, cws, before)[0]
@@ -241,12 +255,13 @@ def _static_spec(linkage: Linkage, spec: CounterweightSpec | None, objective: st
     return spec
 
 
-def _static_solution(linkage: Linkage, lm: LinearMap, spec: CounterweightSpec, objective: str,
-                     mass_budget: float | None, time_limit_s: float
+def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spec: CounterweightSpec,
+                     objective: str, mass_budget: float | None, time_limit_s: float
                      ) -> tuple[CounterweightLayout, ConeProgram, FloatArray]:
-    """The static program on the map ``lm`` and its solution; an infeasible budget says the mass it needs."""
+    """The static program on the map's shaking-force rows ``force`` (:func:`_force_rows`) and its solution; an
+    infeasible budget says the mass it needs."""
     cw = counterweight_layout(spec, linkage)
-    ar, br = _static_system(linkage, lm, cw)
+    ar, br = _static_system(linkage, force, cw)
     program = _program(cw)
     program.equal(ar, br)
     binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
@@ -263,7 +278,7 @@ def _static_solution(linkage: Linkage, lm: LinearMap, spec: CounterweightSpec, o
             if cause is not None:
                 raise cause from exc
             raise
-        least, _, x_least = _static_solution(linkage, lm, spec, "min_mass", None, time_limit_s)
+        least, _, x_least = _static_solution(linkage, force, spec, "min_mass", None, time_limit_s)
         needed = sum(c.mass for c in CounterweightSolution(least, x_least).counterweights())
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
@@ -387,7 +402,7 @@ def balance_full(
         lm = linear_map(mot, linkage)
         cols = _var_columns(lm, cw)
         if k == 0:
-            ar, br = _static_system(linkage, lm, cw)
+            ar, br = _static_system(linkage, _force_rows(lm), cw)
             program.equal(ar, br)
         a, b0 = _rows(lm, [lm.moment_row])
         # The coupler's own inertia is a variable: take its fixed value out of p0, add the variable.
