@@ -140,7 +140,7 @@ def test_a_stack_with_a_dead_position_falls_back_to_single_requests(monkeypatch:
     plans = [ENDPOINTS[ENDPOINT][1](validate_request(ENDPOINT, r), LIMITS) for r in requests]
     cases = [synth.StaticCase(*p.args, **p.kwargs) for p in plans]
 
-    def refuse(group: Any) -> Any:
+    def refuse(group: Any, stack: Any) -> Any:
         raise synth.NotAssemblable("a dead position in the stack", phi=np.array([0.0]), ranges_deg=[])
 
     monkeypatch.setattr(batch_module, "_solve_stack", refuse)

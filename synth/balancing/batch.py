@@ -24,14 +24,14 @@ from typing import Any, Literal, TypeVar
 
 import numpy as np
 
-from ..analysis import Analysis
+from ..analysis import Analysis, Summary
 from ..dynamics import reduced_model
 from ..errors import SynthError
-from ..kinematics import MAX_SAMPLES, Motion, PointState, cycle_angles, motion
-from ..kinematics.stacking import motion_block, stack_motions
-from ..kinetostatics import (LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map, solve_direct,
+from ..kinematics import MAX_SAMPLES, FourBar, Motion, PointState, cycle_angles, motion
+from ..kinematics.stacking import motion_block, stack_motions, stacked_fourbar_motion
+from ..kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map, solve_direct,
                              virtual_power_torque)
-from ..model import Linkage
+from ..model import FloatArray, Linkage
 from .fourbar import (BalanceResult, _require_turning, _static_result, _static_solution, _static_spec,
                       balance_static)
 from .program import CounterweightSolution, CounterweightSpec
@@ -57,12 +57,12 @@ class StaticCase:
 
 @dataclass(frozen=True, slots=True)
 class _Prepared:
-    """A case checked and its spec resolved as :func:`balance_static` does before analysing, with its motion."""
+    """A case checked and its spec resolved as :func:`balance_static` does before analysing, with its angles."""
 
     index: int
     case: StaticCase
     spec: CounterweightSpec
-    base: Motion
+    angles: FloatArray
 
 
 def balance_static_batch(cases: Sequence[StaticCase]) -> list[BalanceResult | SynthError]:
@@ -89,11 +89,9 @@ def balance_static_batch(cases: Sequence[StaticCase]) -> list[BalanceResult | Sy
         else:
             groups.append([prepared])
     for group in groups:
-        per_stack = max(1, MAX_STACK_SAMPLES // group[0].base.samples)
+        per_stack = max(1, MAX_STACK_SAMPLES // len(group[0].angles))
         for start in range(0, len(group), per_stack):
-            chunk = group[start : start + per_stack]
-            for p, result in zip(chunk, _stacked(chunk), strict=True):
-                out[p.index] = result
+            out.update(_stacked(group[start : start + per_stack]))
     return [out[i] for i in range(len(cases))]
 
 
@@ -106,7 +104,7 @@ def _alone(case: StaticCase) -> BalanceResult | SynthError:
 
 
 def _prepare(index: int, case: StaticCase) -> _Prepared | None:
-    """The checks of :func:`balance_static` and :func:`synth.analyse` in their order, and the motion; None
+    """The checks of :func:`balance_static` and :func:`synth.analyse` in their order up to the motion; None
     for a case the stack does not take."""
     linkage = case.linkage
     _require_turning(linkage)
@@ -114,14 +112,56 @@ def _prepare(index: int, case: StaticCase) -> _Prepared | None:
         return None
     spec = _static_spec(linkage, case.spec, case.objective, case.mass_budget)
     angles = cycle_angles(case.samples, 2 * math.pi, MAX_SAMPLES)
-    return _Prepared(index, case, spec, motion(linkage.mechanism, angles, case.speed))
+    if not (math.isfinite(case.speed) and case.speed > 0):
+        return None   # the single request says what is wrong with the speed
+    return _Prepared(index, case, spec, angles)
 
 
 def _stackable(a: _Prepared, b: _Prepared) -> bool:
-    la, lb = a.case.linkage, b.case.linkage
-    return (type(la.mechanism) is type(lb.mechanism) and la.mechanism.topology == lb.mechanism.topology
-            and a.base.samples == b.base.samples and a.base.omega_crank == b.base.omega_crank
-            and la.gravity == lb.gravity and dict(a.base.link_origin) == dict(b.base.link_origin))
+    ma, mb = a.case.linkage.mechanism, b.case.linkage.mechanism
+    return (type(ma) is type(mb) and ma.topology == mb.topology and dict(ma.origins) == dict(mb.origins)
+            and np.array_equal(a.angles, b.angles) and a.case.speed == b.case.speed
+            and a.case.linkage.gravity == b.case.linkage.gravity)
+
+
+def _stacked(group: Sequence[_Prepared]) -> dict[int, BalanceResult | SynthError]:
+    """The results of one stack; a stack that cannot be solved as one (a dead position somewhere) is run
+    case by case."""
+    try:
+        ready, stack, out = _stack(group)
+        if ready and stack is not None:
+            out.update(zip((p.index for p in ready), _solve_stack(ready, stack), strict=True))
+        return out
+    except SynthError:
+        return {p.index: _alone(p.case) for p in group}
+
+
+def _stack(group: Sequence[_Prepared]
+           ) -> tuple[list[_Prepared], Motion | None, dict[int, BalanceResult | SynthError]]:
+    """The motions of the variants whose loops close, stacked; the others' errors (or answers) as the single
+    request gives them."""
+    angles, speed = group[0].angles, group[0].case.speed
+    out: dict[int, BalanceResult | SynthError] = {}
+    mechanisms = [p.case.linkage.mechanism for p in group]
+    if all(isinstance(m, FourBar) for m in mechanisms):
+        fourbars = [m for m in mechanisms if isinstance(m, FourBar)]
+        stack, bad = stacked_fourbar_motion(fourbars, angles, speed)
+        if not bad.any():
+            return list(group), stack, out
+        ready = [p for p, b in zip(group, bad, strict=True) if not b]
+        for p in (p for p, b in zip(group, bad, strict=True) if b):
+            out[p.index] = _alone(p.case)   # its loop does not close: the single request names the gaps
+        kept = [m for m, b in zip(fourbars, bad, strict=True) if not b]
+        return ready, stacked_fourbar_motion(kept, angles, speed)[0] if kept else None, out
+    motions: list[Motion] = []
+    ready = []
+    for p in group:
+        try:
+            motions.append(motion(p.case.linkage.mechanism, angles, speed))
+            ready.append(p)
+        except SynthError as exc:
+            out[p.index] = exc
+    return ready, stack_motions(motions) if motions else None, out
 
 
 _T = TypeVar("_T")
@@ -139,12 +179,25 @@ def _block(obj: _T, s: slice) -> _T:
     return replace(obj, **cut)  # type: ignore[type-var]
 
 
-def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Linkage]
-              ) -> tuple[list[Analysis | None], LinkArrays]:
+def _summaries(kin: Kinetostatics, linkage: Linkage, count: int) -> list[Summary]:
+    """:meth:`synth.Analysis.summary` of each of ``count`` equal blocks of the stacked ``kin``, at once."""
+    force = np.hypot(kin.shaking_force[:, 0], kin.shaking_force[:, 1]).reshape(count, -1)
+    moment = kin.shaking_moment.reshape(count, -1)
+    torque = kin.driving_torque.reshape(count, -1)
+    revolute = [j.name for j in linkage.mechanism.topology.joints if j.kind == "revolute"]
+    bearing = np.stack([np.hypot(*kin.reactions[j].T).reshape(count, -1).max(axis=1) for j in revolute]).max(axis=0)
+    columns = (np.sqrt(np.mean(force**2, axis=1)), force.max(axis=1), np.sqrt(np.mean(moment**2, axis=1)),
+               np.abs(moment).max(axis=1), np.sqrt(np.mean(torque**2, axis=1)), np.abs(torque).max(axis=1), bearing)
+    return [Summary(*(float(c) for c in row)) for row in zip(*columns, strict=True)]
+
+
+def _analyses(stack: Motion, linkages: Sequence[Linkage]
+              ) -> tuple[list[Analysis | None], list[Summary], LinkArrays]:
     """:func:`synth.analyse` of each linkage on its block of ``stack``, all in one solve (None for a variant
-    whose figures overflow: the single request says why), and the stack's link arrays."""
+    whose figures overflow: the single request says why), their summaries, and the stack's link arrays."""
     reference = linkages[0]
-    n = group[0].base.samples
+    count = len(linkages)
+    n = stack.samples // count
     params = np.stack([lk.params().reshape(-1, 4) for lk in linkages], axis=1)  # (L, K, 4)
     arrays = link_arrays_per_sample(stack, reference, np.repeat(params, n, axis=1))
     links = reference.mechanism.topology.links
@@ -157,32 +210,22 @@ def _analyses(stack: Motion, group: Sequence[_Prepared], linkages: Sequence[Link
     red = reduced_model(mot, reference, arrays, loads)
     # The finiteness check of synth.analyse, per variant.
     checked = (kin.unknowns, kin.shaking_force, kin.shaking_moment, vp, red.inertia, red.load_torque)
-    finite = np.ones(len(group), dtype=bool)
+    finite = np.ones(count, dtype=bool)
     for a in checked:
-        finite &= np.isfinite(a.reshape(len(group), -1)).all(axis=1)
+        finite &= np.isfinite(a.reshape(count, -1)).all(axis=1)
     out: list[Analysis | None] = []
-    for k, (p, linkage) in enumerate(zip(group, linkages, strict=True)):
+    for k, linkage in enumerate(linkages):
         s = slice(k * n, (k + 1) * n)
         out.append(Analysis(linkage=linkage, motion=motion_block(mot, s.start, s.stop),
                             kinetostatics=_block(kin, s), virtual_power_torque=vp[s], reduced=_block(red, s),
-                            mechanism_motion=p.base) if finite[k] else None)
-    return out, arrays
+                            mechanism_motion=motion_block(stack, s.start, s.stop)) if finite[k] else None)
+    return out, _summaries(kin, reference, count), arrays
 
 
-def _stacked(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]:
-    """The results of one stack; a stack that cannot be solved as one (a dead position somewhere) is run
-    case by case."""
-    try:
-        return _solve_stack(group)
-    except SynthError:
-        return [_alone(p.case) for p in group]
-
-
-def _solve_stack(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]:
-    n = group[0].base.samples
-    stack = stack_motions([p.base for p in group])
+def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResult | SynthError]:
+    n = len(group[0].angles)
     linkages = [p.case.linkage for p in group]
-    before, arrays = _analyses(stack, group, linkages)
+    before, s_before, arrays = _analyses(stack, linkages)
     # The program needs only the map's shaking-force rows (as balance_static takes them): every variant's from
     # one evaluation on the stack.
     rows = shaking_force_map(stack, linkages[0], arrays)
@@ -207,16 +250,16 @@ def _solve_stack(group: Sequence[_Prepared]) -> list[BalanceResult | SynthError]
     # The independent check: the plain model again, every variant with its counterweights, in one solve.
     balanced = [lk.with_counterweights(a[0]) if isinstance(a, tuple) else lk
                 for lk, a in zip(linkages, answers, strict=True)]
-    after = _analyses(stack, group, balanced)[0]
+    after, s_after, _ = _analyses(stack, balanced)
     results: list[BalanceResult | SynthError] = []
-    for p, an_before, an_after, answer in zip(group, before, after, answers, strict=True):
+    for k, (p, an_before, an_after, answer) in enumerate(zip(group, before, after, answers, strict=True)):
         if isinstance(answer, SynthError):
             results.append(answer)
         elif answer is None or an_before is None or an_after is None:
             results.append(_alone(p.case))
         else:
             cws, objective = answer
-            results.append(_static_result(cws, an_before, an_after, objective))
+            results.append(_static_result(cws, an_before, an_after, objective, (s_before[k], s_after[k])))
     return results
 
 

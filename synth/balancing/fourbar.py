@@ -127,14 +127,14 @@ def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequenc
     return (after, *_residuals(after, before, rotor_moment))
 
 
-def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | None = None
-               ) -> tuple[float, float, float, float]:
+def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | None = None,
+               summary: Summary | None = None) -> tuple[float, float, float, float]:
     """Largest shaking force [N] and moment [N·m] left in the re-analysis ``after``, each also over its largest
-    value ``before``."""
+    value ``before`` (whose ``summary`` the caller may have already)."""
     force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
     moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
     moment = float(np.abs(moment_series).max())
-    summary = before.summary()
+    summary = before.summary() if summary is None else summary
     f0, m0 = summary.max_shaking_force, summary.max_shaking_moment
     return force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
@@ -285,11 +285,13 @@ def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spe
     return cw, program, x
 
 
-def _static_result(cws: Sequence[Counterweight], before: Analysis, after: Analysis,
-                   objective: float | None) -> BalanceResult:
-    """A static answer from its counterweights and the plain analyses before and after."""
-    f, f_rel, m, m_rel = _residuals(after, before)
-    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
+def _static_result(cws: Sequence[Counterweight], before: Analysis, after: Analysis, objective: float | None,
+                   summaries: tuple[Summary, Summary] | None = None) -> BalanceResult:
+    """A static answer from its counterweights and the plain analyses before and after (and their summaries
+    when the caller has them already)."""
+    s_before, s_after = (before.summary(), after.summary()) if summaries is None else summaries
+    f, f_rel, m, m_rel = _residuals(after, before, summary=s_before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), s_before, s_after,
                          f, f_rel, m, m_rel, before, after,
                          added_inertia=sum(c.params()[3] for c in cws), objective=objective)
 
