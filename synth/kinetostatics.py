@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import NotAssemblable, angle_ranges_deg
-from .kinematics.motion import Motion, cross, perp
+from .kinematics.motion import Motion, cross, dot, perp
 from .model import FloatArray, Linkage
 from .topology import Topology
 
@@ -154,6 +154,31 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
     return a
 
 
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
+    column ``col_pos[k]``: what the reduced system needs when every force row is constant."""
+    links = topo.links
+    a = np.zeros((len(links), 3 * len(links), motion.samples))
+    for j, joint in enumerate(topo.joints):
+        cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
+        px, py = motion.point_pos[joint.point].T
+        giver, receiver = joint.bodies
+        for body, sign in ((receiver, 1.0), (giver, -1.0)):
+            if body is None:
+                continue
+            i = links.index(body)
+            ox, oy = motion.point_pos[motion.link_origin[body]].T
+            if joint.kind == "revolute":
+                a[i, cx] -= sign * (py - oy)
+                a[i, cy] += sign * (px - ox)
+            else:
+                normal = _axis_normal(motion, topo, j)
+                a[i, cx] += sign * ((px - ox) * normal[:, 1] - (py - oy) * normal[:, 0])
+                a[i, cy] += sign
+    a[links.index(topo.crank), col_pos[-1]] = 1.0
+    return a
+
+
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
     """Products of stacked small matrices, crank angle last: (i, j, N) @ (j, k, N) -> (i, k, N)."""
     out = a[:, 0, None, :] * b[None, 0]
@@ -177,6 +202,7 @@ class _Reduction:
     f_inv: FloatArray
     f_det: float
     g: FloatArray | None
+    force_rows_norm: float | None = None   # product of the constant force rows' norms, when g is not None
 
     @property
     def rows(self) -> tuple[int, ...]:
@@ -221,7 +247,9 @@ def _reduction(topo: Topology) -> _Reduction | None:
             f_inv = np.asarray(np.linalg.inv(f), dtype=float)
             kept_rows = _constant_force_rows(topo, kept)
             g = None if kept_rows is None else f_inv @ kept_rows
-            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g)
+            all_rows = _constant_force_rows(topo, tuple(range(3 * n)))
+            norm = None if all_rows is None else float(np.prod(np.sqrt((all_rows * all_rows).sum(axis=1))))
+            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g, norm)
     return None
 
 
@@ -433,6 +461,8 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     [0, 1], with det A = det F · det S.
     """
     red = _reduction(topo)
+    if red is not None and red.g is not None and red.force_rows_norm is not None:
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b)
     if red is None:
         natural = tuple(range(3 * len(topo.links)))
         a = _assemble(motion, topo, natural, natural)
@@ -454,6 +484,17 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(f_det * det) / rows_norm
+    _refuse_dead_positions(motion, ratio)
+    if red is None:
+        return np.moveaxis(x_kept, -1, 0)
+    x = np.empty(b.shape)
+    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    return x
+
+
+def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
+    """NotAssemblable where the Hadamard ratio of the system says it is singular (or is not a number)."""
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
     if bad.any():
         raise NotAssemblable(
@@ -462,11 +503,27 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
             phi=motion.phi[bad],
             ranges_deg=angle_ranges_deg(motion.phi, bad),
         )
-    if red is None:
-        return np.moveaxis(x_kept, -1, 0)
+
+
+def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
+                           b: FloatArray) -> FloatArray:
+    """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
+    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant."""
+    rows, cols = red.rows, red.columns
+    k = len(red.eliminated)
+    m = _assemble_moments(motion, topo, red.positions(cols))
+    bp = np.moveaxis(b[:, list(rows)], 0, -1)
+    m_elim = m[:, :k]
+    h = _constant_matmul(red.f_inv, bp[:k])                  # eliminated = h - g @ kept
+    s = m[:, k:] - _times_constant(m_elim, g)
+    r = bp[k:] - _batched_matmul(m_elim, h)
+    det, x_kept = _det_and_solve(s, r)
+    moment_norms = np.sqrt(np.einsum("ijn,ijn->in", m, m))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(moment_norms, axis=0))
+    _refuse_dead_positions(motion, ratio)
     x = np.empty(b.shape)
-    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
-    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - _constant_matmul(g, x_kept), x_kept]), -1, 0)
     return x
 
 
@@ -609,7 +666,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
         force = force - arrays.mass.sum() * g
-        first = np.einsum("l,lnk->nk", arrays.mass, arrays.com_pos)
+        first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
@@ -727,10 +784,10 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    power = dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
-    power = power + np.einsum("l,lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
-    power = power - np.einsum("l,ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
+    power = power + arrays.mass @ dot(g - arrays.com_acc, arrays.com_vel)
+    power = power - arrays.inertia @ (arrays.alpha * arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])
