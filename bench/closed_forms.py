@@ -28,11 +28,11 @@ def xy(z: np.ndarray) -> np.ndarray:
     return z.view(np.float64).reshape(-1, 2)
 
 
-def cross(a: np.ndarray | complex, b: np.ndarray) -> np.ndarray:
+def cross(a: np.ndarray | complex, b: np.ndarray | complex) -> np.ndarray:
     return np.asarray((np.conj(a) * b).imag)
 
 
-def dot(a: np.ndarray | complex, b: np.ndarray) -> np.ndarray:
+def dot(a: np.ndarray | complex, b: np.ndarray | complex) -> np.ndarray:
     return np.asarray((np.conj(a) * b).real)
 
 

@@ -26,13 +26,15 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from .errors import NotAssemblable, angle_ranges_deg
-from .kinematics.motion import Motion, cross, dot, perp
+from .kinematics.motion import Motion, complex_of, cross, dot, perp, unit, xy
 from .model import FloatArray, Linkage
 from .topology import Topology
 
 PARAMS_PER_LINK = 4
+IndexArray = npt.NDArray[np.intp]
 # Below this Hadamard ratio a system is treated as singular (a dead position of the linkage).
 SINGULAR_RATIO = 1e-10
 
@@ -89,16 +91,13 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     angle = np.stack([motion.link_angle[link] for link in links])
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
-    # The same arithmetic as Motion.point_on, for all links at once.
-    c, s = np.cos(angle), np.sin(angle)
-    x, y = com[:, 0, None], com[:, 1, None]
-    r = np.empty(angle.shape + (2,))
-    np.subtract(c * x, s * y, out=r[..., 0])
-    np.add(s * x, c * y, out=r[..., 1])
-    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
-    com_pos = origin_pos + r
-    com_vel = origin_vel + omega[..., None] * k_r
-    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
+    # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
+    # (i·alpha - omega²)·r relative to it.
+    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    com_pos = origin_pos + xy(r)
+    com_vel = origin_vel + xy((1j * omega) * r)
+    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
     for arr in (com_pos, com_vel, com_acc):
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
@@ -108,9 +107,10 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
     """Unit normal to a prismatic joint's slide axis at every sample, (N, 2)."""
     joint = topo.joints[joint_index]
-    angle = np.full(motion.samples, joint.axis_angle)
-    if joint.axis_link is not None:
-        angle = angle + motion.link_angle[joint.axis_link]
+    if joint.axis_link is None:  # fixed in the frame: one normal, read-only, for every sample
+        normal = np.array([-np.sin(joint.axis_angle), np.cos(joint.axis_angle)])
+        return np.broadcast_to(normal, (motion.samples, 2))
+    angle = joint.axis_angle + motion.link_angle[joint.axis_link]
     return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
 
 
@@ -154,28 +154,69 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
     return a
 
 
-def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
-    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
-    column ``col_pos[k]``: what the reduced system needs when every force row is constant."""
+@dataclass(frozen=True, slots=True)
+class _MomentPlan:
+    """Where each revolute lever enters the moment rows, fixed per topology and column order: the lever of
+    joint point ``joint_points[p]`` about the frame origin ``origin_points[p]`` of link ``link[p]``, with
+    ``sign`` (+1 on the receiving link, -1 on the giving one), in columns ``col_x[p]`` and ``col_y[p]``."""
+
+    points: tuple[str, ...]
+    joint_points: IndexArray
+    origin_points: IndexArray
+    link: IndexArray
+    col_x: IndexArray
+    col_y: IndexArray
+    sign: FloatArray
+    prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
+    torque: tuple[int, int]
+
+
+@functools.lru_cache(maxsize=64)
+def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, ...]) -> _MomentPlan:
     links = topo.links
-    a = np.zeros((len(links), 3 * len(links), motion.samples))
+    points: list[str] = []
+
+    def index(point: str) -> int:
+        if point not in points:
+            points.append(point)
+        return points.index(point)
+
+    rev: list[tuple[int, int, int, int, int, float]] = []
+    prismatic: list[tuple[int, int, int, int, float]] = []
     for j, joint in enumerate(topo.joints):
         cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
-        px, py = motion.point_pos[joint.point].T
         giver, receiver = joint.bodies
         for body, sign in ((receiver, 1.0), (giver, -1.0)):
             if body is None:
                 continue
             i = links.index(body)
-            ox, oy = motion.point_pos[motion.link_origin[body]].T
             if joint.kind == "revolute":
-                a[i, cx] -= sign * (py - oy)
-                a[i, cy] += sign * (px - ox)
+                rev.append((index(joint.point), index(origins[i]), i, cx, cy, sign))
             else:
-                normal = _axis_normal(motion, topo, j)
-                a[i, cx] += sign * ((px - ox) * normal[:, 1] - (py - oy) * normal[:, 0])
-                a[i, cy] += sign
-    a[links.index(topo.crank), col_pos[-1]] = 1.0
+                prismatic.append((j, i, cx, cy, sign))
+    cols = np.array(rev, dtype=float).reshape(-1, 6)
+    as_int = cols[:, :5].astype(np.intp)
+    return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
+                       cols[:, 5], tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+
+
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
+    column ``col_pos[k]``: what the reduced system needs when every force row is constant. Every revolute lever
+    is written in one indexed assignment (a joint's column meets each of its two links' rows once)."""
+    links = topo.links
+    plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
+    a = np.zeros((len(links), 3 * len(links), motion.samples))
+    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
+    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
+    a[plan.link, plan.col_x] = -lever.imag
+    a[plan.link, plan.col_y] = lever.real
+    for j, i, cx, cy, sign in plan.prismatic:
+        joint = topo.joints[j]
+        lever_p = motion.point_pos[joint.point] - motion.point_pos[motion.link_origin[links[i]]]
+        a[i, cx] += sign * cross(lever_p, _axis_normal(motion, topo, j))
+        a[i, cy] += sign
+    a[plan.torque] = 1.0
     return a
 
 
@@ -508,22 +549,24 @@ def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
 def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
                            b: FloatArray) -> FloatArray:
     """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
-    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant."""
+    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant.
+    The constant products are matrix products over all angles and columns at once."""
     rows, cols = red.rows, red.columns
-    k = len(red.eliminated)
+    k, n_kept = len(red.eliminated), len(red.kept)
     m = _assemble_moments(motion, topo, red.positions(cols))
-    bp = np.moveaxis(b[:, list(rows)], 0, -1)
+    samples, width = b.shape[0], b.shape[2]
+    bt = b[:, list(rows)].transpose(1, 2, 0)                  # (3n, M, N)
+    h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
     m_elim = m[:, :k]
-    h = _constant_matmul(red.f_inv, bp[:k])                  # eliminated = h - g @ kept
-    s = m[:, k:] - _times_constant(m_elim, g)
-    r = bp[k:] - _batched_matmul(m_elim, h)
+    s = m[:, k:] - np.matmul(g.T, m_elim)
+    r = bt[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
-    moment_norms = np.sqrt(np.einsum("ijn,ijn->in", m, m))
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(moment_norms, axis=0))
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
     _refuse_dead_positions(motion, ratio)
     x = np.empty(b.shape)
-    x[:, list(cols)] = np.moveaxis(np.concatenate([h - _constant_matmul(g, x_kept), x_kept]), -1, 0)
+    x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
+    x[:, list(red.kept)] = x_kept.transpose(2, 0, 1)
     return x
 
 
