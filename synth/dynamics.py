@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics.motion import Motion
-from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays, link_axes
+from .kinematics.motion import Motion, dot
+from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays, link_sum
 from .model import FloatArray, Linkage
 
 
@@ -55,12 +55,11 @@ def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = 
     else:
         d2 = arrays.com_acc / w**2
         t2 = arrays.alpha / w**2
-    m, j = link_axes(arrays.mass), link_axes(arrays.inertia)
-    inertia = np.einsum(f"{m},lnk,lnk->n", arrays.mass, d1, d1) + np.einsum(f"{j},ln,ln->n", arrays.inertia, t1, t1)
-    slope = 2 * (np.einsum(f"{m},lnk,lnk->n", arrays.mass, d1, d2) + np.einsum(f"{j},ln,ln->n", arrays.inertia, t1, t2))
-    power = np.einsum(f"{m},lnk,k->n", arrays.mass, arrays.com_vel, g)
+    inertia = link_sum(arrays.mass, dot(d1, d1)) + link_sum(arrays.inertia, t1 * t1)
+    slope = 2 * (link_sum(arrays.mass, dot(d1, d2)) + link_sum(arrays.inertia, t1 * t2))
+    power = link_sum(arrays.mass, arrays.com_vel @ g)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power += np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    power += dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power += torque * motion.link_omega[link]
     return ReducedModel(motion.phi, inertia, slope, power / w, 0.5 * inertia * w**2)

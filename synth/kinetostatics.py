@@ -26,13 +26,15 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from .errors import NotAssemblable, angle_ranges_deg
-from .kinematics.motion import Motion, cross, perp
+from .kinematics.motion import Motion, complex_of, cross, dot, perp, unit, xy
 from .model import FloatArray, Linkage
 from .topology import Topology
 
 PARAMS_PER_LINK = 4
+IndexArray = npt.NDArray[np.intp]
 # Below this Hadamard ratio a system is treated as singular (a dead position of the linkage).
 SINGULAR_RATIO = 1e-10
 
@@ -91,16 +93,13 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     angle = np.stack([motion.link_angle[link] for link in links])
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
-    # The same arithmetic as Motion.point_on, for all links at once.
-    c, s = np.cos(angle), np.sin(angle)
-    x, y = com[:, 0, None], com[:, 1, None]
-    r = np.empty(angle.shape + (2,))
-    np.subtract(c * x, s * y, out=r[..., 0])
-    np.add(s * x, c * y, out=r[..., 1])
-    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
-    com_pos = origin_pos + r
-    com_vel = origin_vel + omega[..., None] * k_r
-    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
+    # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
+    # (i·alpha - omega²)·r relative to it.
+    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    com_pos = origin_pos + xy(r)
+    com_vel = origin_vel + xy((1j * omega) * r)
+    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
     for arr in (com_pos, com_vel, com_acc):
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
@@ -132,15 +131,11 @@ def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray)
     angle = np.stack([motion.link_angle[link] for link in links])
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
-    c, s = np.cos(angle), np.sin(angle)
-    x, y = com[..., 0], com[..., 1]
-    r = np.empty(angle.shape + (2,))
-    np.subtract(c * x, s * y, out=r[..., 0])
-    np.add(s * x, c * y, out=r[..., 1])
-    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
-    com_pos = origin_pos + r
-    com_vel = origin_vel + omega[..., None] * k_r
-    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    # link_arrays' arithmetic, each sample with its own centre of mass.
+    r = unit(angle) * (com[..., 0] + 1j * com[..., 1])
+    com_pos = origin_pos + xy(r)
+    com_vel = origin_vel + xy((1j * omega) * r)
+    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
     for arr in (com_pos, com_vel, com_acc):
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
@@ -153,17 +148,19 @@ def per_sample(values: FloatArray) -> FloatArray:
     return values if values.ndim == 2 else values[:, None]
 
 
-def link_axes(values: FloatArray) -> str:
-    """Einsum subscripts of a link property of :class:`LinkArrays`: ``l`` for (L,), ``ln`` per sample (L, N)."""
-    return "ln" if values.ndim == 2 else "l"
+def link_sum(values: FloatArray, per_link: FloatArray) -> FloatArray:
+    """Σ over the links of a link property of :class:`LinkArrays` (``mass``, ``inertia``: (L,), or per sample
+    (L, N)) times a per-link quantity (L, N): (N,)."""
+    return np.asarray(values @ per_link if values.ndim == 1 else np.einsum("ln,ln->n", values, per_link))
 
 
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
     """Unit normal to a prismatic joint's slide axis at every sample, (N, 2)."""
     joint = topo.joints[joint_index]
-    angle = np.full(motion.samples, joint.axis_angle)
-    if joint.axis_link is not None:
-        angle = angle + motion.link_angle[joint.axis_link]
+    if joint.axis_link is None:  # fixed in the frame: one normal, read-only, for every sample
+        normal = np.array([-np.sin(joint.axis_angle), np.cos(joint.axis_angle)])
+        return np.broadcast_to(normal, (motion.samples, 2))
+    angle = joint.axis_angle + motion.link_angle[joint.axis_link]
     return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
 
 
@@ -207,6 +204,72 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
     return a
 
 
+@dataclass(frozen=True, slots=True)
+class _MomentPlan:
+    """Where each revolute lever enters the moment rows, fixed per topology and column order: the lever of
+    joint point ``joint_points[p]`` about the frame origin ``origin_points[p]`` of link ``link[p]``, with
+    ``sign`` (+1 on the receiving link, -1 on the giving one), in columns ``col_x[p]`` and ``col_y[p]``."""
+
+    points: tuple[str, ...]
+    joint_points: IndexArray
+    origin_points: IndexArray
+    link: IndexArray
+    col_x: IndexArray
+    col_y: IndexArray
+    sign: FloatArray
+    prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
+    torque: tuple[int, int]
+
+
+@functools.lru_cache(maxsize=64)
+def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, ...]) -> _MomentPlan:
+    links = topo.links
+    points: list[str] = []
+
+    def index(point: str) -> int:
+        if point not in points:
+            points.append(point)
+        return points.index(point)
+
+    rev: list[tuple[int, int, int, int, int, float]] = []
+    prismatic: list[tuple[int, int, int, int, float]] = []
+    for j, joint in enumerate(topo.joints):
+        cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
+        giver, receiver = joint.bodies
+        for body, sign in ((receiver, 1.0), (giver, -1.0)):
+            if body is None:
+                continue
+            i = links.index(body)
+            if joint.kind == "revolute":
+                rev.append((index(joint.point), index(origins[i]), i, cx, cy, sign))
+            else:
+                prismatic.append((j, i, cx, cy, sign))
+    cols = np.array(rev, dtype=float).reshape(-1, 6)
+    as_int = cols[:, :5].astype(np.intp)
+    return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
+                       cols[:, 5], tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+
+
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
+    column ``col_pos[k]``: what the reduced system needs when every force row is constant. Every revolute lever
+    is written in one indexed assignment (a joint's column meets each of its two links' rows once)."""
+    links = topo.links
+    plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
+    a = np.zeros((len(links), 3 * len(links), motion.samples))
+    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
+    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
+    a[plan.link, plan.col_x] = -lever.imag
+    a[plan.link, plan.col_y] = lever.real
+    for j, i, cx, cy, sign in plan.prismatic:
+        joint = topo.joints[j]
+        lever_p = motion.point_pos[joint.point] - motion.point_pos[motion.link_origin[links[i]]]
+        a[i, cx] += sign * cross(lever_p, _axis_normal(motion, topo, j))
+        a[i, cy] += sign
+    a[plan.torque] = 1.0
+    return a
+
+
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
     """Products of stacked small matrices, crank angle last: (i, j, N) @ (j, k, N) -> (i, k, N)."""
     out = a[:, 0, None, :] * b[None, 0]
@@ -230,6 +293,7 @@ class _Reduction:
     f_inv: FloatArray
     f_det: float
     g: FloatArray | None
+    force_rows_norm: float | None = None   # product of the constant force rows' norms, when g is not None
 
     @property
     def rows(self) -> tuple[int, ...]:
@@ -274,7 +338,9 @@ def _reduction(topo: Topology) -> _Reduction | None:
             f_inv = np.asarray(np.linalg.inv(f), dtype=float)
             kept_rows = _constant_force_rows(topo, kept)
             g = None if kept_rows is None else f_inv @ kept_rows
-            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g)
+            all_rows = _constant_force_rows(topo, tuple(range(3 * n)))
+            norm = None if all_rows is None else float(np.prod(np.sqrt((all_rows * all_rows).sum(axis=1))))
+            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g, norm)
     return None
 
 
@@ -486,6 +552,8 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     [0, 1], with det A = det F · det S.
     """
     red = _reduction(topo)
+    if red is not None and red.g is not None and red.force_rows_norm is not None:
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b)
     if red is None:
         natural = tuple(range(3 * len(topo.links)))
         a = _assemble(motion, topo, natural, natural)
@@ -507,6 +575,17 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(f_det * det) / rows_norm
+    _refuse_dead_positions(motion, ratio)
+    if red is None:
+        return np.moveaxis(x_kept, -1, 0)
+    x = np.empty(b.shape)
+    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    return x
+
+
+def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
+    """NotAssemblable where the Hadamard ratio of the system says it is singular (or is not a number)."""
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
     if bad.any():
         raise NotAssemblable(
@@ -515,11 +594,29 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
             phi=motion.phi[bad],
             ranges_deg=angle_ranges_deg(motion.phi, bad),
         )
-    if red is None:
-        return np.moveaxis(x_kept, -1, 0)
+
+
+def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
+                           b: FloatArray) -> FloatArray:
+    """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
+    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant.
+    The constant products are matrix products over all angles and columns at once."""
+    rows, cols = red.rows, red.columns
+    k, n_kept = len(red.eliminated), len(red.kept)
+    m = _assemble_moments(motion, topo, red.positions(cols))
+    samples, width = b.shape[0], b.shape[2]
+    bt = b[:, list(rows)].transpose(1, 2, 0)                  # (3n, M, N)
+    h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
+    m_elim = m[:, :k]
+    s = m[:, k:] - np.matmul(g.T, m_elim)
+    r = bt[k:] - _batched_matmul(m_elim, h)
+    det, x_kept = _det_and_solve(s, r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
+    _refuse_dead_positions(motion, ratio)
     x = np.empty(b.shape)
-    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
-    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
+    x[:, list(red.kept)] = x_kept.transpose(2, 0, 1)
     return x
 
 
@@ -661,8 +758,12 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
-        force = force - per_sample(arrays.mass).sum(axis=0)[:, None] * g
-        first = np.einsum(f"{link_axes(arrays.mass)},lnk->nk", arrays.mass, arrays.com_pos)
+        if arrays.mass.ndim == 1:
+            force = force - arrays.mass.sum() * g
+            first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
+        else:   # masses per sample (link_arrays_per_sample)
+            force = force - arrays.mass.sum(axis=0)[:, None] * g
+            first = np.einsum("ln,lnk->nk", arrays.mass, arrays.com_pos)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
@@ -802,10 +903,10 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    power = dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
-    power = power + np.einsum(f"{link_axes(arrays.mass)},lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
-    power = power - np.einsum(f"{link_axes(arrays.inertia)},ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
+    power = power + link_sum(arrays.mass, dot(g - arrays.com_acc, arrays.com_vel))
+    power = power - link_sum(arrays.inertia, arrays.alpha * arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

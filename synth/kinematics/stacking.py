@@ -13,7 +13,7 @@ import numpy as np
 
 from ..mechanism import FloatArray
 from .fourbar import FourBar
-from .motion import AngleAnalogues, Motion, PointAnalogues, build_motion, cross, perp
+from .motion import AngleAnalogues, Motion, PointAnalogues, build_motion, cross_c, dot_c, unit, xy
 
 
 def _joined(parts: Sequence[Mapping[str, FloatArray]]) -> dict[str, FloatArray]:
@@ -68,46 +68,40 @@ def stacked_fourbar_motion(mechanisms: Sequence[FourBar], phi: FloatArray, omega
     def per_sample(values: Sequence[float]) -> FloatArray:
         return np.repeat(np.asarray(values, dtype=float), n)
 
-    a = per_sample([m.crank for m in mechanisms])[:, None]
-    d = per_sample([m.ground for m in mechanisms])
-    b1 = per_sample([m.coupler for m in mechanisms])
-    c1 = per_sample([m.rocker for m in mechanisms])
+    a = per_sample([m.crank for m in mechanisms])
+    ground = per_sample([m.ground for m in mechanisms])
+    b = per_sample([m.coupler for m in mechanisms])
+    c = per_sample([m.rocker for m in mechanisms])
     branch = per_sample([m.branch for m in mechanisms])
     angles = np.tile(np.asarray(phi, dtype=float), k)
-    e = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
-    a_pt = PointAnalogues(a * e, a * perp(e), -a * e)
-    q = np.stack([d, np.zeros(k * n)], axis=-1)
-    ev = q - a_pt.pos
-    dist = np.hypot(ev[:, 0], ev[:, 1])
-    bad = (dist > b1 + c1 + 1e-12) | (dist < abs(b1 - c1) - 1e-12) | (dist == 0)
-    b, c = b1[:, None], c1[:, None]
+    pin = a * unit(angles)
+    to_q = ground - pin
+    dist = np.abs(to_q)
+    bad = (dist > b + c + 1e-12) | (dist < abs(b - c) - 1e-12) | (dist == 0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        u = ev / dist[:, None]
-        x = (b1 * b1 - c1 * c1 + dist * dist) / (2 * dist)
-        h = np.sqrt(np.clip(b1 * b1 - x * x, 0.0, None))
-        bpos = a_pt.pos + x[:, None] * u + (branch * h)[:, None] * perp(u)
-        e2 = (bpos - a_pt.pos) / b
-        e3 = (bpos - q) / c
-        k2, k3 = perp(e2), perp(e3)
-        det = cross(b * k2, -c * k3)
-        rhs1 = -a_pt.d1
-        t2d1 = cross(rhs1, -c * k3) / det
-        t3d1 = cross(b * k2, rhs1) / det
-        rhs2 = -a_pt.d2 + b * (t2d1**2)[:, None] * e2 - c * (t3d1**2)[:, None] * e3
-        t2d2 = cross(rhs2, -c * k3) / det
-        t3d2 = cross(b * k2, rhs2) / det
-    b_d1 = c * t3d1[:, None] * k3
-    b_d2 = c * t3d2[:, None] * k3 - c * (t3d1**2)[:, None] * e3
-    zeros = np.zeros((k * n, 2))
+        x = (b * b - c * c + dist * dist) / (2 * dist)
+        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
+        bpos = pin + (to_q / dist) * (x + (1j * branch) * h)
+        e2 = (bpos - pin) / b
+        e3 = (bpos - ground) / c
+        det = -b * c * cross_c(e2, e3)
+        pin_d1 = 1j * pin
+        t2d1 = c * dot_c(pin_d1, e3) / det
+        t3d1 = b * dot_c(e2, pin_d1) / det
+        rhs2 = pin + b * (t2d1 * t2d1) * e2 - c * (t3d1 * t3d1) * e3
+        t2d2 = -c * dot_c(rhs2, e3) / det
+        t3d2 = -b * dot_c(e2, rhs2) / det
+    k3 = 1j * e3
+    size = k * n
     points = {
-        "O": PointAnalogues(zeros.copy(), zeros.copy(), zeros.copy()),
-        "A": a_pt,
-        "B": PointAnalogues(bpos, b_d1, b_d2),
-        "Q": PointAnalogues(q, zeros.copy(), zeros.copy()),
+        "O": PointAnalogues(np.zeros((size, 2)), np.zeros((size, 2)), np.zeros((size, 2))),
+        "A": PointAnalogues(xy(pin), xy(pin_d1), xy(-pin)),
+        "B": PointAnalogues(xy(bpos), xy((c * t3d1) * k3), xy(c * (t3d2 * k3 - (t3d1 * t3d1) * e3))),
+        "Q": PointAnalogues(np.stack([ground, np.zeros(size)], axis=-1), np.zeros((size, 2)), np.zeros((size, 2))),
     }
     links = {
-        "crank": AngleAnalogues(angles, np.ones(k * n), np.zeros(k * n)),
-        "coupler": AngleAnalogues(np.arctan2(e2[:, 1], e2[:, 0]), t2d1, t2d2),
-        "rocker": AngleAnalogues(np.arctan2(e3[:, 1], e3[:, 0]), t3d1, t3d2),
+        "crank": AngleAnalogues(angles, np.ones(size), np.zeros(size)),
+        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2),
+        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2),
     }
     return build_motion(angles, omega, alpha, points, links, FourBar.origins), bad.reshape(k, n).any(axis=1)
