@@ -177,3 +177,42 @@ def test_the_shaking_force_rows_from_their_definition_are_the_linear_maps(mechan
     want = lm.y[:, lm.force_rows, :]
     np.testing.assert_allclose(shaking_force_map(mot, linkage), want, rtol=0, atol=1e-12 * np.abs(want).max())
     assert np.abs(lm.y0[:, lm.force_rows]).max() <= 1e-12 * np.abs(want).max()
+
+
+def test_stacked_four_bar_kinematics_are_each_four_bars_own() -> None:
+    # Independent computation: synth.kinematics.motion of each four-bar alone (FourBar.solve); a four-bar whose
+    # loop does not close is flagged, and alone it raises NotAssemblable.
+    from synth.kinematics import FourBar, cycle_angles, motion
+    from synth.kinematics.stacking import motion_block, stacked_fourbar_motion
+
+    rng = np.random.default_rng(11)
+    fourbars = [FourBar(0.3, float(rng.uniform(0.05, 0.14)), float(rng.uniform(0.28, 0.42)),
+                        float(rng.uniform(0.18, 0.3)), int(rng.choice([1, -1]))) for _ in range(30)]
+    phi = cycle_angles(60, 2 * math.pi, 1000)
+    stack, bad = stacked_fourbar_motion(fourbars, phi, 31.4, 3.0)
+    for k, fb in enumerate(fourbars):
+        if bad[k]:
+            with pytest.raises(synth.NotAssemblable):
+                motion(fb, phi, 31.4, 3.0)
+            continue
+        alone, block = motion(fb, phi, 31.4, 3.0), motion_block(stack, 60 * k, 60 * (k + 1))
+        for name in ("point_pos", "point_vel", "point_acc", "link_angle", "link_omega", "link_alpha"):
+            for key, want in getattr(alone, name).items():
+                np.testing.assert_allclose(getattr(block, name)[key], want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+    assert 0 < int(bad.sum()) < len(fourbars)
+
+
+def test_link_arrays_per_sample_with_one_linkages_masses_are_link_arrays() -> None:
+    # Independent computation: link_arrays with the linkage's own (L, 4) parameters.
+    from synth.kinematics import cycle_angles, motion
+    from synth.kinetostatics import link_arrays, link_arrays_per_sample
+
+    linkage = validate_request(ENDPOINT, _request(0.1, 0.3, 0.25, None)).to_linkage()  # type: ignore[attr-defined]
+    mot = motion(linkage.mechanism, cycle_angles(40, 2 * math.pi, 1000), 20.0)
+    want = link_arrays(mot, linkage)
+    params = np.repeat(linkage.params().reshape(-1, 1, 4), 40, axis=1)
+    got = link_arrays_per_sample(mot, linkage, params)
+    np.testing.assert_allclose(got.mass, np.repeat(want.mass[:, None], 40, axis=1), rtol=1e-15)
+    np.testing.assert_allclose(got.inertia, np.repeat(want.inertia[:, None], 40, axis=1), rtol=1e-12)
+    for name in ("com_pos", "com_vel", "com_acc"):
+        np.testing.assert_allclose(getattr(got, name), getattr(want, name), rtol=1e-12, atol=1e-12)
