@@ -256,12 +256,14 @@ def _static_spec(linkage: Linkage, spec: CounterweightSpec | None, objective: st
 
 
 def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spec: CounterweightSpec,
-                     objective: str, mass_budget: float | None, time_limit_s: float
+                     objective: str, mass_budget: float | None, time_limit_s: float,
+                     system: tuple[FloatArray, FloatArray] | None = None
                      ) -> tuple[CounterweightLayout, ConeProgram, FloatArray]:
     """The static program on the map's shaking-force rows ``force`` (:func:`_force_rows`) and its solution; an
-    infeasible budget says the mass it needs."""
+    infeasible budget says the mass it needs. ``system`` is :func:`_static_system` of these when the caller has
+    it already."""
     cw = counterweight_layout(spec, linkage)
-    ar, br = _static_system(linkage, force, cw)
+    ar, br = _static_system(linkage, force, cw) if system is None else system
     program = _program(cw)
     program.equal(ar, br)
     binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
@@ -278,7 +280,7 @@ def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spe
             if cause is not None:
                 raise cause from exc
             raise
-        least, _, x_least = _static_solution(linkage, force, spec, "min_mass", None, time_limit_s)
+        least, _, x_least = _static_solution(linkage, force, spec, "min_mass", None, time_limit_s, (ar, br))
         needed = sum(c.mass for c in CounterweightSolution(least, x_least).counterweights())
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
