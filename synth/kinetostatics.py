@@ -553,7 +553,7 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     """
     red = _reduction(topo)
     if red is not None and red.g is not None and red.force_rows_norm is not None:
-        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b)
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b.transpose(1, 2, 0))
     if red is None:
         natural = tuple(range(3 * len(topo.links)))
         a = _assemble(motion, topo, natural, natural)
@@ -584,6 +584,14 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     return x
 
 
+def _solve_angle_last(motion: Motion, topo: Topology, b_last: FloatArray) -> FloatArray:
+    """``_solve_stacked`` for right-hand sides with the crank angle last, (3n, M, N); unknowns (N, 3n, M)."""
+    red = _reduction(topo)
+    if red is not None and red.g is not None and red.force_rows_norm is not None:
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b_last)
+    return _solve_stacked(motion, topo, b_last.transpose(2, 0, 1))
+
+
 def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
     """NotAssemblable where the Hadamard ratio of the system says it is singular (or is not a number)."""
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
@@ -597,15 +605,15 @@ def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
 
 
 def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
-                           b: FloatArray) -> FloatArray:
+                           b_last: FloatArray) -> FloatArray:
     """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
     the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant.
     The constant products are matrix products over all angles and columns at once."""
     rows, cols = red.rows, red.columns
     k, n_kept = len(red.eliminated), len(red.kept)
     m = _assemble_moments(motion, topo, red.positions(cols))
-    samples, width = b.shape[0], b.shape[2]
-    bt = b[:, list(rows)].transpose(1, 2, 0)                  # (3n, M, N)
+    width, samples = b_last.shape[1], b_last.shape[2]
+    bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
     h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
     m_elim = m[:, :k]
     s = m[:, k:] - np.matmul(g.T, m_elim)
@@ -614,7 +622,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
     _refuse_dead_positions(motion, ratio)
-    x = np.empty(b.shape)
+    x = np.empty((samples, b_last.shape[0], width))
     x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
     x[:, list(red.kept)] = x_kept.transpose(2, 0, 1)
     return x
@@ -663,22 +671,24 @@ def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
 
 
 def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArrays) -> FloatArray:
-    """Sum of gravity, inertia and external loads per link: forces and moments about its first joint, (N, 3n)."""
+    """Sum of gravity, inertia and external loads per link: force x, y and moment about its first joint, every
+    link's three equations on axis 0 and the crank angle last, (3n, N)."""
     topo = linkage.mechanism.topology
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    force = per_sample(arrays.mass)[..., None] * (g - arrays.com_acc)
-    moment = cross(arrays.com_pos - arrays.origin_pos, force) - per_sample(arrays.inertia) * arrays.alpha
+    force = per_sample(arrays.mass) * (complex(g[0], g[1]) - complex_of(arrays.com_acc))   # (L, N), x + i·y
+    lever = complex_of(arrays.com_pos) - complex_of(arrays.origin_pos)
     n_links, n = len(topo.links), arrays.angle.shape[1]
-    out = np.empty((n, n_links, 3))
-    out[:, :, :2] = force.transpose(1, 0, 2)
-    out[:, :, 2] = moment.T
+    out = np.empty((n_links, 3, n))
+    out[:, 0] = force.real
+    out[:, 1] = force.imag
+    np.subtract((lever.conj() * force).imag, per_sample(arrays.inertia) * arrays.alpha, out=out[:, 2])
     if topo.output_motion == "translation":
         i = topo.links.index(topo.output)
-        out[:, i, :2] += loads.force
-        out[:, i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
+        out[i, :2] += loads.force.T
+        out[i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
     for link, torque in loads.torques.items():
-        out[:, topo.links.index(link), 2] += torque
-    return out.reshape(n, 3 * n_links)
+        out[topo.links.index(link), 2] += torque
+    return out.reshape(3 * n_links, n)
 
 
 def _frame_action(motion: Motion, topo: Topology, x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -751,7 +761,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     loads = external_loads(motion, linkage) if loads is None else loads
     known = _known_loads_direct(linkage, loads, arrays)
-    x = _solve_stacked(motion, topo, -known[..., None])[..., 0]
+    x = _solve_angle_last(motion, topo, -known[:, None, :])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force

@@ -187,8 +187,9 @@ def crank_point(length: float, phi: FloatArray) -> PointAnalogues:
 
 def fixed_point(xy: tuple[float, float], n: int) -> PointAnalogues:
     """A frame point [m] repeated over N samples, with zero analogues."""
-    pos = np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy()
-    return PointAnalogues(pos, np.zeros((n, 2)), np.zeros((n, 2)))
+    # Read-only views of one row each: a point that stands still costs no memory per sample.
+    zero = np.broadcast_to(np.zeros(2), (n, 2))
+    return PointAnalogues(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)), zero, zero)
 
 
 def constant_angle(value: float, n: int) -> AngleAnalogues:
