@@ -161,7 +161,8 @@ def main(variants: int = 10_000) -> None:
     print(f"batched, 2 workers: {rate:.0f} variants/s (goal >= {GOAL_RATE:.0f} variants/s: "
           f"{'met' if rate >= GOAL_RATE else 'not met'}), {rate / base['pool2']:.1f}x the per-variant function's "
           f"{base['pool2']:.0f}; efficiency 1 -> 2 workers {batched['efficiency'] * 100:.0f} % "
-          f"(goal >= {GOAL_EFFICIENCY * 100:.0f} %: {'met' if batched['efficiency'] >= GOAL_EFFICIENCY else 'not met'}); "
+          f"(goal >= {GOAL_EFFICIENCY * 100:.0f} %: "
+          f"{'met' if batched['efficiency'] >= GOAL_EFFICIENCY else 'not met'}); "
           f"Dask {batched['dask']:.0f} variants/s; load average now {os.getloadavg()[0]:.1f}")
 
 

@@ -64,6 +64,8 @@ def variant_function(endpoint: str, limits: Limits) -> Callable[[dict[str, Any]]
 
 def _balance_static_batch(plans: Sequence[Plan]) -> list[object]:
     """The engine results (or errors) of static-balancing plans, their engine calls made as one batch."""
+    if any(p.fn is not synth.balance_static for p in plans):
+        raise ValueError("a static-balancing plan calls another engine function; the variants run one by one")
     return list(synth.balance_static_batch([synth.StaticCase(*p.args, **p.kwargs) for p in plans]))
 
 
@@ -73,7 +75,8 @@ BATCHED: dict[str, Callable[[Sequence[Plan]], list[object]]] = {
 }
 
 
-def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, Any]]) -> list[dict[str, Any] | Exception]:
+def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, Any]]
+                       ) -> list[dict[str, Any] | Exception]:
     """Many variants of ``endpoint`` at once: per request the answer :func:`run_endpoint` gives, or the
     exception it raises."""
     out: list[dict[str, Any] | Exception | None] = [None] * len(requests)
@@ -95,6 +98,7 @@ def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, A
     return [answer if answer is not None else InvalidInput("the variant gave no answer") for answer in out]
 
 
-def batch_function(endpoint: str, limits: Limits) -> Callable[[list[dict[str, Any]]], list[dict[str, Any] | Exception]] | None:
+def batch_function(endpoint: str, limits: Limits
+                   ) -> Callable[[list[dict[str, Any]]], list[dict[str, Any] | Exception]] | None:
     """The picklable batched ``batch_fn(requests) -> answers`` of ``endpoint``; None when it has no batched path."""
     return partial(run_endpoint_batch, endpoint, limits) if endpoint in BATCHED else None

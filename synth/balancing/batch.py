@@ -3,12 +3,12 @@ case, with every array operation run once over the whole batch.
 
 At a few hundred samples a single request's cost is the fixed cost of each of its hundreds of small array
 operations, not the samples. So the variants of a batch that share a topology, sample count, crank speed and
-gravity are laid end to end along the sample axis (:func:`synth.kinematics.stacking.stack_motions`): one direct
-kinetostatic solve with each sample's own mass properties gives every variant's analysis before balancing, one
-evaluation of the map's shaking-force rows every variant's rows (its block of samples; the program needs no
-other rows), and one direct solve with the counterweights added every variant's independent re-analysis. Each variant's program is its own (its row space of the force rows, its
-realisability cones and budget), built and solved by Clarabel exactly as :func:`balance_static` builds and
-solves it.
+gravity are laid end to end along the sample axis (:mod:`synth.kinematics.stacking`; four-bars in one pass of
+their closed form): one direct kinetostatic solve with each sample's own mass properties gives every variant's
+analysis before balancing, one evaluation of the map's shaking-force rows every variant's rows (its block of
+samples; the program needs no other rows), and one direct solve with the counterweights added every variant's
+independent re-analysis. Each variant's program is its own (its row space of the force rows, its realisability
+cones and budget), built and solved by Clarabel exactly as :func:`balance_static` builds and solves it.
 
 A case the stack cannot take (the fixed-points method, loads or torques on the links, a singular position
 anywhere in the stack) is run by :func:`balance_static` itself; an error of one variant is that variant's
@@ -29,8 +29,8 @@ from ..dynamics import reduced_model
 from ..errors import SynthError
 from ..kinematics import MAX_SAMPLES, FourBar, Motion, PointState, cycle_angles, motion
 from ..kinematics.stacking import motion_block, stack_motions, stacked_fourbar_motion
-from ..kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map, solve_direct,
-                             virtual_power_torque)
+from ..kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map,
+                             solve_direct, virtual_power_torque)
 from ..model import FloatArray, Linkage
 from .fourbar import (BalanceResult, _require_turning, _static_result, _static_solution, _static_spec,
                       balance_static)
