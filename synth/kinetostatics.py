@@ -94,7 +94,9 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
     # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
     # (i·alpha - omega²)·r relative to it.
-    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    known = motion.link_unit
+    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    r = e * (com[:, 0] + 1j * com[:, 1])[:, None]
     com_pos = origin_pos + xy(r)
     com_vel = origin_vel + xy((1j * omega) * r)
     com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)

@@ -246,7 +246,8 @@ class PlanarLinkage:
             for name, xy in local[link.name].items():
                 if name not in points:
                     points[name] = J.analogues(place.point(xy))
-        angles = {link.name: AngleAnalogues(*places[link.name].angle) for link in self.links}
+        angles = {link.name: AngleAnalogues(*places[link.name].angle, places[link.name].axis.v)
+                  for link in self.links}
         return points, angles
 
 
