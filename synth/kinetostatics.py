@@ -452,10 +452,10 @@ def _block_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, Floa
     """``_det_and_solve`` through the lower block-triangular form of ``s`` (k, k, N) when it has blocks of at most
     3 x 3 (each then solved in closed form), else None."""
     k = s.shape[0]
-    blocks = _block_order(k, np.ascontiguousarray(np.any(s != 0, axis=-1)).tobytes())
+    mask = np.ascontiguousarray(np.any(s != 0, axis=-1))
+    blocks = _block_order(k, mask.tobytes())
     if blocks is None or max(len(cols) for _, cols in blocks) > 3:
         return None
-    mask = np.any(s != 0, axis=-1)
     x = np.empty(r.shape)
     det = np.full(s.shape[-1], _permutation_sign([row for rows, _ in blocks for row in rows])
                   * _permutation_sign([col for _, cols in blocks for col in cols]))
