@@ -96,7 +96,9 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
     # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
     # (i·alpha - omega²)·r relative to it.
-    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    known = motion.link_unit
+    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    r = e * (com[:, 0] + 1j * com[:, 1])[:, None]
     com_pos = origin_pos + xy(r)
     com_vel = origin_vel + xy((1j * omega) * r)
     com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
@@ -217,6 +219,7 @@ class _MomentPlan:
     col_x: IndexArray
     col_y: IndexArray
     sign: FloatArray
+    incidence: FloatArray                                     # (links, levers): 1 where a lever is in a link's row
     prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
     torque: tuple[int, int]
 
@@ -246,14 +249,17 @@ def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, .
                 prismatic.append((j, i, cx, cy, sign))
     cols = np.array(rev, dtype=float).reshape(-1, 6)
     as_int = cols[:, :5].astype(np.intp)
+    incidence = np.zeros((len(links), len(rev)))
+    incidence[as_int[:, 2], np.arange(len(rev))] = 1.0
     return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
-                       cols[:, 5], tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+                       cols[:, 5], incidence, tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
 
 
-def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> tuple[FloatArray, FloatArray]:
     """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
-    column ``col_pos[k]``: what the reduced system needs when every force row is constant. Every revolute lever
-    is written in one indexed assignment (a joint's column meets each of its two links' rows once)."""
+    column ``col_pos[k]``, and each row's squared norm (n, N): what the reduced system needs when every force
+    row is constant (slides fixed in the frame). Every revolute lever is written in one indexed assignment: a
+    joint's column meets each of its two links' rows once, so a row's squared norm is the sum of its levers'."""
     links = topo.links
     plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
     a = np.zeros((len(links), 3 * len(links), motion.samples))
@@ -261,13 +267,17 @@ def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) 
     lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
     a[plan.link, plan.col_x] = -lever.imag
     a[plan.link, plan.col_y] = lever.real
+    row_sq = plan.incidence @ (lever.real * lever.real + lever.imag * lever.imag)
     for j, i, cx, cy, sign in plan.prismatic:
         joint = topo.joints[j]
-        lever_p = motion.point_pos[joint.point] - motion.point_pos[motion.link_origin[links[i]]]
-        a[i, cx] += sign * cross(lever_p, _axis_normal(motion, topo, j))
-        a[i, cy] += sign
+        normal = complex(-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
+        lever_p = complex_of(motion.point_pos[joint.point]) - complex_of(motion.point_pos[motion.link_origin[links[i]]])
+        a[i, cx] = sign * (lever_p.conj() * normal).imag
+        a[i, cy] = sign
+        row_sq[i] += a[i, cx] * a[i, cx] + 1.0
     a[plan.torque] = 1.0
-    return a
+    row_sq[plan.torque[0]] += 1.0
+    return a, row_sq
 
 
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -492,10 +502,10 @@ def _block_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, Floa
     """``_det_and_solve`` through the lower block-triangular form of ``s`` (k, k, N) when it has blocks of at most
     3 x 3 (each then solved in closed form), else None."""
     k = s.shape[0]
-    blocks = _block_order(k, np.ascontiguousarray(np.any(s != 0, axis=-1)).tobytes())
+    mask = np.ascontiguousarray(np.any(s != 0, axis=-1))
+    blocks = _block_order(k, mask.tobytes())
     if blocks is None or max(len(cols) for _, cols in blocks) > 3:
         return None
-    mask = np.any(s != 0, axis=-1)
     x = np.empty(r.shape)
     det = np.full(s.shape[-1], _permutation_sign([row for rows, _ in blocks for row in rows])
                   * _permutation_sign([col for _, cols in blocks for col in cols]))
@@ -611,7 +621,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     The constant products are matrix products over all angles and columns at once."""
     rows, cols = red.rows, red.columns
     k, n_kept = len(red.eliminated), len(red.kept)
-    m = _assemble_moments(motion, topo, red.positions(cols))
+    m, row_sq = _assemble_moments(motion, topo, red.positions(cols))
     width, samples = b_last.shape[1], b_last.shape[2]
     bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
     h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
@@ -620,7 +630,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     r = bt[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(np.prod(row_sq, axis=0)))
     _refuse_dead_positions(motion, ratio)
     x = np.empty((samples, b_last.shape[0], width))
     x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
