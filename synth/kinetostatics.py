@@ -134,7 +134,9 @@ def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray)
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
     # link_arrays' arithmetic, each sample with its own centre of mass.
-    r = unit(angle) * (com[..., 0] + 1j * com[..., 1])
+    known = motion.link_unit
+    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    r = e * (com[..., 0] + 1j * com[..., 1])
     com_pos = origin_pos + xy(r)
     com_vel = origin_vel + xy((1j * omega) * r)
     com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)

@@ -38,6 +38,8 @@ def stack_motions(motions: Sequence[Motion]) -> Motion:
         _joined([m.point_acc for m in motions]), _joined([m.link_angle for m in motions]),
         _joined([m.link_omega for m in motions]), _joined([m.link_alpha for m in motions]),
         dict(first.link_origin),
+        _joined([m.link_unit for m in motions]) if all(m.link_unit.keys() == first.link_unit.keys()
+                                                       for m in motions) else {},
     )
 
 
@@ -49,7 +51,7 @@ def motion_block(motion: Motion, start: int, stop: int) -> Motion:
         {k: v[s] for k, v in motion.point_pos.items()}, {k: v[s] for k, v in motion.point_vel.items()},
         {k: v[s] for k, v in motion.point_acc.items()}, {k: v[s] for k, v in motion.link_angle.items()},
         {k: v[s] for k, v in motion.link_omega.items()}, {k: v[s] for k, v in motion.link_alpha.items()},
-        motion.link_origin,
+        motion.link_origin, {k: v[s] for k, v in motion.link_unit.items()},
     )
 
 
@@ -100,8 +102,8 @@ def stacked_fourbar_motion(mechanisms: Sequence[FourBar], phi: FloatArray, omega
         "Q": PointAnalogues(np.stack([ground, np.zeros(size)], axis=-1), np.zeros((size, 2)), np.zeros((size, 2))),
     }
     links = {
-        "crank": AngleAnalogues(angles, np.ones(size), np.zeros(size)),
-        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2),
-        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2),
+        "crank": AngleAnalogues(angles, np.ones(size), np.zeros(size), pin / a),
+        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
+        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
     }
     return build_motion(angles, omega, alpha, points, links, FourBar.origins), bad.reshape(k, n).any(axis=1)
