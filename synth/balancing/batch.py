@@ -191,11 +191,11 @@ def _summaries(kin: Kinetostatics, linkage: Linkage, count: int) -> list[Summary
     return [Summary(*(float(c) for c in row)) for row in zip(*columns, strict=True)]
 
 
-def _analyses(stack: Motion, linkages: Sequence[Linkage], wanted: Sequence[bool] | None = None
-              ) -> tuple[list[Analysis | None], list[Summary], LinkArrays]:
-    """:func:`synth.analyse` of each linkage on its block of ``stack``, all in one solve (None for a variant
-    whose figures overflow, the single request says why, and for one not ``wanted``), their summaries, and the
-    stack's link arrays."""
+def _analyses(stack: Motion, linkages: Sequence[Linkage], bases: Sequence[Motion],
+              wanted: Sequence[bool] | None = None) -> tuple[list[Analysis | None], list[Summary], LinkArrays]:
+    """:func:`synth.analyse` of each linkage on its block of ``stack`` (``bases``, each variant's block of the
+    mechanism's motion), all in one solve (None for a variant whose figures overflow, the single request says
+    why, and for one not ``wanted``), their summaries, and the stack's link arrays."""
     reference = linkages[0]
     count = len(linkages)
     n = stack.samples // count
@@ -219,7 +219,7 @@ def _analyses(stack: Motion, linkages: Sequence[Linkage], wanted: Sequence[bool]
         s = slice(k * n, (k + 1) * n)
         out.append(Analysis(linkage=linkage, motion=motion_block(mot, s.start, s.stop),
                             kinetostatics=_block(kin, s), virtual_power_torque=vp[s], reduced=_block(red, s),
-                            mechanism_motion=motion_block(stack, s.start, s.stop))
+                            mechanism_motion=bases[k])
                    if finite[k] and (wanted is None or wanted[k]) else None)
     return out, _summaries(kin, reference, count), arrays
 
@@ -227,7 +227,8 @@ def _analyses(stack: Motion, linkages: Sequence[Linkage], wanted: Sequence[bool]
 def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResult | SynthError]:
     n = len(group[0].angles)
     linkages = [p.case.linkage for p in group]
-    before, s_before, arrays = _analyses(stack, linkages)
+    bases = [motion_block(stack, k * n, (k + 1) * n) for k in range(len(group))]
+    before, s_before, arrays = _analyses(stack, linkages, bases)
     # The program needs only the map's shaking-force rows (as balance_static takes them): every variant's from
     # one evaluation on the stack.
     rows = shaking_force_map(stack, linkages[0], arrays)
@@ -252,7 +253,7 @@ def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResul
     # The independent check: the plain model again, every variant with its counterweights, in one solve.
     balanced = [lk.with_counterweights(a[0]) if isinstance(a, tuple) else lk
                 for lk, a in zip(linkages, answers, strict=True)]
-    after, s_after, _ = _analyses(stack, balanced, [isinstance(a, tuple) for a in answers])
+    after, s_after, _ = _analyses(stack, balanced, bases, [isinstance(a, tuple) for a in answers])
     results: list[BalanceResult | SynthError] = []
     for k, (p, an_before, an_after, answer) in enumerate(zip(group, before, after, answers, strict=True)):
         if isinstance(answer, SynthError):
