@@ -7,7 +7,9 @@ SQLite store as in the service.
 
 The overhead is shown two ways: all of it against the bare function's mean over a sample of the variants (this
 carries the sample's noise, and the slowdown of workers that share their cores with other work), and the time
-outside the tasks (dispatch, transfer, SQLite, polling), which is the runner's own cost.
+outside the tasks (dispatch, transfer, SQLite, polling), which is the runner's own cost. The machine's own
+efficiency from 1 to 2 processes (a pure-Python loop alone, then twice at once), printed at the start and the
+end, says how much of the second core the machine gave while the study ran.
 
 ``python -m bench.studies [variants]`` (default 10 000; the per-variant baseline runs a fifth of them, at least
 1 000).
@@ -70,6 +72,27 @@ def bare_seconds(study: synth.Study, count: int) -> float:
             pass
         times.append(time.perf_counter() - t0)
     return statistics.fmean(times)
+
+
+def _spin(_: int) -> float:
+    """Seconds of a fixed pure-Python loop: CPU work that shares nothing with other processes."""
+    t0 = time.perf_counter()
+    total = 0
+    for i in range(5_000_000):
+        total += i
+    return time.perf_counter() - t0
+
+
+def machine_scaling() -> float:
+    """The machine's own parallel efficiency from 1 to 2 processes right now: the same loop alone, then in two
+    processes at once (cores shared with other work show here first) [-]."""
+    import multiprocessing
+
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        pool.map(_spin, [0, 0])                       # both started
+        alone = min(pool.map(_spin, [0])[0] for _ in range(2))
+        both = max(pool.map(_spin, [0, 1]))
+    return alone / both
 
 
 def bare_batched_seconds(study: synth.Study, count: int) -> float:
@@ -148,7 +171,8 @@ def main(variants: int = 10_000) -> None:
     bare = bare_seconds(study, sample)
     bare_batched = bare_batched_seconds(study, sample)
     print(f"study: {variants} variants of {ENDPOINT} at 90 samples (LHS over 3 link lengths and the budget); "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start")
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start; the machine's own "
+          f"efficiency 1 -> 2 processes (a pure-Python loop) {machine_scaling() * 100:.0f} %")
     print(f"bare per-variant function in this process: mean {bare * 1e3:.2f} ms over {sample} variants")
     print(f"bare batched function in this process: {bare_batched * 1e3:.2f} ms per variant over the same {sample} "
           f"in one call ({bare / bare_batched:.1f}x)")
@@ -163,7 +187,8 @@ def main(variants: int = 10_000) -> None:
           f"{base['pool2']:.0f}; efficiency 1 -> 2 workers {batched['efficiency'] * 100:.0f} % "
           f"(goal >= {GOAL_EFFICIENCY * 100:.0f} %: "
           f"{'met' if batched['efficiency'] >= GOAL_EFFICIENCY else 'not met'}); "
-          f"Dask {batched['dask']:.0f} variants/s; load average now {os.getloadavg()[0]:.1f}")
+          f"Dask {batched['dask']:.0f} variants/s; load average now {os.getloadavg()[0]:.1f}, the machine's own "
+          f"efficiency 1 -> 2 processes now {machine_scaling() * 100:.0f} %")
 
 
 def _overheads(wall: float, workers: int, variants: int, bare: float, report: synth.RunReport) -> None:
