@@ -63,6 +63,9 @@ class BalanceResult:
     weight_scale: str | None = None
 
 
+# A budget is met when the least mass exceeds it by no more than this fraction (the solver's own accuracy).
+BUDGET_TOLERANCE = 1e-8
+
 def _require_fourbar(linkage: Linkage, mode: str | None = None) -> FourBar:
     """The four-bar of ``linkage``; for ``mode`` (static, full) an InvalidInput that says what to use instead."""
     mech = linkage.mechanism
@@ -262,6 +265,15 @@ def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spe
     """The static program on the map's shaking-force rows ``force`` (:func:`_force_rows`) and its solution; an
     infeasible budget says the mass it needs. ``system`` is :func:`_static_system` of these when the caller has
     it already."""
+    if objective == "min_mass" and mass_budget is not None:
+        # The least mass within a budget is the least mass when the budget allows it: one program answers both
+        # whether the budget suffices and, when it does not, how much it would take.
+        cw, program, x = _static_solution(linkage, force, spec, "min_mass", None, time_limit_s, system)
+        needed = float(cw.mass_columns() @ x)
+        if needed > mass_budget * (1.0 + BUDGET_TOLERANCE):
+            raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
+                             f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed)
+        return cw, program, x
     cw = counterweight_layout(spec, linkage)
     ar, br = _static_system(linkage, force, cw) if system is None else system
     program = _program(cw)
