@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics.motion import Motion
+from .kinematics.motion import Motion, dot
 from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays
 from .model import FloatArray, Linkage
 
@@ -55,11 +55,11 @@ def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = 
     else:
         d2 = arrays.com_acc / w**2
         t2 = arrays.alpha / w**2
-    inertia = np.einsum("l,lnk,lnk->n", arrays.mass, d1, d1) + np.einsum("l,ln,ln->n", arrays.inertia, t1, t1)
-    slope = 2 * (np.einsum("l,lnk,lnk->n", arrays.mass, d1, d2) + np.einsum("l,ln,ln->n", arrays.inertia, t1, t2))
-    power = np.einsum("l,lnk,k->n", arrays.mass, arrays.com_vel, g)
+    inertia = arrays.mass @ dot(d1, d1) + arrays.inertia @ (t1 * t1)
+    slope = 2 * (arrays.mass @ dot(d1, d2) + arrays.inertia @ (t1 * t2))
+    power = arrays.mass @ (arrays.com_vel @ g)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power += np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    power += dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power += torque * motion.link_omega[link]
     return ReducedModel(motion.phi, inertia, slope, power / w, 0.5 * inertia * w**2)

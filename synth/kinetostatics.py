@@ -26,13 +26,15 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from .errors import NotAssemblable, angle_ranges_deg
-from .kinematics.motion import Motion, cross, perp
+from .kinematics.motion import Motion, complex_of, cross, dot, perp, unit, xy
 from .model import FloatArray, Linkage
 from .topology import Topology
 
 PARAMS_PER_LINK = 4
+IndexArray = npt.NDArray[np.intp]
 # Below this Hadamard ratio a system is treated as singular (a dead position of the linkage).
 SINGULAR_RATIO = 1e-10
 
@@ -89,16 +91,13 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     angle = np.stack([motion.link_angle[link] for link in links])
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
-    # The same arithmetic as Motion.point_on, for all links at once.
-    c, s = np.cos(angle), np.sin(angle)
-    x, y = com[:, 0, None], com[:, 1, None]
-    r = np.empty(angle.shape + (2,))
-    np.subtract(c * x, s * y, out=r[..., 0])
-    np.add(s * x, c * y, out=r[..., 1])
-    k_r = np.stack([-r[..., 1], r[..., 0]], axis=-1)
-    com_pos = origin_pos + r
-    com_vel = origin_vel + omega[..., None] * k_r
-    com_acc = origin_acc + alpha[..., None] * k_r - (omega * omega)[..., None] * r
+    # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
+    # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
+    # (i·alpha - omega²)·r relative to it.
+    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    com_pos = origin_pos + xy(r)
+    com_vel = origin_vel + xy((1j * omega) * r)
+    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
     for arr in (com_pos, com_vel, com_acc):
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
@@ -108,9 +107,10 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
     """Unit normal to a prismatic joint's slide axis at every sample, (N, 2)."""
     joint = topo.joints[joint_index]
-    angle = np.full(motion.samples, joint.axis_angle)
-    if joint.axis_link is not None:
-        angle = angle + motion.link_angle[joint.axis_link]
+    if joint.axis_link is None:  # fixed in the frame: one normal, read-only, for every sample
+        normal = np.array([-np.sin(joint.axis_angle), np.cos(joint.axis_angle)])
+        return np.broadcast_to(normal, (motion.samples, 2))
+    angle = joint.axis_angle + motion.link_angle[joint.axis_link]
     return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
 
 
@@ -154,6 +154,72 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
     return a
 
 
+@dataclass(frozen=True, slots=True)
+class _MomentPlan:
+    """Where each revolute lever enters the moment rows, fixed per topology and column order: the lever of
+    joint point ``joint_points[p]`` about the frame origin ``origin_points[p]`` of link ``link[p]``, with
+    ``sign`` (+1 on the receiving link, -1 on the giving one), in columns ``col_x[p]`` and ``col_y[p]``."""
+
+    points: tuple[str, ...]
+    joint_points: IndexArray
+    origin_points: IndexArray
+    link: IndexArray
+    col_x: IndexArray
+    col_y: IndexArray
+    sign: FloatArray
+    prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
+    torque: tuple[int, int]
+
+
+@functools.lru_cache(maxsize=64)
+def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, ...]) -> _MomentPlan:
+    links = topo.links
+    points: list[str] = []
+
+    def index(point: str) -> int:
+        if point not in points:
+            points.append(point)
+        return points.index(point)
+
+    rev: list[tuple[int, int, int, int, int, float]] = []
+    prismatic: list[tuple[int, int, int, int, float]] = []
+    for j, joint in enumerate(topo.joints):
+        cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
+        giver, receiver = joint.bodies
+        for body, sign in ((receiver, 1.0), (giver, -1.0)):
+            if body is None:
+                continue
+            i = links.index(body)
+            if joint.kind == "revolute":
+                rev.append((index(joint.point), index(origins[i]), i, cx, cy, sign))
+            else:
+                prismatic.append((j, i, cx, cy, sign))
+    cols = np.array(rev, dtype=float).reshape(-1, 6)
+    as_int = cols[:, :5].astype(np.intp)
+    return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
+                       cols[:, 5], tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+
+
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
+    column ``col_pos[k]``: what the reduced system needs when every force row is constant. Every revolute lever
+    is written in one indexed assignment (a joint's column meets each of its two links' rows once)."""
+    links = topo.links
+    plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
+    a = np.zeros((len(links), 3 * len(links), motion.samples))
+    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
+    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
+    a[plan.link, plan.col_x] = -lever.imag
+    a[plan.link, plan.col_y] = lever.real
+    for j, i, cx, cy, sign in plan.prismatic:
+        joint = topo.joints[j]
+        lever_p = motion.point_pos[joint.point] - motion.point_pos[motion.link_origin[links[i]]]
+        a[i, cx] += sign * cross(lever_p, _axis_normal(motion, topo, j))
+        a[i, cy] += sign
+    a[plan.torque] = 1.0
+    return a
+
+
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
     """Products of stacked small matrices, crank angle last: (i, j, N) @ (j, k, N) -> (i, k, N)."""
     out = a[:, 0, None, :] * b[None, 0]
@@ -177,6 +243,7 @@ class _Reduction:
     f_inv: FloatArray
     f_det: float
     g: FloatArray | None
+    force_rows_norm: float | None = None   # product of the constant force rows' norms, when g is not None
 
     @property
     def rows(self) -> tuple[int, ...]:
@@ -221,7 +288,9 @@ def _reduction(topo: Topology) -> _Reduction | None:
             f_inv = np.asarray(np.linalg.inv(f), dtype=float)
             kept_rows = _constant_force_rows(topo, kept)
             g = None if kept_rows is None else f_inv @ kept_rows
-            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g)
+            all_rows = _constant_force_rows(topo, tuple(range(3 * n)))
+            norm = None if all_rows is None else float(np.prod(np.sqrt((all_rows * all_rows).sum(axis=1))))
+            return _Reduction(eliminated, kept, f_inv, float(np.linalg.det(f)), g, norm)
     return None
 
 
@@ -433,6 +502,8 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     [0, 1], with det A = det F · det S.
     """
     red = _reduction(topo)
+    if red is not None and red.g is not None and red.force_rows_norm is not None:
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b.transpose(1, 2, 0))
     if red is None:
         natural = tuple(range(3 * len(topo.links)))
         a = _assemble(motion, topo, natural, natural)
@@ -454,6 +525,25 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(f_det * det) / rows_norm
+    _refuse_dead_positions(motion, ratio)
+    if red is None:
+        return np.moveaxis(x_kept, -1, 0)
+    x = np.empty(b.shape)
+    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    return x
+
+
+def _solve_angle_last(motion: Motion, topo: Topology, b_last: FloatArray) -> FloatArray:
+    """``_solve_stacked`` for right-hand sides with the crank angle last, (3n, M, N); unknowns (N, 3n, M)."""
+    red = _reduction(topo)
+    if red is not None and red.g is not None and red.force_rows_norm is not None:
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b_last)
+    return _solve_stacked(motion, topo, b_last.transpose(2, 0, 1))
+
+
+def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
+    """NotAssemblable where the Hadamard ratio of the system says it is singular (or is not a number)."""
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
     if bad.any():
         raise NotAssemblable(
@@ -462,11 +552,29 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
             phi=motion.phi[bad],
             ranges_deg=angle_ranges_deg(motion.phi, bad),
         )
-    if red is None:
-        return np.moveaxis(x_kept, -1, 0)
-    x = np.empty(b.shape)
-    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
-    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+
+
+def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
+                           b_last: FloatArray) -> FloatArray:
+    """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
+    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant.
+    The constant products are matrix products over all angles and columns at once."""
+    rows, cols = red.rows, red.columns
+    k, n_kept = len(red.eliminated), len(red.kept)
+    m = _assemble_moments(motion, topo, red.positions(cols))
+    width, samples = b_last.shape[1], b_last.shape[2]
+    bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
+    h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
+    m_elim = m[:, :k]
+    s = m[:, k:] - np.matmul(g.T, m_elim)
+    r = bt[k:] - _batched_matmul(m_elim, h)
+    det, x_kept = _det_and_solve(s, r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
+    _refuse_dead_positions(motion, ratio)
+    x = np.empty((samples, b_last.shape[0], width))
+    x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
+    x[:, list(red.kept)] = x_kept.transpose(2, 0, 1)
     return x
 
 
@@ -513,22 +621,24 @@ def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
 
 
 def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArrays) -> FloatArray:
-    """Sum of gravity, inertia and external loads per link: forces and moments about its first joint, (N, 3n)."""
+    """Sum of gravity, inertia and external loads per link: force x, y and moment about its first joint, every
+    link's three equations on axis 0 and the crank angle last, (3n, N)."""
     topo = linkage.mechanism.topology
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    force = arrays.mass[:, None, None] * (g - arrays.com_acc)
-    moment = cross(arrays.com_pos - arrays.origin_pos, force) - arrays.inertia[:, None] * arrays.alpha
+    force = arrays.mass[:, None] * (complex(g[0], g[1]) - complex_of(arrays.com_acc))       # (L, N), x + i·y
+    lever = complex_of(arrays.com_pos) - complex_of(arrays.origin_pos)
     n_links, n = len(topo.links), arrays.angle.shape[1]
-    out = np.empty((n, n_links, 3))
-    out[:, :, :2] = force.transpose(1, 0, 2)
-    out[:, :, 2] = moment.T
+    out = np.empty((n_links, 3, n))
+    out[:, 0] = force.real
+    out[:, 1] = force.imag
+    np.subtract((lever.conj() * force).imag, arrays.inertia[:, None] * arrays.alpha, out=out[:, 2])
     if topo.output_motion == "translation":
         i = topo.links.index(topo.output)
-        out[:, i, :2] += loads.force
-        out[:, i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
+        out[i, :2] += loads.force.T
+        out[i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
     for link, torque in loads.torques.items():
-        out[:, topo.links.index(link), 2] += torque
-    return out.reshape(n, 3 * n_links)
+        out[topo.links.index(link), 2] += torque
+    return out.reshape(3 * n_links, n)
 
 
 def _frame_action(motion: Motion, topo: Topology, x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -601,7 +711,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     loads = external_loads(motion, linkage) if loads is None else loads
     known = _known_loads_direct(linkage, loads, arrays)
-    x = _solve_stacked(motion, topo, -known[..., None])[..., 0]
+    x = _solve_angle_last(motion, topo, -known[:, None, :])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
     force = force - loads.force
@@ -609,7 +719,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
         force = force - arrays.mass.sum() * g
-        first = np.einsum("l,lnk->nk", arrays.mass, arrays.com_pos)
+        first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
@@ -727,10 +837,10 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power = np.einsum("ij,ij->i", loads.force, loads.point_vel)
+    power = dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
-    power = power + np.einsum("l,lnk,lnk->n", arrays.mass, g - arrays.com_acc, arrays.com_vel)
-    power = power - np.einsum("l,ln,ln->n", arrays.inertia, arrays.alpha, arrays.omega)
+    power = power + arrays.mass @ dot(g - arrays.com_acc, arrays.com_vel)
+    power = power - arrays.inertia @ (arrays.alpha * arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

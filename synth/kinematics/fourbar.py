@@ -12,7 +12,7 @@ from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..model import FloatArray
 from ..topology import Joint, Topology
 from .linkage import JointSpec, LinkSpec, PlanarLinkage
-from .motion import AngleAnalogues, PointAnalogues, crank_point, cross, fixed_point, perp
+from .motion import AngleAnalogues, PointAnalogues, cross_c, dot_c, fixed_point, unit, xy
 
 
 def _positive(value: float, name: str) -> None:
@@ -119,11 +119,12 @@ class FourBar:
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with their analogues; NotAssemblable where the loop cannot close."""
         n = len(phi)
-        a_pt = crank_point(self.crank, phi)
-        q = np.array([self.ground, 0.0])
-        e = q - a_pt.pos
-        dist = np.hypot(e[:, 0], e[:, 1])
-        b, c = self.coupler, self.rocker
+        a, b, c = self.crank, self.coupler, self.rocker
+        # Plane vectors as complex numbers: a turn by 90 degrees is a product by i, and each vector operation is
+        # one array operation instead of two.
+        pin = a * unit(phi)
+        to_q = self.ground - pin
+        dist = np.abs(to_q)
         bad = (dist > b + c + 1e-12) | (dist < abs(b - c) - 1e-12) | (dist == 0)
         if bad.any():
             raise NotAssemblable(
@@ -132,33 +133,32 @@ class FourBar:
                 phi=phi[bad],
                 ranges_deg=self.assembly_gaps_deg() or angle_ranges_deg(phi, bad),
             )
-        u = e / dist[:, None]
         x = (b * b - c * c + dist * dist) / (2 * dist)
         h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
-        bpos = a_pt.pos + x[:, None] * u + (self.branch * h)[:, None] * perp(u)
-        e2 = (bpos - a_pt.pos) / b
-        e3 = (bpos - q) / c
-        # Loop A + b·e2 = Q + c·e3 differentiated once and twice in phi; each a 2x2 solve by Cramer's rule.
-        k2, k3 = perp(e2), perp(e3)
-        det = cross(b * k2, -c * k3)
-        rhs1 = -a_pt.d1
-        t2d1 = cross(rhs1, -c * k3) / det
-        t3d1 = cross(b * k2, rhs1) / det
-        rhs2 = -a_pt.d2 + b * (t2d1**2)[:, None] * e2 - c * (t3d1**2)[:, None] * e3
-        t2d2 = cross(rhs2, -c * k3) / det
-        t3d2 = cross(b * k2, rhs2) / det
-        b_d1 = c * t3d1[:, None] * k3
-        b_d2 = c * t3d2[:, None] * k3 - c * (t3d1**2)[:, None] * e3
+        bpos = pin + (to_q / dist) * (x + (1j * self.branch) * h)
+        e2 = (bpos - pin) / b
+        e3 = (bpos - self.ground) / c
+        # Loop A + b·e2 = Q + c·e3 differentiated once and twice in phi; each a 2x2 solve by Cramer's rule, with
+        # det = cross(b·i·e2, -c·i·e3) = -b·c·cross(e2, e3).
+        # A product with i turns a cross product into a scalar one: cross(u, i·v) = u·v.
+        det = -b * c * cross_c(e2, e3)
+        pin_d1 = 1j * pin
+        t2d1 = c * dot_c(pin_d1, e3) / det
+        t3d1 = b * dot_c(e2, pin_d1) / det
+        rhs2 = pin + b * (t2d1 * t2d1) * e2 - c * (t3d1 * t3d1) * e3
+        t2d2 = -c * dot_c(rhs2, e3) / det
+        t3d2 = -b * dot_c(e2, rhs2) / det
+        k3 = 1j * e3
         points = {
             "O": fixed_point((0.0, 0.0), n),
-            "A": a_pt,
-            "B": PointAnalogues(bpos, b_d1, b_d2),
+            "A": PointAnalogues(xy(pin), xy(pin_d1), xy(-pin)),
+            "B": PointAnalogues(xy(bpos), xy((c * t3d1) * k3), xy(c * (t3d2 * k3 - (t3d1 * t3d1) * e3))),
             "Q": fixed_point((self.ground, 0.0), n),
         }
         angles = {
             "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n)),
-            "coupler": AngleAnalogues(np.arctan2(e2[:, 1], e2[:, 0]), t2d1, t2d2),
-            "rocker": AngleAnalogues(np.arctan2(e3[:, 1], e3[:, 0]), t3d1, t3d2),
+            "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2),
+            "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2),
         }
         return points, angles
 

@@ -212,13 +212,12 @@ class PlanarLinkage:
         n = len(phi)
         local = {link.name: link.local() for link in self.links}
         local[FRAME] = dict(self.frame_points)
-        frame = _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), _const_angle(0.0, n))
-        fixed = {xy: J.constant(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy())
-                 for _, xy in self.frame_points}
+        frame = _Place(J.point((0.0, 0.0), n), (0.0, 0.0), _const_angle(0.0, n))
+        fixed = {xy: J.point(xy, n) for _, xy in self.frame_points}
         frame._points.update(fixed)  # frame points stand still: no rotation to resolve them
         places: dict[str, _Place] = {
             FRAME: frame,
-            self.crank_link: _Place(J.constant(np.zeros((n, 2))), (0.0, 0.0), Jet(phi.copy(), np.ones(n), np.zeros(n))),
+            self.crank_link: _Place(J.point((0.0, 0.0), n), (0.0, 0.0), Jet(phi.copy(), np.ones(n), np.zeros(n))),
         }
         joints = {j.name: j for j in self.joints}
         solved: dict[str, Jet] = {}
@@ -239,14 +238,14 @@ class PlanarLinkage:
             places[dyad.links[0]], places[dyad.links[1]] = first, second
             if joint is not None:  # the dyad's own closed form for its inner pin, not again from a link's pose
                 solved[_revolute_point(joints[dyad.inner])] = joint
-        points: dict[str, PointAnalogues] = {name: PointAnalogues(*jet) for name, jet in solved.items()}
+        points: dict[str, PointAnalogues] = {name: J.analogues(jet) for name, jet in solved.items()}
         for name, xy in self.frame_points:
-            points[name] = PointAnalogues(*fixed[xy])
+            points[name] = J.analogues(fixed[xy])
         for link in self.links:
             place = places[link.name]
             for name, xy in local[link.name].items():
                 if name not in points:
-                    points[name] = PointAnalogues(*place.point(xy))
+                    points[name] = J.analogues(place.point(xy))
         angles = {link.name: AngleAnalogues(*places[link.name].angle) for link in self.links}
         return points, angles
 

@@ -27,6 +27,46 @@ def perp(v: FloatArray) -> FloatArray:
     return np.stack([-v[..., 1], v[..., 0]], axis=-1)
 
 
+_ONES2 = np.ones(2)
+
+
+def unit(angle: FloatArray) -> np.ndarray:
+    """Unit vectors at ``angle`` [rad] as complex numbers cos + i·sin, contiguous so that :func:`xy` views them
+    as plane vectors (..., 2) without a copy."""
+    e = np.empty(np.shape(angle) + (2,))
+    np.cos(angle, out=e[..., 0])
+    np.sin(angle, out=e[..., 1])
+    return e.view(np.complex128)[..., 0]
+
+
+def xy(z: np.ndarray) -> FloatArray:
+    """Complex plane vectors as real ones (..., 2), a view of the same memory (a copy if ``z`` is strided)."""
+    z = np.ascontiguousarray(z)
+    return z.view(np.float64).reshape(z.shape + (2,))
+
+
+def complex_of(v: FloatArray) -> np.ndarray:
+    """Plane vectors (..., 2) as complex numbers x + i·y (a view when ``v`` is contiguous)."""
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    return v.view(np.complex128)[..., 0]
+
+
+def cross_c(a: np.ndarray, b: np.ndarray) -> FloatArray:
+    """z-component of a × b for complex plane vectors: Im(conj(a)·b)."""
+    return np.asarray((a.conj() * b).imag)
+
+
+def dot_c(a: np.ndarray, b: np.ndarray) -> FloatArray:
+    """Scalar product of complex plane vectors: Re(conj(a)·b)."""
+    return np.asarray((a.conj() * b).real)
+
+
+def dot(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Scalar products of stacked plane vectors, shape (...,): one product and one matrix-vector sum, where a
+    generic contraction (einsum) would walk the small last axis element by element."""
+    return np.asarray((a * b) @ _ONES2)
+
+
 def cross(a: FloatArray, b: FloatArray) -> FloatArray:
     """z-component of a × b for stacked plane vectors, shape (...,)."""
     return np.asarray(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
@@ -141,14 +181,15 @@ def build_motion(
 
 def crank_point(length: float, phi: FloatArray) -> PointAnalogues:
     """Crank pin at ``length`` [m] from the origin: position and analogues."""
-    e = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-    return PointAnalogues(length * e, length * perp(e), -length * e)
+    pin = length * unit(phi)
+    return PointAnalogues(xy(pin), xy(1j * pin), xy(-pin))
 
 
 def fixed_point(xy: tuple[float, float], n: int) -> PointAnalogues:
     """A frame point [m] repeated over N samples, with zero analogues."""
-    pos = np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)).copy()
-    return PointAnalogues(pos, np.zeros((n, 2)), np.zeros((n, 2)))
+    # Read-only views of one row each: a point that stands still costs no memory per sample.
+    zero = np.broadcast_to(np.zeros(2), (n, 2))
+    return PointAnalogues(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)), zero, zero)
 
 
 def constant_angle(value: float, n: int) -> AngleAnalogues:

@@ -12,7 +12,7 @@ from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..model import FloatArray
 from ..topology import Joint, Topology
 from .linkage import JointSpec, LinkSpec, PlanarLinkage
-from .motion import AngleAnalogues, PointAnalogues, constant_angle, crank_point, fixed_point
+from .motion import AngleAnalogues, PointAnalogues, constant_angle, fixed_point, unit, xy
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,9 +87,9 @@ class SliderCrank:
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with analogues; NotAssemblable where |offset - y_A| > rod."""
         n = len(phi)
-        a_pt = crank_point(self.crank, phi)
         a, l_, e = self.crank, self.rod, self.offset
-        sin2 = (e - a * np.sin(phi)) / l_
+        pin = a * unit(phi)                     # the crank pin as a complex number: a·cos(phi) + i·a·sin(phi)
+        sin2 = (e - pin.imag) / l_
         bad = np.abs(sin2) >= 1.0
         if bad.any():
             raise NotAssemblable(
@@ -98,23 +98,21 @@ class SliderCrank:
                 phi=phi[bad],
                 ranges_deg=self.assembly_gaps_deg() or angle_ranges_deg(phi, bad),
             )
-        cos2 = self.branch * np.sqrt(1.0 - sin2**2)
+        cos2 = self.branch * np.sqrt(1.0 - sin2 * sin2)
         th2 = np.arctan2(sin2, cos2)
         # sin(th2) = (e - a sin phi)/l differentiated twice in phi.
-        t2d1 = -a * np.cos(phi) / (l_ * cos2)
-        t2d2 = (a * np.sin(phi) + l_ * sin2 * t2d1**2) / (l_ * cos2)
-        xb = a * np.cos(phi) + l_ * cos2
-        xb_d1 = -a * np.sin(phi) - l_ * sin2 * t2d1
-        xb_d2 = -a * np.cos(phi) - l_ * cos2 * t2d1**2 - l_ * sin2 * t2d2
+        l_cos2 = l_ * cos2
+        t2d1 = -pin.real / l_cos2
+        t2d1_sq = t2d1 * t2d1
+        t2d2 = (pin.imag + l_ * sin2 * t2d1_sq) / l_cos2
+        xb = pin.real + l_cos2
+        xb_d1 = -pin.imag - l_ * sin2 * t2d1
+        xb_d2 = -pin.real - l_cos2 * t2d1_sq - l_ * sin2 * t2d2
         zeros = np.zeros(n)
         points = {
             "O": fixed_point((0.0, 0.0), n),
-            "A": a_pt,
-            "B": PointAnalogues(
-                np.stack([xb, np.full(n, e)], axis=-1),
-                np.stack([xb_d1, zeros], axis=-1),
-                np.stack([xb_d2, zeros], axis=-1),
-            ),
+            "A": PointAnalogues(xy(pin), xy(1j * pin), xy(-pin)),
+            "B": PointAnalogues(xy(xb + 1j * e), xy(xb_d1 + 0j), xy(xb_d2 + 0j)),
         }
         angles = {
             "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), zeros.copy()),
