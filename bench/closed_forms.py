@@ -235,14 +235,16 @@ def slider_crank(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> Outpu
     return out
 
 
-def six_bar_press(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> Outputs:
+SIX_BAR_Q = 0.3 + 0j
+
+
+def six_bar_kinematics(phi: np.ndarray, omega: float) -> dict[str, tuple[np.ndarray, ...]]:
     """The six-bar press of ``SIX_BAR_PRESS_EXAMPLE`` (crank 0.1, coupler 0.35, rocker 0.25 on Q = (0.3, 0), C on
     the rocker at 0.4, rod 0.5 to the ram D on the vertical guide x = 0.45): the four-bar's dyad, C on the rocker,
-    D by the rod's circle; then the reactions of the rod-ram dyad (RRP) first, its reaction at C loading the
-    rocker, then the coupler-rocker dyad and the crank."""
+    D by the rod's circle. Points as (position, velocity, acceleration), links as (unit vector, rate,
+    acceleration), complex; at omega = 1 the rates are the analogues d/dphi and d²/dphi²."""
     arm, rod, xg = 0.4, 0.5, 0.45
-    q = 0.3 + 0j
-    n, g = len(phi), _gravity(linkage)
+    q = SIX_BAR_Q
     e1, pa, va, aa = _crank_states(0.1, phi, omega)
     pb, vb, ab, e2, e3, w2, w3, al2, al3 = _rrr_kinematics((pa, va, aa), q, 0.35, 0.25, 1)
     k3 = 1j * e3
@@ -256,9 +258,21 @@ def six_bar_press(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> Outp
     vd = 1j * (vc.imag + s1)
     ad = 1j * (ac.imag + s2)
     r = pd - pc
-    e4 = r / rod
     w4 = cross(r, vd - vc) / (rod * rod)                        # |r| is constant: r·r' = 0
     al4 = cross(r, ad - ac) / (rod * rod)
+    return {"A": (pa, va, aa), "B": (pb, vb, ab), "C": (pc, vc, ac), "D": (pd, vd, ad),
+            "crank": (e1, np.full(len(phi), omega), np.zeros(len(phi))), "coupler": (e2, w2, al2),
+            "rocker": (e3, w3, al3), "rod": (r / rod, w4, al4)}
+
+
+def six_bar_press(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> Outputs:
+    """The six-bar press of ``SIX_BAR_PRESS_EXAMPLE``: :func:`six_bar_kinematics`, then the reactions of the
+    rod-ram dyad (RRP) first, its reaction at C loading the rocker, then the coupler-rocker dyad and the crank."""
+    q = SIX_BAR_Q
+    n, g = len(phi), _gravity(linkage)
+    kin = six_bar_kinematics(phi, omega)
+    (pa, va, aa), (pb, vb, ab), (pc, vc, ac), (pd, vd, ad) = (kin[p] for p in "ABCD")
+    (e1, _, _), (e2, w2, al2), (e3, w3, al3), (e4, w4, al4) = (kin[k] for k in ("crank", "coupler", "rocker", "rod"))
     bodies = {
         "crank": _body(linkage, "crank", (0.0, 0.0, 0.0), e1, omega, 0.0, g),
         "coupler": _body(linkage, "coupler", (pa, va, aa), e2, w2, al2, g),

@@ -9,58 +9,21 @@ import synth
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
 from bench._timing import best_of
+from bench.closed_forms import six_bar_kinematics, xy
 
 SAMPLES = 3600
-Arrays = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
-
-
-def _perp(v: np.ndarray) -> np.ndarray:
-    return np.stack([-v[:, 1], v[:, 0]], axis=-1)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.asarray(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+Arrays = dict[str, tuple[np.ndarray, ...]]
 
 
 def by_hand(phi: np.ndarray) -> Arrays:
-    """The press written out: the four-bar O-A-B-Q by circle intersection and Cramer's rule on the differentiated
-    loop, C on the rocker's arm, D on the vertical guide x = 0.45 by the rod's circle, each with its analogues."""
-    a, b, c, arm, rod, xg = 0.1, 0.35, 0.25, 0.4, 0.5, 0.45
-    q = np.array([0.3, 0.0])
-    e1 = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-    pa, pa1, pa2 = a * e1, a * _perp(e1), -a * e1
-    e = q - pa
-    dist = np.hypot(e[:, 0], e[:, 1])
-    u = e / dist[:, None]
-    x = (b * b - c * c + dist * dist) / (2 * dist)
-    pb = pa + x[:, None] * u + np.sqrt(b * b - x * x)[:, None] * _perp(u)
-    e2, e3 = (pb - pa) / b, (pb - q) / c
-    k2, k3 = _perp(e2), _perp(e3)
-    det = _cross(b * k2, -c * k3)
-    t2d1, t3d1 = _cross(-pa1, -c * k3) / det, _cross(b * k2, -pa1) / det
-    rhs2 = -pa2 + b * (t2d1**2)[:, None] * e2 - c * (t3d1**2)[:, None] * e3
-    t2d2, t3d2 = _cross(rhs2, -c * k3) / det, _cross(b * k2, rhs2) / det
-    pb1 = c * t3d1[:, None] * k3
-    pb2 = c * t3d2[:, None] * k3 - c * (t3d1**2)[:, None] * e3
-    pc = q + arm * e3
-    pc1 = arm * t3d1[:, None] * k3
-    pc2 = arm * (t3d2[:, None] * k3 - (t3d1**2)[:, None] * e3)
-    dx = xg - pc[:, 0]
-    s = np.sqrt(rod * rod - dx * dx)
-    s1 = dx * pc1[:, 0] / s
-    s2 = ((dx * pc2[:, 0] - pc1[:, 0] ** 2) - s1 * s1) / s
-    pd = np.stack([np.full_like(phi, xg), pc[:, 1] + s], axis=-1)
-    zero = np.zeros_like(phi)
-    pd1 = np.stack([zero, pc1[:, 1] + s1], axis=-1)
-    pd2 = np.stack([zero, pc2[:, 1] + s2], axis=-1)
-    r, r1, r2 = pd - pc, pd1 - pc1, pd2 - pc2
-    t4d1, t4d2 = _cross(r, r1) / rod**2, _cross(r, r2) / rod**2  # |r| is constant: r·r' = 0
-    return {
-        "A": (pa, pa1, pa2), "B": (pb, pb1, pb2), "C": (pc, pc1, pc2), "D": (pd, pd1, pd2),
-        "coupler": (np.arctan2(e2[:, 1], e2[:, 0]), t2d1, t2d2),
-        "rocker": (np.arctan2(e3[:, 1], e3[:, 0]), t3d1, t3d2),
-        "rod": (np.arctan2(r[:, 1], r[:, 0]), t4d1, t4d2),
-    }
+    """The press written out (``bench.closed_forms.six_bar_kinematics`` at unit crank speed, whose rates are the
+    analogues): every joint's position and analogues as (N, 2), every link's angle, analogues and unit vector."""
+    kin = six_bar_kinematics(phi, 1.0)
+    out: Arrays = {p: tuple(xy(np.ascontiguousarray(z)) for z in kin[p]) for p in "ABCD"}   # type: ignore[misc]
+    for link in ("coupler", "rocker", "rod"):
+        e, d1, d2 = kin[link]
+        out[link] = (np.angle(e), d1, d2, e)
+    return out
 
 
 def main() -> None:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .kinematics.motion import Motion, dot
-from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays
+from .kinetostatics import ExternalLoads, LinkArrays, external_loads, link_arrays, link_sum
 from .model import FloatArray, Linkage
 
 
@@ -55,9 +55,9 @@ def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = 
     else:
         d2 = arrays.com_acc / w**2
         t2 = arrays.alpha / w**2
-    inertia = arrays.mass @ dot(d1, d1) + arrays.inertia @ (t1 * t1)
-    slope = 2 * (arrays.mass @ dot(d1, d2) + arrays.inertia @ (t1 * t2))
-    power = arrays.mass @ (arrays.com_vel @ g)
+    inertia = link_sum(arrays.mass, dot(d1, d1)) + link_sum(arrays.inertia, t1 * t1)
+    slope = 2 * (link_sum(arrays.mass, dot(d1, d2)) + link_sum(arrays.inertia, t1 * t2))
+    power = link_sum(arrays.mass, arrays.com_vel @ g)
     loads = external_loads(motion, linkage) if loads is None else loads
     power += dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():

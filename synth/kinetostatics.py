@@ -51,6 +51,8 @@ class LinkArrays:
     ``mass`` (L,) [kg], ``com`` (L, 2) [m] in the link frame, ``inertia`` (L,) about the centre of mass [kg·m²];
     ``origin_pos`` / ``origin_acc`` (L, N, 2) of each frame origin [m, m/s²]; ``angle``, ``omega``, ``alpha``
     (L, N) [rad, rad/s, rad/s²]; ``com_pos``, ``com_vel``, ``com_acc`` (L, N, 2) [m, m/s, m/s²].
+    From :func:`link_arrays_per_sample` the mass properties vary per sample: ``params`` (L, N, 4), ``mass`` and
+    ``inertia`` (L, N), ``com`` (L, N, 2).
     """
 
     links: tuple[str, ...]
@@ -94,7 +96,9 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
     # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
     # (i·alpha - omega²)·r relative to it.
-    r = unit(angle) * (com[:, 0] + 1j * com[:, 1])[:, None]
+    known = motion.link_unit
+    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    r = e * (com[:, 0] + 1j * com[:, 1])[:, None]
     com_pos = origin_pos + xy(r)
     com_vel = origin_vel + xy((1j * omega) * r)
     com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
@@ -102,6 +106,56 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
         arr.flags.writeable = False
     return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
                       com_pos, com_vel, com_acc)
+
+
+def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray) -> LinkArrays:
+    """:func:`link_arrays` with every link's inertial parameters given per sample, ``params`` (L, N, 4).
+
+    For a stack of variants of one topology laid end to end along the sample axis (each variant its own
+    masses over its own block of samples): ``params`` (L, N, 4), ``mass`` and ``inertia`` (L, N), ``com``
+    (L, N, 2). The direct kinetostatics, the virtual-power check and the reduced model take these arrays as they
+    take :func:`link_arrays`'s.
+    """
+    links = linkage.mechanism.topology.links
+    params = np.asarray(params, dtype=float)
+    if params.shape != (len(links), motion.samples, PARAMS_PER_LINK):
+        raise ValueError(f"params must be (links, samples, {PARAMS_PER_LINK}), got {params.shape}")
+    mass = params[..., 0]
+    heavy = mass > 0.0
+    safe = np.where(heavy, mass, 1.0)
+    com = np.where(heavy[..., None], params[..., 1:3] / safe[..., None], 0.0)
+    inertia = np.where(heavy, params[..., 3] - mass * (com[..., 0] * com[..., 0] + com[..., 1] * com[..., 1]),
+                       params[..., 3])
+    origins = [motion.link_origin[link] for link in links]
+    origin_pos = np.stack([motion.point_pos[o] for o in origins])
+    origin_vel = np.stack([motion.point_vel[o] for o in origins])
+    origin_acc = np.stack([motion.point_acc[o] for o in origins])
+    angle = np.stack([motion.link_angle[link] for link in links])
+    omega = np.stack([motion.link_omega[link] for link in links])
+    alpha = np.stack([motion.link_alpha[link] for link in links])
+    # link_arrays' arithmetic, each sample with its own centre of mass.
+    known = motion.link_unit
+    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    r = e * (com[..., 0] + 1j * com[..., 1])
+    com_pos = origin_pos + xy(r)
+    com_vel = origin_vel + xy((1j * omega) * r)
+    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
+    for arr in (com_pos, com_vel, com_acc):
+        arr.flags.writeable = False
+    return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
+                      com_pos, com_vel, com_acc)
+
+
+def per_sample(values: FloatArray) -> FloatArray:
+    """A link property of :class:`LinkArrays` (``mass``, ``inertia``), (L,) or per sample (L, N), as an array
+    that broadcasts against (L, N): (L, 1) or (L, N)."""
+    return values if values.ndim == 2 else values[:, None]
+
+
+def link_sum(values: FloatArray, per_link: FloatArray) -> FloatArray:
+    """Σ over the links of a link property of :class:`LinkArrays` (``mass``, ``inertia``: (L,), or per sample
+    (L, N)) times a per-link quantity (L, N): (N,)."""
+    return np.asarray(values @ per_link if values.ndim == 1 else np.einsum("ln,ln->n", values, per_link))
 
 
 def _axis_normal(motion: Motion, topo: Topology, joint_index: int) -> FloatArray:
@@ -167,6 +221,7 @@ class _MomentPlan:
     col_x: IndexArray
     col_y: IndexArray
     sign: FloatArray
+    incidence: FloatArray                                     # (links, levers): 1 where a lever is in a link's row
     prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
     torque: tuple[int, int]
 
@@ -196,14 +251,17 @@ def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, .
                 prismatic.append((j, i, cx, cy, sign))
     cols = np.array(rev, dtype=float).reshape(-1, 6)
     as_int = cols[:, :5].astype(np.intp)
+    incidence = np.zeros((len(links), len(rev)))
+    incidence[as_int[:, 2], np.arange(len(rev))] = 1.0
     return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
-                       cols[:, 5], tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+                       cols[:, 5], incidence, tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
 
 
-def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> FloatArray:
+def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> tuple[FloatArray, FloatArray]:
     """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
-    column ``col_pos[k]``: what the reduced system needs when every force row is constant. Every revolute lever
-    is written in one indexed assignment (a joint's column meets each of its two links' rows once)."""
+    column ``col_pos[k]``, and each row's squared norm (n, N): what the reduced system needs when every force
+    row is constant (slides fixed in the frame). Every revolute lever is written in one indexed assignment: a
+    joint's column meets each of its two links' rows once, so a row's squared norm is the sum of its levers'."""
     links = topo.links
     plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
     a = np.zeros((len(links), 3 * len(links), motion.samples))
@@ -211,13 +269,17 @@ def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) 
     lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
     a[plan.link, plan.col_x] = -lever.imag
     a[plan.link, plan.col_y] = lever.real
+    row_sq = plan.incidence @ (lever.real * lever.real + lever.imag * lever.imag)
     for j, i, cx, cy, sign in plan.prismatic:
         joint = topo.joints[j]
-        lever_p = motion.point_pos[joint.point] - motion.point_pos[motion.link_origin[links[i]]]
-        a[i, cx] += sign * cross(lever_p, _axis_normal(motion, topo, j))
-        a[i, cy] += sign
+        normal = complex(-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
+        lever_p = complex_of(motion.point_pos[joint.point]) - complex_of(motion.point_pos[motion.link_origin[links[i]]])
+        a[i, cx] = sign * (lever_p.conj() * normal).imag
+        a[i, cy] = sign
+        row_sq[i] += a[i, cx] * a[i, cx] + 1.0
     a[plan.torque] = 1.0
-    return a
+    row_sq[plan.torque[0]] += 1.0
+    return a, row_sq
 
 
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -442,10 +504,10 @@ def _block_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, Floa
     """``_det_and_solve`` through the lower block-triangular form of ``s`` (k, k, N) when it has blocks of at most
     3 x 3 (each then solved in closed form), else None."""
     k = s.shape[0]
-    blocks = _block_order(k, np.ascontiguousarray(np.any(s != 0, axis=-1)).tobytes())
+    mask = np.ascontiguousarray(np.any(s != 0, axis=-1))
+    blocks = _block_order(k, mask.tobytes())
     if blocks is None or max(len(cols) for _, cols in blocks) > 3:
         return None
-    mask = np.any(s != 0, axis=-1)
     x = np.empty(r.shape)
     det = np.full(s.shape[-1], _permutation_sign([row for rows, _ in blocks for row in rows])
                   * _permutation_sign([col for _, cols in blocks for col in cols]))
@@ -561,7 +623,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     The constant products are matrix products over all angles and columns at once."""
     rows, cols = red.rows, red.columns
     k, n_kept = len(red.eliminated), len(red.kept)
-    m = _assemble_moments(motion, topo, red.positions(cols))
+    m, row_sq = _assemble_moments(motion, topo, red.positions(cols))
     width, samples = b_last.shape[1], b_last.shape[2]
     bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
     h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
@@ -570,7 +632,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     r = bt[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.prod(np.sqrt((m * m).sum(axis=1)), axis=0))
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(np.prod(row_sq, axis=0)))
     _refuse_dead_positions(motion, ratio)
     x = np.empty((samples, b_last.shape[0], width))
     x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
@@ -625,13 +687,13 @@ def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArra
     link's three equations on axis 0 and the crank angle last, (3n, N)."""
     topo = linkage.mechanism.topology
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    force = arrays.mass[:, None] * (complex(g[0], g[1]) - complex_of(arrays.com_acc))       # (L, N), x + i·y
+    force = per_sample(arrays.mass) * (complex(g[0], g[1]) - complex_of(arrays.com_acc))   # (L, N), x + i·y
     lever = complex_of(arrays.com_pos) - complex_of(arrays.origin_pos)
     n_links, n = len(topo.links), arrays.angle.shape[1]
     out = np.empty((n_links, 3, n))
     out[:, 0] = force.real
     out[:, 1] = force.imag
-    np.subtract((lever.conj() * force).imag, arrays.inertia[:, None] * arrays.alpha, out=out[:, 2])
+    np.subtract((lever.conj() * force).imag, per_sample(arrays.inertia) * arrays.alpha, out=out[:, 2])
     if topo.output_motion == "translation":
         i = topo.links.index(topo.output)
         out[i, :2] += loads.force.T
@@ -718,8 +780,12 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
-        force = force - arrays.mass.sum() * g
-        first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
+        if arrays.mass.ndim == 1:
+            force = force - arrays.mass.sum() * g
+            first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
+        else:   # masses per sample (link_arrays_per_sample)
+            force = force - arrays.mass.sum(axis=0)[:, None] * g
+            first = np.einsum("ln,lnk->nk", arrays.mass, arrays.com_pos)
         moment = moment - (first[:, 0] * g[1] - first[:, 1] * g[0])
     reactions, couples = unpack_unknowns(motion, topo, x)
     return Kinetostatics(x, reactions, couples, x[:, -1], force, moment)
@@ -826,6 +892,28 @@ def linear_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = Non
     return LinearMap(topo.links, tuple(j.name for j in topo.joints), full[:, :, :-1], full[:, :, -1])
 
 
+def shaking_force_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None) -> FloatArray:
+    """The shaking-force rows of :func:`linear_map`, (N, 2, 4·L), from their definition -Σ m·a_S, without the
+    reaction solve: for a program that needs only these rows (static balancing).
+
+    Per link, m·a_S = m·a_O + h_x(al·e2 - w²·e1) + h_y(-al·e1 - w²·e2) with J absent; the rows' constant part
+    is zero (process loads and weights react on the frame, so they shake nothing). ``arrays`` are
+    :func:`link_arrays` (or :func:`link_arrays_per_sample`) of this motion when the caller has them already.
+    """
+    topo = linkage.mechanism.topology
+    arrays = link_arrays(motion, linkage) if arrays is None else arrays
+    th, w2, al = arrays.angle, arrays.omega * arrays.omega, arrays.alpha
+    c, s = np.cos(th), np.sin(th)
+    y = np.zeros((motion.samples, 2, len(topo.links), PARAMS_PER_LINK))
+    y[:, :, :, 0] = -np.moveaxis(arrays.origin_acc, 0, -1)
+    # -(al·e2 - w²·e1) and -(-al·e1 - w²·e2) with e1 = (c, s), e2 = (-s, c)
+    y[:, 0, :, 1] = (al * s + w2 * c).T
+    y[:, 1, :, 1] = (w2 * s - al * c).T
+    y[:, 0, :, 2] = (al * c - w2 * s).T
+    y[:, 1, :, 2] = (al * s + w2 * c).T
+    return y.reshape(motion.samples, 2, len(topo.links) * PARAMS_PER_LINK)
+
+
 def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = None,
                          loads: ExternalLoads | None = None) -> FloatArray:
     """Driving torque [N·m] from virtual power: the powers of all loads and inertia forces sum to zero.
@@ -841,6 +929,6 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
-    power = power + arrays.mass @ dot(g - arrays.com_acc, arrays.com_vel)
-    power = power - arrays.inertia @ (arrays.alpha * arrays.omega)
+    power = power + link_sum(arrays.mass, dot(g - arrays.com_acc, arrays.com_vel))
+    power = power - link_sum(arrays.inertia, arrays.alpha * arrays.omega)
     return np.asarray(-power / arrays.omega[arrays.index(topo.crank)])

@@ -6,7 +6,7 @@ model (``synth.model.Linkage``) holds one without importing the kinematics that 
 
 from __future__ import annotations
 
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,11 +25,14 @@ class PointAnalogues(NamedTuple):
 
 
 class AngleAnalogues(NamedTuple):
-    """Link angle [rad] and its first and second derivatives with respect to the crank angle, each (N,)."""
+    """Link angle [rad] and its first and second derivatives with respect to the crank angle, each (N,); and the
+    unit vector along the link's x-axis as complex numbers cos + i·sin (N,), when the position solve has it (it
+    saves the kinetostatics a cosine and a sine per link and angle)."""
 
     angle: FloatArray
     d1: FloatArray
     d2: FloatArray
+    unit: NDArray[Any] | None = None
 
 
 class Mechanism(Protocol):

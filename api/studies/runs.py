@@ -34,7 +34,7 @@ from ..settings import Settings
 from ..execution.admission import Solvers
 from ..execution.plans import Limits
 from .paths import check_metrics
-from .tasks import validate_request, variant_function
+from .tasks import batch_function, validate_request, variant_function
 
 log = logging.getLogger("api.studies")
 
@@ -298,6 +298,7 @@ class StudyRuns:
                 _Counted(self.executor(), self._tasks),
                 partial(self.store.write_rows, study_id), indices=indices, cancel=run.cancel,
                 variant_timeout_s=self.settings.request_deadline_s,
+                batch_fn=batch_function(endpoint, Limits.from_settings(self.settings)),
             )
             record = self.store.get(study_id)
             if report.cancelled and record is not None and record.done < record.total:

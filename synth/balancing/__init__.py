@@ -2,6 +2,7 @@
 slider-crank Lanchester balancing."""
 
 from ..counter_rotors import CounterRotor
+from .batch import StaticCase, balance_static_batch
 from .fourbar import (
     BalanceResult,
     Weights,
@@ -26,5 +27,5 @@ __all__ = [
     "RotorMass", "SliderCrankBalance", "Weights", "balance_full", "balance_optimal", "balance_rotor_dynamic",
     "balance_rotor_static", "balance_slider_crank", "balance_static", "counter_rotor_loads",
     "exact_static_counterweights", "least_squares_crank_counterweight", "objective_value", "pendulum_inertia",
-    "relative_weights", "tradeoff", "fixed_point_counterweights",
+    "relative_weights", "tradeoff", "fixed_point_counterweights", "StaticCase", "balance_static_batch",
 ]

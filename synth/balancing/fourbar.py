@@ -17,8 +17,8 @@ import numpy as np
 from ..analysis import Analysis, Summary, analyse
 from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
-from ..kinematics import FourBar, PlanarLinkage, SliderCrank
-from ..kinetostatics import LinearMap, linear_map
+from ..kinematics import FourBar, Motion, PlanarLinkage, SliderCrank
+from ..kinetostatics import LinearMap, linear_map, shaking_force_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
 from ..warnings import link_lengths
 from .fixed_points import fixed_point_counterweights
@@ -124,17 +124,38 @@ def _check(linkage: Linkage, speed: float, samples: int, counterweights: Sequenc
     # analysis before computed it (one motion per request).
     after = analyse(linkage.with_counterweights(counterweights), speed, samples=samples,
                     base_motion=before.mechanism_motion)
+    return (after, *_residuals(after, before, rotor_moment))
+
+
+def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | None = None,
+               summary: Summary | None = None) -> tuple[float, float, float, float]:
+    """Largest shaking force [N] and moment [N·m] left in the re-analysis ``after``, each also over its largest
+    value ``before`` (whose ``summary`` the caller may have already)."""
     force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
     moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
     moment = float(np.abs(moment_series).max())
-    summary = before.summary()
+    summary = before.summary() if summary is None else summary
     f0, m0 = summary.max_shaking_force, summary.max_shaking_moment
-    return after, force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
+    return force, force / f0 if f0 > 0 else 0.0, moment, moment / m0 if m0 > 0 else 0.0
 
 
-def _static_system(linkage: Linkage, lm: LinearMap, cw: CounterweightLayout) -> tuple[FloatArray, FloatArray]:
-    a, b0 = _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
-    cols = _var_columns(lm, cw)
+def _force_rows(lm: LinearMap) -> tuple[FloatArray, FloatArray]:
+    """The shaking-force rows of the map over all angles: (2N, params) and (2N,), x and y of each angle."""
+    return _rows(lm, [lm.force_rows.start, lm.force_rows.start + 1])
+
+
+def _shaking_force_rows(motion: Motion, linkage: Linkage) -> tuple[FloatArray, FloatArray]:
+    """The map's shaking-force rows over all angles as :func:`_force_rows` has them, from their definition
+    (:func:`synth.kinetostatics.shaking_force_map`): static balancing needs no other row of the map."""
+    y = shaking_force_map(motion, linkage)
+    return y.reshape(-1, y.shape[-1]), np.zeros(2 * motion.samples)
+
+
+def _static_system(linkage: Linkage, force: tuple[FloatArray, FloatArray], cw: CounterweightLayout
+                   ) -> tuple[FloatArray, FloatArray]:
+    a, b0 = force
+    links = linkage.mechanism.topology.links
+    cols = [PARAMS * links.index(link) + c for link in cw.links for c in range(PARAMS)]
     rhs = -(a @ linkage.params() + b0)
     return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
 
@@ -212,15 +233,37 @@ def balance_static(
     _require_turning(linkage)
     if method == "fixed_points":
         return _fixed_points(linkage, speed, spec, samples)
+    spec = _static_spec(linkage, spec, objective, mass_budget)
+    before = analyse(linkage, speed, samples=samples)
+    cw, program, x = _static_solution(linkage, _shaking_force_rows(before.motion, linkage), spec, objective,
+                                      mass_budget, time_limit_s)
+    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
+    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
+    after = _check(linkage, speed, samples, cws, before)[0]
+    return _static_result(cws, before, after, float(program.q @ x))
+
+
+def _static_spec(linkage: Linkage, spec: CounterweightSpec | None, objective: str,
+                 mass_budget: float | None) -> CounterweightSpec:
+    """The static program's spec: resolved on ``linkage``, the coupler's default radius, and the objective's
+    need of a budget checked."""
     spec = _with_default_radii((spec or CounterweightSpec()).resolve(linkage), linkage)
     all_fixed = bool(spec.radius) and all(link in (spec.radius or {}) for link in spec.links)
     if objective == "min_inertia" and mass_budget is None and not all_fixed:
         raise InvalidInput("minimum added inertia needs a mass budget: a heavier counterweight nearer the pivot "
                            "always has less inertia", field="mass_budget_kg")
-    before = analyse(linkage, speed, samples=samples)
-    lm = linear_map(before.motion, linkage)
+    return spec
+
+
+def _static_solution(linkage: Linkage, force: tuple[FloatArray, FloatArray], spec: CounterweightSpec,
+                     objective: str, mass_budget: float | None, time_limit_s: float,
+                     system: tuple[FloatArray, FloatArray] | None = None
+                     ) -> tuple[CounterweightLayout, ConeProgram, FloatArray]:
+    """The static program on the map's shaking-force rows ``force`` (:func:`_force_rows`) and its solution; an
+    infeasible budget says the mass it needs. ``system`` is :func:`_static_system` of these when the caller has
+    it already."""
     cw = counterweight_layout(spec, linkage)
-    ar, br = _static_system(linkage, lm, cw)
+    ar, br = _static_system(linkage, force, cw) if system is None else system
     program = _program(cw)
     program.equal(ar, br)
     binding = (["angle_deg"] if spec.angle else []) + ["max_radius_m"]
@@ -237,24 +280,28 @@ def balance_static(
             if cause is not None:
                 raise cause from exc
             raise
-        needed = balance_static(linkage, speed, spec, samples=samples, time_limit_s=time_limit_s).total_added_mass
+        least, _, x_least = _static_solution(linkage, force, spec, "min_mass", None, time_limit_s, (ar, br))
+        needed = sum(c.mass for c in CounterweightSolution(least, x_least).counterweights())
         raise Infeasible(f"static balance needs at least {needed:.6g} kg of counterweights; the budget is "
                          f"{mass_budget:.6g} kg", constraint="mass_budget_kg", required_mass_kg=needed) from exc
-    # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
-    cws = CounterweightSolution(cw, x).counterweights(point_masses=objective == "min_mass" and not spec.radius)
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
-    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
-                         f, f_rel, m, m_rel, before, after,
-                         added_inertia=sum(c.params()[3] for c in cws), objective=float(program.q @ x))
+    return cw, program, x
 
+
+def _static_result(cws: Sequence[Counterweight], before: Analysis, after: Analysis, objective: float | None,
+                   summaries: tuple[Summary, Summary] | None = None) -> BalanceResult:
+    """A static answer from its counterweights and the plain analyses before and after (and their summaries
+    when the caller has them already)."""
+    s_before, s_after = (before.summary(), after.summary()) if summaries is None else summaries
+    f, f_rel, m, m_rel = _residuals(after, before, summary=s_before)
+    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), s_before, s_after,
+                         f, f_rel, m, m_rel, before, after,
+                         added_inertia=sum(c.params()[3] for c in cws), objective=objective)
 
 
 def _fixed_points(linkage: Linkage, speed: float, spec: CounterweightSpec | None, samples: int) -> BalanceResult:
     before = analyse(linkage, speed, samples=samples)
     cws = fixed_point_counterweights(linkage, spec)
-    after, f, f_rel, m, m_rel = _check(linkage, speed, samples, cws, before)
-    return BalanceResult("static", tuple(cws), sum(c.mass for c in cws), before.summary(), after.summary(),
-                         f, f_rel, m, m_rel, before, after, added_inertia=sum(c.params()[3] for c in cws))
+    return _static_result(cws, before, _check(linkage, speed, samples, cws, before)[0], None)
 
 
 def exact_static_counterweights(linkage: Linkage) -> dict[str, tuple[float, float]]:
@@ -359,7 +406,7 @@ def balance_full(
         lm = linear_map(mot, linkage)
         cols = _var_columns(lm, cw)
         if k == 0:
-            ar, br = _static_system(linkage, lm, cw)
+            ar, br = _static_system(linkage, _force_rows(lm), cw)
             program.equal(ar, br)
         a, b0 = _rows(lm, [lm.moment_row])
         # The coupler's own inertia is a variable: take its fixed value out of p0, add the variable.

@@ -192,7 +192,7 @@ class ConeProgram:
         self.q = np.zeros(self.size)
 
     def _rows(self, g: FloatArray | sp.spmatrix) -> FloatArray:
-        m = np.atleast_2d(sp.csr_matrix(g).toarray() if sp.issparse(g) else np.asarray(g, dtype=float))
+        m = np.atleast_2d(sp.csr_matrix.toarray(g) if sp.issparse(g) else np.asarray(g, dtype=float))
         if m.shape[1] < self.size:
             m = np.pad(m, ((0, 0), (0, self.size - m.shape[1])))
         return m
@@ -233,9 +233,23 @@ class ConeProgram:
         settings.time_limit = float(time_limit_s)
         for key, value in _TOLERANCES.items():
             setattr(settings, key, value)
-        a = sp.csc_matrix(np.vstack(self._a))
-        return clarabel.DefaultSolver(sp.csc_matrix((self.size, self.size)), self.q, a, np.concatenate(self._b),
-                                      self._cones, settings)
+        return clarabel.DefaultSolver(_zero_square(self.size), self.q, _csc(np.vstack(self._a)),
+                                      np.concatenate(self._b), self._cones, settings)
+
+
+def _csc(dense: FloatArray) -> sp.csc_matrix:
+    """``scipy.sparse.csc_matrix(dense)`` (the same nonzeros in the same order) built from its index arrays: the
+    generic conversion goes through a COO matrix and costs more than the solve of these small programs."""
+    nonzero = dense.T != 0
+    rows = np.nonzero(nonzero)[1]
+    indptr = np.concatenate([[0], np.cumsum(nonzero.sum(axis=1))])
+    return sp.csc_matrix((dense.T[nonzero], rows, indptr), shape=dense.shape)
+
+
+@functools.lru_cache(maxsize=16)
+def _zero_square(size: int) -> sp.csc_matrix:
+    """The zero quadratic cost of a linear program (Clarabel copies it, so one per size serves every solver)."""
+    return sp.csc_matrix((size, size))
 
 
 @functools.lru_cache(maxsize=16)

@@ -156,9 +156,9 @@ class FourBar:
             "Q": fixed_point((self.ground, 0.0), n),
         }
         angles = {
-            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n)),
-            "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2),
-            "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2),
+            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n), pin / a),
+            "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
+            "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
         }
         return points, angles
 

@@ -246,7 +246,8 @@ class PlanarLinkage:
             for name, xy in local[link.name].items():
                 if name not in points:
                     points[name] = J.analogues(place.point(xy))
-        angles = {link.name: AngleAnalogues(*places[link.name].angle) for link in self.links}
+        angles = {link.name: AngleAnalogues(*places[link.name].angle, places[link.name].axis.v)
+                  for link in self.links}
         return points, angles
 
 
@@ -479,6 +480,42 @@ def _known(j: JointSpec, link: str) -> str:
     return j.links[1] if j.links[0] == link else j.links[0]
 
 
+def _rrr(a1: Jet, a3: Jet, r1: float, r2: float, branch: int, g1: float,
+         g2: float) -> tuple[Jet, tuple[Jet, Jet], tuple[Jet, Jet], BoolArray]:
+    """An RRR dyad on the known pivots ``a1`` and ``a3`` (vector jets) with arms ``r1``, ``r2`` [m] to the inner
+    pin, the pin's angle in each link's frame ``g1``, ``g2`` [rad]: the pin, each link's angle and x-axis, and the
+    samples where it cannot close.
+
+    The pin by circle intersection; the arms' rates from the loop a1 + r1·u1 = a3 + r2·u2 differentiated once
+    and twice (i·r1·w1·u1 - i·r2·w2·u2 = a3' - a1', and the same with the second analogues), each a 2 x 2 system
+    solved by Cramer's rule with determinant r1·r2·cross(u1, u2).
+    """
+    e = a3.v - a1.v
+    d2 = (e.conj() * e).real
+    dist = np.sqrt(d2)
+    x = (d2 + r1 * r1 - r2 * r2) / (2.0 * dist)
+    h2 = r1 * r1 - x * x
+    pin = a1.v + (e / dist) * (x + (1j * branch) * np.sqrt(np.clip(h2, 0.0, None)))
+    u1, u2 = (pin - a1.v) / r1, (pin - a3.v) / r2
+    s = (u1.conj() * u2).imag
+    rhs = a3.d1 - a1.d1
+    w1 = (rhs.conj() * u2).real / (r1 * s)
+    w2 = (rhs.conj() * u1).real / (r2 * s)
+    rhs = a3.d2 - a1.d2 + (r1 * w1 * w1) * u1 - (r2 * w2 * w2) * u2
+    w1d = (rhs.conj() * u2).real / (r1 * s)
+    w2d = (rhs.conj() * u1).real / (r2 * s)
+    arm1 = r1 * u1
+    joint = Jet(pin, a1.d1 + (1j * w1) * arm1, a1.d2 + (1j * w1d - w1 * w1) * arm1)
+    bad = (h2 < -1e-12 * max(r1 * r1, r2 * r2)) | (d2 == 0)
+
+    def link(u: FloatArray, w: FloatArray, wd: FloatArray, g: float) -> tuple[Jet, Jet]:
+        # |u| = 1 at every angle: the link's x-axis follows from it without a sine or cosine.
+        axis = u * complex(math.cos(g), -math.sin(g))
+        return Jet(np.angle(u) - g, w, wd), Jet(axis, (1j * w) * axis, (1j * wd - w * w) * axis)
+
+    return joint, link(u1, w1, w1d, g1), link(u2, w2, w2d, g2), bad
+
+
 def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Mapping[str, tuple[float, float]]],
                 places: Mapping[str, _Place], n: int) -> tuple[_Place, _Place, BoolArray, Jet | None]:
     """Place the dyad's two links on the ones known; also the samples where it cannot close, and the inner pin
@@ -494,19 +531,8 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
         r1, r2 = math.hypot(j1[0] - q1[0], j1[1] - q1[1]), math.hypot(j2[0] - q3[0], j2[1] - q3[1])
         _apart(l1, p1, pj, r1)
         _apart(l2, p3, pj, r2)
-        e = J.sub(a3, a1)
-        d2 = J.dot(e, e)
-        dist = J.sqrt(d2)
-        x = J.div(J.shift(d2, r1 * r1 - r2 * r2), J.scale(2.0, dist))
-        h2 = J.shift(J.scale(-1.0, J.mul(x, x)), r1 * r1)
-        h = J.sqrt(h2)
-        joint = J.add(a1, J.add(J.mul(J.div(x, dist), e), J.scale(d.branch, J.mul(J.div(h, dist), J.perp(e)))))
-        bad = (h2.v < -1e-12 * max(r1 * r1, r2 * r2)) | (d2.v == 0)
         g1, g2 = math.atan2(j1[1] - q1[1], j1[0] - q1[0]), math.atan2(j2[1] - q3[1], j2[0] - q3[0])
-        v1, v2 = J.sub(joint, a1), J.sub(joint, a3)
-        th1, th2 = J.shift(J.angle(v1), -g1), J.shift(J.angle(v2), -g2)
-        # |v1| = r1 and |v2| = r2 at every angle: the link axes follow from them without a sine or cosine.
-        axis1, axis2 = J.turn(J.scale(1.0 / r1, v1), -g1), J.turn(J.scale(1.0 / r2, v2), -g2)
+        joint, (th1, axis1), (th2, axis2), bad = _rrr(a1, a3, r1, r2, d.branch, g1, g2)
         return _Place(a1, q1, th1, axis1), _Place(a3, q3, th2, axis2), bad, joint
     if d.kind == "RRP":
         p1, pj = _revolute_point(o1), _revolute_point(inner)

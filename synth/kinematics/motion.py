@@ -91,6 +91,8 @@ class Motion:
     link_omega: Mapping[str, FloatArray]
     link_alpha: Mapping[str, FloatArray]
     link_origin: Mapping[str, str]
+    # Unit vectors along the links' x-axes (complex, cos + i·sin) where the position solve had them.
+    link_unit: Mapping[str, np.ndarray] = field(default_factory=dict)
     # Kinetostatics, the virtual-power check and the reduced model all ask for the same centres of mass; each
     # point is resolved once per motion and handed out read-only so no caller can change another's view of it.
     _states: dict[tuple[str, float, float], PointState] = field(
@@ -121,14 +123,11 @@ class Motion:
             return state
         origin = self.link_origin[link]
         th, w, a = self.link_angle[link], self.link_omega[link], self.link_alpha[link]
-        c, s = np.cos(th), np.sin(th)
-        r = np.empty((len(th), 2))
-        np.subtract(c * x, s * y, out=r[:, 0])
-        np.add(s * x, c * y, out=r[:, 1])
-        k_r = perp(r)
-        pos = self.point_pos[origin] + r
-        vel = self.point_vel[origin] + w[:, None] * k_r
-        acc = self.point_acc[origin] + a[:, None] * k_r - (w * w)[:, None] * r
+        e = self.link_unit.get(link)
+        r = (unit(th) if e is None else e) * complex(x, y)
+        pos = self.point_pos[origin] + xy(r)
+        vel = self.point_vel[origin] + xy((1j * w) * r)
+        acc = self.point_acc[origin] + xy((1j * a - w * w) * r)
         for arr in (pos, vel, acc):
             arr.flags.writeable = False
         state = PointState(pos, vel, acc)
@@ -147,7 +146,7 @@ class Motion:
             pos[name], vel[name], acc[name] = self.point_on(link, local)
         moved = Motion(
             self.phi, self.omega_crank, self.alpha_crank, pos, vel, acc,
-            self.link_angle, self.link_omega, self.link_alpha, self.link_origin,
+            self.link_angle, self.link_omega, self.link_alpha, self.link_origin, self.link_unit,
         )
         moved._states.update(self._states)  # same links, same frames: every resolved point still holds
         return moved
@@ -176,6 +175,7 @@ def build_motion(
         link_omega={k: omega * a.d1 for k, a in angles.items()},
         link_alpha={k: acceleration(a.d1, a.d2) for k, a in angles.items()},
         link_origin=dict(origins),
+        link_unit={k: a.unit for k, a in angles.items() if a.unit is not None},
     )
 
 
@@ -194,4 +194,5 @@ def fixed_point(xy: tuple[float, float], n: int) -> PointAnalogues:
 
 def constant_angle(value: float, n: int) -> AngleAnalogues:
     """A link that does not turn (a slider, a ram)."""
-    return AngleAnalogues(np.full(n, float(value)), np.zeros(n), np.zeros(n))
+    unit = np.full(n, complex(np.cos(value), np.sin(value)))
+    return AngleAnalogues(np.full(n, float(value)), np.zeros(n), np.zeros(n), unit)

@@ -115,8 +115,8 @@ class SliderCrank:
             "B": PointAnalogues(xy(xb + 1j * e), xy(xb_d1 + 0j), xy(xb_d2 + 0j)),
         }
         angles = {
-            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), zeros.copy()),
-            "rod": AngleAnalogues(th2, t2d1, t2d2),
+            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), zeros.copy(), pin / a),
+            "rod": AngleAnalogues(th2, t2d1, t2d2, cos2 + 1j * sin2),
             "slider": constant_angle(0.0, n),
         }
         return points, angles

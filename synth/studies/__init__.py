@@ -12,12 +12,13 @@
 from .model import DEFAULT_MAX_VARIANTS, StudyConstraint, StudyParameter, Study, study_from_dict
 from .paths import get_path, set_path
 from .pareto import pareto_mask, quantise
-from .runner import BatchSpec, RunReport, VariantRow, run_batch, run_study, run_variant
+from .runner import BatchFn, BatchSpec, RunReport, VariantRow, run_batch, run_study, run_variant
 from .sampling import Sampler, variant_request
 from .store import StudyRecord, StudyStore
 
 __all__ = [
     "DEFAULT_MAX_VARIANTS",
+    "BatchFn",
     "BatchSpec",
     "StudyConstraint",
     "StudyParameter",

@@ -3,7 +3,10 @@ tasks in flight on any executor, each finished batch handed to a sink (the store
 
 A task is :func:`run_batch`, a module-level function of plain data, so it runs unchanged in this process, on a
 local worker pool or on a Dask worker. Each variant's outcome is a :class:`VariantRow`: its metrics, or the
-engine's problem type and message when it cannot be built, assembled or solved; the study goes on.
+engine's problem type and message when it cannot be built, assembled or solved; the study goes on. An endpoint
+with a batched path (``batch_fn``: many requests in, one answer or problem per request out, the same answers as
+the variant function's) runs a task's variants through it in one call, which shares the fixed cost of each
+array operation and solver set-up among them.
 
 A batch whose worker died (:class:`~synth.errors.WorkerLost`) or that ran past its deadline as a whole
 (:class:`~synth.errors.SolverTimeout`) is run again one variant per task, so that the one variant that crashes
@@ -32,6 +35,8 @@ from .sampling import Sampler, variant_request
 log = logging.getLogger("synth.studies")
 
 VariantFn = Callable[[dict[str, Any]], Mapping[str, Any]]
+#: Many requests in one call: per request its answer, or the exception the variant function would raise.
+BatchFn = Callable[[list[dict[str, Any]]], Sequence[Mapping[str, Any] | BaseException]]
 
 # Aim of a task's duration [s]: long enough that dispatch costs little, short enough that a cancel takes effect
 # and an interactive request sharing the workers waits little.
@@ -75,13 +80,15 @@ class VariantRow:
 
 @dataclass(frozen=True, slots=True)
 class BatchSpec:
-    """What every task of a study needs besides its variants: plain data, sent with each task."""
+    """What every task of a study needs besides its variants: plain data, sent with each task; ``batch_fn`` the
+    endpoint's batched path, None when it has none."""
 
     variant_fn: VariantFn
     base: Mapping[str, Any]
     paths: tuple[str, ...]
     metrics: tuple[str, ...]
     constraints: tuple[StudyConstraint, ...]
+    batch_fn: BatchFn | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,18 +147,59 @@ def run_variant(spec: BatchSpec, index: int, values: Sequence[Scalar]) -> Varian
     """Build, run and measure one variant; an engine problem becomes the row's problem."""
     try:
         answer = spec.variant_fn(variant_request(spec.base, spec.paths, values))
-        metrics = tuple(_metric(answer, m) for m in spec.metrics)
     except Exception as exc:
         # One variant's problem is its row; the rest of the batch and the study go on.
+        return _failed_row(index, values, exc)
+    return _answered_row(spec, index, values, answer)
+
+
+def _answered_row(spec: BatchSpec, index: int, values: Sequence[Scalar], answer: Mapping[str, Any]) -> VariantRow:
+    try:
+        metrics = tuple(_metric(answer, m) for m in spec.metrics)
+    except Exception as exc:
         return _failed_row(index, values, exc)
     return VariantRow(index, tuple(values), metrics, _feasible(metrics, spec.metrics, spec.constraints))
 
 
 def run_batch(spec: BatchSpec, items: Sequence[tuple[int, Sequence[Scalar]]]) -> tuple[list[VariantRow], float]:
-    """Task body: the rows of a batch of (index, values) and the batch's wall time in the worker [s]."""
+    """Task body: the rows of a batch of (index, values) and the batch's wall time in the worker [s].
+
+    Through the endpoint's batched path when it has one and the batch has more than one variant; should that
+    path fail as a whole, each variant runs alone.
+    """
     t0 = time.perf_counter()
-    rows = [run_variant(spec, i, v) for i, v in items]
+    rows = None
+    if spec.batch_fn is not None and len(items) > 1:
+        rows = _run_batched(spec, spec.batch_fn, items)
+    if rows is None:
+        rows = [run_variant(spec, i, v) for i, v in items]
     return rows, time.perf_counter() - t0
+
+
+def _run_batched(spec: BatchSpec, batch_fn: BatchFn, items: Sequence[tuple[int, Sequence[Scalar]]]
+                 ) -> list[VariantRow] | None:
+    """The rows of ``items`` from one call of ``batch_fn``; None when that call fails as a whole."""
+    rows: dict[int, VariantRow] = {}
+    sent: list[tuple[int, int, Sequence[Scalar]]] = []
+    requests: list[dict[str, Any]] = []
+    for k, (index, values) in enumerate(items):
+        try:
+            requests.append(variant_request(spec.base, spec.paths, values))
+        except Exception as exc:
+            rows[k] = _failed_row(index, values, exc)
+            continue
+        sent.append((k, index, values))
+    try:
+        answers = batch_fn(requests)
+        if len(answers) != len(requests):
+            raise ValueError(f"the batched path answered {len(answers)} of {len(requests)} requests")
+    except Exception:
+        log.warning("the batched path failed on %d variants; running each alone", len(requests), exc_info=True)
+        return None
+    for (k, index, values), answer in zip(sent, answers, strict=True):
+        rows[k] = (_failed_row(index, values, answer) if isinstance(answer, BaseException)
+                   else _answered_row(spec, index, values, answer))
+    return [rows[k] for k in range(len(items))]
 
 
 def _failed_row(index: int, values: Sequence[Scalar], exc: BaseException) -> VariantRow:
@@ -180,7 +228,7 @@ class _Sizer:
 def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Callable[[list[VariantRow]], None], *,
               indices: Iterable[int] | None = None, cancel: threading.Event | None = None,
               in_flight: int | None = None, variant_timeout_s: float | None = None,
-              progress: Callable[[int], None] | None = None) -> RunReport:
+              progress: Callable[[int], None] | None = None, batch_fn: BatchFn | None = None) -> RunReport:
     """Run the variants of ``study`` (all, or only ``indices``) on ``executor``, writing rows through ``sink``.
 
     Parameters
@@ -205,10 +253,14 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
         Time allowed per variant; a task may run its variant count times this [s].
     progress
         Called with the number of variants written so far by this run [-].
+    batch_fn
+        The endpoint's batched path: module-level, many requests (plain dicts) in, per request the answer or the
+        exception ``variant_fn`` would give; a task's variants then run through it in one call [-].
     """
     t0 = time.perf_counter()
     sampler = Sampler(study)
-    spec = BatchSpec(variant_fn, dict(study.base), study.parameter_paths, study.metrics, study.constraints)
+    spec = BatchSpec(variant_fn, dict(study.base), study.parameter_paths, study.metrics, study.constraints,
+                     batch_fn)
     pending: Iterator[int] = iter(range(sampler.count) if indices is None else indices)
     limit = max(1, in_flight or executor.workers + 1)
     sizer = _Sizer()
