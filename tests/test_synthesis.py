@@ -167,6 +167,26 @@ def test_path_recovers_a_known_coupler_curve(timed: bool) -> None:
         assert steps == pytest.approx(np.diff(phi), abs=1e-6)
 
 
+def test_path_answer_does_not_depend_on_the_unit_or_origin_of_the_points() -> None:
+    # The same nine points in millimetres about another origin: IPOPT works in units of the points' extent about
+    # their centre, so the best four-bar is the one in metres, scaled and moved (to round-off, 1e-9 relative).
+    fb = synth.FourBar(0.36, 0.09, 0.30, 0.27, -1)
+    targets = _coupler_targets(fb, (0.12, -0.07), np.radians(np.linspace(10.0, 330.0, 9)), (0.05, 0.10), 0.4)
+    shift = np.array([2.5, -1.0])
+    answers = []
+    for points in (targets, 1000.0 * targets + shift):
+        bounds, box, cp = synth.default_path_limits(points)
+        answers.append(synth.synthesise_path(synth.PathSpec(points, None, bounds, box, cp, starts=16, seed=3)))
+    metres, millimetres = answers
+    assert np.asarray(millimetres.crank_pivot) == pytest.approx(1000.0 * np.asarray(metres.crank_pivot) + shift,
+                                                                rel=1e-9, abs=1e-9)
+    for name in ("ground", "crank", "coupler", "rocker"):
+        assert getattr(millimetres.fourbar, name) == pytest.approx(1000.0 * getattr(metres.fourbar, name), rel=1e-9)
+    assert np.asarray(millimetres.coupler_point) == pytest.approx(1000.0 * np.asarray(metres.coupler_point), rel=1e-9)
+    assert millimetres.ground_angle == pytest.approx(metres.ground_angle, abs=1e-9)
+    assert millimetres.residuals.max() < 1e-3 and metres.residuals.max() < 1e-6   # exact fits, 1e-6 m either way
+
+
 def test_path_limits_and_deadline() -> None:
     targets = np.array([[0.0, 0.0], [0.1, 0.05], [0.2, 0.0]])
     bounds, box, cp = synth.default_path_limits(targets)

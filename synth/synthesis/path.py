@@ -5,10 +5,10 @@ coupler point in the coupler frame and the crank angle at each target (or one st
 prescribed up to a common shift). The coupler position is the closed-form assembly of the requested branch; the
 Grashof crank-rocker conditions (crank shortest, shortest + longest <= sum of the other two) are constraints, so
 the linkage assembles at every crank angle and never changes branch. The residuals are lifted into variables
-(r = P - T as equality constraints) so IPOPT meets a Gauss-Newton-like Hessian near a fit. The problem has many
-local minima, so it is
-solved from scrambled-Sobol starts (scipy.stats.qmc, seeded) and the best is kept; how many starts reached it is
-part of the answer. The residual at every target is then recomputed by the kinematics engine.
+(r = P - T as equality constraints) so IPOPT meets a Gauss-Newton-like Hessian near a fit. IPOPT works in units of
+the targets' extent about their centre, where every length and angle is of order one. The problem has many local
+minima, so it is solved from scrambled-Sobol starts (scipy.stats.qmc, seeded) and the best is kept; how many starts
+reached it is part of the answer. The residual at every target is then recomputed by the kinematics engine.
 """
 
 from __future__ import annotations
@@ -136,7 +136,7 @@ def default_path_limits(
     return bounds, box, 4.0 * size
 
 
-def _coupler_points(z: Any, phi: Any, branch: float) -> tuple[Any, Any]:
+def _coupler_points(z: Any, phi: Any, branch: Any) -> tuple[Any, Any]:
     """World x and y of the coupler point at crank angles ``phi`` for design ``z`` (CasADi or NumPy)."""
     lib = ca if isinstance(z, (ca.MX, ca.SX)) else np
     xo, yo, th, a, b, c, d, px, py = (z[i] for i in range(_DESIGN))
@@ -155,34 +155,63 @@ def _coupler_points(z: Any, phi: Any, branch: float) -> tuple[Any, Any]:
 
 @functools.lru_cache(maxsize=32)
 def _program(n: int, timed: bool, branch: int) -> Any:
-    """The NLP for ``n`` targets, built once per worker and reused with new data through its parameters."""
+    """The NLP for ``n`` targets, built once per worker and reused with new data through its parameters.
+
+    Lengths are in units of the targets' extent and positions are taken from the targets' centre (see
+    :class:`_Frame`), so the objective is the sum of squared residuals over the extent squared.
+    """
     z = ca.SX.sym("z", _DESIGN)
     phi = ca.SX.sym("phi", 1 if timed else n)
     targets = ca.SX.sym("targets", n, 2)
     offsets = ca.SX.sym("offsets", n)
-    scale = ca.SX.sym("scale")
     cos_mu = ca.SX.sym("cos_mu")
     angles = phi[0] + offsets if timed else phi
     px, py = _coupler_points(z, angles, float(branch))
     # Lifted residuals: with r as variables and r = P - T as equalities, the Lagrangian's Hessian tends to the
     # Gauss-Newton one as the residual vanishes, which IPOPT converges on far faster than on the plain sum.
     r = ca.SX.sym("r", 2 * n)
-    f = ca.sumsqr(r) / (scale * scale)
+    f = ca.sumsqr(r)
     a, b, c, d = z[3], z[4], z[5], z[6]
     g = [b - a, c - a, d - a, c + d - a - b, b + d - a - c, b + c - a - d]
     # The transmission angle's extremes are at crank angles 0 and 180° (crank along the ground line):
-    # |b² + c² - (d -+ a)²| <= 2·b·c·cos(mu_min), scaled by the targets' extent squared.
+    # |b² + c² - (d -+ a)²| <= 2·b·c·cos(mu_min).
     for far in (d - a, d + a):
         cosine = b * b + c * c - far * far
-        g += [(2 * b * c * cos_mu - cosine) / (scale * scale), (2 * b * c * cos_mu + cosine) / (scale * scale)]
+        g += [2 * b * c * cos_mu - cosine, 2 * b * c * cos_mu + cosine]
     if not timed:
         g += [phi[i + 1] - phi[i] for i in range(n - 1)] + [phi[0] + 2 * math.pi - phi[n - 1]]
     g += [ca.vertcat(px - targets[:, 0], py - targets[:, 1]) - r]
-    nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, scale, cos_mu), "f": f, "g": ca.vertcat(*g)}
+    nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, cos_mu), "f": f, "g": ca.vertcat(*g)}
     # IPOPT backs off from a trial point where the assembly is undefined; that is routine, not worth a log line.
-    opts: dict[str, Any] = {"print_time": False, "show_eval_warnings": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": 1e-12,
-            "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120}
+    # A KKT system of about a hundred rows is solved to round-off by one factorisation, so IPOPT's residual check
+    # and iterative refinement of each step (fast_step_computation off) only cost time.
+    opts: dict[str, Any] = {"print_time": False, "show_eval_warnings": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
+                            "ipopt.tol": 1e-12, "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120,
+                            "ipopt.fast_step_computation": "yes"}
     return ca.nlpsol("path", "ipopt", nlp, opts)
+
+
+@dataclass(frozen=True, slots=True)
+class _Frame:
+    """Where IPOPT works: positions from ``centre`` [m] and lengths in units of ``scale`` [m], the targets'
+    centre and extent. The design vector is (pivot x, y, ground angle, four lengths, coupler point x, y)."""
+
+    centre: FloatArray
+    scale: float
+
+    def to_unit(self, z: FloatArray) -> FloatArray:
+        """Designs (..., 9) from metres to the working frame."""
+        u = np.array(z, dtype=float)
+        u[..., 0:2] = (u[..., 0:2] - self.centre) / self.scale
+        u[..., 3:_DESIGN] /= self.scale
+        return u
+
+    def to_metres(self, u: FloatArray) -> FloatArray:
+        """Designs (..., 9) from the working frame to metres."""
+        z = np.array(u, dtype=float)
+        z[..., 0:2] = z[..., 0:2] * self.scale + self.centre
+        z[..., 3:_DESIGN] *= self.scale
+        return z
 
 
 def _starts(spec: PathSpec) -> FloatArray:
@@ -206,18 +235,21 @@ def _starts(spec: PathSpec) -> FloatArray:
     return np.asarray(x)
 
 
-def _first_angles(start: FloatArray, targets: FloatArray, offsets: FloatArray, timed: bool, branch: int) -> FloatArray:
-    """Crank angles to start from: evenly spread (or the prescribed offsets), turned by whichever of 72 shifts
-    puts the start design's coupler point nearest the targets."""
+def _first_angles(starts: FloatArray, targets: FloatArray, offsets: FloatArray, timed: bool,
+                  branches: FloatArray) -> FloatArray:
+    """Crank angles to start from, one row per start design (k, 9) with its branch (k,): evenly spread (or the
+    prescribed offsets), turned by whichever of 72 shifts puts that design's coupler point nearest the targets.
+    Rows of (k, 1) first angles when ``timed``, else (k, n)."""
     n = targets.shape[0]
     steps = offsets if timed else 2 * math.pi * np.arange(n) / n
     shifts = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
     phi = shifts[:, None] + steps[None, :]
+    z = starts[:, :_DESIGN].T[:, :, None, None]   # each coordinate (k, 1, 1) against angles (72, n)
     with np.errstate(all="ignore"):
-        px, py = _coupler_points(start[:_DESIGN], phi, float(branch))
-    miss = np.nan_to_num((px - targets[:, 0]) ** 2 + (py - targets[:, 1]) ** 2, nan=np.inf).sum(axis=1)
-    first = shifts[int(np.argmin(miss))]
-    return np.array([first]) if timed else first + steps
+        px, py = _coupler_points(z, phi, branches[:, None, None])
+    miss = np.nan_to_num((px - targets[:, 0]) ** 2 + (py - targets[:, 1]) ** 2, nan=np.inf).sum(axis=2)
+    first = shifts[np.argmin(miss, axis=1)][:, None]
+    return np.asarray(first if timed else first + steps[None, :])
 
 
 def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
@@ -230,13 +262,15 @@ def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
 
 @dataclass(frozen=True, slots=True)
 class PathStarts:
-    """What one chunk of the multistart reached: the objective of each start it ran [scaled], NaN where IPOPT
-    failed, and its best start (the first of the lowest objective) as (index, objective, solution, branch, IPOPT
-    status), None when none of its starts converged."""
+    """What one chunk of the multistart reached: the objective of each start it ran [sum of squared residuals over
+    the targets' extent squared], NaN where IPOPT failed, its best start (the first of the lowest objective) as
+    (index, objective, solution in the working frame, branch, IPOPT status), None when none of its starts
+    converged, and the IPOPT iterations each start took."""
 
     indices: tuple[int, ...]
     objectives: FloatArray
     best: tuple[int, float, FloatArray, int, str] | None
+    iterations: tuple[int, ...] = ()
 
 
 def start_chunks(spec: PathSpec, chunks: int) -> list[tuple[int, ...]]:
@@ -246,9 +280,9 @@ def start_chunks(spec: PathSpec, chunks: int) -> list[tuple[int, ...]]:
     return [tuple(range(i, spec.starts, count)) for i in range(count)]
 
 
-def _problem(spec: PathSpec) -> tuple[FloatArray, FloatArray, bool, float, FloatArray, dict[str, FloatArray]]:
-    """Targets, crank-angle offsets, whether the angles are prescribed, the scale [m], the NLP's parameters and
-    its bounds; Infeasible when the crank cannot be the shortest link."""
+def _problem(spec: PathSpec) -> tuple[FloatArray, FloatArray, bool, _Frame, FloatArray, dict[str, FloatArray]]:
+    """Targets [m], crank-angle offsets, whether the angles are prescribed, the working frame, the NLP's
+    parameters and its bounds (both in the working frame); Infeasible when the crank cannot be the shortest link."""
     spec.validate()
     crank_lo = spec.bounds["crank"][0]
     if crank_lo >= min(spec.bounds[n][1] for n in ("coupler", "rocker", "ground")):
@@ -258,61 +292,75 @@ def _problem(spec: PathSpec) -> tuple[FloatArray, FloatArray, bool, float, Float
     n = targets.shape[0]
     timed = spec.crank_angles is not None
     offsets = np.zeros(n) if spec.crank_angles is None else np.asarray(spec.crank_angles) - spec.crank_angles[0]
-    scale = float(np.ptp(targets, axis=0).max()) or 1.0
-    params = np.concatenate([targets.T.reshape(-1), offsets, [scale, math.cos(spec.min_transmission_angle)]])
-    lo, hi = _box(spec)
-    lbx_z, ubx_z = lo[:_DESIGN], hi[:_DESIGN]
+    frame = _Frame(0.5 * (targets.min(axis=0) + targets.max(axis=0)), float(np.ptp(targets, axis=0).max()) or 1.0)
+    unit_targets = (targets - frame.centre) / frame.scale
+    params = np.concatenate([unit_targets.T.reshape(-1), offsets, [math.cos(spec.min_transmission_angle)]])
+    lo, hi = (frame.to_unit(v[:_DESIGN]) for v in _box(spec))
     # The ground angle is periodic: a wider box than one turn lets a start slide past +-pi.
-    lbx_z[2], ubx_z[2] = -3 * math.pi, 3 * math.pi
+    lo[2], hi[2] = -3 * math.pi, 3 * math.pi
     n_phi = 1 if timed else n
     n_g = 10 + (0 if timed else n)
     # A margin keeps the answer off the Grashof limit, where the coupler and rocker would fold flat.
     bounds = {
-        "lbx": np.concatenate([lbx_z, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)]),
-        "ubx": np.concatenate([ubx_z, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)]),
-        "lbg": np.concatenate([np.full(6, GRASHOF_MARGIN * scale), np.zeros(n_g - 6), np.zeros(2 * n)]),
+        "lbx": np.concatenate([lo, np.full(n_phi, -4 * math.pi), np.full(2 * n, -np.inf)]),
+        "ubx": np.concatenate([hi, np.full(n_phi, 4 * math.pi), np.full(2 * n, np.inf)]),
+        "lbg": np.concatenate([np.full(6, GRASHOF_MARGIN), np.zeros(n_g - 6), np.zeros(2 * n)]),
         "ubg": np.concatenate([np.full(n_g, np.inf), np.zeros(2 * n)]),
     }
-    return targets, offsets, timed, scale, params, bounds
+    return targets, offsets, timed, frame, params, bounds
+
+
+def _initial_points(spec: PathSpec, indices: Sequence[int], frame: _Frame, targets: FloatArray, offsets: FloatArray,
+                    timed: bool) -> tuple[FloatArray, FloatArray]:
+    """The starts ``indices`` as IPOPT's initial points in the working frame, one row each (design, crank
+    angles, residuals at those angles), and their assembly branches."""
+    branches = np.array([spec.branch or (1 if k % 2 == 0 else -1) for k in indices], dtype=float)
+    designs = frame.to_unit(_starts(spec)[list(indices), :_DESIGN])
+    unit_targets = (targets - frame.centre) / frame.scale
+    angles = _first_angles(designs, unit_targets, offsets, timed, branches)
+    with np.errstate(all="ignore"):
+        px, py = _coupler_points(designs.T[:, :, None], angles + offsets if timed else angles, branches[:, None])
+    residuals = np.nan_to_num(np.concatenate([px - unit_targets[:, 0], py - unit_targets[:, 1]], axis=1))
+    return np.concatenate([designs, angles, residuals], axis=1), branches
 
 
 def path_starts(spec: PathSpec, indices: Sequence[int]) -> PathStarts:
     """Run the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), each from its own Sobol
     point: a plain function of plain data, so chunks run in separate workers. SolverTimeout past
     ``spec.time_limit`` counted from this call."""
-    targets, offsets, timed, scale, params, bounds = _problem(spec)
+    targets, offsets, timed, frame, params, bounds = _problem(spec)
     n = targets.shape[0]
-    starts = _starts(spec)
     deadline = time.monotonic() + spec.time_limit
+    x0, branches = _initial_points(spec, indices, frame, targets, offsets, timed)
+    # Converted once for all the chunk's solves rather than on every call.
+    data = {"p": ca.DM(params), **{key: ca.DM(value) for key, value in bounds.items()}}
     objectives = np.full(len(indices), np.nan)
+    iterations = []
     best: tuple[int, float, FloatArray, int, str] | None = None
     for done, k in enumerate(indices):
         remaining = deadline - time.monotonic()
         if remaining <= 0:
-            raise SolverTimeout(spec.time_limit, starts_completed=done,
-                                best_rms_residual_m=None if best is None else math.sqrt(best[1] * scale**2 / n))
-        start = starts[k]
-        branch = spec.branch or (1 if k % 2 == 0 else -1)
+            raise SolverTimeout(spec.time_limit, starts_completed=done, best_rms_residual_m=None if best is None
+                                else math.sqrt(best[1] * frame.scale**2 / n))
+        branch = int(branches[done])
         solver = _program(n, timed, branch)
-        angles0 = _first_angles(start, targets, offsets, timed, branch)
-        with np.errstate(all="ignore"):
-            px0, py0 = _coupler_points(start[:_DESIGN], angles0[0] + offsets if timed else angles0, float(branch))
-        r0 = np.nan_to_num(np.concatenate([px0 - targets[:, 0], py0 - targets[:, 1]]))
-        x0 = np.concatenate([start[:_DESIGN], angles0, r0])
-        sol = solver(x0=x0, p=params, **bounds)
-        status = str(solver.stats()["return_status"])
+        sol = solver(x0=x0[done], **data)
+        stats = solver.stats()
+        status = str(stats["return_status"])
+        iterations.append(int(stats["iter_count"]))
         if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
             objectives[done] = float(sol["f"])
             if best is None or objectives[done] < best[1]:
                 best = (k, objectives[done], np.asarray(sol["x"]).reshape(-1), branch, status)
-    return PathStarts(tuple(indices), objectives, best)
+    return PathStarts(tuple(indices), objectives, best, tuple(iterations))
 
 
 def best_path(spec: PathSpec, parts: Sequence[PathStarts]) -> PathResult:
     """The answer from every chunk's starts: the lowest objective, the earliest start among equals (as one run
     of all starts in order keeps it), placed in the targets' frame with the engine's residuals."""
-    targets, offsets, timed, scale, _, _ = _problem(spec)
+    targets, offsets, timed, frame, _, _ = _problem(spec)
     n = targets.shape[0]
+    scale = frame.scale
     objectives = np.full(spec.starts, np.nan)
     for part in parts:
         objectives[list(part.indices)] = part.objectives
@@ -320,7 +368,7 @@ def best_path(spec: PathSpec, parts: Sequence[PathStarts]) -> PathResult:
     if not found:
         raise SolverFailed("no_start_converged", f"none of the {spec.starts} starts converged")
     _, f_best, x, branch, status = min(found, key=lambda b: (b[1], b[0]))
-    z = x[:_DESIGN]
+    z = frame.to_metres(x[:_DESIGN])
     phi = x[_DESIGN] + offsets if timed else x[_DESIGN:_DESIGN + n]
     near = objectives[np.isfinite(objectives)] <= f_best + 1e-9 / scale**2 + 1e-6 * f_best
     fb = FourBar(float(z[6]), float(z[3]), float(z[4]), float(z[5]), branch)
