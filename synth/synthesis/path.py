@@ -274,10 +274,12 @@ class PathStarts:
 
 
 def start_chunks(spec: PathSpec, chunks: int) -> list[tuple[int, ...]]:
-    """The starts dealt into at most ``chunks`` groups (start k to group k mod chunks) to run side by side: each
-    group mixes both assembly branches and early and late Sobol points, so the groups take about equally long."""
+    """The starts dealt into at most ``chunks`` groups to run side by side, in pairs (starts 2j and 2j + 1, one
+    on each assembly branch, to group j mod chunks): each group mixes both branches and early and late Sobol
+    points, so the groups take about equally long."""
     count = max(1, min(chunks, spec.starts))
-    return [tuple(range(i, spec.starts, count)) for i in range(count)]
+    groups = [tuple(k for k in range(spec.starts) if (k // 2) % count == i) for i in range(count)]
+    return [g for g in groups if g]
 
 
 def _problem(spec: PathSpec) -> tuple[FloatArray, FloatArray, bool, _Frame, FloatArray, dict[str, FloatArray]]:
