@@ -59,7 +59,8 @@ def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = 
     slope = 2 * (link_sum(arrays.mass, dot(d1, d2)) + link_sum(arrays.inertia, t1 * t2))
     power = link_sum(arrays.mass, arrays.com_vel @ g)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power += dot(loads.force, loads.point_vel)
+    if loads.has_force:
+        power += dot(loads.force, loads.point_vel)
     for link, torque in loads.torques.items():
         power += torque * motion.link_omega[link]
     return ReducedModel(motion.phi, inertia, slope, power / w, 0.5 * inertia * w**2)

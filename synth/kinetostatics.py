@@ -500,29 +500,43 @@ def _permutation_sign(order: list[int]) -> float:
     return sign
 
 
+@functools.lru_cache(maxsize=64)
+def _block_plan(k: int, pattern: bytes) -> tuple[float, tuple[tuple[list[int], list[int], list[int]], ...]] | None:
+    """The block order of :func:`_block_order` ready to run: the sign of its row and column permutations, and per
+    block its rows, its columns and the earlier columns its rows need; None when there is no such order with
+    blocks of at most 3 x 3."""
+    blocks = _block_order(k, pattern)
+    if blocks is None or max(len(cols) for _, cols in blocks) > 3:
+        return None
+    mask = np.frombuffer(pattern, dtype=bool).reshape(k, k)
+    sign = (_permutation_sign([row for rows, _ in blocks for row in rows])
+            * _permutation_sign([col for _, cols in blocks for col in cols]))
+    plan: list[tuple[list[int], list[int], list[int]]] = []
+    solved: list[int] = []
+    for rows, cols in blocks:
+        prior = [c for c in solved if mask[list(rows), c].any()]
+        plan.append((list(rows), list(cols), prior))
+        solved.extend(cols)
+    return sign, tuple(plan)
+
+
 def _block_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray] | None:
     """``_det_and_solve`` through the lower block-triangular form of ``s`` (k, k, N) when it has blocks of at most
     3 x 3 (each then solved in closed form), else None."""
-    k = s.shape[0]
-    mask = np.ascontiguousarray(np.any(s != 0, axis=-1))
-    blocks = _block_order(k, mask.tobytes())
-    if blocks is None or max(len(cols) for _, cols in blocks) > 3:
+    plan = _block_plan(s.shape[0], np.ascontiguousarray(np.any(s != 0, axis=-1)).tobytes())
+    if plan is None:
         return None
+    sign, blocks = plan
     x = np.empty(r.shape)
-    det = np.full(s.shape[-1], _permutation_sign([row for rows, _ in blocks for row in rows])
-                  * _permutation_sign([col for _, cols in blocks for col in cols]))
-    solved: list[int] = []
-    for rows, cols in blocks:
-        rhs = r[list(rows)].copy()
-        for a, row in enumerate(rows):
-            for col in solved:
-                if mask[row, col]:
-                    rhs[a] -= s[row, col, None] * x[col]
-        block_det, block_x = _det_and_solve(s[np.ix_(rows, cols)], rhs)
+    det: FloatArray | float = sign
+    for rows, cols, prior in blocks:
+        rhs = r[rows]
+        if prior:
+            rhs = rhs - _batched_matmul(s[rows][:, prior], x[prior])
+        block_det, block_x = _det_and_solve(s[rows][:, cols], rhs)
         det = det * block_det
-        x[list(cols)] = block_x
-        solved.extend(cols)
-    return det, x
+        x[cols] = block_x
+    return np.broadcast_to(det, s.shape[-1:]).copy() if np.ndim(det) == 0 else np.asarray(det), x
 
 
 def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -648,6 +662,7 @@ class ExternalLoads:
     point: FloatArray  # where it acts [m], (N, 2)
     point_vel: FloatArray  # its velocity [m/s], (N, 2)
     torques: dict[str, FloatArray]  # link -> torque [N·m], (N,)
+    has_force: bool = True  # False when ``force`` is zero throughout (no process force): its terms are skipped
 
 
 def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
@@ -660,6 +675,8 @@ def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
     torques: dict[str, FloatArray] = {t.link: np.zeros(n) for t in linkage.torques}
     for t in linkage.torques:
         torques[t.link] = torques[t.link] + t.torque
+    if not linkage.loads:
+        return ExternalLoads(force, point, point_vel, torques, has_force=False)
     if topo.output_motion == "translation":
         axis = np.array([np.cos(topo.output_axis_angle), np.sin(topo.output_axis_angle)])
         origin = motion.point_pos[motion.link_origin[topo.output]]
@@ -679,7 +696,7 @@ def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
             force = force + (magnitude * direction)[:, None] * axis
         else:
             torques[topo.output] = torques.get(topo.output, np.zeros(n)) + magnitude * direction
-    return ExternalLoads(force, point, point_vel, torques)
+    return ExternalLoads(force, point, point_vel, torques, has_force=topo.output_motion == "translation")
 
 
 def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArrays) -> FloatArray:
@@ -694,7 +711,7 @@ def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArra
     out[:, 0] = force.real
     out[:, 1] = force.imag
     np.subtract((lever.conj() * force).imag, per_sample(arrays.inertia) * arrays.alpha, out=out[:, 2])
-    if topo.output_motion == "translation":
+    if loads.has_force:
         i = topo.links.index(topo.output)
         out[i, :2] += loads.force.T
         out[i, 2] += cross(loads.point - arrays.origin_pos[i], loads.force)
@@ -776,8 +793,11 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     x = _solve_angle_last(motion, topo, -known[:, None, :])[..., 0]
     force, moment = _frame_action(motion, topo, x)
     # The process load's reaction lands on the frame (workpiece, cylinder head); weights are a static load.
-    force = force - loads.force
-    moment = moment - cross(loads.point, loads.force) - sum(loads.torques.values(), np.zeros(motion.samples))
+    if loads.has_force:
+        force = force - loads.force
+        moment = moment - cross(loads.point, loads.force)
+    for torque in loads.torques.values():
+        moment = moment - torque
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
         if arrays.mass.ndim == 1:
@@ -925,7 +945,7 @@ def virtual_power_torque(motion: Motion, linkage: Linkage, arrays: LinkArrays | 
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
     loads = external_loads(motion, linkage) if loads is None else loads
-    power = dot(loads.force, loads.point_vel)
+    power = dot(loads.force, loads.point_vel) if loads.has_force else np.zeros(motion.samples)
     for link, torque in loads.torques.items():
         power = power + torque * motion.link_omega[link]
     # all links at once: m_l (g - a_S)·v_S - J_S alpha omega, summed over the links
