@@ -46,7 +46,7 @@ def stack_motions(motions: Sequence[Motion]) -> Motion:
 def motion_block(motion: Motion, start: int, stop: int) -> Motion:
     """Samples ``start`` to ``stop`` of ``motion`` (one variant of a stack) as a motion of its own (views)."""
     s = slice(start, stop)
-    return Motion(
+    return Motion.derived(
         motion.phi[s], motion.omega_crank, motion.alpha_crank,
         {k: v[s] for k, v in motion.point_pos.items()}, {k: v[s] for k, v in motion.point_vel.items()},
         {k: v[s] for k, v in motion.point_acc.items()}, {k: v[s] for k, v in motion.link_angle.items()},
