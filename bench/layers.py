@@ -4,7 +4,7 @@ The engine's layers, lowest first: the model (``model``, ``mechanism``, ``topolo
 the kinetostatics, and the capabilities on top (dynamics, analysis, balancing, ...). The profiler follows which
 engine function runs; a *climb back* is a lower-layer function handing control back to a higher-layer caller
 that asked it for something. Reads of a record's field (property getters, generated ``__init__``/``__hash__``)
-and the plain-array helpers (``perp``, ``cross``, ``dot``, ``unit``, ``xy``, ``complex_of`` and their complex
+and the plain-array helpers (``perp``, ``cross``, ``dot``, ``magnitude``, ``unit``, ``xy``, ``complex_of`` and their complex
 forms) are not asks and are left out.
 
 Two figures are printed: every climb back on the whole path, and the ones the per-link data cause, where the
@@ -30,7 +30,7 @@ CAPABILITIES = 3
 DATA = (0, 1)
 CONSUMERS = ("synth.kinetostatics", "synth.dynamics", "synth.analysis")
 # Pure functions of plain arrays: no layer's data passes through them.
-HELPERS = {"perp", "cross", "dot", "unit", "xy", "complex_of", "cross_c", "dot_c"}
+HELPERS = {"perp", "cross", "dot", "unit", "xy", "complex_of", "cross_c", "dot_c", "magnitude"}
 
 
 def layer_of(module: str) -> int | None:

@@ -13,6 +13,7 @@ from .dynamics import ReducedModel, reduced_model
 from .errors import InvalidInput, TooLarge
 from .friction import FrictionAnalysis, PairFriction, friction_kinetostatics
 from .kinematics import FourBar, MAX_SAMPLES, Motion, PointState, cycle_angles, motion, transmission_angle
+from .kinematics.motion import magnitude
 from .kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays, solve_direct,
                             virtual_power_torque)
 from .model import FloatArray, Linkage
@@ -73,7 +74,7 @@ class Analysis:
         """Magnitude of every revolute joint's reaction [N], (N,) each."""
         topo = self.linkage.mechanism.topology
         return {
-            j.name: np.hypot(*self.kinetostatics.reactions[j.name].T)
+            j.name: magnitude(self.kinetostatics.reactions[j.name])
             for j in topo.joints
             if j.kind == "revolute"
         }
@@ -81,7 +82,7 @@ class Analysis:
     def summary(self) -> Summary:
         """RMS and peak shaking force, shaking moment, driving torque, and peak bearing force."""
         k = self.kinetostatics
-        force = np.hypot(k.shaking_force[:, 0], k.shaking_force[:, 1])
+        force = magnitude(k.shaking_force)
         bearings = self.bearing_forces()
         return Summary(
             rms_shaking_force=_rms(force),

@@ -28,6 +28,7 @@ from ..analysis import Analysis, Summary
 from ..dynamics import reduced_model
 from ..errors import SynthError
 from ..kinematics import MAX_SAMPLES, FourBar, Motion, PointState, cycle_angles, motion
+from ..kinematics.motion import magnitude
 from ..kinematics.stacking import motion_block, stack_motions, stacked_fourbar_motion
 from ..kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map,
                              solve_direct, virtual_power_torque)
@@ -181,11 +182,11 @@ def _block(obj: _T, s: slice) -> _T:
 
 def _summaries(kin: Kinetostatics, linkage: Linkage, count: int) -> list[Summary]:
     """:meth:`synth.Analysis.summary` of each of ``count`` equal blocks of the stacked ``kin``, at once."""
-    force = np.hypot(kin.shaking_force[:, 0], kin.shaking_force[:, 1]).reshape(count, -1)
+    force = magnitude(kin.shaking_force).reshape(count, -1)
     moment = kin.shaking_moment.reshape(count, -1)
     torque = kin.driving_torque.reshape(count, -1)
     revolute = [j.name for j in linkage.mechanism.topology.joints if j.kind == "revolute"]
-    bearing = np.stack([np.hypot(*kin.reactions[j].T).reshape(count, -1).max(axis=1) for j in revolute]).max(axis=0)
+    bearing = np.stack([magnitude(kin.reactions[j]).reshape(count, -1).max(axis=1) for j in revolute]).max(axis=0)
     columns = (np.sqrt(np.mean(force**2, axis=1)), force.max(axis=1), np.sqrt(np.mean(moment**2, axis=1)),
                np.abs(moment).max(axis=1), np.sqrt(np.mean(torque**2, axis=1)), np.abs(torque).max(axis=1), bearing)
     return [Summary(*(float(c) for c in row)) for row in zip(*columns, strict=True)]

@@ -18,6 +18,7 @@ from ..analysis import Analysis, Summary, analyse
 from ..counter_rotors import CounterRotor, rotor_loads
 from ..errors import Infeasible, InvalidInput
 from ..kinematics import FourBar, Motion, PlanarLinkage, SliderCrank
+from ..kinematics.motion import magnitude
 from ..kinetostatics import LinearMap, linear_map, shaking_force_map
 from ..model import Counterweight, FloatArray, Linkage, MassProps
 from ..warnings import link_lengths
@@ -134,7 +135,7 @@ def _residuals(after: Analysis, before: Analysis, rotor_moment: FloatArray | Non
                summary: Summary | None = None) -> tuple[float, float, float, float]:
     """Largest shaking force [N] and moment [N·m] left in the re-analysis ``after``, each also over its largest
     value ``before`` (whose ``summary`` the caller may have already)."""
-    force = float(np.hypot(*after.kinetostatics.shaking_force.T).max())
+    force = float(magnitude(after.kinetostatics.shaking_force).max())
     moment_series = after.kinetostatics.shaking_moment + (0.0 if rotor_moment is None else rotor_moment)
     moment = float(np.abs(moment_series).max())
     summary = before.summary() if summary is None else summary
@@ -612,7 +613,7 @@ def _term_values(an: Analysis) -> dict[str, float]:
     """Every weighted term of the objective on a plain analysis [N or N·m]."""
     k = an.kinetostatics
     n = an.motion.samples
-    f = np.hypot(*k.shaking_force.T)
+    f = magnitude(k.shaking_force)
     bearing = np.concatenate([k.reactions[j].reshape(-1) for j in k.reactions])
     terms = {
         "shaking_force": float(np.sqrt(np.mean(f**2))),
