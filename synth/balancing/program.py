@@ -241,8 +241,9 @@ def _csc(dense: FloatArray) -> sp.csc_matrix:
     """``scipy.sparse.csc_matrix(dense)`` (the same nonzeros in the same order) built from its index arrays: the
     generic conversion goes through a COO matrix and costs more than the solve of these small programs."""
     nonzero = dense.T != 0
-    rows = np.nonzero(nonzero)[1]
-    indptr = np.concatenate([[0], np.cumsum(nonzero.sum(axis=1))])
+    # 32-bit indices, as scipy would choose for a matrix this small, spare its constructor a conversion.
+    rows = np.nonzero(nonzero)[1].astype(np.int32)
+    indptr = np.concatenate([[0], np.cumsum(nonzero.sum(axis=1))]).astype(np.int32)
     return sp.csc_matrix((dense.T[nonzero], rows, indptr), shape=dense.shape)
 
 
