@@ -80,32 +80,7 @@ def link_arrays(motion: Motion, linkage: Linkage) -> LinkArrays:
     The centre of mass of a massless link is its frame origin, as :meth:`synth.MassProps.from_params` has it.
     """
     links = linkage.mechanism.topology.links
-    params = linkage.params().reshape(len(links), PARAMS_PER_LINK)
-    mass = params[:, 0]
-    heavy = mass > 0.0
-    safe = np.where(heavy, mass, 1.0)
-    com = np.where(heavy[:, None], params[:, 1:3] / safe[:, None], 0.0)
-    inertia = np.where(heavy, params[:, 3] - mass * (com[:, 0] * com[:, 0] + com[:, 1] * com[:, 1]), params[:, 3])
-    origins = [motion.link_origin[link] for link in links]
-    origin_pos = np.stack([motion.point_pos[o] for o in origins])
-    origin_vel = np.stack([motion.point_vel[o] for o in origins])
-    origin_acc = np.stack([motion.point_acc[o] for o in origins])
-    angle = np.stack([motion.link_angle[link] for link in links])
-    omega = np.stack([motion.link_omega[link] for link in links])
-    alpha = np.stack([motion.link_alpha[link] for link in links])
-    # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
-    # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
-    # (i·alpha - omega²)·r relative to it.
-    known = motion.link_unit
-    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
-    r = e * (com[:, 0] + 1j * com[:, 1])[:, None]
-    com_pos = origin_pos + xy(r)
-    com_vel = origin_vel + xy((1j * omega) * r)
-    com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)
-    for arr in (com_pos, com_vel, com_acc):
-        arr.flags.writeable = False
-    return LinkArrays(links, params, mass, com, inertia, origin_pos, origin_acc, angle, omega, alpha,
-                      com_pos, com_vel, com_acc)
+    return _link_arrays(motion, links, linkage.params().reshape(len(links), PARAMS_PER_LINK))
 
 
 def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray) -> LinkArrays:
@@ -120,6 +95,11 @@ def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray)
     params = np.asarray(params, dtype=float)
     if params.shape != (len(links), motion.samples, PARAMS_PER_LINK):
         raise ValueError(f"params must be (links, samples, {PARAMS_PER_LINK}), got {params.shape}")
+    return _link_arrays(motion, links, params)
+
+
+def _link_arrays(motion: Motion, links: tuple[str, ...], params: FloatArray) -> LinkArrays:
+    """:class:`LinkArrays` of ``motion`` for inertial parameters (L, 4), or per sample (L, N, 4)."""
     mass = params[..., 0]
     heavy = mass > 0.0
     safe = np.where(heavy, mass, 1.0)
@@ -133,10 +113,13 @@ def link_arrays_per_sample(motion: Motion, linkage: Linkage, params: FloatArray)
     angle = np.stack([motion.link_angle[link] for link in links])
     omega = np.stack([motion.link_omega[link] for link in links])
     alpha = np.stack([motion.link_alpha[link] for link in links])
-    # link_arrays' arithmetic, each sample with its own centre of mass.
+    # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
+    # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
+    # (i·alpha - omega²)·r relative to it.
     known = motion.link_unit
     e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
-    r = e * (com[..., 0] + 1j * com[..., 1])
+    local = com[..., 0] + 1j * com[..., 1]
+    r = e * (local[:, None] if local.ndim == 1 else local)
     com_pos = origin_pos + xy(r)
     com_vel = origin_vel + xy((1j * omega) * r)
     com_acc = origin_acc + xy((1j * alpha - omega * omega) * r)

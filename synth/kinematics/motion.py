@@ -126,8 +126,8 @@ class Motion:
                 link_alpha: Mapping[str, FloatArray], link_origin: Mapping[str, str],
                 link_unit: Mapping[str, np.ndarray]) -> Motion:
         """A motion made from the arrays of motions already checked (more points on the same links, a block of
-        samples): the shape checks of the constructor are not repeated, which at a study's 90 samples cost as
-        much as a third of the arithmetic."""
+        samples): the constructor's shape checks are not repeated (an analysis makes two motions, a batched
+        study three per variant)."""
         motion = object.__new__(cls)
         for name, value in (("phi", phi), ("omega_crank", omega_crank), ("alpha_crank", alpha_crank),
                             ("point_pos", point_pos), ("point_vel", point_vel), ("point_acc", point_acc),
