@@ -173,7 +173,9 @@ def analyse(
     )
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)
-    if not all(np.all(np.isfinite(a)) for a in checked):
+    # A sum is finite only when every term is (a huge but finite set of terms that overflows its sum is as far
+    # outside any physical range).
+    if not all(np.isfinite(a.sum()) for a in checked):
         raise InvalidInput("the analysis overflows floating point: a length, mass, inertia, load or speed is far "
                            "outside any physical range")
     return result

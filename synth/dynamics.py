@@ -45,18 +45,15 @@ def reduced_model(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = 
     arrays = link_arrays(motion, linkage) if arrays is None else arrays
     w, eps = motion.omega_crank, motion.alpha_crank
     g = linkage.gravity.vector if linkage.gravity is not None else np.zeros(2)
-    # All links at once (links on axis 0): velocity and acceleration analogues of the centres of mass and the
-    # link angles, then the sums over the links.
-    d1 = arrays.com_vel / w
-    t1 = arrays.omega / w
-    if eps:
-        d2 = (arrays.com_acc - eps * d1) / w**2
-        t2 = (arrays.alpha - eps * t1) / w**2
-    else:
-        d2 = arrays.com_acc / w**2
-        t2 = arrays.alpha / w**2
-    inertia = link_sum(arrays.mass, dot(d1, d1)) + link_sum(arrays.inertia, t1 * t1)
-    slope = 2 * (link_sum(arrays.mass, dot(d1, d2)) + link_sum(arrays.inertia, t1 * t2))
+    # All links at once (links on axis 0), from the velocities and accelerations themselves: with the analogues
+    # d1 = v/w and d2 = (a - eps·d1)/w², sum(m·d1·d1 + J·t1²) = T2/w² and sum(m·d1·d2 + J·t1·t2) =
+    # (P - eps/w·T2)/w³, where T2 = sum(m·v·v + J·omega²) and P = sum(m·v·a + J·omega·alpha).
+    twice_kinetic = link_sum(arrays.mass, dot(arrays.com_vel, arrays.com_vel)) + link_sum(arrays.inertia,
+                                                                                          arrays.omega * arrays.omega)
+    rate = link_sum(arrays.mass, dot(arrays.com_vel, arrays.com_acc)) + link_sum(arrays.inertia,
+                                                                                 arrays.omega * arrays.alpha)
+    inertia = twice_kinetic / w**2
+    slope = 2 * (rate - (eps / w) * twice_kinetic) / w**3 if eps else 2 * rate / w**3
     power = link_sum(arrays.mass, arrays.com_vel @ g)
     loads = external_loads(motion, linkage) if loads is None else loads
     if loads.has_force:

@@ -214,7 +214,7 @@ def _analyses(stack: Motion, linkages: Sequence[Linkage], bases: Sequence[Motion
     checked = (kin.unknowns, kin.shaking_force, kin.shaking_moment, vp, red.inertia, red.load_torque)
     finite = np.ones(count, dtype=bool)
     for a in checked:
-        finite &= np.isfinite(a.reshape(count, -1)).all(axis=1)
+        finite &= np.isfinite(a.reshape(count, -1).sum(axis=1))
     out: list[Analysis | None] = []
     for k, linkage in enumerate(linkages):
         s = slice(k * n, (k + 1) * n)
