@@ -373,14 +373,6 @@ def _constant_matmul(f: FloatArray, x: FloatArray) -> FloatArray:
     return out
 
 
-def _times_constant(x: FloatArray, g: FloatArray) -> FloatArray:
-    """x @ G for stacked x (i, j, N) and a constant G (j, l), summing only G's nonzero entries."""
-    out = np.zeros((x.shape[0], g.shape[1], x.shape[-1]))
-    for j, col in zip(*np.nonzero(g), strict=True):
-        out[:, col] += g[j, col] * x[:, j]
-    return out
-
-
 def _lu_det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Determinants and solutions of stacked k x k systems (k, k, N), (k, m, N) by Gaussian elimination with
     partial pivoting, each step one array operation over all crank angles (LAPACK's batched routines factorise
@@ -554,15 +546,27 @@ def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray
 
 def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     """Solve A @ x = b at every angle, b of shape (N, 3n, m); a singular system is a dead point where the
-    driving torque is undefined.
+    driving torque is undefined. Singularity is judged by the Hadamard ratio |det A| / prod(row norms of A),
+    which lies in [0, 1]."""
+    return _solve_angle_last(motion, topo, b.transpose(1, 2, 0))
 
-    Through the reduced moment system of ``_reduction`` when the topology has one (A assembled directly in
-    solving order); singularity is judged by the Hadamard ratio |det A| / prod(row norms of A), which lies in
-    [0, 1], with det A = det F · det S.
+
+def _solve_angle_last(motion: Motion, topo: Topology, b_last: FloatArray) -> FloatArray:
+    """``_solve_stacked`` for right-hand sides with the crank angle last, (3n, M, N); unknowns (N, 3n, M).
+
+    Every force row constant (revolute joints, slides fixed in the frame): :func:`_solve_constant_forces`.
+    Otherwise the whole matrix is assembled, in the reduced system's solving order when the topology has one.
     """
     red = _reduction(topo)
     if red is not None and red.g is not None and red.force_rows_norm is not None:
-        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b.transpose(1, 2, 0))
+        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b_last)
+    return _solve_assembled(motion, topo, red, b_last.transpose(2, 0, 1))
+
+
+def _solve_assembled(motion: Motion, topo: Topology, red: _Reduction | None, b: FloatArray) -> FloatArray:
+    """``_solve_stacked`` on the assembled matrix A, b (N, 3n, m): through the reduced moment system when there is
+    one (a slide turning with a link makes its force rows vary, so F⁻¹ times them is formed at every angle), else
+    on the whole system; det A = det F · det S."""
     if red is None:
         natural = tuple(range(3 * len(topo.links)))
         a = _assemble(motion, topo, natural, natural)
@@ -574,11 +578,8 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
         k, f_det = len(red.eliminated), red.f_det
         m_elim = a[k:, :k]
         h = _constant_matmul(red.f_inv, bp[:k])              # eliminated = h - g @ kept
-        if red.g is None:
-            g = _constant_matmul(red.f_inv, a[:k, k:])
-            s = a[k:, k:] - _batched_matmul(m_elim, g)
-        else:
-            s = a[k:, k:] - _times_constant(m_elim, red.g)
+        g = _constant_matmul(red.f_inv, a[:k, k:])
+        s = a[k:, k:] - _batched_matmul(m_elim, g)
         r = bp[k:] - _batched_matmul(m_elim, h)
     det, x_kept = _det_and_solve(s, r)
     rows_norm = np.prod(np.sqrt(np.einsum("ijn,ijn->in", a, a)), axis=0)
@@ -588,17 +589,8 @@ def _solve_stacked(motion: Motion, topo: Topology, b: FloatArray) -> FloatArray:
     if red is None:
         return np.moveaxis(x_kept, -1, 0)
     x = np.empty(b.shape)
-    g_kept = _batched_matmul(g, x_kept) if red.g is None else _constant_matmul(red.g, x_kept)
-    x[:, list(cols)] = np.moveaxis(np.concatenate([h - g_kept, x_kept]), -1, 0)
+    x[:, list(cols)] = np.moveaxis(np.concatenate([h - _batched_matmul(g, x_kept), x_kept]), -1, 0)
     return x
-
-
-def _solve_angle_last(motion: Motion, topo: Topology, b_last: FloatArray) -> FloatArray:
-    """``_solve_stacked`` for right-hand sides with the crank angle last, (3n, M, N); unknowns (N, 3n, M)."""
-    red = _reduction(topo)
-    if red is not None and red.g is not None and red.force_rows_norm is not None:
-        return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b_last)
-    return _solve_stacked(motion, topo, b_last.transpose(2, 0, 1))
 
 
 def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:

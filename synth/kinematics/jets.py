@@ -17,6 +17,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..mechanism import FloatArray, PointAnalogues
+from .motion import cross_c as _cross
+from .motion import dot_c as _dot
 
 Values = NDArray[Any]   # real (scalar jets) or complex (vector jets)
 
@@ -90,14 +92,6 @@ def sqrt(a: Jet) -> Jet:
         r1 = a.d1 / (2 * r)
         r2 = (a.d2 - 2 * r1 * r1) / (2 * r)
     return Jet(r, r1, r2)
-
-
-def _dot(x: FloatArray, y: FloatArray) -> FloatArray:
-    return np.asarray((x.conj() * y).real)
-
-
-def _cross(x: FloatArray, y: FloatArray) -> FloatArray:
-    return np.asarray((x.conj() * y).imag)
 
 
 def dot(a: Jet, b: Jet) -> Jet:

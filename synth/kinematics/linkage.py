@@ -40,6 +40,7 @@ from ..structure import Pair, analyse_structure
 from ..topology import Joint, Topology
 from . import jets as J
 from .jets import Jet
+from .motion import cross_c, dot_c
 
 FRAME = "frame"
 BoolArray = NDArray[np.bool_]
@@ -491,24 +492,24 @@ def _rrr(a1: Jet, a3: Jet, r1: float, r2: float, branch: int, g1: float,
     solved by Cramer's rule with determinant r1·r2·cross(u1, u2).
     """
     e = a3.v - a1.v
-    d2 = (e.conj() * e).real
+    d2 = dot_c(e, e)
     dist = np.sqrt(d2)
     x = (d2 + r1 * r1 - r2 * r2) / (2.0 * dist)
     h2 = r1 * r1 - x * x
     pin = a1.v + (e / dist) * (x + (1j * branch) * np.sqrt(np.clip(h2, 0.0, None)))
     u1, u2 = (pin - a1.v) / r1, (pin - a3.v) / r2
-    s = (u1.conj() * u2).imag
+    s = cross_c(u1, u2)
     rhs = a3.d1 - a1.d1
-    w1 = (rhs.conj() * u2).real / (r1 * s)
-    w2 = (rhs.conj() * u1).real / (r2 * s)
+    w1 = dot_c(rhs, u2) / (r1 * s)
+    w2 = dot_c(rhs, u1) / (r2 * s)
     rhs = a3.d2 - a1.d2 + (r1 * w1 * w1) * u1 - (r2 * w2 * w2) * u2
-    w1d = (rhs.conj() * u2).real / (r1 * s)
-    w2d = (rhs.conj() * u1).real / (r2 * s)
+    w1d = dot_c(rhs, u2) / (r1 * s)
+    w2d = dot_c(rhs, u1) / (r2 * s)
     arm1 = r1 * u1
     joint = Jet(pin, a1.d1 + (1j * w1) * arm1, a1.d2 + (1j * w1d - w1 * w1) * arm1)
     bad = (h2 < -1e-12 * max(r1 * r1, r2 * r2)) | (d2 == 0)
 
-    def link(u: FloatArray, w: FloatArray, wd: FloatArray, g: float) -> tuple[Jet, Jet]:
+    def link(u: np.ndarray, w: FloatArray, wd: FloatArray, g: float) -> tuple[Jet, Jet]:
         # |u| = 1 at every angle: the link's x-axis follows from it without a sine or cosine.
         axis = u * complex(math.cos(g), -math.sin(g))
         return Jet(np.angle(u) - g, w, wd), Jet(axis, (1j * w) * axis, (1j * wd - w * w) * axis)
