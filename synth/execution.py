@@ -17,6 +17,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import ctypes
 import functools
+import gc
 import multiprocessing
 import os
 import resource
@@ -91,6 +92,21 @@ def run_task(fn: Callable[..., T], args: tuple[Any, ...], kwargs: dict[str, Any]
         limit = limit if limit > 0 else 0
         raise TooLarge("worker memory [bytes]", limit, limit,
                        "the task ran out of memory in its worker; reduce the request's size") from exc
+    finally:
+        settle_heap()
+
+
+@functools.cache
+def settle_heap() -> None:
+    """Once per process, after its first task: collect, then exempt every object alive (the imported engine,
+    schemas and solvers, hundreds of thousands of objects kept for the process's life) from later collections.
+
+    A task that keeps many objects alive at once (a study's batch keeps every variant's analysis until it
+    answers) promotes them to the oldest generation, whose collection walks the whole heap: without this, those
+    walks cost a batched study about a fifth of its time. Objects made later are collected as before.
+    """
+    gc.collect()
+    gc.freeze()
 
 
 class SerialExecutor:

@@ -216,3 +216,48 @@ def test_link_arrays_per_sample_with_one_linkages_masses_are_link_arrays() -> No
     np.testing.assert_allclose(got.inertia, np.repeat(want.inertia[:, None], 40, axis=1), rtol=1e-12)
     for name in ("com_pos", "com_vel", "com_acc"):
         np.testing.assert_allclose(getattr(got, name), getattr(want, name), rtol=1e-12, atol=1e-12)
+
+
+def test_row_spaces_of_a_stack_are_each_systems_row_space() -> None:
+    # Independent computation: row_space of each system alone. The stack holds rank-deficient systems (repeated
+    # columns), a consistent right-hand side and one outside the column space, whose error is the same.
+    from synth.balancing.program import row_space, row_spaces
+
+    rng = np.random.default_rng(3)
+    base = rng.normal(size=(6, 120, 3))
+    a = np.concatenate([base, base[:, :, :1] * 2.0, rng.normal(size=(6, 120, 1))], axis=2)  # rank 4 of 5
+    b = np.einsum("kmn,kn->km", a, rng.normal(size=(6, 5)))
+    b[4] += rng.normal(size=120)   # no x meets it
+    got = row_spaces(a, b, "the shaking force", "counterweight_links")
+    for k in range(6):
+        if k == 4:
+            with pytest.raises(synth.Infeasible) as info:
+                row_space(a[k], b[k], "the shaking force", "counterweight_links")
+            assert isinstance(got[k], synth.Infeasible) and str(got[k]) == str(info.value)
+            assert got[k].extras() == info.value.extras()
+            continue
+        want = row_space(a[k], b[k], "the shaking force", "counterweight_links")
+        result = got[k]
+        assert not isinstance(result, Exception) and result[0].shape == (4, 5)
+        np.testing.assert_allclose(result[0], want[0], rtol=0, atol=1e-13 * np.abs(want[0]).max())
+        np.testing.assert_allclose(result[1], want[1], rtol=0, atol=1e-13 * np.abs(want[1]).max())
+
+
+def test_a_batch_with_errors_leaves_nothing_for_the_cycle_collector() -> None:
+    # A variant's error kept with its traceback would hold the frame that caught it, whose lists hold the
+    # error: the whole batch's arrays would wait for a full collection. Counted by the collector itself.
+    import gc
+
+    requests = _requests()
+    run_endpoint_batch(ENDPOINT, LIMITS, requests)  # imports and caches settle first
+    gc.collect()
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        answers = run_endpoint_batch(ENDPOINT, LIMITS, requests)
+        assert sum(isinstance(a, synth.Infeasible) for a in answers) >= 3
+        del answers
+        assert gc.collect() == 0
+    finally:
+        if enabled:
+            gc.enable()

@@ -112,3 +112,17 @@ def test_an_answer_is_freed_as_soon_as_its_future_is_dropped(pool: LocalPoolExec
         assert ref() is None
     finally:
         gc.enable()
+
+
+def _heap_state() -> tuple[int, bool]:
+    import gc
+
+    return gc.get_freeze_count(), gc.isenabled()
+
+
+def test_a_worker_exempts_what_it_keeps_for_life_after_its_first_task(pool: LocalPoolExecutor) -> None:
+    # Past the first task the imports stay for the worker's life: they are frozen out of later full
+    # collections, and the collector itself stays on for what the tasks make.
+    pool.submit(int, 0).result(timeout=30)
+    frozen, enabled = pool.submit(_heap_state).result(timeout=30)
+    assert frozen > 1000 and enabled

@@ -21,7 +21,7 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 import synth
-from synth.errors import InvalidInput
+from synth.errors import InvalidInput, SynthError
 
 from ..execution.plans import PLANS, Limits, Plan
 from ..execution.admission import render_task
@@ -45,8 +45,9 @@ def validate_request(endpoint: str, request: Mapping[str, Any], field: str = "")
         return ENDPOINTS[endpoint][0].model_validate_json(json.dumps(request))
     except ValidationError as exc:
         err = exc.errors()[0]
-        name = ".".join(str(p) for p in (field, *err.get("loc", ())) if p != "")
-        raise InvalidInput(f"{name}: {err.get('msg', 'invalid')}", field=name) from None
+    # Raised outside the handler, the error carries no context whose traceback would hold this frame.
+    name = ".".join(str(p) for p in (field, *err.get("loc", ())) if p != "")
+    raise InvalidInput(f"{name}: {err.get('msg', 'invalid')}", field=name)
 
 
 def run_endpoint(endpoint: str, limits: Limits, request: dict[str, Any]) -> dict[str, Any]:
@@ -85,7 +86,7 @@ def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, A
         try:
             planned.append((k, ENDPOINTS[endpoint][1](validate_request(endpoint, request), limits)))
         except Exception as exc:
-            out[k] = exc
+            out[k] = _kept(exc)
     results = BATCHED[endpoint]([plan for _, plan in planned])
     for (k, plan), result in zip(planned, results, strict=True):
         if isinstance(result, Exception):
@@ -94,8 +95,15 @@ def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, A
         try:
             out[k] = json.loads(plan.render(result)[0])
         except Exception as exc:
-            out[k] = exc
+            out[k] = _kept(exc)
     return [answer if answer is not None else InvalidInput("the variant gave no answer") for answer in out]
+
+
+def _kept(exc: Exception) -> Exception:
+    """An error kept as a variant's answer. A request's own error (a SynthError) loses its traceback, which
+    would hold this frame and so the batch's every answer until the collector's next full pass; anything else
+    is a fault worth its traceback."""
+    return exc.with_traceback(None) if isinstance(exc, SynthError) else exc
 
 
 def batch_function(endpoint: str, limits: Limits

@@ -26,16 +26,16 @@ import numpy as np
 
 from ..analysis import Analysis, Summary
 from ..dynamics import reduced_model
-from ..errors import SynthError
+from ..errors import Infeasible, SynthError
 from ..kinematics import MAX_SAMPLES, FourBar, Motion, PointState, cycle_angles, motion
 from ..kinematics.motion import magnitude
 from ..kinematics.stacking import motion_block, stack_motions, stacked_fourbar_motion
 from ..kinetostatics import (Kinetostatics, LinkArrays, external_loads, link_arrays_per_sample, shaking_force_map,
                              solve_direct, virtual_power_torque)
 from ..model import FloatArray, Linkage
-from .fourbar import (BalanceResult, _require_turning, _static_result, _static_solution, _static_spec,
-                      balance_static)
-from .program import CounterweightSolution, CounterweightSpec
+from .fourbar import (BalanceResult, _require_turning, _static_columns, _static_result, _static_solution,
+                      _static_spec, balance_static)
+from .program import CounterweightSolution, CounterweightSpec, counterweight_layout, row_spaces
 
 #: Most samples laid end to end in one stack: past a few tens of thousands the arrays leave the caches and a
 #: larger stack gains nothing.
@@ -78,7 +78,7 @@ def balance_static_batch(cases: Sequence[StaticCase]) -> list[BalanceResult | Sy
         try:
             prepared = _prepare(index, case)
         except SynthError as exc:
-            out[index] = exc
+            out[index] = _answer(exc)
             continue
         if prepared is None:
             out[index] = _alone(case)
@@ -101,7 +101,14 @@ def _alone(case: StaticCase) -> BalanceResult | SynthError:
         return balance_static(case.linkage, case.speed, case.spec, samples=case.samples, objective=case.objective,
                               mass_budget=case.mass_budget, time_limit_s=case.time_limit_s, method=case.method)
     except SynthError as exc:
-        return exc
+        return _answer(exc)
+
+
+def _answer(exc: SynthError) -> SynthError:
+    """An error kept as a variant's answer, without its traceback: the traceback holds the frame that caught
+    the error, whose lists hold the error, a cycle that would keep every array of the batch alive until the
+    collector's next full pass."""
+    return exc.with_traceback(None)
 
 
 def _prepare(index: int, case: StaticCase) -> _Prepared | None:
@@ -161,7 +168,7 @@ def _stack(group: Sequence[_Prepared]
             motions.append(motion(p.case.linkage.mechanism, angles, speed))
             ready.append(p)
         except SynthError as exc:
-            out[p.index] = exc
+            out[p.index] = _answer(exc)
     return ready, stack_motions(motions) if motions else None, out
 
 
@@ -225,6 +232,28 @@ def _analyses(stack: Motion, linkages: Sequence[Linkage], bases: Sequence[Motion
     return out, _summaries(kin, reference, count), arrays
 
 
+def _systems(group: Sequence[_Prepared], rows: FloatArray, wanted: Sequence[bool]
+             ) -> list[tuple[FloatArray, FloatArray] | None]:
+    """Each wanted variant's static system (:func:`synth.balancing.fourbar._static_system` of its block of the
+    shaking-force ``rows``, (K, 2N, params)), the SVDs of all that share their counterweight columns in one call;
+    None where it is not wanted or its shaking force cannot be cancelled (the variant's own program then says so,
+    as the single request does)."""
+    out: list[tuple[FloatArray, FloatArray] | None] = [None] * len(group)
+    by_columns: dict[tuple[int, ...], list[int]] = {}
+    for k, p in enumerate(group):
+        if wanted[k]:
+            layout = counterweight_layout(p.spec, p.case.linkage)
+            by_columns.setdefault(tuple(_static_columns(p.case.linkage, layout)), []).append(k)
+    for columns, members in by_columns.items():
+        block = rows[members]
+        params = np.stack([group[k].case.linkage.params() for k in members])
+        rhs = -np.matmul(block, params[:, :, None])[:, :, 0]
+        reduced = row_spaces(block[:, :, list(columns)], rhs, "the shaking force", "counterweight_links")
+        for k, system in zip(members, reduced, strict=True):
+            out[k] = None if isinstance(system, Infeasible) else system
+    return out
+
+
 def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResult | SynthError]:
     n = len(group[0].angles)
     linkages = [p.case.linkage for p in group]
@@ -235,6 +264,7 @@ def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResul
     rows = shaking_force_map(stack, linkages[0], arrays)
     rows = rows.reshape(len(group), 2 * n, rows.shape[-1])
     no_offset = np.zeros(2 * n)
+    systems = _systems(group, rows, [an is not None for an in before])
     answers: list[tuple[list[Any], float] | SynthError | None] = []
     for k, (p, an) in enumerate(zip(group, before, strict=True)):
         if an is None:
@@ -243,9 +273,9 @@ def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResul
         case = p.case
         try:
             cw, program, x = _static_solution(case.linkage, (rows[k], no_offset), p.spec, case.objective,
-                                              case.mass_budget, case.time_limit_s)
+                                              case.mass_budget, case.time_limit_s, systems[k])
         except SynthError as exc:
-            answers.append(exc)
+            answers.append(_answer(exc))
             continue
         # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
         cws = CounterweightSolution(cw, x).counterweights(

@@ -158,10 +158,14 @@ def _shaking_force_rows(motion: Motion, linkage: Linkage) -> tuple[FloatArray, F
 def _static_system(linkage: Linkage, force: tuple[FloatArray, FloatArray], cw: CounterweightLayout
                    ) -> tuple[FloatArray, FloatArray]:
     a, b0 = force
-    links = linkage.mechanism.topology.links
-    cols = [PARAMS * links.index(link) + c for link in cw.links for c in range(PARAMS)]
     rhs = -(a @ linkage.params() + b0)
-    return row_space(a[:, cols], rhs, "the shaking force", "counterweight_links")
+    return row_space(a[:, _static_columns(linkage, cw)], rhs, "the shaking force", "counterweight_links")
+
+
+def _static_columns(linkage: Linkage, cw: CounterweightLayout) -> list[int]:
+    """The map's columns of the counterweights' variables: (m, h_x, h_y, J) of each of their links."""
+    links = linkage.mechanism.topology.links
+    return [PARAMS * links.index(link) + c for link in cw.links for c in range(PARAMS)]
 
 
 def _with_default_radii(spec: CounterweightSpec, linkage: Linkage) -> CounterweightSpec:

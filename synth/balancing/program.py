@@ -299,6 +299,27 @@ def row_space(a: FloatArray, b: FloatArray, what: str, constraint: str) -> tuple
     Raises Infeasible when b has a part outside the column space of a: no choice of x can meet them.
     """
     u, s, _ = np.linalg.svd(a, full_matrices=False)
+    return _reduced(a, b, u, s, what, constraint)
+
+
+def row_spaces(a: FloatArray, b: FloatArray, what: str, constraint: str
+               ) -> list[tuple[FloatArray, FloatArray] | Infeasible]:
+    """:func:`row_space` of each system a[k] @ x = b[k] of a stack (K, M, n) and (K, M), with one SVD call for
+    the whole stack (LAPACK runs on each matrix as it would alone): per system its reduced rows, or the
+    Infeasible that :func:`row_space` raises."""
+    u, s, _ = np.linalg.svd(a, full_matrices=False)
+    out: list[tuple[FloatArray, FloatArray] | Infeasible] = []
+    for k in range(a.shape[0]):
+        try:
+            out.append(_reduced(a[k], b[k], u[k], s[k], what, constraint))
+        except Infeasible as exc:
+            out.append(exc.with_traceback(None))  # kept in ``out``, its traceback would hold ``out``: a cycle
+    return out
+
+
+def _reduced(a: FloatArray, b: FloatArray, u: FloatArray, s: FloatArray, what: str, constraint: str
+             ) -> tuple[FloatArray, FloatArray]:
+    """The row space of a @ x = b from the SVD of a (left vectors ``u``, singular values ``s``)."""
     tol = max(a.shape) * np.finfo(float).eps * (s[0] if s.size else 0.0) * 1e3
     r = int(np.sum(s > tol))
     ur = u[:, :r]
@@ -308,7 +329,6 @@ def row_space(a: FloatArray, b: FloatArray, what: str, constraint: str) -> tuple
         raise Infeasible(f"{what} cannot be made identically zero with counterweights on these links",
                          constraint=constraint, unreachable_fraction=float(np.linalg.norm(residual) / scale))
     return ur.T @ a, ur.T @ b
-
 
 
 def solve(program: ConeProgram | clarabel.DefaultSolver, time_limit_s: float, what: str,
