@@ -87,12 +87,18 @@ def media(content: bytes, fmt: str, stem: str) -> Response:
     return Response(content=content, media_type=MEDIA_TYPES[fmt], headers=headers)
 
 
+# Values orjson writes as they are: most of an answer's fields, so they are told apart first, by exact type,
+# before any call.
+_LEAVES = frozenset({float, int, str, bool, type(None)})
+
+
 def _plain(value: Any) -> Any:
     """A response model as dicts and lists for orjson, leaving numpy arrays and lists of numbers untouched."""
     if isinstance(value, BaseModel):
-        return {name: _plain(getattr(value, name)) for name in type(value).model_fields}
+        return {name: item if type(item := getattr(value, name)) in _LEAVES else _plain(item)
+                for name in type(value).model_fields}
     if isinstance(value, dict):
-        return {key: _plain(item) for key, item in value.items()}
+        return {key: item if type(item) in _LEAVES else _plain(item) for key, item in value.items()}
     if isinstance(value, (list, tuple)) and value and (
             isinstance(value[0], (BaseModel, dict, list, tuple))
             or (value[0] is None and any(isinstance(item, BaseModel) for item in value))):

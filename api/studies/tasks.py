@@ -18,6 +18,7 @@ from collections.abc import Callable, Mapping, Sequence
 from functools import partial
 from typing import Any
 
+import orjson
 from pydantic import BaseModel, ValidationError
 
 import synth
@@ -54,7 +55,7 @@ def run_endpoint(endpoint: str, limits: Limits, request: dict[str, Any]) -> dict
     """One variant: validate ``request`` as ``endpoint`` does, run its engine call, answer with its JSON."""
     plan = ENDPOINTS[endpoint][1](validate_request(endpoint, request), limits)
     content, _ = render_task(plan.render, plan.fn, plan.args, plan.kwargs)
-    answer: dict[str, Any] = json.loads(content)
+    answer: dict[str, Any] = orjson.loads(content)
     return answer
 
 
@@ -93,7 +94,7 @@ def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, A
             out[k] = result
             continue
         try:
-            out[k] = json.loads(plan.render(result)[0])
+            out[k] = orjson.loads(plan.render(result)[0])
         except Exception as exc:
             out[k] = _kept(exc)
     return [answer if answer is not None else InvalidInput("the variant gave no answer") for answer in out]

@@ -17,9 +17,10 @@ answer, as the single request would raise it.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 from typing import Any, Literal, TypeVar
 
 import numpy as np
@@ -175,16 +176,24 @@ def _stack(group: Sequence[_Prepared]
 _T = TypeVar("_T")
 
 
+@functools.cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls))
+
+
 def _block(obj: _T, s: slice) -> _T:
     """A dataclass of per-sample arrays (and dicts of them) cut to the samples ``s``."""
+    cls: type = type(obj)
     cut: dict[str, Any] = {}
-    for f in fields(obj):  # type: ignore[arg-type]
-        value = getattr(obj, f.name)
+    for name in _field_names(cls):
+        value = getattr(obj, name)
         if isinstance(value, np.ndarray):
-            cut[f.name] = value[s]
+            value = value[s]
         elif isinstance(value, dict):
-            cut[f.name] = {k: v[s] for k, v in value.items()}
-    return replace(obj, **cut)  # type: ignore[type-var]
+            value = {k: v[s] for k, v in value.items()}
+        cut[name] = value
+    block: _T = cls(**cut)
+    return block
 
 
 def _summaries(kin: Kinetostatics, linkage: Linkage, count: int) -> list[Summary]:

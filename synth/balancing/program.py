@@ -219,7 +219,7 @@ class ConeProgram:
         size = dim or g.shape[0]
         self._cones.extend(clarabel.SecondOrderConeT(size) for _ in range(g.shape[0] // size))
 
-    def add(self, block: tuple[sp.csr_matrix, FloatArray, list[object]]) -> None:
+    def add(self, block: tuple[FloatArray, FloatArray, list[object]]) -> None:
         """Append a prebuilt block (rows, right-hand side, cones)."""
         a, b, cones = block
         self._a.append(self._rows(a))
@@ -254,7 +254,7 @@ def _zero_square(size: int) -> sp.csc_matrix:
 
 
 @functools.lru_cache(maxsize=16)
-def realisability_block(layout: CounterweightLayout) -> tuple[sp.csr_matrix, FloatArray, list[object]]:
+def realisability_block(layout: CounterweightLayout) -> tuple[FloatArray, FloatArray, list[object]]:
     """Rows of the realisability cones of a layout (built once per layout per process).
 
     Per counterweight: m >= 0, J >= 0; |h| <= r_max·m; |h|² <= m·J as the cone |(2h, m - J)| <= m + J;
@@ -289,7 +289,8 @@ def realisability_block(layout: CounterweightLayout) -> tuple[sp.csr_matrix, Flo
         size = g.shape[0]
         cones.append(clarabel.SecondOrderConeT(size) if kind == "soc"
                      else clarabel.ZeroConeT(size) if kind == "zero" else clarabel.NonnegativeConeT(size))
-    a = sp.csr_matrix(np.concatenate(rows))
+    a = np.concatenate(rows)
+    a.flags.writeable = False  # shared by every program of the layout in this process
     return a, np.zeros(a.shape[0]), cones
 
 
