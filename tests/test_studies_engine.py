@@ -142,3 +142,20 @@ def test_pareto_compares_to_significant_digits_of_each_objective_when_asked() ->
     # Nine digits of 160 N is a micronewton; nine digits of 4.5 kg is 10 micrograms.
     assert quantise(points, 9)[:, 0] == pytest.approx([98.8, 152.0, 160.0, 0.0, 0.0], abs=1e-15, rel=1e-15)
     assert quantise(points, 9)[:, 1] == pytest.approx([1.0, 1.0, 2.0, 4.5, 4.0], abs=0, rel=1e-15)
+
+
+def test_tasks_shrink_toward_the_end_so_the_workers_finish_together() -> None:
+    # Guided self-scheduling: the measured size while much is left, a sixth of what is left (three tasks in
+    # flight, two rounds of them) near the end, never below an eighth of the measured size, never below one.
+    from synth.studies.runner import _tail_size
+
+    assert _tail_size(330, 10_000, 3) == 330
+    assert _tail_size(330, 600, 3) == 100
+    assert _tail_size(330, 60, 3) == 41
+    assert _tail_size(8, 5, 3) == 1
+    # Every variant of a study run in tasks sized so: the tasks cover them, and the last are the smallest.
+    unsent, size, sizes = 10_000, 330, []
+    while unsent:
+        sizes.append(min(_tail_size(size, unsent, 3), unsent))
+        unsent -= sizes[-1]
+    assert sizes[0] == 330 and sizes[-1] <= 41 and sizes == sorted(sizes, reverse=True)

@@ -225,6 +225,15 @@ class _Sizer:
         self.size = min(wanted, 8 * max(self.size, count), MAX_BATCH)
 
 
+def _tail_size(size: int, unsent: int, in_flight: int) -> int:
+    """The next task's size when ``unsent`` variants are left to send with ``in_flight`` tasks at a time: the
+    measured ``size`` until the end is near, then a share of what is left (guided self-scheduling), so that the
+    workers finish together instead of one running the last full task alone; never below an eighth of ``size``,
+    where each task's fixed cost would start to tell."""
+    share = math.ceil(unsent / (2 * in_flight))
+    return max(1, min(size, max(share, size // 8)))
+
+
 def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Callable[[list[VariantRow]], None], *,
               indices: Iterable[int] | None = None, cancel: threading.Event | None = None,
               in_flight: int | None = None, variant_timeout_s: float | None = None,
@@ -261,7 +270,9 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     sampler = Sampler(study)
     spec = BatchSpec(variant_fn, dict(study.base), study.parameter_paths, study.metrics, study.constraints,
                      batch_fn)
-    pending: Iterator[int] = iter(range(sampler.count) if indices is None else indices)
+    order = range(sampler.count) if indices is None else list(indices)
+    pending: Iterator[int] = iter(order)
+    unsent = len(order)
     limit = max(1, in_flight or executor.workers + 1)
     sizer = _Sizer()
     futures: dict[cf.Future[tuple[list[VariantRow], float]], list[tuple[int, list[Scalar]]]] = {}
@@ -272,12 +283,15 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     stop = cancel or threading.Event()
 
     def submit() -> bool:
+        nonlocal unsent
         if alone:
             items = [alone.popleft()]
         else:
             # The first task is sized 1 and measured before any other is sent, so a study of slow variants never
             # starts with long tasks.
             size = sizer.size if sizer.durations else 1
+            if sizer.durations:
+                size = _tail_size(size, unsent, limit)
             items = []
             for index in pending:
                 items.append((index, sampler.values(index)))
@@ -285,6 +299,7 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
                     break
             if not items:
                 return False
+            unsent -= len(items)
         timeout = None if variant_timeout_s is None else variant_timeout_s * len(items)
         futures[executor.submit(run_batch, spec, items, timeout=timeout)] = items
         return True
