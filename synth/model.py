@@ -155,6 +155,7 @@ class Linkage:
     gravity: Gravity | None = None
     loads: tuple[ProcessLoad, ...] = ()
     torques: tuple[LinkTorque, ...] = ()
+    _params: FloatArray | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         names = self.mechanism.topology.links
@@ -186,6 +187,13 @@ class Linkage:
 
     def params_of(self, link: str) -> FloatArray:
         """Inertial parameters of a link including its counterweights (m, m·x, m·y, J about first joint)."""
+        links = self.mechanism.topology.links
+        if link in links:
+            i = 4 * links.index(link)
+            return self.params()[i:i + 4].copy()
+        return self._own_params(link)
+
+    def _own_params(self, link: str) -> FloatArray:
         p = self.links.get(link, MassProps()).params()
         for cw in self.counterweights:
             if cw.link == link:
@@ -193,8 +201,15 @@ class Linkage:
         return p
 
     def params(self) -> FloatArray:
-        """Stacked inertial parameters of all links in topology order, shape (4 * links,)."""
-        return np.concatenate([self.params_of(name) for name in self.mechanism.topology.links])
+        """Stacked inertial parameters of all links in topology order, shape (4 * links,), read-only.
+
+        Computed once per linkage: a balancing request or a study's variant asks for them at every step."""
+        cached = self._params
+        if cached is None:
+            cached = np.concatenate([self._own_params(name) for name in self.mechanism.topology.links])
+            cached.flags.writeable = False
+            object.__setattr__(self, "_params", cached)
+        return cached
 
     def with_counterweights(self, counterweights: Sequence[Counterweight]) -> Linkage:
         """The same linkage with ``counterweights`` added to the ones it has."""
