@@ -240,29 +240,52 @@ def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, .
                        cols[:, 5], incidence, tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
 
 
-def _assemble_moments(motion: Motion, topo: Topology, col_pos: tuple[int, ...]) -> tuple[FloatArray, FloatArray]:
-    """The moment rows of the equilibrium matrix alone, link by link, crank angle last (n, 3n, N), unknown k in
-    column ``col_pos[k]``, and each row's squared norm (n, N): what the reduced system needs when every force
-    row is constant (slides fixed in the frame). Every revolute lever is written in one indexed assignment: a
-    joint's column meets each of its two links' rows once, so a row's squared norm is the sum of its levers'."""
-    links = topo.links
-    plan = _moment_plan(topo, col_pos, tuple(motion.link_origin[link] for link in links))
-    a = np.zeros((len(links), 3 * len(links), motion.samples))
-    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
-    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
-    a[plan.link, plan.col_x] = -lever.imag
-    a[plan.link, plan.col_y] = lever.real
-    row_sq = plan.incidence @ (lever.real * lever.real + lever.imag * lever.imag)
-    for j, i, cx, cy, sign in plan.prismatic:
-        joint = topo.joints[j]
-        normal = complex(-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
-        lever_p = complex_of(motion.point_pos[joint.point]) - complex_of(motion.point_pos[motion.link_origin[links[i]]])
-        a[i, cx] = sign * (lever_p.conj() * normal).imag
-        a[i, cy] = sign
-        row_sq[i] += a[i, cx] * a[i, cx] + 1.0
-    a[plan.torque] = 1.0
-    row_sq[plan.torque[0]] += 1.0
-    return a, row_sq
+@dataclass(frozen=True, slots=True)
+class _MomentTerms:
+    """The reduced system of :func:`_solve_constant_forces` written from the moment rows' nonzero entries alone.
+
+    The varying entries are, in order, every revolute lever's x column (-Im lever), its y column (Re lever) and
+    each slide's lever term; ``s_map`` takes them to S = M_kept - M_elim·G, (n·n_kept, entries), and
+    ``s_const`` holds the constant entries' part (a slide's unit column, the driving torque), (n, n_kept).
+    The eliminated columns hold revolute levers only: ``r_entries`` picks those entries, ``r_columns`` their
+    eliminated unknowns and ``r_link`` (n, len(r_entries)) the rows they sit in, for R = B_kept - M_elim·H.
+    """
+
+    plan: _MomentPlan
+    s_map: FloatArray
+    s_const: FloatArray
+    r_entries: IndexArray
+    r_columns: IndexArray
+    r_link: FloatArray
+
+
+@functools.lru_cache(maxsize=64)
+def _moment_terms(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, ...]) -> _MomentTerms:
+    plan = _moment_plan(topo, col_pos, origins)
+    red = _reduction(topo)
+    assert red is not None and red.g is not None
+    n, k = len(topo.links), 2 * len(topo.links)
+    g = red.g
+    n_kept = g.shape[1]
+    links = list(plan.link) * 2 + [i for _, i, _, _, _ in plan.prismatic]
+    columns = list(plan.col_x) + list(plan.col_y) + [cx for _, _, cx, _, _ in plan.prismatic]
+
+    def coefficients(column: int) -> FloatArray:
+        """Row of the map from an entry in ``column`` to S's n_kept columns."""
+        return np.asarray(np.eye(n_kept)[column - k] if column >= k else -g[column], dtype=float)
+
+    s_map = np.zeros((n, n_kept, len(links)))
+    for e, (link, column) in enumerate(zip(links, columns, strict=True)):
+        s_map[link, :, e] += coefficients(column)
+    s_const = np.zeros((n, n_kept))
+    for _, i, _, cy, sign in plan.prismatic:
+        s_const[i] += sign * coefficients(cy)
+    s_const[plan.torque[0]] += coefficients(plan.torque[1])
+    r_entries = np.array([e for e, c in enumerate(columns) if c < k], dtype=np.intp)
+    r_link = np.zeros((n, len(r_entries)))
+    r_link[np.asarray(links, dtype=np.intp)[r_entries], np.arange(len(r_entries))] = 1.0
+    return _MomentTerms(plan, s_map.reshape(n * n_kept, -1), s_const, r_entries,
+                        np.asarray(columns, dtype=np.intp)[r_entries], r_link)
 
 
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -607,18 +630,34 @@ def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
 
 def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: FloatArray, force_rows_norm: float,
                            b_last: FloatArray) -> FloatArray:
-    """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): only
-    the n moment rows are assembled, and the force rows enter through F⁻¹, ``g`` and their norms, all constant.
-    The constant products are matrix products over all angles and columns at once."""
+    """``_solve_stacked`` when every force row is constant (revolute joints and slides fixed in the frame): the
+    force rows enter through F⁻¹, ``g`` and their norms, all constant, and the moment rows only through their
+    nonzero entries (the levers), which constant maps made once per topology (:func:`_moment_terms`) take
+    straight to the reduced system's matrix and right-hand side: no (n, 3n, N) matrix of mostly zeros is made."""
     rows, cols = red.rows, red.columns
     k, n_kept = len(red.eliminated), len(red.kept)
-    m, row_sq = _assemble_moments(motion, topo, red.positions(cols))
+    links = topo.links
+    terms = _moment_terms(topo, red.positions(cols), tuple(motion.link_origin[link] for link in links))
+    plan = terms.plan
     width, samples = b_last.shape[1], b_last.shape[2]
     bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
     h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
-    m_elim = m[:, :k]
-    s = m[:, k:] - np.matmul(g.T, m_elim)
-    r = bt[k:] - _batched_matmul(m_elim, h)
+    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
+    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
+    row_sq = plan.incidence @ (lever.real * lever.real + lever.imag * lever.imag)
+    parts = [-lever.imag, lever.real]
+    for j, i, _, _, sign in plan.prismatic:
+        joint = topo.joints[j]
+        normal = complex(-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
+        lever_p = complex_of(motion.point_pos[joint.point]) - complex_of(motion.point_pos[motion.link_origin[links[i]]])
+        term = sign * (lever_p.conj() * normal).imag
+        parts.append(term[None, :])
+        row_sq[i] += term * term + 1.0
+    row_sq[plan.torque[0]] += 1.0
+    values = np.concatenate(parts)                            # the varying entries, (entries, N)
+    s = (terms.s_map @ values).reshape(len(links), n_kept, samples) + terms.s_const[:, :, None]
+    elim = values[terms.r_entries][:, None, :] * h[terms.r_columns]
+    r = bt[k:] - (terms.r_link @ elim.reshape(len(terms.r_entries), -1)).reshape(len(links), width, samples)
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(np.prod(row_sq, axis=0)))
