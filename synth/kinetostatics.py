@@ -248,7 +248,7 @@ class _MomentTerms:
     each slide's lever term; ``s_map`` takes them to S = M_kept - M_elim·G, (n·n_kept, entries), and
     ``s_const`` holds the constant entries' part (a slide's unit column, the driving torque), (n, n_kept).
     The eliminated columns hold revolute levers only: ``r_entries`` picks those entries, ``r_columns`` their
-    eliminated unknowns and ``r_link`` (n, len(r_entries)) the rows they sit in, for R = B_kept - M_elim·H.
+    eliminated unknowns and ``r_rows`` the moment rows they sit in, for R = B_kept - M_elim·H.
     """
 
     plan: _MomentPlan
@@ -256,7 +256,7 @@ class _MomentTerms:
     s_const: FloatArray
     r_entries: IndexArray
     r_columns: IndexArray
-    r_link: FloatArray
+    r_rows: IndexArray
 
 
 @functools.lru_cache(maxsize=64)
@@ -282,10 +282,8 @@ def _moment_terms(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, 
         s_const[i] += sign * coefficients(cy)
     s_const[plan.torque[0]] += coefficients(plan.torque[1])
     r_entries = np.array([e for e, c in enumerate(columns) if c < k], dtype=np.intp)
-    r_link = np.zeros((n, len(r_entries)))
-    r_link[np.asarray(links, dtype=np.intp)[r_entries], np.arange(len(r_entries))] = 1.0
     return _MomentTerms(plan, s_map.reshape(n * n_kept, -1), s_const, r_entries,
-                        np.asarray(columns, dtype=np.intp)[r_entries], r_link)
+                        np.asarray(columns, dtype=np.intp)[r_entries], np.asarray(links, dtype=np.intp)[r_entries])
 
 
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -642,22 +640,35 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     width, samples = b_last.shape[1], b_last.shape[2]
     bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
     h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
-    pos = np.stack([complex_of(motion.point_pos[p]) for p in plan.points])      # (points, N), x + i·y
-    lever = (pos[plan.joint_points] - pos[plan.origin_points]) * plan.sign[:, None]
-    row_sq = plan.incidence @ (lever.real * lever.real + lever.imag * lever.imag)
-    parts = [-lever.imag, lever.real]
-    for j, i, _, _, sign in plan.prismatic:
+    # The varying entries, (entries, N), written in place: at a few thousand angles each pass over memory costs
+    # more than its arithmetic.
+    levers = len(plan.sign)
+    values = np.empty((terms.s_map.shape[1], samples))
+    lever = np.empty((levers, samples), dtype=complex)
+    pos = {p: complex_of(motion.point_pos[p]) for p in plan.points}
+    for q, (jp, op, sign) in enumerate(zip(plan.joint_points, plan.origin_points, plan.sign, strict=True)):
+        head, tail = pos[plan.points[jp]], pos[plan.points[op]]
+        if sign < 0:
+            head, tail = tail, head
+        np.subtract(head, tail, out=lever[q])
+    np.negative(lever.imag, out=values[:levers])
+    values[levers:2 * levers] = lever.real
+    squares = np.square(values[:2 * levers])
+    row_sq = plan.incidence @ (squares[:levers] + squares[levers:])
+    for e, (j, i, _, _, sign) in enumerate(plan.prismatic, start=2 * levers):
         joint = topo.joints[j]
         normal = complex(-np.sin(joint.axis_angle), np.cos(joint.axis_angle))
         lever_p = complex_of(motion.point_pos[joint.point]) - complex_of(motion.point_pos[motion.link_origin[links[i]]])
-        term = sign * (lever_p.conj() * normal).imag
-        parts.append(term[None, :])
+        term = values[e]
+        np.multiply((lever_p.conj() * normal).imag, sign, out=term)
         row_sq[i] += term * term + 1.0
     row_sq[plan.torque[0]] += 1.0
-    values = np.concatenate(parts)                            # the varying entries, (entries, N)
-    s = (terms.s_map @ values).reshape(len(links), n_kept, samples) + terms.s_const[:, :, None]
-    elim = values[terms.r_entries][:, None, :] * h[terms.r_columns]
-    r = bt[k:] - (terms.r_link @ elim.reshape(len(terms.r_entries), -1)).reshape(len(links), width, samples)
+    s = terms.s_map @ values
+    s += terms.s_const.reshape(-1, 1)
+    s = s.reshape(len(links), n_kept, samples)
+    r = bt[k:].copy()
+    for e, column, link in zip(terms.r_entries, terms.r_columns, terms.r_rows, strict=True):
+        r[link] -= values[e] * h[column]
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(np.prod(row_sq, axis=0)))
