@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..model import FloatArray
@@ -119,13 +120,7 @@ class FourBar:
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Joint positions and link angles with their analogues; NotAssemblable where the loop cannot close."""
         n = len(phi)
-        a, b, c = self.crank, self.coupler, self.rocker
-        # Plane vectors as complex numbers: a turn by 90 degrees is a product by i, and each vector operation is
-        # one array operation instead of two.
-        pin = a * unit(phi)
-        to_q = self.ground - pin
-        dist = np.abs(to_q)
-        bad = (dist > b + c + 1e-12) | (dist < abs(b - c) - 1e-12) | (dist == 0)
+        moving, angles, bad = loop_closure(self.crank, self.ground, self.coupler, self.rocker, self.branch, phi)
         if bad.any():
             raise NotAssemblable(
                 f"four-bar cannot be assembled at {int(bad.sum())} of {n} crank angles; "
@@ -133,33 +128,7 @@ class FourBar:
                 phi=phi[bad],
                 ranges_deg=self.assembly_gaps_deg() or angle_ranges_deg(phi, bad),
             )
-        x = (b * b - c * c + dist * dist) / (2 * dist)
-        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
-        bpos = pin + (to_q / dist) * (x + (1j * self.branch) * h)
-        e2 = (bpos - pin) / b
-        e3 = (bpos - self.ground) / c
-        # Loop A + b·e2 = Q + c·e3 differentiated once and twice in phi; each a 2x2 solve by Cramer's rule, with
-        # det = cross(b·i·e2, -c·i·e3) = -b·c·cross(e2, e3).
-        # A product with i turns a cross product into a scalar one: cross(u, i·v) = u·v.
-        det = -b * c * cross_c(e2, e3)
-        pin_d1 = 1j * pin
-        t2d1 = c * dot_c(pin_d1, e3) / det
-        t3d1 = b * dot_c(e2, pin_d1) / det
-        rhs2 = pin + b * (t2d1 * t2d1) * e2 - c * (t3d1 * t3d1) * e3
-        t2d2 = -c * dot_c(rhs2, e3) / det
-        t3d2 = -b * dot_c(e2, rhs2) / det
-        k3 = 1j * e3
-        points = {
-            "O": fixed_point((0.0, 0.0), n),
-            "A": PointAnalogues(xy(pin), xy(pin_d1), xy(-pin)),
-            "B": PointAnalogues(xy(bpos), xy((c * t3d1) * k3), xy(c * (t3d2 * k3 - (t3d1 * t3d1) * e3))),
-            "Q": fixed_point((self.ground, 0.0), n),
-        }
-        angles = {
-            "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n), pin / a),
-            "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
-            "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
-        }
+        points = {"O": fixed_point((0.0, 0.0), n), **moving, "Q": fixed_point((self.ground, 0.0), n)}
         return points, angles
 
     origins: ClassVar[dict[str, str]] = {"crank": "O", "coupler": "A", "rocker": "Q"}
@@ -180,3 +149,45 @@ def transmission_angle(coupler_angle: FloatArray, rocker_angle: FloatArray) -> F
     """Angle between coupler and rocker [rad] in [0, pi]; its distance from pi/2 measures force transmission."""
     diff = np.mod(rocker_angle - coupler_angle, 2 * np.pi)
     return np.asarray(np.where(diff > np.pi, 2 * np.pi - diff, diff))
+
+
+def loop_closure(a: float | FloatArray, ground: float | FloatArray, b: float | FloatArray, c: float | FloatArray,
+                 branch: float | FloatArray, phi: FloatArray
+                 ) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues], npt.NDArray[np.bool_]]:
+    """The four-bar's closed form at crank angles ``phi`` [rad]: joints A and B and the three links' angles with
+    their analogues, and where the loop fails to close (the values there are meaningless). Each length [m] and
+    the branch is one number, or one per angle (a stack of four-bars, :mod:`synth.kinematics.stacking`)."""
+    n = len(phi)
+    # Plane vectors as complex numbers: a turn by 90 degrees is a product by i, and each vector operation is
+    # one array operation instead of two.
+    pin = a * unit(phi)
+    to_q = ground - pin
+    dist = np.abs(to_q)
+    bad = (dist > b + c + 1e-12) | (dist < np.abs(b - c) - 1e-12) | (dist == 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = (b * b - c * c + dist * dist) / (2 * dist)
+        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
+        bpos = pin + (to_q / dist) * (x + (1j * branch) * h)
+        e2 = (bpos - pin) / b
+        e3 = (bpos - ground) / c
+        # Loop A + b·e2 = Q + c·e3 differentiated once and twice in phi; each a 2x2 solve by Cramer's rule, with
+        # det = cross(b·i·e2, -c·i·e3) = -b·c·cross(e2, e3).
+        # A product with i turns a cross product into a scalar one: cross(u, i·v) = u·v.
+        det = -b * c * cross_c(e2, e3)
+        pin_d1 = 1j * pin
+        t2d1 = c * dot_c(pin_d1, e3) / det
+        t3d1 = b * dot_c(e2, pin_d1) / det
+        rhs2 = pin + b * (t2d1 * t2d1) * e2 - c * (t3d1 * t3d1) * e3
+        t2d2 = -c * dot_c(rhs2, e3) / det
+        t3d2 = -b * dot_c(e2, rhs2) / det
+    k3 = 1j * e3
+    points = {
+        "A": PointAnalogues(xy(pin), xy(pin_d1), xy(-pin)),
+        "B": PointAnalogues(xy(bpos), xy((c * t3d1) * k3), xy(c * (t3d2 * k3 - (t3d1 * t3d1) * e3))),
+    }
+    angles = {
+        "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n), pin / a),
+        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
+        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
+    }
+    return points, angles, bad

@@ -10,10 +10,11 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from ..mechanism import FloatArray
-from .fourbar import FourBar
-from .motion import AngleAnalogues, Motion, PointAnalogues, build_motion, cross_c, dot_c, unit, xy
+from .fourbar import FourBar, loop_closure
+from .motion import Motion, PointAnalogues, build_motion
 
 
 def _joined(parts: Sequence[Mapping[str, FloatArray]]) -> dict[str, FloatArray]:
@@ -56,14 +57,15 @@ def motion_block(motion: Motion, start: int, stop: int) -> Motion:
 
 
 def stacked_fourbar_motion(mechanisms: Sequence[FourBar], phi: FloatArray, omega: float, alpha: float = 0.0
-                           ) -> tuple[Motion, FloatArray]:
+                           ) -> tuple[Motion, npt.NDArray[np.bool_]]:
     """The motions of many four-bars at the same crank angles ``phi`` [rad], speed ``omega`` [rad/s] and
     acceleration ``alpha`` [rad/s²], stacked as :func:`stack_motions` stacks them, in one pass of
     :meth:`FourBar.solve`'s closed form with each sample's own lengths; and per four-bar whether its loop fails
     to close at some angle (its block is then meaningless: :func:`synth.kinematics.motion` of it alone raises
     the error with its gaps).
 
-    The arithmetic is :meth:`FourBar.solve`'s, operation for operation, so each block is the single motion.
+    The arithmetic is :meth:`FourBar.solve`'s (:func:`~synth.kinematics.fourbar.loop_closure`), so each block is
+    the single motion.
     """
     k, n = len(mechanisms), len(phi)
 
@@ -76,34 +78,12 @@ def stacked_fourbar_motion(mechanisms: Sequence[FourBar], phi: FloatArray, omega
     c = per_sample([m.rocker for m in mechanisms])
     branch = per_sample([m.branch for m in mechanisms])
     angles = np.tile(np.asarray(phi, dtype=float), k)
-    pin = a * unit(angles)
-    to_q = ground - pin
-    dist = np.abs(to_q)
-    bad = (dist > b + c + 1e-12) | (dist < abs(b - c) - 1e-12) | (dist == 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = (b * b - c * c + dist * dist) / (2 * dist)
-        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
-        bpos = pin + (to_q / dist) * (x + (1j * branch) * h)
-        e2 = (bpos - pin) / b
-        e3 = (bpos - ground) / c
-        det = -b * c * cross_c(e2, e3)
-        pin_d1 = 1j * pin
-        t2d1 = c * dot_c(pin_d1, e3) / det
-        t3d1 = b * dot_c(e2, pin_d1) / det
-        rhs2 = pin + b * (t2d1 * t2d1) * e2 - c * (t3d1 * t3d1) * e3
-        t2d2 = -c * dot_c(rhs2, e3) / det
-        t3d2 = -b * dot_c(e2, rhs2) / det
-    k3 = 1j * e3
+    moving, links, bad = loop_closure(a, ground, b, c, branch, angles)
     size = k * n
     points = {
         "O": PointAnalogues(np.zeros((size, 2)), np.zeros((size, 2)), np.zeros((size, 2))),
-        "A": PointAnalogues(xy(pin), xy(pin_d1), xy(-pin)),
-        "B": PointAnalogues(xy(bpos), xy((c * t3d1) * k3), xy(c * (t3d2 * k3 - (t3d1 * t3d1) * e3))),
+        **moving,
         "Q": PointAnalogues(np.stack([ground, np.zeros(size)], axis=-1), np.zeros((size, 2)), np.zeros((size, 2))),
     }
-    links = {
-        "crank": AngleAnalogues(angles, np.ones(size), np.zeros(size), pin / a),
-        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
-        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
-    }
-    return build_motion(angles, omega, alpha, points, links, FourBar.origins), bad.reshape(k, n).any(axis=1)
+    failed: npt.NDArray[np.bool_] = np.asarray(bad.reshape(k, n).any(axis=1))
+    return build_motion(angles, omega, alpha, points, links, FourBar.origins), failed
