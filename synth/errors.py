@@ -17,7 +17,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Self
 
 import numpy as np
 
@@ -33,6 +33,12 @@ class SynthError(Exception):
     def extras(self) -> dict[str, Any]:
         """Fields that help the caller act on the problem (angles, statuses, names)."""
         return {}
+
+    def as_answer(self) -> Self:
+        """This error kept as a value (a batch's answer for one variant), without its traceback: the traceback
+        holds the frame that caught it, whose lists hold the error, a reference cycle that would keep the whole
+        batch alive until the collector's next full pass."""
+        return self.with_traceback(None)
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Errors cross process boundaries (worker pools, Dask); rebuild them from their state, not their

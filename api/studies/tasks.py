@@ -101,10 +101,9 @@ def run_endpoint_batch(endpoint: str, limits: Limits, requests: list[dict[str, A
 
 
 def _kept(exc: Exception) -> Exception:
-    """An error kept as a variant's answer. A request's own error (a SynthError) loses its traceback, which
-    would hold this frame and so the batch's every answer until the collector's next full pass; anything else
-    is a fault worth its traceback."""
-    return exc.with_traceback(None) if isinstance(exc, SynthError) else exc
+    """An error kept as a variant's answer: a request's own error as :meth:`SynthError.as_answer` keeps it;
+    anything else is a fault worth its traceback."""
+    return exc.as_answer() if isinstance(exc, SynthError) else exc
 
 
 def batch_function(endpoint: str, limits: Limits

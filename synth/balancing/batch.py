@@ -79,7 +79,7 @@ def balance_static_batch(cases: Sequence[StaticCase]) -> list[BalanceResult | Sy
         try:
             prepared = _prepare(index, case)
         except SynthError as exc:
-            out[index] = _answer(exc)
+            out[index] = exc.as_answer()
             continue
         if prepared is None:
             out[index] = _alone(case)
@@ -102,14 +102,7 @@ def _alone(case: StaticCase) -> BalanceResult | SynthError:
         return balance_static(case.linkage, case.speed, case.spec, samples=case.samples, objective=case.objective,
                               mass_budget=case.mass_budget, time_limit_s=case.time_limit_s, method=case.method)
     except SynthError as exc:
-        return _answer(exc)
-
-
-def _answer(exc: SynthError) -> SynthError:
-    """An error kept as a variant's answer, without its traceback: the traceback holds the frame that caught
-    the error, whose lists hold the error, a cycle that would keep every array of the batch alive until the
-    collector's next full pass."""
-    return exc.with_traceback(None)
+        return exc.as_answer()
 
 
 def _prepare(index: int, case: StaticCase) -> _Prepared | None:
@@ -169,7 +162,7 @@ def _stack(group: Sequence[_Prepared]
             motions.append(motion(p.case.linkage.mechanism, angles, speed))
             ready.append(p)
         except SynthError as exc:
-            out[p.index] = _answer(exc)
+            out[p.index] = exc.as_answer()
     return ready, stack_motions(motions) if motions else None, out
 
 
@@ -284,7 +277,7 @@ def _solve_stack(group: Sequence[_Prepared], stack: Motion) -> list[BalanceResul
             cw, program, x = _static_solution(case.linkage, (rows[k], no_offset), p.spec, case.objective,
                                               case.mass_budget, case.time_limit_s, systems[k])
         except SynthError as exc:
-            answers.append(_answer(exc))
+            answers.append(exc.as_answer())
             continue
         # In a minimum-mass program the inertia variable is free: the counterweights are point masses.
         cws = CounterweightSolution(cw, x).counterweights(

@@ -314,7 +314,7 @@ def row_spaces(a: FloatArray, b: FloatArray, what: str, constraint: str
         try:
             out.append(_reduced(a[k], b[k], u[k], s[k], what, constraint))
         except Infeasible as exc:
-            out.append(exc.with_traceback(None))  # kept in ``out``, its traceback would hold ``out``: a cycle
+            out.append(exc.as_answer())
     return out
 
 
