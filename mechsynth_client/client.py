@@ -50,6 +50,7 @@ from .schemas.machine import MachineDesignOut, MachineIn
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
 from .schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
@@ -483,6 +484,24 @@ class SynthClient(_Policy):
         handle.status()
         return handle
 
+    def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis: a disc cam over one turn with its checks."""
+        return self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis: the least cam for pressure-angle and curvature limits."""
+        return self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    def cam_file(self, body: CamAnalysisIn | CamSynthesisIn, format: Literal["png", "svg", "pdf", "csv", "dxf"]
+                 = "png") -> bytes:
+        """The cam's figure (png, svg, pdf), point table (csv) or profile drawing (dxf, millimetres)."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return self._export(f"/v1/cams/{kind}", body, format).content
+
+    def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws: the standard motion laws' peak coefficients."""
+        return self._get_rows("/v1/cams/laws", MotionLawOut)
+
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
@@ -706,3 +725,21 @@ class AsyncSynthClient(_Policy):
         handle = AsyncStudyHandle(self, study_id)
         await handle.status()
         return handle
+
+    async def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis."""
+        return await self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    async def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis."""
+        return await self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    async def cam_file(self, body: CamAnalysisIn | CamSynthesisIn,
+                       format: Literal["png", "svg", "pdf", "csv", "dxf"] = "png") -> bytes:
+        """The cam's figure, point table or profile drawing."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return (await self._export(f"/v1/cams/{kind}", body, format)).content
+
+    async def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws."""
+        return await self._get_rows("/v1/cams/laws", MotionLawOut)
