@@ -25,7 +25,7 @@ MAX_FORCE_N = 1e9
 Force = Annotated[float, Field(ge=-MAX_FORCE_N, le=MAX_FORCE_N)]
 
 
-class SegmentIn(StrictModel):
+class CamSegmentIn(StrictModel):
     """One part of the follower's program over the cam's turn: a dwell, or a rise or return by a motion law."""
 
     kind: Literal["dwell", "rise", "return"] = Field(description="dwell, rise or return.", examples=["rise"])
@@ -39,13 +39,13 @@ class SegmentIn(StrictModel):
                          "law of least peak acceleration, jerk or residual vibration (see law_options).")
 
     @model_validator(mode="after")
-    def _one_lift(self) -> SegmentIn:
+    def _one_lift(self) -> CamSegmentIn:
         if self.lift_m is not None and self.lift_deg is not None:
             raise ValueError("give lift_m (translating follower) or lift_deg (oscillating), not both")
         return self
 
 
-class FollowerIn(StrictModel):
+class CamFollowerIn(StrictModel):
     """The follower. The cam centre is the origin and the cam turns counter-clockwise. A translating follower
     moves along +y on the line x = offset_m; an oscillating follower's pivot is at (pivot_distance_m, 0) with its
     arm reaching back over the cam on the +y side."""
@@ -66,7 +66,7 @@ class FollowerIn(StrictModel):
                                       "toward the cam [m].")
 
     @model_validator(mode="after")
-    def _complete(self) -> FollowerIn:
+    def _complete(self) -> CamFollowerIn:
         if self.contact == "roller" and not self.roller_radius_m > 0:
             raise ValueError("a roller follower needs roller_radius_m > 0")
         if self.motion == "oscillating":
@@ -83,7 +83,7 @@ class FollowerIn(StrictModel):
                              self.face_offset_m)
 
 
-class ProcessLoadIn(StrictModel):
+class CamProcessLoadIn(StrictModel):
     """A process load on the follower against its lift between two cam angles (wrapping past 360 allowed)."""
 
     from_deg: float = Field(ge=0.0, le=360.0, description="Cam angle where the load starts [deg].", examples=[0.0])
@@ -92,7 +92,7 @@ class ProcessLoadIn(StrictModel):
     moment_Nm: Force | None = Field(None, description="Moment on an oscillating follower about its pivot [N·m].")
 
 
-class LoadsIn(StrictModel):
+class CamLoadsIn(StrictModel):
     """The follower's inertia, spring and process loads; a spring left without stiffness or preload is designed:
     the least spring (largest spring force least) keeping contact with the margin."""
 
@@ -107,7 +107,7 @@ class LoadsIn(StrictModel):
                                                   description="Torsion spring rate [N·m/rad].")
     spring_preload_Nm: float | None = Field(None, ge=0.0, le=MAX_FORCE_N,
                                             description="Torsion spring moment at the lowest position [N·m].")
-    process: list[ProcessLoadIn] = Field(default_factory=list, max_length=8, description="Process loads.")
+    process: list[CamProcessLoadIn] = Field(default_factory=list, max_length=8, description="Process loads.")
     contact_margin: float = Field(0.2, ge=0.0, le=10.0, description="The spring must exceed the separating force "
                                   "by this fraction at every angle.")
 
@@ -126,13 +126,13 @@ class LawOptionsIn(StrictModel):
 
 
 class _CamFields(StrictModel):
-    segments: list[SegmentIn] = Field(min_length=1, max_length=MAX_SEGMENTS,
+    segments: list[CamSegmentIn] = Field(min_length=1, max_length=MAX_SEGMENTS,
                                       description="The follower's program, in order from cam angle 0.")
-    follower: FollowerIn = Field(default_factory=FollowerIn, description="The follower.")
+    follower: CamFollowerIn = Field(default_factory=CamFollowerIn, description="The follower.")
     speed_rpm: float = Field(gt=0.0, le=1e5, description="Cam speed [rev/min].", examples=[300.0])
     samples: int = Field(720, ge=72, le=1_000_000, description="Cam angles per turn (the service's max_samples "
                          "bounds it).")
-    loads: LoadsIn | None = Field(None, description="Inertia, spring and process loads for the forces.")
+    loads: CamLoadsIn | None = Field(None, description="Inertia, spring and process loads for the forces.")
     law_options: LawOptionsIn = Field(default_factory=LawOptionsIn, description="Optimised laws' options.")
     drawing_angle_deg: float = Field(0.0, ge=0.0, le=360.0, description="Cam angle the figure draws [deg].")
     chord_tolerance_m: float = Field(1e-5, ge=1e-7, le=1e-2, description="Largest distance of the DXF's "
@@ -274,7 +274,8 @@ def _l(x: Any) -> Any:
 class TranslatingMotionOut(BaseModel):
     """A translating follower's displacement and its derivatives over the turn, per radian and at speed."""
 
-    follower_motion: Literal["translating"] = "translating"
+    follower_motion: Literal["translating"] = Field("translating", description="The follower's kind: the "
+                                                    "names of the fields below carry its unit, m.")
     s_m: list[float] = Field(description="Displacement from the lowest position [m].")
     v_m_per_rad: list[float] = Field(description="ds/dtheta [m/rad].")
     a_m_per_rad2: list[float] = Field(description="d2s/dtheta2 [m/rad²].")
@@ -287,7 +288,8 @@ class TranslatingMotionOut(BaseModel):
 class OscillatingMotionOut(BaseModel):
     """An oscillating follower's swing and its derivatives over the turn, per radian and at speed."""
 
-    follower_motion: Literal["oscillating"] = "oscillating"
+    follower_motion: Literal["oscillating"] = Field("oscillating", description="The follower's kind: the "
+                                                    "names of the fields below carry its unit, rad.")
     psi_rad: list[float] = Field(description="Arm swing from its lowest position [rad].")
     v_rad_per_rad: list[float] = Field(description="dpsi/dtheta [rad/rad].")
     a_rad_per_rad2: list[float] = Field(description="d2psi/dtheta2 [rad/rad²].")
@@ -312,7 +314,7 @@ def motion_out(an: cams.CamAnalysis) -> TranslatingMotionOut | OscillatingMotion
                                 jerk_rad_s3=cols[6])
 
 
-class ProfileOut(BaseModel):
+class CamProfileOut(BaseModel):
     """The cam in its own frame (centre at the origin, at cam angle 0), with pressure angle and curvature."""
 
     base_radius_m: float = Field(description="Base circle radius [m].")
@@ -334,7 +336,7 @@ class ProfileOut(BaseModel):
                                        "the face from its reference point [m].")
 
 
-def profile_out(an: cams.CamAnalysis) -> ProfileOut:
+def profile_out(an: cams.CamAnalysis) -> CamProfileOut:
     """The profile block of an analysis."""
     g, m = an.geometry, an.motion
     kinds = np.array([s.kind for s in an.spec.segments])[m.segment]
@@ -342,7 +344,7 @@ def profile_out(an: cams.CamAnalysis) -> ProfileOut:
     convex = np.where(g.kappa > 0, g.kappa, 0.0)
     k = int(np.argmax(convex))
     flat = an.spec.follower.contact == "flat_faced"
-    return ProfileOut(
+    return CamProfileOut(
         base_radius_m=g.base_radius, prime_radius_m=g.prime_radius, offset_m=an.spec.follower.offset,
         pitch_m=_l(g.pitch), profile_m=_l(g.profile), pressure_angle_deg=_deg(g.pressure_angle),
         curvature_1_m=_l(g.kappa),
@@ -353,7 +355,7 @@ def profile_out(an: cams.CamAnalysis) -> ProfileOut:
         face_extent_m=[float(g.face.min()), float(g.face.max())] if flat else [0.0, 0.0])
 
 
-class ForcesOut(BaseModel):
+class CamForcesOut(BaseModel):
     """The pair's forces over the turn at the cam speed."""
 
     spring_designed: bool = Field(description="The spring (stiffness, preload or both) was designed: least "
@@ -377,13 +379,13 @@ class ForcesOut(BaseModel):
     rms_driving_torque_Nm: float = Field(description="RMS driving torque [N·m].")
 
 
-def forces_out(an: cams.CamAnalysis) -> ForcesOut | None:
+def forces_out(an: cams.CamAnalysis) -> CamForcesOut | None:
     """The forces block of an analysis."""
     f = an.forces
     if f is None:
         return None
     tr = an.spec.follower.motion == "translating"
-    return ForcesOut(
+    return CamForcesOut(
         spring_designed=f.spring_designed,
         spring_stiffness_N_m=f.stiffness if tr else None, spring_preload_N=f.preload if tr else None,
         spring_stiffness_Nm_rad=None if tr else f.stiffness, spring_preload_Nm=None if tr else f.preload,
@@ -412,7 +414,7 @@ class LawCheckOut(BaseModel):
                                                    "peak).")
 
 
-class ChecksOut(BaseModel):
+class CamChecksOut(BaseModel):
     """Independent figures every cam answer carries."""
 
     table_pressure_angle_error_deg: float = Field(description="Largest difference between the pressure angle "
@@ -463,10 +465,10 @@ class CamAnalysisOut(BaseModel):
     cam_angle_deg: list[float] = Field(description="Cam angles of every per-angle list [deg].")
     speed_rpm: float = Field(description="Cam speed [rev/min].")
     motion: MotionOut = Field(description="The follower's motion; its field names carry the follower's unit.")
-    profile: ProfileOut = Field(description="Pitch curve, profile, pressure angle and curvature.")
-    forces: ForcesOut | None = Field(description="Contact force, spring, driving torque; null without loads.")
+    profile: CamProfileOut = Field(description="Pitch curve, profile, pressure angle and curvature.")
+    forces: CamForcesOut | None = Field(description="Contact force, spring, driving torque; null without loads.")
     optimised_laws: list[OptimisedLawOut] = Field(description="The laws the service optimised, in segment order.")
-    checks: ChecksOut = Field(description="Independent check figures.")
+    checks: CamChecksOut = Field(description="Independent check figures.")
 
     @classmethod
     def from_engine(cls, an: cams.CamAnalysis) -> CamAnalysisOut:
@@ -478,7 +480,7 @@ class CamAnalysisOut(BaseModel):
             textbook_acceleration_coefficient=c.textbook_acceleration,
             sampled_peak_acceleration_ratio=c.peak_acceleration / (c.coefficient_acceleration * c.lift / c.angle**2))
             for c in an.laws]
-        checks = ChecksOut(table_pressure_angle_error_deg=math.degrees(an.table.max_pressure_angle_error),
+        checks = CamChecksOut(table_pressure_angle_error_deg=math.degrees(an.table.max_pressure_angle_error),
                            table_curvature_error=an.table.max_curvature_error,
                            table_samples_compared=an.table.samples_compared, derivative_error=an.derivative_check,
                            torque_virtual_power_error=None if f is None else f.torque_check, laws=laws)
@@ -487,7 +489,7 @@ class CamAnalysisOut(BaseModel):
                    optimised_laws=[optimised_out(o) for o in an.optimised], checks=checks)
 
 
-class ConstraintOut(BaseModel):
+class CamConstraintOut(BaseModel):
     """A limit of the least-cam search at the answer."""
 
     name: str = Field(description="The limit's request field.")
@@ -496,7 +498,7 @@ class ConstraintOut(BaseModel):
     active: bool = Field(description="The limit that stops a smaller cam.")
 
 
-class CertificateOut(BaseModel):
+class LeastCamCertificateOut(BaseModel):
     """Why no smaller cam meets the limits."""
 
     statement: str = Field(description="The method and the certificate in words.")
@@ -515,23 +517,23 @@ class CamSynthesisOut(BaseModel):
     offset_m: float = Field(description="The follower's offset at the answer [m] (the best when free).")
     active_constraint: str = Field(description="The limit that stops a smaller cam (a request field name, or "
                                    "base_radius_min_m when the range's lower end is feasible).")
-    constraints: list[ConstraintOut] = Field(description="Every limit at the answer.")
-    certificate: CertificateOut = Field(description="How the answer was found and checked.")
+    constraints: list[CamConstraintOut] = Field(description="Every limit at the answer.")
+    certificate: LeastCamCertificateOut = Field(description="How the answer was found and checked.")
     cam: CamAnalysisOut = Field(description="The least cam analysed, with its checks.")
 
     @classmethod
     def from_engine(cls, r: cams.CamSynthesis) -> CamSynthesisOut:
         """Schema from an engine synthesis."""
         lc, lim = r.least, r.limits
-        cons = [ConstraintOut(name="max_pressure_angle_rise_deg", limit=math.degrees(lim.max_pressure_rise),
+        cons = [CamConstraintOut(name="max_pressure_angle_rise_deg", limit=math.degrees(lim.max_pressure_rise),
                               value=math.degrees(lc.pressure_rise), active=lc.active == "max_pressure_angle_rise_deg"),
-                ConstraintOut(name="max_pressure_angle_return_deg", limit=math.degrees(lim.max_pressure_return),
+                CamConstraintOut(name="max_pressure_angle_return_deg", limit=math.degrees(lim.max_pressure_return),
                               value=math.degrees(lc.pressure_return),
                               active=lc.active == "max_pressure_angle_return_deg"),
-                ConstraintOut(name="min_curvature_radius_m", limit=lim.min_curvature_radius,
+                CamConstraintOut(name="min_curvature_radius_m", limit=lim.min_curvature_radius,
                               value=lc.min_curvature_radius if math.isfinite(lc.min_curvature_radius) else 0.0,
                               active=lc.active == "min_curvature_radius_m")]
-        cert = CertificateOut(statement=lc.statement, grid_points=lc.grid_points, evaluations=lc.evaluations,
+        cert = LeastCamCertificateOut(statement=lc.statement, grid_points=lc.grid_points, evaluations=lc.evaluations,
                               bracket_width_m=lc.bracket_width, monotone=lc.monotone,
                               just_below_fails=lc.just_below_fails, offsets_scanned=lc.offset_scan)
         return cls(base_radius_m=lc.base_radius, offset_m=lc.offset, active_constraint=lc.active, constraints=cons,
