@@ -22,7 +22,9 @@ Codes
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
 ``rotor_inertia_missing``, ``rated_power_exceeds`` and ``stage_not_sized`` (a stage the strength sizing cannot
-size: not a cylindrical pair, or no module carries it). A machine design gathers every stage's warnings, each with
+size: not a cylindrical pair, or no module carries it), ``stage_ratio_at_limit`` (a split at a stage's bound),
+``stage_ratio_at_teeth_limit`` (a machine's split at the largest or smallest ratio a tooth pair makes) and
+``teeth_far_from_split`` (no train within the room around the split's ratios). A machine design gathers every stage's warnings, each with
 its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
 the simulated machine misses), and ``motor_cannot_start`` (its starting torque through the train below
 the torque holding the crank at rest); friction adds ``friction_coefficient_large`` (a coefficient above 1); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.

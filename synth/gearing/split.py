@@ -38,6 +38,7 @@ from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
 from ..warnings import DesignWarning
 from .stages import Stage
+from .teeth import ToothRules, pairs_admissible
 
 Objective = Literal["min_inertia", "min_volume", "handbook"]
 OBJECTIVES: tuple[str, ...] = ("min_inertia", "min_volume", "handbook")
@@ -181,6 +182,53 @@ def _check_reachable(total: float, stages: Sequence[Stage]) -> None:
         raise Infeasible(
             f"total ratio {total:g} exceeds the largest the stages reach ({hi:g}, every stage at its maximum "
             "or fixed ratio)", constraint="stage_ratio_max", total_ratio=total, reachable_min=lo, reachable_max=hi)
+
+
+@dataclass(frozen=True, slots=True)
+class TeethLimit:
+    """A toothed stage's ratio range narrowed to what its tooth pairs make under the tooth rules.
+
+    ``stage`` index, motor side first; ``ratio_min``/``ratio_max`` the range after narrowing [-];
+    ``smallest``/``largest`` the (pinion, gear) pairs that make them.
+    """
+
+    stage: int
+    ratio_min: float
+    ratio_max: float
+    smallest: tuple[int, int]
+    largest: tuple[int, int]
+
+
+def teeth_limited(stages: Sequence[Stage], rules: ToothRules) -> tuple[tuple[Stage, ...], tuple[TeethLimit, ...]]:
+    """The stages with every free toothed stage's range narrowed to the ratios its tooth pairs make [-].
+
+    A split within a stage's nominal range may ask for a ratio no pair within the tooth bounds and the
+    interference limit makes (6.3 needs a 107-tooth wheel on a 17-tooth pinion): splitting within the narrowed
+    ranges gives ratios the tooth search can meet. A stage with no admissible pair at all is left as it is (the
+    tooth search names it). Returns the stages and the narrowings made.
+    """
+    z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
+    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
+    out: list[Stage] = []
+    limits: list[TeethLimit] = []
+    for k, s in enumerate(stages):
+        if not s.toothed or s.ratio is not None:
+            out.append(s)
+            continue
+        ok = pairs_admissible(zp, zg, s, rules)
+        if not ok.any():
+            out.append(s)
+            continue
+        ratio = zg[ok] / zp[ok]
+        i_lo, i_hi = int(np.argmin(ratio)), int(np.argmax(ratio))
+        lo, hi = float(ratio[i_lo]), float(ratio[i_hi])
+        if lo > s.ratio_min * (1 + 1e-12) or hi < s.ratio_max * (1 - 1e-12):
+            limits.append(TeethLimit(k, lo, hi, (int(zp[ok][i_lo]), int(zg[ok][i_lo])),
+                                     (int(zp[ok][i_hi]), int(zg[ok][i_hi]))))
+            s = Stage(s.type, max(lo, s.ratio_min), min(hi, s.ratio_max), s.efficiency, s.volume_coefficient,
+                      s.toothed, None)
+        out.append(s)
+    return tuple(out), tuple(limits)
 
 
 def build_split_program(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
