@@ -448,6 +448,24 @@ def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[Flo
     return u, warnings
 
 
+def _at_limit(ratios: FloatArray, stages: Sequence[Stage], objective: str) -> list[DesignWarning]:
+    """Free stages whose ratio sits on a bound of their range: the objective would move them further, so the
+    split is the range's, not the objective's."""
+    out = []
+    for k, (u, s) in enumerate(zip(ratios, stages, strict=True)):
+        if s.ratio is not None:
+            continue
+        for bound, side in ((s.ratio_max, "upper"), (s.ratio_min, "lower")):
+            if abs(u / bound - 1) <= 1e-7:
+                out.append(DesignWarning(
+                    "stage_ratio_at_limit", f"stages[{k}]", float(u),
+                    f"stage {k} ({s.type}) ratio {u:.5g} sits at its {side} limit {bound:g}: the {objective} "
+                    "split is held there by the range, not by its objective; widen the range, change the stage "
+                    "count or the stage type"))
+                break
+    return out
+
+
 def _snap(total: float, ratios: FloatArray, stages: Sequence[Stage], objective: str, model: InertiaModel,
           input_torque: float, tolerance: float) -> FloatArray:
     """Best R20 combination within a few steps of each optimal ratio that keeps the total within ``tolerance``."""
@@ -539,6 +557,8 @@ def split_ratio(
         tol = default_snap_tolerance(total) if snap_tolerance is None else snap_tolerance
         ratios = _snap(total, ratios, stages, objective, model, input_torque, tol)
         kkt, solver_value = None, None
+    if objective != "handbook":
+        warnings += _at_limit(ratios, stages, objective)
     inertia_value = reduced_train_inertia(ratios, model)
     volume = gear_volume(ratios, stages, input_torque)
     model_value = volume if objective == "min_volume" and volume is not None else inertia_value

@@ -641,9 +641,12 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     checks = _checks(machine, motion, motor)
     torques = _shaft_torques(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     gears, not_sized = _gears(machine, teeth, ratios, torques, motion, shafts)
+    # a bound the tooth rules set is named with its pair; the split's own note of that bound is then redundant
+    teeth_bound = _teeth_limit_warnings(drive, stages, limits)
+    held = {w.field for w in teeth_bound}
+    drive_notes = [w for w in drive.warnings if not (w.code == "stage_ratio_at_limit" and w.field in held)]
     warnings = [*staged(check_analysis(before), "analysis"), *_balancing_warnings(before, bal),
-                *staged(drive.warnings, "drive", "drive")]
-    warnings += staged(_teeth_limit_warnings(drive, stages, limits), "drive", "drive")
+                *staged(drive_notes, "drive", "drive"), *staged(teeth_bound, "drive", "drive")]
     if teeth is not None:
         warnings += staged([*teeth.warnings, *teeth_notes], "teeth", "drive")
     constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
