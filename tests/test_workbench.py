@@ -16,6 +16,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import httpx
 import numpy as np
@@ -370,3 +371,82 @@ def test_page_assets_are_light_and_local() -> None:
     for f in files:
         text = f.read_text().replace("http://www.w3.org/2000/svg", "")
         assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", text), f.name
+
+
+# Names that would run script if the page wrote them as HTML: each payload, if run, counts in window.__pwned or opens
+# a dialog.
+PAYLOADS = ["<img src=x onerror=\"window.__pwned=(window.__pwned||0)+1\">", "<svg onload=alert(1)>",
+            "\"><script>window.__pwned=1</script>", "<b onmouseover=alert(2)>x</b>", "<iframe src=javascript:alert(3)>",
+            "<a href=javascript:alert(4)>crank</a>"]
+
+
+def _hostile_design(base_url: str) -> dict[str, Any]:
+    """The manual's general linkage with its links, joints and a point renamed to the payloads."""
+    examples = httpx.get(f"{base_url}/openapi.json", timeout=10).json()["components"]["schemas"]["AnalysisIn"]["examples"]
+    text = json.dumps(next(e for e in examples if e["mechanism"]["type"] == "linkage"))
+    for old, new in zip(('"coupler"', '"B"', '"C"', '"rod"'), PAYLOADS):
+        text = text.replace(old, json.dumps(new))
+    design: dict[str, Any] = json.loads(text)
+    design["trace_points"] = [{"name": PAYLOADS[4], "link": PAYLOADS[0], "position_m": [0.1, 0.05]}]
+    return design
+
+
+def test_hostile_names_from_a_link_and_a_file_are_text_and_run_nothing(page: Page, base_url: str,
+                                                                     tmp_path: Path) -> None:
+    dialogs: list[str] = []
+    page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+    design = _hostile_design(base_url)
+    assert httpx.post(f"{base_url}/v1/analysis", json=design, timeout=30).status_code == 200   # the service takes it
+    page.goto("about:blank")
+    page.goto(f"{base_url}/#design={quote(json.dumps(design))}")
+    page.wait_for_selector("body[data-ready='1']", timeout=20_000)
+    names = page.eval_on_selector_all("#drawing text, #drawing title", "els => els.map(e => e.textContent)")
+    # The names are on the page as the characters they are, and no element came out of them.
+    assert PAYLOADS[1] in names and PAYLOADS[2] in names and PAYLOADS[4] in names
+    assert page.locator("#drawing img, #drawing script, #drawing foreignObject, body script:not([src])").count() == 0
+    page.hover("#drawing")
+    # From a file, with the output link renamed too; then the balancing panel's answer drawn from that design.
+    saved = tmp_path / "hostile.json"
+    mech = design["mechanism"]
+    mech["links"][-1]["name"] = mech["output"] = PAYLOADS[5]
+    for j in mech["joints"]:
+        j["links"] = [PAYLOADS[5] if n == "ram" else n for n in j["links"]]
+    saved.write_text(json.dumps(design))
+    before = page.evaluate("document.body.dataset.analysed")
+    page.set_input_files("#load-json", str(saved))
+    page.wait_for_function(f"document.body.dataset.analysed !== '{before}'", timeout=15_000)
+    page.click("button[data-panel=balancing]")
+    page.click("#bal-run")
+    page.wait_for_selector("#bal-polar", timeout=30_000)
+    assert PAYLOADS[5] in page.eval_on_selector_all("#drawing title", "els => els.map(e => e.textContent)")
+    _shot(page, "hostile-names")
+    assert page.evaluate("window.__pwned") is None and dialogs == []
+    assert page.locator("img, script:not([src])").count() == 0
+
+
+def test_the_page_runs_under_a_policy_without_inline_script_or_style(page: Page, base_url: str) -> None:
+    """Served with a Content-Security-Policy that forbids inline script and style, the page and every panel work and
+    the browser reports no refusal."""
+    policy = ("default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data: blob:; "
+              "object-src 'none'; base-uri 'none'")
+    refused: list[str] = []
+    page.on("console", lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None)
+
+    def with_policy(route: Any) -> None:
+        response = route.fetch()
+        route.fulfill(response=response, headers={**response.headers, "content-security-policy": policy})
+
+    page.route(f"{base_url}/", with_policy)
+    page.goto("about:blank")
+    page.goto(f"{base_url}/")
+    page.wait_for_selector("body[data-ready='1']", timeout=20_000)
+    page.evaluate("document.addEventListener('securitypolicyviolation', e => "
+                  "(window.__violations = window.__violations || []).push(e.violatedDirective))")
+    for panel in ("balancing", "flywheel", "drive", "machine", "synthesis", "studies", "mechanism"):
+        page.click(f"button[data-panel={panel}]")
+    page.click("button[data-panel=balancing]")
+    page.select_option("[id='bal-mode']", "full")
+    page.click("#bal-run")
+    page.wait_for_selector("#bal-polar", timeout=30_000)
+    page.hover("#bal-polar svg")
+    assert page.evaluate("window.__violations || []") == [] and refused == []

@@ -3,6 +3,7 @@ import { loadOpenApi, describe, post, Problem } from "./api.js";
 import { linePlot, polarPlot } from "./plot.js";
 import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
+import { h } from "./dom.js";
 
 const UNITS = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
 const LINK_LABELS = {
@@ -126,23 +127,29 @@ function describeSpec(spec, fam) {
   return describe("AnalysisIn", spec.schemaPath || spec.path, { type: fam });
 }
 
-function esc(s) { return String(s).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/"/g, "&quot;"); }
-
 export function renderForm() {
   const form = document.getElementById("design-form");
   const fam = state.design.mechanism.type;
   document.getElementById("family").value = fam;
   const specs = fieldSpecs(state.design);
   state.fields = specs.filter((s) => s.path);
-  let html = "", open = false, group = "";
+  const nodes = [];
+  let set = null, group = "";
   for (const spec of specs) {
     spec.groupLabel = group;
     if (spec.group) {
       group = spec.group;
-      if (open) html += "</fieldset>";
-      html += `<fieldset><legend>${esc(spec.group)}</legend>`;
-      if (spec.remove !== undefined) html += `<button type="button" class="remove-cw" data-index="${spec.remove}">Remove</button>`;
-      open = true;
+      set = h("fieldset", {}, h("legend", {}, spec.group));
+      if (spec.remove !== undefined) {
+        const n = spec.remove;
+        set.appendChild(h("button", { type: "button", class: "remove-cw", dataset: { index: n }, onclick: () => {
+          state.design.counterweights.splice(n, 1);
+          if (!state.design.counterweights.length) { delete state.design.counterweights; delete state.design.counter_rotors; delete state.design.coupler_inertia_kgm2; }
+          renderForm();
+          edited();
+        } }, "Remove"));
+      }
+      nodes.push(set);
       continue;
     }
     const d = describeSpec(spec, fam);
@@ -152,35 +159,28 @@ export function renderForm() {
     const value = getPath(state.design, spec.path);
     const unit = unitLabel(kind, d.unit);
     const title = `${d.text}`.trim();
+    const common = { id, name: spec.path, title, "aria-describedby": `m-${spec.path}` };
     let input;
     if (spec.json) {
       // one line per entry, short lists of numbers or names kept on one line
       const text = JSON.stringify(value, null, 1).replace(/\[\s+([^[\]{}]*?)\s+\]/g, (_, inner) => `[${inner.replace(/\s+/g, " ")}]`);
-      input = `<textarea id="${id}" name="${spec.path}" rows="18" spellcheck="false" title="${esc(title)}" ` +
-        `aria-describedby="m-${spec.path}">${esc(text)}</textarea>`;
+      input = h("textarea", { ...common, rows: 18, spellcheck: "false" });
+      input.value = text;
     } else if (spec.options) {
-      input = `<select id="${id}" name="${spec.path}" title="${esc(title)}" aria-describedby="m-${spec.path}">` +
-        spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? spec.options[0][0]) === v ? "selected" : ""}>${l}</option>`).join("") +
-        "</select>";
+      input = h("select", common, spec.options.map(([v, l]) => h("option", { value: v, selected: String(value ?? spec.options[0][0]) === v }, l)));
     } else {
       // a field left out takes the schema's default: shown greyed as the placeholder
       let dflt = d.default;
       if (Array.isArray(dflt)) dflt = dflt[Number(spec.path.split(".").pop())];
       const placeholder = typeof dflt === "number" ? toDisplay(dflt, kind) : "";
-      input = `<input id="${id}" name="${spec.path}" type="text" inputmode="decimal" autocomplete="off" ` +
-        `value="${esc(toDisplay(value, kind))}" placeholder="${esc(placeholder)}" title="${esc(title)}" aria-describedby="m-${spec.path}">`;
+      input = h("input", { ...common, type: "text", inputmode: "decimal", autocomplete: "off", placeholder });
+      input.value = toDisplay(value, kind);
     }
-    html += `<div class="row" data-path="${spec.path}"><label for="${id}" title="${esc(title)}">${esc(spec.label)}</label>${input}` +
-      `<span class="unit">${esc(unit)}</span><p class="msg" id="m-${spec.path}" hidden></p></div>`;
+    const row = h("div", { class: "row", dataset: { path: spec.path } }, h("label", { for: id, title }, spec.label), input,
+      h("span", { class: "unit" }, unit), h("p", { class: "msg", id: `m-${spec.path}`, hidden: true }));
+    if (set) set.appendChild(row); else nodes.push(row);
   }
-  if (open) html += "</fieldset>";
-  form.innerHTML = html;
-  form.querySelectorAll(".remove-cw").forEach((b) => b.addEventListener("click", () => {
-    state.design.counterweights.splice(Number(b.dataset.index), 1);
-    if (!state.design.counterweights.length) { delete state.design.counterweights; delete state.design.counter_rotors; delete state.design.coupler_inertia_kgm2; }
-    renderForm();
-    edited();
-  }));
+  form.replaceChildren(...nodes);
 }
 
 function clearMessages() {
@@ -188,7 +188,7 @@ function clearMessages() {
   document.querySelectorAll("#design-form [aria-invalid]").forEach((i) => i.removeAttribute("aria-invalid"));
   const p = document.getElementById("form-problem");
   p.hidden = true; p.textContent = "";
-  document.getElementById("form-warnings").innerHTML = "";
+  document.getElementById("form-warnings").replaceChildren();
 }
 
 /** The form row a field name of the API belongs to: `mechanism.fourbar.crank_length_m` (a validation error names
