@@ -199,6 +199,17 @@ def test_machine_design_downloads_its_pdf(page: Page) -> None:
     data = Path(path).read_bytes()
     assert dl.value.suggested_filename == "design-record.pdf"
     assert data[:5] == b"%PDF-" and len(re.findall(rb"/Type\s*/Page\b", data)) >= 1
+    # A run that fails after one that passed: the old verdict and tables go, the record button with them, and the
+    # service's message stands next to the field it names.
+    runs = page.evaluate("document.body.dataset.machine")
+    page.fill("[id='mac-delta']", "0")
+    page.click("#mac-run")
+    page.wait_for_function(f"document.body.dataset.machine !== '{runs}'", timeout=60_000)
+    assert page.locator("#mac-verdict, #mac-result tr.check").count() == 0
+    assert page.locator("#mac-pdf").is_disabled()
+    msg = page.locator("[id='mac-delta-msg']")
+    assert msg.is_visible() and "greater than" in msg.inner_text()
+    _shot(page, "machine-failed")
 
 
 def test_study_reaches_100_percent_and_a_pareto_point_opens_its_variant(page: Page, base_url: str) -> None:
