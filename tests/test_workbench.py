@@ -21,7 +21,7 @@ from urllib.parse import quote
 import httpx
 import numpy as np
 import pytest
-from playwright.sync_api import Browser, Page, sync_playwright
+from playwright.sync_api import Browser, Page, expect, sync_playwright
 from service import running_service
 
 REPO = Path(__file__).resolve().parents[1]
@@ -287,8 +287,11 @@ def test_a_bad_value_shows_its_message_next_to_its_field(page: Page) -> None:
     edit_and_wait(page, "mechanism.crank_length_m", "-5", outcome="problem")
     msg = page.locator("[id='m-mechanism.crank_length_m']")
     assert msg.is_visible()
-    # The service's own words (pydantic's bound, named by the API), in the same form row as the field.
-    assert "greater than or equal to" in msg.inner_text()
+    # The service's bound (1e-6 m, read from the manual here) said in the form's unit, in the field's own row.
+    bound = page.evaluate("fetch('/openapi.json').then(r => r.json()).then(d => "
+                          "d.components.schemas.FourBarIn.properties.crank_length_m)")
+    low = bound.get("minimum", bound.get("exclusiveMinimum"))
+    assert f"{low * 1000:g} mm" in msg.inner_text() and "greater than" not in msg.inner_text()
     assert page.locator(".row[data-path='mechanism.crank_length_m'] [id='m-mechanism.crank_length_m']").count() == 1
     assert field(page, "mechanism.crank_length_m").get_attribute("aria-invalid") == "true"
     _shot(page, "bad-value")
@@ -300,6 +303,8 @@ def test_a_bad_value_shows_its_message_next_to_its_field(page: Page) -> None:
     edit_and_wait(page, "mechanism.crank_length_m", "100", outcome="analysed")
     edit_and_wait(page, "mechanism.rocker_length_m", "80", outcome="problem")
     assert whole.is_visible() and "cannot be assembled" in whole.inner_text()
+    # the gaps as degree ranges a reader writes (one decimal), not a tuple of nine
+    assert re.search(r"\d+\.\d°–\d+\.\d°", whole.inner_text()) and "((" not in whole.inner_text()
     # Not a number at all: said at once, without asking the service.
     field(page, "mechanism.coupler_length_m").fill("abc")
     assert page.locator("[id='m-mechanism.coupler_length_m']").inner_text() == '"abc" is not a number'
@@ -461,3 +466,28 @@ def test_the_page_runs_under_a_policy_without_inline_script_or_style(page: Page,
     page.wait_for_selector("#bal-polar", timeout=30_000)
     page.hover("#bal-polar svg")
     assert page.evaluate("window.__violations || []") == [] and refused == []
+
+
+def test_a_size_limit_names_its_field_in_view_and_the_stale_picture_is_marked(page: Page, base_url: str,
+                                                                              tmp_path: Path) -> None:
+    limit = httpx.post(f"{base_url}/v1/analysis", json={**state(page, "design"), "samples": 10**6}, timeout=30).json()
+    edit_and_wait(page, "samples", str(limit["limit"] + 1), outcome="problem")
+    msg = page.locator("[id='m-samples']")
+    # the service's 413 names the field, so its words stand under the samples field, scrolled into view
+    assert limit["status"] == 413 and limit["field"] == "samples"
+    expect(msg).to_be_in_viewport()
+    assert str(limit["limit"]) in msg.inner_text()
+    # the drawing and the diagrams are of the last design that analysed: greyed and labelled while the error stands
+    assert page.locator("#drawing-box.stale-view, #plots.stale-view").count() == 2
+    expect(page.locator("#stale-note")).to_be_visible()
+    _shot(page, "stale-picture")
+    edit_and_wait(page, "samples", "360")
+    assert page.locator(".stale-view").count() == 0 and page.locator("#stale-note").is_hidden()
+    # A file that is not JSON: said in the page's words, not the parser's.
+    bad = tmp_path / "notes.json"
+    bad.write_text("{ this is not json")
+    before = page.evaluate("document.body.dataset.problem || ''")
+    page.set_input_files("#load-json", str(bad))
+    page.wait_for_function(f"(document.body.dataset.problem || '') !== '{before}'", timeout=15_000)
+    text = page.locator("#form-problem").inner_text()
+    assert "notes.json is not a design" in text and "Unexpected" not in text and "JSON.parse" not in text

@@ -1,6 +1,6 @@
 // The workbench: the mechanism editor, its drawing and its diagrams; the other panels live in panels.js.
 import { loadOpenApi, describe, post, Problem } from "./api.js";
-import { linePlot, polarPlot } from "./plot.js";
+import { linePlot, polarPlot, fmt } from "./plot.js";
 import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
 import { h } from "./dom.js";
@@ -203,17 +203,49 @@ function rowFor(field) {
   return hit || null;
 }
 
+const RELATIONS = { "greater than or equal to": "at least", "greater than": "more than", "less than or equal to": "at most",
+  "less than": "less than" };
+
+/** A bound the service states in SI ("greater than or equal to 1e-06"), said in the form's unit of the field. */
+export function inFormUnits(path, text) {
+  const spec = state.fields.find((f) => f.path === path);
+  if (!spec || !spec.kind || spec.kind === "plain") return text;
+  const f = factor(spec.kind), u = unitLabel(spec.kind);
+  return text.replace(/\b(greater than or equal to|greater than|less than or equal to|less than) (-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)/,
+    (_, rel, num) => `${RELATIONS[rel]} ${fmt(Number(num) / f)} ${u}`);
+}
+
+/** Bring a message into view next to its field, in the scrolled editor or panel. */
+export function reveal(el) {
+  if (el && el.scrollIntoView) el.scrollIntoView({ block: "nearest", inline: "nearest" });
+}
+
 export function showMessage(field, text, warn = false) {
   // the linkage as a whole (cannot assemble, a weak transmission angle): said under the family
   const path = field === "mechanism" ? "mechanism" : rowFor(field);
   if (!path) return false;
   const m = document.getElementById(`m-${path}`);
-  if (path === "mechanism") { m.textContent = text; m.hidden = false; m.className = warn ? "msg warn" : "msg"; return true; }
-  m.textContent = text;
+  m.textContent = path === "mechanism" ? text : inFormUnits(path, text);
   m.hidden = false;
   m.className = warn ? "msg warn" : "msg";
-  if (!warn) document.getElementById(`f-${path}`).setAttribute("aria-invalid", "true");
+  if (path !== "mechanism" && !warn) document.getElementById(`f-${path}`).setAttribute("aria-invalid", "true");
+  if (!warn) reveal(document.querySelector(`.row[data-path="${CSS.escape(path)}"]`) || m);
   return true;
+}
+
+/** Crank-angle gaps as a reader writes them: "76.4°–283.6°". */
+function gaps(ranges) {
+  return ranges.map(([a, b]) => `${Number(a).toFixed(1)}°–${Number(b).toFixed(1)}°`).join(", ");
+}
+
+/** The drawing and the diagrams are of the last design the service answered for: while the form holds an error
+ *  they are greyed and say so. */
+export function markStale(reason) {
+  for (const id of ["drawing-box", "plots"]) document.getElementById(id).classList.toggle("stale-view", Boolean(reason));
+  const note = document.getElementById("stale-note");
+  note.hidden = !reason;
+  note.textContent = reason ? `Drawn for the last design that analysed: ${reason}` : "";
+  document.body.dataset.stale = reason ? "1" : "";
 }
 
 export function showProblem(err, where = "form-problem", fieldMapper = showMessage) {
@@ -221,13 +253,17 @@ export function showProblem(err, where = "form-problem", fieldMapper = showMessa
   const body = err instanceof Problem ? err.body : { detail: String(err.message || err) };
   // a linkage that cannot be assembled is a property of the linkage as a whole
   const field = body.field || (body.not_assemblable_ranges_deg ? "mechanism" : undefined);
-  const list = body.errors && body.errors.length ? body.errors : [{ field, message: body.detail }];
+  const detail = body.not_assemblable_ranges_deg
+    ? `The linkage cannot be assembled for crank angles ${gaps(body.not_assemblable_ranges_deg)} (${body.failing_samples ?? "some"} of the samples): change the lengths.`
+    : body.detail;
+  const list = body.errors && body.errors.length ? body.errors : [{ field, message: detail }];
   const placed = list.map((e) => fieldMapper(e.field, e.message));
   if (placed.every(Boolean)) return;
   box.hidden = false;
-  let text = body.detail || body.title || "the service refused the request";
+  let text = detail || body.title || "the service refused the request";
   if (body.field) text += ` (field ${body.field})`;
   box.textContent = text;
+  reveal(box);
 }
 
 function readInput(el) {
@@ -294,6 +330,7 @@ export async function analyse(t0 = performance.now()) {
     if (seq !== state.seq) return;
     const tAnswer = performance.now();
     clearMessages();
+    markStale(null);
     state.answer = answer;
     state.index = Math.min(state.index, answer.crank_angle_deg.length - 1);
     const slider = document.getElementById("angle");
@@ -321,6 +358,7 @@ export async function analyse(t0 = performance.now()) {
     if (seq !== state.seq) return;
     clearMessages();
     showProblem(err);
+    markStale("the form holds an error");
     setStatus("not analysed: see the message in the form");
     document.body.dataset.problem = String(seq);
   } finally {
@@ -526,6 +564,7 @@ async function main() {
     const m = document.getElementById(`m-${el.name}`);
     if (msg) {
       m.textContent = msg; m.hidden = false; el.setAttribute("aria-invalid", "true");
+      markStale("the form holds an error");
       return;
     }
     m.hidden = true; el.removeAttribute("aria-invalid");
@@ -579,11 +618,17 @@ async function main() {
   document.getElementById("load-json").addEventListener("change", async (e) => {
     const file = e.target.files[0];
     if (!file) return;
-    try {
-      const d = JSON.parse(await file.text());
-      if (!d.mechanism) throw new Error("the file holds no `mechanism`: save a design from this page or write an /v1/analysis request");
-      setDesign(d);
-    } catch (err) { showProblem(err); }
+    let d = null;
+    try { d = JSON.parse(await file.text()); } catch {
+      d = undefined;
+    }
+    if (!d || typeof d !== "object" || !d.mechanism || typeof d.mechanism !== "object") {
+      clearMessages();
+      showProblem(new Error(d === undefined
+        ? `${file.name} is not a design: it is not JSON text. Open a file saved with Save JSON, or an /v1/analysis request.`
+        : `${file.name} holds no mechanism: open a file saved with Save JSON, or an /v1/analysis request.`));
+      document.body.dataset.problem = String(++state.seq);
+    } else setDesign(d);
     e.target.value = "";
   });
   document.getElementById("copy-link").addEventListener("click", async () => {

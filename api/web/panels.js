@@ -68,6 +68,7 @@ function panelProblem(prefix, err) {
       if (el) {
         const m = document.getElementById(`${id}-msg`);
         m.textContent = message; m.hidden = false; el.setAttribute("aria-invalid", "true");
+        (el.closest(".row") || m).scrollIntoView({ block: "nearest", inline: "nearest" });
         return true;
       }
     }
