@@ -146,3 +146,19 @@ def test_a_roller_too_large_for_the_profile_is_422(client: SynthClient) -> None:
     with pytest.raises(InvalidInputError) as err:
         client.cam_analysis(CamAnalysisIn.model_validate(body))
     assert err.value.problem["field"] == "follower.roller_radius_m"
+
+
+def test_pdf_is_a_design_record_identified_by_the_request_hash(client: SynthClient) -> None:
+    import hashlib
+    import json
+
+    from pypdf import PdfReader
+
+    body = CamSynthesisIn.model_validate(SYNTHESIS[0])
+    pdf = PdfReader(io.BytesIO(client.cam_file(body, "pdf")))
+    assert len(pdf.pages) == 2
+    text = pdf.pages[0].extract_text()
+    # the hash of the request's canonical JSON (as validated, defaults in, nulls out), computed here
+    canonical = json.dumps(body.model_dump(mode="json", exclude_none=True), sort_keys=True, separators=(",", ":"))
+    assert hashlib.sha256(canonical.encode()).hexdigest() in text.replace("\n", "")
+    assert "max_pressure_angle_rise_deg" in text and "The least cam" in text

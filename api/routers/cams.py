@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Query, Request
@@ -11,7 +12,9 @@ from fastapi.responses import Response
 import synth.cams
 
 from ..deps import SolverDep
-from ..execution.plans import Limits, Plan
+from synth.machine.record import DesignRecord, input_rows
+
+from ..execution.plans import SERVICE_VERSION, Limits, Plan
 from ..media import FIGURES, Render, format_responses
 from mechsynth_client.schemas.cams import (
     CamAnalysisIn,
@@ -25,30 +28,46 @@ router = APIRouter(prefix="/cams", tags=["cams"])
 FORMATS = (*FIGURES, "csv", "dxf")
 CamFormat = Annotated[
     Literal["json", "png", "svg", "pdf", "csv", "dxf"] | None,
-    Query(description="Answer format: `json` (default); `png`, `svg` or `pdf` for the figure (s, v, a, jerk and "
-                      "the pressure angle over the turn, and the cam with its follower at drawing_angle_deg); "
+    Query(description="Answer format: `json` (default); `png` or `svg` for the figure (s, v, a, jerk and the "
+                      "pressure angle over the turn, and the cam with its follower at drawing_angle_deg); `pdf` "
+                      "for the design record (title block with the request's SHA-256, the cam's figures, the "
+                      "checks, every input, then the figure); "
                       "`csv` for the point table, one row per cam angle with units in the column names; `dxf` "
                       "for the profile as a closed polyline within chord_tolerance_m, with the pitch curve and "
                       "the base circle, in millimetres. An `Accept` header chooses the same way."),
 ]
 
 
-def synthesis_export(result: synth.cams.CamSynthesis, fmt: str, at: float, tolerance: float) -> bytes:
-    """The least cam's figure, point table or drawing."""
-    return synth.cams.cam_export(result.analysis, fmt, at, tolerance)
+def record_title(body: CamAnalysisIn | CamSynthesisIn, name: str) -> synth.cams.RecordTitle:
+    """The design record's title block for a request: now, this service, the request's hash and its inputs."""
+    record = DesignRecord.of(body.model_dump(mode="json", exclude_none=True), name=name, version=SERVICE_VERSION)
+    return synth.cams.RecordTitle(record.name, record.created, record.version, record.request_sha256,
+                                  tuple(input_rows(record.request)))
+
+
+def synthesis_export(result: synth.cams.CamSynthesis, fmt: str, at: float, tolerance: float,
+                     title: synth.cams.RecordTitle) -> bytes:
+    """The least cam's figure, point table, drawing or design record (with the search's certificate)."""
+    lc = result.least
+    least = (f"base radius {lc.base_radius * 1e3:.6g} mm at offset {lc.offset * 1e3:.5g} mm; active limit: "
+             f"{lc.active}", lc.statement)
+    return synth.cams.cam_export(result.analysis, fmt, at, tolerance,
+                                 replace(title, least=least))
 
 
 def analysis_plan(b: CamAnalysisIn, lim: Limits) -> Plan:
     """POST /v1/cams/analysis."""
     return Plan(Render(CamAnalysisOut.from_engine, synth.cams.cam_export,
-                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m)),
+                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
+                                     record_title(b, "disc cam"))),
                 synth.cams.analyse_cam, (b.spec(),), dict(max_samples=lim.max_samples), FORMATS, "cam")
 
 
 def synthesis_plan(b: CamSynthesisIn, lim: Limits) -> Plan:
     """POST /v1/cams/synthesis."""
     return Plan(Render(CamSynthesisOut.from_engine, synthesis_export,
-                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m)),
+                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
+                                     record_title(b, "least disc cam"))),
                 synth.cams.synthesise_cam, (b.to_spec(), b.limits()), dict(max_samples=lim.max_samples), FORMATS,
                 "least-cam")
 

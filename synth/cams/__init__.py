@@ -15,7 +15,7 @@ from .design import (
     analyse_cam,
     synthesise_cam,
 )
-from .exports import cam_csv, cam_dxf, cam_export, cam_figure, cam_table, profile_polyline
+from .exports import RecordTitle, cam_csv, cam_dxf, cam_export, cam_figure, cam_record_pdf, cam_table, profile_polyline
 from .forces import PairForces, PairLoads, ProcessLoad, pair_forces
 from .laws import (
     LAWS,
@@ -46,4 +46,4 @@ def standard_laws() -> list[LawCoefficients]:
     return [law_coefficients(name) for name in STANDARD_LAWS]
 
 
-__all__ += ["standard_laws"]
+__all__ += ["standard_laws", "RecordTitle", "cam_record_pdf"]

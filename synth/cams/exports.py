@@ -227,9 +227,11 @@ def cam_figure(an: CamAnalysis, at: float, fmt: FigureFormat = "png") -> bytes:
     return render(fig, fmt)
 
 
-def cam_export(an: CamAnalysis, fmt: str, at: float, tolerance: float) -> bytes:
-    """The answer as a figure (png, svg, pdf) at cam angle ``at`` [rad], the point table (csv) or the drawing
-    (dxf) within chord ``tolerance`` [m]."""
+def cam_export(an: CamAnalysis, fmt: str, at: float, tolerance: float, title: RecordTitle | None = None) -> bytes:
+    """The answer as a figure (png, svg; pdf: the design record when ``title`` is given) at cam angle ``at``
+    [rad], the point table (csv) or the drawing (dxf) within chord ``tolerance`` [m]."""
+    if fmt == "pdf" and title is not None:
+        return cam_record_pdf(an, at, title)
     if fmt == "csv":
         return cam_csv(an)
     if fmt == "dxf":
@@ -237,3 +239,118 @@ def cam_export(an: CamAnalysis, fmt: str, at: float, tolerance: float) -> bytes:
     if fmt in FIGURE_FORMATS:
         return cam_figure(an, at, fmt)
     raise InvalidInput(f"format {fmt!r} is not offered for cams", field="format")
+
+
+@dataclass(frozen=True, slots=True)
+class RecordTitle:
+    """The title block of a cam's design record: a name, the UTC time, the service's version, the SHA-256 of the
+    request's canonical JSON and every input as (JSON path, value, unit)."""
+
+    name: str
+    created: str
+    version: str
+    request_sha256: str
+    inputs: tuple[tuple[str, str, str], ...]
+    least: tuple[str, ...] = ()
+
+
+def _record_lines(an: CamAnalysis, title: RecordTitle) -> list[tuple[str, str]]:
+    """(heading or label, value) lines of the record's first page; a heading has an empty value."""
+    g, spec, f = an.geometry, an.spec, an.forces
+    fol = spec.follower
+    kinds = np.array([s.kind for s in spec.segments])[an.motion.segment]
+    alpha = np.abs(g.pressure_angle)
+    convex = np.where(g.kappa > 0, g.kappa, 0.0)
+    k = int(np.argmax(convex))
+    where = (f"offset {fol.offset * 1e3:.4g} mm" if fol.motion == "translating"
+             else f"pivot {fol.pivot_distance * 1e3:.4g} mm from the cam centre, arm {fol.arm_length * 1e3:.4g} mm")
+    lines: list[tuple[str, str]] = [("The cam", ""),
+                                    ("follower", f"{fol.motion}, {fol.contact.replace('_', '-')}"
+                                     + (f", roller {fol.roller_radius * 1e3:.4g} mm" if fol.contact == "roller" else "")
+                                     + f", {where}"),
+                                    ("base / prime radius", f"{spec.base_radius * 1e3:.5g} / {g.prime_radius * 1e3:.5g} mm"),
+                                    ("cam speed", f"{spec.speed * 30 / math.pi:.5g} rev/min, counter-clockwise")]
+    for c in an.laws:
+        lift = f"{c.lift * 1e3:.4g} mm" if fol.motion == "translating" else f"{math.degrees(c.lift):.4g}°"
+        lines.append((f"segment {c.index}: {c.kind}", f"{lift} over {math.degrees(c.angle):.4g}° by {c.law}; C_a "
+                      f"{c.coefficient_acceleration:.4f}" + (f" (textbooks {c.textbook_acceleration:.4f})"
+                                                            if c.textbook_acceleration else "")))
+    lines += [("Profile", ""),
+              ("largest pressure angle", f"{math.degrees(alpha[kinds == 'rise'].max(initial=0)):.3f}° in the rises, "
+               f"{math.degrees(alpha[kinds == 'return'].max(initial=0)):.3f}° in the returns"),
+              ("least radius of curvature", f"{1e3 / convex[k]:.4g} mm at {math.degrees(an.motion.theta[k]):.1f}°")]
+    if fol.contact == "flat_faced":
+        lines.append(("least face width", f"{float(np.ptp(g.face)) * 1e3:.4g} mm"))
+    if f is not None:
+        unit = ("N/m", "N") if fol.motion == "translating" else ("N·m/rad", "N·m")
+        lines += [("Forces", ""),
+                  ("spring", f"{f.stiffness:.5g} {unit[0]}, preload {f.preload:.5g} {unit[1]}"
+                   + (" (designed: least largest force for the contact margin)" if f.spring_designed else "")),
+                  ("contact force", f"{f.contact.min():.5g} .. {f.contact.max():.5g} N"),
+                  ("driving torque", f"peak {np.abs(f.torque).max():.5g} N·m, mean {f.torque.mean():.5g} N·m")]
+    if title.least:
+        lines += [("The least cam", "")] + [("", text) for text in title.least]
+    lines += [("Checks", ""),
+              ("pressure angle from the point table", f"within {math.degrees(an.table.max_pressure_angle_error):.2g}°"),
+              ("curvature from the point table", f"within {an.table.max_curvature_error:.2g} of the largest"),
+              ("laws' derivatives by differences", f"within {an.derivative_check:.2g} of each peak")]
+    if f is not None:
+        lines.append(("torque by virtual power, T ω = Q q̇", f"within {f.torque_check:.2g} of the peak"))
+    return lines
+
+
+def cam_record_pdf(an: CamAnalysis, at: float, title: RecordTitle) -> bytes:
+    """The cam's design record: a page of the title block, the cam's figures, the checks and every input, then
+    the figure of :func:`cam_figure`."""
+    import textwrap
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_pdf import PdfPages
+
+    buffer = io.BytesIO()
+    with PdfPages(buffer, metadata={"CreationDate": None}) as pdf:
+        fig = plt.figure(figsize=(8.27, 11.69))
+        y = 0.955
+        fig.text(0.07, y, f"Design record: {title.name}", fontsize=14, weight="bold")
+        y -= 0.025
+        for text in (f"{title.created} · service {title.version}", f"request SHA-256 {title.request_sha256}"):
+            fig.text(0.07, y, text, fontsize=7.5, family="monospace")
+            y -= 0.016
+        for label, value in _record_lines(an, title):
+            if not value:
+                y -= 0.008
+                fig.text(0.07, y, label, fontsize=10, weight="bold")
+                y -= 0.018
+                continue
+            wrapped = textwrap.wrap(value, 70 if label else 100) or [""]
+            fig.text(0.07, y, label, fontsize=8)
+            for part in wrapped:
+                fig.text(0.38 if label else 0.07, y, part, fontsize=8)
+                y -= 0.0145
+        y -= 0.008
+        fig.text(0.07, y, "Inputs", fontsize=10, weight="bold")
+        y -= 0.018
+        rows = list(title.inputs)
+        room = max(int((y - 0.04) / 0.0125), 0)
+        if len(rows) > room:
+            rows = rows[:max(room - 1, 0)] + [("…", f"{len(title.inputs) - room + 1} more in the request", "")]
+        for path, value, unit in rows:
+            fig.text(0.07, y, path, fontsize=7, family="monospace")
+            fig.text(0.55, y, f"{value} {unit}".strip()[:60], fontsize=7, family="monospace")
+            y -= 0.0125
+        fig.text(0.5, 0.02, "page 1 of 2", fontsize=7, ha="center")
+        pdf.savefig(fig)
+        plt.close(fig)
+        page = io.BytesIO(cam_figure(an, at, "png"))
+        fig = plt.figure(figsize=(11.69, 8.27))
+        ax = fig.add_axes((0.02, 0.04, 0.96, 0.92))
+        ax.imshow(plt.imread(page))
+        ax.axis("off")
+        fig.text(0.5, 0.015, f"{title.name} · request SHA-256 {title.request_sha256[:16]}… · page 2 of 2",
+                 fontsize=7, ha="center")
+        pdf.savefig(fig)
+        plt.close(fig)
+    return buffer.getvalue()
