@@ -162,3 +162,28 @@ def test_pdf_is_a_design_record_identified_by_the_request_hash(client: SynthClie
     canonical = json.dumps(body.model_dump(mode="json", exclude_none=True), sort_keys=True, separators=(",", ":"))
     assert hashlib.sha256(canonical.encode()).hexdigest() in text.replace("\n", "")
     assert "max_pressure_angle_rise_deg" in text and "The least cam" in text
+
+
+def test_the_camshaft_as_a_crank_feeds_the_flywheel(client: SynthClient) -> None:
+    from mechsynth_client.schemas.flywheel import FlywheelIn
+
+    body = CamAnalysisIn.model_validate({**ANALYSIS[0], "samples": 360})
+    out = client.cam_analysis(body)
+    f = out.forces
+    assert f is not None and out.checks.reduced_model_error is not None
+    assert out.checks.reduced_model_error < 1e-5     # T = load + (omega²/2) dJ/dtheta, dJ by differences
+    # Energy over the turn: the mean driving torque is the load's mean (the follower's kinetic energy returns)
+    assert np.mean(f.driving_torque_Nm) == pytest.approx(np.mean(f.load_torque_Nm), rel=1e-9)
+    # the process work: 50 N over the 20 mm rise, per turn, is the mean torque times 2 pi
+    assert np.mean(f.load_torque_Nm) * 2 * math.pi == pytest.approx(50.0 * 0.02, rel=1e-3)
+    angles = [*out.cam_angle_deg, 360.0]
+    load = [*f.load_torque_Nm, f.load_torque_Nm[0]]
+    inertia = [*f.reduced_inertia_kgm2, f.reduced_inertia_kgm2[0]]
+    mean = float(np.mean(f.load_torque_Nm))
+    fly = client.flywheel(FlywheelIn.model_validate({
+        "tables": {"crank_angle_deg": angles, "reduced_inertia_kgm2": inertia, "driving_torque_Nm": [mean] * len(load),
+                   "resisting_torque_Nm": [-t for t in load]},
+        "mean_speed_rpm": 300, "delta": 0.02}))
+    # the flywheel's own check: its inertia, simulated by integrating the equation of motion, gives the target
+    assert fly.achieved_delta == pytest.approx(0.02, rel=0.02)
+    assert fly.cycle_work_J == pytest.approx(0.0, abs=1e-6 * 50.0 * 0.02)   # the driving torque balances the load

@@ -377,6 +377,13 @@ class CamForcesOut(BaseModel):
     peak_driving_torque_Nm: float = Field(description="Largest |driving torque| [N·m].")
     mean_driving_torque_Nm: float = Field(description="Mean driving torque: the work per turn over 2 pi [N·m].")
     rms_driving_torque_Nm: float = Field(description="RMS driving torque [N·m].")
+    reduced_inertia_kgm2: list[float] = Field(description="The camshaft as a machine's crank: the follower's "
+                                              "inertia reduced to it, m (dq/dtheta)², per cam angle [kg·m²] "
+                                              "(the cam's own inertia not included).")
+    load_torque_Nm: list[float] = Field(description="Spring and process loads reduced to the camshaft, "
+                                        "(k q + F0 + F_p) dq/dtheta, per cam angle [N·m], positive resisting: the "
+                                        "driving torque less the inertia's (omega²/2) dJ/dtheta. With "
+                                        "reduced_inertia_kgm2 the tables /v1/flywheel takes.")
 
 
 def forces_out(an: cams.CamAnalysis) -> CamForcesOut | None:
@@ -394,7 +401,8 @@ def forces_out(an: cams.CamAnalysis) -> CamForcesOut | None:
         max_contact_force_N=float(f.contact.max()), driving_torque_Nm=_l(f.torque),
         driving_torque_virtual_power_Nm=_l(f.torque_virtual_power),
         peak_driving_torque_Nm=float(np.max(np.abs(f.torque))), mean_driving_torque_Nm=float(np.mean(f.torque)),
-        rms_driving_torque_Nm=float(np.sqrt(np.mean(f.torque**2))))
+        rms_driving_torque_Nm=float(np.sqrt(np.mean(f.torque**2))), reduced_inertia_kgm2=_l(f.reduced_inertia),
+        load_torque_Nm=_l(f.load_torque))
 
 
 class LawCheckOut(BaseModel):
@@ -427,6 +435,9 @@ class CamChecksOut(BaseModel):
                                     "finite differences of s, v, a, over each one's peak [-].")
     torque_virtual_power_error: float | None = Field(description="max |N (C x n) - Q dq/dtheta| over the peak "
                                                      "torque [-]: T omega = F v; null without loads.")
+    reduced_model_error: float | None = Field(description="max |T - (load + (omega²/2) dJ/dtheta)| over the peak "
+                                              "torque, dJ/dtheta by differences of the reduced-inertia table [-]; "
+                                              "null without loads.")
     laws: list[LawCheckOut] = Field(description="Per rise and return.")
 
 
@@ -483,7 +494,8 @@ class CamAnalysisOut(BaseModel):
         checks = CamChecksOut(table_pressure_angle_error_deg=math.degrees(an.table.max_pressure_angle_error),
                            table_curvature_error=an.table.max_curvature_error,
                            table_samples_compared=an.table.samples_compared, derivative_error=an.derivative_check,
-                           torque_virtual_power_error=None if f is None else f.torque_check, laws=laws)
+                           torque_virtual_power_error=None if f is None else f.torque_check,
+                           reduced_model_error=None if f is None else f.reduced_check, laws=laws)
         return cls(cam_angle_deg=_deg(an.motion.theta), speed_rpm=an.spec.speed * 30.0 / math.pi,
                    motion=motion_out(an), profile=profile_out(an), forces=forces_out(an),
                    optimised_laws=[optimised_out(o) for o in an.optimised], checks=checks)

@@ -74,6 +74,9 @@ class PairForces:
     torque_virtual_power: FloatArray   # Q dq/dtheta [N·m]
     torque_check: float
     least_margin: float          # min over separating angles of spring / separating force, less 1 (inf if none)
+    reduced_inertia: FloatArray  # the follower's inertia reduced to the camshaft, m (dq/dtheta)² [kg·m²]
+    load_torque: FloatArray      # spring and process reduced to the camshaft, (k q + F0 + F_p) dq/dtheta [N·m]
+    reduced_check: float         # max |T - (load + omega²/2 dJ/dtheta)| over the peak |T|, dJ by differences
 
 
 def _least_spring(q: FloatArray, need: FloatArray, margin: float, stiffness: float | None,
@@ -120,5 +123,19 @@ def pair_forces(g: CamGeometry, loads: PairLoads) -> PairForces:
     scale = max(float(np.max(np.abs(torque))), 1e-300)
     separating = need > 0.0
     least = float(np.min(spring[separating] / need[separating]) - 1.0) if separating.any() else float("inf")
+    # The camshaft as the crank of a machine: the follower's kinetic energy m (q')² omega²/2 makes a reduced
+    # inertia J = m (dq/dtheta)², and at constant speed T = load + (omega²/2) dJ/dtheta; the derivative is taken
+    # here by fourth-order periodic differences of the J table, a path apart from the law's acceleration.
+    reduced_inertia = loads.inertia * m.v**2
+    load_torque = (spring + process) * m.v
+    n = len(m.theta)
+    h = 2.0 * np.pi / n
+    r = [np.roll(reduced_inertia, -shift) for shift in (-2, -1, 1, 2)]
+    dJ = (r[0] - 8.0 * r[1] + 8.0 * r[2] - r[3]) / (12.0 * h)
+    idx = np.arange(n)
+    smooth = np.ones(n, dtype=bool)
+    for shift in (-2, -1, 1, 2):
+        smooth &= m.segment[(idx + shift) % n] == m.segment
+    reduced = float(np.max(np.abs(torque - load_torque - 0.5 * w * w * dJ)[smooth], initial=0.0)) / scale
     return PairForces(k, f0, designed, Q, spring, process, inertia, N, torque, vp,
-                      float(np.max(np.abs(torque - vp))) / scale, least)
+                      float(np.max(np.abs(torque - vp))) / scale, least, reduced_inertia, load_torque, reduced)
