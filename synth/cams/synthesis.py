@@ -5,6 +5,9 @@ Why not a nonlinear programming solver: the unknowns are one radius (two with a 
 a maximum over the turn, a nonsmooth function a gradient method would have to smooth and could only certify
 locally. With so few unknowns an exhaustive method is cheaper and says more:
 
+* for a translating follower with a point contact, the pressure limits give the least radius on the sampled
+  angles in closed form, Rp >= sqrt(max(|v - e|/tan alpha_max - s)² + e²); every radius below fails them (see
+  below), so the scan starts there;
 * for a given offset, the base radius is scanned over its whole range on a geometric grid; the least feasible
   grid radius is bracketed with the infeasible one below it and bisected to a relative width of 1e-10. Every grid
   radius below the answer was checked and found infeasible, and the constraint that fails just below the answer
@@ -153,22 +156,51 @@ def _worst(m: dict[str, float]) -> str:
     return max(m, key=lambda k: m[k])
 
 
+def _pressure_floor(ev: _Evaluator, offset: float) -> float:
+    """For a translating point follower: the least base radius the pressure limits allow on the evaluator's
+    angles, in closed form. tan alpha = |v - e|/(sqrt(Rp² - e²) + s) <= tan alpha_max needs
+    sqrt(Rp² - e²) >= |v - e|/tan alpha_max - s at every angle of a rise or return, and Rp > |e|."""
+    kinds = np.array([seg.kind for seg in ev.segments])[ev.motion.segment]
+    limit = np.where(kinds == "rise", math.tan(ev.limits.max_pressure_rise),
+                     np.where(kinds == "return", math.tan(ev.limits.max_pressure_return), np.inf))
+    need = max(float(np.max(np.abs(ev.motion.v - offset) / limit - ev.motion.s)), 0.0)
+    prime = max(math.hypot(need, offset), abs(offset) * (1.0 + 1e-12))
+    return prime - ev.follower.roller
+
+
 def _least_radius(ev: _Evaluator, offset: float, lo: float, hi: float, refine: bool, points: int = GRID,
                   rtol: float = BISECT_RTOL) -> tuple[float, str, float, bool, int]:
     """(least radius, active constraint, bracket width, monotone on the grid, grid points) for one offset;
     raises Infeasible when no radius up to ``hi`` works."""
-    grid = np.geomspace(lo, hi, points)
-    ok = [_feasible(ev.margins(float(r), offset)) for r in grid]
-    if not any(ok):
+    start = lo
+    if ev.follower.motion == "translating" and ev.follower.contact != "flat_faced":
+        # every radius below the closed-form floor fails the pressure limit (it is monotone in the radius)
+        start = max(lo, _pressure_floor(ev, offset))
+    if start >= hi:
         m = ev.margins(hi, offset)
         name = "geometry" if "geometry" in m else _worst(m)
         raise Infeasible(f"no base radius up to {hi:g} m meets the {name} limit", constraint=name,
                          base_radius_max_m=hi)
-    first = ok.index(True)
-    monotone = all(ok[first:])
-    if first == 0:
+    grid = np.geomspace(start, hi, points)
+    if start > lo:
+        grid[0] = start * (1.0 + 1e-9)      # just above the floor, where the pressure limit is met
+    # Up the grid to the first feasible radius; the rest of the grid is checked only for the final answer's
+    # certificate (a free offset's scan needs the least radius alone).
+    ok: list[bool] = []
+    for radius in grid:
+        ok.append(_feasible(ev.margins(float(radius), offset)))
+        if ok[-1]:
+            break
+    if not ok[-1]:
+        m = ev.margins(hi, offset)
+        name = "geometry" if "geometry" in m else _worst(m)
+        raise Infeasible(f"no base radius up to {hi:g} m meets the {name} limit", constraint=name,
+                         base_radius_max_m=hi)
+    first = len(ok) - 1
+    monotone = all(_feasible(ev.margins(float(r), offset)) for r in grid[first + 1:]) if refine else True
+    if first == 0 and start == lo:
         return float(grid[0]), "base_radius_min_m", 0.0, monotone, points
-    a, b = float(grid[first - 1]), float(grid[first])
+    a, b = (float(grid[first - 1]), float(grid[first])) if first else (start * (1.0 - 1e-6), float(grid[0]))
     if refine:
         ev.refine(b, offset)
         if not _feasible(ev.margins(b, offset)):
@@ -235,9 +267,13 @@ def least_cam(segments: Sequence[Segment], follower: Follower, limits: CamLimits
     rho_min = float(convex.min()) if convex.size else math.inf
     below = ev.margins(radius * (1.0 - 1e-6), offset)
     fails = _worst(below) if not _feasible(below) else "none"
+    floor = follower.motion == "translating" and follower.contact != "flat_faced"
     statement = (
-        f"{grid} base radii from {lo:g} to {hi:g} m checked on {len(ev.theta)} cam angles (refined around each "
-        f"limit's peak); every radius below the answer failed, the answer was bisected to a bracket of "
+        (f"radii below the pressure limits' closed-form least radius fail them (tan alpha falls as the radius "
+         f"grows); from there {grid} base radii up to {hi:g} m" if floor else
+         f"{grid} base radii from {lo:g} to {hi:g} m")
+        + f" checked on {len(ev.theta)} cam angles (refined around each "
+        f"limit's peak); every radius below the answer fails, the answer was bisected to a bracket of "
         f"{width:.3g} m, and 1e-6 below it the {fails} limit fails"
         + (f"; the offset scanned at {scanned} values and refined by bounded Brent search" if scanned else "")
         + ("" if monotone else "; feasibility is not monotone in the radius on the grid: a larger radius fails "
