@@ -350,7 +350,7 @@ def profile_out(an: cams.CamAnalysis) -> CamProfileOut:
         curvature_1_m=_l(g.kappa),
         max_pressure_angle_rise_deg=float(np.degrees(alpha[kinds == "rise"].max(initial=0.0))),
         max_pressure_angle_return_deg=float(np.degrees(alpha[kinds == "return"].max(initial=0.0))),
-        min_curvature_radius_m=float(1.0 / convex[k]), min_curvature_radius_at_deg=float(np.degrees(m.theta[k])),
+        min_curvature_radius_m=float(1.0 / convex[k]) if convex[k] > 0 else 0.0, min_curvature_radius_at_deg=float(np.degrees(m.theta[k])),
         face_width_m=float(np.ptp(g.face)) if flat else 0.0,
         face_extent_m=[float(g.face.min()), float(g.face.max())] if flat else [0.0, 0.0])
 

@@ -178,6 +178,17 @@ def _law_checks(segments: tuple[Segment, ...], m: FollowerMotion) -> tuple[LawCh
     return tuple(out)
 
 
+def _check_finite(g: CamGeometry) -> None:
+    """A follower placed so that its geometry degenerates (the pitch curve stops, an arm folds over) is named,
+    never answered with a number that is not one."""
+    bad = ~(np.isfinite(g.pressure_angle) & np.isfinite(g.kappa) & np.all(np.isfinite(g.profile), axis=1)
+            & np.all(np.isfinite(g.pitch), axis=1))
+    if bad.any():
+        at = np.degrees(g.motion.theta[bad])
+        raise InvalidInput(f"the follower's geometry degenerates at cam angles {at.min():.1f}..{at.max():.1f} deg",
+                           field="follower", code="degenerate")
+
+
 def analyse_cam(spec: CamSpec, max_samples: int = 20_000) -> CamAnalysis:
     """The cam of ``spec`` over one turn at ``spec.samples`` uniformly spaced cam angles, with its checks."""
     _check_spec(spec, max_samples)
@@ -186,7 +197,11 @@ def analyse_cam(spec: CamSpec, max_samples: int = 20_000) -> CamAnalysis:
     theta = np.linspace(0.0, 2.0 * math.pi, spec.samples, endpoint=False)
     motion = follower_motion(segments, theta)
     geometry = cam_geometry(spec.follower, spec.base_radius, motion)
+    _check_finite(geometry)
     forces = pair_forces(geometry, spec.loads) if spec.loads is not None else None
+    if forces is not None and not all(np.all(np.isfinite(a)) for a in (forces.contact, forces.torque)):
+        raise InvalidInput("the contact force has no finite value at some cam angle: the follower locks there",
+                           field="follower", code="locks")
     return CamAnalysis(spec, motion, geometry, table_check(geometry), _law_checks(segments, motion), optimised,
                        forces, _derivative_check(motion))
 
