@@ -226,3 +226,25 @@ def test_a_pressure_limit_no_radius_can_meet_is_infeasible_naming_it() -> None:
         cams.least_cam(program(), cams.Follower("translating", "roller", 0.01),
                        cams.CamLimits(r(5), r(45), 0.0, (0.005, 0.02)))
     assert err.value.constraint == "max_pressure_angle_rise_deg"
+
+
+def test_oscillating_roller_pressure_angle_from_the_geometry_drawn_here() -> None:
+    # Independent path: place the roller centre by the triangle O-A-P (law of cosines for the start angle), turn
+    # it into the cam frame with complex numbers, and take the pitch curve's normal from np.gradient on a dense
+    # turn; the pressure angle is then the normal's angle from the roller centre's path square to the arm.
+    d, arm, rr, rb = 0.1, 0.075, 0.008, 0.04
+    segs = program(lift=r(18))
+    n = 20000
+    theta = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    an = cams.analyse_cam(cams.CamSpec(segs, cams.Follower("oscillating", "roller", rr, pivot_distance=d,
+                                                           arm_length=arm), 10.0, rb, samples=n))
+    psi = cams.follower_motion(segs, theta).s
+    gamma0 = math.acos((d * d + arm * arm - (rb + rr) ** 2) / (2 * d * arm))
+    P = d - arm * np.exp(-1j * (gamma0 + psi))          # = (d - l cos g, l sin g)
+    cam_frame = P * np.exp(-1j * theta)
+    tangent = np.gradient(cam_frame, theta) * np.exp(1j * theta)    # back in the frame of the follower
+    normal = tangent * 1j
+    path = 1j * (d - P)                                              # dP/dgamma: square to the arm
+    alpha = np.angle(normal / path)
+    inner = slice(5, n - 5)
+    assert np.max(np.abs(alpha[inner] - an.geometry.pressure_angle[inner])) < 1e-6
