@@ -159,14 +159,21 @@ class StudyStore:
                        "elapsed_s = elapsed_s + COALESCE(? - run_started_at, 0), run_started_at = NULL "
                        "WHERE id = ?", (state, message, time.time(), study_id))
 
-    def mark_interrupted(self) -> int:
-        """Studies left running or queued by a stopped service become ``interrupted``; how many."""
+    def checkpoint(self, study_id: str) -> None:
+        """Add a running study's time since its start or last checkpoint to its elapsed time."""
         with self._tx() as db:
             now = time.time()
+            db.execute("UPDATE studies SET elapsed_s = elapsed_s + (? - run_started_at), run_started_at = ? "
+                       "WHERE id = ? AND run_started_at IS NOT NULL", (now, now, study_id))
+
+    def mark_interrupted(self) -> int:
+        """Studies left running or queued by a stopped service become ``interrupted``; how many. Their elapsed
+        time keeps what the last checkpoint counted: the time since, the service's down time with it, is not
+        running time."""
+        with self._tx() as db:
             cursor = db.execute(
                 "UPDATE studies SET state = 'interrupted', message = 'the service stopped while it ran', "
-                "elapsed_s = elapsed_s + COALESCE(? - run_started_at, 0), run_started_at = NULL "
-                "WHERE state IN ('queued', 'running')", (now,))
+                "run_started_at = NULL WHERE state IN ('queued', 'running')")
             return cursor.rowcount
 
     def write_rows(self, study_id: str, rows: Sequence[VariantRow]) -> None:
