@@ -250,8 +250,11 @@ def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
     """A worker process: run the tasks its slot sends, one at a time, and send back each outcome."""
     import signal
 
-    # The web process decides when a worker stops; Ctrl-C in a terminal reaches the whole process group.
+    # The web process decides when a worker stops (it kills it, or closes its pipe by exiting): Ctrl-C in a
+    # terminal or a SIGTERM to the whole process group would otherwise end the workers under a service that is
+    # still finishing its requests.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     if nice:
         os.nice(nice)
     _init_worker(memory_limit_bytes)
@@ -358,7 +361,8 @@ class _Slot:
                     continue
                 if not self.alive():
                     code = self._replace()
-                    log.warning("an idle worker process died (exit code %s) and was replaced", code)
+                    if not self.pool.stopping:
+                        log.warning("an idle worker process died (exit code %s) and was replaced", code)
                     continue
                 task = self.pool.scheduler.take(self.lanes, _IDLE_CHECK_S)
                 if task is None:

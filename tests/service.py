@@ -26,11 +26,11 @@ def free_port() -> int:
 
 @contextmanager
 def running_service(command: Callable[[int], list[str]], studies_dir: Path,
-                    start_timeout_s: float = 120) -> Iterator[str]:
-    """Start ``command(port)`` in the repository with its study store in ``studies_dir``; yield its base URL once
-    ``/health`` answers, and stop the whole process group afterwards."""
+                    start_timeout_s: float = 120, env: dict[str, str] | None = None) -> Iterator[str]:
+    """Start ``command(port)`` in the repository with its study store in ``studies_dir`` (and the variables
+    ``env``); yield its base URL once ``/health`` answers, and stop the whole process group afterwards."""
     port = free_port()
-    env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite")}
+    env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite"), **(env or {})}
     proc = subprocess.Popen(command(port), cwd=REPO, env=env, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     url = f"http://127.0.0.1:{port}"
