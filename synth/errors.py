@@ -177,9 +177,9 @@ class TooLarge(SynthError):
         self.field = field
 
     def extras(self) -> dict[str, Any]:
-        """The limit and the size asked for, and the input field that sets the size when one does."""
+        """The limit, the size asked for and, when one input sets the size, that field's dotted name."""
         out: dict[str, Any] = {"limit": self.limit, "got": self.got}
-        if getattr(self, "field", None):
+        if self.field:
             out["field"] = self.field
         return out
 

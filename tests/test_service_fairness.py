@@ -143,39 +143,46 @@ def tempfile_dir() -> str:
 
 
 def test_a_504_names_the_stage_reached(tmp_path: Path) -> None:
-    from tests.test_service_limits import LONG_PATH
+    from api.execution.admission import Solvers
 
-    settings = Settings(workers=1, queue_size=4, request_deadline_s=1.5, studies_db=str(tmp_path / "s.sqlite"))
-    app = create_app(settings)
+    solvers = Solvers(Settings(workers=1, queue_size=4, request_deadline_s=0.5, studies_db=str(tmp_path / "s.db")))
+    solvers.start()
 
-    async def both() -> list[httpx.Response]:
-        async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://t") as http:
-            runaway = asyncio.ensure_future(http.post("/v1/synthesis/path", json=LONG_PATH))
-            await asyncio.sleep(0.2)
-            waiting = asyncio.ensure_future(http.post("/v1/synthesis/path", json=LONG_PATH))
-            return list(await asyncio.gather(runaway, waiting))
+    async def both() -> list[BaseException | None]:
+        now = time.monotonic()
+        # One worker: a task running past its deadline, and one queued behind it whose deadline comes first.
+        running = asyncio.ensure_future(solvers.run(now + 1.0, time.sleep, 5.0))
+        await asyncio.sleep(0.1)
+        queued = asyncio.ensure_future(solvers.run(time.monotonic() + 0.5, abs, -1.0))
+        out = await asyncio.gather(running, queued, return_exceptions=True)
+        return [o if isinstance(o, BaseException) else None for o in out]
 
-    app.state.solvers.start()
     try:
         running, queued = asyncio.run(both())
     finally:
-        app.state.solvers.shutdown()
-    assert running.status_code == queued.status_code == 504
-    assert running.json()["stage"] == "running"
-    assert queued.json()["stage"] == "queued" and "never reached a worker" in queued.json()["detail"]
+        solvers.shutdown()
+    assert isinstance(running, synth.SolverTimeout) and running.reached["stage"] == "running"
+    assert isinstance(queued, synth.SolverTimeout) and queued.reached["stage"] == "queued"
+    assert "never reached a worker" in str(queued)
+    assert queued.reached["elapsed_s"] == pytest.approx(0.5, abs=0.2)
 
 
 def test_elapsed_time_leaves_out_the_time_the_service_was_down(tmp_path: Path) -> None:
-    store = synth.StudyStore(tmp_path / "s.sqlite")
-    study_id = store.create(_study("ann"), 10)
-    store.started(study_id)
+    from store import SqlStudyStore, Store, database_url
+
+    store = Store(database_url(None, str(tmp_path / "s.sqlite")))
+    store.migrate()
+    lease_s = 1.0
+    first = SqlStudyStore(store, lease_s=lease_s)
+    study_id = first.create(_study("ann"), 10)
+    assert first.claim(study_id)
     time.sleep(0.3)
-    store.checkpoint(study_id)   # a batch written 0.3 s into the run
-    time.sleep(0.5)              # ... then the service is killed, and restarts 0.5 s later
-    assert store.mark_interrupted() == 1
-    record = store.get(study_id)
+    first.write_rows(study_id, [])   # a batch written 0.3 s into the run renews the lease
+    time.sleep(1.5)                  # ... then the process is killed: its lease lapses, the service is down
+    assert SqlStudyStore(store, lease_s=lease_s).sweep() == 1   # the restarted service
+    record = first.get(study_id)
     assert record is not None and record.state == "interrupted"
-    # 0.3 s ran (timer resolution and a loaded machine: +0.15 s); the 0.5 s after the last batch are not counted.
+    # 0.3 s ran (timer resolution and a loaded machine: +0.15 s); the 1.5 s after the last batch are not counted.
     assert 0.3 <= record.elapsed_s < 0.45
 
 

@@ -19,7 +19,7 @@ import httpx
 import pytest
 
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
-from tests.service import running_service
+from tests.service import running_process
 
 ANALYSIS = {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 360}
 
@@ -34,21 +34,14 @@ def _workers(server_pid: int) -> list[int]:
 
 
 @pytest.fixture(scope="module")
-def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    """The service as ``make run`` starts it (``python -m api.serve``), 2 workers, a 2 s header timeout."""
+def service(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, int]]:
+    """The service as ``make run`` starts it (``python -m api.serve``), 2 workers, a 2 s header timeout; its URL
+    and the server's pid."""
     env = {"SYNTH_WORKERS": "2", "SYNTH_QUEUE_SIZE": "32", "SYNTH_HEADER_TIMEOUT_S": "2"}
-    with running_service(lambda port: [sys.executable, "-m", "api.serve", "--host", "127.0.0.1", "--port",
+    with running_process(lambda port: [sys.executable, "-m", "api.serve", "--host", "127.0.0.1", "--port",
                                        str(port), "--log-level", "warning"],
-                         tmp_path_factory.mktemp("resilience"), env=env) as url:
-        yield url
-
-
-def _server_pid(url: str) -> int:
-    """The pid of the service started with ``--port`` of ``url`` (the uvicorn server)."""
-    port = url.rsplit(":", 1)[1]
-    out = subprocess.run(["ps", "-ww", "-eo", "pid=,args="], capture_output=True, text=True, check=True).stdout
-    return next(int(line.split(None, 1)[0]) for line in out.splitlines()
-                if "api.serve" in line and f"--port {port} " in line + " ")
+                         tmp_path_factory.mktemp("resilience"), env=env) as (url, proc):
+        yield url, proc.pid
 
 
 def _ready_in_full(url: str, timeout_s: float) -> dict[str, object]:
@@ -61,9 +54,8 @@ def _ready_in_full(url: str, timeout_s: float) -> dict[str, object]:
         time.sleep(0.05)
 
 
-def test_workers_killed_at_random_moments_lose_only_their_own_requests(service: str) -> None:
-    url = service
-    server = _server_pid(url)
+def test_workers_killed_at_random_moments_lose_only_their_own_requests(service: tuple[str, int]) -> None:
+    url, server = service
     before = _ready_in_full(url, 30)
     statuses: list[int] = []
     stop = threading.Event()
@@ -113,9 +105,8 @@ def test_workers_killed_at_random_moments_lose_only_their_own_requests(service: 
         assert [http.post("/v1/analysis", json=ANALYSIS).status_code for _ in range(10)] == [200] * 10
 
 
-def test_an_idle_worker_killed_is_replaced_and_ready_tells_meanwhile(service: str) -> None:
-    url = service
-    server = _server_pid(url)
+def test_an_idle_worker_killed_is_replaced_and_ready_tells_meanwhile(service: tuple[str, int]) -> None:
+    url, server = service
     _ready_in_full(url, 30)
     for pid in _workers(server):
         os.kill(pid, signal.SIGKILL)
@@ -132,8 +123,8 @@ def _slow_socket(port: int) -> socket.socket:
     return s
 
 
-def test_five_hundred_slow_clients_do_not_stop_light_requests(service: str) -> None:
-    url = service
+def test_five_hundred_slow_clients_do_not_stop_light_requests(service: tuple[str, int]) -> None:
+    url, _ = service
     port = int(url.rsplit(":", 1)[1])
     slow = [_slow_socket(port) for _ in range(500)]
     try:
