@@ -13,7 +13,8 @@ scenario bounded in count and time:
   slowly (64 kB every 20 ms); it prints the web process's own peak RSS (VmHWM, the workers not counted).
 
 ``--baseline DIR`` runs the same scenarios on another checkout of the service (say ``git archive main`` unpacked
-in a temporary directory) in the same run and prints both side by side. ``--classic`` runs the former
+in a temporary directory) in the same run and prints both side by side; ``--shared`` adds this checkout with
+``SYNTH_STUDY_LANE=shared`` (studies on the request workers, requests first at task boundaries). ``--classic`` runs the former
 scenarios on 1 and 2 workers; ``--soak N`` adds N analysis requests of 3600 samples (4 MB answers) to them.
 """
 
@@ -273,10 +274,10 @@ async def _large_answers(url: str, pid: int, clients: int) -> dict[str, float]:
             "large_s": max(tally.latencies), "large_ok": tally.statuses.get(200, 0)}
 
 
-def measure(repo: Path, args: argparse.Namespace) -> dict[str, float]:
-    """The fairness and large-answer figures of the service in ``repo``."""
+def measure(repo: Path, args: argparse.Namespace, extra_env: dict[str, str] | None = None) -> dict[str, float]:
+    """The fairness and large-answer figures of the service in ``repo`` (with ``extra_env`` set)."""
     with tempfile.TemporaryDirectory() as tmp:
-        env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite")}
+        env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite"), **(extra_env or {})}
         with server(2, repo=repo, extra_env=env) as (url, pid):
             figures = asyncio.run(_fairness(url, args))
         with server(2, repo=repo, extra_env=env) as (url, pid):
@@ -304,20 +305,24 @@ ROWS = [
 
 def fairness_main(args: argparse.Namespace) -> None:
     """The fairness and memory figures, for this checkout and the baseline when one is given."""
-    trees = [("this", REPO)] + ([("baseline", Path(args.baseline))] if args.baseline else [])
+    trees: list[tuple[str, Path, dict[str, str]]] = [("this", REPO, {})]
+    if args.shared:
+        trees.append(("shared", REPO, {"SYNTH_STUDY_LANE": "shared"}))
+    if args.baseline:
+        trees.append(("baseline", Path(args.baseline), {}))
     results = {}
-    for name, repo in trees:
-        print(f"== {name}: {repo}", flush=True)
-        figures = measure(repo, args)
+    for name, repo, env in trees:
+        print(f"== {name}: {repo} {env or ''}", flush=True)
+        figures = measure(repo, args, env)
         figures["studies_ratio"] = figures["studies_beside_s"] / figures["studies_alone_s"]
         results[name] = figures
         for key, label in ROWS:
             print(f"  {label:62s} {figures.get(key, math.nan):10.2f}", flush=True)
-    if len(results) == 2:
-        print(f"{'':64s} {'baseline':>10s} {'this':>10s}")
+    if len(results) > 1:
+        names = [n for n in ("baseline", "shared", "this") if n in results]
+        print(f"{'':64s} " + " ".join(f"{n:>10s}" for n in names))
         for key, label in ROWS:
-            print(f"  {label:62s} {results['baseline'].get(key, math.nan):10.2f} "
-                  f"{results['this'].get(key, math.nan):10.2f}")
+            print(f"  {label:62s} " + " ".join(f"{results[n].get(key, math.nan):10.2f}" for n in names))
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -328,6 +333,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--soak", type=int, default=0, help="extra analysis requests for the memory check")
     parser.add_argument("--classic", action="store_true", help="the former scenarios on 1 and 2 workers")
     parser.add_argument("--baseline", help="another checkout of the service to measure in the same run")
+    parser.add_argument("--shared", action="store_true",
+                        help="also measure this checkout with SYNTH_STUDY_LANE=shared (one lane, requests first)")
     parser.add_argument("--studies", type=int, default=12, help="studies submitted at once")
     parser.add_argument("--variants", type=int, default=2000, help="variants per study")
     parser.add_argument("--idle-s", type=float, default=8.0, help="time of the idle measurement [s]")
