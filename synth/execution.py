@@ -438,6 +438,7 @@ class _Slot:
                 return True
             if future.cancelled() or self.pool.stopping:
                 self._replace()
+                _settle(future, WorkerLost("the worker pool stopped while the task ran"))
                 return True
             if time.monotonic() >= deadline:
                 self._replace()

@@ -200,3 +200,23 @@ def test_study_tasks_wait_for_interactive_ones_on_shared_workers() -> None:
         assert order == [INTERACTIVE, "batch"]
     finally:
         pool.shutdown()
+
+
+def test_study_lane_runs_niced_and_owners_alternate() -> None:
+    import os
+
+    pool = LocalPoolExecutor(1, batch_workers=1, batch_nice=19)
+    try:
+        assert pool.lane(BATCH, "ann").submit(os.nice, 0).result(timeout=30) == 19   # os.nice(0): its niceness
+        assert pool.submit(os.nice, 0).result(timeout=30) == 0
+        blocker = pool.lane(BATCH, "ann").submit(time.sleep, 0.5)
+        time.sleep(0.1)
+        ann = [pool.lane(BATCH, "ann").submit(time.monotonic) for _ in range(3)]
+        bob = pool.lane(BATCH, "bob").submit(time.monotonic)
+        blocker.result(timeout=30)
+        started = sorted([("ann", f.result(timeout=30)) for f in ann] + [("bob", bob.result(timeout=30))],
+                         key=lambda item: item[1])
+        # Queued ann, ann, ann, bob: served ann, bob, ann, ann (round robin between the owners).
+        assert [name for name, _ in started] == ["ann", "bob", "ann", "ann"]
+    finally:
+        pool.shutdown()
