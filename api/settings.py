@@ -50,6 +50,8 @@ class Settings(BaseSettings):
                                     "times the estimated cost of one [worker-seconds]; 413 beyond it.")
     max_owner_work_s: float = Field(21600.0, gt=0, le=1e10, description="Estimated work of one owner's queued and "
                                     "running studies together [worker-seconds]; 413 beyond it.")
+    max_request_work_s: float = Field(120.0, gt=0, le=1e6, description="A request's estimated time on the "
+                                      "workers it is dealt to (path synthesis: starts x points); 413 beyond it.")
     max_answer_bytes: int = Field(64_000_000, ge=10_000, le=10_000_000_000, description="Estimated size of an "
                                   "answer; 413 beyond it (with the hint to ask for npz or fewer samples).")
     spool_above_bytes: int = Field(1_000_000, ge=0, le=1_000_000_000, description="Answers larger than this are "

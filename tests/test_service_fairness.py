@@ -220,3 +220,16 @@ def test_study_lane_runs_niced_and_owners_alternate() -> None:
         assert [name for name, _ in started] == ["ann", "bob", "ann", "ann"]
     finally:
         pool.shutdown()
+
+
+def test_a_path_synthesis_beyond_its_estimated_time_is_refused_before_it_starts(tmp_path: Path) -> None:
+    from tests.test_service_limits import LONG_PATH
+
+    # 256 starts through 10 points: 0.02 + 256 x 0.03 = 7.7 s of work on one worker, beyond the 5 s set here.
+    settings = Settings(workers=1, max_request_work_s=5.0, studies_db=str(tmp_path / "s.sqlite"))
+    with TestClient(create_app(settings)) as c:
+        start = time.monotonic()
+        r = c.post("/v1/synthesis/path", json=LONG_PATH)
+        assert r.status_code == 413 and r.json()["field"] == "starts" and time.monotonic() - start < 2.0
+        assert r.json()["got"] == 7 and r.json()["limit"] == 5
+        assert c.post("/v1/synthesis/path", json={**LONG_PATH, "starts": 8}).status_code == 200
