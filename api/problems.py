@@ -27,10 +27,20 @@ from synth.errors import (
 )
 
 from store import StoreUnavailable
+from store.library import (
+    InvalidDocument,
+    LibraryError,
+    NotFound,
+    ProjectExists,
+    SignOffRefused,
+    StaleParent,
+    WrongState,
+)
 
 from . import validation
 from .settings import Settings
 from .execution.admission import Overloaded
+from .library.access import Forbidden
 
 log = logging.getLogger("api")
 
@@ -193,6 +203,31 @@ async def _store_handler(_: Request, exc: Exception) -> JSONResponse:
                    reason=exc.reason)
 
 
+_LIBRARY: dict[type[LibraryError], tuple[int, str, str]] = {
+    NotFound: (404, "not-found", "Not found"),
+    StaleParent: (409, "stale-parent", "Stale parent revision"),
+    WrongState: (409, "wrong-state", "Revision in the wrong state"),
+    ProjectExists: (409, "project-exists", "Project exists"),
+    SignOffRefused: (403, "sign-off-refused", "Sign-off refused"),
+    InvalidDocument: (422, "invalid-input", "Invalid input"),
+}
+
+
+async def _library_handler(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, LibraryError)
+    status, slug, title = next(_LIBRARY[c] for c in type(exc).__mro__ if c in _LIBRARY)
+    extras: dict[str, Any] = {}
+    if isinstance(exc, StaleParent):
+        extras["head_revision"] = exc.head
+    if isinstance(exc, InvalidDocument):
+        extras["field"] = exc.field
+    return problem(status, slug, title, str(exc), **extras)
+
+
+async def _forbidden_handler(_: Request, exc: Exception) -> JSONResponse:
+    return problem(403, "forbidden", "Forbidden", str(exc))
+
+
 async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
     log.exception("unexpected error", exc_info=exc)
     return problem(500, "internal-error", "Internal error", "the service failed unexpectedly; the error was logged")
@@ -261,6 +296,8 @@ def install(app: FastAPI, settings: Settings) -> None:
     app.add_exception_handler(SynthError, _synth_handler)
     app.add_exception_handler(Overloaded, _overloaded_handler)
     app.add_exception_handler(StoreUnavailable, _store_handler)
+    app.add_exception_handler(LibraryError, _library_handler)
+    app.add_exception_handler(Forbidden, _forbidden_handler)
     app.add_exception_handler(RequestValidationError, _validation_handler)
     app.add_exception_handler(StarletteHTTPException, _http_handler)
     app.add_exception_handler(Exception, _unexpected_handler)

@@ -30,6 +30,7 @@ from typing import Any, Literal, TypeVar
 import httpx
 from pydantic import BaseModel
 
+from .library import LibraryClient
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
@@ -482,6 +483,11 @@ class SynthClient(_Policy):
         handle = StudyHandle(self, study_id)
         handle.status()
         return handle
+
+    @property
+    def library(self) -> LibraryClient:
+        """The design library: save, history, search, diff, restore, sign-off, export and import."""
+        return LibraryClient(self)
 
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
