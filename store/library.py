@@ -14,6 +14,7 @@ import base64
 import hashlib
 import json
 import time
+from datetime import datetime, timezone
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -141,6 +142,22 @@ class Project:
     created_by: str
     designs: int
     revisions: int
+
+
+def _iso(seconds: float | None) -> str | None:
+    if seconds is None:
+        return None
+    return datetime.fromtimestamp(seconds, tz=timezone.utc).strftime("%Y-%m-%d")
+
+
+def title_block(info: RevisionInfo) -> dict[str, Any]:
+    """What a design record's title block shows for a revision: project, record number (project/design),
+    revision, title, the designed/checked/approved names with their dates (UTC, YYYY-MM-DD), the state and the
+    content hash the record is of."""
+    return {"project": info.project, "record_number": f"{info.project}/{info.design}", "revision": info.number,
+            "title": info.design, "designed_by": info.author, "designed_on": _iso(info.created_at),
+            "checked_by": info.checked_by, "checked_on": _iso(info.checked_at), "approved_by": info.approved_by,
+            "approved_on": _iso(info.approved_at), "state": info.state, "content_hash": info.content_hash}
 
 
 _INFO = (projects.c.name, designs.c.name, designs.c.endpoint, revisions.c.number, revisions.c.parent,

@@ -9,6 +9,7 @@ import copy
 import hashlib
 import json
 from collections.abc import Iterator
+from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +23,7 @@ from mechsynth_client.client import ProblemError, SynthClient
 from mechsynth_client.schemas.library import SAVE_EXAMPLE, LibraryExport
 from service import free_port
 from store import Store, Users
+from store.library import Library, title_block
 from store_engines import pg_cluster, store_url  # noqa: F401  (fixtures)
 
 DESIGN = "/v1/library/projects/press/designs/linkage"
@@ -178,6 +180,11 @@ def test_sign_off_rules_and_frozen_approved_revisions(store_url: str) -> None:
         as_("cid", "POST", "/revisions/2/approve", json={})
         states = [(r["number"], r["state"], r["superseded_by"]) for r in as_("ann", "GET", "").json()["revisions"]]
         assert states == [(1, "superseded", 2), (2, "approved", None)]
+        block = title_block(Library(app.state.store).info("press", "linkage", 2))
+        today = datetime.now(timezone.utc).strftime("%Y-%m-%d")
+        assert (block["record_number"], block["revision"], block["state"]) == ("press/linkage", 2, "approved")
+        assert (block["designed_by"], block["checked_by"], block["approved_by"]) == ("ann", "bob", "cid")
+        assert block["approved_on"] == today
         # a checker who wrote the revision may not sign it either
         assert as_("cid", "POST", "/revisions", json={**body, "parent": 2}).status_code == 201
         refused = as_("cid", "POST", "/revisions/3/check", json={})
