@@ -144,3 +144,18 @@ def test_a_failing_migration_stops_with_its_reason(tmp_path: Path) -> None:
     with pytest.raises(MigrationFailed, match="users"):
         store.migrate()
     store.dispose()
+
+
+def test_a_service_whose_store_fails_to_migrate_does_not_start(tmp_path: Path) -> None:
+    from fastapi.testclient import TestClient
+
+    from api.app import create_app
+    from api.settings import Settings
+
+    path = tmp_path / "taken.sqlite"
+    with sqlite3.connect(path) as db:
+        db.execute("CREATE TABLE users (something TEXT)")
+    # the start-up fails with the reason (uvicorn logs it and exits)
+    with pytest.raises(MigrationFailed, match="table users already exists"):
+        with TestClient(create_app(Settings(executor="serial", studies_db=str(path)))):
+            pass
