@@ -8,6 +8,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import time
 from collections.abc import Iterator
 from datetime import datetime, timezone
 from pathlib import Path
@@ -256,3 +257,30 @@ def test_an_unreachable_store_answers_503_and_ready_says_why() -> None:
         assert saved.status_code == 503 and saved.json()["type"] == "/problems/store-unavailable"
         assert http.get("/v1/studies").status_code == 503
         assert http.get("/health").status_code == 200
+
+
+def test_two_services_on_one_store_cancel_each_other_s_study(tmp_path: Path) -> None:
+    # two apps in this process on one SQLite file stand for two service processes; short leases so that the
+    # running one's heartbeat (a third of the lease) notices the cancel quickly
+    from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+
+    url = f"sqlite:///{tmp_path / 'shared.sqlite'}"
+    settings = Settings(executor="serial", database_url=url, study_lease_s=0.6)
+    spec = {"endpoint": "/v1/balancing/static",
+            "base": {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 360,
+                     "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
+            "parameters": [{"path": "mass_budget_kg", "range": [2.0, 8.0], "count": 2000}],
+            "metrics": ["total_added_mass_kg"]}
+    with TestClient(create_app(settings)) as runner, TestClient(create_app(settings)) as other:
+        study = f"/v1/studies/{runner.post('/v1/studies', json=spec).json()['id']}"
+        while runner.get(study).json()["done"] < 5:
+            time.sleep(0.05)
+        assert other.delete(study).json()["state"] == "cancelled"
+        deadline = time.monotonic() + 10
+        while runner.get("/ready").json()["studies_running"] and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert runner.get("/ready").json()["studies_running"] == 0
+        stopped = runner.get(study).json()
+        assert stopped["state"] == "cancelled" and 5 <= stopped["done"] < 2000
+        time.sleep(1.0)
+        assert runner.get(study).json()["done"] == stopped["done"]     # nothing written after the cancel

@@ -159,3 +159,19 @@ def test_a_service_whose_store_fails_to_migrate_does_not_start(tmp_path: Path) -
     with pytest.raises(MigrationFailed, match="table users already exists"):
         with TestClient(create_app(Settings(executor="serial", studies_db=str(path)))):
             pass
+
+
+def test_a_study_cancelled_through_another_process_takes_no_more_rows(open_store: Callable[[], Store]) -> None:
+    store = open_store()
+    owner, other = SqlStudyStore(store), SqlStudyStore(store)
+    study_id = owner.create({}, 10)
+    owner.claim(study_id)
+    owner.write_rows(study_id, _rows(range(3)))
+    assert other.cancel(study_id) and not other.cancel(study_id)
+    with pytest.raises(LeaseLost):
+        owner.write_rows(study_id, _rows(range(3, 6)))
+    assert owner.renew() == set()                     # the owner's heartbeat sees it is no longer running it
+    owner.stopped(study_id, "cancelled", "cancelled; finished variants are kept")
+    record = owner.get(study_id)
+    assert record is not None and (record.state, record.done) == ("cancelled", 3)
+    assert other.claim(study_id)                      # resumed anywhere: the lease was released
