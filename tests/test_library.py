@@ -32,7 +32,8 @@ REQUEST: dict[str, Any] = SAVE_EXAMPLE["request"]
 
 
 def _app(url: str) -> FastAPI:
-    return create_app(Settings(executor="serial", database_url=url))
+    # a machine design takes seconds; on a machine shared with other work, more than the default deadline
+    return create_app(Settings(executor="serial", database_url=url, request_deadline_s=300))
 
 
 @pytest.fixture()
