@@ -237,18 +237,22 @@ class BodyLimit:
     """ASGI middleware that reads the whole body before the app sees it: 413 past ``max_bytes`` (declared or
     streamed in chunks), 408 when the client takes longer than ``timeout_s`` to send it."""
 
-    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float,
+                 larger: Mapping[str, int] | None = None) -> None:
         self.app = app
         self.max_bytes = max_bytes
         self.timeout_s = timeout_s
+        # paths whose bodies are whole files (a library export), with their own bound
+        self.larger = dict(larger or {})
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        limit = self.larger.get(scope.get("path", ""), self.max_bytes)
         declared = dict(scope.get("headers", [])).get(b"content-length")
-        if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
-            await self._too_large(scope, receive, send, int(declared))
+        if declared is not None and declared.isdigit() and int(declared) > limit:
+            await self._too_large(scope, receive, send, int(declared), limit)
             return
         loop = asyncio.get_running_loop()
         deadline = loop.time() + self.timeout_s
@@ -267,8 +271,8 @@ class BodyLimit:
                 return
             chunk = message.get("body", b"")
             size += len(chunk)
-            if size > self.max_bytes:
-                await self._too_large(scope, receive, send, size)
+            if size > limit:
+                await self._too_large(scope, receive, send, size, limit)
                 return
             chunks.append(chunk)
             if not message.get("more_body", False):
@@ -285,8 +289,8 @@ class BodyLimit:
 
         await self.app(scope, replay, send)
 
-    async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int) -> None:
-        response = problem_response(TooLarge("request body bytes", self.max_bytes, got))
+    async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int, limit: int) -> None:
+        response = problem_response(TooLarge("request body bytes", limit, got))
         response.headers["Connection"] = "close"
         await response(scope, receive, send)
 
@@ -301,7 +305,8 @@ def install(app: FastAPI, settings: Settings) -> None:
     app.add_exception_handler(RequestValidationError, _validation_handler)
     app.add_exception_handler(StarletteHTTPException, _http_handler)
     app.add_exception_handler(Exception, _unexpected_handler)
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s)
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s,
+                       larger={"/v1/library/import": settings.max_import_bytes})
 
 
 def document(app: FastAPI) -> None:

@@ -31,9 +31,9 @@ DESIGN = "/v1/library/projects/press/designs/linkage"
 REQUEST: dict[str, Any] = SAVE_EXAMPLE["request"]
 
 
-def _app(url: str) -> FastAPI:
+def _app(url: str, **settings: Any) -> FastAPI:
     # a machine design takes seconds; on a machine shared with other work, more than the default deadline
-    return create_app(Settings(executor="serial", database_url=url, request_deadline_s=300))
+    return create_app(Settings(executor="serial", database_url=url, request_deadline_s=300, **settings))
 
 
 @pytest.fixture()
@@ -217,9 +217,13 @@ def test_export_and_import_keep_every_hash_record_and_sign_off(store_url: str, t
         document = lib.export("press")
     assert machine.links.record is not None and record[:5] == b"%PDF-"
     assert lib_text_holds(record, machine.content_hash)       # the record is of exactly this revision
-    # the other service: a SQLite file of its own
-    with TestClient(_app(f"sqlite:///{tmp_path / 'other.sqlite'}")) as http:
+    # the other service: a SQLite file of its own, and request bodies bounded far below the export's size, which
+    # the import has a bound of its own for
+    size = len(document.model_dump_json())
+    with TestClient(_app(f"sqlite:///{tmp_path / 'other.sqlite'}", max_body_bytes=size // 4)) as http:
         other = SynthClient(http=http).library
+        padded = {**SAVE_EXAMPLE, "message": "", "request": {**REQUEST, "pad": "x" * (size // 2)}}
+        assert http.post(f"{DESIGN}/revisions", json=padded).status_code == 413
         tampered = document.model_copy(deep=True)
         tampered.designs[0].revisions[0].request["speed_rpm"] = 301
         with pytest.raises(ProblemError) as changed:
