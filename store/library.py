@@ -222,44 +222,55 @@ class Library:
         :class:`StaleParent` when ``parent`` is not the latest revision and ``branch`` is false,
         :class:`InvalidDocument` when the design holds requests of another endpoint.
         """
-        now = time.time()
         text = canonical_json(request)
-        try:
-            with self.store.write() as db:
-                project_id = db.scalar(sa.select(projects.c.id).where(projects.c.name == project))
-                if project_id is None:
-                    project_id = db.execute(projects.insert().values(name=project, created_at=now,
-                                                                     created_by=author)
-                                            .returning(projects.c.id)).scalar_one()
-                found = db.execute(sa.select(designs.c.id, designs.c.endpoint)
-                                   .where(designs.c.project_id == project_id, designs.c.name == design)).one_or_none()
-                if found is None:
-                    self._check_parent(db, project, design, parent, branch, None)
-                    design_id = db.execute(designs.insert().values(project_id=project_id, name=design,
-                                                                   endpoint=endpoint, created_at=now,
-                                                                   created_by=author)
-                                           .returning(designs.c.id)).scalar_one()
-                    head = None
-                else:
-                    design_id, kept = found
-                    if kept != endpoint:
-                        raise InvalidDocument(f"{project}/{design} holds {kept} requests, not {endpoint}: save "
-                                              "this one as another design", field="endpoint")
-                    head = db.scalar(sa.select(sa.func.max(revisions.c.number))
-                                     .where(revisions.c.design_id == design_id))
-                    self._check_parent(db, project, design, parent, branch, head)
-                number = (head or 0) + 1
-                db.execute(revisions.insert().values(
-                    design_id=design_id, number=number, parent=parent, request=text,
-                    content_hash=hashlib.sha256(text.encode("utf-8")).hexdigest(), author=author, created_at=now,
-                    message=message, answer=None if answer is None else canonical_json(answer), passed=passed,
-                    record_pdf=record_pdf, state="draft"))
-        except sa.exc.IntegrityError:
-            # another save of the same design committed first: this one starts from a stale parent
-            head = self.head(project, design) or 0
-            raise StaleParent(f"{project}/{design} moved to revision {head} while this save was made: it would "
-                              f"overwrite revision {head}", head=head) from None
+        for attempt in range(2):
+            try:
+                number = self._insert(project, design, endpoint, text, author=author, message=message, parent=parent,
+                                      branch=branch, answer=answer, passed=passed, record_pdf=record_pdf)
+                break
+            except sa.exc.IntegrityError:
+                head = self.head(project, design)
+                if attempt == 0 and (head is None or head == parent):
+                    continue    # another save made the same new project or design first: this one goes on top
+                # another save of the same design committed first: this one starts from a stale parent
+                raise StaleParent(f"{project}/{design} moved to revision {head} while this save was made: it "
+                                  f"would overwrite revision {head}", head=head or 0) from None
         return self.info(project, design, number)
+
+    def _insert(self, project: str, design: str, endpoint: str, text: str, *, author: str, message: str,
+                parent: int | None, branch: bool, answer: Mapping[str, Any] | None, passed: bool | None,
+                record_pdf: bytes | None) -> int:
+        now = time.time()
+        with self.store.write() as db:
+            project_id = db.scalar(sa.select(projects.c.id).where(projects.c.name == project))
+            if project_id is None:
+                project_id = db.execute(projects.insert().values(name=project, created_at=now,
+                                                                 created_by=author)
+                                        .returning(projects.c.id)).scalar_one()
+            found = db.execute(sa.select(designs.c.id, designs.c.endpoint)
+                               .where(designs.c.project_id == project_id, designs.c.name == design)).one_or_none()
+            if found is None:
+                self._check_parent(db, project, design, parent, branch, None)
+                design_id = db.execute(designs.insert().values(project_id=project_id, name=design,
+                                                               endpoint=endpoint, created_at=now,
+                                                               created_by=author)
+                                       .returning(designs.c.id)).scalar_one()
+                head = None
+            else:
+                design_id, kept = found
+                if kept != endpoint:
+                    raise InvalidDocument(f"{project}/{design} holds {kept} requests, not {endpoint}: save "
+                                          "this one as another design", field="endpoint")
+                head = db.scalar(sa.select(sa.func.max(revisions.c.number))
+                                 .where(revisions.c.design_id == design_id))
+                self._check_parent(db, project, design, parent, branch, head)
+            number = (head or 0) + 1
+            db.execute(revisions.insert().values(
+                design_id=design_id, number=number, parent=parent, request=text,
+                content_hash=hashlib.sha256(text.encode("utf-8")).hexdigest(), author=author, created_at=now,
+                message=message, answer=None if answer is None else canonical_json(answer), passed=passed,
+                record_pdf=record_pdf, state="draft"))
+        return number
 
     # --- reading ---------------------------------------------------------------------------------------------
 

@@ -175,3 +175,29 @@ def test_a_study_cancelled_through_another_process_takes_no_more_rows(open_store
     record = owner.get(study_id)
     assert record is not None and (record.state, record.done) == ("cancelled", 3)
     assert other.claim(study_id)                      # resumed anywhere: the lease was released
+
+
+def test_two_first_saves_of_one_new_design_at_once_store_one(open_store: Callable[[], Store]) -> None:
+    from store.library import Library, StaleParent
+
+    store = open_store()
+    store.migrate()
+    outcomes: list[str] = []
+    barrier = threading.Barrier(2)
+
+    def save(author: str) -> None:
+        library = Library(open_store())
+        barrier.wait()
+        try:
+            library.save("new", "design", "/v1/analysis", {"by": author}, author=author, message="", parent=None)
+            outcomes.append("saved")
+        except StaleParent as exc:
+            outcomes.append(f"stale {exc.head}")
+
+    threads = [threading.Thread(target=save, args=(name,)) for name in ("ann", "bob")]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert sorted(outcomes) == ["saved", "stale 1"]
+    assert [r.number for r in Library(store).history("new", "design")] == [1]

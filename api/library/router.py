@@ -105,8 +105,8 @@ async def search_revisions(
     library: LibraryDep,
     project: Annotated[str | None, Query(pattern=NAME_PATTERN, description="Only this project.")] = None,
     name: Annotated[str | None, Query(max_length=100, description="A part of the design's name (any case).")] = None,
-    endpoint: Annotated[str | None, Query(max_length=100, description="Only designs of this endpoint "
-                                                                      "(their type), e.g. /v1/machines/design.")] = None,
+    endpoint: Annotated[str | None, Query(max_length=100, description="Only designs of this endpoint (their "
+                                                                      "type), e.g. /v1/machines/design.")] = None,
     author: Annotated[str | None, Query(max_length=100, description="Only revisions by this author.")] = None,
     since: Annotated[datetime | None, Query(description="Saved at or after (ISO 8601).")] = None,
     until: Annotated[datetime | None, Query(description="Saved at or before (ISO 8601).")] = None,

@@ -42,7 +42,8 @@ def canonical_request(endpoint: str, request: dict[str, Any]) -> dict[str, Any]:
 
 def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any]
                     ) -> tuple[dict[str, Any] | None, bool | None, bytes | None]:
-    """The answer to a canonical request, whether it passed, and its design record (PDF) for a machine design; an engine problem is the answer (``{"problem": ...}``, not passed). A study has no answer here."""
+    """The answer to a canonical request, whether it passed, and its design record (PDF) for a machine design;
+    an engine problem is the answer (``{"problem": ...}``, not passed). A study has no answer here."""
     if endpoint == STUDIES:
         return None, None, None
     plan = PLANS[endpoint][1](validate_request(endpoint, request), limits)
