@@ -30,7 +30,7 @@ from typing import Any, Literal, TypeVar
 import httpx
 from pydantic import BaseModel
 
-from .library import LibraryClient
+from .library import AsyncLibraryClient, LibraryClient
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
@@ -712,3 +712,8 @@ class AsyncSynthClient(_Policy):
         handle = AsyncStudyHandle(self, study_id)
         await handle.status()
         return handle
+
+    @property
+    def library(self) -> AsyncLibraryClient:
+        """The design library, as coroutines: save, history, revision, diff, sign-off, export and import."""
+        return AsyncLibraryClient(self)

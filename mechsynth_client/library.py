@@ -37,6 +37,17 @@ def _body(request: BaseModel | dict[str, Any]) -> dict[str, Any]:
     return request
 
 
+def _search_params(project: str | None, name: str | None, endpoint: str | None, author: str | None,
+                   since: datetime | None, until: datetime | None, passed: bool | None, state: str | None,
+                   latest: bool, offset: int, limit: int) -> dict[str, Any]:
+    params: dict[str, Any] = {"project": project, "name": name, "endpoint": endpoint, "author": author,
+                              "since": since.isoformat() if since else None,
+                              "until": until.isoformat() if until else None,
+                              "passed": None if passed is None else str(passed).lower(), "state": state,
+                              "latest": str(latest).lower(), "offset": offset, "limit": limit}
+    return {k: v for k, v in params.items() if v is not None}
+
+
 class LibraryClient:
     """The design library of the service a client speaks to."""
 
@@ -67,13 +78,8 @@ class LibraryClient:
                limit: int = 100) -> list[RevisionOut]:
         """Revisions matching every filter given, newest first (each design's latest only, unless ``latest`` is
         false)."""
-        params: dict[str, Any] = {"project": project, "name": name, "endpoint": endpoint, "author": author,
-                                  "since": since.isoformat() if since else None,
-                                  "until": until.isoformat() if until else None,
-                                  "passed": None if passed is None else str(passed).lower(), "state": state,
-                                  "latest": str(latest).lower(), "offset": offset, "limit": limit}
-        response = self.client._send("GET", "/v1/library/revisions",
-                                     params={k: v for k, v in params.items() if v is not None})
+        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit)
+        response = self.client._send("GET", "/v1/library/revisions", params=params)
         return [RevisionOut.model_validate(r) for r in response.json()]
 
     def history(self, project: str, design: str) -> DesignOut:
@@ -124,4 +130,91 @@ class LibraryClient:
     def import_project(self, document: LibraryExport) -> ProjectOut:
         """Import an exported project, hashes checked, as it was."""
         response = self.client._send("POST", "/v1/library/import", json=document.model_dump(mode="json"))
+        return ProjectOut.model_validate_json(response.content)
+
+
+class AsyncSender(Protocol):
+    """The same as :class:`Sender`, as a coroutine."""
+
+    async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response: ...
+
+
+class AsyncLibraryClient:
+    """:class:`LibraryClient`'s methods as coroutines, for :class:`~mechsynth_client.client.AsyncSynthClient`."""
+
+    def __init__(self, client: AsyncSender) -> None:
+        self.client = client
+
+    async def save(self, project: str, design: str, endpoint: str, request: BaseModel | dict[str, Any], *,
+                   message: str = "", parent: int | None = None, branch: bool = False,
+                   author: str | None = None) -> RevisionOut:
+        """See :meth:`LibraryClient.save`."""
+        body = {"endpoint": endpoint, "request": _body(request), "message": message, "parent": parent,
+                "branch": branch, "author": author}
+        response = await self.client._send("POST", f"{LibraryClient._design(project, design)}/revisions", json=body)
+        return RevisionOut.model_validate_json(response.content)
+
+    async def projects(self) -> list[ProjectOut]:
+        """See :meth:`LibraryClient.projects`."""
+        response = await self.client._send("GET", "/v1/library/projects")
+        return [ProjectOut.model_validate(p) for p in response.json()]
+
+    async def search(self, *, project: str | None = None, name: str | None = None, endpoint: str | None = None,
+                     author: str | None = None, since: datetime | None = None, until: datetime | None = None,
+                     passed: bool | None = None, state: str | None = None, latest: bool = True, offset: int = 0,
+                     limit: int = 100) -> list[RevisionOut]:
+        """See :meth:`LibraryClient.search`."""
+        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit)
+        response = await self.client._send("GET", "/v1/library/revisions", params=params)
+        return [RevisionOut.model_validate(r) for r in response.json()]
+
+    async def record_pdf(self, project: str, design: str, number: int) -> bytes:
+        """See :meth:`LibraryClient.record_pdf`."""
+        path = f"{LibraryClient._design(project, design)}/revisions/{number}/record"
+        return (await self.client._send("GET", path)).content
+
+    async def restore(self, project: str, design: str, number: int, *, message: str = "",
+                      author: str | None = None) -> RevisionOut:
+        """See :meth:`LibraryClient.restore`."""
+        response = await self.client._send(
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/restore",
+            json={"message": message, "author": author})
+        return RevisionOut.model_validate_json(response.content)
+
+    async def history(self, project: str, design: str) -> DesignOut:
+        """See :meth:`LibraryClient.history`."""
+        response = await self.client._send("GET", LibraryClient._design(project, design))
+        return DesignOut.model_validate_json(response.content)
+
+    async def revision(self, project: str, design: str, number: int) -> RevisionDetailOut:
+        """See :meth:`LibraryClient.revision`."""
+        response = await self.client._send("GET", f"{LibraryClient._design(project, design)}/revisions/{number}")
+        return RevisionDetailOut.model_validate_json(response.content)
+
+    async def diff(self, project: str, design: str, before: int, after: int) -> DiffOut:
+        """See :meth:`LibraryClient.diff`."""
+        response = await self.client._send("GET", f"{LibraryClient._design(project, design)}/diff",
+                                           params={"from": before, "to": after})
+        return DiffOut.model_validate_json(response.content)
+
+    async def check(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
+        """See :meth:`LibraryClient.check`."""
+        response = await self.client._send(
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/check", json={"name": name})
+        return RevisionOut.model_validate_json(response.content)
+
+    async def approve(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
+        """See :meth:`LibraryClient.approve`."""
+        response = await self.client._send(
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/approve", json={"name": name})
+        return RevisionOut.model_validate_json(response.content)
+
+    async def export(self, project: str) -> LibraryExport:
+        """See :meth:`LibraryClient.export`."""
+        response = await self.client._send("GET", f"/v1/library/projects/{project}/export")
+        return LibraryExport.model_validate_json(response.content)
+
+    async def import_project(self, document: LibraryExport) -> ProjectOut:
+        """See :meth:`LibraryClient.import_project`."""
+        response = await self.client._send("POST", "/v1/library/import", json=document.model_dump(mode="json"))
         return ProjectOut.model_validate_json(response.content)

@@ -289,3 +289,29 @@ def test_two_services_on_one_store_cancel_each_other_s_study(tmp_path: Path) -> 
         assert stopped["state"] == "cancelled" and 5 <= stopped["done"] < 2000
         time.sleep(1.0)
         assert runner.get(study).json()["done"] == stopped["done"]     # nothing written after the cancel
+
+
+def test_the_async_client_has_every_library_method(store_url: str) -> None:
+    import asyncio
+    import inspect
+
+    import httpx
+
+    from mechsynth_client.client import AsyncSynthClient
+    from mechsynth_client.library import AsyncLibraryClient, LibraryClient
+
+    def public(cls: type) -> set[str]:
+        return {n for n, v in vars(cls).items() if not n.startswith("_") and callable(v)}
+
+    assert public(LibraryClient) == public(AsyncLibraryClient)
+    assert all(inspect.iscoroutinefunction(getattr(AsyncLibraryClient, n)) for n in public(AsyncLibraryClient))
+    with TestClient(_app(store_url)) as http:       # started (workers, store); spoken to over ASGI below
+        async def run() -> tuple[Any, ...]:
+            transport = httpx.ASGITransport(app=http.app)
+            async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://t")) as client:
+                saved = await client.library.save("press", "linkage", "/v1/balancing/static", REQUEST, author="ann")
+                return saved, await client.library.history("press", "linkage")
+
+        saved, history = asyncio.run(run())
+        assert [r.content_hash for r in history.revisions] == [saved.content_hash]
+        assert SynthClient(http=http).library.revision("press", "linkage", 1).content_hash == saved.content_hash
