@@ -16,6 +16,7 @@ from .settings import Settings
 from .storage import migrate_at_start, open_store, store_status
 from .execution.admission import Solvers
 from .studies.router import router as studies_router
+from .library.router import router as library_router
 from .studies.runs import StudyRuns
 
 
@@ -116,7 +117,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             response.status_code = 503
         return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
 
-    for router in (*all_routers(), studies_router):
+    for router in (*all_routers(), studies_router, library_router):
         app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app

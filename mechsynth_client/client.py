@@ -30,6 +30,7 @@ from typing import Any, Literal, TypeVar
 import httpx
 from pydantic import BaseModel
 
+from .library import AsyncLibraryClient, LibraryClient
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
@@ -502,6 +503,12 @@ class SynthClient(_Policy):
         """GET /v1/cams/laws: the standard motion laws' peak coefficients."""
         return self._get_rows("/v1/cams/laws", MotionLawOut)
 
+    @property
+    def library(self) -> LibraryClient:
+        """The design library: save, history, search, diff, restore, sign-off, export and import."""
+        return LibraryClient(self)
+
+
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
@@ -743,3 +750,8 @@ class AsyncSynthClient(_Policy):
     async def cam_laws(self) -> list[MotionLawOut]:
         """GET /v1/cams/laws."""
         return await self._get_rows("/v1/cams/laws", MotionLawOut)
+
+    @property
+    def library(self) -> AsyncLibraryClient:
+        """The design library, as coroutines: save, history, revision, diff, sign-off, export and import."""
+        return AsyncLibraryClient(self)

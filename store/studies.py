@@ -133,6 +133,15 @@ class SqlStudyStore:
                                elapsed_s=s.elapsed_s + sa.func.coalesce(now - s.run_started_at, 0.0),
                                run_started_at=None, lease_owner=None, lease_expires=None))
 
+    def cancel(self, study_id: str) -> bool:
+        """Cancel a queued or running study whichever process runs it: its rows are refused from now on and its
+        process stops the run when it next renews its lease. False when it was not queued or running."""
+        with self.store.write() as db:
+            return db.execute(studies.update().where(studies.c.id == study_id,
+                                                     studies.c.state.in_(("queued", "running")))
+                              .values(state="cancelled", message="cancelled; finished variants are kept")
+                              ).rowcount == 1
+
     def sweep(self) -> int:
         """Studies queued or running whose lease lapsed (their process stopped) become ``interrupted``; how many.
         A study whose lease is live is another process's, running: it is left alone."""

@@ -203,7 +203,9 @@ class StudyRuns:
                     lost = [run for study_id, run in self._runs.items() if study_id not in held
                             and run.claimed_at is not None and run.claimed_at < asked]
                 for run in lost:
-                    run.reason = "lost"
+                    # cancelled through another process, or taken by one after this process stalled past its
+                    # lease: either way this run stops (and its end is recorded only if the study is still ours)
+                    run.reason = "cancelled"
                     run.cancel.set()
                 self._sweep(self.store)
             except StoreUnavailable as exc:
@@ -349,7 +351,10 @@ class StudyRuns:
             run.reason = "cancelled"
             run.cancel.set()
             run.thread.join(timeout=10.0)
-        elif record.state in ("queued", "interrupted"):
+        elif record.state in ("queued", "running"):
+            # run by another process sharing the store: it stops when it next renews its lease
+            self.store.cancel(study_id)
+        elif record.state == "interrupted":
             self.store.stopped(study_id, "cancelled", "cancelled before it finished")
         return self.get(study_id)
 
@@ -477,7 +482,7 @@ class StudyRuns:
         with self._lock:
             run = self._runs[study_id]
         endpoint = self.store.get(study_id).spec["endpoint"]  # type: ignore[union-attr]
-        state, message, release = "failed", None, True
+        state, message = "failed", None
         try:
             report = synth.run_study(
                 study, variant_function(endpoint, Limits.from_settings(self.settings)),
@@ -496,16 +501,16 @@ class StudyRuns:
         except SynthError as exc:
             message = str(exc)
         except LeaseLost:
-            # the lease lapsed (this process stalled past it) and another process took the study: it is theirs
-            log.warning("design study %s was taken over by another process; this run stops", study_id)
-            release = False
+            # cancelled through another process, or taken by one after this process stalled past its lease
+            log.warning("design study %s was cancelled or taken over elsewhere; this run stops", study_id)
+            state, message = "cancelled", "cancelled; finished variants are kept"
         except Exception as exc:
             # A study-wide failure (the Dask scheduler unreachable, the store's disk full) ends this study only.
             log.exception("design study %s failed", study_id)
             message = f"the study stopped on an unexpected error ({type(exc).__name__}); the error was logged"
         finally:
-            if release and run.reason != "lost":
-                self.store.stopped(study_id, state, message)
+            # a no-op when another process holds the study now
+            self.store.stopped(study_id, state, message)
             with self._lock:
                 self._runs.pop(study_id, None)
                 self._work.pop(study_id, None)
