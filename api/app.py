@@ -10,7 +10,7 @@ from typing import Literal
 from fastapi import FastAPI, Request
 from pydantic import BaseModel, Field
 
-from . import manual, problems, workbench
+from . import auth, manual, problems, workbench
 from .routers import PREFIX, all_routers
 from .settings import Settings
 from .execution.admission import Solvers
@@ -74,6 +74,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     problems.install(app, settings)
     manual.install(app)
     workbench.install(app)
+    auth.install(app, settings)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:

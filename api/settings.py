@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, ValidationError
+from pydantic import Field, SecretStr, ValidationError
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
@@ -36,6 +36,31 @@ class Settings(BaseSettings):
                             description="SQLite file holding design studies and their results.")
     max_study_variants: int = Field(100_000, ge=1, le=10_000_000,
                                     description="Variants per design study; 413 beyond it.")
+
+    auth: Literal["off", "on"] = Field("off", description="on: every /v1 request needs a signed-in user or an API "
+                                      "token with a role that allows it (an office server); off: open (a laptop).")
+    allowed_hosts: str = Field("localhost,127.0.0.1,::1", min_length=1,
+                               description="Comma-separated host names the service answers to (the Host header; "
+                                           "*.example.com for subdomains, * for any); 400 for others.")
+    cors_origins: str = Field("", description="Comma-separated origins (https://cad.example.com) whose pages may "
+                                             "call the API from another site; none by default.")
+    behind_tls: bool = Field(False, description="The service is reached over HTTPS (a TLS proxy in front): cookies "
+                                                "are Secure and browsers are told to keep to HTTPS.")
+    session_key: SecretStr | None = Field(None, description="Key signing the sign-in cookies (32+ characters); "
+                                                            "unset: a random key, so restarts sign everyone out.")
+    session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
+    admin_name: str | None = Field(None, min_length=1, max_length=64,
+                                   description="A first admin created at start when no user of that name exists.")
+    admin_password: SecretStr | None = Field(None, description="The first admin's password (with admin_name).")
+
+    def host_list(self) -> list[str]:
+        """The allowed hosts as the Host header spells them (IPv6 addresses in brackets)."""
+        hosts = [h.strip().lower() for h in self.allowed_hosts.split(",") if h.strip()]
+        return [f"[{h}]" if ":" in h and not h.startswith("[") else h for h in hosts]
+
+    def origin_list(self) -> list[str]:
+        """The origins allowed to call from another site, without a trailing slash."""
+        return [o.strip().rstrip("/") for o in self.cors_origins.split(",") if o.strip()]
 
     @classmethod
     def from_env(cls) -> Settings:
