@@ -58,6 +58,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
         await asyncio.to_thread(migrate_at_start, store)
+        await asyncio.to_thread(auth.start, app)
         await asyncio.to_thread(solvers.start)
         await asyncio.to_thread(studies.open)
         yield

@@ -5,7 +5,7 @@
 - ``origin``: a state-changing request from another site's page is refused (403), whether or not sign-in is on.
 - ``passwords``, ``tokens``, ``sessions``: argon2 password hashes, API tokens kept as hashes, signed sign-in
   cookies with their CSRF token.
-- ``users``: the users and tokens the service keeps (the interface and an in-memory implementation).
+- ``users``: the users and tokens in the service's store, with what sign-in needs beyond the store's own calls.
 - ``roles``: viewer, engineer, admin, checker, approver and what each may call.
 - ``guard``: who is calling (a token, a sign-in cookie, or nobody) and whether the role allows it (401/403).
 - ``router``: sign-in, sign-out and the admins' user and token management under ``/v1``.
@@ -16,6 +16,6 @@ protections stay on.
 
 from __future__ import annotations
 
-from .install import install
+from .install import install, start
 
-__all__ = ["install"]
+__all__ = ["install", "start"]

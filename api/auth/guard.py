@@ -17,24 +17,31 @@ from starlette.datastructures import Headers
 from starlette.requests import cookie_parser
 from starlette.types import ASGIApp, Receive, Scope, Send
 
+import store
+
 from ..problems import problem
 from . import roles, tokens
 from .sessions import CSRF_HEADER, Session, Sessions
-from .users import Users
+from .users import Accounts
 
 REALM = 'Bearer realm="mechsynth"'
 
 
 @dataclass(frozen=True, slots=True)
 class Principal:
-    """The caller: a user's name (None with authentication off), the roles it acts with now, and how it signed in
+    """The caller: the user (None with authentication off), the roles it acts with, and how it was recognised
     (``open`` when authentication is off, ``session`` for a browser, ``token`` for an API token)."""
 
-    name: str | None
+    user: store.User | None
     roles: frozenset[str]
     via: Literal["open", "session", "token", "none"]
     session: Session | None = None
-    token_id: str | None = None
+    token_id: int | None = None
+
+    @property
+    def name(self) -> str | None:
+        """The caller's user name."""
+        return None if self.user is None else self.user.name
 
     @property
     def is_admin(self) -> bool:
@@ -57,31 +64,29 @@ class Refused(Exception):
 class Access:
     """Authentication of one service: on or off, its users and tokens, and its sign-in sessions."""
 
-    def __init__(self, enabled: bool, users: Users, sessions: Sessions) -> None:
+    def __init__(self, enabled: bool, accounts: Accounts, sessions: Sessions) -> None:
         self.enabled = enabled
-        self.users = users
+        self.accounts = accounts
         self.sessions = sessions
 
     def from_token(self, sent: str) -> Principal:
-        """The caller of a bearer token; :class:`Refused` when it is unknown, revoked or its user is gone."""
-        parts = tokens.split(sent)
-        if parts is None:
+        """The caller of a bearer token; :class:`Refused` when it is unknown or revoked."""
+        if not tokens.well_formed(sent):
             raise Refused("the bearer token is not one this service issued")
-        token = self.users.token(parts[0])
-        if token is None or not tokens.matches(token.secret_hash, parts[1]):
+        found = self.accounts.token_user(sent)
+        if found is None:
             raise Refused("the bearer token is unknown or revoked")
-        user = self.users.user(token.user)
-        if user is None:
-            raise Refused("the bearer token's user no longer exists")
-        return Principal(user.name, token.roles & user.roles, "token", token_id=token.id)
+        user, token_id = found
+        return Principal(user, user.roles, "token", token_id=token_id)
 
     def from_cookie(self, cookie: str) -> Principal | None:
-        """The caller of a sign-in cookie, or None when it is not valid (expired, signed out, forged)."""
+        """The caller of a sign-in cookie, or None when it is not valid (expired, signed out, forged, its user
+        removed)."""
         session = self.sessions.check(cookie)
         if session is None:
             return None
-        user = self.users.user(session.name)
-        return None if user is None else Principal(user.name, user.roles, "session", session=session)
+        user = self.accounts.by_name(session.name)
+        return None if user is None else Principal(user, user.roles, "session", session=session)
 
     def identify(self, headers: Headers) -> Principal:
         """The caller of a request's headers: a bearer token first, else the sign-in cookie, else nobody."""
@@ -119,6 +124,10 @@ class Guard:
         needed = roles.required(method, path)
         try:
             caller = await asyncio.to_thread(self.access.identify, Headers(scope=scope))
+        except store.StoreUnavailable as exc:
+            await problem(503, "store-unavailable", "Store unavailable", f"{exc}: callers cannot be recognised",
+                          headers={"Retry-After": "10"}, reason=exc.reason)(scope, receive, send)
+            return
         except Refused as exc:
             if needed is not None:
                 await problem(401, "unauthenticated", "Sign-in needed", str(exc),
@@ -146,5 +155,7 @@ class Guard:
         if response is not None:
             await response(scope, receive, send)
             return
-        scope.setdefault("state", {})["principal"] = caller
+        state = scope.setdefault("state", {})
+        state["principal"] = caller
+        state["user"] = caller.user          # the store's user, as api.identity reads it
         await self.app(scope, receive, send)

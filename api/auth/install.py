@@ -10,43 +10,53 @@ from typing import Any
 from fastapi import FastAPI
 from starlette.middleware.cors import CORSMiddleware
 
+import store
+
 from ..settings import Settings
 from . import passwords, roles
 from .guard import Access, Guard
 from .headers import SecurityHeaders
 from .hosts import AllowedHosts
 from .origin import SameOrigin
-from .router import _Failures, router
+from .router import Failures, router
 from .sessions import CSRF_HEADER, Sessions
-from .users import MemoryUsers, User, Users
+from .users import Accounts
 
 log = logging.getLogger("api.auth")
 PREFIX = "/v1"
 
 
-def bootstrap(users: Users, settings: Settings) -> None:
+def bootstrap(accounts: Accounts, settings: Settings) -> None:
     """Make the first admin named by the settings, unless a user of that name exists."""
     if settings.admin_name is None or settings.admin_password is None:
-        if settings.auth == "on" and not users.users():
+        if settings.auth == "on" and not accounts.all():
             log.warning("authentication is on and there are no users: add an admin with "
                         "`python -m api.users add NAME --role admin` or SYNTH_ADMIN_NAME and SYNTH_ADMIN_PASSWORD")
         return
-    if users.user(settings.admin_name) is None:
-        users.add_user(User(settings.admin_name, passwords.hash_password(settings.admin_password.get_secret_value()),
-                            frozenset({"admin"})))
+    if accounts.by_name(settings.admin_name) is None:
+        accounts.create(settings.admin_name, {"admin"},
+                        passwords.hash_password(settings.admin_password.get_secret_value()))
         log.info("made the first admin, %s", settings.admin_name)
 
 
-def install(app: FastAPI, settings: Settings, users: Users | None = None) -> Access:
+def start(app: FastAPI) -> None:
+    """At start, once the store is migrated: the first admin; a store that cannot be reached is reported by
+    /ready, and the admin is made at the next start."""
+    try:
+        bootstrap(app.state.access.accounts, app.state.settings)
+    except store.StoreUnavailable as exc:
+        log.error("the first admin was not made: %s", exc)
+
+
+def install(app: FastAPI, settings: Settings) -> Access:
     """Add the security middleware to ``app`` (outermost last: headers, hosts, CORS, origin, then the caller's
-    identity and roles), the /v1/auth, /v1/users and /v1/tokens endpoints and the first admin."""
+    identity and roles) and the /v1/auth, /v1/users and /v1/tokens endpoints; users live in ``app.state.store``."""
     key = (settings.session_key.get_secret_value().encode() if settings.session_key is not None
            else secrets.token_bytes(32))
     sessions = Sessions(key, settings.session_hours * 3600.0, settings.behind_tls)
-    access = Access(settings.auth == "on", users if users is not None else MemoryUsers(), sessions)
-    bootstrap(access.users, settings)
+    access = Access(settings.auth == "on", Accounts(app.state.store), sessions)
     app.state.access = access
-    app.state.sign_in_failures = _Failures()
+    app.state.sign_in_failures = Failures()
     app.add_middleware(Guard, access=access)
     app.add_middleware(SameOrigin, trusted_origins=settings.origin_list(), behind_tls=settings.behind_tls)
     if settings.origin_list():

@@ -7,9 +7,11 @@ import threading
 import time
 from typing import Annotated, Any
 
+import sqlalchemy as sa
 from fastapi import APIRouter, Depends, Path, Request, Response
 from fastapi.responses import JSONResponse
 
+import store
 from mechsynth_client.schemas.auth import (
     NewTokenOut,
     SessionOut,
@@ -23,12 +25,12 @@ from mechsynth_client.schemas.auth import (
 from ..problems import problem
 from . import passwords, tokens
 from .guard import Access, Principal, principal
-from .users import ApiToken, User, UserExists
+from .users import Accounts, TokenInfo
 
 router = APIRouter(tags=["users"])
 UserName = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.@\-]*$",
                                description="The user's name.")]
-TokenId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[0-9a-f]+$", description="The token's id.")]
+TokenId = Annotated[int, Path(ge=1, le=2**53, description="The token's number.")]
 PrincipalDep = Annotated[Principal, Depends(principal)]
 
 
@@ -38,15 +40,17 @@ def _ref(description: str) -> dict[str, Any]:
 
 
 NO_USER: dict[int | str, dict[str, Any]] = {404: _ref("No user has this name.")}
-SIGN_IN_PROBLEMS: dict[int | str, dict[str, Any]] = {401: _ref("The name or the password is wrong."),
-                    409: _ref("Authentication is off on this service: there is nothing to sign in to."),
-                    429: _ref("Too many wrong passwords for this name lately; retry after Retry-After seconds.")}
+SIGN_IN_PROBLEMS: dict[int | str, dict[str, Any]] = {
+    401: _ref("The name or the password is wrong."),
+    409: _ref("Authentication is off on this service: there is nothing to sign in to."),
+    429: _ref("Too many wrong passwords for this name lately; retry after Retry-After seconds."),
+}
 
 MAX_FAILURES = 5
 FAILURE_WINDOW_S = 900.0
 
 
-class _Failures:
+class Failures:
     """Wrong passwords per name over the last window: past the limit, sign-in for that name waits."""
 
     def __init__(self) -> None:
@@ -61,12 +65,14 @@ class _Failures:
             return 0.0 if len(recent) < MAX_FAILURES else recent[0] + FAILURE_WINDOW_S - now
 
     def failed(self, name: str, now: float) -> None:
+        """A wrong password for ``name`` now."""
         with self._lock:
             self._seen.setdefault(name, []).append(now)
             if len(self._seen) > 10_000:        # bounded memory whatever names are tried
                 self._seen = {k: v for k, v in self._seen.items() if v and v[-1] > now - FAILURE_WINDOW_S}
 
     def cleared(self, name: str) -> None:
+        """``name`` signed in: its count starts again."""
         with self._lock:
             self._seen.pop(name, None)
 
@@ -82,32 +88,33 @@ AccessDep = Annotated[Access, Depends(get_access)]
 
 def _session_out(access: Access, caller: Principal) -> SessionOut:
     session = caller.session
-    return SessionOut(auth="on" if access.enabled else "off", signed_in=caller.name is not None,
+    return SessionOut(auth="on" if access.enabled else "off", signed_in=caller.user is not None,
                       name=caller.name, roles=sorted(caller.roles), via=caller.via,
                       csrf_token=None if session is None else access.sessions.csrf_token(session),
                       expires_at=None if session is None else session.expires)
 
 
-def _user_out(user: User) -> UserOut:
+def _user_out(user: store.User) -> UserOut:
     return UserOut(name=user.name, roles=sorted(user.roles), created_at=user.created_at)
 
 
-def _token_out(token: ApiToken) -> TokenOut:
-    return TokenOut(id=token.id, user=token.user, label=token.label, roles=sorted(token.roles),
-                    created_at=token.created_at)
+def _token_out(token: TokenInfo) -> TokenOut:
+    return TokenOut(id=token.id, user=token.user, label=token.label, created_at=token.created_at,
+                    last_used_at=token.last_used_at)
 
 
 def _no_user(name: str) -> JSONResponse:
     return problem(404, "user-not-found", "No such user", f"no user is named {name!r}", name=name)
 
 
-def _check_in(access: Access, name: str, password: str) -> User | None:
+def _check_in(accounts: Accounts, name: str, password: str) -> store.User | None:
     """The user when the password is right (its hash renewed when made with weaker parameters), else None."""
-    user = access.users.user(name)
-    if not passwords.verify_password(None if user is None else user.password_hash, password) or user is None:
+    stored = accounts.password_hash(name)
+    if not passwords.verify_password(stored, password) or stored is None:
         return None
-    if passwords.needs_rehash(user.password_hash):
-        access.users.update_user(name, password_hash=passwords.hash_password(password))
+    user = accounts.by_name(name)
+    if user is not None and passwords.needs_rehash(stored):
+        accounts.set_password_hash(user.id, passwords.hash_password(password))
     return user
 
 
@@ -119,13 +126,13 @@ async def sign_in(body: SignInIn, request: Request, response: Response, access: 
     if not access.enabled:
         return problem(409, "auth-off", "Authentication is off",
                        "this service is open (SYNTH_AUTH=off): every request is allowed without signing in")
-    failures: _Failures = request.app.state.sign_in_failures
+    failures: Failures = request.app.state.sign_in_failures
     now = time.time()
     if (wait := failures.wait_s(body.name, now)) > 0:
         return problem(429, "too-many-sign-ins", "Too many wrong passwords",
                        f"too many wrong passwords for {body.name!r}; retry in {wait:.0f} s",
                        headers={"Retry-After": str(int(wait) + 1)}, retry_after_s=int(wait) + 1)
-    user = await asyncio.to_thread(_check_in, access, body.name, body.password)
+    user = await asyncio.to_thread(_check_in, access.accounts, body.name, body.password)
     if user is None:
         failures.failed(body.name, now)
         return problem(401, "invalid-credentials", "Sign-in refused", "the name or the password is wrong")
@@ -137,7 +144,7 @@ async def sign_in(body: SignInIn, request: Request, response: Response, access: 
                         httponly=True, samesite="strict")
     response.set_cookie(access.sessions.csrf_cookie_name, access.sessions.csrf_token(session), max_age=max_age,
                         path="/", secure=secure, httponly=False, samesite="strict")
-    return _session_out(access, Principal(user.name, user.roles, "session", session=session))
+    return _session_out(access, Principal(user, user.roles, "session", session=session))
 
 
 @router.get("/auth/session", response_model=SessionOut)
@@ -147,30 +154,32 @@ async def session(caller: PrincipalDep, access: AccessDep) -> SessionOut:
     return _session_out(access, caller)
 
 
-@router.post("/auth/signout", status_code=204)
-async def sign_out(caller: PrincipalDep, access: AccessDep, response: Response) -> None:
+@router.post("/auth/signout", status_code=204, response_model=None)
+async def sign_out(caller: PrincipalDep, access: AccessDep) -> Response:
     """End this browser's session: its cookie is refused from now on, and both cookies are removed."""
     if caller.session is not None:
         access.sessions.end(caller.session)
+    response = Response(status_code=204)
     for name in (access.sessions.cookie_name, access.sessions.csrf_cookie_name):
         response.delete_cookie(name, path="/", secure=access.sessions.secure,
                                httponly=name == access.sessions.cookie_name, samesite="strict")
+    return response
 
 
 @router.get("/users", response_model=list[UserOut])
 async def users(access: AccessDep) -> list[UserOut]:
     """Every user, by name, with its roles (admins only)."""
-    return [_user_out(u) for u in await asyncio.to_thread(access.users.users)]
+    return [_user_out(u) for u in await asyncio.to_thread(access.accounts.all)]
 
 
 @router.post("/users", status_code=201, response_model=UserOut,
              responses={409: _ref("A user of this name exists already.")})
 async def add_user(body: UserIn, access: AccessDep) -> Any:
     """Make a user with a password and roles (admins only)."""
-    user = User(body.name, await asyncio.to_thread(passwords.hash_password, body.password), frozenset(body.roles))
+    hashed = await asyncio.to_thread(passwords.hash_password, body.password)
     try:
-        await asyncio.to_thread(access.users.add_user, user)
-    except UserExists:
+        user = await asyncio.to_thread(access.accounts.create, body.name, frozenset(body.roles), hashed)
+    except sa.exc.IntegrityError:
         return problem(409, "user-exists", "User exists", f"a user named {body.name!r} exists already",
                        name=body.name)
     return _user_out(user)
@@ -179,57 +188,61 @@ async def add_user(body: UserIn, access: AccessDep) -> Any:
 @router.get("/users/{name}", response_model=UserOut, responses=NO_USER)
 async def user(name: UserName, access: AccessDep) -> Any:
     """One user and its roles (admins only)."""
-    found = await asyncio.to_thread(access.users.user, name)
+    found = await asyncio.to_thread(access.accounts.by_name, name)
     return _no_user(name) if found is None else _user_out(found)
 
 
 @router.patch("/users/{name}", response_model=UserOut, responses=NO_USER)
 async def update_user(name: UserName, body: UserPatchIn, access: AccessDep) -> Any:
-    """Set a user's password, roles, or both (admins only). Its tokens keep only the roles it still has."""
-    hashed = None if body.password is None else await asyncio.to_thread(passwords.hash_password, body.password)
-    roles = None if body.roles is None else frozenset(body.roles)
-    found = await asyncio.to_thread(lambda: access.users.update_user(name, password_hash=hashed, roles=roles))
-    return _no_user(name) if found is None else _user_out(found)
+    """Set a user's password, roles, or both (admins only); its tokens act with the new roles at once."""
+    found = await asyncio.to_thread(access.accounts.by_name, name)
+    if found is None:
+        return _no_user(name)
+    if body.password is not None:
+        hashed = await asyncio.to_thread(passwords.hash_password, body.password)
+        await asyncio.to_thread(access.accounts.set_password_hash, found.id, hashed)
+    if body.roles is not None:
+        await asyncio.to_thread(access.accounts.set_roles, found.id, frozenset(body.roles))
+    changed = await asyncio.to_thread(access.accounts.by_name, name)
+    return _no_user(name) if changed is None else _user_out(changed)
 
 
 @router.delete("/users/{name}", status_code=204, response_model=None, responses=NO_USER)
 async def remove_user(name: UserName, access: AccessDep) -> Response:
     """Remove a user and revoke its tokens (admins only); its browser sessions end at their next request."""
-    if not await asyncio.to_thread(access.users.remove_user, name):
+    found = await asyncio.to_thread(access.accounts.by_name, name)
+    if found is None:
         return _no_user(name)
+    await asyncio.to_thread(access.accounts.remove, found)
     return Response(status_code=204)
 
 
 @router.get("/users/{name}/tokens", response_model=list[TokenOut], responses=NO_USER)
 async def user_tokens(name: UserName, access: AccessDep) -> Any:
     """A user's API tokens, oldest first, without their secrets (admins only)."""
-    if await asyncio.to_thread(access.users.user, name) is None:
-        return _no_user(name)
-    return [_token_out(t) for t in await asyncio.to_thread(access.users.tokens, name)]
-
-
-@router.post("/users/{name}/tokens", status_code=201, response_model=NewTokenOut,
-             responses={**NO_USER, 422: _ref("The token's roles are not all the user's.")})
-async def add_token(name: UserName, body: TokenIn, access: AccessDep) -> Any:
-    """Make an API token for a user (admins only); the answer shows the token this once. Programs send it as
-    `Authorization: Bearer <token>`."""
-    found = await asyncio.to_thread(access.users.user, name)
+    found = await asyncio.to_thread(access.accounts.by_name, name)
     if found is None:
         return _no_user(name)
-    roles = found.roles if body.roles is None else frozenset(body.roles)
-    if extra := sorted(roles - found.roles):
-        return problem(422, "invalid-input", "Invalid input",
-                       f"roles: {name!r} does not have the roles {extra}", field="roles")
-    made = tokens.new_token()
-    token = ApiToken(made.id, name, body.label, roles, made.secret_hash)
-    await asyncio.to_thread(access.users.add_token, token)
-    return NewTokenOut(**_token_out(token).model_dump(), token=made.token)
+    return [_token_out(t) for t in await asyncio.to_thread(access.accounts.tokens, found)]
+
+
+@router.post("/users/{name}/tokens", status_code=201, response_model=NewTokenOut, responses=NO_USER)
+async def add_token(name: UserName, body: TokenIn, access: AccessDep) -> Any:
+    """Make an API token for a user (admins only); the answer shows the token this once. Programs send it as
+    `Authorization: Bearer <token>`; it acts with the user's roles."""
+    found = await asyncio.to_thread(access.accounts.by_name, name)
+    if found is None:
+        return _no_user(name)
+    token = tokens.new_token()
+    token_id = await asyncio.to_thread(access.accounts.add_token, found.id, token, body.label)
+    return NewTokenOut(id=token_id, user=name, label=body.label, created_at=time.time(), last_used_at=None,
+                       token=token)
 
 
 @router.delete("/tokens/{token_id}", status_code=204, response_model=None,
-               responses={404: _ref("No token has this id.")})
+               responses={404: _ref("No token has this number.")})
 async def revoke_token(token_id: TokenId, access: AccessDep) -> Response:
     """Revoke an API token at once (admins only)."""
-    if not await asyncio.to_thread(access.users.remove_token, token_id):
-        return problem(404, "token-not-found", "No such token", f"no token has the id {token_id!r}")
+    if not await asyncio.to_thread(access.accounts.revoke_token, token_id):
+        return problem(404, "token-not-found", "No such token", f"no token has the number {token_id}")
     return Response(status_code=204)

@@ -1,130 +1,64 @@
-"""The users and API tokens a service keeps: what the security layer needs of a store, and an in-memory store.
+"""The users and API tokens of the service's store, with what sign-in and the admins need beyond it: a token's
+user found by the token's hash and confirmed by a constant-time comparison, a user's tokens, removing a user.
 
-A user has a name, an argon2 password hash and roles; a token belongs to a user, has a label and roles (at most
-the user's: a token acts with the roles it and its user both have now), and is kept as the hash of its secret.
+A token acts with its user's roles at the time of the request, so changing a user's roles changes its tokens.
 """
 
 from __future__ import annotations
 
-import threading
+import hmac
 import time
-from dataclasses import dataclass, field, replace
-from typing import Protocol
+from dataclasses import dataclass
+
+import sqlalchemy as sa
+
+import store
+from store.schema import api_tokens, users
 
 
 @dataclass(frozen=True, slots=True)
-class User:
-    """A user: name, argon2 password hash, roles and when it was made [s since the epoch]."""
+class TokenInfo:
+    """A kept API token, without its secret: its number, user, label and when it was made and last used."""
 
-    name: str
-    password_hash: str
-    roles: frozenset[str]
-    created_at: float = field(default_factory=time.time)
-
-
-@dataclass(frozen=True, slots=True)
-class ApiToken:
-    """A kept API token: its id, its user, a label, its roles, the hash of its secret and when it was made."""
-
-    id: str
+    id: int
     user: str
     label: str
-    roles: frozenset[str]
-    secret_hash: str
-    created_at: float = field(default_factory=time.time)
+    created_at: float
+    last_used_at: float | None
 
 
-class UserExists(Exception):
-    """A user of this name exists already."""
+class Accounts(store.Users):
+    """Users and API tokens in the service's store."""
 
+    def token_user(self, token: str) -> tuple[store.User, int] | None:
+        """The user holding ``token`` and the token's number, or None; the token's last use is set to now.
 
-class Users(Protocol):
-    """Where users and tokens are kept; every method is a short blocking call (run off the event loop)."""
-
-    def user(self, name: str) -> User | None:
-        """The user of this name, or None."""
-
-    def users(self) -> list[User]:
-        """Every user, by name."""
-
-    def add_user(self, user: User) -> None:
-        """Keep a new user; :class:`UserExists` when the name is taken."""
-
-    def update_user(self, name: str, *, password_hash: str | None = None,
-                    roles: frozenset[str] | None = None) -> User | None:
-        """Change a user's password hash or roles; None when there is no such user."""
-
-    def remove_user(self, name: str) -> bool:
-        """Remove a user and its tokens; False when there was none."""
-
-    def add_token(self, token: ApiToken) -> None:
-        """Keep a new token (its user exists)."""
-
-    def token(self, token_id: str) -> ApiToken | None:
-        """The token of this id, or None."""
-
-    def tokens(self, user: str) -> list[ApiToken]:
-        """A user's tokens, oldest first."""
-
-    def remove_token(self, token_id: str) -> bool:
-        """Revoke a token; False when there was none."""
-
-
-class MemoryUsers:
-    """Users and tokens in this process's memory (tests, or a service that keeps no users across restarts)."""
-
-    def __init__(self) -> None:
-        self._users: dict[str, User] = {}
-        self._tokens: dict[str, ApiToken] = {}
-        self._lock = threading.Lock()
-
-    def user(self, name: str) -> User | None:
-        """The user of this name, or None."""
-        return self._users.get(name)
-
-    def users(self) -> list[User]:
-        """Every user, by name."""
-        return sorted(self._users.values(), key=lambda u: u.name)
-
-    def add_user(self, user: User) -> None:
-        """Keep a new user; :class:`UserExists` when the name is taken."""
-        with self._lock:
-            if user.name in self._users:
-                raise UserExists(user.name)
-            self._users[user.name] = user
-
-    def update_user(self, name: str, *, password_hash: str | None = None,
-                    roles: frozenset[str] | None = None) -> User | None:
-        """Change a user's password hash or roles; None when there is no such user."""
-        with self._lock:
-            user = self._users.get(name)
-            if user is None:
+        The row is found by the token's SHA-256 (a 256-bit random secret, so the index lookup tells an attacker
+        nothing); the stored hash is then compared byte for byte in constant time, whatever the database's
+        collation does with case or trailing spaces."""
+        digest = store.token_hash(token)
+        with self.store.write() as db:
+            row = db.execute(sa.select(api_tokens.c.id, api_tokens.c.token_hash, users.c.id, users.c.name,
+                                       users.c.roles, users.c.created_at)
+                             .join(users, api_tokens.c.user_id == users.c.id)
+                             .where(api_tokens.c.token_hash == digest)).one_or_none()
+            if row is None or not hmac.compare_digest(str(row[1]).encode(), digest.encode()):
                 return None
-            user = replace(user, password_hash=password_hash or user.password_hash,
-                           roles=user.roles if roles is None else roles)
-            self._users[name] = user
-            return user
+            db.execute(api_tokens.update().where(api_tokens.c.id == row[0]).values(last_used_at=time.time()))
+        user = store.User(int(row[2]), str(row[3]), frozenset(str(row[4]).split()), float(row[5]))
+        return user, int(row[0])
 
-    def remove_user(self, name: str) -> bool:
-        """Remove a user and its tokens; False when there was none."""
-        with self._lock:
-            self._tokens = {k: t for k, t in self._tokens.items() if t.user != name}
-            return self._users.pop(name, None) is not None
-
-    def add_token(self, token: ApiToken) -> None:
-        """Keep a new token."""
-        with self._lock:
-            self._tokens[token.id] = token
-
-    def token(self, token_id: str) -> ApiToken | None:
-        """The token of this id, or None."""
-        return self._tokens.get(token_id)
-
-    def tokens(self, user: str) -> list[ApiToken]:
+    def tokens(self, user: store.User) -> list[TokenInfo]:
         """A user's tokens, oldest first."""
-        return sorted((t for t in self._tokens.values() if t.user == user), key=lambda t: t.created_at)
+        with self.store.read() as db:
+            rows = db.execute(sa.select(api_tokens.c.id, api_tokens.c.label, api_tokens.c.created_at,
+                                        api_tokens.c.last_used_at)
+                              .where(api_tokens.c.user_id == user.id).order_by(api_tokens.c.id)).all()
+        return [TokenInfo(int(r[0]), user.name, str(r[1] or ""), float(r[2]),
+                          None if r[3] is None else float(r[3])) for r in rows]
 
-    def remove_token(self, token_id: str) -> bool:
-        """Revoke a token; False when there was none."""
-        with self._lock:
-            return self._tokens.pop(token_id, None) is not None
+    def remove(self, user: store.User) -> None:
+        """Remove a user and its tokens."""
+        with self.store.write() as db:
+            db.execute(api_tokens.delete().where(api_tokens.c.user_id == user.id))
+            db.execute(users.delete().where(users.c.id == user.id))

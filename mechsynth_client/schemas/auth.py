@@ -66,22 +66,20 @@ class UserOut(BaseModel):
 
 
 class TokenIn(StrictModel):
-    """A new API token for a user: a label to recognise it, and its roles (at most the user's)."""
+    """A new API token for a user; it acts with the user's roles at the time of each request."""
 
     label: Annotated[str, Field(min_length=1, max_length=100, description="What the token is for.",
                                 examples=["nightly studies"])]
-    roles: Roles | None = Field(None, description="The token's roles; default: the user's. A token acts with the "
-                                                  "roles it and its user both have at the time of the request.")
 
 
 class TokenOut(BaseModel):
     """A kept API token (never its secret)."""
 
-    id: str = Field(description="The token's id (the part after mst_ and before the next _).")
+    id: int = Field(description="The token's number, to revoke it by.")
     user: str = Field(description="The user the token acts for.")
     label: str = Field(description="What the token is for.")
-    roles: list[str] = Field(description="The token's roles.")
     created_at: float = Field(description="When the token was made [s since the epoch].")
+    last_used_at: float | None = Field(description="When the token was last used [s since the epoch].")
 
 
 class NewTokenOut(TokenOut):
