@@ -57,6 +57,15 @@ OPEN = Principal(None, frozenset({"admin"}), "open")
 NOBODY = Principal(None, frozenset(), "none")
 
 
+class NotOwner(Exception):
+    """The caller may not change what another user made (answered 403)."""
+
+    def __init__(self, what: str, owner: str | None, caller: str | None) -> None:
+        super().__init__(f"{what} belongs to {owner or 'nobody'}; only its owner or an admin may change it, "
+                         f"not {caller}")
+        self.owner = owner
+
+
 class Refused(Exception):
     """The credentials sent are not valid: the message says why (never echoing them)."""
 

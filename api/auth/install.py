@@ -7,14 +7,16 @@ import logging
 import secrets
 from typing import Any
 
-from fastapi import FastAPI
+from fastapi import FastAPI, Request
+from fastapi.responses import JSONResponse
 from starlette.middleware.cors import CORSMiddleware
 
 import store
 
 from ..settings import Settings
 from . import passwords, roles
-from .guard import Access, Guard
+from ..problems import problem
+from .guard import Access, Guard, NotOwner
 from .headers import SecurityHeaders
 from .hosts import AllowedHosts
 from .origin import SameOrigin
@@ -68,8 +70,14 @@ def install(app: FastAPI, settings: Settings) -> Access:
     app.add_middleware(AllowedHosts, allowed_hosts=settings.host_list())
     app.add_middleware(SecurityHeaders, hsts=settings.behind_tls)
     app.include_router(router, prefix=PREFIX)
+    app.add_exception_handler(NotOwner, _not_owner)
     _document(app)
     return access
+
+
+async def _not_owner(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, NotOwner)
+    return problem(403, "not-owner", "Not the owner", str(exc), owner=exc.owner)
 
 
 def _problem(description: str) -> dict[str, Any]:
