@@ -8,6 +8,9 @@ from pydantic import Field, SecretStr, ValidationError
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
+SECRET_SETTINGS = frozenset({"session_key", "admin_password", "database_url"})
+
+
 class Settings(BaseSettings):
     """Limits of one service instance; each field is read from ``SYNTH_<FIELD>`` (e.g. ``SYNTH_WORKERS=4``)."""
 
@@ -55,7 +58,7 @@ class Settings(BaseSettings):
                                              "call the API from another site; none by default.")
     behind_tls: bool = Field(False, description="The service is reached over HTTPS (a TLS proxy in front): cookies "
                                                 "are Secure and browsers are told to keep to HTTPS.")
-    session_key: SecretStr | None = Field(None, description="Key signing the sign-in cookies (32+ characters); "
+    session_key: SecretStr | None = Field(None, min_length=32, max_length=1024, description="Key signing the sign-in cookies (32+ characters); "
                                                             "unset: a random key, so restarts sign everyone out.")
     session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
     admin_name: str | None = Field(None, min_length=1, max_length=64,
@@ -77,6 +80,8 @@ class Settings(BaseSettings):
         try:
             return cls()
         except ValidationError as exc:
-            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']} (got {e.get('input')!r})"
+            # a secret's value is never echoed (the message may end up in a log)
+            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']}"
+                     + ("" if e["loc"][:1] and e["loc"][0] in SECRET_SETTINGS else f" (got {e.get('input')!r})")
                      for e in exc.errors()]
             raise SystemExit("invalid service settings:\n  " + "\n  ".join(lines)) from None

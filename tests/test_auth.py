@@ -363,3 +363,14 @@ def test_a_study_belongs_to_its_creator_and_only_it_or_an_admin_may_cancel_or_re
 def _study_fields() -> set[str]:
     from mechsynth_client.schemas.studies import StudyIn
     return set(StudyIn.model_fields)
+
+
+def test_a_bad_secret_setting_stops_the_service_without_echoing_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SYNTH_SESSION_KEY", "tooshortsecret")
+    with pytest.raises(SystemExit) as stopped:
+        Settings.from_env()
+    assert "SYNTH_SESSION_KEY" in str(stopped.value) and "tooshortsecret" not in str(stopped.value)
+    monkeypatch.delenv("SYNTH_SESSION_KEY")
+    monkeypatch.setenv("SYNTH_SESSION_HOURS", "-1")
+    with pytest.raises(SystemExit, match=r"SYNTH_SESSION_HOURS: .* \(got '-1'\)"):
+        Settings.from_env()
