@@ -106,7 +106,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             response.status_code = 503
         return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
 
-    for router in (*all_routers(), studies_router):
+    for router in (*all_routers(), studies_router, auth.router):
         app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app

@@ -17,5 +17,6 @@ protections stay on.
 from __future__ import annotations
 
 from .install import install, start
+from .router import router
 
-__all__ = ["install", "start"]
+__all__ = ["install", "router", "start"]

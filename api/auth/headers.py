@@ -3,8 +3,8 @@ same-origin referrers, and HSTS behind TLS.
 
 The workbench loads only its own files, so its policy allows ``'self'`` alone. The API manual (Swagger UI, ReDoc,
 pages FastAPI writes) starts its bundle with an inline script: an HTML answer's inline scripts are allowed by
-their SHA-256 in that answer's policy, never by ``unsafe-inline``; the manual's widgets also set inline styles,
-which its pages alone allow.
+their SHA-256 in that answer's policy, never by ``unsafe-inline``; the manual's widgets also set inline styles
+and Swagger UI runs a worker from a blob, which its pages alone allow.
 """
 
 from __future__ import annotations
@@ -33,13 +33,15 @@ _INLINE_SCRIPT = re.compile(rb"<script>(.*?)</script>", re.S)
 _HTML_LIMIT = 1_000_000
 
 
-def policy(script_hashes: list[str] | None = None, inline_styles: bool = False) -> str:
-    """The Content-Security-Policy header's value, allowing the inline scripts of these hashes."""
+def policy(script_hashes: list[str] | None = None, manual: bool = False) -> str:
+    """The Content-Security-Policy header's value, allowing the inline scripts of these hashes; the manual's
+    pages also set inline styles and run a worker from a blob."""
     parts = dict(POLICY)
     if script_hashes:
         parts["script-src"] += "".join(f" 'sha256-{h}'" for h in script_hashes)
-    if inline_styles:
+    if manual:
         parts["style-src"] += " 'unsafe-inline'"
+        parts["worker-src"] = "'self' blob:"
     return "; ".join(f"{k} {v}" for k, v in parts.items())
 
 
@@ -90,7 +92,7 @@ class SecurityHeaders:
                 return
             body = b"".join(held)
             headers = MutableHeaders(scope=start)
-            headers["content-security-policy"] = policy(script_hashes(body), inline_styles=True)
+            headers["content-security-policy"] = policy(script_hashes(body), manual=True)
             await send(start)
             await send({"type": "http.response.body", "body": body, "more_body": message.get("more_body", False)})
             start = None

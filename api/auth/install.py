@@ -20,12 +20,11 @@ from .guard import Access, Guard, NotOwner
 from .headers import SecurityHeaders
 from .hosts import AllowedHosts
 from .origin import SameOrigin
-from .router import Failures, router
+from .router import Failures
 from .sessions import CSRF_HEADER, Sessions
 from .users import Accounts
 
 log = logging.getLogger("api.auth")
-PREFIX = "/v1"
 
 
 def bootstrap(accounts: Accounts, settings: Settings) -> None:
@@ -52,7 +51,8 @@ def start(app: FastAPI) -> None:
 
 def install(app: FastAPI, settings: Settings) -> Access:
     """Add the security middleware to ``app`` (outermost last: headers, hosts, CORS, origin, then the caller's
-    identity and roles) and the /v1/auth, /v1/users and /v1/tokens endpoints; users live in ``app.state.store``."""
+    identity and roles); users live in ``app.state.store``. The app mounts :data:`router` (sign-in, users,
+    tokens) under /v1 with the other routers."""
     key = (settings.session_key.get_secret_value().encode() if settings.session_key is not None
            else secrets.token_bytes(32))
     sessions = Sessions(key, settings.session_hours * 3600.0, settings.behind_tls)
@@ -69,7 +69,6 @@ def install(app: FastAPI, settings: Settings) -> Access:
                            expose_headers=["location", "retry-after"])
     app.add_middleware(AllowedHosts, allowed_hosts=settings.host_list())
     app.add_middleware(SecurityHeaders, hsts=settings.behind_tls)
-    app.include_router(router, prefix=PREFIX)
     app.add_exception_handler(NotOwner, _not_owner)
     _document(app)
     return access
