@@ -374,3 +374,21 @@ def test_a_bad_secret_setting_stops_the_service_without_echoing_it(monkeypatch: 
     monkeypatch.setenv("SYNTH_SESSION_HOURS", "-1")
     with pytest.raises(SystemExit, match=r"SYNTH_SESSION_HOURS: .* \(got '-1'\)"):
         Settings.from_env()
+
+
+@pytest.mark.parametrize("method, path, roles", [
+    ("GET", "/v1/studies", {"viewer", "engineer", "admin", "checker", "approver"}),
+    ("POST", "/v1/analysis", {"engineer", "admin"}),
+    ("DELETE", "/v1/studies/abc", {"engineer", "admin"}),
+    ("GET", "/v1/users", {"admin"}),
+    ("POST", "/v1/tokens/3", {"admin"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/check", {"checker", "admin"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/approve", {"approver", "admin"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions", {"engineer", "admin"}),
+    ("POST", "/v1/auth/signout", {"viewer", "engineer", "admin", "checker", "approver"}),
+])
+def test_the_role_table(method: str, path: str, roles: set[str]) -> None:
+    from api.auth.roles import ROLES, allows, required
+
+    assert {r for r in ROLES if allows([r], required(method, path))} == roles
+    assert required("POST", "/v1/auth/signin") is None and required("GET", "/workbench/app.js") is None

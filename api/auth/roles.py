@@ -41,6 +41,9 @@ RULES: list[Rule] = [
     rule(["GET", "HEAD"], r"/v1/auth/session$", None),
     rule([], r"/v1/auth/", ANY_ROLE),
     rule([], r"/v1/(users|tokens)(/|$)", ["admin"]),
+    # the design library's signatures: the library itself checks that the signer holds the role
+    rule(["POST"], r"/v1/library/projects/[^/]+/designs/[^/]+/revisions/[^/]+/check$", ["checker"]),
+    rule(["POST"], r"/v1/library/projects/[^/]+/designs/[^/]+/revisions/[^/]+/approve$", ["approver"]),
     rule(SAFE_METHODS, r"/v1(/|$)", ANY_ROLE),
     rule([], r"/v1(/|$)", ["engineer"]),
 ]
