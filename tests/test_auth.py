@@ -7,7 +7,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from http.cookies import SimpleCookie
 from pathlib import Path
 
@@ -16,6 +16,7 @@ import pytest
 from argon2 import PasswordHasher
 from fastapi.testclient import TestClient
 
+import store
 from api.app import create_app
 from api.auth import passwords, tokens
 from api.auth.users import Accounts
@@ -24,6 +25,7 @@ from mechsynth_client import SynthClient
 from mechsynth_client.client import ForbiddenError, UnauthorizedError
 from mechsynth_client.schemas.auth import TokenIn, UserIn, UserPatchIn
 from mechsynth_client.schemas.gearing import SplitIn
+from store_engines import open_store, pg_cluster, store_url  # noqa: F401  (fixtures)
 
 SPLIT = {"total_ratio": 12.0, "stages": 2}
 PASSWORD = "correct horse battery"
@@ -392,3 +394,22 @@ def test_the_role_table(method: str, path: str, roles: set[str]) -> None:
 
     assert {r for r in ROLES if allows([r], required(method, path))} == roles
     assert required("POST", "/v1/auth/signin") is None and required("GET", "/workbench/app.js") is None
+
+
+def test_accounts_on_both_engines(open_store: Callable[[], store.Store]) -> None:
+    """The calls sign-in adds to the store's users, on SQLite and on PostgreSQL: a token's user by the token,
+    a user's tokens, removing a user with its tokens."""
+    accounts = Accounts(open_store())
+    ada = accounts.create("ada", {"engineer"}, "hash")
+    first, second = tokens.new_token(), tokens.new_token()
+    first_id = accounts.add_token(ada.id, first, "one")
+    accounts.add_token(ada.id, second, "two")
+    found = accounts.token_user(first)
+    assert found is not None and found[0].name == "ada" and found[1] == first_id
+    assert accounts.token_user(tokens.new_token()) is None
+    listed = accounts.tokens(ada)
+    assert [t.label for t in listed] == ["one", "two"] and listed[0].last_used_at is not None
+    assert listed[1].last_used_at is None
+    accounts.remove(ada)
+    assert accounts.by_name("ada") is None and accounts.token_user(second) is None
+    assert not accounts.revoke_token(2**31 - 1)       # the largest number the path accepts, on either engine

@@ -30,7 +30,8 @@ from .users import Accounts, TokenInfo
 router = APIRouter(tags=["users"])
 UserName = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.@\-]*$",
                                description="The user's name.")]
-TokenId = Annotated[int, Path(ge=1, le=2**53, description="The token's number.")]
+# the store numbers tokens with 32-bit integers (PostgreSQL's integer)
+TokenId = Annotated[int, Path(ge=1, le=2**31 - 1, description="The token's number.")]
 PrincipalDep = Annotated[Principal, Depends(principal)]
 
 
