@@ -61,6 +61,7 @@ from .schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from .schemas.studies import StudyIn, StudyOut
+from .schemas.auth import NewTokenOut, SessionOut, SignInIn, TokenIn, TokenOut, UserIn, UserOut, UserPatchIn
 from .studies import AsyncStudyHandle, StudyHandle
 
 __all__ = [
@@ -79,6 +80,8 @@ __all__ = [
     "SynthClient",
     "SynthesisKind",
     "TooLargeError",
+    "UnauthorizedError",
+    "ForbiddenError",
 ]
 
 M = TypeVar("M", bound=BaseModel)
@@ -122,6 +125,14 @@ class SolverTimeoutError(ProblemError):
 
 class TooLargeError(ProblemError):
     """The request exceeded a size limit."""
+
+
+class UnauthorizedError(ProblemError):
+    """401: the service has authentication on and the client gave no valid token (``SynthClient(url, token=...)``)."""
+
+
+class ForbiddenError(ProblemError):
+    """403: the caller's roles do not allow the request, or it came from another site's page."""
 
 
 class ServiceBusyError(ProblemError):
@@ -190,11 +201,23 @@ def _retry_after_s(response: httpx.Response) -> float | None:
 class _Policy:
     """What the sync and async clients share: the retry policy, encoding requests and decoding problems."""
 
-    def __init__(self, retries: int, max_retry_wait_s: float) -> None:
+    def __init__(self, retries: int, max_retry_wait_s: float, token: str | None = None) -> None:
         if retries < 0 or not max_retry_wait_s >= 0:
             raise ValueError("retries and max_retry_wait_s must not be negative")
         self.retries = retries
         self.max_retry_wait_s = max_retry_wait_s
+        # kept out of repr and logs; sent on every request
+        self._token = token
+        self._csrf: str | None = None
+
+    def _credentials(self, kwargs: dict[str, Any]) -> dict[str, Any]:
+        """The request's keyword arguments with the API token (or a signed-in session's CSRF token) added."""
+        headers = dict(kwargs.get("headers") or {})
+        if self._token is not None:
+            headers["authorization"] = f"Bearer {self._token}"
+        if self._csrf is not None:
+            headers["x-csrf-token"] = self._csrf
+        return {**kwargs, "headers": headers} if headers else kwargs
 
     def _wait_s(self, response: httpx.Response, attempt: int) -> float | None:
         """Seconds to wait before asking again, or None when this answer is final."""
@@ -217,6 +240,8 @@ class _Policy:
         if response.status_code == 503:
             raise ServiceBusyError(response.status_code, body, _retry_after_s(response))
         cls = _BY_TYPE.get(str(body.get("type", "")), ProblemError)
+        if cls is ProblemError and response.status_code in (401, 403):
+            cls = UnauthorizedError if response.status_code == 401 else ForbiddenError
         raise cls(response.status_code, body)
 
     @staticmethod
@@ -247,10 +272,10 @@ class SynthClient(_Policy):
     """Client of the mechanism synthesis service over a given ``httpx.Client`` or a base URL."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0,
-                 retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
+                 retries: int = 3, max_retry_wait_s: float = 30.0, token: str | None = None) -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.Client")
-        super().__init__(retries, max_retry_wait_s)
+        super().__init__(retries, max_retry_wait_s, token)
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
@@ -266,7 +291,7 @@ class SynthClient(_Policy):
             warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
             from fastapi.testclient import TestClient
 
-        return cls(http=TestClient(_service_app(executor)))
+        return cls(http=TestClient(_service_app(executor), base_url="http://localhost"))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -281,7 +306,7 @@ class SynthClient(_Policy):
     def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            request = self.http.build_request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **self._credentials(kwargs))
             try:
                 response = self.http.send(request)
             except httpx.TransportError as exc:
@@ -508,15 +533,65 @@ class SynthClient(_Policy):
         """The design library: save, history, search, diff, restore, sign-off, export and import."""
         return LibraryClient(self)
 
+    def session(self) -> SessionOut:
+        """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
+        return SessionOut.model_validate_json(self._send("GET", "/v1/auth/session").content)
+
+    def sign_in(self, name: str, password: str) -> SessionOut:
+        """POST /v1/auth/signin: sign in with a name and password (a notebook without a token); the session cookie
+        and its CSRF token go with every later request of this client."""
+        body = SignInIn(name=name, password=password)
+        out = SessionOut.model_validate_json(self._send("POST", "/v1/auth/signin", json=self._json(body)).content)
+        self._csrf = out.csrf_token
+        return out
+
+    def sign_out(self) -> None:
+        """POST /v1/auth/signout: end this client's signed-in session."""
+        self._send("POST", "/v1/auth/signout")
+        self._csrf = None
+
+    def users(self) -> list[UserOut]:
+        """GET /v1/users (admins): every user with its roles."""
+        return self._get_rows("/v1/users", UserOut)
+
+    def user(self, name: str) -> UserOut:
+        """GET /v1/users/{name} (admins)."""
+        return UserOut.model_validate_json(self._send("GET", f"/v1/users/{name}").content)
+
+    def add_user(self, body: UserIn) -> UserOut:
+        """POST /v1/users (admins): make a user with a password and roles."""
+        return self._post("/v1/users", body, UserOut)
+
+    def update_user(self, name: str, body: UserPatchIn) -> UserOut:
+        """PATCH /v1/users/{name} (admins): a new password, new roles, or both."""
+        response = self._send("PATCH", f"/v1/users/{name}", json=self._json(body))
+        return UserOut.model_validate_json(response.content)
+
+    def remove_user(self, name: str) -> None:
+        """DELETE /v1/users/{name} (admins): the user and its tokens."""
+        self._send("DELETE", f"/v1/users/{name}")
+
+    def user_tokens(self, name: str) -> list[TokenOut]:
+        """GET /v1/users/{name}/tokens (admins): a user's tokens, without their secrets."""
+        return self._get_rows(f"/v1/users/{name}/tokens", TokenOut)
+
+    def add_token(self, name: str, body: TokenIn) -> NewTokenOut:
+        """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
+        return self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
+
+    def revoke_token(self, token_id: str) -> None:
+        """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
+        self._send("DELETE", f"/v1/tokens/{token_id}")
 
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.AsyncClient | None = None,
-                 timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
+                 timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0,
+                 token: str | None = None) -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.AsyncClient")
-        super().__init__(retries, max_retry_wait_s)
+        super().__init__(retries, max_retry_wait_s, token)
         self.http = http if http is not None else httpx.AsyncClient(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
@@ -524,7 +599,7 @@ class AsyncSynthClient(_Policy):
         """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
         as in :meth:`SynthClient.in_process`."""
         transport = httpx.ASGITransport(app=_service_app(executor))
-        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://in-process"))
+        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://localhost"))
 
     async def aclose(self) -> None:
         """Close the underlying HTTP client."""
@@ -539,7 +614,7 @@ class AsyncSynthClient(_Policy):
     async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            request = self.http.build_request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **self._credentials(kwargs))
             try:
                 response = await self.http.send(request)
             except httpx.TransportError as exc:
@@ -755,3 +830,54 @@ class AsyncSynthClient(_Policy):
     def library(self) -> AsyncLibraryClient:
         """The design library, as coroutines: save, history, revision, diff, sign-off, export and import."""
         return AsyncLibraryClient(self)
+
+    async def session(self) -> SessionOut:
+        """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
+        return SessionOut.model_validate_json((await self._send("GET", "/v1/auth/session")).content)
+
+    async def sign_in(self, name: str, password: str) -> SessionOut:
+        """POST /v1/auth/signin: sign in with a name and password (a notebook without a token); the session cookie
+        and its CSRF token go with every later request of this client."""
+        body = SignInIn(name=name, password=password)
+        out = SessionOut.model_validate_json(
+            (await self._send("POST", "/v1/auth/signin", json=self._json(body))).content)
+        self._csrf = out.csrf_token
+        return out
+
+    async def sign_out(self) -> None:
+        """POST /v1/auth/signout: end this client's signed-in session."""
+        await self._send("POST", "/v1/auth/signout")
+        self._csrf = None
+
+    async def users(self) -> list[UserOut]:
+        """GET /v1/users (admins): every user with its roles."""
+        return await self._get_rows("/v1/users", UserOut)
+
+    async def user(self, name: str) -> UserOut:
+        """GET /v1/users/{name} (admins)."""
+        return UserOut.model_validate_json((await self._send("GET", f"/v1/users/{name}")).content)
+
+    async def add_user(self, body: UserIn) -> UserOut:
+        """POST /v1/users (admins): make a user with a password and roles."""
+        return await self._post("/v1/users", body, UserOut)
+
+    async def update_user(self, name: str, body: UserPatchIn) -> UserOut:
+        """PATCH /v1/users/{name} (admins): a new password, new roles, or both."""
+        response = await self._send("PATCH", f"/v1/users/{name}", json=self._json(body))
+        return UserOut.model_validate_json(response.content)
+
+    async def remove_user(self, name: str) -> None:
+        """DELETE /v1/users/{name} (admins): the user and its tokens."""
+        await self._send("DELETE", f"/v1/users/{name}")
+
+    async def user_tokens(self, name: str) -> list[TokenOut]:
+        """GET /v1/users/{name}/tokens (admins): a user's tokens, without their secrets."""
+        return await self._get_rows(f"/v1/users/{name}/tokens", TokenOut)
+
+    async def add_token(self, name: str, body: TokenIn) -> NewTokenOut:
+        """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
+        return await self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
+
+    async def revoke_token(self, token_id: str) -> None:
+        """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
+        await self._send("DELETE", f"/v1/tokens/{token_id}")
