@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 from .analysis import Analysis  # noqa: E402
 from .kinematics import SlottedLever  # noqa: E402
@@ -32,11 +33,28 @@ FIGURE_FORMATS: tuple[FigureFormat, ...] = ("png", "svg", "pdf")
 BEFORE, AFTER = "tab:blue", "tab:red"
 
 
+def literal_text(fig: Figure) -> Figure:
+    """``fig`` with every text drawn as written: names from a request (trace points, links, machines) may hold
+    ``$`` or ``\\``, which matplotlib would otherwise read as mathtext and fail on. The tick labels matplotlib
+    formats itself keep their mathtext (a log axis writes its powers of ten with it)."""
+    own: set[Text] = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            own.add(axis.offsetText)
+            for tick in (*axis.get_major_ticks(), *axis.get_minor_ticks()):
+                own.update((tick.label1, tick.label2))
+    for text in fig.findobj(Text):
+        if isinstance(text, Text) and text not in own:
+            text.set_parse_math(False)
+    return fig
+
+
 def render(fig: Figure, fmt: FigureFormat = "png", dpi: int = 110) -> bytes:
-    """Render a figure as PNG, SVG or PDF bytes and close it.
+    """Render a figure as PNG, SVG or PDF bytes and close it; its texts are drawn as written (literal_text).
 
     SVG and PDF carry no creation date, so the same figure gives the same bytes.
     """
+    literal_text(fig)
     buf = io.BytesIO()
     metadata: dict[str, Any] = {"png": {}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
     fig.savefig(buf, format=fmt, dpi=dpi, bbox_inches="tight", metadata=metadata)
@@ -304,7 +322,7 @@ def analysis_figure(an: Analysis, phi: float = 0.0, fmt: FigureFormat = "png") -
            "shaking moment [N·m]", "shaking moment on the frame")
     shaking_polar(axes[1, 0], k.shaking_force, "shaking force", an.motion.phi, lw=1.5)
     draw_mechanism(axes[1, 1], an, phi)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return render(fig, fmt)
 
 
