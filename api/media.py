@@ -18,6 +18,7 @@ from fastapi.responses import Response
 from pydantic import BaseModel, ValidationError
 
 import synth
+from synth.plots import close_figures
 
 Format = Literal["json", "png", "svg", "pdf", "csv", "dxf", "npz"]
 
@@ -240,7 +241,11 @@ class Render:
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
         if self.fmt not in ("json", *ARRAYS) and self.export is not None:
-            return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
+            try:
+                return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
+            finally:
+                # an export that failed half-way leaves its figures open; a worker runs one task at a time
+                close_figures()
         try:
             model = self.model(result, *self.model_extra)
         except ValidationError as exc:
