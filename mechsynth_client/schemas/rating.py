@@ -9,7 +9,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import np, synth
-from .common import StrictModel
+from .common import StrictModel, exactly_one
 
 MM = 1e-3
 UM = 1e-6
@@ -84,7 +84,7 @@ class RatingIn(_DutyFields):
     load_spectrum: LoadSpectrumIn | None = Field(None, description="The pinion torque over the machine cycle: "
                                                  "life by Miner's rule; the rating is then at its peak.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [
+    model_config = ConfigDict(json_schema_extra={**exactly_one("pinion_torque_Nm", "load_spectrum"), "examples": [
         {"pinion_teeth": 17, "gear_teeth": 103, "normal_module_mm": 8.0, "face_width_mm": 100.0,
          "helix_angle_deg": 15.8, "pinion_profile_shift": 0.145, "centre_distance_mm": 500.0, "accuracy_grade": 5,
          "rack_dedendum": 1.4, "rack_root_radius": 0.39, "oil_viscosity_40C_mm2_s": 320.0,

@@ -58,6 +58,11 @@ _CHUNK = 1 << 17
 _MAX_CELLS = 1 << 22
 
 
+#: Pressure angles of the racks in use span 14.5 to 25 deg; beyond these bounds no rack is cut.
+MIN_PRESSURE_ANGLE_DEG = 10.0
+MAX_PRESSURE_ANGLE_DEG = 30.0
+
+
 @dataclass(frozen=True, slots=True)
 class ToothRules:
     """Rules every mesh of the train obeys.
@@ -74,6 +79,14 @@ class ToothRules:
     max_teeth: int = 100
     hunting: bool = False
     reverted: bool = False
+
+    def __post_init__(self) -> None:
+        # The undercut limit 2 (h_a - x)/sin² alpha grows without bound as the angle goes to zero.
+        if not (math.radians(MIN_PRESSURE_ANGLE_DEG) - 1e-12 <= self.pressure_angle
+                <= math.radians(MAX_PRESSURE_ANGLE_DEG) + 1e-12):
+            raise InvalidInput(f"the pressure angle must be within [{MIN_PRESSURE_ANGLE_DEG:g}, "
+                               f"{MAX_PRESSURE_ANGLE_DEG:g}] deg, got {math.degrees(self.pressure_angle):.6g} deg",
+                               field="pressure_angle_deg")
 
 
 @dataclass(frozen=True, slots=True)
@@ -706,7 +719,7 @@ def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntAr
             return Infeasible(
                 f"no tooth pair for stage {i} ({s.type}) within the teeth bounds, the interference limit and its "
                 f"ratio range [{s.ratio_min:g}, {s.ratio_max:g}]: raise max_teeth, lower min_teeth or widen the range",
-                constraint="max_teeth", stage=i)
+                constraint="max_teeth", stage_index=i)
     if rules.reverted:
         return Infeasible("no reverted train (equal tooth sums in every stage) meets the target: relax tolerance, "
                           "raise max_teeth or drop reverted", constraint="reverted")

@@ -30,7 +30,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 from ..gearing import SizedStage  # noqa: E402
 from ..model import Counterweight  # noqa: E402
-from ..plots import draw_mechanism, figure_png, shaking_polar  # noqa: E402
+from ..plots import draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineDesign  # noqa: E402
 from .record import DesignRecord, input_rows  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
@@ -567,7 +567,7 @@ def _summary_figure(d: MachineDesign) -> Figure:
     ax.text(0.0, 1.0, "\n".join(textwrap.fill(line, 48) for line in text.split("\n")), va="top", fontsize=7,
             family=_MONO, transform=ax.transAxes)
     fig.suptitle(f"machine design: {_verdict(d)}")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
     return fig
 
 
@@ -590,27 +590,27 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
     with plt.rc_context(_STYLE), PdfPages(buf, metadata={"Title": f"Machine design record: {record.name}",
                                                          "Subject": f"request SHA-256 {record.request_sha256}",
                                                          "Creator": f"mechsynth {record.version}"}) as pdf:
-        page = _record_pages(pdf.savefig, record, d, alternatives)
+        page = _record_pages(lambda fig: pdf.savefig(literal_text(fig)), record, d, alternatives)
         figures = [_summary_figure(d)]
         fig, axes = plt.subplots(1, 3, figsize=A4)
         _polar(axes[0], d)
         _moment(axes[1], d)
         _torque(axes[2], d)
         fig.suptitle("balancing")
-        fig.tight_layout(rect=(0, 0.03, 1, 1))
+        literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
         figures.append(fig)
         fig, axes = plt.subplots(1, 3, figsize=A4)
         _energy_mass(axes[0], d)
         _speed(axes[1], d)
         _motor(axes[2], d)
         fig.suptitle("flywheel and motor")
-        fig.tight_layout(rect=(0, 0.03, 1, 1))
+        literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
         figures.append(fig)
         if (running := running_figure(d)) is not None:
             figures.append(running)
         for fig in figures:
             page += 1
             _footer(fig, record, page)
-            pdf.savefig(fig)
+            pdf.savefig(literal_text(fig))
             plt.close(fig)
     return buf.getvalue()
