@@ -188,6 +188,7 @@ def test_full_balancing_collapses_the_polar_curve_to_the_origin(page: Page) -> N
 
 def test_machine_design_downloads_its_pdf(page: Page) -> None:
     page.click("button[data-panel=machine]")
+    page.select_option("[id='mac-alternatives']", "false")     # one design, not four: the record within its deadline
     page.click("#mac-run")
     page.wait_for_selector("#mac-verdict", timeout=60_000)
     _shot(page, "machine")
@@ -210,6 +211,25 @@ def test_machine_design_downloads_its_pdf(page: Page) -> None:
     msg = page.locator("[id='mac-delta-msg']")
     assert msg.is_visible() and "greater than" in msg.inner_text()
     _shot(page, "machine-failed")
+    # The less common fields, folded away: two stages with a ratio range each, a run-up that must take 10 ms. The
+    # request carries them; the answer's one list of checks holds the failed start-up, and the verdict says so.
+    page.fill("[id='mac-delta']", "0.02")
+    page.select_option("[id='mac-stage-count']", "2")
+    page.fill("[id='mac-drive.stages.1.ratio_min']", "2")
+    page.fill("[id='mac-drive.stages.1.ratio_max']", "4")
+    page.click("#panel-machine details.more:has-text('Start-up') summary")
+    page.fill("[id='mac-max_startup_time_s']", "0.01")
+    runs = page.evaluate("document.body.dataset.machine")
+    with page.expect_request("**/v1/machines/design") as sent:
+        page.click("#mac-run")
+    page.wait_for_function(f"document.body.dataset.machine !== '{runs}'", timeout=90_000)
+    body = sent.value.post_data_json
+    assert body["max_startup_time_s"] == 0.01 and len(body["drive"]["stages"]) == 2
+    assert body["drive"]["stages"][1] == {"type": "helical", "ratio_min": 2, "ratio_max": 4}
+    failed = page.locator("#mac-result tr.check[data-passed='false']")
+    assert failed.count() == 1 and failed.get_attribute("data-name") == "startup_time"
+    assert "✘" in page.locator("#mac-verdict").inner_text() and page.locator("#mac-result tr.check").count() >= 5
+    page.locator("#panel-machine").screenshot(path=str(SHOTS / "machine-panel.png"))
 
 
 def test_study_reaches_100_percent_and_a_pareto_point_opens_its_variant(page: Page, base_url: str) -> None:
