@@ -184,6 +184,21 @@ def test_full_balancing_collapses_the_polar_curve_to_the_origin(page: Page) -> N
     page.click("#bal-apply")
     page.wait_for_function("document.querySelectorAll('#drawing .cw').length === 2", timeout=15_000)
     page.wait_for_function("window.workbench.state.answer.summary.max_shaking_force_N < 1e-6", timeout=15_000)
+    # The balanced linkage's force and moment are rounding (1e-13): read as zero, on axes that do not blow the
+    # noise up to fill the plot (at least a thousandth of the linkage's own force scale Σm·ω²·size wide).
+    design, lay = state(page, "design"), state(page, "layout")
+    w = design["speed_rpm"] * math.pi / 30
+    masses = sum(v["mass_kg"] for v in design["mechanism"]["links"].values()) + sum(
+        c["mass_kg"] for c in design["counterweights"])
+    f_scale = masses * w * w * lay["span"]
+    radius = float(page.get_attribute("#plot-polar", "data-axis-radius") or "nan")
+    moment_top = float(page.get_attribute("#plot-moment", "data-ymax") or "nan")
+    assert radius == pytest.approx(1e-3 * f_scale, rel=1e-9) and radius > 1e6 * after
+    assert moment_top == pytest.approx(1e-3 * f_scale * lay["span"], rel=1e-9)
+    for plot in ("#plot-polar", "#plot-moment"):
+        assert page.get_attribute(plot, "data-zero") == "true"
+        assert page.locator(f"{plot} .zero-note").text_content().startswith("≈ 0")
+    _shot(page, "balanced-zero")
 
 
 def test_machine_design_downloads_its_pdf(page: Page) -> None:

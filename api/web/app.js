@@ -379,12 +379,19 @@ export function drawAll() {
   const box = document.getElementById("plots");
   const x = a.crank_angle_deg, i = state.index, fam = state.design.mechanism.type;
   const xl = "crank angle φ [°]";
+  // The linkage's own force scale, Σm·ω²·size: a shaking force below a billionth of it is rounding (a full
+  // balance leaves 1e-13 N), read as zero on an axis a thousandth of it wide.
+  const w = ((state.design.speed_rpm || 0) * Math.PI) / 30;
+  const masses = [...Object.values(state.design.mechanism.links || {}), ...(state.design.counterweights || [])]
+    .reduce((t, l) => t + (Number(l && l.mass_kg) || 0), 0);
+  const fScale = masses * w * w * (state.layout ? state.layout.span : 1), mScale = fScale * (state.layout ? state.layout.span : 1);
+  const zeroF = { zero: 1e-9 * fScale, zeroSpan: 1e-3 * fScale }, zeroM = { zero: 1e-9 * mScale, zeroSpan: 1e-3 * mScale };
   state.plots = [
     linePlot(box, "plot-torque", { title: "Driving torque on the crank", x, xLabel: xl, yLabel: "T [N·m]", unit: "N·m", cursor: i,
       series: [{ name: "kinetostatic", values: a.driving_torque_Nm }, { name: "virtual power", values: a.virtual_power_torque_Nm, dash: "4 3", colour: "#c25e00" }] }),
-    polarPlot(box, "plot-polar", { title: "Shaking force on the frame (polar diagram)", unit: "N", cursor: i,
+    polarPlot(box, "plot-polar", { title: "Shaking force on the frame (polar diagram)", unit: "N", cursor: i, ...zeroF,
       series: Object.assign([{ name: "shaking force", points: a.shaking_force_N }], { angles: x }) }),
-    linePlot(box, "plot-moment", { title: "Shaking moment about O", x, xLabel: xl, yLabel: "M [N·m]", unit: "N·m", cursor: i,
+    linePlot(box, "plot-moment", { title: "Shaking moment about O", x, xLabel: xl, yLabel: "M [N·m]", unit: "N·m", cursor: i, ...zeroM,
       series: [{ name: "shaking moment", values: a.shaking_moment_Nm }] }),
   ];
   if (a.transmission_angle_deg) {

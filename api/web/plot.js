@@ -88,15 +88,15 @@ function zeroNote(peak, unit, x, y, anchor = "end") {
 
 /** Curves y(x) over one x axis (the crank angle), with optional horizontal limits, a cursor at one sample and a
  *  hover read-out of every curve at the nearest sample. `zero`: a magnitude below which the curves are read as
- *  zero (the axis keeps at least that span and says "≈ 0") rather than autoscaled onto rounding noise. */
-export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null, zero = 0 }) {
+ *  zero: the axis then spans ±`zeroSpan` and says "≈ 0", rather than autoscaling onto rounding noise. */
+export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null, zero = 0, zeroSpan = zero }) {
   const { el, svg } = box(container, id, title);
   const xs = [x[0], x[x.length - 1]];
   if (xs[1] <= xs[0]) xs[1] = xs[0] + 1;
   let peak = 0;
   for (const c of series) for (const v of c.values) peak = Math.max(peak, Math.abs(v));
   const isZero = zero > 0 && peak < zero;
-  const ys = isZero ? [-zero, zero] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
+  const ys = isZero ? [-zeroSpan, zeroSpan] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
   const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
   const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] - 1e-12 * (ys[1] - ys[0]) && v <= ys[1] + 1e-12 * (ys[1] - ys[0]));
   const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
@@ -138,12 +138,12 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
 
 /** Polar diagram of a planar vector over the cycle (the shaking force as the textbooks draw it): equal scales,
  *  origin marked, one curve per series; `zero` as for linePlot. */
-export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null, zero = 0 }) {
+export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null, zero = 0, zeroSpan = zero }) {
   const { el, svg } = box(container, id, title);
   let peak = 0;
   for (const c of series) for (const [a, b] of c.points) peak = Math.max(peak, Math.hypot(a, b));
   const isZero = zero > 0 && peak < zero;
-  const r = isZero ? zero : peak > 0 ? peak * 1.08 : 1;
+  const r = isZero ? zeroSpan : peak > 0 ? peak * 1.08 : 1;
   const side = H - M.t - M.b, cx = M.l + (W - M.l - M.r) / 2, cy = M.t + side / 2;
   const k = side / (2 * r);
   const X = (v) => cx + v * k, Y = (v) => cy - v * k;
