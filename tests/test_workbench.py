@@ -526,3 +526,40 @@ def test_a_size_limit_names_its_field_in_view_and_the_stale_picture_is_marked(pa
     page.wait_for_function(f"(document.body.dataset.problem || '') !== '{before}'", timeout=15_000)
     text = page.locator("#form-problem").inner_text()
     assert "notes.json is not a design" in text and "Unexpected" not in text and "JSON.parse" not in text
+
+
+def test_a_1600_variant_study_draws_every_point_and_its_whole_front(page: Page, base_url: str) -> None:
+    edit_and_wait(page, "samples", "24")            # a light variant: the study is about the scatter, not the cost
+    page.click("button[data-panel=studies]")
+    for n in (0, 1):
+        page.fill(f"[id='stu-p{n}.count']", "40")
+    page.click("#stu-run")
+    page.wait_for_function("document.getElementById('stu-status').dataset.percent === '100'", timeout=240_000)
+    page.wait_for_selector("#stu-pareto[data-points]", timeout=60_000)
+    studies = httpx.get(f"{base_url}/v1/studies", timeout=10).json()
+    study = next(s for s in studies if s["total"] == 1600)
+    pareto = httpx.get(f"{base_url}{study['links']['pareto']}", timeout=30).json()
+    # every variant the service holds is a point (two pages of results), and every front point is among them
+    assert page.get_attribute("#stu-pareto", "data-points") == "1600"
+    assert page.locator("#stu-pareto circle.pick").count() == 1600
+    drawn = {int(v) for v in page.eval_on_selector_all("#stu-pareto circle[data-front='true']",
+                                                        "cs => cs.map(c => c.dataset.variant)")}
+    assert drawn == {v["index"] for v in pareto["front"]}
+    assert f"{len(pareto['front'])} of {pareto['candidates']}" in page.locator("#stu-pareto h4").inner_text()
+    page.locator("#panel-studies").screenshot(path=str(SHOTS / "study-1600.png"))
+
+
+def test_a_new_user_finds_the_link_a_narrow_window_and_a_speed_warning(page: Page) -> None:
+    # the address bar holds the design from the first view
+    assert "#design=" in page.url and "units=mm,kg" in page.url
+    # a 760 px window: no sideways scroll, on the editor or any panel
+    page.set_viewport_size({"width": 760, "height": 900})
+    for panel in ("mechanism", "balancing", "machine", "studies"):
+        page.click(f"button[data-panel={panel}]")
+        assert page.evaluate("document.documentElement.scrollWidth") <= 760, panel
+    page.click("button[data-panel=mechanism]")
+    _shot(page, "narrow-760")
+    # a crank speed no machine turns at is answered, with a warning under the field
+    edit_and_wait(page, "speed_rpm", "300000")
+    msg = page.locator("[id='m-speed_rpm']")
+    assert msg.is_visible() and "rev/min" in msg.inner_text() and "warn" in (msg.get_attribute("class") or "")

@@ -348,6 +348,10 @@ export async function analyse(t0 = performance.now()) {
         document.getElementById("form-warnings").appendChild(li);
       }
     }
+    // a speed no crank of a machine turns at: most likely rad/s or a typing slip
+    if (state.design.speed_rpm > 20000) {
+      showMessage("speed_rpm", `${fmt(state.design.speed_rpm)} rev/min is beyond any machine crank: is the speed in rev/min?`, true);
+    }
     const dt = performance.now() - t0;
     // edit-to-redraw time, and the part of it spent waiting for the service (bench/workbench.py reads these)
     state.timings.push({ total: dt, service: tAnswer - t0 });
@@ -563,6 +567,7 @@ async function main() {
   document.getElementById("unit-mass").value = state.units.mass;
   state.design = fromUrl && fromUrl.mechanism ? fromUrl : defaultDesign();
   renderForm();
+  writeUrl();   // the address bar holds the design from the start, so a link to the page as opened reopens it
   const form = document.getElementById("design-form");
   form.addEventListener("input", (evt) => {
     const t0 = performance.now();
@@ -575,11 +580,18 @@ async function main() {
       return;
     }
     m.hidden = true; el.removeAttribute("aria-invalid");
+    state.edited = true;
     edited(t0);
   });
   form.addEventListener("submit", (e) => e.preventDefault());
   document.getElementById("family").addEventListener("change", (e) => {
     const fam = e.target.value;
+    // another family starts from the manual's example: an edited design is kept unless the user lets it go
+    if (state.edited && !window.confirm("Switch to another family? The design in the form is replaced (Save JSON keeps it).")) {
+      e.target.value = state.design.mechanism.type;
+      return;
+    }
+    state.edited = false;
     const mech = defaultMechanism(fam);
     const d = { mechanism: mech, speed_rpm: state.design.speed_rpm, samples: state.design.samples };
     if (!GEOMETRY[fam]) { setDesign(d); return; }

@@ -807,9 +807,20 @@ function studiesPanel() {
   }
   async function front() {
     const x = read("stu", "x"), y = read("stu", "y");
-    const [all, pareto] = await Promise.all([get(`${study.links.results}?limit=1000`), get(study.links.pareto)]);
+    // every variant, page by page: a large study is more than one page of results
+    const PAGE = 1000;
+    const variants = [];
+    const pareto = await get(study.links.pareto);
+    for (let offset = 0; ; offset += PAGE) {
+      const page = await get(`${study.links.results}?offset=${offset}&limit=${PAGE}`);
+      variants.push(...page.variants);
+      if (page.variants.length < PAGE) break;
+    }
     const onFront = new Set(pareto.front.map((v) => v.index));
-    const pts = all.variants.filter((v) => v.metrics && v.metrics[x] !== null && v.metrics[y] !== null).map((v) => ({
+    // a front point is drawn whatever the pages held
+    const have = new Set(variants.map((v) => v.index));
+    for (const v of pareto.front) if (!have.has(v.index) && v.metrics) variants.push(v);
+    const pts = variants.filter((v) => v.metrics && v.metrics[x] !== null && v.metrics[y] !== null).map((v) => ({
       x: v.metrics[x], y: v.metrics[y], variant: v, colour: onFront.has(v.index) ? "#c25e00" : "#b8c2d3",
       label: `variant ${v.index}${onFront.has(v.index) ? " (Pareto front)" : ""}: ` + Object.entries(v.parameters).map(([k, val]) => `${k} = ${fmt(val)}`).join(", "),
     }));
@@ -820,6 +831,7 @@ function studiesPanel() {
     const plot = scatterPlot(box, "stu-pareto", { title: `Pareto front: ${pareto.front.length} of ${pareto.candidates} variants (click one to open it)`,
       xLabel: label(x), yLabel: label(y), points: pts, onPick: (p) => openVariant(p.variant) });
     plot.el.querySelectorAll("circle.pick").forEach((c, n) => { c.dataset.variant = pts[n].variant.index; c.dataset.front = String(onFront.has(pts[n].variant.index)); });
+    plot.el.dataset.points = String(pts.length);
   }
   function openVariant(v) {
     const d = structuredClone(base);

@@ -217,11 +217,11 @@ export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPi
     nodes.push(s("polyline", { class: "curve", stroke: "#8a93a3", points: polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y) }));
   }
   // many points: smaller dots, so the cloud stays readable; a large cloud is not each in the tab order
-  const r0 = points.length > 100 ? 3 : 5, focusable = points.length <= 200;
+  const dense = points.length > 100, r0 = dense ? 2.4 : 5, focusable = points.length <= 200;
   points.forEach((p, i) => {
     const hot = highlight.includes(i);
     nodes.push(s("circle", { class: "pick", dataset: { index: i }, cx: X(p.x), cy: Y(p.y), r: hot ? r0 + 2 : r0,
-      fill: p.colour || (hot ? "#c25e00" : "#1f5fbf"), stroke: "#fff", "stroke-width": 1.2, tabindex: focusable || p.focus ? 0 : null,
+      fill: p.colour || (hot ? "#c25e00" : "#1f5fbf"), stroke: dense ? "none" : "#fff", "stroke-width": 1.2, tabindex: focusable || p.focus ? 0 : null,
       role: "button", "aria-label": p.label || `point ${i}` }));
   });
   svg.replaceChildren(...nodes);
