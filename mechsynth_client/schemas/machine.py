@@ -355,6 +355,21 @@ class EfficiencyOut(BaseModel):
     overall: float | None = Field(description="Linkage times gears [-].")
 
 
+class IntegratorOut(BaseModel):
+    """How the run-up was integrated, and the same integrator against a run-up known in closed form."""
+
+    method: str = Field(description="The integration method.")
+    time_step_s: float = Field(description="Its fixed time step [s].")
+    reference_inertia_kgm2: float = Field(description="The reference run-up's constant inertia at the crank: the "
+                                          "cycle's mean plus rotor, train and flywheel [kg·m²].")
+    reference_load_Nm: float = Field(description="Its constant load torque at the crank, the cycle's mean "
+                                     "(positive drives; zero when the motor could not turn against it) [N·m].")
+    reference_time_s: float = Field(description="How long the reference run-up was integrated [s].")
+    closed_form_error: float = Field(description="Largest |w - w_exact| over that run-up, relative to its final "
+                                     "speed, w_exact = w_inf·(1 - exp(-k·t/J)) for the motor's linear branch of "
+                                     "slope k at the crank [-].")
+
+
 class StartUpOut(BaseModel):
     """The run-up from rest at the worst crank angle to the periodic steady state."""
 
@@ -380,6 +395,8 @@ class StartUpOut(BaseModel):
     time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points of the simulation.")
     omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
     motor_torque_Nm: list[float] = Field(description="Motor torque on its shaft at those times [N·m].")
+    integrator: IntegratorOut | None = Field(None, description="The integration's method and step, and its error "
+                                             "against a closed-form run-up; null without a run-up.")
 
 
 class RunDownOut(BaseModel):
@@ -420,7 +437,13 @@ class RunningOut(BaseModel):
                 energy_residual=None if run is None else run.energy_residual,
                 time_s=[] if run is None else run.time[pick_up].tolist(),
                 omega_rad_s=[] if run is None else run.omega[pick_up].tolist(),
-                motor_torque_Nm=[] if run is None else run.motor_torque[pick_up].tolist()),
+                motor_torque_Nm=[] if run is None else run.motor_torque[pick_up].tolist(),
+                integrator=None if up.integrator is None else IntegratorOut(
+                    method=up.integrator.method, time_step_s=up.integrator.time_step,
+                    reference_inertia_kgm2=up.integrator.reference_inertia,
+                    reference_load_Nm=up.integrator.reference_load,
+                    reference_time_s=up.integrator.reference_time,
+                    closed_form_error=up.integrator.closed_form_error)),
             rundown=RunDownOut(
                 stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
                 energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),

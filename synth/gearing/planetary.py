@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from ..errors import Infeasible, InvalidInput, TooLarge
 from .stages import Stage, stage_types
+from .train import PlanetaryStage
 from .teeth import (
     ENUMERATION_CHECK_LIMIT,
     MAX_PRODUCTS,
@@ -46,10 +47,14 @@ FloatArray = NDArray[np.float64]
 @dataclass(frozen=True, slots=True)
 class PlanetaryMesh(Mesh):
     """A planetary stage's teeth: sun (``pinion_teeth``), ring (``gear_teeth``), ``planet_teeth`` and the number
-    of ``planets``; ``ratio`` = 1 + z_r/z_s (sun in, ring held, carrier out) [-]."""
+    of ``planets``; ``ratio`` = 1 + z_r/z_s (sun in, ring held, carrier out) [-]; ``efficiency`` sun driving the
+    carrier and ``back_efficiency`` the carrier driving the sun [-], by the direction of the power in the
+    relative train with two closed spur meshes' basic efficiency (:func:`synth.gearing.train.planetary_efficiency`)."""
 
     planet_teeth: int = 0
     planets: int = 3
+    efficiency: float = 1.0
+    back_efficiency: float = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -243,7 +248,9 @@ def planetary_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
     for s, c in zip(sets, chosen):
         a, b, p = (int(v) for v in s.wheels[c])
         if p:
-            meshes.append(PlanetaryMesh(a, b, 1 + b / a, p, planets))
+            stage = PlanetaryStage(a, p, b)
+            meshes.append(PlanetaryMesh(a, b, 1 + b / a, p, planets, stage.stage_efficiency(),
+                                        stage.back_efficiency()))
             total *= 1 + b / a
         else:
             meshes.append(Mesh(a, b, b / a))

@@ -55,6 +55,9 @@ from ..gearing import (
     tooth_numbers,
 )
 from ..gearing.sizing import HELICAL_TYPES, SIZED_TYPES
+from ..gearing.split import TeethLimit, teeth_limited
+from ..gearing.stages import Stage
+from ..gearing.teeth import ToothRules
 from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import FloatArray, Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
@@ -259,27 +262,61 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
                        "optimal (the best trade-off within a mass budget) or none", field="balancing.mode")
 
 
-def _teeth(spec: MachineSpec, drive: DriveResult) -> tuple[ToothResult | None, tuple[float, ...]]:
-    stages, ratios = spec.drive.stages, drive.split.stage_ratios
+def _teeth(spec: MachineSpec, drive: DriveResult,
+           stages: Sequence[Stage]) -> tuple[ToothResult | None, tuple[float, ...], list[DesignWarning]]:
+    """Tooth numbers near the split's ratios; where none lie within the room around them, the search over each
+    stage's whole range (as POST /v1/gears/teeth searches), so a train the teeth endpoint builds is never refused."""
+    ratios = drive.split.stage_ratios
     toothed = [k for k, s in enumerate(stages) if s.toothed]
     if not toothed:
-        return None, tuple(ratios)
-    search = []
+        return None, tuple(ratios), []
+    near, whole = [], []
     for k in toothed:
         s, u = stages[k], ratios[k]
         if s.ratio is not None:
             # a fixed (standard) ratio is kept, to rounding
             lo, hi = s.ratio * (1 - 1e-9), s.ratio * (1 + 1e-9)
+            whole.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
         else:
             lo = max(s.ratio_min, u * (1 - TOOTH_RATIO_ROOM))
             hi = min(s.ratio_max, u * (1 + TOOTH_RATIO_ROOM))
-        search.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
+            whole.append(replace(s, ratio=None))
+        near.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
     target = math.prod(ratios[k] for k in toothed)
-    result = tooth_numbers(target, search, spec.drive.tooth_rules, spec.drive.tooth_tolerance)
+    rules, tolerance = spec.drive.tooth_rules, spec.drive.tooth_tolerance
+    warnings: list[DesignWarning] = []
+    try:
+        result = tooth_numbers(target, near, rules, tolerance)
+    except Infeasible:
+        result = tooth_numbers(target, whole, rules, tolerance)
+        far = [k for k, mesh in zip(toothed, result.stages, strict=True)
+               if abs(mesh.ratio / ratios[k] - 1) > TOOTH_RATIO_ROOM]
+        warnings += [DesignWarning(
+            "teeth_far_from_split", f"stages[{k}]", mesh.ratio,
+            f"stage {k} ({stages[k].type}): no tooth pair lies within {TOOTH_RATIO_ROOM:.0%} of the split's ratio "
+            f"{ratios[k]:.5g}; the teeth {mesh.pinion_teeth}:{mesh.gear_teeth} give {mesh.ratio:.5g}, the split's "
+            "objective no longer holds for this stage")
+            for k, mesh in zip(toothed, result.stages, strict=True) if k in far]
     real = list(ratios)
     for k, mesh in zip(toothed, result.stages, strict=True):
         real[k] = mesh.ratio
-    return result, tuple(real)
+    return result, tuple(real), warnings
+
+
+def _teeth_limit_warnings(drive: DriveResult, stages: Sequence[Stage],
+                          limits: Sequence[TeethLimit]) -> list[DesignWarning]:
+    """The split sits on a bound the tooth rules set, not the stage type's own (that one the split names)."""
+    out = []
+    for lim in limits:
+        u = drive.split.stage_ratios[lim.stage]
+        for bound, pair, side in ((lim.ratio_max, lim.largest, "largest"), (lim.ratio_min, lim.smallest, "smallest")):
+            if abs(u / bound - 1) <= 1e-6:
+                out.append(DesignWarning(
+                    "stage_ratio_at_teeth_limit", f"stages[{lim.stage}]", u,
+                    f"stage {lim.stage} ({stages[lim.stage].type}): the split sits at {bound:.5g}, the {side} ratio "
+                    f"a tooth pair within the tooth bounds makes ({pair[0]}:{pair[1]}); raise max_teeth, add a "
+                    "stage or choose another stage type to move it off"))
+    return out
 
 
 def _shaft_names(n_stages: int) -> list[str]:
@@ -590,16 +627,18 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     # the motor runs where its characteristic gives the machine's mean power, not at its rated point:
     # the ratio is taken from that speed, so the crank turns at its working speed
     motor_power = output_power / chain_efficiency(d.stages)
+    # the split works within the ratios the tooth pairs make, so the tooth search can meet what it asks
+    stages, limits = teeth_limited(d.stages, d.tooth_rules or ToothRules())
     try:
         with stage("drive"):
-            drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+            drive = design_drive(output_power, machine.speed, stages, reserve_factor=d.reserve_factor,
                                  synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
                                  torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
                                  catalogue=d.catalogue, motor_speed=MotorLoad(motor_power))
             if d.motor is not None:
                 operating_speed(drive.motor, motor_power)  # a named motor too small for the mean power says so
         with stage("teeth"):
-            teeth, ratios = _teeth(machine, drive)
+            teeth, ratios, teeth_notes = _teeth(machine, drive, stages)
     except InvalidInput as exc:
         # the machine request holds these fields under drive: name them as the request spells them
         again = InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}", code=exc.code)
@@ -618,10 +657,14 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     steady_checks = _checks(machine, motion, motor)
     torques = _shaft_torques(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     gears, not_sized = _gears(machine, teeth, ratios, torques, motion, shafts)
+    # a bound the tooth rules set is named with its pair; the split's own note of that bound is then redundant
+    teeth_bound = _teeth_limit_warnings(drive, stages, limits)
+    held = {w.field for w in teeth_bound}
+    drive_notes = [w for w in drive.warnings if not (w.code == "stage_ratio_at_limit" and w.field in held)]
     warnings = [*staged(check_analysis(before), "analysis"), *_balancing_warnings(before, bal),
-                *staged(drive.warnings, "drive", "drive")]
+                *staged(drive_notes, "drive", "drive"), *staged(teeth_bound, "drive", "drive")]
     if teeth is not None:
-        warnings += staged(teeth.warnings, "teeth", "drive")
+        warnings += staged([*teeth.warnings, *teeth_notes], "teeth", "drive")
     constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
     with stage("simulation"):
         running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
