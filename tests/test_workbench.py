@@ -563,3 +563,37 @@ def test_a_new_user_finds_the_link_a_narrow_window_and_a_speed_warning(page: Pag
     edit_and_wait(page, "speed_rpm", "300000")
     msg = page.locator("[id='m-speed_rpm']")
     assert msg.is_visible() and "rev/min" in msg.inner_text() and "warn" in (msg.get_attribute("class") or "")
+
+
+def test_exports_download_and_open_and_vectors_are_drawn(page: Page) -> None:
+    files = {}
+    for label, name in (("CSV", "analysis.csv"), ("SVG", "mechanism.svg"), ("DXF", "mechanism.dxf"),
+                        ("PNG", "analysis.png")):
+        with page.expect_download(timeout=60_000) as dl:
+            page.click(f".exports button:has-text('{label}')")
+        assert dl.value.suggested_filename == name
+        files[name] = Path(dl.value.path()).read_bytes()
+    rows = files["analysis.csv"].decode().splitlines()
+    samples = len(state(page, "answer.crank_angle_deg"))
+    assert "crank_angle" in rows[0] and len(rows) == samples + 1
+    assert b"<svg" in files["mechanism.svg"][:400] and b"SECTION" in files["mechanism.dxf"][:200]
+    assert files["analysis.png"][:8] == b"\x89PNG\r\n\x1a\n"
+    # velocities at the joints, each along the answer's velocity of that point at this crank angle
+    page.select_option("#vectors", "velocity")
+    arrows = page.locator("#drawing g.vector.velocity")
+    points = state(page, "answer.points")
+    i = state(page, "index")
+    moving = [n for n, p in points.items() if not n.startswith("cw") and math.hypot(*p["velocity_m_s"][i]) > 0]
+    assert arrows.count() == len(moving) >= 3
+    for n in range(arrows.count()):
+        g = arrows.nth(n)
+        name = g.get_attribute("data-point") or ""
+        x1, y1, x2, y2 = (float(g.locator("line").get_attribute(a) or "nan") for a in ("x1", "y1", "x2", "y2"))
+        vx, vy = points[name]["velocity_m_s"][i]
+        if math.hypot(vx, vy) > 1e-9:
+            # the arrow points the way the velocity does (y drawn downwards in SVG)
+            assert math.atan2(-(y2 - y1), x2 - x1) == pytest.approx(math.atan2(vy, vx), abs=1e-6), name
+    page.select_option("#vectors", "reaction")
+    assert page.locator("#drawing g.vector.reaction").count() >= 3
+    assert page.locator("#plot-reactions polyline.curve").count() == len(state(page, "answer.joint_reactions_N"))
+    _shot(page, "exports-and-vectors")

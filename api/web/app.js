@@ -4,6 +4,7 @@ import { linePlot, polarPlot, fmt } from "./plot.js";
 import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
 import { h } from "./dom.js";
+import { installExports, vectorsAt } from "./exports.js";
 
 const UNITS = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
 const LINK_LABELS = {
@@ -402,6 +403,12 @@ export function drawAll() {
     state.plots.push(linePlot(box, "plot-transmission", { title: "Transmission angle", x, xLabel: xl, yLabel: "μ [°]", unit: "°", cursor: i,
       series: [{ name: "μ", values: a.transmission_angle_deg }], limits: [{ y: 40, label: "40° limit" }, { y: 140, label: "140°" }] }));
   } else document.getElementById("plot-transmission")?.remove();
+  // each joint's reaction over the cycle (its vector at this angle: "joint reactions" under the drawing)
+  const reactions = Object.entries(a.joint_reactions_N || {});
+  if (reactions.length) {
+    state.plots.push(linePlot(box, "plot-reactions", { title: "Joint reactions |R|", x, xLabel: xl, yLabel: "|R| [N]", unit: "N", cursor: i,
+      series: reactions.map(([name, f]) => ({ name, values: f.map((v) => Math.hypot(v[0], v[1])) })) }));
+  }
   const out = outputMotion(a, fam);
   state.plots.push(
     linePlot(box, "plot-output-s", { title: `Output ${out.name}: displacement`, x, xLabel: xl, yLabel: `${out.s.label}`, unit: out.s.unit, cursor: i, series: [{ name: out.s.sym, values: out.s.values }] }),
@@ -455,6 +462,7 @@ export function drawFrame() {
     tracePoint: a.points[TRACE] ? TRACE : null, counterweights: counterweightExtras(), targets: state.targets,
     counterRotors: state.design.counter_rotors || [],
     unitLength: state.units.length,
+    vectors: vectorsAt(a, state.vectors, i, state.layout.span),
   });
   document.getElementById("angle-out").textContent = `φ = ${a.crank_angle_deg[i].toFixed(1)}°`;
   for (const p of state.plots) p.setCursor(i);
@@ -608,6 +616,7 @@ async function main() {
     });
   }
   installDragging();
+  installExports({ state, request: analysisRequest, redraw: drawFrame, setStatus });
   document.getElementById("angle").addEventListener("input", (e) => { state.index = Number(e.target.value); drawFrame(); });
   let timer = null;
   document.getElementById("play").addEventListener("click", (e) => {

@@ -2,7 +2,7 @@
 import { h, s } from "./dom.js";
 
 const W = 420, H = 220, M = { l: 56, r: 12, t: 20, b: 30 };
-const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3"];
+const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3", "#b3261e", "#007b83", "#6d4c41"];
 
 export function niceTicks(lo, hi, n = 5) {
   if (!(hi > lo)) { const d = Math.abs(lo) || 1; lo -= d * 0.5; hi += d * 0.5; }
@@ -76,8 +76,9 @@ function box(container, id, title) {
 
 function legend(series) {
   if (series.length < 2) return [];
-  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * 110} ${M.t - 10})` },
-    s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+  const step = Math.min(110, (W - M.l - M.r - 8) / series.length);
+  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * step} ${M.t - 10})` },
+    s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
     s("text", { x: 20, y: 4 }, c.name)));
 }
 
@@ -101,7 +102,7 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
   const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] - 1e-12 * (ys[1] - ys[0]) && v <= ys[1] + 1e-12 * (ys[1] - ys[0]));
   const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
   series.forEach((c, i) => {
-    nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+    nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-dasharray": c.dash || null,
       points: polyline(x, c.values, X, Y) }));
   });
   for (const l of limits) {
@@ -161,13 +162,13 @@ export function polarPlot(container, id, { title, series, unit, labels = ["Fx", 
     s("text", { x: W - M.r, y: H - 4, "text-anchor": "end", class: "tick" }, `[${unit}]`));
   series.forEach((c, i) => {
     const xs = c.points.map((p) => p[0]), ys = c.points.map((p) => p[1]);
-    nodes.push(s("polygon", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+    nodes.push(s("polygon", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-dasharray": c.dash || null,
       points: polyline(xs, ys, X, Y) }));
   });
   nodes.push(s("circle", { cx, cy, r: 2.5, fill: "#223047" }));
   if (series.length > 1) {
     series.forEach((c, i) => nodes.push(s("g", { transform: `translate(${W - M.r - 110} ${M.t + 8 + i * 14})` },
-      s("line", { x1: 0, x2: 16, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+      s("line", { x1: 0, x2: 16, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
       s("text", { x: 20, y: 4 }, c.name))));
   }
   if (isZero) nodes.push(zeroNote(peak, unit, M.l - 40, M.t + 4, "start"));
