@@ -47,6 +47,7 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.foundation import IsolationIn, IsolationOut
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
@@ -450,6 +451,14 @@ class SynthClient(_Policy):
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation: the machine's frame on isolators and what the foundation feels."""
+        return self._post("/v1/machines/isolation", body, IsolationOut)
+
+    def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png: force to the foundation, the frame's orbit, transmissibility."""
+        return self._export("/v1/machines/isolation", body, format).content
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -674,6 +683,10 @@ class AsyncSynthClient(_Policy):
     async def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
         """POST /v1/machines/optimise."""
         return await self._post("/v1/machines/optimise", body, MachineOptimiseOut)
+
+    async def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation."""
+        return await self._post("/v1/machines/isolation", body, IsolationOut)
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""

@@ -1,0 +1,202 @@
+"""Schemas of the machine on its foundation: POST /v1/machines/isolation and /v1/machines/isolation/design."""
+
+from __future__ import annotations
+
+import importlib
+import math
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic.config import JsonDict
+
+from .analysis import AnalysisIn
+from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, degree_array, ensure_finite
+
+#: Stiffness beyond any isolator or foundation bolt [N/m]; a larger value is a typo.
+MAX_STIFFNESS_N_M = 1e13
+MAX_DAMPING_NS_M = 1e10
+MAX_ISOLATORS = 64
+
+
+def _engine() -> Any:
+    """The foundation module of the engine, imported on first use (the schemas load without the engine)."""
+    return importlib.import_module("synth.machine.foundation")
+
+
+COMPRESSOR_EXAMPLE: JsonDict = {
+    "type": "slider_crank", "crank_length_m": 0.06, "rod_length_m": 0.24,
+    "links": {"crank": {"mass_kg": 3, "com_m": [0.02, 0], "inertia_kgm2": 0.004},
+              "rod": {"mass_kg": 4, "com_m": [0.08, 0], "inertia_kgm2": 0.03}, "slider": {"mass_kg": 9}},
+}
+FRAME_EXAMPLE: JsonDict = {"mass_kg": 400, "inertia_kgm2": 60, "centre_m": [0.1, -0.25]}
+ISOLATORS_EXAMPLE: list[JsonValue] = [
+    {"position_m": [-0.3, -0.5], "kx_N_m": 5e4, "ky_N_m": 1e5, "damping_ratio": 0.08},
+    {"position_m": [0.5, -0.5], "kx_N_m": 5e4, "ky_N_m": 1e5, "damping_ratio": 0.08},
+]
+
+
+class FrameIn(StrictModel):
+    """The machine as one rigid body on its isolators: the bed with everything on it, the linkage's links too."""
+
+    mass_kg: float = Field(gt=0, le=MAX_MASS_KG, description="Mass of the whole machine [kg].", examples=[400])
+    inertia_kgm2: float = Field(gt=0, le=MAX_INERTIA_KGM2, description="Inertia about its centre of mass, about "
+                                "z [kg·m²].", examples=[60])
+    centre_m: Vec2 = Field(description="Its centre of mass in the linkage's coordinates (crank pivot at the origin, "
+                           "y up) [m].", examples=[[0.1, -0.25]])
+
+    def to_engine(self) -> Any:
+        """Engine frame."""
+        return _engine().Frame(self.mass_kg, self.inertia_kgm2, (self.centre_m[0], self.centre_m[1]))
+
+
+class IsolatorIn(StrictModel):
+    """One isolator: where it holds the frame, its stiffness along x and y, its damping as coefficients or as a
+    ratio of the mass it carries."""
+
+    position_m: Vec2 = Field(description="Where it holds the frame, in the linkage's coordinates [m].",
+                             examples=[[-0.3, -0.5]])
+    kx_N_m: float = Field(ge=0, le=MAX_STIFFNESS_N_M, description="Stiffness along x [N/m].", examples=[2e5])
+    ky_N_m: float = Field(ge=0, le=MAX_STIFFNESS_N_M, description="Stiffness along y [N/m].", examples=[4e5])
+    cx_Ns_m: float = Field(0.0, ge=0, le=MAX_DAMPING_NS_M, description="Damping coefficient along x [N·s/m].")
+    cy_Ns_m: float = Field(0.0, ge=0, le=MAX_DAMPING_NS_M, description="Damping coefficient along y [N·s/m].")
+    damping_ratio: float | None = Field(
+        None, ge=0, le=10, description="Damping as a ratio instead of coefficients [-]: c = 2·ζ·sqrt(k·m_share) "
+        "along x and y, m_share the machine's mass times this isolator's part of the summed vertical stiffness.",
+        examples=[0.08])
+
+    def to_engine(self) -> Any:
+        """Engine isolator."""
+        return _engine().Isolator((self.position_m[0], self.position_m[1]), self.kx_N_m, self.ky_N_m,
+                                  self.cx_Ns_m, self.cy_Ns_m, self.damping_ratio)
+
+
+class IsolationIn(AnalysisIn):
+    """A linkage at its crank speed, and the machine's frame on isolators: the linkage's shaking force and
+    moment over the steady cycle drive the frame."""
+
+    frame: FrameIn = Field(description="The machine as a rigid body.")
+    isolators: list[IsolatorIn] = Field(max_length=MAX_ISOLATORS, description="The isolators under the frame "
+                                        "(enough to hold x, y and rotation).")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 360, "frame": FRAME_EXAMPLE,
+         "isolators": ISOLATORS_EXAMPLE},
+    ]})
+
+    def to_frame(self) -> tuple[Any, tuple[Any, ...]]:
+        """Engine frame and isolators."""
+        return self.frame.to_engine(), tuple(i.to_engine() for i in self.isolators)
+
+
+class ModeOut(BaseModel):
+    """One natural mode of the frame on its isolators."""
+
+    frequency_Hz: float = Field(description="Undamped natural frequency [Hz].")
+    shape_x_m: float = Field(description="Mode shape: the centre's x, scaled so that the largest of |x|, |y| and "
+                             "|θ|·ρ (ρ the radius of gyration) is 1 [m].")
+    shape_y_m: float = Field(description="Mode shape: the centre's y [m].")
+    shape_theta_rad: float = Field(description="Mode shape: rotation about the centre [rad].")
+    damping_ratio: float = Field(description="From the damped eigenvalue λ: -Re λ / |λ| [-].")
+
+
+class HarmonicOut(BaseModel):
+    """One harmonic of the steady cycle: what the linkage shakes with and what the foundation feels."""
+
+    order: int = Field(description="Multiple of the crank speed.")
+    frequency_Hz: float = Field(description="[Hz].")
+    shaking_force_N: float = Field(description="Amplitude of the shaking force, |(F_x, F_y)| of the complex "
+                                   "amplitudes [N].")
+    shaking_moment_Nm: float = Field(description="Amplitude of the shaking moment about the frame's centre [N·m].")
+    transmitted_force_N: float = Field(description="Amplitude of the force passed to the foundation [N].")
+    transmitted_moment_Nm: float = Field(description="Amplitude of the moment passed, about the frame's centre "
+                                         "[N·m].")
+    force_transmissibility: float | None = Field(description="Transmitted over shaking force [-]; null where the "
+                                                 "shaking force has no such harmonic.")
+    moment_transmissibility: float | None = Field(description="Transmitted over shaking moment [-]; null where "
+                                                  "the shaking moment has no such harmonic.")
+
+
+class IsolatorLoadOut(BaseModel):
+    """What one isolator passes to the foundation."""
+
+    force_N: list[list[float]] = Field(description="Force on the foundation at every crank angle, [F_x, F_y] [N].")
+    peak_force_N: float = Field(description="Largest magnitude over the cycle [N].")
+    static_deflection_m: list[float] = Field(description="Compression under the machine's weight (y down), "
+                                             "[x, y] [m].")
+    static_load_N: list[float] = Field(description="Load under the machine's weight, compression positive, "
+                                       "[x, y] [N].")
+
+
+class IsolationChecksOut(BaseModel):
+    """The harmonic answer against an independent time integration of the same equations."""
+
+    max_displacement_diff_m: float = Field(description="Largest difference in the centre's displacement [m].")
+    max_rotation_diff_rad: float = Field(description="Largest difference in the rotation [rad].")
+    max_force_diff_N: float = Field(description="Largest difference in the force to the foundation [N].")
+    relative_diff: float = Field(description="The largest of those over the harmonic answer's peak [-].")
+    series_residual: float = Field(description="The harmonics kept against the analysis' samples, largest "
+                                   "difference over the largest force or moment [-].")
+    method: str = Field(description="How the time integration ran.")
+
+
+class IsolationOut(BaseModel):
+    """The frame's steady motion on its isolators and what the foundation feels over one cycle."""
+
+    crank_angle_deg: list[float] = Field(description="Crank angle at every sample [deg].")
+    time_s: list[float] = Field(description="Time from the first sample at the constant crank speed [s].")
+    displacement_m: list[list[float]] = Field(description="The frame centre's displacement [x, y] at every sample [m].")
+    rotation_rad: list[float] = Field(description="The frame's rotation at every sample, counter-clockwise [rad].")
+    force_N: list[list[float]] = Field(description="Force passed to the foundation by all isolators, as the foundation feels "
+                         "it, [F_x, F_y] at every sample [N] (the weight left out).")
+    moment_Nm: list[float] = Field(description="Moment of those forces about the crank pivot O at every sample [N·m].")
+    shaking_force_N: list[list[float]] = Field(description="The linkage's shaking force: what a frame bolted rigidly to the "
+                                 "foundation would pass on [N].")
+    shaking_moment_Nm: list[float] = Field(description="The linkage's shaking moment about O [N·m].")
+    isolators: list[IsolatorLoadOut] = Field(description="Per isolator, in the request's order.")
+    modes: list[ModeOut] = Field(description="The three natural modes, lowest first.")
+    harmonics: list[HarmonicOut] = Field(description="The harmonics kept (those at least 1e-7 of the largest), "
+                                         "lowest first.")
+    peak_displacement_m: float = Field(description="Largest displacement of the frame's centre [m].")
+    peak_rotation_rad: float = Field(description="Largest rotation [rad].")
+    peak_isolator_displacement_m: float = Field(description="Largest movement of any isolator point [m].")
+    peak_force_N: float = Field(description="Largest magnitude of the force to the foundation [N].")
+    peak_moment_Nm: float = Field(description="Largest magnitude of its moment about O [N·m].")
+    peak_shaking_force_N: float = Field(description="Largest magnitude of the shaking force [N].")
+    force_ratio: float = Field(description="Peak force to the foundation over peak shaking force [-]: below 1 the "
+                               "isolators help.")
+    settle_time_s: float | None = Field(description="Time for a start's transient to fall to 1 % (the slowest "
+                                        "mode's decay) [s]; null without damping.")
+    checks: IsolationChecksOut
+
+    @classmethod
+    def from_engine(cls, r: Any) -> IsolationOut:
+        """Schema from an engine isolation."""
+        iso = [IsolatorLoadOut.model_construct(force_N=r.isolator_force[i], peak_force_N=float(r.peak_isolator_force[i]),
+                               static_deflection_m=[float(v) for v in r.static_deflection[i]],
+                               static_load_N=[float(v) for v in r.static_load[i]])
+               for i in range(len(r.isolators))]
+        c = r.check
+        ensure_finite(r.displacement, r.rotation, r.force, r.moment, r.isolator_force)
+        values: dict[str, Any] = dict(
+            crank_angle_deg=degree_array(r.phi), time_s=r.time, displacement_m=r.displacement,
+            rotation_rad=r.rotation, force_N=r.force, moment_Nm=r.moment, shaking_force_N=r.shaking_force,
+            shaking_moment_Nm=r.shaking_moment, isolators=iso,
+            modes=[ModeOut(frequency_Hz=m.frequency, shape_x_m=m.shape[0], shape_y_m=m.shape[1],
+                           shape_theta_rad=m.shape[2], damping_ratio=m.damping_ratio) for m in r.modes],
+            harmonics=[HarmonicOut(order=h.order, frequency_Hz=h.frequency, shaking_force_N=h.shaking_force,
+                                   shaking_moment_Nm=h.shaking_moment, transmitted_force_N=h.transmitted_force,
+                                   transmitted_moment_Nm=h.transmitted_moment,
+                                   force_transmissibility=h.force_transmissibility,
+                                   moment_transmissibility=h.moment_transmissibility) for h in r.harmonics],
+            peak_displacement_m=r.peak_displacement, peak_rotation_rad=r.peak_rotation,
+            peak_isolator_displacement_m=r.peak_isolator_displacement, peak_force_N=r.peak_force,
+            peak_moment_Nm=r.peak_moment, peak_shaking_force_N=r.peak_shaking_force,
+            force_ratio=r.peak_force / r.peak_shaking_force if r.peak_shaking_force > 0 else 0.0,
+            settle_time_s=r.settle_time if math.isfinite(r.settle_time) else None,
+            checks=IsolationChecksOut(max_displacement_diff_m=c.displacement_diff, max_rotation_diff_rad=c.rotation_diff,
+                                      max_force_diff_N=c.force_diff, relative_diff=c.relative_diff,
+                                      series_residual=c.series_residual, method=c.method),
+        )
+        return cls.model_construct(**values)
+
+
