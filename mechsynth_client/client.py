@@ -47,7 +47,7 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
-from .schemas.foundation import IsolationIn, IsolationOut
+from .schemas.foundation import IsolationDesignIn, IsolationDesignOut, IsolationIn, IsolationOut
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
@@ -459,6 +459,11 @@ class SynthClient(_Policy):
         """POST /v1/machines/isolation?format=png: force to the foundation, the frame's orbit, transmissibility."""
         return self._export("/v1/machines/isolation", body, format).content
 
+    def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design: one isolator type (and an inertia block) for a force or amplitude
+        limit."""
+        return self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -687,6 +692,10 @@ class AsyncSynthClient(_Policy):
     async def isolate_machine(self, body: IsolationIn) -> IsolationOut:
         """POST /v1/machines/isolation."""
         return await self._post("/v1/machines/isolation", body, IsolationOut)
+
+    async def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design."""
+        return await self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""

@@ -10,12 +10,13 @@ from fastapi.responses import Response
 
 from synth.errors import InvalidInput
 from synth.machine import foundation as fd
-from synth.machine.foundation_plots import isolation_figure
+from synth.machine import foundation_design as fdd
+from synth.machine.foundation_plots import design_figure, isolation_figure
 
 from ..deps import SolverDep
 from ..execution.plans import Limits, Plan
 from ..media import FIGURES, Render, format_responses
-from mechsynth_client.schemas.foundation import IsolationIn, IsolationOut
+from mechsynth_client.schemas.foundation import IsolationDesignIn, IsolationDesignOut, IsolationIn, IsolationOut
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -31,8 +32,23 @@ def isolation_plan(b: IsolationIn, lim: Limits) -> Plan:
     frame, isolators = b.to_frame()
     return Plan(Render(IsolationOut.from_engine, isolation_figure), fd.isolate_linkage,
                 (b.to_linkage(), b.omega_rad_s, frame, isolators),
-                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors()),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     run_up=b.run_up_engine()),
                 FIGURES, "isolation")
+
+
+def isolation_design_plan(b: IsolationDesignIn, lim: Limits) -> Plan:
+    """POST /v1/machines/isolation/design."""
+    return Plan(Render(IsolationDesignOut.from_engine, design_figure), fdd.design_linkage_isolation,
+                (b.to_linkage(), b.omega_rad_s, b.frame.to_engine(), b.to_spec()),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors()),
+                FIGURES, "isolation-design")
+
+
+def _uniform(b: IsolationIn | IsolationDesignIn) -> None:
+    if b.crank_angle_deg is not None:
+        raise InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
+                           "not crank_angle_deg", field="crank_angle_deg")
 
 
 @router.post("/isolation", response_model=IsolationOut, responses=format_responses(FIGURES),
@@ -44,7 +60,20 @@ async def isolation(body: IsolationIn, request: Request, solvers: SolverDep, for
     transmissibility per harmonic and the frame's peak movement; checked by integrating the same equations in
     time. `?format=png|svg|pdf`: force to the foundation against the shaking force, the frame's orbit and the
     transmissibility per harmonic."""
-    if body.crank_angle_deg is not None:
-        raise InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
-                              "not crank_angle_deg", field="crank_angle_deg")
+    _uniform(body)
     return await solvers.answer_plan(isolation_plan(body, solvers.limits), request, format)
+
+
+@router.post("/isolation/design", response_model=IsolationDesignOut, responses=format_responses(FIGURES),
+             name="design_isolation")
+async def isolation_design(body: IsolationDesignIn, request: Request, solvers: SolverDep,
+                           format: FigureFormat = None) -> Response:
+    """Choose one isolator type for the given positions (vertical stiffness, horizontal as a ratio of it, damping
+    ratio) and optionally an inertia block: the least frame amplitude with the peak force to the foundation
+    under a limit, or the least peak force with the amplitude under a limit, within the stiffness bounds and the
+    static deflection limit. Every candidate of a log-spaced grid is solved at once per harmonic, the best feasible
+    refined by SLSQP; the design is re-solved with its time-integration check. A limit nothing within the bounds
+    meets answers 422 naming the constraint. `?format=png|svg|pdf`: the figure of the frame on the chosen
+    isolators."""
+    _uniform(body)
+    return await solvers.answer_plan(isolation_design_plan(body, solvers.limits), request, format)

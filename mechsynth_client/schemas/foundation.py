@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import importlib
 import math
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from pydantic.config import JsonDict
 
 from .analysis import AnalysisIn
+from .flywheel import MotorIn
 from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, degree_array, ensure_finite
 
 #: Stiffness beyond any isolator or foundation bolt [N/m]; a larger value is a typo.
@@ -70,6 +71,15 @@ class IsolatorIn(StrictModel):
                                   self.cx_Ns_m, self.cy_Ns_m, self.damping_ratio)
 
 
+class RunUpIn(StrictModel):
+    """The drive that runs the machine up from rest, for the frame's passage through resonance."""
+
+    motor: MotorIn = Field(description="The motor through its train (gear ratio, efficiency); a starting torque "
+                           "comes with a catalogue motor.")
+    constant_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor, train and flywheel "
+                                         "reduced to the crank [kg·m²].")
+
+
 class IsolationIn(AnalysisIn):
     """A linkage at its crank speed, and the machine's frame on isolators: the linkage's shaking force and
     moment over the steady cycle drive the frame."""
@@ -77,6 +87,14 @@ class IsolationIn(AnalysisIn):
     frame: FrameIn = Field(description="The machine as a rigid body.")
     isolators: list[IsolatorIn] = Field(max_length=MAX_ISOLATORS, description="The isolators under the frame "
                                         "(enough to hold x, y and rotation).")
+    run_up: RunUpIn | None = Field(None, description="Also follow the frame while the machine runs up from rest "
+                                   "(the start-up simulation's speed history).")
+
+    def run_up_engine(self) -> tuple[Any, float] | None:
+        """Engine motor and constant inertia of the run-up, or None."""
+        if self.run_up is None:
+            return None
+        return self.run_up.motor.to_engine(), self.run_up.constant_inertia_kgm2
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 360, "frame": FRAME_EXAMPLE,
@@ -86,6 +104,64 @@ class IsolationIn(AnalysisIn):
     def to_frame(self) -> tuple[Any, tuple[Any, ...]]:
         """Engine frame and isolators."""
         return self.frame.to_engine(), tuple(i.to_engine() for i in self.isolators)
+
+
+Objective = Literal["amplitude", "force"]
+
+
+class IsolationDesignIn(AnalysisIn):
+    """A linkage at its crank speed and the machine's frame: choose one isolator type for the given positions
+    (and optionally an inertia block under the frame's centre)."""
+
+    frame: FrameIn = Field(description="The machine as a rigid body, without the block.")
+    positions_m: list[Vec2] = Field(min_length=1, max_length=MAX_ISOLATORS, description="Where the isolators hold "
+                                    "the frame, in the linkage's coordinates [m].")
+    objective: Objective = Field(description="`amplitude`: the least frame amplitude with the peak force to the "
+                                 "foundation under `max_force_N`; `force`: the least peak force with the amplitude "
+                                 "under `max_amplitude_m`.")
+    max_force_N: float | None = Field(None, gt=0, le=1e12, description="Limit of the peak force to the foundation "
+                                      "[N].")
+    max_amplitude_m: float | None = Field(None, gt=0, le=10, description="Limit of the frame's amplitude: the "
+                                          "largest movement of its centre or an isolator point [m].")
+    stiffness_ratio: float = Field(1.0, gt=0, le=1e3, description="k_x over k_y of the isolator type [-].")
+    min_stiffness_N_m: float = Field(1e3, gt=0, le=MAX_STIFFNESS_N_M, description="Least k_y of an isolator [N/m].")
+    max_stiffness_N_m: float = Field(1e8, gt=0, le=MAX_STIFFNESS_N_M, description="Largest k_y [N/m].")
+    min_damping_ratio: float = Field(0.02, ge=0, le=2, description="Least damping ratio [-].")
+    max_damping_ratio: float = Field(0.3, ge=0, le=2, description="Largest damping ratio [-].")
+    max_static_deflection_m: float | None = Field(None, gt=0, le=10, description="Largest deflection under the "
+                                                  "machine's weight [m].")
+    max_block_mass_kg: float = Field(0.0, ge=0, le=MAX_MASS_KG, description="Largest inertia block under the "
+                                     "frame's centre [kg]; 0: none.")
+    block_radius_m: float | None = Field(None, gt=0, le=1e3, description="The block's radius of gyration [m]; "
+                                         "default the frame's.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 360, "frame": FRAME_EXAMPLE,
+         "positions_m": [[-0.3, -0.5], [0.5, -0.5]], "objective": "amplitude", "max_force_N": 600,
+         "max_static_deflection_m": 0.02, "max_block_mass_kg": 400},
+    ]})
+
+    def to_spec(self) -> Any:
+        """Engine design spec."""
+        return importlib.import_module("synth.machine.foundation_design").IsolationDesignSpec(
+            tuple((p[0], p[1]) for p in self.positions_m), self.objective, self.max_force_N, self.max_amplitude_m,
+            self.stiffness_ratio, self.min_stiffness_N_m, self.max_stiffness_N_m, self.min_damping_ratio,
+            self.max_damping_ratio, self.max_static_deflection_m, self.max_block_mass_kg, self.block_radius_m)
+
+
+class RunUpOut(BaseModel):
+    """The frame while the machine runs up from rest."""
+
+    time_s: list[float] = Field(description="Output times [s].")
+    crank_speed_rpm: list[float] = Field(description="Crank speed at those times [rev/min].")
+    amplitude_m: list[float] = Field(description="Displacement magnitude of the frame's centre [m].")
+    peak_amplitude_m: float = Field(description="The largest, on the way up or just after [m].")
+    peak_time_s: float = Field(description="When [s].")
+    peak_speed_rpm: float = Field(description="Crank speed then [rev/min].")
+    steady_amplitude_m: float = Field(description="The steady cycle's peak at the speed the run-up "
+                                      "ends at (the motor's) [m].")
+    ratio: float = Field(description="Peak over steady [-].")
+    crossed_frequencies_Hz: list[float] = Field(description="Natural frequencies some harmonic passed through.")
 
 
 class ModeOut(BaseModel):
@@ -167,6 +243,7 @@ class IsolationOut(BaseModel):
     settle_time_s: float | None = Field(description="Time for a start's transient to fall to 1 % (the slowest "
                                         "mode's decay) [s]; null without damping.")
     checks: IsolationChecksOut
+    run_up: RunUpOut | None = Field(None, description="The run-up, when the request asks for it.")
 
     @classmethod
     def from_engine(cls, r: Any) -> IsolationOut:
@@ -197,6 +274,41 @@ class IsolationOut(BaseModel):
                                       max_force_diff_N=c.force_diff, relative_diff=c.relative_diff,
                                       series_residual=c.series_residual, method=c.method),
         )
+        ru = r.run_up
+        values["run_up"] = None if ru is None else RunUpOut.model_construct(
+            time_s=ru.time, crank_speed_rpm=ru.speed * 30 / math.pi, amplitude_m=ru.amplitude,
+            peak_amplitude_m=ru.peak_amplitude, peak_time_s=ru.peak_time, peak_speed_rpm=ru.peak_speed * 30 / math.pi,
+            steady_amplitude_m=ru.steady_amplitude, ratio=ru.ratio, crossed_frequencies_Hz=list(ru.crossed))
         return cls.model_construct(**values)
+
+
+class IsolationDesignOut(BaseModel):
+    """The isolators chosen, and the frame on them."""
+
+    ky_N_m: float = Field(description="Vertical stiffness of each isolator [N/m].")
+    kx_N_m: float = Field(description="Horizontal stiffness of each isolator [N/m].")
+    damping_ratio: float = Field(description="Damping ratio of each isolator [-].")
+    block_mass_kg: float = Field(description="Inertia block under the frame's centre [kg].")
+    amplitude_m: float = Field(description="Largest movement of the centre or an isolator point [m].")
+    peak_force_N: float = Field(description="Largest force to the foundation [N].")
+    static_deflection_m: float = Field(description="Deflection under the weight, block included [m].")
+    objective: Objective
+    objective_value: float = Field(description="The objective at the design (m or N).")
+    grid_best: float = Field(description="The objective at the best grid candidate, before refinement.")
+    candidates: int = Field(description="Candidates solved (grid and refinement).")
+    refined: bool = Field(description="The refinement improved on the grid.")
+    method: str
+    isolation: IsolationOut = Field(description="The frame on the chosen isolators, with its time-integration "
+                                    "check.")
+
+    @classmethod
+    def from_engine(cls, d: Any) -> IsolationDesignOut:
+        """Schema from an engine design."""
+        return cls.model_construct(
+            ky_N_m=d.ky, kx_N_m=d.kx, damping_ratio=d.damping_ratio, block_mass_kg=d.block_mass,
+            amplitude_m=d.amplitude, peak_force_N=d.peak_force, static_deflection_m=d.static_deflection,
+            objective=d.objective, objective_value=d.objective_value, grid_best=d.grid_best,
+            candidates=d.candidates, refined=d.refined, method=d.method,
+            isolation=IsolationOut.from_engine(d.isolation))
 
 

@@ -17,7 +17,7 @@ after as many cycles as it takes (reported as the settling time).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -26,8 +26,11 @@ from scipy.integrate import solve_ivp
 
 from ..analysis import Analysis, analyse
 from ..counter_rotors import CounterRotor
-from ..errors import InvalidInput
+from ..errors import Infeasible, InvalidInput
+from ..flywheel import Motor
 from ..model import FloatArray, Linkage
+from .simulate import MachineCycle
+from .startup import simulate_startup
 
 ComplexArray = npt.NDArray[np.complex128]
 #: Standard gravity, for the static deflection under the machine's weight [m/s²].
@@ -133,7 +136,8 @@ class Isolation:
     ``peak_isolator_displacement`` the largest movement of any isolator point [m]; ``static_deflection`` of
     each isolator under the machine's weight (y down) [m] (I, 2) and ``static_load`` on it [N] (I, 2),
     compression positive;
-    ``settle_time`` for a start's transient to fall to 1 % (slowest mode's decay) [s].
+    ``settle_time`` for a start's transient to fall to 1 % (slowest mode's decay) [s]; ``run_up`` the frame
+    while the machine runs up (None: not asked for).
     """
 
     frame: Frame
@@ -160,6 +164,7 @@ class Isolation:
     static_load: FloatArray
     settle_time: float
     check: IsolationCheck
+    run_up: RunUpPassage | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -466,13 +471,110 @@ def isolate(frame: Frame, isolators: tuple[Isolator, ...] | list[Isolator], forc
     )
 
 
+@dataclass(frozen=True, slots=True)
+class RunUpPassage:
+    """The frame while the machine runs up: ``time`` [s], ``speed`` crank [rad/s] and ``amplitude`` the centre's
+    displacement magnitude [m] at each output time; ``peak_amplitude`` the largest [m] at ``peak_time`` [s] and
+    crank ``peak_speed`` [rad/s]; ``steady_amplitude`` the steady cycle's peak at the final speed [m];
+    ``ratio`` their quotient [-];
+    ``crossed`` the natural frequencies [Hz] some harmonic passed through on the way up."""
+
+    time: FloatArray
+    speed: FloatArray
+    amplitude: FloatArray
+    peak_amplitude: float
+    peak_time: float
+    peak_speed: float
+    steady_amplitude: float
+    ratio: float
+    crossed: tuple[float, ...]
+
+
+#: Most output points of a run-up passage.
+RUN_UP_POINTS = 4000
+
+
+def run_up_passage(frame: Frame, isolators: tuple[Isolator, ...], forcing: Forcing, time: FloatArray,
+                   phi: FloatArray, omega: FloatArray, steady_peak: float) -> RunUpPassage:
+    """Integrate the frame from rest while the crank follows ``phi``(``time``) and ``omega`` [rad, rad/s] from a
+    start-up simulation. The linkage's pull at crank angle phi and speed w is taken as (w/w_0)² times the steady
+    cycle's at w_0 (inertia forces of a motion at slowly varying speed; the crank's own angular acceleration
+    left out), so the forcing is G(t) = (w(t)/w_0)² · Re sum_k G_k exp(i k (phi(t) - phi_0)); ``steady_peak``
+    the steady cycle's peak displacement of the centre [m]."""
+    model = frame_model(frame, isolators)
+    s = series(frame, forcing)
+    w0 = forcing.speed
+    phi0 = float(forcing.phi[0])
+    minv = np.linalg.inv(model.mass)
+    re, im = s.coefficients.real.T, s.coefficients.imag.T
+    a = np.block([[np.zeros((3, 3)), np.eye(3)], [-minv @ model.stiffness, -minv @ model.damping]])
+    t_arr, p_arr, w_arr = (np.asarray(v, dtype=float) for v in (time, phi, omega))
+    if t_arr.size < 2 or not np.all(np.diff(t_arr) > 0):
+        raise InvalidInput("the run-up needs increasing times", field="run_up")
+
+    def rhs(t: float, y: FloatArray) -> FloatArray:
+        p = np.interp(t, t_arr, p_arr) - phi0
+        w = np.interp(t, t_arr, w_arr)
+        ang = s.orders * p
+        g = (w / w0) ** 2 * (re @ np.cos(ang) - im @ np.sin(ang))
+        out = a @ y
+        out[3:] += minv @ g
+        return np.asarray(out)
+
+    t_out = np.linspace(t_arr[0], t_arr[-1], RUN_UP_POINTS)
+    top = float(np.max(s.orders)) * float(np.max(w_arr))
+    sol = solve_ivp(rhs, (t_arr[0], t_arr[-1]), np.zeros(6), method="DOP853", t_eval=t_out, rtol=1e-7,
+                    atol=1e-12, max_step=2 * math.pi / max(top, 1e-9) / 8)
+    if not sol.success:
+        raise InvalidInput(f"the run-up integration of the frame failed: {sol.message}", field="run_up")
+    amp = np.linalg.norm(sol.y[:2], axis=0)
+    i = int(np.argmax(amp))
+    steady = steady_peak
+    w_out = np.interp(t_out, t_arr, w_arr)
+    natural = np.sqrt(np.maximum(np.linalg.eigvals(minv @ model.stiffness).real, 0.0))
+    crossed = tuple(sorted(float(wn / (2 * math.pi)) for wn in natural
+                           if any(o * w_out.min() <= wn <= o * w_out.max() for o in s.orders if o > 0)))
+    return RunUpPassage(t_out, w_out, amp, float(amp[i]), float(t_out[i]), float(w_out[i]), steady,
+                        float(amp[i] / steady) if steady > 0 else math.inf, crossed)
+
+
 def isolate_linkage(linkage: Linkage, speed: float, frame: Frame, isolators: tuple[Isolator, ...], *,
                     samples: int = 360, max_samples: int = 100_000,
-                    counter_rotors: tuple[CounterRotor, ...] = ()) -> Isolation:
+                    counter_rotors: tuple[CounterRotor, ...] = (),
+                    run_up: tuple[Motor, float] | None = None) -> Isolation:
     """Analyse ``linkage`` at constant crank ``speed`` [rad/s] over one revolution and put its frame on
-    ``isolators`` (see :func:`isolate`)."""
+    ``isolators`` (see :func:`isolate`); with ``run_up`` (the motor through its train, and the constant inertia
+    of rotor, train and flywheel reduced to the crank [kg·m²]) also the frame while the machine runs up from
+    rest, on the speed history of :func:`synth.machine.startup.simulate_startup`."""
     an = analyse(linkage, speed, samples=samples, max_samples=max_samples, counter_rotors=counter_rotors)
-    return isolate(frame, isolators, forcing_of(an))
+    forcing = forcing_of(an)
+    result = isolate(frame, isolators, forcing)
+    if run_up is None:
+        return result
+    motor, constant_inertia = run_up
+    red = an.reduced
+    start = simulate_startup(MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque),
+                             constant_inertia, motor)
+    if start.run is None:
+        raise Infeasible("the motor cannot start the machine, so there is no run-up to follow",
+                         constraint="run_up.motor", margin=start.check.margin)
+    run = start.run
+    end = run.time.size if start.steady_time is None else int(np.searchsorted(run.time, start.steady_time)) + 1
+    step = max(1, end // 20_000)
+    t, p, w = run.time[:end:step], run.phi[:end:step], run.omega[:end:step]
+    # then on at the last speed for three periods of the slowest mode (or four revolutions): the free vibration
+    # a quick passage leaves behind peaks there
+    tail = max(3.0 / result.modes[0].frequency, 4 * 2 * math.pi / float(w[-1]))
+    extra = np.linspace(0.0, tail, 200)[1:]
+    t = np.concatenate([t, t[-1] + extra])
+    p = np.concatenate([p, p[-1] + w[-1] * extra])
+    w = np.concatenate([w, np.full(extra.size, w[-1])])
+    # the reference is the steady cycle at the speed the run-up ends at (the motor's, not the request's)
+    scale = (float(w[-1]) / speed) ** 2
+    at_end = Forcing(forcing.phi, float(w[-1]), forcing.force * scale, forcing.moment * scale)
+    steady = isolate(frame, isolators, at_end, check=False).peak_displacement
+    passage = run_up_passage(frame, isolators, forcing, t, p, w, steady)
+    return replace(result, run_up=passage)
 
 
 def forcing_of(an: Analysis) -> Forcing:

@@ -13,6 +13,7 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from .foundation import Isolation  # noqa: E402
+from .foundation_design import IsolationDesign  # noqa: E402
 
 
 def _bytes(fig: Figure, fmt: str) -> bytes:
@@ -25,7 +26,12 @@ def _bytes(fig: Figure, fmt: str) -> bytes:
 def isolation_figure(r: Isolation, fmt: str = "png") -> bytes:
     """Force to the foundation against the shaking force over the cycle, the frame centre's orbit, and the force
     transmissibility per harmonic, as PNG, SVG or PDF."""
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.4), layout="constrained")
+    if r.run_up is None:
+        fig, grid = plt.subplots(1, 3, figsize=(14, 4.4), layout="constrained")
+        axes = list(grid)
+    else:
+        fig, grid = plt.subplots(2, 2, figsize=(12, 8.5), layout="constrained")
+        axes = list(grid.reshape(-1))
     deg = np.degrees(r.phi)
     ax = axes[0]
     ax.plot(deg, np.linalg.norm(r.shaking_force, axis=1), lw=1.2, label="shaking force (rigid floor)")
@@ -48,4 +54,21 @@ def isolation_figure(r: Isolation, fmt: str = "png") -> bytes:
         ax.axvline(m.frequency / crank_hz, color="C3", lw=0.8, ls=":")
     ax.set(xlabel="harmonic order (modes dotted)", ylabel="transmitted / shaking [-]", yscale="log",
            title="Force transmissibility per harmonic")
+    if r.run_up is not None:
+        ru = r.run_up
+        ax = axes[3]
+        ax.plot(ru.time, ru.amplitude * 1e3, lw=0.8, label="frame centre")
+        ax.axhline(ru.steady_amplitude * 1e3, color="g", ls="--", lw=1, label="steady peak")
+        ax.plot(ru.peak_time, ru.peak_amplitude * 1e3, "o", color="C3", ms=5,
+                label=f"peak {ru.peak_amplitude * 1e3:.3g} mm at {ru.peak_speed * 30 / np.pi:.4g} rpm")
+        twin = ax.twinx()
+        twin.plot(ru.time, ru.speed * 30 / np.pi, color="0.5", lw=1)
+        twin.set_ylabel("crank speed [rpm]", color="0.4")
+        ax.set(xlabel="time [s]", ylabel="displacement [mm]", title="Run-up: the frame through resonance")
+        ax.legend(fontsize=8, loc="upper right")
     return _bytes(fig, fmt)
+
+
+def design_figure(d: IsolationDesign, fmt: str = "png") -> bytes:
+    """The figure of the frame on the designed isolators (see :func:`isolation_figure`)."""
+    return isolation_figure(d.isolation, fmt)
