@@ -47,7 +47,14 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
-from .schemas.foundation import IsolationDesignIn, IsolationDesignOut, IsolationIn, IsolationOut
+from .schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+)
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
@@ -464,6 +471,15 @@ class SynthClient(_Policy):
         limit."""
         return self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
 
+    def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive: the two-mass drive with an elastic link, its natural frequency, the
+        torque in the link and the run-up."""
+        return self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png: the link's torque against the rigid model's, the run-up."""
+        return self._export("/v1/machines/elastic-drive", body, format).content
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -696,6 +712,10 @@ class AsyncSynthClient(_Policy):
     async def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
         """POST /v1/machines/isolation/design."""
         return await self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
+    async def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive."""
+        return await self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""

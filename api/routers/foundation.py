@@ -11,12 +11,20 @@ from fastapi.responses import Response
 from synth.errors import InvalidInput
 from synth.machine import foundation as fd
 from synth.machine import foundation_design as fdd
-from synth.machine.foundation_plots import design_figure, isolation_figure
+from synth.machine import elastic_drive as ed
+from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure
 
 from ..deps import SolverDep
 from ..execution.plans import Limits, Plan
 from ..media import FIGURES, Render, format_responses
-from mechsynth_client.schemas.foundation import IsolationDesignIn, IsolationDesignOut, IsolationIn, IsolationOut
+from mechsynth_client.schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+)
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -45,7 +53,18 @@ def isolation_design_plan(b: IsolationDesignIn, lim: Limits) -> Plan:
                 FIGURES, "isolation-design")
 
 
-def _uniform(b: IsolationIn | IsolationDesignIn) -> None:
+def elastic_drive_plan(b: ElasticDriveIn, lim: Limits) -> Plan:
+    """POST /v1/machines/elastic-drive."""
+    return Plan(Render(ElasticDriveOut.from_engine, elastic_drive_figure), ed.elastic_drive_for_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine()),
+                dict(stiffness=b.stiffness_Nm_rad, elements=b.to_elements(), samples=b.samples,
+                     max_samples=lim.max_samples, counter_rotors=b.rotors(), friction=b.frictions(),
+                     machine_inertia=b.machine_inertia_kgm2, motor_side_inertia=b.motor_side_inertia_kgm2,
+                     damping_ratio=b.damping_ratio, start=b.start),
+                FIGURES, "elastic-drive")
+
+
+def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn) -> None:
     if b.crank_angle_deg is not None:
         raise InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
                            "not crank_angle_deg", field="crank_angle_deg")
@@ -77,3 +96,18 @@ async def isolation_design(body: IsolationDesignIn, request: Request, solvers: S
     isolators."""
     _uniform(body)
     return await solvers.answer_plan(isolation_design_plan(body, solvers.limits), request, format)
+
+
+@router.post("/elastic-drive", response_model=ElasticDriveOut, responses=format_responses(FIGURES),
+             name="elastic_drive")
+async def elastic_drive(body: ElasticDriveIn, request: Request, solvers: SolverDep,
+                        format: FigureFormat = None) -> Response:
+    """The machine driven through an elastic link: motor rotor and machine as two masses on a torsional spring
+    (given, or from shafts and couplings reduced to the crank by their speed ratio squared), the machine's
+    reduced inertia and load torque over the cycle, the motor's characteristic. Answers the free-free natural
+    frequency, the torque in the link over the steady cycle against the rigid model's (the dynamic factor), the
+    load harmonics near the natural frequency (as warnings) and the run-up from rest with the link; checked by
+    the two-mass matrix's eigenvalues and the energy balance. `?format=png|svg|pdf`: the torques and the
+    run-up."""
+    _uniform(body)
+    return await solvers.answer_plan(elastic_drive_plan(body, solvers.limits), request, format)

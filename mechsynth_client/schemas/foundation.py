@@ -11,7 +11,8 @@ from pydantic.config import JsonDict
 
 from .analysis import AnalysisIn
 from .flywheel import MotorIn
-from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, degree_array, ensure_finite
+from ._engine import np
+from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, WarningOut, degree_array, ensure_finite
 
 #: Stiffness beyond any isolator or foundation bolt [N/m]; a larger value is a typo.
 MAX_STIFFNESS_N_M = 1e13
@@ -312,3 +313,170 @@ class IsolationDesignOut(BaseModel):
             isolation=IsolationOut.from_engine(d.isolation))
 
 
+
+
+def _drive_engine() -> Any:
+    return importlib.import_module("synth.machine.elastic_drive")
+
+
+class ElasticElementIn(StrictModel):
+    """One element of the elastic link between motor and machine: a shaft or a coupling."""
+
+    type: Literal["shaft", "coupling"] = Field(description="`shaft`: from its diameter, length and shear modulus; "
+                                               "`coupling`: its catalogue stiffness.")
+    speed_ratio: float = Field(1.0, gt=0, le=1e5, description="Its shaft's speed over the crank's [-] (the motor "
+                               "shaft's is the gear ratio).")
+    diameter_m: float | None = Field(None, gt=0, le=10, description="Shaft diameter [m].")
+    length_m: float | None = Field(None, gt=0, le=100, description="Shaft length between the masses [m].")
+    shear_modulus_Pa: float = Field(81e9, gt=0, le=1e12, description="Shear modulus [Pa] (steel 81 GPa).")
+    stiffness_Nm_rad: float | None = Field(None, gt=0, le=1e12, description="A coupling's torsional stiffness "
+                                           "on its shaft [N·m/rad].")
+
+    def to_engine(self, k: int) -> Any:
+        """Engine element; InvalidInput naming a missing field."""
+        if self.type == "shaft":
+            if self.diameter_m is None or self.length_m is None:
+                raise _invalid("a shaft needs diameter_m and length_m", f"elements.{k}.diameter_m")
+            return _drive_engine().ElasticElement("shaft", self.speed_ratio, self.diameter_m, self.length_m,
+                                                  self.shear_modulus_Pa)
+        if self.stiffness_Nm_rad is None:
+            raise _invalid("a coupling needs stiffness_Nm_rad", f"elements.{k}.stiffness_Nm_rad")
+        return _drive_engine().ElasticElement("coupling", self.speed_ratio, stiffness=self.stiffness_Nm_rad)
+
+
+def _invalid(message: str, field: str) -> Exception:
+    error: Exception = importlib.import_module("synth.errors").InvalidInput(message, field=field)
+    return error
+
+
+MOTOR_EXAMPLE: JsonDict = {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1440, "rated_torque_Nm": 30,
+                           "gear_ratio": 3.0, "efficiency": 0.95, "rotor_inertia_kgm2": 0.02,
+                           "breakdown_torque_Nm": 70}
+
+
+class ElasticDriveIn(AnalysisIn):
+    """A linkage at its crank speed driven by a motor through an elastic link (two-mass model, reduced to the
+    crank)."""
+
+    motor: MotorIn = Field(description="The motor through its train; its rotor inertia is the first mass.")
+    stiffness_Nm_rad: float | None = Field(None, gt=0, le=1e12, description="The link's torsional stiffness "
+                                           "reduced to the crank [N·m/rad]; or give `elements`.")
+    elements: list[ElasticElementIn] = Field(default_factory=list, max_length=16, description="Shafts and "
+                                             "couplings of the link, in series, each reduced by its speed ratio "
+                                             "squared.")
+    machine_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Constant inertia on the "
+                                        "machine's side (flywheel, gears) reduced to the crank [kg·m²].")
+    motor_side_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the motor "
+                                           "shaft besides the rotor (coupling half, pinion) [kg·m²].")
+    damping_ratio: float = Field(0.05, ge=0, le=2, description="The link's damping as a ratio of the two-mass "
+                                 "mode's critical damping [-].")
+    start: bool = Field(True, description="Also simulate the run-up from rest with the elastic link.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 360,
+         "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
+         "motor": MOTOR_EXAMPLE, "machine_inertia_kgm2": 0.3,
+         "elements": [{"type": "shaft", "speed_ratio": 3.0, "diameter_m": 0.03, "length_m": 0.4},
+                      {"type": "coupling", "speed_ratio": 1.0, "stiffness_Nm_rad": 2e4}]},
+    ]})
+
+    def to_elements(self) -> tuple[Any, ...]:
+        """Engine elements."""
+        return tuple(e.to_engine(k) for k, e in enumerate(self.elements))
+
+
+class LoadHarmonicOut(BaseModel):
+    """A harmonic of the machine's load torque against the link's natural frequency."""
+
+    order: int
+    frequency_Hz: float
+    amplitude_Nm: float
+    frequency_ratio: float = Field(description="Over the natural frequency [-].")
+    near_resonance: bool = Field(description="Within 15 % of it and at least 2 % of the largest harmonic.")
+
+
+class ElasticRunOut(BaseModel):
+    """The run-up from rest with the elastic link."""
+
+    time_s: list[float]
+    crank_speed_rpm: list[float]
+    rotor_speed_rpm: list[float] = Field(description="The rotor's speed reduced to the crank [rev/min].")
+    elastic_torque_Nm: list[float] = Field(description="Torque in the link, at the crank [N·m].")
+    peak_elastic_torque_Nm: float
+    rigid_peak_torque_Nm: float = Field(description="The rigid model's largest motor torque during its run-up, "
+                                        "reduced to the crank [N·m].")
+    energy_residual: float = Field(description="Motor work + load work - damping loss - energy gained, over "
+                                   "the largest of them [-].")
+
+
+class ElasticDriveChecksOut(BaseModel):
+    """Independent checks of the elastic drive."""
+
+    eigen_frequency_Hz: float = Field(description="The natural frequency from the two-mass matrix's eigenvalues.")
+    closed_form_diff: float = Field(description="Relative difference to the closed form sqrt(c(J1+J2)/(J1 J2)).")
+    steady_energy_residual: float = Field(description="Energy balance over the steady cycle, relative [-].")
+    revolutions: int = Field(description="Revolutions integrated until the state at the same crank angle "
+                             "repeated.")
+
+
+class ElasticDriveOut(BaseModel):
+    """The drive with an elastic link, reduced to the crank."""
+
+    stiffness_Nm_rad: float = Field(description="The link's stiffness reduced to the crank [N·m/rad].")
+    damping_Nms_rad: float = Field(description="The link's damping coefficient at the crank [N·m·s/rad].")
+    rotor_inertia_kgm2: float = Field(description="J1: rotor (and motor-side inertia) reduced to the crank.")
+    machine_inertia_kgm2: list[float] = Field(description="J2: mean, least and largest over the cycle [kg·m²].")
+    natural_frequency_Hz: float = Field(description="Free-free two-mass frequency at the mean J2 [Hz].")
+    natural_frequency_range_Hz: list[float] = Field(description="At the largest and least J2 [Hz].")
+    mean_speed_rpm: float = Field(description="The steady cycle's mean crank speed [rev/min].")
+    crank_angle_deg: list[float]
+    elastic_torque_Nm: list[float] = Field(description="Torque in the link over the steady cycle [N·m].")
+    rigid_torque_Nm: list[float] = Field(description="What the rigid model passes between rotor and machine, "
+                                         "M_d - J1·alpha [N·m].")
+    crank_speed_rpm: list[float]
+    rotor_speed_rpm: list[float]
+    peak_elastic_torque_Nm: float
+    peak_rigid_torque_Nm: float
+    dynamic_factor: float = Field(description="Peak |elastic torque| over peak |rigid torque| [-].")
+    harmonics: list[LoadHarmonicOut]
+    warnings: list[WarningOut]
+    checks: ElasticDriveChecksOut
+    start: ElasticRunOut | None
+
+    @classmethod
+    def from_engine(cls, d: Any) -> ElasticDriveOut:
+        """Schema from an engine elastic drive."""
+        rpm = 30 / math.pi
+        st = d.steady
+        ensure_finite(st.elastic_torque, d.rigid_torque, st.crank_speed, st.rotor_speed)
+        near = [h for h in d.harmonics if h.near]
+        warnings = [WarningOut(code="load_harmonic_near_resonance", field="stiffness_Nm_rad", value=h.ratio, unit="",
+                               message=f"harmonic {h.order} of the load torque ({h.frequency:.4g} Hz, "
+                               f"{h.amplitude:.4g} N·m) lies within 15 % of the link's natural frequency "
+                               f"({d.natural_frequency:.4g} Hz): change the stiffness or the inertias")
+                    for h in near]
+        start = None
+        if d.start is not None:
+            r = d.start
+            start = ElasticRunOut.model_construct(
+                time_s=r.time, crank_speed_rpm=r.crank_speed * rpm, rotor_speed_rpm=r.rotor_speed * rpm,
+                elastic_torque_Nm=r.elastic_torque, peak_elastic_torque_Nm=d.start_peak_torque,
+                rigid_peak_torque_Nm=d.rigid_start_peak_torque, energy_residual=r.energy_residual)
+        values: dict[str, Any] = dict(
+            stiffness_Nm_rad=d.stiffness, damping_Nms_rad=d.damping, rotor_inertia_kgm2=d.rotor_inertia,
+            machine_inertia_kgm2=list(d.machine_inertia), natural_frequency_Hz=d.natural_frequency,
+            natural_frequency_range_Hz=list(d.natural_frequency_range),
+            mean_speed_rpm=d.mean_speed * rpm,
+            crank_angle_deg=degree_array(d.phi), elastic_torque_Nm=st.elastic_torque, rigid_torque_Nm=d.rigid_torque,
+            crank_speed_rpm=st.crank_speed * rpm, rotor_speed_rpm=st.rotor_speed * rpm,
+            peak_elastic_torque_Nm=float(np.max(np.abs(st.elastic_torque))),
+            peak_rigid_torque_Nm=float(np.max(np.abs(d.rigid_torque))), dynamic_factor=d.dynamic_factor,
+            harmonics=[LoadHarmonicOut(order=h.order, frequency_Hz=h.frequency, amplitude_Nm=h.amplitude,
+                                       frequency_ratio=h.ratio, near_resonance=h.near) for h in d.harmonics],
+            warnings=warnings,
+            checks=ElasticDriveChecksOut(
+                eigen_frequency_Hz=d.eigen_frequency,
+                closed_form_diff=abs(d.eigen_frequency - d.natural_frequency) / d.natural_frequency,
+                steady_energy_residual=st.energy_residual, revolutions=d.revolutions),
+            start=start)
+        return cls.model_construct(**values)

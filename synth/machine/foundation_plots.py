@@ -13,6 +13,7 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from .foundation import Isolation  # noqa: E402
+from .elastic_drive import ElasticDrive  # noqa: E402
 from .foundation_design import IsolationDesign  # noqa: E402
 
 
@@ -72,3 +73,25 @@ def isolation_figure(r: Isolation, fmt: str = "png") -> bytes:
 def design_figure(d: IsolationDesign, fmt: str = "png") -> bytes:
     """The figure of the frame on the designed isolators (see :func:`isolation_figure`)."""
     return isolation_figure(d.isolation, fmt)
+
+
+def elastic_drive_figure(d: ElasticDrive, fmt: str = "png") -> bytes:
+    """Torque in the elastic link against the rigid model's over the steady cycle, and the run-up with the link."""
+    fig, axes = plt.subplots(1, 2 if d.start is not None else 1, figsize=(13 if d.start else 7, 4.6),
+                             layout="constrained", squeeze=False)
+    ax = axes[0][0]
+    deg = np.degrees(d.phi)
+    ax.plot(deg, d.rigid_torque, lw=1.2, label="rigid model, M_d - J1·alpha")
+    ax.plot(deg, d.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {d.dynamic_factor:.3g})")
+    ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]",
+           title=f"Steady cycle; link at {d.natural_frequency:.4g} Hz")
+    ax.legend(fontsize=8)
+    if d.start is not None:
+        ax = axes[0][1]
+        ax.plot(d.start.time, d.start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
+        ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
+        twin = ax.twinx()
+        twin.plot(d.start.time, d.start.crank_speed * 30 / np.pi, color="0.4", lw=1, label="crank speed")
+        twin.set_ylabel("crank speed [rpm]", color="0.4")
+        ax.legend(fontsize=8, loc="lower right")
+    return _bytes(fig, fmt)
