@@ -54,6 +54,8 @@ from .schemas.foundation import (
     IsolationDesignOut,
     IsolationIn,
     IsolationOut,
+    RegulationIn,
+    RegulationOut,
 )
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
@@ -480,6 +482,14 @@ class SynthClient(_Policy):
         """POST /v1/machines/elastic-drive?format=png: the link's torque against the rigid model's, the run-up."""
         return self._export("/v1/machines/elastic-drive", body, format).content
 
+    def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation: the speed after a load step, self-regulated or with a PI controller."""
+        return self._post("/v1/machines/regulation", body, RegulationOut)
+
+    def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png: speed and torques over time."""
+        return self._export("/v1/machines/regulation", body, format).content
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -716,6 +726,10 @@ class AsyncSynthClient(_Policy):
     async def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
         """POST /v1/machines/elastic-drive."""
         return await self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    async def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation."""
+        return await self._post("/v1/machines/regulation", body, RegulationOut)
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""

@@ -12,7 +12,8 @@ from synth.errors import InvalidInput
 from synth.machine import foundation as fd
 from synth.machine import foundation_design as fdd
 from synth.machine import elastic_drive as ed
-from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure
+from synth.machine import regulation as rg
+from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure, regulation_figure
 
 from ..deps import SolverDep
 from ..execution.plans import Limits, Plan
@@ -24,6 +25,8 @@ from mechsynth_client.schemas.foundation import (
     IsolationDesignOut,
     IsolationIn,
     IsolationOut,
+    RegulationIn,
+    RegulationOut,
 )
 
 router = APIRouter(prefix="/machines", tags=["machines"])
@@ -64,7 +67,18 @@ def elastic_drive_plan(b: ElasticDriveIn, lim: Limits) -> Plan:
                 FIGURES, "elastic-drive")
 
 
-def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn) -> None:
+def regulation_plan(b: RegulationIn, lim: Limits) -> Plan:
+    """POST /v1/machines/regulation."""
+    controller, tuning = (None, None) if b.regulator is None else b.regulator.to_engine()
+    return Plan(Render(RegulationOut.from_engine, regulation_figure), rg.regulate_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine(), b.load_step_Nm),
+                dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, controller=controller, tuning=tuning,
+                     samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     friction=b.frictions()),
+                FIGURES, "regulation")
+
+
+def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn) -> None:
     if b.crank_angle_deg is not None:
         raise InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
                            "not crank_angle_deg", field="crank_angle_deg")
@@ -111,3 +125,13 @@ async def elastic_drive(body: ElasticDriveIn, request: Request, solvers: SolverD
     run-up."""
     _uniform(body)
     return await solvers.answer_plan(elastic_drive_plan(body, solvers.limits), request, format)
+
+
+@router.post("/regulation", response_model=RegulationOut, responses=format_responses(FIGURES), name="regulation")
+async def regulation(body: RegulationIn, request: Request, solvers: SolverDep, format: FigureFormat = None) -> Response:
+    """The machine's speed after a step in the process load: self-regulation through the motor's characteristic
+    (time constant, speed drop, time to settle in the delta band, with their closed forms for a constant
+    inertia), or a PI controller on a frequency converter tuned for a settling time and overshoot (or given
+    gains; an unstable regulator answers 422). `?format=png|svg|pdf`: speed and torques over time."""
+    _uniform(body)
+    return await solvers.answer_plan(regulation_plan(body, solvers.limits), request, format)

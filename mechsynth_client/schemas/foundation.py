@@ -480,3 +480,109 @@ class ElasticDriveOut(BaseModel):
                 steady_energy_residual=st.energy_residual, revolutions=d.revolutions),
             start=start)
         return cls.model_construct(**values)
+
+
+class RegulatorIn(StrictModel):
+    """A PI controller on a frequency-converter drive: tuned for a settling time and overshoot, or given gains."""
+
+    settling_time_s: float | None = Field(None, gt=0, le=1e4, description="Target settling time [s] (tuning).")
+    overshoot: float | None = Field(None, ge=0, lt=1, description="Target overshoot as a fraction [-] (tuning).")
+    kp: float | None = Field(None, ge=-1e6, le=1e6, description="Proportional gain on the crank speed's error "
+                             "[-] (rad/s of no-load speed per rad/s of error); with `ki` instead of tuning.")
+    ki: float | None = Field(None, gt=0, le=1e9, description="Integral gain [1/s].")
+    filter_time_s: float = Field(0.0, ge=0, le=100, description="Time constant of the speed measurement [s].")
+    reference_speed_rpm: float | None = Field(None, gt=0, le=1e6, description="Speed to hold [rev/min]; default "
+                                              "the mean speed before the step.")
+
+    def to_engine(self) -> tuple[Any, tuple[float, float, float] | None]:
+        """Engine controller (gains) or tuning targets; InvalidInput naming the missing field."""
+        tuned = self.settling_time_s is not None or self.overshoot is not None
+        given = self.kp is not None or self.ki is not None
+        if tuned == given:
+            raise _invalid("give the regulator either settling_time_s and overshoot (tuned) or kp and ki",
+                           "regulator")
+        if tuned:
+            if self.settling_time_s is None or self.overshoot is None:
+                raise _invalid("tuning needs both settling_time_s and overshoot", "regulator.settling_time_s")
+            return None, (self.settling_time_s, self.overshoot, self.filter_time_s)
+        if self.kp is None or self.ki is None:
+            raise _invalid("gains need both kp and ki", "regulator.kp")
+        ref = None if self.reference_speed_rpm is None else self.reference_speed_rpm * math.pi / 30
+        return importlib.import_module("synth.machine.regulation").PIController(
+            self.kp, self.ki, self.filter_time_s, ref), None
+
+
+class RegulationIn(AnalysisIn):
+    """A linkage at its crank speed, its motor and a step in the process load: the speed's answer."""
+
+    motor: MotorIn = Field(description="The motor through its train; its linear characteristic drives.")
+    constant_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Rotor, train and flywheel "
+                                         "reduced to the crank [kg·m²].")
+    load_step_Nm: float = Field(ge=-1e9, le=1e9, description="Step in the load torque at the crank [N·m], "
+                                "positive resists (more load).", examples=[40])
+    delta: float = Field(0.02, gt=0, lt=1, description="The band the settling is judged in: delta·w/2 [-].")
+    regulator: RegulatorIn | None = Field(None, description="A PI controller on a frequency converter; null: "
+                                          "self-regulation through the characteristic.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 180,
+         "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
+         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 40, "delta": 0.02},
+        {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 180,
+         "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
+         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 40, "delta": 0.02,
+         "regulator": {"settling_time_s": 0.05, "overshoot": 0.05}},
+    ]})
+
+
+class RegulationOut(BaseModel):
+    """The machine's speed after the load step."""
+
+    time_s: list[float]
+    crank_speed_rpm: list[float]
+    smoothed_speed_rpm: list[float] = Field(description="The speed with the cycle's own fluctuation taken off "
+                                            "[rev/min].")
+    motor_torque_Nm: list[float] = Field(description="Motor torque at the crank [N·m].")
+    load_torque_Nm: list[float] = Field(description="Load torque at the crank, the step included (positive "
+                                        "drives) [N·m].")
+    converter_shift_rpm: list[float] = Field(description="The converter's shift of the no-load crank speed "
+                                             "[rev/min]; zeros without a regulator.")
+    step_time_s: float
+    speed_before_rpm: float
+    speed_after_rpm: float = Field(description="Mean speed of the new steady cycle without a regulator "
+                                   "[rev/min].")
+    drop_rpm: float = Field(description="Speed drop of self-regulation, simulated [rev/min].")
+    drop_closed_form_rpm: float = Field(description="dM/s, s the characteristic's slope at the crank [rev/min].")
+    time_constant_s: float = Field(description="J_mean/s [s].")
+    band_rpm: float = Field(description="delta·w/2 [rev/min].")
+    settling_time_s: float | None = Field(description="After the step until the smoothed speed stays in the band "
+                                          "[s]; null: not within the run.")
+    settling_closed_form_s: float | None = Field(description="tau·ln(dw/band) for self-regulation [s].")
+    overshoot: float = Field(description="Largest excursion past the final speed over the change [-].")
+    max_deviation_rpm: float = Field(description="Largest |smoothed - final| after the step [rev/min].")
+    kp: float | None = None
+    ki_1_s: float | None = None
+    filter_time_s: float | None = None
+    reference_speed_rpm: float | None = None
+    poles_real_1_s: list[float] | None = Field(None, description="Closed-loop poles, real parts [1/s].")
+    poles_imag_1_s: list[float] | None = Field(None, description="Closed-loop poles, imaginary parts [1/s].")
+
+    @classmethod
+    def from_engine(cls, r: Any) -> RegulationOut:
+        """Schema from an engine regulation."""
+        rpm = 30 / math.pi
+        ensure_finite(r.omega, r.smoothed, r.motor_torque)
+        c = r.controller
+        values: dict[str, Any] = dict(
+            time_s=r.time, crank_speed_rpm=r.omega * rpm, smoothed_speed_rpm=r.smoothed * rpm,
+            motor_torque_Nm=r.motor_torque, load_torque_Nm=r.load_torque, converter_shift_rpm=r.shift * rpm,
+            step_time_s=r.step_time, speed_before_rpm=r.speed_before * rpm, speed_after_rpm=r.speed_after * rpm,
+            drop_rpm=r.drop * rpm, drop_closed_form_rpm=r.drop_closed_form * rpm, time_constant_s=r.time_constant,
+            band_rpm=r.band * rpm, settling_time_s=r.settling_time, settling_closed_form_s=r.settling_closed_form,
+            overshoot=r.overshoot, max_deviation_rpm=r.max_deviation * rpm,
+            kp=None if c is None else c.kp, ki_1_s=None if c is None else c.ki,
+            filter_time_s=None if c is None else c.filter_time,
+            reference_speed_rpm=None if c is None or c.reference is None else c.reference * rpm,
+            poles_real_1_s=None if r.poles is None else [float(p.real) for p in r.poles],
+            poles_imag_1_s=None if r.poles is None else [float(p.imag) for p in r.poles])
+        return cls.model_construct(**values)

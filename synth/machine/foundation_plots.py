@@ -15,6 +15,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from .foundation import Isolation  # noqa: E402
 from .elastic_drive import ElasticDrive  # noqa: E402
 from .foundation_design import IsolationDesign  # noqa: E402
+from .regulation import Regulation  # noqa: E402
 
 
 def _bytes(fig: Figure, fmt: str) -> bytes:
@@ -94,4 +95,28 @@ def elastic_drive_figure(d: ElasticDrive, fmt: str = "png") -> bytes:
         twin.plot(d.start.time, d.start.crank_speed * 30 / np.pi, color="0.4", lw=1, label="crank speed")
         twin.set_ylabel("crank speed [rpm]", color="0.4")
         ax.legend(fontsize=8, loc="lower right")
+    return _bytes(fig, fmt)
+
+
+def regulation_figure(r: Regulation, fmt: str = "png") -> bytes:
+    """Speed and torques over time around the load step, with the settling band."""
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True, layout="constrained")
+    rpm = 30 / np.pi
+    final = r.controller.reference if r.controller is not None and r.controller.reference else r.speed_after
+    top.plot(r.time, r.omega * rpm, lw=0.7, color="0.6", label="crank speed")
+    top.plot(r.time, r.smoothed * rpm, lw=1.4, color="C0", label="without the cycle's fluctuation")
+    top.axhspan((final - r.band) * rpm, (final + r.band) * rpm, color="C2", alpha=0.15, label="delta band")
+    top.axvline(r.step_time, color="k", lw=0.8, ls=":")
+    if r.settling_time is not None:
+        top.axvline(r.step_time + r.settling_time, color="C3", lw=0.8, ls="--",
+                    label=f"settled after {r.settling_time:.3g} s")
+    mode = "self-regulation" if r.controller is None else (f"PI: k_p {r.controller.kp:.3g}, "
+                                                           f"k_i {r.controller.ki:.3g} 1/s")
+    top.set(ylabel="speed [rpm]", title=f"Load step of {r.load_step:.4g} N·m at the crank, {mode}")
+    top.legend(fontsize=8)
+    bottom.plot(r.time, r.motor_torque, lw=1.0, label="motor (at the crank)")
+    bottom.plot(r.time, -r.load_torque, lw=1.0, label="load (resisting)")
+    bottom.axvline(r.step_time, color="k", lw=0.8, ls=":")
+    bottom.set(xlabel="time [s]", ylabel="torque [N·m]")
+    bottom.legend(fontsize=8)
     return _bytes(fig, fmt)
