@@ -223,10 +223,12 @@ class IsolationOut(BaseModel):
     time_s: list[float] = Field(description="Time from the first sample at the constant crank speed [s].")
     displacement_m: list[list[float]] = Field(description="The frame centre's displacement [x, y] at every sample [m].")
     rotation_rad: list[float] = Field(description="The frame's rotation at every sample, counter-clockwise [rad].")
-    force_N: list[list[float]] = Field(description="Force passed to the foundation by all isolators, as the foundation feels "
+    force_N: list[list[float]] = Field(description="Force passed to the foundation by all isolators, as the "
+                                       "foundation feels "
                          "it, [F_x, F_y] at every sample [N] (the weight left out).")
     moment_Nm: list[float] = Field(description="Moment of those forces about the crank pivot O at every sample [N·m].")
-    shaking_force_N: list[list[float]] = Field(description="The linkage's shaking force: what a frame bolted rigidly to the "
+    shaking_force_N: list[list[float]] = Field(description="The linkage's shaking force: what a frame bolted "
+                                               "rigidly to the "
                                  "foundation would pass on [N].")
     shaking_moment_Nm: list[float] = Field(description="The linkage's shaking moment about O [N·m].")
     isolators: list[IsolatorLoadOut] = Field(description="Per isolator, in the request's order.")
@@ -243,13 +245,14 @@ class IsolationOut(BaseModel):
                                "isolators help.")
     settle_time_s: float | None = Field(description="Time for a start's transient to fall to 1 % (the slowest "
                                         "mode's decay) [s]; null without damping.")
-    checks: IsolationChecksOut
+    checks: IsolationChecksOut = Field(description="The harmonic answer against an independent time integration.")
     run_up: RunUpOut | None = Field(None, description="The run-up, when the request asks for it.")
 
     @classmethod
     def from_engine(cls, r: Any) -> IsolationOut:
         """Schema from an engine isolation."""
-        iso = [IsolatorLoadOut.model_construct(force_N=r.isolator_force[i], peak_force_N=float(r.peak_isolator_force[i]),
+        iso = [IsolatorLoadOut.model_construct(force_N=r.isolator_force[i],
+                                               peak_force_N=float(r.peak_isolator_force[i]),
                                static_deflection_m=[float(v) for v in r.static_deflection[i]],
                                static_load_N=[float(v) for v in r.static_load[i]])
                for i in range(len(r.isolators))]
@@ -271,7 +274,8 @@ class IsolationOut(BaseModel):
             peak_moment_Nm=r.peak_moment, peak_shaking_force_N=r.peak_shaking_force,
             force_ratio=r.peak_force / r.peak_shaking_force if r.peak_shaking_force > 0 else 0.0,
             settle_time_s=r.settle_time if math.isfinite(r.settle_time) else None,
-            checks=IsolationChecksOut(max_displacement_diff_m=c.displacement_diff, max_rotation_diff_rad=c.rotation_diff,
+            checks=IsolationChecksOut(max_displacement_diff_m=c.displacement_diff,
+                                      max_rotation_diff_rad=c.rotation_diff,
                                       max_force_diff_N=c.force_diff, relative_diff=c.relative_diff,
                                       series_residual=c.series_residual, method=c.method),
         )
@@ -293,12 +297,12 @@ class IsolationDesignOut(BaseModel):
     amplitude_m: float = Field(description="Largest movement of the centre or an isolator point [m].")
     peak_force_N: float = Field(description="Largest force to the foundation [N].")
     static_deflection_m: float = Field(description="Deflection under the weight, block included [m].")
-    objective: Objective
+    objective: Objective = Field(description="What was minimised: amplitude or force.")
     objective_value: float = Field(description="The objective at the design (m or N).")
     grid_best: float = Field(description="The objective at the best grid candidate, before refinement.")
     candidates: int = Field(description="Candidates solved (grid and refinement).")
     refined: bool = Field(description="The refinement improved on the grid.")
-    method: str
+    method: str = Field(description="How the design was searched, in words.")
     isolation: IsolationOut = Field(description="The frame on the chosen isolators, with its time-integration "
                                     "check.")
 
@@ -388,9 +392,9 @@ class ElasticDriveIn(AnalysisIn):
 class LoadHarmonicOut(BaseModel):
     """A harmonic of the machine's load torque against the link's natural frequency."""
 
-    order: int
-    frequency_Hz: float
-    amplitude_Nm: float
+    order: int = Field(description="Multiple of the mean crank speed.")
+    frequency_Hz: float = Field(description="[Hz].")
+    amplitude_Nm: float = Field(description="Amplitude of the load torque's harmonic at the crank [N·m].")
     frequency_ratio: float = Field(description="Over the natural frequency [-].")
     near_resonance: bool = Field(description="Within 15 % of it and at least 2 % of the largest harmonic.")
 
@@ -398,11 +402,11 @@ class LoadHarmonicOut(BaseModel):
 class ElasticRunOut(BaseModel):
     """The run-up from rest with the elastic link."""
 
-    time_s: list[float]
-    crank_speed_rpm: list[float]
+    time_s: list[float] = Field(description="Time from rest [s].")
+    crank_speed_rpm: list[float] = Field(description="Crank speed [rev/min].")
     rotor_speed_rpm: list[float] = Field(description="The rotor's speed reduced to the crank [rev/min].")
     elastic_torque_Nm: list[float] = Field(description="Torque in the link, at the crank [N·m].")
-    peak_elastic_torque_Nm: float
+    peak_elastic_torque_Nm: float = Field(description="Largest |torque in the link| during the run-up [N·m].")
     rigid_peak_torque_Nm: float = Field(description="The rigid model's largest motor torque during its run-up, "
                                         "reduced to the crank [N·m].")
     energy_residual: float = Field(description="Motor work + load work - damping loss - energy gained, over "
@@ -429,19 +433,22 @@ class ElasticDriveOut(BaseModel):
     natural_frequency_Hz: float = Field(description="Free-free two-mass frequency at the mean J2 [Hz].")
     natural_frequency_range_Hz: list[float] = Field(description="At the largest and least J2 [Hz].")
     mean_speed_rpm: float = Field(description="The steady cycle's mean crank speed [rev/min].")
-    crank_angle_deg: list[float]
+    crank_angle_deg: list[float] = Field(description="Crank angle of each sample of the steady cycle [deg].")
     elastic_torque_Nm: list[float] = Field(description="Torque in the link over the steady cycle [N·m].")
     rigid_torque_Nm: list[float] = Field(description="What the rigid model passes between rotor and machine, "
                                          "M_d - J1·alpha [N·m].")
-    crank_speed_rpm: list[float]
-    rotor_speed_rpm: list[float]
-    peak_elastic_torque_Nm: float
-    peak_rigid_torque_Nm: float
+    crank_speed_rpm: list[float] = Field(description="Crank speed over the steady cycle [rev/min].")
+    rotor_speed_rpm: list[float] = Field(description="The rotor's speed reduced to the crank over the steady "
+                                         "cycle [rev/min].")
+    peak_elastic_torque_Nm: float = Field(description="Largest |torque in the link| over the steady cycle [N·m].")
+    peak_rigid_torque_Nm: float = Field(description="Largest |torque| the rigid model passes [N·m].")
     dynamic_factor: float = Field(description="Peak |elastic torque| over peak |rigid torque| [-].")
-    harmonics: list[LoadHarmonicOut]
-    warnings: list[WarningOut]
-    checks: ElasticDriveChecksOut
-    start: ElasticRunOut | None
+    harmonics: list[LoadHarmonicOut] = Field(description="Harmonics of the load torque at the mean speed against "
+                                             "the natural frequency.")
+    warnings: list[WarningOut] = Field(description="Load harmonics near the natural frequency, each named.")
+    checks: ElasticDriveChecksOut = Field(description="The two-mass closed form against the eigenvalues, the "
+                                          "energy balance.")
+    start: ElasticRunOut | None = Field(description="The run-up from rest with the link; null when not asked for.")
 
     @classmethod
     def from_engine(cls, d: Any) -> ElasticDriveOut:
@@ -538,8 +545,8 @@ class RegulationIn(AnalysisIn):
 class RegulationOut(BaseModel):
     """The machine's speed after the load step."""
 
-    time_s: list[float]
-    crank_speed_rpm: list[float]
+    time_s: list[float] = Field(description="Time from the start of the record; the step comes at step_time_s [s].")
+    crank_speed_rpm: list[float] = Field(description="Crank speed [rev/min].")
     smoothed_speed_rpm: list[float] = Field(description="The speed with the cycle's own fluctuation taken off "
                                             "[rev/min].")
     motor_torque_Nm: list[float] = Field(description="Motor torque at the crank [N·m].")
@@ -547,8 +554,8 @@ class RegulationOut(BaseModel):
                                         "drives) [N·m].")
     converter_shift_rpm: list[float] = Field(description="The converter's shift of the no-load crank speed "
                                              "[rev/min]; zeros without a regulator.")
-    step_time_s: float
-    speed_before_rpm: float
+    step_time_s: float = Field(description="When the load steps [s].")
+    speed_before_rpm: float = Field(description="Mean crank speed of the steady cycle before the step [rev/min].")
     speed_after_rpm: float = Field(description="Mean speed of the new steady cycle without a regulator "
                                    "[rev/min].")
     drop_rpm: float = Field(description="Speed drop of self-regulation, simulated [rev/min].")
@@ -560,10 +567,10 @@ class RegulationOut(BaseModel):
     settling_closed_form_s: float | None = Field(description="tau·ln(dw/band) for self-regulation [s].")
     overshoot: float = Field(description="Largest excursion past the final speed over the change [-].")
     max_deviation_rpm: float = Field(description="Largest |smoothed - final| after the step [rev/min].")
-    kp: float | None = None
-    ki_1_s: float | None = None
-    filter_time_s: float | None = None
-    reference_speed_rpm: float | None = None
+    kp: float | None = Field(None, description="The PI controller's proportional gain [-]; null without one.")
+    ki_1_s: float | None = Field(None, description="Its integral gain [1/s].")
+    filter_time_s: float | None = Field(None, description="Its speed measurement's time constant [s].")
+    reference_speed_rpm: float | None = Field(None, description="The speed it holds [rev/min].")
     poles_real_1_s: list[float] | None = Field(None, description="Closed-loop poles, real parts [1/s].")
     poles_imag_1_s: list[float] | None = Field(None, description="Closed-loop poles, imaginary parts [1/s].")
 
