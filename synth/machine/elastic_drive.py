@@ -11,8 +11,8 @@ damper b = 2·zeta·sqrt(c·J_1·J_2m/(J_1 + J_2m)):
 
 with M_d the motor's torque reduced to the crank (i·eta·T(i·w)). The free-free natural frequency is
 w = sqrt(c·(J_1 + J_2)/(J_1·J_2)) (J_2 its mean, and its range over the cycle). The steady cycle is found by
-Newton shooting on the state where the crank passes its first sample, each step one revolution integrated
-with ``solve_ivp``, from the rigid machine's steady motion on; the torque in the elastic element over it is compared with the torque the rigid
+a few revolutions integrated with ``solve_ivp`` from the rigid machine's steady motion, then, if the state where
+the crank passes its first sample does not yet repeat, Newton shooting on that state (a revolution a step); the torque in the elastic element over it is compared with the torque the rigid
 model passes between rotor and machine, M_d - J_1·alpha (the dynamic factor). The work integrals ride along as
 states, so every run reports its energy balance.
 """
@@ -44,6 +44,8 @@ NEAR_RESONANCE = 0.15
 HARMONIC_SHARE = 0.02
 #: Most Newton steps of the shooting for the steady cycle.
 MAX_NEWTON = 12
+#: Plain revolutions before the Newton steps.
+PLAIN_REVOLUTIONS = 6
 #: Integrator of the runs: the tables are only piecewise smooth (a kink at every sample), where a low order
 #: steps on at a fraction of the high orders' cost.
 METHOD = "RK45"
@@ -325,10 +327,24 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
         end = revolution(z).y_events[0][0]
         return np.array([end[0], end[1], end[3]])
 
-    # Newton shooting on the state where the crank passes phi0, Jacobian by differences (one revolution each)
     z = np.array([twist, w_start, w_start])
     revs = 0
-    for _ in range(MAX_NEWTON):
+    settled = False
+    # a few plain revolutions first: from the rigid motion a quick drive settles in these already, and each
+    # costs one run where a Newton step costs four
+    for _ in range(PLAIN_REVOLUTIONS):
+        z_next = step_map(z)
+        revs += 1
+        settled = bool(np.all(np.abs(z_next - z) <= PERIODIC_TOLERANCE * scale))
+        z = z_next
+        if settled:
+            break
+    # then Newton shooting on the state where the crank passes phi0, Jacobian by differences (a revolution each)
+    newton = 0
+    while not settled:
+        if newton == MAX_NEWTON:
+            raise SolverFailed("no_periodic_motion", f"the elastic drive's shooting did not converge in "
+                               f"{MAX_NEWTON} steps")
         z_next = step_map(z)
         revs += 1
         r = z_next - z
@@ -341,9 +357,7 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
             jac[:, k] = (step_map(z + dz) - z_next) / dz[k]
             revs += 1
         z = z + np.linalg.solve(jac - np.eye(3), -r)
-    else:
-        raise SolverFailed("no_periodic_motion", f"the elastic drive's shooting did not converge in "
-                           f"{MAX_NEWTON} steps")
+        newton += 1
     sol = revolution(z, dense=True)
     t_end = float(sol.t_events[0][0])
     return _finish(model, sol, (0.0, sol.y[:, 0]), (t_end, sol.y_events[0][0]), cycle, rigid, stiffness, b, j1,
