@@ -76,12 +76,46 @@ def _choose(schema: Mapping[str, Any], value: Any, doc: Mapping[str, Any]) -> Ma
         target = disc.get("mapping", {}).get(value.get(disc.get("propertyName")))
         if target:
             return _resolve({"$ref": target}, doc)
+    if isinstance(value, Mapping):
+        tagged = _by_tag([_choose(m, value, doc) for m in members], value, doc)
+        if tagged is not None:
+            return tagged
     kind = "object" if isinstance(value, Mapping) else "array" if isinstance(value, list) else None
     for m in members:
         m = _choose(m, value, doc)
         if kind is not None and (m.get("type") == kind or (kind == "object" and "properties" in m)):
             return m
     return _resolve(members[0], doc)
+
+
+def _tags(member: Mapping[str, Any], doc: Mapping[str, Any]) -> dict[str, tuple[Any, bool]]:
+    """A member's tag fields (a property of one constant value): name -> (value, whether it is the default)."""
+    out = {}
+    for key, sub in member.get("properties", {}).items():
+        sub = _resolve(sub, doc)
+        enum = sub.get("enum")
+        if "const" in sub:
+            tag = sub["const"]
+        elif isinstance(enum, list) and len(enum) == 1:
+            tag = enum[0]
+        else:
+            continue
+        out[key] = (tag, "default" in sub and sub["default"] == tag)
+    return out
+
+
+def _by_tag(members: Sequence[Mapping[str, Any]], value: Mapping[str, Any],
+            doc: Mapping[str, Any]) -> Mapping[str, Any] | None:
+    """The member whose tag the value carries, or whose tag is the default when the value leaves it out: a union
+    told apart by a function (no discriminator mapping in the schema) is still told apart as pydantic did."""
+    tags = [_tags(m, doc) for m in members]
+    for m, t in zip(members, tags, strict=True):
+        if t and all(key in value and value[key] == tag for key, (tag, _) in t.items()):
+            return m
+    for m, t in zip(members, tags, strict=True):
+        if t and all(key not in value and default for key, (_, default) in t.items()):
+            return m
+    return None
 
 
 def allowed_fields(schema: Mapping[str, Any], doc: Mapping[str, Any], body: Any, parent: Path) -> list[str]:

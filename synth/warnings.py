@@ -16,13 +16,16 @@ Codes
 ``link_left_out``           a link that carries the motion has neither mass nor inertia
 ``counterweight_beyond_link``  a counterweight farther from its joint than the link is long
 ``transmission_angle_low``  a four-bar's transmission angle under 40° (with the crank angles where it is)
+``link_ratio_large``        the longest bar (the frame's pivot distance included) over the shortest beyond 10
 ``load_work_positive``      the loads do positive work over the cycle: they drive the machine (sign typed wrong?)
 ``delta_out_of_range``      a target delta outside every machine type's usual range
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
 ``rotor_inertia_missing``, ``rated_power_exceeds`` and ``stage_not_sized`` (a stage the strength sizing cannot
-size: not a cylindrical pair, or no module carries it). A machine design gathers every stage's warnings, each with
+size: not a cylindrical pair, or no module carries it), ``stage_ratio_at_limit`` (a split at a stage's bound),
+``stage_ratio_at_teeth_limit`` (a machine's split at the largest or smallest ratio a tooth pair makes) and
+``teeth_far_from_split`` (no train within the room around the split's ratios). A machine design gathers every stage's warnings, each with
 its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
 the simulated machine misses), and ``motor_cannot_start`` (its starting torque through the train below
 the torque holding the crank at rest); friction adds ``friction_coefficient_large`` (a coefficient above 1); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
@@ -50,6 +53,9 @@ if TYPE_CHECKING:
 STEEL_DENSITY = 7850.0  # [kg/m³]
 LIKELY_MM_LENGTH = 10.0  # [m]
 MIN_TRANSMISSION_ANGLE = math.radians(40.0)  # [rad]
+# Longest over shortest bar a drawing office builds without a second look: beyond it the short link's bearings
+# and the long link's stiffness are designed by the extreme, not by the mechanism.
+MAX_LINK_RATIO = 10.0
 # The seeds' table spans 1/300 to 1/20; presses, shears and crushers run up to about 1/5.
 DELTA_RANGE = (1.0 / 600.0, 0.2)
 RIM_SPEED_MARGIN = 0.95
@@ -109,6 +115,48 @@ def _length_fields(mechanism: Mechanism) -> dict[str, float]:
     if isinstance(mechanism, PlanarLinkage):
         return {f"links.{i}.length_m": k.length for i, k in enumerate(mechanism.links) if len(k.joints) > 1}
     return {}
+
+
+def bar_lengths(mechanism: Mechanism) -> dict[str, float]:
+    """Every bar of the linkage with the frame's pivot distance (four-bar, shaper) [m], by request field."""
+    bars = {f"{k}_length_m": v for k, v in link_lengths(mechanism).items()}
+    if isinstance(mechanism, FourBar | SlottedLever):
+        bars["ground_length_m"] = mechanism.ground
+    if isinstance(mechanism, SliderCrank):
+        bars = {"crank_length_m": mechanism.crank, "rod_length_m": mechanism.rod}
+    return {k: v for k, v in bars.items() if v > 0}
+
+
+def link_ratio_warning(mechanism: Mechanism, limit: float = MAX_LINK_RATIO) -> list[DesignWarning]:
+    """``link_ratio_large`` when the longest bar over the shortest exceeds ``limit`` [-]."""
+    bars = bar_lengths(mechanism)
+    if len(bars) < 2:
+        return []
+    longest, shortest = max(bars, key=lambda k: bars[k]), min(bars, key=lambda k: bars[k])
+    ratio = bars[longest] / bars[shortest]
+    if ratio <= limit:
+        return []
+    return [DesignWarning(
+        "link_ratio_large", f"mechanism.{shortest}", ratio,
+        f"the {longest.removesuffix('_length_m')} is {ratio:.3g} times the {shortest.removesuffix('_length_m')} "
+        f"(beyond {limit:g}): a linkage a drawing office would not build as it is; bound the lengths or their "
+        "ratio", "1")]
+
+
+def transmission_angle_warning(phi: FloatArray, tau: FloatArray) -> list[DesignWarning]:
+    """``transmission_angle_low`` where the transmission angle ``tau`` [rad] at crank angles ``phi`` [rad]
+    comes within 40° of a dead position (0 or 180°)."""
+    deviation = np.minimum(tau, np.pi - tau)
+    low = deviation < MIN_TRANSMISSION_ANGLE
+    if not np.any(low):
+        return []
+    worst = float(deviation.min())
+    ranges = _ranges(phi, low)
+    where = ", ".join(f"{math.degrees(a) % 360:.4g}–{math.degrees(b) % 360:.4g}°" for a, b in ranges)
+    return [DesignWarning(
+        "transmission_angle_low", "mechanism", worst,
+        f"the transmission angle falls to {math.degrees(worst):.3g}° (under 40°) at crank angles {where}: "
+        "the coupler pushes the rocker nearly along it and the bearings carry the load", "rad", ranges)]
 
 
 def _carries_motion(mechanism: Mechanism, link: str) -> bool:
@@ -222,16 +270,8 @@ def check_analysis(an: Analysis) -> list[DesignWarning]:
     phi = an.motion.phi
     tau = an.transmission_angle
     if tau is not None:
-        deviation = np.minimum(tau, np.pi - tau)
-        low = deviation < MIN_TRANSMISSION_ANGLE
-        if np.any(low):
-            worst = float(deviation.min())
-            ranges = _ranges(phi, low)
-            where = ", ".join(f"{math.degrees(a) % 360:.4g}–{math.degrees(b) % 360:.4g}°" for a, b in ranges)
-            out.append(DesignWarning(
-                "transmission_angle_low", "mechanism", worst,
-                f"the transmission angle falls to {math.degrees(worst):.3g}° (under 40°) at crank angles {where}: "
-                "the coupler pushes the rocker nearly along it and the bearings carry the load", "rad", ranges))
+        out += transmission_angle_warning(phi, tau)
+    out += link_ratio_warning(an.linkage.mechanism)
     if (an.linkage.loads or an.linkage.torques) and _full_uniform_cycle(phi):
         torque = an.reduced.load_torque
         work = float(np.mean(torque)) * 2 * math.pi

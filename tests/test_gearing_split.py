@@ -175,3 +175,21 @@ def test_log_space_solve_equals_the_cvxpy_geometric_program(objective: str, tota
     assert result.objective_value == pytest.approx(problem.value, rel=1e-9)
     # The optimum is flat: the ratios agree to the square root of the solvers' gap.
     assert np.asarray(result.stage_ratios) == pytest.approx(np.asarray(u.value), rel=1e-5)
+
+
+def test_a_split_held_by_a_stage_bound_says_which_stage_and_which_bound() -> None:
+    # Independent derivation: without bounds the two-stage optimum solves u1^6 - u1^2 - 2 U^2 = 0 (numpy's root);
+    # the objective is convex in log u1 along prod(u) = U, so a bound below that root holds the split on it.
+    total, bound = 20.0, 2.5
+    roots = np.roots([1, 0, 0, 0, -1, 0, -2 * total**2])
+    free_optimum = max(r.real for r in roots if abs(r.imag) < 1e-9 and r.real > 0)
+    assert free_optimum > bound
+    stages = synth.make_stages([synth.StageSpec("spur", ratio_min=1.0, ratio_max=bound), WIDE], max_stages=6)
+    result = synth.split_ratio(total, stages, "min_inertia")
+    assert result.stage_ratios[0] == pytest.approx(bound, rel=1e-9)
+    (note,) = [w for w in result.warnings if w.code == "stage_ratio_at_limit"]
+    assert note.field == "stages[0]" and note.value == pytest.approx(bound, rel=1e-9)
+    assert "upper limit 2.5" in note.message
+    # the unbounded split carries no such note
+    assert not [w for w in synth.split_ratio(total, wide(2), "min_inertia").warnings
+                if w.code == "stage_ratio_at_limit"]

@@ -248,13 +248,19 @@ class MeshOut(BaseModel):
                                      "pair.")
     ring_teeth: int | None = Field(None, description="Planetary stage: teeth of the ring; null for a simple pair.")
     planets: int | None = Field(None, description="Planetary stage: number of planets; null for a simple pair.")
+    efficiency: float | None = Field(None, description="Planetary stage: efficiency with the sun driving the "
+                                     "carrier, by the power through the carrier-held train (two closed spur meshes' "
+                                     "basic efficiency) [-]; null for a simple pair.")
+    back_efficiency: float | None = Field(None, description="Planetary stage: efficiency with the carrier driving "
+                                          "the sun (power flowing back) [-]; null for a simple pair.")
 
     @classmethod
     def from_engine(cls, m: synth.Mesh) -> MeshOut:
         """Schema from an engine mesh, simple or planetary."""
         if isinstance(m, synth.PlanetaryMesh):
             return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio, sun_teeth=m.pinion_teeth,
-                       planet_teeth=m.planet_teeth, ring_teeth=m.gear_teeth, planets=m.planets)
+                       planet_teeth=m.planet_teeth, ring_teeth=m.gear_teeth, planets=m.planets,
+                       efficiency=m.efficiency, back_efficiency=m.back_efficiency)
         return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio)
 
 

@@ -23,7 +23,9 @@ from .common import (
     BRANCHES,
     StrictModel,
     Vec2,
+    WarningOut,
     one_of,
+    warnings_out,
 )
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
@@ -324,6 +326,10 @@ class CrankRockerOut(BaseModel):
     check: CrankRockerCheckOut = Field(description="The answer re-analysed by the kinematics engine: swing, time "
                                        "ratio, stroke times and transmission angles.")
     optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
+    warnings: list[WarningOut] = Field(description="The analysis' own notes on the answer: a transmission angle "
+                                       "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
+                                       "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg`, "
+                                       "`max_length_ratio` or `bounds_m` to keep them out.")
 
     @classmethod
     def from_engine(cls, r: synth.CrankRockerResult, speed: float) -> CrankRockerOut:
@@ -346,6 +352,7 @@ class CrankRockerOut(BaseModel):
                 transmission_angle=TransmissionOut.from_engine(c)),
             optimality=OptimalityOut.from_engine(r.optimality, r.parameter,
                                                  math.degrees(1.0) if deg else -1.0),
+            warnings=warnings_out(c.warnings),
         )
 
 
@@ -370,6 +377,10 @@ class SliderCrankSynthesisOut(BaseModel):
     check: SliderCrankCheckOut = Field(description="The answer re-analysed by the kinematics engine: stroke, time "
                                        "ratio, stroke times and transmission angles.")
     optimality: OptimalityOut = Field(description="Why the answer is the best of its family.")
+    warnings: list[WarningOut] = Field(description="The analysis' own notes on the answer: a transmission angle "
+                                       "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
+                                       "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg`, "
+                                       "`max_length_ratio` or `bounds_m` to keep them out.")
 
     @classmethod
     def from_engine(cls, r: synth.SliderCrankResult, speed: float) -> SliderCrankSynthesisOut:
@@ -387,6 +398,7 @@ class SliderCrankSynthesisOut(BaseModel):
                 **StrokesOut.from_engine(c, speed).model_dump(), stroke_m=c.travel,
                 slider_position_m=list(c.output_extremes), transmission_angle=TransmissionOut.from_engine(c)),
             optimality=OptimalityOut.from_engine(r.optimality, r.parameter, math.degrees(1.0) if deg else -1.0),
+            warnings=warnings_out(c.warnings),
         )
 
 
@@ -470,6 +482,10 @@ class PathOut(BaseModel):
     solver_status: str = Field(description="IPOPT's status for the best start.")
     check: PathCheckOut = Field(description="Swing, time ratio and transmission angles of the answer, from the "
                                 "analysis engine.")
+    warnings: list[WarningOut] = Field(description="The analysis' own notes on the answer: a transmission angle "
+                                       "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
+                                       "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg` or "
+                                       "`bounds_m` to keep them out.")
 
     @classmethod
     def from_engine(cls, r: synth.PathResult) -> PathOut:
@@ -490,4 +506,5 @@ class PathOut(BaseModel):
             solver_status=r.status,
             check=PathCheckOut(grashof=fb.grashof, swing_deg=math.degrees(c.travel), time_ratio=c.time_ratio,
                                transmission_angle=TransmissionOut.from_engine(c)),
+            warnings=warnings_out(c.warnings),
         )

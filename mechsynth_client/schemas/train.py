@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
 from ._engine import synth
-from .common import Length, StrictModel
+from .common import Length, StrictModel, WarningOut, warnings_out
 
 Teeth = Annotated[int, Field(ge=1, le=10_000)]
 Speed = Annotated[float, Field(ge=-1e6, le=1e6)]
@@ -45,11 +45,15 @@ class TrainPlanetaryIn(StrictModel):
                                     "basic_efficiency by the loss in the motion relative to the carrier.")
     basic_efficiency: float | None = Field(None, gt=0, le=1, description="Efficiency with the carrier held (both "
                                            "meshes); default the table's closed spur pair, squared.")
+    ring_internal: bool = Field(True, description="false: the ring is an external second sun meshing with a "
+                                "stepped planet (z_s + z_p = z_r + planet_ring_teeth): a positive basic ratio, "
+                                "large ratios, and a stage that may self-lock.")
 
     def to_engine(self) -> synth.PlanetaryStage:
         """Engine planetary stage."""
         return synth.PlanetaryStage(self.sun_teeth, self.planet_teeth, self.ring_teeth, self.fixed, self.input,
-                                    self.output, self.planet_ring_teeth, self.efficiency, self.basic_efficiency)
+                                    self.output, self.planet_ring_teeth, self.efficiency, self.basic_efficiency,
+                                    self.ring_internal)
 
 
 def _element_type(value: object) -> str:
@@ -121,17 +125,27 @@ class TrainOut(BaseModel):
 
     ratio: float = Field(description="Input speed over output speed, negative when the output turns the other way.")
     output_direction: int = Field(description="+1: the output turns with the input; -1: against it.")
-    efficiency: float = Field(description="Product of the elements' efficiencies [-].")
+    efficiency: float = Field(description="Product of the elements' efficiencies with power flowing from input "
+                              "to output [-]; a planetary stage's by the direction of the power through its "
+                              "carrier-held train. Zero or below: the input cannot drive the train (it locks).")
+    back_efficiency: float = Field(description="The same with the output driving the input (power flowing back) "
+                                   "[-]; zero or below: the train is self-locking.")
+    locked: bool = Field(description="The input cannot drive the train: `efficiency` is zero or below.")
+    self_locking: bool = Field(description="The output cannot drive the input: `back_efficiency` is zero or below.")
     external_meshes: int = Field(description="Number k of external meshes, the exponent of (-1)^k.")
     shafts: list[TrainShaftOut] = Field(description="Every shaft, input first, output last.")
     wheels: list[TrainWheelOut] = Field(description="Every wheel with its teeth, shaft and pitch diameter.")
     checks: TrainChecksOut = Field(description="The closed-form ratio against the propagation.")
+    warnings: list[WarningOut] = Field(description="A planetary stage that self-locks either way "
+                                       "(`self_locking`, `self_locking_back`).")
 
     @classmethod
     def from_engine(cls, r: synth.TrainResult) -> TrainOut:
         """Schema from an engine train result."""
         return cls(
             ratio=r.ratio, output_direction=r.shafts[-1].direction, efficiency=r.efficiency,
+            back_efficiency=r.back_efficiency, locked=r.locked, self_locking=r.self_locking,
+            warnings=warnings_out(r.warnings),
             external_meshes=r.external_meshes,
             shafts=[TrainShaftOut(index=s.index, ratio=s.ratio, direction=s.direction, speed_rad_s=s.speed,
                                   speed_rpm=None if s.speed is None else s.speed * 30 / math.pi,

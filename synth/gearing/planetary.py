@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from ..errors import Infeasible, InvalidInput, TooLarge
 from .stages import Stage, stage_types
+from .train import PlanetaryStage
 from .teeth import (
     ENUMERATION_CHECK_LIMIT,
     MAX_PRODUCTS,
@@ -46,10 +47,14 @@ FloatArray = NDArray[np.float64]
 @dataclass(frozen=True, slots=True)
 class PlanetaryMesh(Mesh):
     """A planetary stage's teeth: sun (``pinion_teeth``), ring (``gear_teeth``), ``planet_teeth`` and the number
-    of ``planets``; ``ratio`` = 1 + z_r/z_s (sun in, ring held, carrier out) [-]."""
+    of ``planets``; ``ratio`` = 1 + z_r/z_s (sun in, ring held, carrier out) [-]; ``efficiency`` sun driving the
+    carrier and ``back_efficiency`` the carrier driving the sun [-], by the direction of the power in the
+    relative train with two closed spur meshes' basic efficiency (:func:`synth.gearing.train.planetary_efficiency`)."""
 
     planet_teeth: int = 0
     planets: int = 3
+    efficiency: float = 1.0
+    back_efficiency: float = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,7 +197,7 @@ def _validate(target: float, stages: Sequence[Stage], rules: ToothRules, toleran
             raise InvalidInput("the tooth search chooses every stage's ratio; give a range instead of a ratio",
                                field=f"stages[{i}].ratio")
     if rules.max_teeth > MAX_TEETH_LIMIT:
-        raise TooLarge("max_teeth", MAX_TEETH_LIMIT, rules.max_teeth)
+        raise TooLarge("max_teeth", MAX_TEETH_LIMIT, rules.max_teeth, field="max_teeth")
     if rules.min_teeth is not None and not 1 <= rules.min_teeth <= rules.max_teeth:
         raise InvalidInput(f"min_teeth must lie in [1, max_teeth = {rules.max_teeth}]", field="min_teeth")
     if not 0 < rules.pressure_angle < math.pi / 2:
@@ -243,7 +248,9 @@ def planetary_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
     for s, c in zip(sets, chosen):
         a, b, p = (int(v) for v in s.wheels[c])
         if p:
-            meshes.append(PlanetaryMesh(a, b, 1 + b / a, p, planets))
+            stage = PlanetaryStage(a, p, b)
+            meshes.append(PlanetaryMesh(a, b, 1 + b / a, p, planets, stage.stage_efficiency(),
+                                        stage.back_efficiency()))
             total *= 1 + b / a
         else:
             meshes.append(Mesh(a, b, b / a))

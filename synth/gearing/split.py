@@ -38,6 +38,7 @@ from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
 from ..warnings import DesignWarning
 from .stages import Stage
+from .teeth import ToothRules, pairs_admissible
 
 Objective = Literal["min_inertia", "min_volume", "handbook"]
 OBJECTIVES: tuple[str, ...] = ("min_inertia", "min_volume", "handbook")
@@ -181,6 +182,53 @@ def _check_reachable(total: float, stages: Sequence[Stage]) -> None:
         raise Infeasible(
             f"total ratio {total:g} exceeds the largest the stages reach ({hi:g}, every stage at its maximum "
             "or fixed ratio)", constraint="stage_ratio_max", total_ratio=total, reachable_min=lo, reachable_max=hi)
+
+
+@dataclass(frozen=True, slots=True)
+class TeethLimit:
+    """A toothed stage's ratio range narrowed to what its tooth pairs make under the tooth rules.
+
+    ``stage`` index, motor side first; ``ratio_min``/``ratio_max`` the range after narrowing [-];
+    ``smallest``/``largest`` the (pinion, gear) pairs that make them.
+    """
+
+    stage: int
+    ratio_min: float
+    ratio_max: float
+    smallest: tuple[int, int]
+    largest: tuple[int, int]
+
+
+def teeth_limited(stages: Sequence[Stage], rules: ToothRules) -> tuple[tuple[Stage, ...], tuple[TeethLimit, ...]]:
+    """The stages with every free toothed stage's range narrowed to the ratios its tooth pairs make [-].
+
+    A split within a stage's nominal range may ask for a ratio no pair within the tooth bounds and the
+    interference limit makes (6.3 needs a 107-tooth wheel on a 17-tooth pinion): splitting within the narrowed
+    ranges gives ratios the tooth search can meet. A stage with no admissible pair at all is left as it is (the
+    tooth search names it). Returns the stages and the narrowings made.
+    """
+    z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
+    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
+    out: list[Stage] = []
+    limits: list[TeethLimit] = []
+    for k, s in enumerate(stages):
+        if not s.toothed or s.ratio is not None:
+            out.append(s)
+            continue
+        ok = pairs_admissible(zp, zg, s, rules)
+        if not ok.any():
+            out.append(s)
+            continue
+        ratio = zg[ok] / zp[ok]
+        i_lo, i_hi = int(np.argmin(ratio)), int(np.argmax(ratio))
+        lo, hi = float(ratio[i_lo]), float(ratio[i_hi])
+        if lo > s.ratio_min * (1 + 1e-12) or hi < s.ratio_max * (1 - 1e-12):
+            limits.append(TeethLimit(k, lo, hi, (int(zp[ok][i_lo]), int(zg[ok][i_lo])),
+                                     (int(zp[ok][i_hi]), int(zg[ok][i_hi]))))
+            s = Stage(s.type, max(lo, s.ratio_min), min(hi, s.ratio_max), s.efficiency, s.volume_coefficient,
+                      s.toothed, None)
+        out.append(s)
+    return tuple(out), tuple(limits)
 
 
 def build_split_program(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
@@ -400,6 +448,24 @@ def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[Flo
     return u, warnings
 
 
+def _at_limit(ratios: FloatArray, stages: Sequence[Stage], objective: str) -> list[DesignWarning]:
+    """Free stages whose ratio sits on a bound of their range: the objective would move them further, so the
+    split is the range's, not the objective's."""
+    out = []
+    for k, (u, s) in enumerate(zip(ratios, stages, strict=True)):
+        if s.ratio is not None:
+            continue
+        for bound, side in ((s.ratio_max, "upper"), (s.ratio_min, "lower")):
+            if abs(u / bound - 1) <= 1e-7:
+                out.append(DesignWarning(
+                    "stage_ratio_at_limit", f"stages[{k}]", float(u),
+                    f"stage {k} ({s.type}) ratio {u:.5g} sits at its {side} limit {bound:g}: the {objective} "
+                    "split is held there by the range, not by its objective; widen the range, change the stage "
+                    "count or the stage type"))
+                break
+    return out
+
+
 def _snap(total: float, ratios: FloatArray, stages: Sequence[Stage], objective: str, model: InertiaModel,
           input_torque: float, tolerance: float) -> FloatArray:
     """Best R20 combination within a few steps of each optimal ratio that keeps the total within ``tolerance``."""
@@ -491,6 +557,8 @@ def split_ratio(
         tol = default_snap_tolerance(total) if snap_tolerance is None else snap_tolerance
         ratios = _snap(total, ratios, stages, objective, model, input_torque, tol)
         kkt, solver_value = None, None
+    if objective != "handbook":
+        warnings += _at_limit(ratios, stages, objective)
     inertia_value = reduced_train_inertia(ratios, model)
     volume = gear_volume(ratios, stages, input_torque)
     model_value = volume if objective == "min_volume" and volume is not None else inertia_value

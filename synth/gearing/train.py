@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from ..errors import InvalidInput
+from ..warnings import DesignWarning
 from .stages import stage_types
 
 Member = Literal["sun", "ring", "carrier"]
@@ -47,7 +48,9 @@ class PlanetaryStage:
     the ring ``planet_ring_teeth`` (a stepped planet; default the same wheel) and of the ring ``ring_teeth``.
     ``fixed``, ``input`` and ``output`` name the three members; ``efficiency`` [-], or else from
     ``basic_efficiency`` eta0 [-] of the gearing with the carrier held (default: two closed spur meshes, the
-    table's spur efficiency squared) by the loss in the relative motion (:meth:`stage_efficiency`).
+    table's spur efficiency squared) by the direction of the power in the relative motion
+    (:meth:`stage_efficiency`). ``ring_internal`` False makes the "ring" an external second sun meshing with a
+    stepped planet: a positive basic ratio, large ratios, and a stage that may self-lock.
     """
 
     sun_teeth: int
@@ -59,34 +62,63 @@ class PlanetaryStage:
     planet_ring_teeth: int | None = None
     efficiency: float | None = None
     basic_efficiency: float | None = None
+    ring_internal: bool = True
 
     def stage_efficiency(self) -> float:
-        """Efficiency [-]: given, or 1 - (1 - eta0)·|P_rel/P_in|, the meshes losing (1 - eta0) of the power they
-        carry in the carrier's frame (Kreines' method; first order in the losses).
-
-        Ideal torques on sun, ring, carrier are 1 : -i0 : i0 - 1 (equilibrium and no work in the carrier's
-        frame), and the relative power is the sun's torque times w_sun - w_c. Sun in, ring held:
-        eta = (1 + eta0·z_r/z_s)/(1 + z_r/z_s); carrier held: eta = eta0.
-        """
+        """Efficiency with power flowing from ``input`` to ``output`` [-]: given, or by the direction of the power
+        through the relative (carrier-held) train (:func:`planetary_efficiency`); zero or below, the stage
+        self-locks that way."""
         if self.efficiency is not None:
             return self.efficiency
-        eta0 = self.basic_efficiency if self.basic_efficiency is not None else stage_types()["spur"].efficiency ** 2
-        i0 = self.basic_ratio()
-        torque = {"sun": 1.0, "ring": -i0, "carrier": i0 - 1.0}
-        w = {self.fixed: 0.0, self.input: 1.0, self.output: 1.0 / self.ratio()}
-        share = abs((w["sun"] - w["carrier"]) / (torque[self.input] * w[self.input]))
-        return 1.0 - (1.0 - eta0) * share
+        return planetary_efficiency(self.basic_ratio(), self.eta0(), self.fixed, self.input, self.output)
+
+    def back_efficiency(self) -> float:
+        """Efficiency with power flowing back, ``output`` driving ``input`` [-]: a given efficiency holds both
+        ways; zero or below, the stage cannot be driven back (self-locking)."""
+        if self.efficiency is not None:
+            return self.efficiency
+        return planetary_efficiency(self.basic_ratio(), self.eta0(), self.fixed, self.output, self.input)
+
+    def eta0(self) -> float:
+        """Efficiency of the gearing with the carrier held [-]: given, or two closed spur meshes."""
+        if self.basic_efficiency is not None:
+            return self.basic_efficiency
+        return stage_types()["spur"].efficiency ** 2
 
     def basic_ratio(self) -> float:
-        """Willis' ratio with the carrier held, (w_sun - w_c)/(w_ring - w_c) = -(z_p/z_s)·(z_r/z_p') [-]."""
+        """Willis' ratio with the carrier held, (w_sun - w_c)/(w_ring - w_c) = -(z_p/z_s)·(z_r/z_p') [-] for an
+        internal ring; +(z_p/z_s)·(z_r/z_p') when the "ring" is an external second sun (two external meshes)."""
         zp2 = self.planet_ring_teeth or self.planet_teeth
-        return -(self.planet_teeth / self.sun_teeth) * (self.ring_teeth / zp2)
+        sign = -1.0 if self.ring_internal else 1.0
+        return sign * (self.planet_teeth / self.sun_teeth) * (self.ring_teeth / zp2)
 
     def ratio(self) -> float:
         """Input speed over output speed with ``fixed`` held [-], from w_s - i0·w_r + (i0 - 1)·w_c = 0."""
         i0 = self.basic_ratio()
         coef = {"sun": 1.0, "ring": -i0, "carrier": i0 - 1.0}
         return -coef[self.output] / coef[self.input]
+
+
+def planetary_efficiency(i0: float, eta0: float, fixed: Member, driving: Member, driven: Member) -> float:
+    """Efficiency of a three-shaft planetary stage with ``fixed`` held, ``driving`` driving ``driven`` [-].
+
+    ``i0`` Willis' basic ratio (w_sun - w_c)/(w_ring - w_c) with either sign [-]; ``eta0`` the efficiency of the
+    gearing with the carrier held [-]. In the carrier's frame the stage is an ordinary train whose meshes lose
+    (1 - eta0) of the power they carry, in the direction that power really flows there: the sun drives the
+    relative train when its relative power T_s·(w_s - w_c) of the loss-free stage is positive, the ring
+    otherwise. The ring's torque is then T_r = -i0·eta0^x·T_s (x = +1 sun driving, -1 ring driving), the
+    carrier's takes the rest, and the efficiency is the driven member's power over the driving member's.
+    Sun driving, ring held: (1 + eta0·z_r/z_s)/(1 + z_r/z_s); carrier driving: (1 + z_r/z_s)/(1 + z_r/(z_s·eta0))
+    (Willis, Kudryavtsev). Zero or below: the stage self-locks with power flowing this way.
+    """
+    ideal = {"sun": 1.0, "ring": -i0, "carrier": i0 - 1.0}
+    speed = {fixed: 0.0, driving: 1.0, driven: -ideal[driving] / ideal[driven]}
+    # the loss-free torques, scaled so the driving member takes in unit power
+    sun_torque = 1.0 / ideal[driving]
+    sun_drives = sun_torque * (speed["sun"] - speed["carrier"]) > 0
+    k = i0 * (eta0 if sun_drives else 1.0 / eta0)
+    lossy = {"sun": 1.0, "ring": -k, "carrier": k - 1.0}
+    return -lossy[driven] / lossy[driving] * speed[driven]
 
 
 TrainElement = GearMesh | PlanetaryStage
@@ -119,6 +151,10 @@ class TrainShaft:
 class TrainResult:
     """The train's ratio w_in/w_out with sign [-], its efficiency [-], shafts and wheels.
 
+    ``efficiency`` with power from input to output, ``back_efficiency`` with the output driving the input [-]
+    (planetary stages differ by the direction of their relative power); ``locked`` the input cannot drive the
+    train (efficiency zero or below), ``self_locking`` the output cannot drive it back.
+
     ``formula_ratio`` is the independent check: the seed's closed form (-1)^k·prod(z_driven/z_driving) for the
     meshes (k external meshes) times each planetary stage's Willis ratio, against the shaft-by-shaft
     propagation of pitch-line speeds that gives ``ratio``.
@@ -130,6 +166,10 @@ class TrainResult:
     wheels: tuple[TrainWheel, ...]
     external_meshes: int
     formula_ratio: float
+    back_efficiency: float = 1.0
+    locked: bool = False
+    self_locking: bool = False
+    warnings: tuple[DesignWarning, ...] = ()
 
     @property
     def formula_agrees(self) -> bool:
@@ -166,13 +206,23 @@ def _validate(elements: Sequence[TrainElement], module: float | None) -> None:
                 raise InvalidInput("fixed, input and output must be the three members sun, ring, carrier",
                                    field=f"elements[{i}]")
             zp2 = e.planet_ring_teeth or e.planet_teeth
-            if e.planet_ring_teeth is None and e.ring_teeth != e.sun_teeth + 2 * e.planet_teeth:
+            if not e.ring_internal:
+                # two external meshes on one axis, one module: z_s + z_p = z_r + z_p'
+                if e.planet_ring_teeth is None:
+                    raise InvalidInput("an external second sun needs a stepped planet (planet_ring_teeth): with one "
+                                       "planet wheel both suns would be equal and the stage locked",
+                                       field=f"elements[{i}].planet_ring_teeth")
+                if e.sun_teeth + e.planet_teeth != e.ring_teeth + zp2:
+                    raise InvalidInput(f"two suns on one axis need z_s + z_p = z_r + z_p' "
+                                       f"({e.sun_teeth + e.planet_teeth} against {e.ring_teeth + zp2})",
+                                       field=f"elements[{i}].ring_teeth")
+            elif e.planet_ring_teeth is None and e.ring_teeth != e.sun_teeth + 2 * e.planet_teeth:
                 raise InvalidInput(f"sun, planet and ring on one axis need z_r = z_s + 2·z_p = "
                                    f"{e.sun_teeth + 2 * e.planet_teeth}, got {e.ring_teeth}",
                                    field=f"elements[{i}].ring_teeth")
-            if e.ring_teeth <= zp2:
+            elif e.ring_teeth <= zp2:
                 raise InvalidInput("the ring must have more teeth than the planet", field=f"elements[{i}].ring_teeth")
-            if abs(e.ratio()) > 1e12 or e.ratio() == 0:
+            if e.basic_ratio() == 1.0 or abs(e.ratio()) > 1e12 or e.ratio() == 0:
                 raise InvalidInput("this choice of fixed, input and output locks or frees the stage",
                                    field=f"elements[{i}]")
         previous = e
@@ -203,6 +253,8 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
     wheels_on: list[list[str]] = [[]]
     wheels: list[tuple[str, int, int | None]] = []
     efficiency = 1.0
+    back = 1.0
+    warnings: list[DesignWarning] = []
     external = 0
     formula = 1.0
     number = 1
@@ -228,7 +280,9 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             shafts_rel.append(speed)
             wheels_on.append([driven])
             wheels.append((driven, e.driven_teeth, len(shafts_rel) - 1))
-            efficiency *= e.efficiency if e.efficiency is not None else table["spur"].efficiency
+            eta = e.efficiency if e.efficiency is not None else table["spur"].efficiency
+            efficiency *= eta
+            back *= eta
         else:
             k = sum(1 for el in elements[:i + 1] if isinstance(el, PlanetaryStage))
             ratio = e.ratio()
@@ -243,7 +297,10 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             wheels.append((f"planet {k}", e.planet_teeth, None))
             if e.planet_ring_teeth is not None:
                 wheels.append((f"planet {k}'", e.planet_ring_teeth, None))
-            efficiency *= e.stage_efficiency()
+            forward, backward = e.stage_efficiency(), e.back_efficiency()
+            efficiency *= forward
+            back *= backward
+            warnings += _locking_warnings(i, k, e, forward, backward)
         if not RATIO_LIMIT ** -1 <= abs(speed) <= RATIO_LIMIT:
             raise InvalidInput(f"the train's ratio up to element {i} is {1 / speed:.3g}, beyond ±{RATIO_LIMIT:.0e} "
                                "either way: no real train", field=f"elements[{i}]")
@@ -254,4 +311,21 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
         for j, rel in enumerate(shafts_rel)
     )
     out_wheels = tuple(TrainWheel(n, z, s, None if module is None else module * z) for n, z, s in wheels)
-    return TrainResult(1.0 / speed, efficiency, shafts, out_wheels, external, formula)
+    return TrainResult(1.0 / speed, efficiency, shafts, out_wheels, external, formula, back,
+                       efficiency <= 0, back <= 0, tuple(warnings))
+
+
+def _locking_warnings(i: int, k: int, e: PlanetaryStage, forward: float, backward: float) -> list[DesignWarning]:
+    out = []
+    if forward <= 0:
+        out.append(DesignWarning(
+            "self_locking", f"elements[{i}]", forward,
+            f"planetary stage {k} self-locks with {e.input} driving {e.output} (efficiency {forward:.4g}): the "
+            "input cannot turn it whatever the torque; swap input and output or choose other teeth"))
+    if backward <= 0:
+        out.append(DesignWarning(
+            "self_locking_back", f"elements[{i}]", backward,
+            f"planetary stage {k} self-locks with power flowing back, {e.output} driving {e.input} (efficiency "
+            f"{backward:.4g}): the output cannot drive the input (it holds a load, and a drive that must "
+            "run back or brake through it cannot)"))
+    return out

@@ -55,6 +55,9 @@ from ..gearing import (
     tooth_numbers,
 )
 from ..gearing.sizing import HELICAL_TYPES, SIZED_TYPES
+from ..gearing.split import TeethLimit, teeth_limited
+from ..gearing.stages import Stage
+from ..gearing.teeth import ToothRules
 from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import FloatArray, Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
@@ -114,13 +117,20 @@ class MachineShaft:
 
 @dataclass(frozen=True, slots=True)
 class MachineCheck:
-    """One target of the design against the simulated machine: ``value`` and ``limit`` in the check's unit."""
+    """One target of the design against the simulated machine: ``value`` held at most ``limit``, both in
+    ``unit`` ("" for a ratio); ``label`` the check's name in words."""
 
     name: str
     value: float
     limit: float
     passed: bool
     detail: str
+    unit: str = ""
+    label: str = ""
+
+
+#: The checks of how the machine starts and stops (the rest judge its steady motion).
+RUNNING_CHECKS = ("motor_starts", "startup_time", "rundown_time")
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,10 +143,10 @@ class MachineDesign:
     real ratios from the teeth [-]; ``motor`` the chosen motor's characteristic through them; ``train_inertia``
     the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
-    ``shafts`` motor first; ``checks`` each target against the simulation; ``gears`` every cylindrical stage
-    sized for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive
-    asks for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down, and
-    ``running_checks`` the start, run-up and run-down targets.
+    ``shafts`` motor first; ``checks`` every target against the simulation, the steady motion's and the start,
+    run-up and run-down's, in one list that alone decides ``passed``; ``gears`` every cylindrical stage sized
+    for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive asks
+    for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down.
     """
 
     spec: MachineSpec
@@ -158,7 +168,11 @@ class MachineDesign:
     warnings: tuple[DesignWarning, ...]
     gears: TrainSizing | None = None
     running: MachineRunning | None = None
-    running_checks: tuple[MachineCheck, ...] = ()
+
+    @property
+    def running_checks(self) -> tuple[MachineCheck, ...]:
+        """The start, run-up and run-down checks among ``checks``."""
+        return tuple(c for c in self.checks if c.name in RUNNING_CHECKS)
 
     @property
     def flywheel_inertia(self) -> float:
@@ -168,7 +182,7 @@ class MachineDesign:
     @property
     def passed(self) -> bool:
         """True when every check meets its target."""
-        return all(c.passed for c in (*self.checks, *self.running_checks))
+        return all(c.passed for c in self.checks)
 
 
 @dataclass(frozen=True, slots=True)
@@ -248,27 +262,61 @@ def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> 
                        "optimal (the best trade-off within a mass budget) or none", field="balancing.mode")
 
 
-def _teeth(spec: MachineSpec, drive: DriveResult) -> tuple[ToothResult | None, tuple[float, ...]]:
-    stages, ratios = spec.drive.stages, drive.split.stage_ratios
+def _teeth(spec: MachineSpec, drive: DriveResult,
+           stages: Sequence[Stage]) -> tuple[ToothResult | None, tuple[float, ...], list[DesignWarning]]:
+    """Tooth numbers near the split's ratios; where none lie within the room around them, the search over each
+    stage's whole range (as POST /v1/gears/teeth searches), so a train the teeth endpoint builds is never refused."""
+    ratios = drive.split.stage_ratios
     toothed = [k for k, s in enumerate(stages) if s.toothed]
     if not toothed:
-        return None, tuple(ratios)
-    search = []
+        return None, tuple(ratios), []
+    near, whole = [], []
     for k in toothed:
         s, u = stages[k], ratios[k]
         if s.ratio is not None:
             # a fixed (standard) ratio is kept, to rounding
             lo, hi = s.ratio * (1 - 1e-9), s.ratio * (1 + 1e-9)
+            whole.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
         else:
             lo = max(s.ratio_min, u * (1 - TOOTH_RATIO_ROOM))
             hi = min(s.ratio_max, u * (1 + TOOTH_RATIO_ROOM))
-        search.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
+            whole.append(replace(s, ratio=None))
+        near.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
     target = math.prod(ratios[k] for k in toothed)
-    result = tooth_numbers(target, search, spec.drive.tooth_rules, spec.drive.tooth_tolerance)
+    rules, tolerance = spec.drive.tooth_rules, spec.drive.tooth_tolerance
+    warnings: list[DesignWarning] = []
+    try:
+        result = tooth_numbers(target, near, rules, tolerance)
+    except Infeasible:
+        result = tooth_numbers(target, whole, rules, tolerance)
+        far = [k for k, mesh in zip(toothed, result.stages, strict=True)
+               if abs(mesh.ratio / ratios[k] - 1) > TOOTH_RATIO_ROOM]
+        warnings += [DesignWarning(
+            "teeth_far_from_split", f"stages[{k}]", mesh.ratio,
+            f"stage {k} ({stages[k].type}): no tooth pair lies within {TOOTH_RATIO_ROOM:.0%} of the split's ratio "
+            f"{ratios[k]:.5g}; the teeth {mesh.pinion_teeth}:{mesh.gear_teeth} give {mesh.ratio:.5g}, the split's "
+            "objective no longer holds for this stage")
+            for k, mesh in zip(toothed, result.stages, strict=True) if k in far]
     real = list(ratios)
     for k, mesh in zip(toothed, result.stages, strict=True):
         real[k] = mesh.ratio
-    return result, tuple(real)
+    return result, tuple(real), warnings
+
+
+def _teeth_limit_warnings(drive: DriveResult, stages: Sequence[Stage],
+                          limits: Sequence[TeethLimit]) -> list[DesignWarning]:
+    """The split sits on a bound the tooth rules set, not the stage type's own (that one the split names)."""
+    out = []
+    for lim in limits:
+        u = drive.split.stage_ratios[lim.stage]
+        for bound, pair, side in ((lim.ratio_max, lim.largest, "largest"), (lim.ratio_min, lim.smallest, "smallest")):
+            if abs(u / bound - 1) <= 1e-6:
+                out.append(DesignWarning(
+                    "stage_ratio_at_teeth_limit", f"stages[{lim.stage}]", u,
+                    f"stage {lim.stage} ({stages[lim.stage].type}): the split sits at {bound:.5g}, the {side} ratio "
+                    f"a tooth pair within the tooth bounds makes ({pair[0]}:{pair[1]}); raise max_teeth, add a "
+                    "stage or choose another stage type to move it off"))
+    return out
 
 
 def _shaft_names(n_stages: int) -> list[str]:
@@ -451,19 +499,20 @@ def _running_checks(spec: MachineSpec, running: MachineRunning) -> list[MachineC
     checks = [MachineCheck("motor_starts", resisting, start.starting_torque, start.starts,
                            "largest torque holding the crank at rest (gravity, breakaway friction and, starting "
                            "under load, the process load; at the worst crank angle) against the motor's starting "
-                           "torque through the train [N·m]")]
+                           "torque through the train [N·m]", "N·m", "motor starts the machine")]
     if start.starts:
         reached = up.steady_time is not None
         value = up.steady_time if up.steady_time is not None else float(up.run.time[-1]) if up.run else 0.0
         checks.append(MachineCheck("startup_time", value, spec.max_startup_time,
                                    reached and value <= spec.max_startup_time,
                                    "time from rest to within 1 % of the periodic steady speed, idling unless "
-                                   "started under load [s]"))
+                                   "started under load [s]", "s", "start-up time"))
     if spec.max_rundown_time is not None:
         value = down.stop_time if down.stop_time is not None else float(down.run.time[-1])
         checks.append(MachineCheck("rundown_time", value, spec.max_rundown_time,
                                    down.stop_time is not None and value <= spec.max_rundown_time,
-                                   "time from the steady state to rest with the motor off (and the brake) [s]"))
+                                   "time from the steady state to rest with the motor off (and the brake) [s]",
+                                   "s", "run-down time"))
     return checks
 
 
@@ -486,15 +535,19 @@ def _checks(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> tuple[Mac
     rms_ok = motion.motor_rms_torque <= motor.rated_torque
     checks = [
         MachineCheck("delta", motion.delta, spec.delta, delta_ok,
-                     "simulated coefficient of speed fluctuation against the target (1e-3 relative)"),
-        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_ok, speed_detail),
+                     "simulated coefficient of speed fluctuation against the target (1e-3 relative)", "",
+                     "coefficient of speed fluctuation δ"),
+        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_ok, speed_detail, "",
+                     "mean crank speed, relative error"),
         MachineCheck("motor_rms_torque", motion.motor_rms_torque, motor.rated_torque, rms_ok,
-                     "motor torque RMS over time against its rated torque (heating)"),
+                     "motor torque RMS over time against its rated torque (heating)", "N·m",
+                     "motor torque, RMS (heating)"),
     ]
     if motor.breakdown_torque is not None:
         checks.append(MachineCheck("motor_peak_torque", motion.motor_peak_torque, motor.breakdown_torque,
                                    motion.motor_peak_torque <= motor.breakdown_torque,
-                                   "largest motor torque against its breakdown torque (current limit)"))
+                                   "largest motor torque against its breakdown torque (current limit)", "N·m",
+                                   "motor torque, peak"))
     return tuple(checks)
 
 
@@ -545,7 +598,7 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     replaced: list[DesignWarning] = []
     for _ in range(MAX_MOTOR_UPGRADES + 1):
         design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
-        heavy = [c.name for c in (*design.checks, *design.running_checks)
+        heavy = [c.name for c in design.checks
                  if c.name in ("motor_rms_torque", "motor_peak_torque", "motor_starts") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
         if bigger is None:
@@ -574,16 +627,18 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     # the motor runs where its characteristic gives the machine's mean power, not at its rated point:
     # the ratio is taken from that speed, so the crank turns at its working speed
     motor_power = output_power / chain_efficiency(d.stages)
+    # the split works within the ratios the tooth pairs make, so the tooth search can meet what it asks
+    stages, limits = teeth_limited(d.stages, d.tooth_rules or ToothRules())
     try:
         with stage("drive"):
-            drive = design_drive(output_power, machine.speed, d.stages, reserve_factor=d.reserve_factor,
+            drive = design_drive(output_power, machine.speed, stages, reserve_factor=d.reserve_factor,
                                  synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
                                  torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
                                  catalogue=d.catalogue, motor_speed=MotorLoad(motor_power))
             if d.motor is not None:
                 operating_speed(drive.motor, motor_power)  # a named motor too small for the mean power says so
         with stage("teeth"):
-            teeth, ratios = _teeth(machine, drive)
+            teeth, ratios, teeth_notes = _teeth(machine, drive, stages)
     except InvalidInput as exc:
         # the machine request holds these fields under drive: name them as the request spells them
         again = InvalidInput(str(exc), field=None if exc.field is None else f"drive.{exc.field}", code=exc.code)
@@ -599,19 +654,24 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     with stage("flywheel"):
         flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
-    checks = _checks(machine, motion, motor)
+    steady_checks = _checks(machine, motion, motor)
     torques = _shaft_torques(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     gears, not_sized = _gears(machine, teeth, ratios, torques, motion, shafts)
+    # a bound the tooth rules set is named with its pair; the split's own note of that bound is then redundant
+    teeth_bound = _teeth_limit_warnings(drive, stages, limits)
+    held = {w.field for w in teeth_bound}
+    drive_notes = [w for w in drive.warnings if not (w.code == "stage_ratio_at_limit" and w.field in held)]
     warnings = [*staged(check_analysis(before), "analysis"), *_balancing_warnings(before, bal),
-                *staged(drive.warnings, "drive", "drive")]
+                *staged(drive_notes, "drive", "drive"), *staged(teeth_bound, "drive", "drive")]
     if teeth is not None:
-        warnings += staged(teeth.warnings, "teeth", "drive")
+        warnings += staged([*teeth.warnings, *teeth_notes], "teeth", "drive")
     constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
     with stage("simulation"):
         running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
                                   machine.brake_torque, machine.start_under_load)
     running_checks = tuple(_running_checks(machine, running))
-    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks) + not_sized
+    checks = (*steady_checks, *running_checks)
+    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(steady_checks) + not_sized
     warnings += _check_warnings([c for c in running_checks if c.name != "motor_starts"])
     if not running.startup.check.starts:
         warnings.append(DesignWarning(
@@ -621,7 +681,7 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
             "N·m", stage="simulation"))
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
                          train, flywheel, placement, motion, shafts, checks, tuple(warnings), gears,
-                         running, running_checks)
+                         running)
 
 
 def _balancing_warnings(before: Analysis, bal: Balancing) -> list[DesignWarning]:

@@ -4,7 +4,7 @@ transmission angles found on the engine's own position solution, not on the synt
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import cast
 
 import numpy as np
@@ -13,6 +13,7 @@ from scipy.optimize import brentq
 from ..errors import SolverFailed
 from ..kinematics import FourBar, Mechanism, SliderCrank, motion, transmission_angle
 from ..model import FloatArray
+from ..warnings import DesignWarning, link_ratio_warning, transmission_angle_warning
 
 _GRID = 720
 
@@ -25,7 +26,8 @@ class LinkageCheck:
     the slow stroke over that of the fast one; ``slow_stroke``: crank angles [rad] at which the slow stroke starts
     and ends (the fast one runs from its end back to its start); ``output_extremes``: rocker angle [rad] or slide
     position [m] at those two crank angles; ``min_/max_transmission_angle`` [rad] with the crank angles [rad]
-    where they occur.
+    where they occur; ``warnings`` the analysis' own notes on the answer (a transmission angle under 40°, a
+    link ratio beyond what a drawing office builds).
     """
 
     travel: float
@@ -36,6 +38,7 @@ class LinkageCheck:
     min_transmission_crank_angle: float
     max_transmission_angle: float
     max_transmission_crank_angle: float
+    warnings: tuple[DesignWarning, ...] = field(default=())
 
     def stroke_times(self, speed: float) -> tuple[float, float]:
         """Durations [s] of the slow and the fast stroke at crank speed ``speed`` [rad/s]."""
@@ -86,7 +89,8 @@ def check_fourbar(fb: FourBar) -> LinkageCheck:
     out = fb.solve(np.array(slow))[1]["rocker"].angle
     swing = abs(math.remainder(float(out[1] - out[0]), 2 * math.pi))
     mu = transmission_angle(mot.link_angle["coupler"], mot.link_angle["rocker"])
-    return LinkageCheck(swing, q, slow, (float(out[0]), float(out[1])), *_extremes(mu, phi))
+    notes = (*transmission_angle_warning(phi, mu), *link_ratio_warning(fb))
+    return LinkageCheck(swing, q, slow, (float(out[0]), float(out[1])), *_extremes(mu, phi), notes)
 
 
 def check_slider_crank(sc: SliderCrank) -> LinkageCheck:
@@ -105,4 +109,6 @@ def check_slider_crank(sc: SliderCrank) -> LinkageCheck:
     q, slow = _strokes(roots)
     xb = sc.solve(np.array(slow))[0]["B"].pos[:, 0]
     mu = 0.5 * math.pi - np.arcsin(np.abs(np.sin(mot.link_angle["rod"])))
-    return LinkageCheck(abs(float(xb[1] - xb[0])), q, slow, (float(xb[0]), float(xb[1])), *_extremes(mu, phi))
+    notes = (*transmission_angle_warning(phi, mu), *link_ratio_warning(sc))
+    return LinkageCheck(abs(float(xb[1] - xb[0])), q, slow, (float(xb[0]), float(xb[1])), *_extremes(mu, phi),
+                        notes)
