@@ -719,6 +719,10 @@ class AsyncSynthClient(_Policy):
         """POST /v1/machines/isolation."""
         return await self._post("/v1/machines/isolation", body, IsolationOut)
 
+    async def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png."""
+        return (await self._export("/v1/machines/isolation", body, format)).content
+
     async def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
         """POST /v1/machines/isolation/design."""
         return await self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
@@ -727,9 +731,17 @@ class AsyncSynthClient(_Policy):
         """POST /v1/machines/elastic-drive."""
         return await self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
 
+    async def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png."""
+        return (await self._export("/v1/machines/elastic-drive", body, format)).content
+
     async def regulation(self, body: RegulationIn) -> RegulationOut:
         """POST /v1/machines/regulation."""
         return await self._post("/v1/machines/regulation", body, RegulationOut)
+
+    async def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png."""
+        return (await self._export("/v1/machines/regulation", body, format)).content
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""
