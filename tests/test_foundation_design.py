@@ -38,7 +38,7 @@ def test_design_is_no_worse_than_a_fine_scan_of_the_plain_solve(objective: str) 
     assert (amp, force) == pytest.approx((d.amplitude, d.peak_force), rel=1e-9)
     k_floor = FRAME.mass * G / (2 * 0.03)
     assert d.ky >= k_floor * (1 - 1e-9) and d.static_deflection <= 0.03 * (1 + 1e-9)
-    scan = [_plain(k, 0.1) for k in np.geomspace(k_floor, 2e7, 400)]
+    scan = [_plain(k, 0.1) for k in np.geomspace(k_floor, 2e7, 200)]
     if objective == "amplitude":
         assert force <= 400.0 * (1 + 1e-9)
         best = min(a for a, f in scan if f <= 400.0)
@@ -67,8 +67,8 @@ def test_a_slow_run_up_follows_the_steady_response_through_resonance() -> None:
     isolators = (Isolator((-0.5, 0.0), k, k, damping_ratio=zeta), Isolator((0.5, 0.0), k, k, damping_ratio=zeta))
     w0 = 2 * wn
     forcing = Forcing(PHI, w0, np.column_stack([np.zeros(N), 100 * np.cos(PHI)]), np.zeros(N))
-    # the crank speeds up from 0.3 w_n to 1.6 w_n over 300 natural periods: close to steady at every speed
-    t = np.linspace(0.0, 300 * 2 * math.pi / wn, 20001)
+    # the crank speeds up from 0.3 w_n to 1.6 w_n over 120 natural periods: close to steady at every speed
+    t = np.linspace(0.0, 120 * 2 * math.pi / wn, 4001)
     w = 0.3 * wn + 1.3 * wn * t / t[-1]
     phi = np.concatenate([[0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))])
     passage = run_up_passage(frame, isolators, forcing, t, phi, w, 1.0)

@@ -103,3 +103,20 @@ def test_an_undamped_frame_at_resonance_has_no_steady_cycle() -> None:
     m, k = 100.0, 1e4
     with pytest.raises(InvalidInput, match="natural frequency with no damping"):
         _vertical(m, k, 0.0, math.sqrt(2 * k / m))
+
+
+def test_the_run_up_passes_the_frames_modes(client: SynthClient) -> None:
+    motor = {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1440, "rated_torque_Nm": 30, "gear_ratio": 3.0,
+             "rotor_inertia_kgm2": 0.02, "breakdown_torque_Nm": 70}
+    body = IsolationIn.model_validate({**EXAMPLE, "samples": 120,
+                                       "run_up": {"motor": motor, "constant_inertia_kgm2": 0.5}})
+    out = client.isolate_machine(body)
+    ru = out.run_up
+    assert ru is not None and ru.ratio is not None
+    # the record runs on past the run-up at the final speed, so the peak is at least the steady cycle's
+    assert ru.peak_amplitude_m >= ru.steady_amplitude_m * (1 - 1e-3)
+    # the crank starts from rest, so the first harmonic sweeps every mode below the final speed
+    final_hz = ru.crank_speed_rpm[-1] / 60
+    assert ru.crossed_frequencies_Hz == pytest.approx(sorted(m.frequency_Hz for m in out.modes
+                                                             if m.frequency_Hz <= final_hz * max(
+                                                                 h.order for h in out.harmonics)), rel=1e-9)

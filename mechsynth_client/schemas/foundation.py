@@ -161,7 +161,8 @@ class RunUpOut(BaseModel):
     peak_speed_rpm: float = Field(description="Crank speed then [rev/min].")
     steady_amplitude_m: float = Field(description="The steady cycle's peak at the speed the run-up "
                                       "ends at (the motor's) [m].")
-    ratio: float = Field(description="Peak over steady [-].")
+    ratio: float | None = Field(description="Peak over steady [-]; null when the steady cycle stands still (no "
+                                "shaking).")
     crossed_frequencies_Hz: list[float] = Field(description="Natural frequencies some harmonic passed through.")
 
 

@@ -476,7 +476,7 @@ class RunUpPassage:
     """The frame while the machine runs up: ``time`` [s], ``speed`` crank [rad/s] and ``amplitude`` the centre's
     displacement magnitude [m] at each output time; ``peak_amplitude`` the largest [m] at ``peak_time`` [s] and
     crank ``peak_speed`` [rad/s]; ``steady_amplitude`` the steady cycle's peak at the final speed [m];
-    ``ratio`` their quotient [-];
+    ``ratio`` their quotient [-] (None when the steady cycle stands still);
     ``crossed`` the natural frequencies [Hz] some harmonic passed through on the way up."""
 
     time: FloatArray
@@ -486,7 +486,7 @@ class RunUpPassage:
     peak_time: float
     peak_speed: float
     steady_amplitude: float
-    ratio: float
+    ratio: float | None
     crossed: tuple[float, ...]
 
 
@@ -535,7 +535,7 @@ def run_up_passage(frame: Frame, isolators: tuple[Isolator, ...], forcing: Forci
     crossed = tuple(sorted(float(wn / (2 * math.pi)) for wn in natural
                            if any(o * w_out.min() <= wn <= o * w_out.max() for o in s.orders if o > 0)))
     return RunUpPassage(t_out, w_out, amp, float(amp[i]), float(t_out[i]), float(w_out[i]), steady,
-                        float(amp[i] / steady) if steady > 0 else math.inf, crossed)
+                        float(amp[i] / steady) if steady > 0 else None, crossed)
 
 
 def isolate_linkage(linkage: Linkage, speed: float, frame: Frame, isolators: tuple[Isolator, ...], *,
