@@ -73,3 +73,18 @@ def test_regulation_through_the_service(client: SynthClient) -> None:
     assert err.value.problem["constraint"] == "regulator"
     png = client.regulation_png(RegulationIn.model_validate(EXAMPLES[0]))
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_record_page_draws_what_it_is_given() -> None:
+    import io
+
+    import matplotlib.pyplot as plt
+
+    from synth.machine.foundation_plots import foundation_record_page
+
+    r = regulate(CYCLE, 0.0, MOTOR, 25.0, delta=0.005)
+    fig = foundation_record_page(regulation=r)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    plt.close(fig)
+    assert buffer.getvalue()[:8] == b"\x89PNG\r\n\x1a\n" and len(fig.axes) == 2  # the table and the speed

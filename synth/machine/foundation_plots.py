@@ -120,3 +120,66 @@ def regulation_figure(r: Regulation, fmt: str = "png") -> bytes:
     bottom.set(xlabel="time [s]", ylabel="torque [N·m]")
     bottom.legend(fontsize=8)
     return _bytes(fig, fmt)
+
+
+def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDrive | None = None,
+                           regulation: Regulation | None = None) -> Figure:
+    """One A4 landscape page of the design record on the machine around the linkage: the frame on its isolators
+    (modes, peaks, the force the foundation feels), the elastic drive (natural frequency, dynamic factor, the
+    link's torque) and the speed after a load step; whichever are given. The caller saves and closes it."""
+    fig = plt.figure(figsize=(11.69, 8.27))
+    fig.suptitle("The machine on its foundation, its elastic drive and its speed regulation", fontsize=13)
+    grid = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.3], hspace=0.35, wspace=0.3, left=0.06, right=0.97,
+                            bottom=0.08, top=0.9)
+    rows: list[list[str]] = []
+    if isolation is not None:
+        r = isolation
+        rows += [["isolation", "natural frequencies", ", ".join(f"{m.frequency:.3g}" for m in r.modes) + " Hz"],
+                 ["", "peak force to the foundation", f"{r.peak_force:.4g} N (shaking {r.peak_shaking_force:.4g} N)"],
+                 ["", "frame amplitude", f"{r.peak_displacement * 1e3:.3g} mm, {r.peak_rotation * 1e3:.3g} mrad"],
+                 ["", "check: time integration", f"{r.check.relative_diff:.1e} of the peaks"]]
+        if r.run_up is not None:
+            rows.append(["", "run-up peak amplitude", f"{r.run_up.peak_amplitude * 1e3:.3g} mm at "
+                         f"{r.run_up.peak_speed * 30 / np.pi:.4g} rpm"])
+    if drive is not None:
+        rows += [["elastic drive", "link stiffness, frequency", f"{drive.stiffness:.4g} N·m/rad, "
+                  f"{drive.natural_frequency:.4g} Hz"],
+                 ["", "dynamic factor", f"{drive.dynamic_factor:.4f}"],
+                 ["", "harmonics near resonance", ", ".join(str(h.order) for h in drive.harmonics if h.near) or "none"],
+                 ["", "check: energy balance", f"{drive.steady.energy_residual:.1e}"]]
+    if regulation is not None:
+        g = regulation
+        mode = ("self-regulation" if g.controller is None
+                else f"PI k_p {g.controller.kp:.3g}, k_i {g.controller.ki:.3g}")
+        settle = "not within the run" if g.settling_time is None else f"{g.settling_time:.3g} s"
+        rows += [["regulation", "load step, mode", f"{g.load_step:.4g} N·m, {mode}"],
+                 ["", "speed drop (closed form)", f"{g.drop * 30 / np.pi:.4g} rpm ({g.drop_closed_form * 30 / np.pi:.4g})"],
+                 ["", "settling in the delta band", settle]]
+    table_ax = fig.add_subplot(grid[0, :])
+    table_ax.axis("off")
+    if rows:
+        table = table_ax.table(cellText=rows, colLabels=["", "figure", "value"], loc="center", cellLoc="left",
+                               colWidths=[0.15, 0.3, 0.55])
+        table.auto_set_font_size(False)
+        table.set_fontsize(8.5)
+        table.scale(1, 1.25)
+    if isolation is not None:
+        ax = fig.add_subplot(grid[1, 0])
+        deg = np.degrees(isolation.phi)
+        ax.plot(deg, np.linalg.norm(isolation.shaking_force, axis=1), lw=1, label="shaking force")
+        ax.plot(deg, np.linalg.norm(isolation.force, axis=1), lw=1, label="to the foundation")
+        ax.set(xlabel="crank angle [deg]", ylabel="|F| [N]", title="Force the foundation feels")
+        ax.legend(fontsize=7)
+    if drive is not None:
+        ax = fig.add_subplot(grid[1, 1])
+        deg = np.degrees(drive.phi)
+        ax.plot(deg, drive.rigid_torque, lw=1, label="rigid model")
+        ax.plot(deg, drive.steady.elastic_torque, lw=1, label="elastic link")
+        ax.set(xlabel="crank angle [deg]", ylabel="torque [N·m]", title="Torque in the link")
+        ax.legend(fontsize=7)
+    if regulation is not None:
+        ax = fig.add_subplot(grid[1, 2])
+        ax.plot(regulation.time, regulation.smoothed * 30 / np.pi, lw=1)
+        ax.axvline(regulation.step_time, color="k", lw=0.8, ls=":")
+        ax.set(xlabel="time [s]", ylabel="speed [rpm]", title="Speed after the load step")
+    return fig
