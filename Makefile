@@ -19,11 +19,13 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(VENV)/bin/python -m uvicorn api.app:app --host $(HOST) --port $(PORT)
 
-# The workbench's browser tests drive Debian's Chromium (Playwright's own download is not used).
+# The workbench's browser tests drive Debian's Chromium (Playwright's own download is not used); the store's tests
+# start a throwaway PostgreSQL cluster with Debian's server binaries.
 CHROMIUM := /usr/bin/chromium
 
 test: $(STAMP)
 	test -x $(CHROMIUM) || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends chromium)
+	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends postgresql)
 	$(VENV)/bin/python -m mypy
 	$(VENV)/bin/python -m pytest -q
 

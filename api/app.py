@@ -7,12 +7,13 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from typing import Literal
 
-from fastapi import FastAPI, Request
+from fastapi import FastAPI, Request, Response
 from pydantic import BaseModel, Field
 
 from . import manual, problems, workbench
 from .routers import PREFIX, all_routers
 from .settings import Settings
+from .storage import migrate_at_start, open_store, store_status
 from .execution.admission import Solvers
 from .studies.router import router as studies_router
 from .studies.runs import StudyRuns
@@ -21,7 +22,9 @@ from .studies.runs import StudyRuns
 class ReadyOut(BaseModel):
     """What the service's workers are doing: requests (bounded by admission) and design studies (beside it)."""
 
-    status: Literal["ok", "busy"] = Field(description="busy: every request slot is taken; new requests get 503.")
+    status: Literal["ok", "busy", "store-unavailable"] = Field(
+        description="busy: every request slot is taken; new requests get 503. store-unavailable: the store cannot "
+                    "be reached (store_problem says why); requests needing it get 503, and so does /ready.")
     executor: Literal["pool", "serial"] = Field(description="Where requests run: worker processes, or one thread.")
     started: bool = Field(description="The workers have been started.")
     workers: int = Field(description="Worker processes (1 for serial).")
@@ -32,7 +35,7 @@ class ReadyOut(BaseModel):
     completed: int = Field(description="Requests whose solver work ended, since the start.")
     timed_out: int = Field(description="Requests stopped at their deadline (504), since the start.")
     rejected: int = Field(description="Requests refused with 503 because every slot was taken, since the start.")
-    studies_running: int = Field(description="Design studies running now.")
+    studies_running: int = Field(description="Design studies this process runs now.")
     study_tasks_in_flight: int = Field(
         description="Design-study tasks (batches of variants) submitted and not finished, over all running studies: "
                     "at most workers + 1 per study. They bypass the request slots above, so while they run on "
@@ -40,21 +43,27 @@ class ReadyOut(BaseModel):
     study_tasks_on: Literal["workers", "dask"] = Field(
         description="Where study tasks run: the service's own workers (shared with requests), or the Dask "
                     "cluster of SYNTH_DASK_SCHEDULER (requests unaffected).")
+    store: str = Field(description="The store's engine: sqlite (embedded file) or postgresql.")
+    store_ok: bool = Field(description="The store answered just now.")
+    store_problem: str | None = Field(description="Why the store cannot be reached, when it cannot.")
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the service with ``settings`` (default: from the environment)."""
     settings = settings or Settings.from_env()
     solvers = Solvers(settings)
-    studies = StudyRuns(settings, solvers)
+    store = open_store(settings)
+    studies = StudyRuns(settings, solvers, store)
 
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
+        await asyncio.to_thread(migrate_at_start, store)
         await asyncio.to_thread(solvers.start)
         await asyncio.to_thread(studies.open)
         yield
         studies.shutdown()
         solvers.shutdown()
+        store.dispose()
 
     app = FastAPI(
         title="Mechanism synthesis service",
@@ -71,6 +80,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.solvers = solvers
     app.state.studies = studies
+    app.state.store = store
     problems.install(app, settings)
     manual.install(app)
     workbench.install(app)
@@ -80,13 +90,19 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         """Liveness probe; answers from the web process without touching the workers."""
         return {"status": "ok"}
 
-    @app.get("/ready", tags=["service"], response_model=ReadyOut)
-    async def ready(request: Request) -> ReadyOut:
-        """Readiness: the executor, its workers, running and queued requests, the admission capacity, and the
-        design studies' work beside the requests."""
+    @app.get("/ready", tags=["service"], response_model=ReadyOut,
+             responses={503: {"model": ReadyOut, "description": "The store cannot be reached; store_problem "
+                                                                  "says why."}})
+    async def ready(request: Request, response: Response) -> ReadyOut:
+        """Readiness: the executor, its workers, running and queued requests, the admission capacity, the
+        design studies' work beside the requests, and whether the store answers (503 when it does not)."""
         status = request.app.state.solvers.status()
-        return ReadyOut(status="ok" if status["queued"] < status["capacity"] else "busy", **status,
-                        **request.app.state.studies.status())
+        stored = await asyncio.to_thread(store_status, request.app.state.store)
+        state: Literal["ok", "busy", "store-unavailable"] = "ok" if status["queued"] < status["capacity"] else "busy"
+        if not stored["store_ok"]:
+            state = "store-unavailable"
+            response.status_code = 503
+        return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
 
     for router in (*all_routers(), studies_router):
         app.include_router(router, prefix=PREFIX)

@@ -26,6 +26,8 @@ from synth.errors import (
     WorkerLost,
 )
 
+from store import StoreUnavailable
+
 from . import validation
 from .settings import Settings
 from .execution.admission import Overloaded
@@ -185,6 +187,12 @@ async def _overloaded_handler(_: Request, exc: Exception) -> JSONResponse:
                    capacity=exc.capacity, retry_after_s=exc.retry_after_s)
 
 
+async def _store_handler(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, StoreUnavailable)
+    return problem(503, "store-unavailable", "Store unavailable", str(exc), headers={"Retry-After": "10"},
+                   reason=exc.reason)
+
+
 async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
     log.exception("unexpected error", exc_info=exc)
     return problem(500, "internal-error", "Internal error", "the service failed unexpectedly; the error was logged")
@@ -252,6 +260,7 @@ def install(app: FastAPI, settings: Settings) -> None:
     """Register every handler and the body limits on ``app``."""
     app.add_exception_handler(SynthError, _synth_handler)
     app.add_exception_handler(Overloaded, _overloaded_handler)
+    app.add_exception_handler(StoreUnavailable, _store_handler)
     app.add_exception_handler(RequestValidationError, _validation_handler)
     app.add_exception_handler(StarletteHTTPException, _http_handler)
     app.add_exception_handler(Exception, _unexpected_handler)

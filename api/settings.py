@@ -33,9 +33,18 @@ class Settings(BaseSettings):
     dask_scheduler: str | None = Field(None, description="Address of a Dask scheduler for studies "
                                                          "(tcp://host:8786); unset: the local workers.")
     studies_db: str = Field("./synth-studies.sqlite", min_length=1,
-                            description="SQLite file holding design studies and their results.")
+                            description="SQLite file of the embedded store (studies, designs, users) when "
+                                        "SYNTH_DATABASE_URL is unset.")
     max_study_variants: int = Field(100_000, ge=1, le=10_000_000,
                                     description="Variants per design study; 413 beyond it.")
+
+    database_url: str | None = Field(None, description="The store on a PostgreSQL server "
+                                     "(postgresql://user:password@host:5432/db), shared by several service "
+                                     "processes; unset: the SQLite file SYNTH_STUDIES_DB.")
+    study_lease_s: float = Field(30.0, ge=0.5, le=3600,
+                                 description="How long a running study's claim lasts unless its process renews it "
+                                             "(a third of this apart); another process takes a study whose "
+                                             "process stopped this long after.")
 
     @classmethod
     def from_env(cls) -> Settings:

@@ -29,6 +29,7 @@ from typing import Any
 import synth
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from api.execution.plans import Limits
+from store import SqlStudyStore, Store, database_url
 from api.studies.tasks import batch_function, variant_function
 from synth.execution import DaskExecutor, Executor, LocalPoolExecutor, limit_threads
 from synth.studies import BatchFn, BatchSpec, run_batch, variant_request
@@ -111,8 +112,9 @@ def bare_batched_seconds(study: synth.Study, count: int) -> float:
 def timed_run(study: synth.Study, executor: Executor, db: Path, batch_fn: BatchFn | None
               ) -> tuple[float, synth.RunReport]:
     """Wall time of the whole study on ``executor`` with rows written to a fresh store [s]."""
-    store = synth.StudyStore(db)
+    store = SqlStudyStore(Store(database_url(None, str(db))))
     study_id = store.create({"bench": True}, study.variant_count)
+    store.claim(study_id)
     # Workers started and warm (engine and web schemas imported, solvers loaded, the batched path run once)
     # before the clock, as in a service that has answered requests.
     spec = BatchSpec(variant_function(ENDPOINT, LIMITS), dict(study.base), study.parameter_paths, study.metrics,

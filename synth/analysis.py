@@ -123,7 +123,7 @@ def analyse(
     else:
         angles = np.asarray(phi, dtype=float).reshape(-1)
         if angles.size > max_samples:
-            raise TooLarge("crank angles", max_samples, angles.size)
+            raise TooLarge("crank angles", max_samples, angles.size, field="crank_angle_deg")
     if base_motion is None:
         base = motion(linkage.mechanism, angles, speed, crank_acceleration)
     elif (base_motion.samples != angles.size or base_motion.omega_crank != speed

@@ -168,15 +168,20 @@ class TooLarge(SynthError):
     slug = "too-large"
     title = "Request too large"
 
-    def __init__(self, what: str, limit: int, got: int, message: str | None = None) -> None:
+    def __init__(self, what: str, limit: int, got: int, message: str | None = None,
+                 field: str | None = None) -> None:
         super().__init__(message or f"{what}: {got} exceeds the limit of {limit}")
         self.what = what
         self.limit = limit
         self.got = got
+        self.field = field
 
     def extras(self) -> dict[str, Any]:
-        """The limit and the size asked for."""
-        return {"limit": self.limit, "got": self.got}
+        """The limit, the size asked for and, when one input sets the size, that field's dotted name."""
+        out: dict[str, Any] = {"limit": self.limit, "got": self.got}
+        if self.field:
+            out["field"] = self.field
+        return out
 
 
 class WorkerLost(SynthError):

@@ -29,8 +29,16 @@ def running_service(command: Callable[[int], list[str]], studies_dir: Path,
                     start_timeout_s: float = 120) -> Iterator[str]:
     """Start ``command(port)`` in the repository with its study store in ``studies_dir``; yield its base URL once
     ``/health`` answers, and stop the whole process group afterwards."""
+    with running_process(command, studies_dir, start_timeout_s) as (url, _):
+        yield url
+
+
+@contextmanager
+def running_process(command: Callable[[int], list[str]], studies_dir: Path, start_timeout_s: float = 120,
+                    env: dict[str, str] | None = None) -> Iterator[tuple[str, subprocess.Popen[bytes]]]:
+    """:func:`running_service` that also yields the process (to kill it) and takes more environment."""
     port = free_port()
-    env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite")}
+    env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite"), **(env or {})}
     proc = subprocess.Popen(command(port), cwd=REPO, env=env, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     url = f"http://127.0.0.1:{port}"
@@ -46,9 +54,10 @@ def running_service(command: Callable[[int], list[str]], studies_dir: Path,
                 err = proc.stderr.read().decode() if proc.stderr else ""
                 pytest.fail(f"the service did not start with {' '.join(command(port))}: {err[-2000:]}")
             time.sleep(0.2)
-        yield url
+        yield url, proc
     finally:
-        os.killpg(proc.pid, signal.SIGTERM)
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGTERM)
         proc.wait(timeout=30)
         if proc.stderr:
             proc.stderr.close()

@@ -117,7 +117,7 @@ def test_nan_is_422_and_malformed_json_400(client: SynthClient) -> None:
 
 def test_size_limits_are_413(client: SynthClient) -> None:
     problem = _problem(client, {"mechanism": FOURBAR, "samples": 10**6}, 413, "too-large")
-    assert problem["limit"] < 10**6
+    assert problem["limit"] < 10**6 and problem["field"] == "samples"
     huge = {"mechanism": FOURBAR, "crank_angle_deg": [0.0] * 400_000}
     _problem(client, huge, 413, "too-large")
 

@@ -194,3 +194,16 @@ def test_solver_words_become_the_stage_cause() -> None:
         with stage("flywheel"), stage("simulation"):
             raise synth.InvalidInput("x", field="f")
     assert inner.value.stage == "simulation" and str(inner.value) == "simulation stage: x"
+
+
+def test_the_answers_one_check_list_holds_the_start_up_and_decides_the_verdict(client: SynthClient) -> None:
+    # The README press asked to run up within half a second: it cannot, and the one list of checks says so.
+    out = client.design_machine(_body(PRESS_EXAMPLE, max_startup_time_s=0.5))
+    startup = next(c for c in out.checks if c.name == "startup_time")
+    assert out.running is not None and out.running.startup.steady_time_s is not None
+    # the check's value is the run-up time the answer reports, held against the 0.5 s asked for
+    assert startup.value == pytest.approx(out.running.startup.steady_time_s, rel=1e-12) and startup.limit == 0.5
+    assert startup.value > 0.5 and not startup.passed and startup.unit == "s" and startup.label == "start-up time"
+    assert out.passed is False and out.passed == all(c.passed for c in out.checks)
+    assert [c.name for c in out.checks if not c.passed] == ["startup_time"]
+    assert "checks" not in out.running.model_dump()

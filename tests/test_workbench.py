@@ -16,11 +16,12 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+from urllib.parse import quote
 
 import httpx
 import numpy as np
 import pytest
-from playwright.sync_api import Browser, Page, sync_playwright
+from playwright.sync_api import Browser, Page, expect, sync_playwright
 from service import running_service
 
 REPO = Path(__file__).resolve().parents[1]
@@ -198,6 +199,17 @@ def test_machine_design_downloads_its_pdf(page: Page) -> None:
     data = Path(path).read_bytes()
     assert dl.value.suggested_filename == "design-record.pdf"
     assert data[:5] == b"%PDF-" and len(re.findall(rb"/Type\s*/Page\b", data)) >= 1
+    # A run that fails after one that passed: the old verdict and tables go, the record button with them, and the
+    # service's message stands next to the field it names.
+    runs = page.evaluate("document.body.dataset.machine")
+    page.fill("[id='mac-delta']", "0")
+    page.click("#mac-run")
+    page.wait_for_function(f"document.body.dataset.machine !== '{runs}'", timeout=60_000)
+    assert page.locator("#mac-verdict, #mac-result tr.check").count() == 0
+    assert page.locator("#mac-pdf").is_disabled()
+    msg = page.locator("[id='mac-delta-msg']")
+    assert msg.is_visible() and "greater than" in msg.inner_text()
+    _shot(page, "machine-failed")
 
 
 def test_study_reaches_100_percent_and_a_pareto_point_opens_its_variant(page: Page, base_url: str) -> None:
@@ -275,8 +287,11 @@ def test_a_bad_value_shows_its_message_next_to_its_field(page: Page) -> None:
     edit_and_wait(page, "mechanism.crank_length_m", "-5", outcome="problem")
     msg = page.locator("[id='m-mechanism.crank_length_m']")
     assert msg.is_visible()
-    # The service's own words (pydantic's bound, named by the API), in the same form row as the field.
-    assert "greater than or equal to" in msg.inner_text()
+    # The service's bound (1e-6 m, read from the manual here) said in the form's unit, in the field's own row.
+    bound = page.evaluate("fetch('/openapi.json').then(r => r.json()).then(d => "
+                          "d.components.schemas.FourBarIn.properties.crank_length_m)")
+    low = bound.get("minimum", bound.get("exclusiveMinimum"))
+    assert f"{low * 1000:g} mm" in msg.inner_text() and "greater than" not in msg.inner_text()
     assert page.locator(".row[data-path='mechanism.crank_length_m'] [id='m-mechanism.crank_length_m']").count() == 1
     assert field(page, "mechanism.crank_length_m").get_attribute("aria-invalid") == "true"
     _shot(page, "bad-value")
@@ -288,6 +303,8 @@ def test_a_bad_value_shows_its_message_next_to_its_field(page: Page) -> None:
     edit_and_wait(page, "mechanism.crank_length_m", "100", outcome="analysed")
     edit_and_wait(page, "mechanism.rocker_length_m", "80", outcome="problem")
     assert whole.is_visible() and "cannot be assembled" in whole.inner_text()
+    # the gaps as degree ranges a reader writes (one decimal), not a tuple of nine
+    assert re.search(r"\d+\.\d°–\d+\.\d°", whole.inner_text()) and "((" not in whole.inner_text()
     # Not a number at all: said at once, without asking the service.
     field(page, "mechanism.coupler_length_m").fill("abc")
     assert page.locator("[id='m-mechanism.coupler_length_m']").inner_text() == '"abc" is not a number'
@@ -370,3 +387,107 @@ def test_page_assets_are_light_and_local() -> None:
     for f in files:
         text = f.read_text().replace("http://www.w3.org/2000/svg", "")
         assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", text), f.name
+
+
+# Names that would run script if the page wrote them as HTML: each payload, if run, counts in window.__pwned or opens
+# a dialog.
+PAYLOADS = ["<img src=x onerror=\"window.__pwned=(window.__pwned||0)+1\">", "<svg onload=alert(1)>",
+            "\"><script>window.__pwned=1</script>", "<b onmouseover=alert(2)>x</b>", "<iframe src=javascript:alert(3)>",
+            "<a href=javascript:alert(4)>crank</a>"]
+
+
+def _hostile_design(base_url: str) -> dict[str, Any]:
+    """The manual's general linkage with its links, joints and a point renamed to the payloads."""
+    examples = httpx.get(f"{base_url}/openapi.json", timeout=10).json()["components"]["schemas"]["AnalysisIn"]["examples"]
+    text = json.dumps(next(e for e in examples if e["mechanism"]["type"] == "linkage"))
+    for old, new in zip(('"coupler"', '"B"', '"C"', '"rod"'), PAYLOADS):
+        text = text.replace(old, json.dumps(new))
+    design: dict[str, Any] = json.loads(text)
+    design["trace_points"] = [{"name": PAYLOADS[4], "link": PAYLOADS[0], "position_m": [0.1, 0.05]}]
+    return design
+
+
+def test_hostile_names_from_a_link_and_a_file_are_text_and_run_nothing(page: Page, base_url: str,
+                                                                     tmp_path: Path) -> None:
+    dialogs: list[str] = []
+    page.on("dialog", lambda d: (dialogs.append(d.message), d.dismiss()))
+    design = _hostile_design(base_url)
+    assert httpx.post(f"{base_url}/v1/analysis", json=design, timeout=30).status_code == 200   # the service takes it
+    page.goto("about:blank")
+    page.goto(f"{base_url}/#design={quote(json.dumps(design))}")
+    page.wait_for_selector("body[data-ready='1']", timeout=20_000)
+    names = page.eval_on_selector_all("#drawing text, #drawing title", "els => els.map(e => e.textContent)")
+    # The names are on the page as the characters they are, and no element came out of them.
+    assert PAYLOADS[1] in names and PAYLOADS[2] in names and PAYLOADS[4] in names
+    assert page.locator("#drawing img, #drawing script, #drawing foreignObject, body script:not([src])").count() == 0
+    page.hover("#drawing")
+    # From a file, with the output link renamed too; then the balancing panel's answer drawn from that design.
+    saved = tmp_path / "hostile.json"
+    mech = design["mechanism"]
+    mech["links"][-1]["name"] = mech["output"] = PAYLOADS[5]
+    for j in mech["joints"]:
+        j["links"] = [PAYLOADS[5] if n == "ram" else n for n in j["links"]]
+    saved.write_text(json.dumps(design))
+    before = page.evaluate("document.body.dataset.analysed")
+    page.set_input_files("#load-json", str(saved))
+    page.wait_for_function(f"document.body.dataset.analysed !== '{before}'", timeout=15_000)
+    page.click("button[data-panel=balancing]")
+    page.click("#bal-run")
+    page.wait_for_selector("#bal-polar", timeout=30_000)
+    assert PAYLOADS[5] in page.eval_on_selector_all("#drawing title", "els => els.map(e => e.textContent)")
+    _shot(page, "hostile-names")
+    assert page.evaluate("window.__pwned") is None and dialogs == []
+    assert page.locator("img, script:not([src])").count() == 0
+
+
+def test_the_page_runs_under_a_policy_without_inline_script_or_style(page: Page, base_url: str) -> None:
+    """Served with a Content-Security-Policy that forbids inline script and style, the page and every panel work and
+    the browser reports no refusal."""
+    policy = ("default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data: blob:; "
+              "object-src 'none'; base-uri 'none'")
+    refused: list[str] = []
+    page.on("console", lambda m: refused.append(m.text) if "Content Security Policy" in m.text else None)
+
+    def with_policy(route: Any) -> None:
+        response = route.fetch()
+        route.fulfill(response=response, headers={**response.headers, "content-security-policy": policy})
+
+    page.route(f"{base_url}/", with_policy)
+    page.goto("about:blank")
+    page.goto(f"{base_url}/")
+    page.wait_for_selector("body[data-ready='1']", timeout=20_000)
+    page.evaluate("document.addEventListener('securitypolicyviolation', e => "
+                  "(window.__violations = window.__violations || []).push(e.violatedDirective))")
+    for panel in ("balancing", "flywheel", "drive", "machine", "synthesis", "studies", "mechanism"):
+        page.click(f"button[data-panel={panel}]")
+    page.click("button[data-panel=balancing]")
+    page.select_option("[id='bal-mode']", "full")
+    page.click("#bal-run")
+    page.wait_for_selector("#bal-polar", timeout=30_000)
+    page.hover("#bal-polar svg")
+    assert page.evaluate("window.__violations || []") == [] and refused == []
+
+
+def test_a_size_limit_names_its_field_in_view_and_the_stale_picture_is_marked(page: Page, base_url: str,
+                                                                              tmp_path: Path) -> None:
+    limit = httpx.post(f"{base_url}/v1/analysis", json={**state(page, "design"), "samples": 10**6}, timeout=30).json()
+    edit_and_wait(page, "samples", str(limit["limit"] + 1), outcome="problem")
+    msg = page.locator("[id='m-samples']")
+    # the service's 413 names the field, so its words stand under the samples field, scrolled into view
+    assert limit["status"] == 413 and limit["field"] == "samples"
+    expect(msg).to_be_in_viewport()
+    assert str(limit["limit"]) in msg.inner_text()
+    # the drawing and the diagrams are of the last design that analysed: greyed and labelled while the error stands
+    assert page.locator("#drawing-box.stale-view, #plots.stale-view").count() == 2
+    expect(page.locator("#stale-note")).to_be_visible()
+    _shot(page, "stale-picture")
+    edit_and_wait(page, "samples", "360")
+    assert page.locator(".stale-view").count() == 0 and page.locator("#stale-note").is_hidden()
+    # A file that is not JSON: said in the page's words, not the parser's.
+    bad = tmp_path / "notes.json"
+    bad.write_text("{ this is not json")
+    before = page.evaluate("document.body.dataset.problem || ''")
+    page.set_input_files("#load-json", str(bad))
+    page.wait_for_function(f"(document.body.dataset.problem || '') !== '{before}'", timeout=15_000)
+    text = page.locator("#form-problem").inner_text()
+    assert "notes.json is not a design" in text and "Unexpected" not in text and "JSON.parse" not in text

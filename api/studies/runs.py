@@ -1,9 +1,11 @@
 """Design studies in the background of the service: one thread per running study drives the engine's runner,
-so the event loop only reads the store; rows go to SQLite batch by batch.
+so the event loop only reads the store; rows go to the store batch by batch.
 
-Studies run on the service's own executor, or on a Dask cluster when ``SYNTH_DASK_SCHEDULER`` is set. Opening
-the store marks studies left running by a stopped service as ``interrupted``; resuming one runs only the variants
-that have no row yet.
+Studies run on the service's own executor, or on a Dask cluster when ``SYNTH_DASK_SCHEDULER`` is set. Each
+running study is held by this process's lease, renewed by a heartbeat thread; several service processes may
+share one store. A study whose lease lapsed (its process stopped) is marked ``interrupted`` by whichever process
+looks first; resuming one takes it with an atomic claim, so exactly one process runs the variants that have no
+row yet.
 
 Study tasks go to the executor directly, beside the requests' admission bound (a study never gets 503): each
 running study keeps at most one task more than there are workers in flight, and ``/ready`` counts them.
@@ -16,6 +18,7 @@ import csv
 import io
 import logging
 import threading
+import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from functools import partial
@@ -30,7 +33,10 @@ from synth.errors import InvalidInput, SynthError
 from synth.model import FloatArray
 from synth.execution import DaskExecutor, Executor
 
+from store import LeaseLost, SqlStudyStore, Store, StoreUnavailable
+
 from ..settings import Settings
+from ..storage import open_store
 from ..execution.admission import Solvers
 from ..execution.plans import Limits
 from .paths import check_metrics
@@ -113,16 +119,21 @@ class _Run:
     thread: threading.Thread
     cancel: threading.Event = field(default_factory=threading.Event)
     reason: str = "cancelled"
+    # when this process's claim on the study was taken (monotonic clock); None until then
+    claimed_at: float | None = None
 
 
 class StudyRuns:
     """The studies of one service: the store (opened at start or on first use), the running studies and where
     their tasks run."""
 
-    def __init__(self, settings: Settings, solvers: Solvers) -> None:
+    def __init__(self, settings: Settings, solvers: Solvers, store: Store | None = None) -> None:
         self.settings = settings
         self.solvers = solvers
-        self._store: synth.StudyStore | None = None
+        self._db = store or open_store(settings)
+        self._store: SqlStudyStore | None = None
+        self._heartbeat: threading.Thread | None = None
+        self._stopping = threading.Event()
         self._dask: Executor | None = None
         self._runs: dict[str, _Run] = {}
         self._tasks = _InFlight()
@@ -131,20 +142,49 @@ class StudyRuns:
         self._dask_lock = threading.Lock()
 
     @property
-    def store(self) -> synth.StudyStore:
-        """The SQLite store; opening it marks studies a stopped service left running as interrupted."""
+    def store(self) -> SqlStudyStore:
+        """The studies in the store; the first use marks studies whose process stopped as interrupted."""
         with self._lock:
             if self._store is None:
-                store = synth.StudyStore(self.settings.studies_db)
-                if count := store.mark_interrupted():
-                    log.warning("%d design studies were interrupted by a restart; resume them with "
-                                "POST /v1/studies/{id}/resume", count)
+                store = SqlStudyStore(self._db, lease_s=self.settings.study_lease_s)
+                self._sweep(store)
                 self._store = store
             return self._store
 
+    @staticmethod
+    def _sweep(store: SqlStudyStore) -> None:
+        if count := store.sweep():
+            log.warning("%d design studies were interrupted by a stopped service; resume them with "
+                        "POST /v1/studies/{id}/resume", count)
+
     def open(self) -> None:
-        """Open the store at start, so that studies a stopped service left running show as interrupted."""
-        _ = self.store
+        """At start: show studies a stopped service left running as interrupted (when the store answers), and
+        start the heartbeat that renews this process's leases."""
+        try:
+            _ = self.store
+        except StoreUnavailable as exc:
+            log.error("design studies wait for the store: %s", exc)
+        self._heartbeat = threading.Thread(target=self._beat, daemon=True, name="study-leases")
+        self._heartbeat.start()
+
+    def _beat(self) -> None:
+        """Every third of the lease: renew this process's leases, stop a run whose lease another process took,
+        and mark studies whose process stopped as interrupted."""
+        while not self._stopping.wait(self.settings.study_lease_s / 3):
+            try:
+                asked = time.monotonic()
+                held = self.store.renew()
+                with self._lock:
+                    lost = [run for study_id, run in self._runs.items() if study_id not in held
+                            and run.claimed_at is not None and run.claimed_at < asked]
+                for run in lost:
+                    run.reason = "lost"
+                    run.cancel.set()
+                self._sweep(self.store)
+            except StoreUnavailable as exc:
+                log.warning("the study leases were not renewed: %s", exc)
+            except Exception:
+                log.exception("the study leases were not renewed")
 
     def executor(self) -> Executor:
         """Where study tasks run: the Dask cluster when one is configured, else the service's workers."""
@@ -199,6 +239,7 @@ class StudyRuns:
 
     def resume(self, study_id: str) -> synth.StudyRecord:
         """Run the variants of a stopped study that have no row yet; a running or finished study is left as is."""
+        self._sweep(self.store)
         record = self.get(study_id)
         if record.state in ("cancelled", "interrupted", "failed"):
             study = synth.study_from_dict(record.spec)
@@ -266,6 +307,7 @@ class StudyRuns:
 
     def shutdown(self) -> None:
         """Stop every running study (they become interrupted and can be resumed) before the workers stop."""
+        self._stopping.set()
         with self._lock:
             runs = list(self._runs.values())
         for run in runs:
@@ -273,6 +315,8 @@ class StudyRuns:
             run.cancel.set()
         for run in runs:
             run.thread.join(timeout=10.0)
+        if self._heartbeat is not None:
+            self._heartbeat.join(timeout=10.0)
         if self._dask is not None:
             self._dask.shutdown()
             self._dask = None
@@ -284,14 +328,29 @@ class StudyRuns:
             if study_id in self._runs:
                 return  # two resumes at once start one run
             self._runs[study_id] = _Run(thread)
-        self.store.started(study_id)
+        try:
+            claimed = self.store.claim(study_id)
+        except BaseException:
+            with self._lock:
+                self._runs.pop(study_id, None)
+            raise
+        if not claimed:
+            # another process holds the study (its lease is live) or it is done: that process's run goes on
+            with self._lock:
+                self._runs.pop(study_id, None)
+            return
+        with self._lock:
+            self._runs[study_id].claimed_at = time.monotonic()
+        if indices is not None:
+            # rows written between the look and the claim (a process that stopped while writing) are not redone
+            indices = self.store.missing(study_id, study.variant_count)
         thread.start()
 
     def _drive(self, study_id: str, study: synth.Study, indices: list[int] | None) -> None:
         with self._lock:
             run = self._runs[study_id]
         endpoint = self.store.get(study_id).spec["endpoint"]  # type: ignore[union-attr]
-        state, message = "failed", None
+        state, message, release = "failed", None, True
         try:
             report = synth.run_study(
                 study, variant_function(endpoint, Limits.from_settings(self.settings)),
@@ -309,12 +368,17 @@ class StudyRuns:
                 state = "done"
         except SynthError as exc:
             message = str(exc)
+        except LeaseLost:
+            # the lease lapsed (this process stalled past it) and another process took the study: it is theirs
+            log.warning("design study %s was taken over by another process; this run stops", study_id)
+            release = False
         except Exception as exc:
             # A study-wide failure (the Dask scheduler unreachable, the store's disk full) ends this study only.
             log.exception("design study %s failed", study_id)
             message = f"the study stopped on an unexpected error ({type(exc).__name__}); the error was logged"
         finally:
-            self.store.stopped(study_id, state, message)
+            if release and run.reason != "lost":
+                self.store.stopped(study_id, state, message)
             with self._lock:
                 self._runs.pop(study_id, None)
 

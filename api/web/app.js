@@ -1,8 +1,9 @@
 // The workbench: the mechanism editor, its drawing and its diagrams; the other panels live in panels.js.
 import { loadOpenApi, describe, post, Problem } from "./api.js";
-import { linePlot, polarPlot } from "./plot.js";
+import { linePlot, polarPlot, fmt } from "./plot.js";
 import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
+import { h } from "./dom.js";
 
 const UNITS = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
 const LINK_LABELS = {
@@ -126,23 +127,29 @@ function describeSpec(spec, fam) {
   return describe("AnalysisIn", spec.schemaPath || spec.path, { type: fam });
 }
 
-function esc(s) { return String(s).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/"/g, "&quot;"); }
-
 export function renderForm() {
   const form = document.getElementById("design-form");
   const fam = state.design.mechanism.type;
   document.getElementById("family").value = fam;
   const specs = fieldSpecs(state.design);
   state.fields = specs.filter((s) => s.path);
-  let html = "", open = false, group = "";
+  const nodes = [];
+  let set = null, group = "";
   for (const spec of specs) {
     spec.groupLabel = group;
     if (spec.group) {
       group = spec.group;
-      if (open) html += "</fieldset>";
-      html += `<fieldset><legend>${esc(spec.group)}</legend>`;
-      if (spec.remove !== undefined) html += `<button type="button" class="remove-cw" data-index="${spec.remove}">Remove</button>`;
-      open = true;
+      set = h("fieldset", {}, h("legend", {}, spec.group));
+      if (spec.remove !== undefined) {
+        const n = spec.remove;
+        set.appendChild(h("button", { type: "button", class: "remove-cw", dataset: { index: n }, onclick: () => {
+          state.design.counterweights.splice(n, 1);
+          if (!state.design.counterweights.length) { delete state.design.counterweights; delete state.design.counter_rotors; delete state.design.coupler_inertia_kgm2; }
+          renderForm();
+          edited();
+        } }, "Remove"));
+      }
+      nodes.push(set);
       continue;
     }
     const d = describeSpec(spec, fam);
@@ -152,35 +159,28 @@ export function renderForm() {
     const value = getPath(state.design, spec.path);
     const unit = unitLabel(kind, d.unit);
     const title = `${d.text}`.trim();
+    const common = { id, name: spec.path, title, "aria-describedby": `m-${spec.path}` };
     let input;
     if (spec.json) {
       // one line per entry, short lists of numbers or names kept on one line
       const text = JSON.stringify(value, null, 1).replace(/\[\s+([^[\]{}]*?)\s+\]/g, (_, inner) => `[${inner.replace(/\s+/g, " ")}]`);
-      input = `<textarea id="${id}" name="${spec.path}" rows="18" spellcheck="false" title="${esc(title)}" ` +
-        `aria-describedby="m-${spec.path}">${esc(text)}</textarea>`;
+      input = h("textarea", { ...common, rows: 18, spellcheck: "false" });
+      input.value = text;
     } else if (spec.options) {
-      input = `<select id="${id}" name="${spec.path}" title="${esc(title)}" aria-describedby="m-${spec.path}">` +
-        spec.options.map(([v, l]) => `<option value="${v}" ${String(value ?? spec.options[0][0]) === v ? "selected" : ""}>${l}</option>`).join("") +
-        "</select>";
+      input = h("select", common, spec.options.map(([v, l]) => h("option", { value: v, selected: String(value ?? spec.options[0][0]) === v }, l)));
     } else {
       // a field left out takes the schema's default: shown greyed as the placeholder
       let dflt = d.default;
       if (Array.isArray(dflt)) dflt = dflt[Number(spec.path.split(".").pop())];
       const placeholder = typeof dflt === "number" ? toDisplay(dflt, kind) : "";
-      input = `<input id="${id}" name="${spec.path}" type="text" inputmode="decimal" autocomplete="off" ` +
-        `value="${esc(toDisplay(value, kind))}" placeholder="${esc(placeholder)}" title="${esc(title)}" aria-describedby="m-${spec.path}">`;
+      input = h("input", { ...common, type: "text", inputmode: "decimal", autocomplete: "off", placeholder });
+      input.value = toDisplay(value, kind);
     }
-    html += `<div class="row" data-path="${spec.path}"><label for="${id}" title="${esc(title)}">${esc(spec.label)}</label>${input}` +
-      `<span class="unit">${esc(unit)}</span><p class="msg" id="m-${spec.path}" hidden></p></div>`;
+    const row = h("div", { class: "row", dataset: { path: spec.path } }, h("label", { for: id, title }, spec.label), input,
+      h("span", { class: "unit" }, unit), h("p", { class: "msg", id: `m-${spec.path}`, hidden: true }));
+    if (set) set.appendChild(row); else nodes.push(row);
   }
-  if (open) html += "</fieldset>";
-  form.innerHTML = html;
-  form.querySelectorAll(".remove-cw").forEach((b) => b.addEventListener("click", () => {
-    state.design.counterweights.splice(Number(b.dataset.index), 1);
-    if (!state.design.counterweights.length) { delete state.design.counterweights; delete state.design.counter_rotors; delete state.design.coupler_inertia_kgm2; }
-    renderForm();
-    edited();
-  }));
+  form.replaceChildren(...nodes);
 }
 
 function clearMessages() {
@@ -188,7 +188,7 @@ function clearMessages() {
   document.querySelectorAll("#design-form [aria-invalid]").forEach((i) => i.removeAttribute("aria-invalid"));
   const p = document.getElementById("form-problem");
   p.hidden = true; p.textContent = "";
-  document.getElementById("form-warnings").innerHTML = "";
+  document.getElementById("form-warnings").replaceChildren();
 }
 
 /** The form row a field name of the API belongs to: `mechanism.fourbar.crank_length_m` (a validation error names
@@ -203,17 +203,49 @@ function rowFor(field) {
   return hit || null;
 }
 
+const RELATIONS = { "greater than or equal to": "at least", "greater than": "more than", "less than or equal to": "at most",
+  "less than": "less than" };
+
+/** A bound the service states in SI ("greater than or equal to 1e-06"), said in the form's unit of the field. */
+export function inFormUnits(path, text) {
+  const spec = state.fields.find((f) => f.path === path);
+  if (!spec || !spec.kind || spec.kind === "plain") return text;
+  const f = factor(spec.kind), u = unitLabel(spec.kind);
+  return text.replace(/\b(greater than or equal to|greater than|less than or equal to|less than) (-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)/,
+    (_, rel, num) => `${RELATIONS[rel]} ${fmt(Number(num) / f)} ${u}`);
+}
+
+/** Bring a message into view next to its field, in the scrolled editor or panel. */
+export function reveal(el) {
+  if (el && el.scrollIntoView) el.scrollIntoView({ block: "nearest", inline: "nearest" });
+}
+
 export function showMessage(field, text, warn = false) {
   // the linkage as a whole (cannot assemble, a weak transmission angle): said under the family
   const path = field === "mechanism" ? "mechanism" : rowFor(field);
   if (!path) return false;
   const m = document.getElementById(`m-${path}`);
-  if (path === "mechanism") { m.textContent = text; m.hidden = false; m.className = warn ? "msg warn" : "msg"; return true; }
-  m.textContent = text;
+  m.textContent = path === "mechanism" ? text : inFormUnits(path, text);
   m.hidden = false;
   m.className = warn ? "msg warn" : "msg";
-  if (!warn) document.getElementById(`f-${path}`).setAttribute("aria-invalid", "true");
+  if (path !== "mechanism" && !warn) document.getElementById(`f-${path}`).setAttribute("aria-invalid", "true");
+  if (!warn) reveal(document.querySelector(`.row[data-path="${CSS.escape(path)}"]`) || m);
   return true;
+}
+
+/** Crank-angle gaps as a reader writes them: "76.4°–283.6°". */
+function gaps(ranges) {
+  return ranges.map(([a, b]) => `${Number(a).toFixed(1)}°–${Number(b).toFixed(1)}°`).join(", ");
+}
+
+/** The drawing and the diagrams are of the last design the service answered for: while the form holds an error
+ *  they are greyed and say so. */
+export function markStale(reason) {
+  for (const id of ["drawing-box", "plots"]) document.getElementById(id).classList.toggle("stale-view", Boolean(reason));
+  const note = document.getElementById("stale-note");
+  note.hidden = !reason;
+  note.textContent = reason ? `Drawn for the last design that analysed: ${reason}` : "";
+  document.body.dataset.stale = reason ? "1" : "";
 }
 
 export function showProblem(err, where = "form-problem", fieldMapper = showMessage) {
@@ -221,13 +253,17 @@ export function showProblem(err, where = "form-problem", fieldMapper = showMessa
   const body = err instanceof Problem ? err.body : { detail: String(err.message || err) };
   // a linkage that cannot be assembled is a property of the linkage as a whole
   const field = body.field || (body.not_assemblable_ranges_deg ? "mechanism" : undefined);
-  const list = body.errors && body.errors.length ? body.errors : [{ field, message: body.detail }];
+  const detail = body.not_assemblable_ranges_deg
+    ? `The linkage cannot be assembled for crank angles ${gaps(body.not_assemblable_ranges_deg)} (${body.failing_samples ?? "some"} of the samples): change the lengths.`
+    : body.detail;
+  const list = body.errors && body.errors.length ? body.errors : [{ field, message: detail }];
   const placed = list.map((e) => fieldMapper(e.field, e.message));
   if (placed.every(Boolean)) return;
   box.hidden = false;
-  let text = body.detail || body.title || "the service refused the request";
+  let text = detail || body.title || "the service refused the request";
   if (body.field) text += ` (field ${body.field})`;
   box.textContent = text;
+  reveal(box);
 }
 
 function readInput(el) {
@@ -294,6 +330,7 @@ export async function analyse(t0 = performance.now()) {
     if (seq !== state.seq) return;
     const tAnswer = performance.now();
     clearMessages();
+    markStale(null);
     state.answer = answer;
     state.index = Math.min(state.index, answer.crank_angle_deg.length - 1);
     const slider = document.getElementById("angle");
@@ -321,6 +358,7 @@ export async function analyse(t0 = performance.now()) {
     if (seq !== state.seq) return;
     clearMessages();
     showProblem(err);
+    markStale("the form holds an error");
     setStatus("not analysed: see the message in the form");
     document.body.dataset.problem = String(seq);
   } finally {
@@ -526,6 +564,7 @@ async function main() {
     const m = document.getElementById(`m-${el.name}`);
     if (msg) {
       m.textContent = msg; m.hidden = false; el.setAttribute("aria-invalid", "true");
+      markStale("the form holds an error");
       return;
     }
     m.hidden = true; el.removeAttribute("aria-invalid");
@@ -579,11 +618,17 @@ async function main() {
   document.getElementById("load-json").addEventListener("change", async (e) => {
     const file = e.target.files[0];
     if (!file) return;
-    try {
-      const d = JSON.parse(await file.text());
-      if (!d.mechanism) throw new Error("the file holds no `mechanism`: save a design from this page or write an /v1/analysis request");
-      setDesign(d);
-    } catch (err) { showProblem(err); }
+    let d = null;
+    try { d = JSON.parse(await file.text()); } catch {
+      d = undefined;
+    }
+    if (!d || typeof d !== "object" || !d.mechanism || typeof d.mechanism !== "object") {
+      clearMessages();
+      showProblem(new Error(d === undefined
+        ? `${file.name} is not a design: it is not JSON text. Open a file saved with Save JSON, or an /v1/analysis request.`
+        : `${file.name} holds no mechanism: open a file saved with Save JSON, or an /v1/analysis request.`));
+      document.body.dataset.problem = String(++state.seq);
+    } else setDesign(d);
     e.target.value = "";
   });
   document.getElementById("copy-link").addEventListener("click", async () => {

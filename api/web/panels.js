@@ -3,6 +3,7 @@
 import { post, get, del, postFile, describe } from "./api.js";
 import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
 import { toModel } from "./draw.js";
+import { h, s, put, table } from "./dom.js";
 
 let ctx = null;
 
@@ -19,8 +20,6 @@ function linkage() {
 /** A length [m] in the form's unit, rounded for reading. */
 function L(v) { return `${fmt(v / ctx.factor("length"))} ${ctx.unitLabel("length")}`; }
 
-function esc(s) { return String(s).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/"/g, "&quot;"); }
-
 /** One labelled input of a panel, described by the OpenAPI document (model, path); `kind` length or mass turns the
  *  form's units on. */
 function field(prefix, { name, label, model, path, kind = "plain", value = "", options = null, choose = {} }) {
@@ -28,11 +27,15 @@ function field(prefix, { name, label, model, path, kind = "plain", value = "", o
   const id = `${prefix}-${name}`;
   const unit = ctx.unitLabel(kind, d.unit);
   const shown = value === "" || value === null || value === undefined ? "" : (kind === "plain" ? String(value) : ctx.toDisplay(value, kind));
-  const input = options
-    ? `<select id="${id}" name="${name}" title="${esc(d.text)}">${options.map(([v, l]) => `<option value="${esc(v)}" ${String(value) === String(v) ? "selected" : ""}>${esc(l)}</option>`).join("")}</select>`
-    : `<input id="${id}" name="${name}" type="text" inputmode="decimal" autocomplete="off" value="${esc(shown)}" title="${esc(d.text)}" data-kind="${kind}">`;
-  return `<div class="row" data-field="${name}"><label for="${id}" title="${esc(d.text)}">${esc(label)}</label>${input}` +
-    `<span class="unit">${esc(options ? "" : unit)}</span><p class="msg" id="${id}-msg" hidden></p></div>`;
+  let input;
+  if (options) {
+    input = h("select", { id, name, title: d.text }, options.map(([v, l]) => h("option", { value: v, selected: String(value) === String(v) }, l)));
+  } else {
+    input = h("input", { id, name, type: "text", inputmode: "decimal", autocomplete: "off", title: d.text, dataset: { kind } });
+    input.value = shown;
+  }
+  return h("div", { class: "row", dataset: { field: name } }, h("label", { for: id, title: d.text }, label), input,
+    h("span", { class: "unit" }, options ? "" : unit), h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
 }
 
 /** A panel input's value in SI: null when empty, NaN when not a number. */
@@ -65,6 +68,7 @@ function panelProblem(prefix, err) {
       if (el) {
         const m = document.getElementById(`${id}-msg`);
         m.textContent = message; m.hidden = false; el.setAttribute("aria-invalid", "true");
+        (el.closest(".row") || m).scrollIntoView({ block: "nearest", inline: "nearest" });
         return true;
       }
     }
@@ -108,9 +112,12 @@ function download(blob, name) {
 }
 
 function summaryTable(rows, before, after) {
-  return `<table><tr><th></th><th>before</th><th>after</th></tr>` + rows.map(([k, label, unit]) =>
-    `<tr><td>${label}</td><td class="num">${fmt(before[k])} ${unit}</td><td class="num">${after ? fmt(after[k]) + " " + unit : ""}</td></tr>`).join("") + "</table>";
+  return table(["", "before", "after"], rows.map(([k, label, unit]) =>
+    [label, [`${fmt(before[k])} ${unit}`, { class: "num" }], [after ? `${fmt(after[k])} ${unit}` : "", { class: "num" }]]));
 }
+
+/** The buttons and status line under a panel's fields. */
+function actions(...children) { return h("div", { class: "actions" }, children); }
 
 const SUMMARY_ROWS = [["rms_shaking_force_N", "RMS shaking force", "N"], ["max_shaking_force_N", "peak shaking force", "N"],
   ["rms_shaking_moment_Nm", "RMS shaking moment", "N·m"], ["rms_driving_torque_Nm", "RMS driving torque", "N·m"],
@@ -124,18 +131,17 @@ function balancingPanel() {
     const modes = fam === "fourbar" ? [["static", "static: force zero"], ["full", "full: force, moment zero"], ["optimal", "optimal trade-off"]]
       : [["optimal", "optimal trade-off"]];
     const links = fam === "fourbar" ? ["crank", "rocker"] : fam === "slider_crank" ? ["crank"] : ["crank", "rocker"];
-    el.innerHTML = `<h2>Balancing with counterweights</h2><div class="controls">` +
-      field("bal", { name: "mode", label: "Mode", options: modes, value: modes[0][0] }) +
-      links.map((l) => field("bal", { name: `max_radius_m.${l}`, label: `Largest radius on the ${l}`, model: "BalanceIn", path: "max_radius_m", kind: "length" })).join("") +
-      field("bal", { name: "mass_budget_kg", label: "Mass budget (optimal)", model: "BalanceIn", path: "mass_budget_kg", kind: "mass" }) +
-      field("bal", { name: "weights.shaking_force", label: "Weight: shaking force", model: "WeightsIn", path: "shaking_force", value: 1 }) +
-      field("bal", { name: "weights.shaking_moment", label: "Weight: shaking moment", model: "WeightsIn", path: "shaking_moment", value: 1 }) +
-      field("bal", { name: "weights.driving_torque", label: "Weight: driving torque", model: "WeightsIn", path: "driving_torque", value: 0 }) +
-      `</div><div class="actions"><button class="run" id="bal-run">Balance</button>` +
-      `<button class="secondary" id="bal-apply" disabled>Put these counterweights on the design</button><span id="bal-status" class="note"></span></div>` +
-      `<p id="bal-problem" class="problem" hidden></p><div id="bal-result"></div><div id="bal-plots" class="plots"></div>`;
-    el.querySelector("#bal-run").addEventListener("click", run);
-    el.querySelector("#bal-apply").addEventListener("click", apply);
+    put(el, h("h2", {}, "Balancing with counterweights"), h("div", { class: "controls" },
+      field("bal", { name: "mode", label: "Mode", options: modes, value: modes[0][0] }),
+      links.map((l) => field("bal", { name: `max_radius_m.${l}`, label: `Largest radius on the ${l}`, model: "BalanceIn", path: "max_radius_m", kind: "length" })),
+      field("bal", { name: "mass_budget_kg", label: "Mass budget (optimal)", model: "BalanceIn", path: "mass_budget_kg", kind: "mass" }),
+      field("bal", { name: "weights.shaking_force", label: "Weight: shaking force", model: "WeightsIn", path: "shaking_force", value: 1 }),
+      field("bal", { name: "weights.shaking_moment", label: "Weight: shaking moment", model: "WeightsIn", path: "shaking_moment", value: 1 }),
+      field("bal", { name: "weights.driving_torque", label: "Weight: driving torque", model: "WeightsIn", path: "driving_torque", value: 0 })),
+    actions(h("button", { class: "run", id: "bal-run", onclick: run }, "Balance"),
+      h("button", { class: "secondary", id: "bal-apply", disabled: true, onclick: apply }, "Put these counterweights on the design"),
+      h("span", { id: "bal-status", class: "note" })),
+    h("p", { id: "bal-problem", class: "problem", hidden: true }), h("div", { id: "bal-result" }), h("div", { id: "bal-plots", class: "plots" }));
   };
   let answer = null;
   const request = (mode) => {
@@ -176,17 +182,17 @@ function balancingPanel() {
     const before = ctx.state.answer;
     const after = await post("/v1/analysis", { ...linkage(), balancing: ans });
     const res = document.getElementById("bal-result");
-    res.innerHTML = `<h3>${ans.mode} balance: ${ans.counterweights.length} counterweight(s), ${fmt(ans.total_added_mass_kg)} kg added</h3>` +
-      `<table><tr><th>link</th><th>mass</th><th>radius</th><th>angle</th></tr>` + ans.placements.map((p, n) =>
-        `<tr><td>${p.link}</td><td class="num">${fmt(ans.counterweights[n].mass_kg)} kg</td><td class="num">${L(p.radius_m)}</td>` +
-        `<td class="num">${fmt(p.angle_deg)}°</td></tr>`).join("") + "</table>" +
-      (ans.counter_rotors ? `<p>Counter-rotors: ${ans.counter_rotors.map((r) => `${r.link} ${fmt(r.inertia_kgm2)} kg·m² at −${fmt(r.ratio)}×`).join(", ")}` +
-        (ans.coupler_inertia_kgm2 !== null ? `; coupler inertia about its centre ${fmt(ans.coupler_inertia_kgm2)} kg·m²` : "") + "</p>" : "") +
-      summaryTable(SUMMARY_ROWS, ans.summary_before, ans.summary_after) +
-      `<p class="note">Check: residual shaking force ${fmt(ans.checks.residual_shaking_force_N)} N, residual shaking moment ${fmt(ans.checks.residual_shaking_moment_Nm)} N·m ` +
-      `(the balanced linkage re-analysed by the service).</p>`;
+    const num = (t) => [t, { class: "num" }];
+    put(res, h("h3", {}, `${ans.mode} balance: ${ans.counterweights.length} counterweight(s), ${fmt(ans.total_added_mass_kg)} kg added`),
+      table(["link", "mass", "radius", "angle"], ans.placements.map((p, n) =>
+        [p.link, num(`${fmt(ans.counterweights[n].mass_kg)} kg`), num(L(p.radius_m)), num(`${fmt(p.angle_deg)}°`)])),
+      ans.counter_rotors ? h("p", {}, `Counter-rotors: ${ans.counter_rotors.map((r) => `${r.link} ${fmt(r.inertia_kgm2)} kg·m² at −${fmt(r.ratio)}×`).join(", ")}` +
+        (ans.coupler_inertia_kgm2 !== null ? `; coupler inertia about its centre ${fmt(ans.coupler_inertia_kgm2)} kg·m²` : "")) : null,
+      summaryTable(SUMMARY_ROWS, ans.summary_before, ans.summary_after),
+      h("p", { class: "note" }, `Check: residual shaking force ${fmt(ans.checks.residual_shaking_force_N)} N, residual shaking moment ${fmt(ans.checks.residual_shaking_moment_Nm)} N·m ` +
+        "(the balanced linkage re-analysed by the service)."));
     const box = document.getElementById("bal-plots");
-    box.innerHTML = "";
+    box.replaceChildren();
     const x = after.crank_angle_deg;
     polarPlot(box, "bal-polar", { title: "Shaking force: before and after", unit: "N",
       series: Object.assign([{ name: "before", points: before.shaking_force_N, colour: "#8a93a3" }, { name: "after", points: after.shaking_force_N, colour: "#1f5fbf" }], { angles: x }) });
@@ -223,15 +229,14 @@ function flywheelPanel() {
   let types = [];
   const render = async () => {
     if (!types.length) { try { types = await get("/v1/machine-types"); } catch { types = []; } }
-    el.innerHTML = `<h2>Flywheel</h2><div class="controls">` +
-      field("fly", { name: "delta", label: "Target δ (empty: machine type)", model: "FlywheelIn", path: "delta", value: 0.05 }) +
-      field("fly", { name: "machine_type", label: "Machine type", options: [["", "–"], ...types.map((t) => [t.machine_type, `${t.label} (δ ≤ ${fmt(t.default_delta, 3)})`])], value: "" }) +
-      field("fly", { name: "geometry.shape", label: "Shape", options: [["rim", "rim on spokes"], ["disc", "solid disc"]], value: "rim" }) +
-      field("fly", { name: "geometry.density_kg_m3", label: "Density", model: "GeometryIn", path: "density_kg_m3", value: 7200 }) +
-      field("fly", { name: "geometry.max_rim_speed_m_s", label: "Largest rim speed", model: "GeometryIn", path: "max_rim_speed_m_s", value: 30 }) +
-      `</div><div class="actions"><button class="run" id="fly-run">Size the flywheel</button><span id="fly-status" class="note"></span></div>` +
-      `<p id="fly-problem" class="problem" hidden></p><div id="fly-result"></div><div id="fly-plots" class="plots"></div>`;
-    el.querySelector("#fly-run").addEventListener("click", run);
+    put(el, h("h2", {}, "Flywheel"), h("div", { class: "controls" },
+      field("fly", { name: "delta", label: "Target δ (empty: machine type)", model: "FlywheelIn", path: "delta", value: 0.05 }),
+      field("fly", { name: "machine_type", label: "Machine type", options: [["", "–"], ...types.map((t) => [t.machine_type, `${t.label} (δ ≤ ${fmt(t.default_delta, 3)})`])], value: "" }),
+      field("fly", { name: "geometry.shape", label: "Shape", options: [["rim", "rim on spokes"], ["disc", "solid disc"]], value: "rim" }),
+      field("fly", { name: "geometry.density_kg_m3", label: "Density", model: "GeometryIn", path: "density_kg_m3", value: 7200 }),
+      field("fly", { name: "geometry.max_rim_speed_m_s", label: "Largest rim speed", model: "GeometryIn", path: "max_rim_speed_m_s", value: 30 })),
+    actions(h("button", { class: "run", id: "fly-run", onclick: run }, "Size the flywheel"), h("span", { id: "fly-status", class: "note" })),
+    h("p", { id: "fly-problem", class: "problem", hidden: true }), h("div", { id: "fly-result" }), h("div", { id: "fly-plots", class: "plots" }));
   };
   async function run() {
     clearPanel("fly");
@@ -254,18 +259,19 @@ function flywheelPanel() {
   function show(a) {
     const g = a.geometry && a.geometry.best;
     const res = document.getElementById("fly-result");
-    res.innerHTML = `<table><tr><td>Flywheel inertia to add</td><td class="num">${fmt(a.flywheel_inertia_kgm2)} kg·m²</td></tr>` +
-      `<tr><td>Target δ / simulated δ (check)</td><td class="num">${fmt(a.target_delta)} / ${fmt(a.achieved_delta)}</td></tr>` +
-      `<tr><td>Crank speed band</td><td class="num">${fmt(a.omega_min_rad_s)} … ${fmt(a.omega_max_rad_s)} rad/s</td></tr>` +
-      (g ? `<tr><td>Body (${g.shape}) on the ${g.shaft} shaft</td><td class="num">outer D = ${L(g.outer_diameter_m)} (mean ${L(g.diameter_m)}), ` +
-        `b = ${L(g.width_m)}, m = ${fmt(g.mass_kg)} kg, rim speed ${fmt(g.rim_speed_m_s)} m/s</td></tr>` : "") +
-      "</table>";
+    const num = (t) => [t, { class: "num" }];
+    const rpm = (w) => (w * 30) / Math.PI;
+    put(res, table(null, [["Flywheel inertia to add", num(`${fmt(a.flywheel_inertia_kgm2)} kg·m²`)],
+      ["Target δ / simulated δ (check)", num(`${fmt(a.target_delta)} / ${fmt(a.achieved_delta)}`)],
+      ["Crank speed band", num(`${fmt(rpm(a.omega_min_rad_s))} … ${fmt(rpm(a.omega_max_rad_s))} rev/min`)],
+      ...(g ? [[`Body (${g.shape}) on the ${g.shaft} shaft`, num(`outer D = ${L(g.outer_diameter_m)} (mean ${L(g.diameter_m)}), ` +
+        `b = ${L(g.width_m)}, m = ${fmt(g.mass_kg)} kg, rim speed ${fmt(g.rim_speed_m_s)} m/s`)]] : [])]));
     const box = document.getElementById("fly-plots");
-    box.innerHTML = "";
-    const s = a.speed;
-    linePlot(box, "fly-speed", { title: "Crank speed over the cycle, within its band", x: s.crank_angle_deg, xLabel: "crank angle φ [°]",
-      yLabel: "ω [rad/s]", unit: "rad/s", series: [{ name: "ω", values: s.omega_rad_s }],
-      limits: [{ y: a.mean_speed_rad_s * (1 + a.target_delta / 2), label: "ω_mean(1+δ/2)" }, { y: a.mean_speed_rad_s * (1 - a.target_delta / 2), label: "ω_mean(1−δ/2)" }] });
+    box.replaceChildren();
+    const sp = a.speed;
+    linePlot(box, "fly-speed", { title: "Crank speed over the cycle, within its band", x: sp.crank_angle_deg, xLabel: "crank angle φ [°]",
+      yLabel: "n [rev/min]", unit: "rev/min", series: [{ name: "n", values: sp.omega_rad_s.map(rpm) }],
+      limits: [{ y: rpm(a.mean_speed_rad_s * (1 + a.target_delta / 2)), label: "n_mean(1+δ/2)" }, { y: rpm(a.mean_speed_rad_s * (1 - a.target_delta / 2)), label: "n_mean(1−δ/2)" }] });
     const em = a.energy_mass;
     const plot = scatterPlot(box, "fly-energy-mass", { title: "Energy-mass diagram (Wittenbauer) with its tangents", xLabel: "J_red [kg·m²]", yLabel: "ΔA [J]",
       points: em.reduced_inertia_kgm2.map((j, n) => ({ x: j, y: em.excess_work_J[n], label: `φ = ${fmt(em.crank_angle_deg[n])}°` })).filter((_, n) => n % 4 === 0) });
@@ -281,20 +287,20 @@ function flywheelPanel() {
     if (g) drawBody(box, g);
   }
   function drawBody(box, g) {
-    const div = document.createElement("div");
-    div.className = "plot"; div.id = "fly-body";
     const R = g.outer_diameter_m / 2, r = g.shape === "rim" ? R - g.rim_thickness_m : 0, b = g.width_m;
     const W = 2 * R + b * 3, H = 2 * R * 1.25, sw = R / 60;
-    div.innerHTML = `<h4>The flywheel (${g.shape}): front and section</h4><svg viewBox="${-R * 1.1} ${-R * 1.2} ${W} ${H}" role="img" aria-label="flywheel drawing">` +
-      `<circle cx="0" cy="0" r="${R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
-      (r > 0 ? `<circle cx="0" cy="0" r="${r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` +
-        [0, 60, 120].map((a) => `<line x1="${-r * Math.cos(a * Math.PI / 180)}" y1="${-r * Math.sin(a * Math.PI / 180)}" x2="${r * Math.cos(a * Math.PI / 180)}" y2="${r * Math.sin(a * Math.PI / 180)}" stroke="#2d3e5c" stroke-width="${sw * 3}"/>`).join("") : "") +
-      `<circle cx="0" cy="0" r="${R * 0.08}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` +
-      `<rect x="${R * 1.3}" y="${-R}" width="${b}" height="${2 * R}" fill="#dfe7f3" stroke="#2d3e5c" stroke-width="${sw}"/>` +
-      (r > 0 ? `<rect x="${R * 1.3 + b * 0.35}" y="${-r}" width="${b * 0.3}" height="${2 * r}" fill="#fff" stroke="#2d3e5c" stroke-width="${sw}"/>` : "") +
-      `<text x="0" y="${R * 1.08}" text-anchor="middle" style="font-size:${R / 9}px">D = ${L(g.outer_diameter_m)}</text>` +
-      `<text x="${R * 1.3 + b / 2}" y="${-R * 1.06}" text-anchor="middle" style="font-size:${R / 9}px">b = ${L(b)}</text></svg>`;
-    box.appendChild(div);
+    const ink = { fill: "#dfe7f3", stroke: "#2d3e5c", "stroke-width": sw };
+    const spokes = r > 0 ? [0, 60, 120].map((a) => s("line", { x1: -r * Math.cos(a * Math.PI / 180), y1: -r * Math.sin(a * Math.PI / 180),
+      x2: r * Math.cos(a * Math.PI / 180), y2: r * Math.sin(a * Math.PI / 180), stroke: "#2d3e5c", "stroke-width": sw * 3 })) : [];
+    box.appendChild(h("div", { class: "plot", id: "fly-body" }, h("h4", {}, `The flywheel (${g.shape}): front and section`),
+      s("svg", { viewBox: `${-R * 1.1} ${-R * 1.2} ${W} ${H}`, role: "img", "aria-label": "flywheel drawing" },
+        s("circle", { cx: 0, cy: 0, r: R, ...ink }),
+        r > 0 ? s("circle", { cx: 0, cy: 0, r, ...ink, fill: "#fff" }) : null, spokes,
+        s("circle", { cx: 0, cy: 0, r: R * 0.08, ...ink, fill: "#fff" }),
+        s("rect", { x: R * 1.3, y: -R, width: b, height: 2 * R, ...ink }),
+        r > 0 ? s("rect", { x: R * 1.3 + b * 0.35, y: -r, width: b * 0.3, height: 2 * r, ...ink, fill: "#fff" }) : null,
+        s("text", { x: 0, y: R * 1.08, "text-anchor": "middle", "font-size": R / 9 }, `D = ${L(g.outer_diameter_m)}`),
+        s("text", { x: R * 1.3 + b / 2, y: -R * 1.06, "text-anchor": "middle", "font-size": R / 9 }, `b = ${L(b)}`))));
   }
   return render;
 }
@@ -307,13 +313,12 @@ function drivePanel() {
     // The mean power the crank takes, read off the analysis answer as a starting value the user may change.
     const w = (ctx.state.design.speed_rpm * Math.PI) / 30;
     const mean = a ? a.driving_torque_Nm.reduce((s, v) => s + v, 0) / a.driving_torque_Nm.length * w : 1000;
-    el.innerHTML = `<h2>Drive: motor, ratio split, teeth</h2><div class="controls">` +
-      field("drv", { name: "output_power_W", label: "Power at the crank", model: "DriveIn", path: "output_power_W", value: Math.max(1, Number(mean.toPrecision(4))) }) +
-      field("drv", { name: "output_speed_rpm", label: "Crank speed", model: "DriveIn", path: "output_speed_rpm", value: ctx.state.design.speed_rpm }) +
-      field("drv", { name: "stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"], ["3", "3 helical"]], value: "2" }) +
-      `</div><div class="actions"><button class="run" id="drv-run">Design the drive</button><span id="drv-status" class="note"></span></div>` +
-      `<p id="drv-problem" class="problem" hidden></p><div id="drv-result"></div>`;
-    el.querySelector("#drv-run").addEventListener("click", run);
+    put(el, h("h2", {}, "Drive: motor, ratio split, teeth"), h("div", { class: "controls" },
+      field("drv", { name: "output_power_W", label: "Power at the crank", model: "DriveIn", path: "output_power_W", value: Math.max(1, Number(mean.toPrecision(4))) }),
+      field("drv", { name: "output_speed_rpm", label: "Crank speed", model: "DriveIn", path: "output_speed_rpm", value: ctx.state.design.speed_rpm }),
+      field("drv", { name: "stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"], ["3", "3 helical"]], value: "2" })),
+    actions(h("button", { class: "run", id: "drv-run", onclick: run }, "Design the drive"), h("span", { id: "drv-status", class: "note" })),
+    h("p", { id: "drv-problem", class: "problem", hidden: true }), h("div", { id: "drv-result" }));
   };
   async function run() {
     clearPanel("drv");
@@ -328,16 +333,17 @@ function drivePanel() {
       busy("drv", "");
       answered("drive");
       const res = document.getElementById("drv-result");
-      res.innerHTML = `<h3>Motor ${d.motor.name}: ${fmt(d.motor.rated_power_W / 1000)} kW at ${fmt(d.motor.rated_rpm)} rpm; required ${fmt(d.required_power_W / 1000)} kW</h3>` +
-        `<table><tr><th>stage</th><th>ratio (split)</th><th>teeth</th><th>ratio (teeth)</th><th>efficiency</th></tr>` +
-        d.stage_ratios.map((r, n) => `<tr><td>${n + 1}</td><td class="num">${fmt(r)}</td><td class="num">${teeth[n].stages[0].pinion_teeth} / ${teeth[n].stages[0].gear_teeth}</td>` +
-          `<td class="num">${fmt(teeth[n].stages[0].ratio)} (${fmt(100 * teeth[n].ratio_error, 3)} %)</td><td class="num">${fmt(d.stage_efficiencies[n])}</td></tr>`).join("") + "</table>" +
-        `<p>Total ratio ${fmt(d.total_ratio)}; tooth numbers: ${esc(teeth[0].method)}.</p>` +
-        `<h3>Shafts</h3><table><tr><th>shaft</th><th>speed</th><th>torque</th><th>power</th></tr>` +
-        d.shafts.map((s, n) => `<tr><td>${n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `shaft ${n}`}</td><td class="num">${fmt(s.speed_rpm)} rpm</td>` +
-          `<td class="num">${fmt(s.torque_Nm)} N·m</td><td class="num">${fmt(s.power_W)} W</td></tr>`).join("") + "</table>" +
-        `<p class="note">Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J.</p>` +
-        (d.warnings || []).map((w) => `<p class="note">⚠ ${esc(w.message)}</p>`).join("");
+      const num = (t) => [t, { class: "num" }];
+      put(res, h("h3", {}, `Motor ${d.motor.name}: ${fmt(d.motor.rated_power_W / 1000)} kW at ${fmt(d.motor.rated_rpm)} rev/min; required ${fmt(d.required_power_W / 1000)} kW`),
+        table(["stage", "ratio (split)", "teeth", "ratio (teeth)", "efficiency"], d.stage_ratios.map((r, n) => [String(n + 1), num(fmt(r)),
+          num(`${teeth[n].stages[0].pinion_teeth} / ${teeth[n].stages[0].gear_teeth}`),
+          num(`${fmt(teeth[n].stages[0].ratio)} (${fmt(100 * teeth[n].ratio_error, 3)} % from the split)`), num(fmt(d.stage_efficiencies[n]))])),
+        h("p", {}, `Total ratio ${fmt(d.total_ratio)}.`),
+        h("h3", {}, "Shafts"),
+        table(["shaft", "speed", "torque", "power"], d.shafts.map((sh, n) => [n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `shaft ${n}`,
+          num(`${fmt(sh.speed_rpm)} rev/min`), num(`${fmt(sh.torque_Nm)} N·m`), num(`${fmt(sh.power_W)} W`)])),
+        h("p", { class: "note" }, `Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J.`),
+        (d.warnings || []).map((w) => h("p", { class: "note" }, `⚠ ${w.message}`)));
     } catch (err) { busy("drv", ""); panelProblem("drv", err); }
   }
   return render;
@@ -352,16 +358,15 @@ function machinePanel() {
     // the modes the chain takes per family (docs/machine.md)
     const modes = { fourbar: ["none", "static", "full", "optimal"], slider_crank: ["none", "static", "full", "optimal"],
       slotted_lever: ["none", "optimal"] }[fam] || ["none"];
-    el.innerHTML = `<h2>The whole machine: linkage, balance, drive, flywheel, simulation</h2><div class="controls">` +
-      field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }) +
-      field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }) +
-      field("mac", { name: "drive.stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"]], value: "1" }) +
-      field("mac", { name: "alternatives", label: "Alternatives side by side", options: [["true", "yes"], ["false", "no"]], value: "true" }) +
-      `</div><div class="actions"><button class="run" id="mac-run">Design the machine</button>` +
-      `<button class="secondary" id="mac-pdf" disabled>Download the design record (PDF)</button><span id="mac-status" class="note"></span></div>` +
-      `<p id="mac-problem" class="problem" hidden></p><div id="mac-result"></div>`;
-    el.querySelector("#mac-run").addEventListener("click", run);
-    el.querySelector("#mac-pdf").addEventListener("click", pdf);
+    put(el, h("h2", {}, "The whole machine: linkage, balance, drive, flywheel, simulation"), h("div", { class: "controls" },
+      field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }),
+      field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }),
+      field("mac", { name: "drive.stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"]], value: "1" }),
+      field("mac", { name: "alternatives", label: "Alternatives side by side", options: [["true", "yes"], ["false", "no"]], value: "true" })),
+    actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
+      h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
+      h("span", { id: "mac-status", class: "note" })),
+    h("p", { id: "mac-problem", class: "problem", hidden: true }), h("div", { id: "mac-result" }));
   };
   const request = () => {
     const body = linkage();
@@ -372,20 +377,37 @@ function machinePanel() {
     body.alternatives = read("mac", "alternatives") === "true";
     return body;
   };
+  /** The answer shown and the PDF button go together: no answer, no record to download. */
+  function forget(note) {
+    last = null;
+    document.getElementById("mac-pdf").disabled = true;
+    const res = document.getElementById("mac-result");
+    res.replaceChildren();
+    delete res.dataset.passed;
+    if (note) res.appendChild(h("p", { class: "note" }, note));
+  }
   async function run() {
     clearPanel("mac");
+    forget();
     if (!checkNumbers("mac", ["delta"])) return;
-    last = request();
+    const body = request();
     busy("mac", "designing…");
     try {
-      const m = await post("/v1/machines/design", last);
+      const m = await post("/v1/machines/design", body);
       answered("machine");
       busy("mac", "");
+      last = body;
       show(m);
       document.getElementById("mac-pdf").disabled = false;
-    } catch (err) { busy("mac", ""); panelProblem("mac", err); }
+    } catch (err) {
+      busy("mac", "");
+      forget("No machine for these inputs: the message says why.");
+      panelProblem("mac", err);
+    }
+    document.body.dataset.machine = String(Number(document.body.dataset.machine || 0) + 1);
   }
   async function pdf() {
+    if (!last) return;
     busy("mac", "writing the design record…");
     try {
       const blob = await postFile("/v1/machines/design?format=pdf", last);
@@ -394,34 +416,39 @@ function machinePanel() {
     } catch (err) { busy("mac", ""); panelProblem("mac", err); }
   }
   function show(m) {
-    const tick = (ok) => (ok ? '<span class="ok">✔</span>' : '<span class="ko">✘</span>');
+    const tick = (ok) => (ok ? h("span", { class: "ok" }, "✔") : h("span", { class: "ko" }, "✘"));
     const fw = m.flywheel.geometry && m.flywheel.geometry.best;
     const stages = [
-      ["1 linkage", `${ctx.state.design.mechanism.type}, RMS driving torque ${fmt(m.analysis.summary.rms_driving_torque_Nm)} N·m, RMS shaking force ${fmt(m.analysis.summary.rms_shaking_force_N)} N`],
+      ["1 linkage", `${ctx.state.design.mechanism.type.replace(/_/g, "-")}, RMS driving torque ${fmt(m.analysis.summary.rms_driving_torque_Nm)} N·m, RMS shaking force ${fmt(m.analysis.summary.rms_shaking_force_N)} N`],
       ["2 balance", `${m.balancing_mode}: RMS shaking force ${fmt(m.summary_after_balancing.rms_shaking_force_N)} N, moment ${fmt(m.summary_after_balancing.rms_shaking_moment_Nm)} N·m`],
       ["3 motor", `${m.motor.motor.name}, ${fmt(m.motor.motor.rated_power_W / 1000)} kW; required ${fmt(m.motor.required_power_W / 1000)} kW`],
-      ["4 gears", `ratios ${m.stage_ratios.map((r) => fmt(r)).join(" × ")}` + (m.teeth ? `, teeth ${m.teeth.stages.map((s) => `${s.pinion_teeth}/${s.gear_teeth}`).join(", ")}` : "")],
+      ["4 gears", `ratios ${m.stage_ratios.map((r) => fmt(r)).join(" × ")}` + (m.teeth ? `, teeth ${m.teeth.stages.map((st) => `${st.pinion_teeth}/${st.gear_teeth}`).join(", ")}` : "")],
       ["5 flywheel", fw ? `${fmt(fw.mass_kg)} kg ${fw.shape} on the ${m.flywheel_shaft} shaft, D = ${L(fw.outer_diameter_m)}` : "none needed"],
-      ["6 simulation", `δ = ${fmt(m.simulation.achieved_delta)}, mean speed ${fmt(m.simulation.mean_crank_speed_rpm)} rpm, motor peak ${fmt(m.simulation.motor_peak_torque_Nm)} N·m`],
+      ["6 simulation", `δ = ${fmt(m.simulation.achieved_delta)}, mean speed ${fmt(m.simulation.mean_crank_speed_rpm)} rev/min, motor peak ${fmt(m.simulation.motor_peak_torque_Nm)} N·m`],
     ];
     // each check beside the stage whose choice it judges
     const judged = { "3 motor": ["motor_rms_torque", "motor_peak_torque"], "4 gears": ["mean_speed"], "5 flywheel": ["delta"] };
     const verdict = (stage) => (judged[stage] || []).map((n) => m.checks.find((c) => c.name === n)).filter(Boolean)
-      .map((c) => `${tick(c.passed)} ${esc(c.name)}`).join(" ");
+      .map((c) => [tick(c.passed), ` ${c.label || c.name} `]);
     const res = document.getElementById("mac-result");
-    res.innerHTML = `<h3 id="mac-verdict">${tick(m.passed)} ${m.passed ? "every check passed" : "a check failed"}</h3>` +
-      `<table><tr><th>stage</th><th>result</th><th>checks</th></tr>${stages.map(([k, v]) => `<tr><td>${k}</td><td>${esc(v)}</td><td>${verdict(k)}</td></tr>`).join("")}</table>` +
-      `<h3>Checks against the simulated machine</h3><table><tr><th></th><th>check</th><th>value</th><th>limit</th><th></th></tr>` +
-      m.checks.map((c) => `<tr class="check"><td>${tick(c.passed)}</td><td>${esc(c.name)}</td><td class="num">${fmt(c.value)}</td><td class="num">${fmt(c.limit)}</td><td class="note">${esc(c.detail)}</td></tr>`).join("") + "</table>" +
-      (m.alternatives.length ? `<h3>Alternatives side by side</h3><table><tr><th>balancing</th><th>flywheel</th><th>motor</th><th>δ</th><th>checks</th></tr>` +
-        m.alternatives.map((a) => `<tr><td>${a.mode}</td><td>${a.available ? (a.flywheel_mass_kg !== null ? `${fmt(a.flywheel_mass_kg)} kg on ${a.flywheel_shaft}` : "none") : esc(a.reason || "")}</td>` +
-          `<td>${a.motor || "–"}</td><td class="num">${a.achieved_delta !== null ? fmt(a.achieved_delta) : "–"}</td><td>${a.passed === null ? "–" : tick(a.passed)}</td></tr>`).join("") + "</table>" : "") +
-      (m.warnings || []).map((w) => `<p class="note">⚠ ${esc(w.message)}</p>`).join("");
-    const box = document.createElement("div");
-    box.className = "plots";
+    res.dataset.passed = String(m.passed);
+    const value = (c) => (c.unit ? `${fmt(c.value)} ${c.unit}` : fmt(c.value));
+    const limit = (c) => (c.limit === null || c.limit === undefined ? "–" : `${c.kind === "min" ? "≥" : "≤"} ${fmt(c.limit)}${c.unit ? ` ${c.unit}` : ""}`);
+    put(res, h("h3", { id: "mac-verdict" }, tick(m.passed), m.passed ? " every check passed" : ` ${m.checks.filter((c) => !c.passed).length} of ${m.checks.length} checks failed`),
+      table(["stage", "result", "checks"], stages.map(([k, v]) => [k, v, h("span", {}, verdict(k))])),
+      h("h3", {}, "Checks against the simulated machine"),
+      table(["", "check", "value", "limit", ""], m.checks.map((c) => h("tr", { class: ["check", c.passed ? "" : "failed"], dataset: { name: c.name, passed: String(c.passed) } },
+        h("td", {}, tick(c.passed)), h("td", {}, c.label || c.name), h("td", { class: "num" }, value(c)), h("td", { class: "num" }, limit(c)),
+        h("td", { class: "note" }, c.detail)))),
+      m.alternatives.length ? [h("h3", {}, "Alternatives side by side"), table(["balancing", "flywheel", "motor", "δ", "checks"], m.alternatives.map((a) => [a.mode,
+        a.available ? (a.flywheel_mass_kg !== null ? `${fmt(a.flywheel_mass_kg)} kg on ${a.flywheel_shaft}` : "none") : (a.reason || ""),
+        a.motor || "–", [a.achieved_delta !== null ? fmt(a.achieved_delta) : "–", { class: "num" }], a.passed === null ? "–" : tick(a.passed)]))] : null,
+      (m.warnings || []).map((w) => h("p", { class: "note" }, `⚠ ${w.message}`)));
+    const box = h("div", { class: "plots" });
     res.appendChild(box);
+    const rpm = (w) => (w * 30) / Math.PI;
     linePlot(box, "mac-speed", { title: "Simulated crank speed of the assembled machine", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
-      yLabel: "ω [rad/s]", unit: "rad/s", series: [{ name: "ω", values: m.simulation.omega_rad_s }] });
+      yLabel: "n [rev/min]", unit: "rev/min", series: [{ name: "n", values: m.simulation.omega_rad_s.map(rpm) }] });
     linePlot(box, "mac-motor", { title: "Motor torque over the cycle", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
       yLabel: "T_motor [N·m]", unit: "N·m", series: [{ name: "motor torque", values: m.simulation.motor_torque_Nm }],
       limits: [{ y: m.motor.rated_torque_Nm, label: "rated" }] });
@@ -436,18 +463,19 @@ function synthesisPanel() {
   let answer = null;
   const VIEW = { x0: -0.1, y0: -0.05, w: 0.4, h: 0.3 };
   const render = () => {
-    el.innerHTML = `<h2>Synthesis</h2><div class="controls">` +
-      field("syn", { name: "task", label: "Task", options: [["crank-rocker", "crank-rocker: swing and time ratio"], ["slider-crank", "slider-crank: stroke and time ratio"], ["path", "four-bar through path points"]], value: "crank-rocker" }) +
-      field("syn", { name: "swing_deg", label: "Rocker swing", model: "CrankRockerIn", path: "swing_deg", value: 40 }) +
-      field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }) +
-      field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }) +
-      field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 }) +
-      `</div><p class="note" id="syn-path-note">Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path).</p>` +
-      `<svg id="synth-canvas" viewBox="${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}" role="application" aria-label="Click to place path points" tabindex="0"></svg>` +
-      `<div class="controls" id="syn-points">` + field("syn", { name: "px", label: "Point x", kind: "length" }) + field("syn", { name: "py", label: "Point y", kind: "length" }) +
-      `</div><div class="actions"><button class="secondary" id="syn-add">Add the point</button><button class="secondary" id="syn-clear">Clear points</button><button class="run" id="syn-run">Synthesise</button>` +
-      `<button class="secondary" id="syn-open" disabled>Open the answer in the editor</button><span id="syn-status" class="note"></span></div>` +
-      `<p id="syn-problem" class="problem" hidden></p><div id="syn-result"></div>`;
+    put(el, h("h2", {}, "Synthesis"), h("div", { class: "controls" },
+      field("syn", { name: "task", label: "Task", options: [["crank-rocker", "crank-rocker: swing and time ratio"], ["slider-crank", "slider-crank: stroke and time ratio"], ["path", "four-bar through path points"]], value: "crank-rocker" }),
+      field("syn", { name: "swing_deg", label: "Rocker swing", model: "CrankRockerIn", path: "swing_deg", value: 40 }),
+      field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }),
+      field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }),
+      field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 })),
+    h("p", { class: "note", id: "syn-path-note" }, "Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path)."),
+    s("svg", { id: "synth-canvas", viewBox: `${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}`, role: "application", "aria-label": "Click to place path points", tabindex: 0 }),
+    h("div", { class: "controls", id: "syn-points" }, field("syn", { name: "px", label: "Point x", kind: "length" }), field("syn", { name: "py", label: "Point y", kind: "length" })),
+    actions(h("button", { class: "secondary", id: "syn-add" }, "Add the point"), h("button", { class: "secondary", id: "syn-clear" }, "Clear points"),
+      h("button", { class: "run", id: "syn-run" }, "Synthesise"), h("button", { class: "secondary", id: "syn-open", disabled: true }, "Open the answer in the editor"),
+      h("span", { id: "syn-status", class: "note" })),
+    h("p", { id: "syn-problem", class: "problem", hidden: true }), h("div", { id: "syn-result" }));
     // each task shows the fields it takes
     const USED = { "crank-rocker": ["swing_deg", "time_ratio", "scale_length_m"], "slider-crank": ["stroke_m", "time_ratio"], path: [] };
     const showTask = () => {
@@ -486,22 +514,22 @@ function synthesisPanel() {
     const canvas = document.getElementById("synth-canvas");
     const f = ctx.factor("length"), u = ctx.unitLabel("length");
     const step = 0.05;
-    let s = "";
+    const nodes = [];
     for (let x = VIEW.x0 + step; x < VIEW.x0 + VIEW.w - 1e-9; x += step) {
-      s += `<line x1="${x}" x2="${x}" y1="${-(VIEW.y0 + VIEW.h)}" y2="${-VIEW.y0}" stroke="#e3e7ee" stroke-width="0.001"/>` +
-        `<text x="${x + 0.002}" y="${-VIEW.y0 - 0.004}" style="font-size:0.011px" fill="#5b6575">${+(x / f).toFixed(3)}</text>`;
+      nodes.push(s("line", { x1: x, x2: x, y1: -(VIEW.y0 + VIEW.h), y2: -VIEW.y0, stroke: "#e3e7ee", "stroke-width": 0.001 }),
+        s("text", { x: x + 0.002, y: -VIEW.y0 - 0.004, "font-size": 0.011, fill: "#5b6575" }, String(+(x / f).toFixed(3))));
     }
     for (let y = VIEW.y0 + step; y < VIEW.y0 + VIEW.h - 1e-9; y += step) {
-      s += `<line y1="${-y}" y2="${-y}" x1="${VIEW.x0}" x2="${VIEW.x0 + VIEW.w}" stroke="#e3e7ee" stroke-width="0.001"/>` +
-        `<text x="${VIEW.x0 + 0.002}" y="${-y - 0.003}" style="font-size:0.011px" fill="#5b6575">${+(y / f).toFixed(3)}</text>`;
+      nodes.push(s("line", { y1: -y, y2: -y, x1: VIEW.x0, x2: VIEW.x0 + VIEW.w, stroke: "#e3e7ee", "stroke-width": 0.001 }),
+        s("text", { x: VIEW.x0 + 0.002, y: -y - 0.003, "font-size": 0.011, fill: "#5b6575" }, String(+(y / f).toFixed(3))));
     }
-    s += `<text x="${VIEW.x0 + VIEW.w - 0.004}" y="${-(VIEW.y0 + VIEW.h) + 0.014}" text-anchor="end" style="font-size:0.012px">[${u}]</text>`;
-    if (answer && answer.curve) s += `<polygon points="${answer.curve.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#c25e00" stroke-width="0.0015" stroke-dasharray="0.004 0.002"/>`;
-    if (points.length > 1) s += `<polyline points="${points.map((p) => `${p[0]},${-p[1]}`).join(" ")}" fill="none" stroke="#d0243a" stroke-width="0.0008"/>`;
+    nodes.push(s("text", { x: VIEW.x0 + VIEW.w - 0.004, y: -(VIEW.y0 + VIEW.h) + 0.014, "text-anchor": "end", "font-size": 0.012 }, `[${u}]`));
+    if (answer && answer.curve) nodes.push(s("polygon", { points: answer.curve.map((p) => `${p[0]},${-p[1]}`).join(" "), fill: "none", stroke: "#c25e00", "stroke-width": 0.0015, "stroke-dasharray": "0.004 0.002" }));
+    if (points.length > 1) nodes.push(s("polyline", { points: points.map((p) => `${p[0]},${-p[1]}`).join(" "), fill: "none", stroke: "#d0243a", "stroke-width": 0.0008 }));
     points.forEach((p, n) => {
-      s += `<circle class="target" cx="${p[0]}" cy="${-p[1]}" r="0.004"/><text x="${p[0] + 0.005}" y="${-p[1] - 0.004}" style="font-size:0.012px">${n + 1}</text>`;
+      nodes.push(s("circle", { class: "target", cx: p[0], cy: -p[1], r: 0.004 }), s("text", { x: p[0] + 0.005, y: -p[1] - 0.004, "font-size": 0.012 }, String(n + 1)));
     });
-    canvas.innerHTML = s;
+    canvas.replaceChildren(...nodes);
     canvas.dataset.points = JSON.stringify(points);
   }
   async function run() {
@@ -542,16 +570,16 @@ function synthesisPanel() {
     const a = answer, m = a.mechanism;
     const res = document.getElementById("syn-result");
     const lengths = Object.entries(m).filter(([k]) => k.endsWith("_length_m") || k === "offset_m").map(([k, v]) => `${k.replace(/_m$/, "")} ${L(v)}`).join(", ");
-    let text = `<h3>${m.type}: ${esc(lengths)}</h3>`;
+    let text;
     if (a.task === "path") {
-      text += `<p>Coupler point ${L(a.trace_point.position_m[0])}, ${L(a.trace_point.position_m[1])} in the coupler frame; largest distance from a target ` +
-        `${L(a.max_residual_m)} (RMS ${L(a.rms_residual_m)}); ${a.check.grashof}, swing ${fmt(a.check.swing_deg)}°, ${a.starts_converged}/${a.starts} starts converged.</p>`;
+      text = `Coupler point ${L(a.trace_point.position_m[0])}, ${L(a.trace_point.position_m[1])} in the coupler frame; largest distance from a target ` +
+        `${L(a.max_residual_m)} (RMS ${L(a.rms_residual_m)}); ${a.check.grashof}, swing ${fmt(a.check.swing_deg)}°, ${a.starts_converged}/${a.starts} starts converged.`;
     } else {
-      text += `<p>${esc(a.objective)} = ${fmt(a.objective_value)} ${esc(a.objective_unit)}; check by the kinematics engine: time ratio ${fmt(a.check.time_ratio)}` +
+      text = `${a.objective} = ${fmt(a.objective_value)} ${a.objective_unit}; check by the kinematics engine: time ratio ${fmt(a.check.time_ratio)}` +
         (a.check.swing_deg !== undefined ? `, swing ${fmt(a.check.swing_deg)}°` : `, stroke ${L(a.check.stroke_m)}`) +
-        `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.</p>`;
+        `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.`;
     }
-    res.innerHTML = text;
+    put(res, h("h3", {}, `${m.type.replace(/_/g, "-")}: ${lengths}`), h("p", {}, text));
     document.getElementById("syn-open").disabled = false;
     document.body.dataset.synthesised = a.task;
   }
@@ -602,19 +630,20 @@ function studiesPanel() {
       const f = numeric.find((x) => x.path === path) || numeric[0];
       const v = cur(f.path);
       const [lo, hi] = span(v);
-      return field("stu", { name: `p${n}.path`, label: `Parameter ${n + 1}`, options: opts, value: f.path }) +
-        field("stu", { name: `p${n}.from`, label: "from", kind: f.kind, value: lo }) +
-        field("stu", { name: `p${n}.to`, label: "to", kind: f.kind, value: hi }) +
-        field("stu", { name: `p${n}.count`, label: "values", value: 5 });
+      return [field("stu", { name: `p${n}.path`, label: `Parameter ${n + 1}`, options: opts, value: f.path }),
+        field("stu", { name: `p${n}.from`, label: "from", kind: f.kind, value: lo }),
+        field("stu", { name: `p${n}.to`, label: "to", kind: f.kind, value: hi }),
+        field("stu", { name: `p${n}.count`, label: "values", value: 5 })];
     };
-    el.innerHTML = `<h2>Design study over the current design</h2><div class="controls study">` + row(0, "mechanism.crank_length_m") +
-      row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path) + `</div><div class="controls">` +
-      field("stu", { name: "endpoint", label: "Each variant to", options: Object.entries(STUDY_ENDPOINTS).map(([k, v]) => [k, v.label]), value: "/v1/analysis" }) +
-      field("stu", { name: "x", label: "Objective 1 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[0][0] }) +
-      field("stu", { name: "y", label: "Objective 2 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[1][0] }) +
-      `</div><div class="actions"><button class="run" id="stu-run">Start the study</button><button class="secondary" id="stu-cancel" disabled>Cancel</button>` +
-      `<button class="secondary" id="stu-resume" disabled>Resume</button><a id="stu-csv" href="#" hidden download="study.csv">Results as CSV</a><span id="stu-status" class="note"></span></div>` +
-      `<progress id="stu-progress" max="1" value="0"></progress><p id="stu-problem" class="problem" hidden></p><div id="stu-plots" class="plots"></div>`;
+    put(el, h("h2", {}, "Design study over the current design"), h("div", { class: "controls study" }, row(0, "mechanism.crank_length_m"),
+      row(1, numeric.find((f) => f.path.endsWith("mass_kg"))?.path || numeric[1].path)), h("div", { class: "controls" },
+      field("stu", { name: "endpoint", label: "Each variant to", options: Object.entries(STUDY_ENDPOINTS).map(([k, v]) => [k, v.label]), value: "/v1/analysis" }),
+      field("stu", { name: "x", label: "Objective 1 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[0][0] }),
+      field("stu", { name: "y", label: "Objective 2 (min)", options: STUDY_ENDPOINTS["/v1/analysis"].metrics, value: STUDY_ENDPOINTS["/v1/analysis"].metrics[1][0] })),
+    actions(h("button", { class: "run", id: "stu-run" }, "Start the study"), h("button", { class: "secondary", id: "stu-cancel", disabled: true }, "Cancel"),
+      h("button", { class: "secondary", id: "stu-resume", disabled: true }, "Resume"), h("a", { id: "stu-csv", href: "#", hidden: true, download: "study.csv" }, "Results as CSV"),
+      h("span", { id: "stu-status", class: "note" })),
+    h("progress", { id: "stu-progress", max: 1, value: 0 }), h("p", { id: "stu-problem", class: "problem", hidden: true }), h("div", { id: "stu-plots", class: "plots" }));
     el.querySelector("#stu-run").addEventListener("click", start);
     el.querySelector("#stu-cancel").addEventListener("click", async () => { if (study) { study = await del(study.links.self); poll(); } });
     el.querySelector("#stu-resume").addEventListener("click", async () => { if (study) { study = await post(`${study.links.self}/resume`, {}); poll(); } });
@@ -622,7 +651,7 @@ function studiesPanel() {
       const metrics = STUDY_ENDPOINTS[e.target.value].metrics;
       ["x", "y"].forEach((k, n) => {
         const sel = document.getElementById(`stu-${k}`);
-        sel.innerHTML = metrics.map(([v, l]) => `<option value="${esc(v)}">${esc(l)}</option>`).join("");
+        put(sel, metrics.map(([v, l]) => h("option", { value: v }, l)));
         sel.value = metrics[n][0];
       });
     });
@@ -649,7 +678,7 @@ function studiesPanel() {
     const body = { endpoint, base: request, parameters, sampling: "grid", metrics: [...new Set([x, y])], objectives: { [x]: "min", [y]: "min" }, name: "workbench study" };
     try {
       study = await post("/v1/studies", body);
-      document.getElementById("stu-plots").innerHTML = "";
+      document.getElementById("stu-plots").replaceChildren();
       poll();
     } catch (err) { panelProblem("stu", err.body && err.body.field ? Object.assign(err, { body: { ...err.body, field: err.body.field.replace(/^parameters\.(\d)\.range.*/, "p$1.from") } }) : err); }
   }

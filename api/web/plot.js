@@ -1,4 +1,5 @@
 // Small SVG plots: curves over the crank angle, polar diagrams and scatters, with hover read-outs in units.
+import { h, s } from "./dom.js";
 
 const W = 420, H = 220, M = { l: 56, r: 12, t: 20, b: 30 };
 const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3"];
@@ -43,16 +44,16 @@ function extent(arrays, pad = 0.05) {
 function frame(xs, ys, xt, yt, xLabel, yLabel) {
   const X = (v) => M.l + ((v - xs[0]) / (xs[1] - xs[0])) * (W - M.l - M.r);
   const Y = (v) => H - M.b - ((v - ys[0]) / (ys[1] - ys[0])) * (H - M.t - M.b);
-  let s = "";
-  for (const v of yt) s += `<line class="grid" x1="${M.l}" x2="${W - M.r}" y1="${Y(v)}" y2="${Y(v)}"/>` +
-    `<text class="tick" x="${M.l - 4}" y="${Y(v) + 4}" text-anchor="end">${fmt(v, 3)}</text>`;
-  for (const v of xt) s += `<line class="grid" y1="${M.t}" y2="${H - M.b}" x1="${X(v)}" x2="${X(v)}"/>` +
-    `<text class="tick" x="${X(v)}" y="${H - M.b + 13}" text-anchor="middle">${fmt(v, 3)}</text>`;
-  s += `<line class="axis" x1="${M.l}" x2="${W - M.r}" y1="${H - M.b}" y2="${H - M.b}"/>` +
-    `<line class="axis" x1="${M.l}" x2="${M.l}" y1="${M.t}" y2="${H - M.b}"/>` +
-    `<text x="${(M.l + W - M.r) / 2}" y="${H - 3}" text-anchor="middle">${xLabel}</text>` +
-    `<text transform="translate(11 ${(M.t + H - M.b) / 2}) rotate(-90)" text-anchor="middle">${yLabel}</text>`;
-  return { X, Y, s };
+  const nodes = [];
+  for (const v of yt) nodes.push(s("line", { class: "grid", x1: M.l, x2: W - M.r, y1: Y(v), y2: Y(v) }),
+    s("text", { class: "tick", x: M.l - 4, y: Y(v) + 4, "text-anchor": "end" }, fmt(v, 3)));
+  for (const v of xt) nodes.push(s("line", { class: "grid", y1: M.t, y2: H - M.b, x1: X(v), x2: X(v) }),
+    s("text", { class: "tick", x: X(v), y: H - M.b + 13, "text-anchor": "middle" }, fmt(v, 3)));
+  nodes.push(s("line", { class: "axis", x1: M.l, x2: W - M.r, y1: H - M.b, y2: H - M.b }),
+    s("line", { class: "axis", x1: M.l, x2: M.l, y1: M.t, y2: H - M.b }),
+    s("text", { x: (M.l + W - M.r) / 2, y: H - 3, "text-anchor": "middle" }, xLabel),
+    s("text", { transform: `translate(11 ${(M.t + H - M.b) / 2}) rotate(-90)`, "text-anchor": "middle" }, yLabel));
+  return { X, Y, nodes };
 }
 
 function polyline(xv, yv, X, Y) {
@@ -64,10 +65,7 @@ function polyline(xv, yv, X, Y) {
 function box(container, id, title) {
   let el = container.querySelector(`#${id}`);
   if (!el) {
-    el = document.createElement("div");
-    el.className = "plot";
-    el.id = id;
-    el.innerHTML = `<h4></h4><svg viewBox="0 0 ${W} ${H}" role="img"></svg>`;
+    el = h("div", { class: "plot", id }, h("h4"), s("svg", { viewBox: `0 0 ${W} ${H}`, role: "img" }));
     container.appendChild(el);
   }
   el.querySelector("h4").textContent = title;
@@ -77,34 +75,46 @@ function box(container, id, title) {
 }
 
 function legend(series) {
-  if (series.length < 2) return "";
-  return series.map((c, i) => `<g transform="translate(${M.l + 8 + i * 110} ${M.t - 10})"><line x1="0" x2="16" y1="0" y2="0" ` +
-    `stroke="${c.colour || COLOURS[i]}" stroke-width="2" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""}/>` +
-    `<text x="20" y="4">${c.name}</text></g>`).join("");
+  if (series.length < 2) return [];
+  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * 110} ${M.t - 10})` },
+    s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+    s("text", { x: 20, y: 4 }, c.name)));
+}
+
+/** The note a plot carries when everything it draws is numerically zero. */
+function zeroNote(peak, unit, x, y, anchor = "end") {
+  return s("text", { class: "zero-note", x, y, "text-anchor": anchor }, `≈ 0 (largest |value| ${fmt(peak, 2)} ${unit})`);
 }
 
 /** Curves y(x) over one x axis (the crank angle), with optional horizontal limits, a cursor at one sample and a
- *  hover read-out of every curve at the nearest sample. */
-export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null }) {
+ *  hover read-out of every curve at the nearest sample. `zero`: a magnitude below which the curves are read as
+ *  zero (the axis keeps at least that span and says "≈ 0") rather than autoscaled onto rounding noise. */
+export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null, zero = 0 }) {
   const { el, svg } = box(container, id, title);
   const xs = [x[0], x[x.length - 1]];
   if (xs[1] <= xs[0]) xs[1] = xs[0] + 1;
-  const ys = extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
+  let peak = 0;
+  for (const c of series) for (const v of c.values) peak = Math.max(peak, Math.abs(v));
+  const isZero = zero > 0 && peak < zero;
+  const ys = isZero ? [-zero, zero] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
   const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
-  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
-  const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
-  let body = s;
+  const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] - 1e-12 * (ys[1] - ys[0]) && v <= ys[1] + 1e-12 * (ys[1] - ys[0]));
+  const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
   series.forEach((c, i) => {
-    body += `<polyline class="curve" data-series="${c.name}" stroke="${c.colour || COLOURS[i]}" ` +
-      `${c.dash ? `stroke-dasharray="${c.dash}"` : ""} points="${polyline(x, c.values, X, Y)}"/>`;
+    nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+      points: polyline(x, c.values, X, Y) }));
   });
-  for (const l of limits) body += `<line class="limit" x1="${M.l}" x2="${W - M.r}" y1="${Y(l.y)}" y2="${Y(l.y)}"/>` +
-    `<text x="${W - M.r - 4}" y="${Y(l.y) - 4}" text-anchor="end" fill="#b3261e">${l.label}</text>`;
-  body += legend(series);
-  body += `<line class="cursor" y1="${M.t}" y2="${H - M.b}" x1="${M.l}" x2="${M.l}"/>` +
-    `<line class="hover" y1="${M.t}" y2="${H - M.b}" x1="0" x2="0" visibility="hidden"/>`;
-  svg.innerHTML = body;
-  const cursorLine = svg.querySelector(".cursor"), hoverLine = svg.querySelector(".hover");
+  for (const l of limits) {
+    if (l.y < ys[0] || l.y > ys[1]) continue;
+    nodes.push(s("line", { class: "limit", x1: M.l, x2: W - M.r, y1: Y(l.y), y2: Y(l.y) }),
+      s("text", { x: W - M.r - 4, y: Y(l.y) - 4, "text-anchor": "end", fill: "#b3261e" }, l.label));
+  }
+  if (isZero) nodes.push(zeroNote(peak, unit, W - M.r - 4, M.t + 12));
+  nodes.push(...legend(series));
+  const cursorLine = s("line", { class: "cursor", y1: M.t, y2: H - M.b, x1: M.l, x2: M.l });
+  const hoverLine = s("line", { class: "hover", y1: M.t, y2: H - M.b, x1: 0, x2: 0, visibility: "hidden" });
+  nodes.push(cursorLine, hoverLine);
+  svg.replaceChildren(...nodes);
   const setCursor = (i) => {
     if (i === null || i === undefined || i >= x.length) { cursorLine.setAttribute("visibility", "hidden"); return; }
     cursorLine.setAttribute("visibility", "visible");
@@ -122,42 +132,49 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
   };
   svg.onmouseleave = () => { hideTip(); hoverLine.setAttribute("visibility", "hidden"); };
   el.dataset.ymin = ys[0]; el.dataset.ymax = ys[1];
+  el.dataset.zero = String(isZero);
   return { setCursor, el };
 }
 
 /** Polar diagram of a planar vector over the cycle (the shaking force as the textbooks draw it): equal scales,
- *  origin marked, one curve per series. */
-export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null }) {
+ *  origin marked, one curve per series; `zero` as for linePlot. */
+export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null, zero = 0 }) {
   const { el, svg } = box(container, id, title);
-  let r = 0;
-  for (const c of series) for (const [a, b] of c.points) r = Math.max(r, Math.hypot(a, b));
-  r = r > 0 ? r * 1.08 : 1;
+  let peak = 0;
+  for (const c of series) for (const [a, b] of c.points) peak = Math.max(peak, Math.hypot(a, b));
+  const isZero = zero > 0 && peak < zero;
+  const r = isZero ? zero : peak > 0 ? peak * 1.08 : 1;
   const side = H - M.t - M.b, cx = M.l + (W - M.l - M.r) / 2, cy = M.t + side / 2;
   const k = side / (2 * r);
   const X = (v) => cx + v * k, Y = (v) => cy - v * k;
   const { ticks } = niceTicks(-r, r, 4);
-  let body = "";
+  const nodes = [];
   for (const v of ticks) {
-    if (Math.abs(v) > r) continue;
-    body += `<line class="grid" x1="${X(v)}" x2="${X(v)}" y1="${Y(-r)}" y2="${Y(r)}"/>` +
-      `<line class="grid" y1="${Y(v)}" y2="${Y(v)}" x1="${X(-r)}" x2="${X(r)}"/>` +
-      `<text class="tick" x="${X(v)}" y="${Y(-r) + 12}" text-anchor="middle">${fmt(v, 3)}</text>`;
+    if (Math.abs(v) > r * (1 + 1e-12)) continue;
+    nodes.push(s("line", { class: "grid", x1: X(v), x2: X(v), y1: Y(-r), y2: Y(r) }),
+      s("line", { class: "grid", y1: Y(v), y2: Y(v), x1: X(-r), x2: X(r) }),
+      s("text", { class: "tick", x: X(v), y: Y(-r) + 12, "text-anchor": "middle" }, fmt(v, 3)));
   }
-  body += `<line class="axis" x1="${X(-r)}" x2="${X(r)}" y1="${cy}" y2="${cy}"/>` +
-    `<line class="axis" x1="${cx}" x2="${cx}" y1="${Y(-r)}" y2="${Y(r)}"/>` +
-    `<text x="${X(r) + 4}" y="${cy + 4}">${labels[0]}</text><text x="${cx + 4}" y="${Y(r) + 10}">${labels[1]}</text>` +
-    `<text x="${W - M.r}" y="${H - 4}" text-anchor="end" class="tick">[${unit}]</text>`;
+  nodes.push(s("line", { class: "axis", x1: X(-r), x2: X(r), y1: cy, y2: cy }),
+    s("line", { class: "axis", x1: cx, x2: cx, y1: Y(-r), y2: Y(r) }),
+    s("text", { x: X(r) + 4, y: cy + 4 }, labels[0]), s("text", { x: cx + 4, y: Y(r) + 10 }, labels[1]),
+    s("text", { x: W - M.r, y: H - 4, "text-anchor": "end", class: "tick" }, `[${unit}]`));
   series.forEach((c, i) => {
     const xs = c.points.map((p) => p[0]), ys = c.points.map((p) => p[1]);
-    body += `<polygon class="curve" data-series="${c.name}" stroke="${c.colour || COLOURS[i]}" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""} ` +
-      `points="${polyline(xs, ys, X, Y)}"/>`;
+    nodes.push(s("polygon", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+      points: polyline(xs, ys, X, Y) }));
   });
-  body += `<circle cx="${cx}" cy="${cy}" r="2.5" fill="#223047"/>`;
-  body += series.length > 1 ? series.map((c, i) => `<g transform="translate(${W - M.r - 110} ${M.t + 8 + i * 14})"><line x1="0" x2="16" ` +
-    `stroke="${c.colour || COLOURS[i]}" stroke-width="2" ${c.dash ? `stroke-dasharray="${c.dash}"` : ""}/><text x="20" y="4">${c.name}</text></g>`).join("") : "";
-  body += `<line class="cursor" x1="${cx}" y1="${cy}" x2="${cx}" y2="${cy}"/><circle class="hover-dot" r="3.5" cx="0" cy="0" fill="#d0a000" visibility="hidden"/>`;
-  svg.innerHTML = body;
-  const ray = svg.querySelector(".cursor"), dot = svg.querySelector(".hover-dot");
+  nodes.push(s("circle", { cx, cy, r: 2.5, fill: "#223047" }));
+  if (series.length > 1) {
+    series.forEach((c, i) => nodes.push(s("g", { transform: `translate(${W - M.r - 110} ${M.t + 8 + i * 14})` },
+      s("line", { x1: 0, x2: 16, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+      s("text", { x: 20, y: 4 }, c.name))));
+  }
+  if (isZero) nodes.push(zeroNote(peak, unit, M.l - 40, M.t + 4, "start"));
+  const ray = s("line", { class: "cursor", x1: cx, y1: cy, x2: cx, y2: cy });
+  const dot = s("circle", { class: "hover-dot", r: 3.5, cx: 0, cy: 0, fill: "#d0a000", visibility: "hidden" });
+  nodes.push(ray, dot);
+  svg.replaceChildren(...nodes);
   const first = series[0];
   const setCursor = (i) => {
     if (i === null || i === undefined || !first || i >= first.points.length) return;
@@ -181,7 +198,9 @@ export function polarPlot(container, id, { title, series, unit, labels = ["Fx", 
       `${fmt(best.p[1])} ${unit}\n|F| = ${fmt(Math.hypot(best.p[0], best.p[1]))} ${unit}`);
   };
   svg.onmouseleave = () => { hideTip(); dot.setAttribute("visibility", "hidden"); };
-  el.dataset.radius = r / 1.08;
+  el.dataset.radius = isZero ? peak : r / 1.08;
+  el.dataset.axisRadius = r;
+  el.dataset.zero = String(isZero);
   return { setCursor, el };
 }
 
@@ -191,28 +210,36 @@ export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPi
   const xs = extent([points.map((p) => p.x)], 0.08), ys = extent([points.map((p) => p.y)], 0.08);
   const xt = niceTicks(xs[0], xs[1], 5).ticks.filter((v) => v >= xs[0] && v <= xs[1]);
   const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] && v <= ys[1]);
-  const { X, Y, s } = frame(xs, ys, xt, yt, xLabel, yLabel);
-  let body = s + `<clipPath id="clip-${id}"><rect x="${M.l}" y="${M.t}" width="${W - M.l - M.r}" height="${H - M.t - M.b}"/></clipPath>`;
+  const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
+  nodes.push(s("clipPath", { id: `clip-${id}` }, s("rect", { x: M.l, y: M.t, width: W - M.l - M.r, height: H - M.t - M.b })));
   if (line && points.length > 1) {
     const order = [...points].sort((a, b) => a.x - b.x);
-    body += `<polyline class="curve" stroke="#8a93a3" points="${polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y)}"/>`;
+    nodes.push(s("polyline", { class: "curve", stroke: "#8a93a3", points: polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y) }));
   }
-  // many points: smaller dots, so the cloud stays readable
-  const r0 = points.length > 100 ? 3 : 5;
+  // many points: smaller dots, so the cloud stays readable; a large cloud is not each in the tab order
+  const r0 = points.length > 100 ? 3 : 5, focusable = points.length <= 200;
   points.forEach((p, i) => {
     const hot = highlight.includes(i);
-    body += `<circle class="pick" data-index="${i}" cx="${X(p.x)}" cy="${Y(p.y)}" r="${hot ? r0 + 2 : r0}" ` +
-      `fill="${p.colour || (hot ? "#c25e00" : "#1f5fbf")}" stroke="#fff" stroke-width="1.2" tabindex="0" role="button" ` +
-      `aria-label="${p.label || `point ${i}`}" style="cursor:pointer"/>`;
+    nodes.push(s("circle", { class: "pick", dataset: { index: i }, cx: X(p.x), cy: Y(p.y), r: hot ? r0 + 2 : r0,
+      fill: p.colour || (hot ? "#c25e00" : "#1f5fbf"), stroke: "#fff", "stroke-width": 1.2, tabindex: focusable || p.focus ? 0 : null,
+      role: "button", "aria-label": p.label || `point ${i}` }));
   });
-  svg.innerHTML = body;
-  svg.querySelectorAll("circle.pick").forEach((c) => {
+  svg.replaceChildren(...nodes);
+  const tip = (evt) => {
+    const c = evt.target.closest && evt.target.closest("circle.pick");
+    if (!c) return;
     const p = points[Number(c.dataset.index)];
-    c.addEventListener("mousemove", (evt) => showTip(evt, `${p.label || ""}\n${xLabel} = ${fmt(p.x)}\n${yLabel} = ${fmt(p.y)}`));
-    c.addEventListener("mouseleave", hideTip);
-    const pick = () => { hideTip(); onPick && onPick(p, Number(c.dataset.index)); };
-    c.addEventListener("click", pick);
-    c.addEventListener("keydown", (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); pick(); } });
-  });
+    showTip(evt, `${p.label || ""}\n${xLabel} = ${fmt(p.x)}\n${yLabel} = ${fmt(p.y)}`);
+  };
+  const pick = (evt) => {
+    const c = evt.target.closest && evt.target.closest("circle.pick");
+    if (!c) return;
+    hideTip();
+    if (onPick) onPick(points[Number(c.dataset.index)], Number(c.dataset.index));
+  };
+  svg.onmousemove = tip;
+  svg.onmouseleave = hideTip;
+  svg.onclick = pick;
+  svg.onkeydown = (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); pick(e); } };
   return { el, X, Y, clip: `url(#clip-${id})` };
 }

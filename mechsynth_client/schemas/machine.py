@@ -296,8 +296,9 @@ class SimulationOut(BaseModel):
 class MachineCheckOut(BaseModel):
     """One target against the simulated machine."""
 
-    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque or motor_peak_torque; "
-                      "under `running`: motor_starts, startup_time or rundown_time.")
+    name: str = Field(description="The target checked: delta, mean_speed, motor_rms_torque, motor_peak_torque, "
+                      "motor_starts, startup_time or rundown_time.")
+    label: str = Field("", description="The check's name in words, as the design record prints it.")
     value: float = Field(description="What the simulated machine gives, in the check's unit: delta [-], the relative "
                          "distance of the mean crank speed from speed_rpm [-], the motor's RMS or peak torque "
                          "[N·m], the largest torque holding the crank at rest [N·m], or the start-up or run-down "
@@ -307,6 +308,13 @@ class MachineCheckOut(BaseModel):
                          "through the train [N·m], max_startup_time_s or max_rundown_time_s.")
     passed: bool = Field(description="The value is within its limit (delta to 1e-3, relative).")
     detail: str = Field(description="What the check compares, in words.")
+    unit: str = Field("", description="The unit of `value` and `limit` (N·m, s); empty for a ratio.")
+
+    @classmethod
+    def from_engine(cls, c: synth.MachineCheck) -> MachineCheckOut:
+        """Schema from an engine check."""
+        return cls(name=c.name, label=c.label or c.name.replace("_", " "), value=c.value, limit=c.limit,
+                   passed=c.passed, detail=c.detail, unit=c.unit)
 
 
 #: Points of a start-up or run-down curve in the answer, evenly picked from the simulation's steps.
@@ -388,13 +396,10 @@ class RunningOut(BaseModel):
 
     efficiency: EfficiencyOut = Field(description="Efficiency of the linkage, the gears and overall.")
     startup: StartUpOut = Field(description="The run-up from rest.")
-    rundown: RunDownOut = Field(description="The run-down to rest.")
-    checks: list[MachineCheckOut] = Field(description="The start, run-up and run-down against their targets: "
-                                          "motor_starts, startup_time, and rundown_time when max_rundown_time_s is "
-                                          "given; the answer's `passed` holds them too.")
+    rundown: RunDownOut = Field(description="The run-down to rest (its checks are among the answer's `checks`).")
 
     @classmethod
-    def from_engine(cls, r: synth.MachineRunning, checks: tuple[synth.MachineCheck, ...] = ()) -> RunningOut:
+    def from_engine(cls, r: synth.MachineRunning) -> RunningOut:
         """Schema from the engine's running figures (radians become degrees here)."""
         up, down, e = r.startup, r.rundown, r.efficiency
         run = up.run
@@ -423,8 +428,6 @@ class RunningOut(BaseModel):
                 stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
                 energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
                 omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
-            checks=[MachineCheckOut(name=c.name, value=c.value, limit=c.limit, passed=c.passed, detail=c.detail)
-                    for c in checks],
         )
 
 
@@ -519,9 +522,11 @@ class AlternativeOut(BaseModel):
 class MachineDesignOut(BaseModel):
     """Every stage of the design in the shape its own endpoint answers with, and the simulated check."""
 
-    passed: bool = Field(description="Every check meets its target, `running.checks` included; the checks say "
-                         "which does not.")
-    checks: list[MachineCheckOut] = Field(description="Each target against the simulated machine.")
+    passed: bool = Field(description="Every entry of `checks` meets its target, and nothing else decides it.")
+    checks: list[MachineCheckOut] = Field(description="Every target against the simulated machine, in one list: "
+                                          "delta, mean_speed, motor_rms_torque, motor_peak_torque (when the motor "
+                                          "has a breakdown torque), motor_starts, startup_time (when it starts) and "
+                                          "rundown_time (when max_rundown_time_s is given).")
     analysis: AnalysisOut = Field(description="The linkage as given, as /v1/analysis answers.")
     balancing_mode: str = Field(description="The balancing mode used: none, static, full or optimal.")
     balancing: BalanceOut | None = Field(None, description="The counterweight balance (a four-bar's static or "
@@ -572,8 +577,7 @@ class MachineDesignOut(BaseModel):
         motor = d.motor
         return cls(
             passed=d.passed,
-            checks=[MachineCheckOut(name=c.name, value=c.value, limit=c.limit, passed=c.passed, detail=c.detail)
-                    for c in d.checks],
+            checks=[MachineCheckOut.from_engine(c) for c in d.checks],
             analysis=AnalysisOut.from_engine(d.before),
             balancing_mode=bal.mode,
             balancing=None if bal.result is None else BalanceOut.from_engine(bal.result),
@@ -611,7 +615,7 @@ class MachineDesignOut(BaseModel):
                                     mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
                                     peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
                                     carries_flywheel=s.carries_flywheel) for s in d.shafts],
-            running=None if d.running is None else RunningOut.from_engine(d.running, d.running_checks),
+            running=None if d.running is None else RunningOut.from_engine(d.running),
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
             request_sha256=request_sha256,

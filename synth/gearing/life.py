@@ -130,7 +130,8 @@ def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: f
     duty = duty or Duty()
     torque = np.abs(np.asarray(pinion_torque, dtype=float).ravel())
     if torque.size > MAX_SPECTRUM_SAMPLES:
-        raise TooLarge("load_spectrum.torque_Nm", MAX_SPECTRUM_SAMPLES, int(torque.size))
+        raise TooLarge("load_spectrum.torque_Nm", MAX_SPECTRUM_SAMPLES, int(torque.size),
+                       field="load_spectrum.torque_Nm")
     if torque.size == 0 or not np.all(np.isfinite(torque)) or not np.any(torque > 0):
         raise InvalidInput("the load spectrum needs finite torques, not all zero", field="load_spectrum.torque_Nm")
     model = PairModel(spec, duty, pinion_speed)

@@ -133,7 +133,7 @@ def make_stages(
     if len(items) < 1:
         raise InvalidInput("a drive needs at least one stage", field=field)
     if len(items) > max_stages:
-        raise TooLarge("stages", max_stages, len(items))
+        raise TooLarge("stages", max_stages, len(items), field=field)
     return tuple(make_stage(s, f"{field}[{i}]") for i, s in enumerate(items))
 
 

@@ -188,7 +188,7 @@ def _validate(target: float, stages: Sequence[Stage], rules: ToothRules, toleran
             raise InvalidInput("the tooth search chooses every stage's ratio; give a range instead of a ratio",
                                field=f"stages[{i}].ratio")
     if rules.max_teeth > MAX_TEETH_LIMIT:
-        raise TooLarge("max_teeth", MAX_TEETH_LIMIT, rules.max_teeth)
+        raise TooLarge("max_teeth", MAX_TEETH_LIMIT, rules.max_teeth, field="max_teeth")
     if rules.min_teeth is not None and not 1 <= rules.min_teeth <= rules.max_teeth:
         raise InvalidInput(f"min_teeth must lie in [1, max_teeth = {rules.max_teeth}], got {rules.min_teeth}",
                            field="min_teeth")

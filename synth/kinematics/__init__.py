@@ -23,7 +23,7 @@ def cycle_angles(samples: int, cycle: float = 2 * math.pi, max_samples: int = MA
     if samples < 3:
         raise InvalidInput(f"samples must be at least 3, got {samples}", field="samples")
     if samples > max_samples:
-        raise TooLarge("samples per cycle", max_samples, samples)
+        raise TooLarge("samples per cycle", max_samples, samples, field="samples")
     return np.linspace(0.0, cycle, samples, endpoint=False)
 
 

@@ -117,13 +117,20 @@ class MachineShaft:
 
 @dataclass(frozen=True, slots=True)
 class MachineCheck:
-    """One target of the design against the simulated machine: ``value`` and ``limit`` in the check's unit."""
+    """One target of the design against the simulated machine: ``value`` held at most ``limit``, both in
+    ``unit`` ("" for a ratio); ``label`` the check's name in words."""
 
     name: str
     value: float
     limit: float
     passed: bool
     detail: str
+    unit: str = ""
+    label: str = ""
+
+
+#: The checks of how the machine starts and stops (the rest judge its steady motion).
+RUNNING_CHECKS = ("motor_starts", "startup_time", "rundown_time")
 
 
 @dataclass(frozen=True, slots=True)
@@ -136,10 +143,10 @@ class MachineDesign:
     real ratios from the teeth [-]; ``motor`` the chosen motor's characteristic through them; ``train_inertia``
     the train (rotor excluded) and Lanchester shafts reduced to the crank [kg·m²]; ``flywheel`` its sizing,
     ``placement`` the body on its shaft (None when no flywheel is needed); ``motion`` the simulated machine;
-    ``shafts`` motor first; ``checks`` each target against the simulation; ``gears`` every cylindrical stage
-    sized for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive
-    asks for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down, and
-    ``running_checks`` the start, run-up and run-down targets.
+    ``shafts`` motor first; ``checks`` every target against the simulation, the steady motion's and the start,
+    run-up and run-down's, in one list that alone decides ``passed``; ``gears`` every cylindrical stage sized
+    for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive asks
+    for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down.
     """
 
     spec: MachineSpec
@@ -161,7 +168,11 @@ class MachineDesign:
     warnings: tuple[DesignWarning, ...]
     gears: TrainSizing | None = None
     running: MachineRunning | None = None
-    running_checks: tuple[MachineCheck, ...] = ()
+
+    @property
+    def running_checks(self) -> tuple[MachineCheck, ...]:
+        """The start, run-up and run-down checks among ``checks``."""
+        return tuple(c for c in self.checks if c.name in RUNNING_CHECKS)
 
     @property
     def flywheel_inertia(self) -> float:
@@ -171,7 +182,7 @@ class MachineDesign:
     @property
     def passed(self) -> bool:
         """True when every check meets its target."""
-        return all(c.passed for c in (*self.checks, *self.running_checks))
+        return all(c.passed for c in self.checks)
 
 
 @dataclass(frozen=True, slots=True)
@@ -488,19 +499,20 @@ def _running_checks(spec: MachineSpec, running: MachineRunning) -> list[MachineC
     checks = [MachineCheck("motor_starts", resisting, start.starting_torque, start.starts,
                            "largest torque holding the crank at rest (gravity, breakaway friction and, starting "
                            "under load, the process load; at the worst crank angle) against the motor's starting "
-                           "torque through the train [N·m]")]
+                           "torque through the train [N·m]", "N·m", "motor starts the machine")]
     if start.starts:
         reached = up.steady_time is not None
         value = up.steady_time if up.steady_time is not None else float(up.run.time[-1]) if up.run else 0.0
         checks.append(MachineCheck("startup_time", value, spec.max_startup_time,
                                    reached and value <= spec.max_startup_time,
                                    "time from rest to within 1 % of the periodic steady speed, idling unless "
-                                   "started under load [s]"))
+                                   "started under load [s]", "s", "start-up time"))
     if spec.max_rundown_time is not None:
         value = down.stop_time if down.stop_time is not None else float(down.run.time[-1])
         checks.append(MachineCheck("rundown_time", value, spec.max_rundown_time,
                                    down.stop_time is not None and value <= spec.max_rundown_time,
-                                   "time from the steady state to rest with the motor off (and the brake) [s]"))
+                                   "time from the steady state to rest with the motor off (and the brake) [s]",
+                                   "s", "run-down time"))
     return checks
 
 
@@ -523,15 +535,19 @@ def _checks(spec: MachineSpec, motion: MachineMotion, motor: Motor) -> tuple[Mac
     rms_ok = motion.motor_rms_torque <= motor.rated_torque
     checks = [
         MachineCheck("delta", motion.delta, spec.delta, delta_ok,
-                     "simulated coefficient of speed fluctuation against the target (1e-3 relative)"),
-        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_ok, speed_detail),
+                     "simulated coefficient of speed fluctuation against the target (1e-3 relative)", "",
+                     "coefficient of speed fluctuation δ"),
+        MachineCheck("mean_speed", speed_err, spec.speed_tolerance, speed_ok, speed_detail, "",
+                     "mean crank speed, relative error"),
         MachineCheck("motor_rms_torque", motion.motor_rms_torque, motor.rated_torque, rms_ok,
-                     "motor torque RMS over time against its rated torque (heating)"),
+                     "motor torque RMS over time against its rated torque (heating)", "N·m",
+                     "motor torque, RMS (heating)"),
     ]
     if motor.breakdown_torque is not None:
         checks.append(MachineCheck("motor_peak_torque", motion.motor_peak_torque, motor.breakdown_torque,
                                    motion.motor_peak_torque <= motor.breakdown_torque,
-                                   "largest motor torque against its breakdown torque (current limit)"))
+                                   "largest motor torque against its breakdown torque (current limit)", "N·m",
+                                   "motor torque, peak"))
     return tuple(checks)
 
 
@@ -582,7 +598,7 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
     replaced: list[DesignWarning] = []
     for _ in range(MAX_MOTOR_UPGRADES + 1):
         design = _drive_onwards(machine, before, bal, balanced, cycle, output_power, motor_name, time_limit_s)
-        heavy = [c.name for c in (*design.checks, *design.running_checks)
+        heavy = [c.name for c in design.checks
                  if c.name in ("motor_rms_torque", "motor_peak_torque", "motor_starts") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _next_motor(design.drive.motor, d.catalogue)
         if bigger is None:
@@ -638,7 +654,7 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     with stage("flywheel"):
         flywheel, placement, motion = _flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
     shafts = _shafts(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
-    checks = _checks(machine, motion, motor)
+    steady_checks = _checks(machine, motion, motor)
     torques = _shaft_torques(ratios, drive, motion, placement, flywheel.design.flywheel_inertia)
     gears, not_sized = _gears(machine, teeth, ratios, torques, motion, shafts)
     # a bound the tooth rules set is named with its pair; the split's own note of that bound is then redundant
@@ -654,7 +670,8 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
         running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
                                   machine.brake_torque, machine.start_under_load)
     running_checks = tuple(_running_checks(machine, running))
-    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(checks) + not_sized
+    checks = (*steady_checks, *running_checks)
+    warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(steady_checks) + not_sized
     warnings += _check_warnings([c for c in running_checks if c.name != "motor_starts"])
     if not running.startup.check.starts:
         warnings.append(DesignWarning(
@@ -664,7 +681,7 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
             "N·m", stage="simulation"))
     return MachineDesign(machine, before, bal, balanced, output_power, drive, teeth, ratios, train_ratio, motor,
                          train, flywheel, placement, motion, shafts, checks, tuple(warnings), gears,
-                         running, running_checks)
+                         running)
 
 
 def _balancing_warnings(before: Analysis, bal: Balancing) -> list[DesignWarning]:

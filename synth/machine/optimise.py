@@ -317,7 +317,7 @@ def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage), None
     values = objective_values(d)
-    reasons = [f"fails its {c.name} check" for c in (*d.checks, *d.running_checks) if not c.passed]
+    reasons = [f"fails its {c.name} check" for c in d.checks if not c.passed]
     after = d.balancing.after
     if spec.max_rms_shaking_force is not None and after.rms_shaking_force > spec.max_rms_shaking_force:
         reasons.append("exceeds max_rms_shaking_force_N")
@@ -445,7 +445,7 @@ def _binding(spec: OptimiseSpec, scan: FamilyScan, d: MachineDesign, u: float) -
                 out.append(at_lo or "parameter range")
             if hi - u <= BINDING_STEPS * scan.step:
                 out.append(at_hi or "parameter range")
-    for c in (*d.checks, *d.running_checks):
+    for c in d.checks:
         if c.name != "mean_speed" and c.limit > 0 and c.value >= (1 - BINDING_FRACTION) * c.limit:
             out.append(c.name)
     after = d.balancing.after

@@ -147,7 +147,7 @@ def _footer(fig: Figure, record: DesignRecord, page: int) -> None:
 def _verdict(d: MachineDesign) -> str:
     if d.passed:
         return "every check met"
-    return "FAILS: " + ", ".join(c.name for c in (*d.checks, *d.running_checks) if not c.passed)
+    return "FAILS: " + ", ".join(c.name for c in d.checks if not c.passed)
 
 
 def _title_block(fig: Figure, record: DesignRecord, d: MachineDesign) -> float:
@@ -387,7 +387,7 @@ def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: Machi
     flow.heading("Checks against the simulated machine")
     flow.table(["check", "value", "limit", "met", "what it compares"],
                [[c.name, num(c.value, c.limit), num(c.limit), "yes" if c.passed else "NO", c.detail]
-                for c in (*d.checks, *d.running_checks)])
+                for c in d.checks])
     flow.heading(f"Warnings ({len(d.warnings)})")
     if d.warnings:
         for w in d.warnings:

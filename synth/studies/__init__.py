@@ -1,11 +1,12 @@
-"""Design studies: many variants of one request, run on any executor, stored in SQLite, with a Pareto front.
+"""Design studies: many variants of one request, run on any executor, kept by a store outside the engine
+(through the :class:`StudyStore` interface), with a Pareto front.
 
 ::
 
     Study (base request + parameters + metrics + objectives + constraints)
       -> Sampler: parameter values by variant index (grid, random, Latin hypercube; seeded)
       -> run_study: batches of variants as tasks of 0.2-2 s on an executor, about one per worker in flight
-      -> StudyStore: each finished batch's rows written at once (SQLite, WAL)
+      -> a sink (StudyStore.write_rows of the store outside the engine): each finished batch's rows at once
       -> pareto_mask: the non-dominated feasible variants
 """
 

@@ -67,7 +67,7 @@ class PathSpec:
         if t.ndim != 2 or t.shape[1] != 2 or t.shape[0] < 3:
             raise InvalidInput("give at least three target points as [x, y] pairs", field="points_m")
         if t.shape[0] > MAX_POINTS:
-            raise TooLarge("target points", MAX_POINTS, t.shape[0])
+            raise TooLarge("target points", MAX_POINTS, t.shape[0], field="points_m")
         if not np.all(np.isfinite(t)):
             raise InvalidInput("target points must be finite", field="points_m")
         if self.crank_angles is not None and np.asarray(self.crank_angles).shape != (t.shape[0],):

@@ -1,0 +1,71 @@
+"""The store's tables, as SQLAlchemy Core tables: the migrations create them, the data layer reads and writes them.
+
+Times are seconds since the epoch (floats), so both engines compare and order them the same way; JSON documents
+are stored as text, exactly as written, so a revision's content hash stays checkable byte for byte.
+"""
+
+from __future__ import annotations
+
+from sqlalchemy import (
+    Boolean,
+    Column,
+    Float,
+    ForeignKey,
+    Index,
+    Integer,
+    MetaData,
+    String,
+    Table,
+    Text,
+)
+
+metadata = MetaData()
+
+studies = Table(
+    "studies", metadata,
+    Column("id", String(32), primary_key=True),
+    Column("spec", Text, nullable=False),
+    Column("total", Integer, nullable=False),
+    Column("state", String(16), nullable=False),
+    Column("created_at", Float, nullable=False),
+    Column("run_started_at", Float),
+    Column("run_start_done", Integer, nullable=False, server_default="0"),
+    Column("elapsed_s", Float, nullable=False, server_default="0"),
+    Column("message", Text),
+    # The process running the study and until when its claim holds; it renews the claim while it runs.
+    Column("lease_owner", String(200)),
+    Column("lease_expires", Float),
+    Index("ix_studies_created_at", "created_at"),
+)
+
+study_rows = Table(
+    "study_rows", metadata,
+    Column("study_id", String(32), ForeignKey("studies.id"), primary_key=True),
+    Column("idx", Integer, primary_key=True, autoincrement=False),
+    Column("params", Text, nullable=False),
+    Column("metrics", Text),
+    Column("feasible", Boolean),
+    Column("problem_type", String(100)),
+    Column("detail", Text),
+)
+
+users = Table(
+    "users", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("name", String(100), nullable=False, unique=True),
+    Column("password_hash", String(500)),
+    # Space-separated role names (viewer, engineer, admin, checker, approver).
+    Column("roles", String(500), nullable=False, server_default=""),
+    Column("created_at", Float, nullable=False),
+)
+
+api_tokens = Table(
+    "api_tokens", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("token_hash", String(128), nullable=False, unique=True),
+    Column("user_id", Integer, ForeignKey("users.id", ondelete="CASCADE"), nullable=False),
+    Column("label", String(200)),
+    Column("created_at", Float, nullable=False),
+    Column("last_used_at", Float),
+    Index("ix_api_tokens_user_id", "user_id"),
+)
