@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(VENV)/bin/python -m uvicorn api.app:app --host $(HOST) --port $(PORT)
+	$(VENV)/bin/python -m api.serve --host $(HOST) --port $(PORT)
 
 # The workbench's browser tests drive Debian's Chromium (Playwright's own download is not used); the store's tests
 # start a throwaway PostgreSQL cluster with Debian's server binaries.

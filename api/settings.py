@@ -41,9 +41,35 @@ class Settings(BaseSettings):
     max_study_variants: int = Field(100_000, ge=1, le=10_000_000,
                                     description="Variants per design study; 413 beyond it.")
 
+    study_workers: int = Field(0, ge=0, le=256, description="Worker processes of the study lane, at a lower "
+                               "scheduling priority than the request workers; 0 means as many as those.")
+    study_lane: Literal["separate", "shared"] = Field(
+        "separate", description="separate: study tasks run on workers of their own (niced); shared: on the "
+                                "request workers, requests first, studies holding at most all but one.")
+    study_nice: int = Field(19, ge=0, le=19, description="Niceness of the study workers (0..19).")
+    max_running_studies: int = Field(4, ge=1, le=1000, description="Studies running at once; the others wait as "
+                                                                   "queued, owners taking turns.")
+    max_study_work_s: float = Field(7200.0, gt=0, le=1e9, description="A study's estimated work, its variants "
+                                    "times the estimated cost of one [worker-seconds]; 413 beyond it.")
+    max_owner_work_s: float = Field(21600.0, gt=0, le=1e10, description="Estimated work of one owner's queued and "
+                                    "running studies together [worker-seconds]; 413 beyond it.")
+    max_request_work_s: float = Field(120.0, gt=0, le=1e6, description="A request's estimated time on the "
+                                      "workers it is dealt to (path synthesis: starts x points); 413 beyond it.")
+    max_answer_bytes: int = Field(64_000_000, ge=10_000, le=10_000_000_000, description="Estimated size of an "
+                                  "answer; 413 beyond it (with the hint to ask for npz or fewer samples).")
+    spool_above_bytes: int = Field(1_000_000, ge=0, le=1_000_000_000, description="Answers larger than this are "
+                                   "written to a file by the worker and streamed from it.")
+    header_timeout_s: float = Field(10.0, gt=0, le=600, description="Time a client has to send a request's "
+                                    "headers; the connection is closed past it.")
+    keep_alive_s: float = Field(5.0, gt=0, le=600, description="Idle time a kept-alive connection stays open.")
+    max_connections: int = Field(1000, ge=1, le=1_000_000, description="Open connections at once; beyond, "
+                                 "new connections are answered 503 and closed.")
     database_url: str | None = Field(None, description="The store on a PostgreSQL server "
                                      "(postgresql://user:password@host:5432/db), shared by several service "
                                      "processes; unset: the SQLite file SYNTH_STUDIES_DB.")
+    max_import_bytes: int = Field(200_000_000, ge=1_000, le=10_000_000_000,
+                                  description="Body size of a library import (a project's export: answers and "
+                                              "design records of every revision); 413 beyond it.")
     study_lease_s: float = Field(30.0, ge=0.5, le=3600,
                                  description="How long a running study's claim lasts unless its process renews it "
                                              "(a third of this apart); another process takes a study whose "

@@ -30,6 +30,7 @@ from typing import Any, Literal, TypeVar
 import httpx
 from pydantic import BaseModel
 
+from .library import AsyncLibraryClient, LibraryClient
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
@@ -50,6 +51,7 @@ from .schemas.machine import MachineDesignOut, MachineIn
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
 from .schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
@@ -508,6 +510,29 @@ class SynthClient(_Policy):
         handle.status()
         return handle
 
+    def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis: a disc cam over one turn with its checks."""
+        return self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis: the least cam for pressure-angle and curvature limits."""
+        return self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    def cam_file(self, body: CamAnalysisIn | CamSynthesisIn, format: Literal["png", "svg", "pdf", "csv", "dxf"]
+                 = "png") -> bytes:
+        """The cam's figure (png, svg, pdf), point table (csv) or profile drawing (dxf, millimetres)."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return self._export(f"/v1/cams/{kind}", body, format).content
+
+    def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws: the standard motion laws' peak coefficients."""
+        return self._get_rows("/v1/cams/laws", MotionLawOut)
+
+    @property
+    def library(self) -> LibraryClient:
+        """The design library: save, history, search, diff, restore, sign-off, export and import."""
+        return LibraryClient(self)
+
     def session(self) -> SessionOut:
         """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
         return SessionOut.model_validate_json(self._send("GET", "/v1/auth/session").content)
@@ -554,9 +579,10 @@ class SynthClient(_Policy):
         """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
         return self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
 
-    def revoke_token(self, token_id: str) -> None:
+    def revoke_token(self, token_id: int) -> None:
         """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
         self._send("DELETE", f"/v1/tokens/{token_id}")
+
 
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
@@ -783,6 +809,29 @@ class AsyncSynthClient(_Policy):
         await handle.status()
         return handle
 
+    async def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis."""
+        return await self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    async def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis."""
+        return await self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    async def cam_file(self, body: CamAnalysisIn | CamSynthesisIn,
+                       format: Literal["png", "svg", "pdf", "csv", "dxf"] = "png") -> bytes:
+        """The cam's figure, point table or profile drawing."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return (await self._export(f"/v1/cams/{kind}", body, format)).content
+
+    async def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws."""
+        return await self._get_rows("/v1/cams/laws", MotionLawOut)
+
+    @property
+    def library(self) -> AsyncLibraryClient:
+        """The design library, as coroutines: save, history, revision, diff, sign-off, export and import."""
+        return AsyncLibraryClient(self)
+
     async def session(self) -> SessionOut:
         """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
         return SessionOut.model_validate_json((await self._send("GET", "/v1/auth/session")).content)
@@ -830,6 +879,6 @@ class AsyncSynthClient(_Policy):
         """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
         return await self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
 
-    async def revoke_token(self, token_id: str) -> None:
+    async def revoke_token(self, token_id: int) -> None:
         """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
         await self._send("DELETE", f"/v1/tokens/{token_id}")

@@ -53,7 +53,7 @@ async def study(body: StudyIn, studies: StudiesDep, response: Response, caller: 
     if caller.name is not None:
         spec["owner"] = caller.name
     record = await asyncio.to_thread(studies.create, spec)
-    out = StudyOut.from_record(record)
+    out = StudyOut.from_record(record, await asyncio.to_thread(studies.position, record.id))
     response.headers["Location"] = out.links.self
     return out
 
@@ -65,25 +65,30 @@ async def studies(
     limit: Annotated[int, Query(ge=1, le=1000, description="Studies per page.")] = 100,
 ) -> list[StudyOut]:
     """The latest studies first, with their state and progress."""
-    return [StudyOut.from_record(r) for r in await asyncio.to_thread(studies.recent, limit, offset)]
+    records = await asyncio.to_thread(studies.recent, limit, offset)
+    places = await asyncio.to_thread(studies.positions)
+    return [StudyOut.from_record(r, places.get(r.id)) for r in records]
 
 
 @router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def study_status(study_id: str, studies: StudiesDep) -> StudyOut:
     """State, variants done of the total, failed variants, running time and the estimated time to finish."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.get, study_id))
+    record = await asyncio.to_thread(studies.get, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def study_cancel(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
     """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.cancel, study_id))
+    record = await asyncio.to_thread(studies.cancel, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
 async def study_resume(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
     """Run the variants of a cancelled or interrupted study that have no result yet."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.resume, study_id))
+    record = await asyncio.to_thread(studies.resume, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.get("/{study_id}/results", response_model=ResultsOut,
