@@ -48,6 +48,16 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+    RegulationIn,
+    RegulationOut,
+)
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
@@ -477,6 +487,36 @@ class SynthClient(_Policy):
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation: the machine's frame on isolators and what the foundation feels."""
+        return self._post("/v1/machines/isolation", body, IsolationOut)
+
+    def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png: force to the foundation, the frame's orbit, transmissibility."""
+        return self._export("/v1/machines/isolation", body, format).content
+
+    def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design: one isolator type (and an inertia block) for a force or amplitude
+        limit."""
+        return self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
+    def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive: the two-mass drive with an elastic link, its natural frequency, the
+        torque in the link and the run-up."""
+        return self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png: the link's torque against the rigid model's, the run-up."""
+        return self._export("/v1/machines/elastic-drive", body, format).content
+
+    def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation: the speed after a load step, self-regulated or with a PI controller."""
+        return self._post("/v1/machines/regulation", body, RegulationOut)
+
+    def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png: speed and torques over time."""
+        return self._export("/v1/machines/regulation", body, format).content
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -776,6 +816,34 @@ class AsyncSynthClient(_Policy):
     async def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
         """POST /v1/machines/optimise."""
         return await self._post("/v1/machines/optimise", body, MachineOptimiseOut)
+
+    async def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation."""
+        return await self._post("/v1/machines/isolation", body, IsolationOut)
+
+    async def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png."""
+        return (await self._export("/v1/machines/isolation", body, format)).content
+
+    async def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design."""
+        return await self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
+    async def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive."""
+        return await self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    async def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png."""
+        return (await self._export("/v1/machines/elastic-drive", body, format)).content
+
+    async def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation."""
+        return await self._post("/v1/machines/regulation", body, RegulationOut)
+
+    async def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png."""
+        return (await self._export("/v1/machines/regulation", body, format)).content
 
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""
