@@ -310,7 +310,7 @@ def test_the_async_client_has_every_library_method(store_url: str) -> None:
     with TestClient(_app(store_url)) as http:       # started (workers, store); spoken to over ASGI below
         async def run() -> tuple[Any, ...]:
             transport = httpx.ASGITransport(app=http.app)
-            async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://t")) as client:
+            async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://localhost")) as client:
                 saved = await client.library.save("press", "linkage", "/v1/balancing/static", REQUEST, author="ann")
                 return saved, await client.library.history("press", "linkage")
 
