@@ -1,7 +1,7 @@
 // The drawing editor: a general linkage placed point by point on the canvas, kept as one model (points, links,
 // blocks on guides) from which the `linkage` mechanism of the request is written. Every edit is undoable; the JSON
 // box of the form is a view of the same mechanism; the structure (mobility, Assur groups) is said as you draw.
-import { state, edited, renderForm, factor } from "./app.js";
+import { state, edited, renderForm, factor, markStale } from "./app.js";
 import { post, Problem } from "./api.js";
 import { h, s, put } from "./dom.js";
 import { TEMPLATES } from "./templates.js";
@@ -227,6 +227,7 @@ function commit(t0 = performance.now()) {
     if (state.pending) { state.pending.abort(); state.pending = null; }
     state.seq += 1;
     ed.answerOk = false;
+    markStale(c.problems.length ? c.problems[0].text : "nothing drawn yet");
     document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
     history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
     return null;
@@ -373,7 +374,7 @@ function drawCanvas() {
   for (const msg of ed.messages) {
     const p = msg.at && pt(msg.at);
     const x = p ? p.x + 10 * sw : v.x0 + 10 * sw, y = p ? Y(p.y) + 18 * sw : Y(v.y0 + v.h) + (16 + 15 * row++) * sw;
-    g.appendChild(s("text", { class: "draw-msg", x, y, "font-size": 12 * sw }, msg.text));
+    g.appendChild(s("text", { class: "draw-msg", x, y, "font-size": 8 * sw }, msg.text));
   }
   svg.replaceChildren(g);
 }
@@ -596,8 +597,8 @@ export function clearDrawing() {
   ed.model = emptyModel();
   // room for a linkage a metre across, in the canvas's proportions
   const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
-  const w = Math.max(1.4, 1.2 * aspect);
-  ed.view = { x0: -0.2, y0: -0.2, w, h: w / aspect };
+  const w = Math.max(1.6, 1.5 * aspect);
+  ed.view = { x0: -0.25, y0: -0.3, w, h: w / aspect };
   ed.groups = null; ed.structureKey = "";
   return commit();
 }
