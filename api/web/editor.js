@@ -255,7 +255,7 @@ async function refreshStructure(mech) {
     if (key !== ed.structureKey) return;
     ed.groups = st.assur_groups || [];
     ed.structureNote = st.note;
-    render();
+    if (ed.answerOk && state.answer && state.pending === null) settle(state.answer); else render();
   } catch { ed.groups = null; }
 }
 
@@ -266,7 +266,7 @@ function fitBranches(answer) {
   if (!ed.fit || !ed.groups || ed.dragging) return false;
   ed.fit -= 1;
   const m = ed.model, mech = state.design.mechanism, crank = crankOf(m);
-  if (!crank) return false;
+  if (!crank) { ed.fit = 0; return false; }
   const lk = mech.links.find((l) => l.name === crank.name);
   const a = pt(lk.joints[0]), b = pt(lk.joints[1]);
   const phi = ((Math.atan2(b.y - a.y, b.x - a.x) * 180) / Math.PI + 360) % 360;
@@ -276,7 +276,7 @@ function fitBranches(answer) {
   const span = Math.max(...m.points.map((p) => p.x)) - Math.min(...m.points.map((p) => p.x)) + 1e-9;
   const tol = 0.03 * span + Math.hypot(b.x - a.x, b.y - a.y) * 0.05;
   for (const g of ed.groups) {
-    if (g.links.length !== 2) return false;
+    if (g.links.length !== 2) { ed.fit = 0; return false; }
     const names = g.links.flatMap((l) => { const L = m.links.find((q) => q.name === l); return L ? L.points : m.blocks.filter((q) => q.name === l).map((q) => q.point); });
     const off = names.some((n) => {
       const r = answer.points[n] && answer.points[n].position_m[k];
@@ -284,7 +284,7 @@ function fitBranches(answer) {
     });
     if (!off) continue;
     const inner = mech.joints.find((j) => j.links.includes(g.links[0]) && j.links.includes(g.links[1]));
-    if (!inner) return false;
+    if (!inner) { ed.fit = 0; return false; }
     m.branches = { ...(m.branches || {}), [inner.name]: -((m.branches || {})[inner.name] || 1) };
     commit();
     return true;
@@ -643,9 +643,7 @@ function install() {
       if (m) { ed.model = m; ed.offset = [0, 0]; ed.view = viewFor(m); }
     }
     ed.answerOk = true;
-    if (fitBranches(answer)) return;
-    if (!ed.dragging && !ed.fit) document.body.dataset.editorFit = String(state.seq);
-    render();
+    settle(answer);
   });
   state.hooks.problem.push((err) => {
     if (!ed.on) return;
@@ -659,6 +657,14 @@ function install() {
   });
   window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo };
   document.body.dataset.editorReady = "1";
+}
+
+/** After an answer (and the structure it needs): fit the branches, or say the drawing is settled. */
+function settle(answer) {
+  if (ed.fit && !ed.groups && !ed.dragging) return;  // the structure's answer calls again
+  if (fitBranches(answer)) return;
+  if (!ed.dragging && !ed.fit) document.body.dataset.editorFit = String(state.seq);
+  render();
 }
 
 /** The point a problem of the service is about, from the link or joint its field or text names. */
