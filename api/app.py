@@ -10,7 +10,7 @@ from typing import Literal
 from fastapi import FastAPI, Request, Response
 from pydantic import BaseModel, Field
 
-from . import manual, problems, workbench
+from . import auth, manual, problems, workbench
 from .routers import PREFIX, all_routers
 from .settings import Settings
 from .storage import migrate_at_start, open_store, store_status
@@ -68,6 +68,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
         await asyncio.to_thread(migrate_at_start, store)
+        await asyncio.to_thread(auth.start, app)
         await asyncio.to_thread(solvers.start)
         await asyncio.to_thread(studies.open)
         yield
@@ -94,6 +95,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     problems.install(app, settings)
     manual.install(app)
     workbench.install(app)
+    auth.install(app, settings)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:
@@ -117,7 +119,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             response.status_code = 503
         return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
 
-    for router in (*all_routers(), studies_router, library_router):
+    for router in (*all_routers(), studies_router, library_router, auth.router):
         app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
 import io
+import math
 import zipfile
 
 import numpy as np
@@ -17,6 +18,7 @@ from fastapi.responses import Response
 from pydantic import BaseModel, ValidationError
 
 import synth
+from synth.plots import close_figures
 
 Format = Literal["json", "png", "svg", "pdf", "csv", "dxf", "npz"]
 
@@ -114,13 +116,50 @@ def _default(value: Any) -> Any:
     raise TypeError(f"cannot serialise {type(value).__name__}")
 
 
+def _non_finite(value: Any, path: str = "") -> str | None:
+    """The JSON path (``corrections[0].mass_kg``) of the first NaN or infinity in a plain answer, or None."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else path
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "fc" or bool(np.isfinite(value).all()):
+            return None
+        index = np.argwhere(~np.isfinite(value))[0]
+        return path + "".join(f"[{int(i)}]" for i in index)
+    if isinstance(value, np.floating):
+        return None if math.isfinite(float(value)) else path
+    if isinstance(value, dict):
+        for key, item in value.items():
+            if (found := _non_finite(item, f"{path}.{key}" if path else str(key))) is not None:
+                return found
+    elif isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            if (found := _non_finite(item, f"{path}[{i}]")) is not None:
+                return found
+    return None
+
+
+def finite_answer(plain: Any) -> Any:
+    """``plain`` (an answer as dicts, lists and arrays) unchanged when every number in it is finite.
+
+    JSON has no NaN or infinity (orjson would write null, a silent wrong number), so an answer holding one is
+    refused naming where: the input drove the computation somewhere it has no finite result.
+    """
+    if (path := _non_finite(plain)) is not None:
+        raise synth.InvalidInput(f"the answer's {path} would not be a finite number: the input leads to a "
+                                 f"computation without a finite result (check near-coincident positions, zero "
+                                 f"masses or lengths, and the units)", field=path)
+    return plain
+
+
 def json_bytes(model: BaseModel) -> bytes:
     """JSON of a response model whose array fields may hold the engine's numpy arrays, written by orjson.
 
     The field names, order and values are those of pydantic's ``model_dump_json`` for the same content; the
-    arrays are written straight from their buffers instead of through per-element Python floats.
+    arrays are written straight from their buffers instead of through per-element Python floats. An answer
+    holding a NaN or an infinity is refused (:func:`finite_answer`): every answer of the service goes through
+    here or :func:`npz_bytes`.
     """
-    return orjson.dumps(_plain(model), default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
+    return orjson.dumps(finite_answer(_plain(model)), default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
 
 
 def _numeric(value: Any) -> bool:
@@ -149,7 +188,7 @@ def array_columns(model: BaseModel) -> dict[str, np.ndarray]:
             for i, item in enumerate(value):
                 walk(item, f"{path}/{i}")
 
-    walk(_plain(model), "")
+    walk(finite_answer(_plain(model)), "")
     return out
 
 
@@ -204,7 +243,11 @@ class Render:
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
         if self.fmt not in ("json", *ARRAYS) and self.export is not None:
-            return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
+            try:
+                return self.export(result, self.fmt, *self.export_extra), MEDIA_TYPES[self.fmt]
+            finally:
+                # an export that failed half-way leaves its figures open; a worker runs one task at a time
+                close_figures()
         try:
             model = self.model(result, *self.model_extra)
         except ValidationError as exc:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+import sys
 from collections.abc import Mapping
 from typing import Any
 
@@ -13,6 +14,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from synth.errors import (
@@ -56,9 +58,11 @@ _STATUS: dict[type[SynthError], int] = {
 }
 # Every problem a POST operation can answer, documented in the OpenAPI document with the one Problem schema.
 PROBLEM_STATUSES: dict[int, str] = {
-    400: "The body is empty, not valid JSON, or not a JSON object: send JSON with content-type application/json.",
+    400: "The body is empty, not valid JSON (the detail says where), not UTF-8, nested deeper than the JSON reader "
+         "allows, or not a JSON object: send a JSON object with content-type application/json.",
     408: "The client did not send its body within the body timeout.",
     413: "The body, or a count in it (samples, stages, sweep points), is beyond the service's limits.",
+    415: "The body was sent with a content type other than JSON: send it as application/json.",
     422: "Input that cannot be satisfied: a field out of range, a linkage that cannot assemble, an infeasible "
          "target, a solver that failed.",
     502: "The worker process running the request died; the service goes on with a new worker.",
@@ -77,9 +81,24 @@ PROBLEM_SCHEMA: dict[str, Any] = {
         "status": {"type": "integer", "description": "HTTP status code of this answer."},
         "detail": {"type": "string", "description": "What went wrong with this request, in words."},
         "field": {"type": ["string", "null"], "description": "Dotted name of the offending input field, as the "
-                                                             "JSON body spells it."},
+                                                             "JSON body spells it; for an answer that would hold a "
+                                                             "number beyond any physical range or not finite, the "
+                                                             "answer's field."},
         "stage": {"type": "string", "description": "The stage of a machine design that failed: analysis, "
-                                                   "balancing, drive, teeth, flywheel, motor or simulation."},
+                                                   "balancing, drive, teeth, flywheel, motor or simulation; of a "
+                                                   "request past its deadline, queued or running."},
+        "stage_index": {"type": "integer", "minimum": 0, "description": "The gear stage (0: motor side) that "
+                                                                      "has no admissible design."},
+        "constraint": {"type": "string", "description": "The limit that made the target infeasible."},
+        "solver_status": {"type": "string", "description": "The solver's own status."},
+        "limit": {"type": "integer", "description": "The size limit that was exceeded."},
+        "got": {"type": "integer", "description": "The size asked for."},
+        "limit_s": {"type": "number", "description": "The time limit that was exceeded [s]."},
+        "errors": {"type": "array", "description": "Every validation error: field, message, type.",
+                   "items": {"type": "object", "properties": {"field": {"type": "string"},
+                                                              "message": {"type": "string"},
+                                                              "type": {"type": "string"}},
+                             "required": ["field", "message", "type"]}},
         "code": {"type": "string", "description": "The likely-mistake check that refused the input, e.g. "
                                                   "length_likely_mm."},
     },
@@ -133,8 +152,11 @@ def _body_problem(request: Request, body: Any) -> JSONResponse:
     ctype = request.headers.get("content-type", "")
     if body is None or body in (b"", ""):
         detail = f"the body is empty: {SEND_JSON}"
+    elif ctype and "json" not in ctype:
+        return problem(415, "unsupported-media-type", "Unsupported media type",
+                       f"the body was sent as {ctype}, not as JSON: {SEND_JSON}", content_type=ctype)
     elif "json" not in ctype:
-        detail = f"the body was sent as {ctype or 'no content type'}, not as JSON: {SEND_JSON}"
+        detail = f"the body was sent with no content type, not as JSON: {SEND_JSON}"
     else:
         detail = f"the body is JSON but not an object of the request's fields ({{...}}): {SEND_JSON}"
     return problem(400, "json-body-expected", "JSON body expected", detail, content_type=ctype or None)
@@ -174,7 +196,7 @@ async def _validation_handler(request: Request, exc: Exception) -> JSONResponse:
             where = validation.dotted(path[:-1]) or "the body"
             message = f"{path[-1]!r} is not a field of {where}" + (f"; did you mean {close[0]!r}?" if close else "")
             if allowed:
-                message += f" The fields there are: {', '.join(allowed)}"
+                message += ("" if close else ".") + f" The fields there are: {', '.join(allowed)}"
             item.update(message=message, did_you_mean=close, valid=allowed)
             hint = {"did_you_mean": close, "valid": allowed}
         if item not in errors:
@@ -185,10 +207,38 @@ async def _validation_handler(request: Request, exc: Exception) -> JSONResponse:
     return problem(422, "invalid-input", "Invalid input", detail, field=first["field"], errors=errors, **hint)
 
 
-async def _http_handler(_: Request, exc: Exception) -> JSONResponse:
+def _unreadable(exc: BaseException | None) -> JSONResponse | None:
+    """The body could not be read as JSON text at all: say why (FastAPI's own answer names no reason)."""
+    if isinstance(exc, UnicodeDecodeError):
+        return problem(400, "body-not-utf8", "Body not UTF-8",
+                       f"the body is not UTF-8 text: byte 0x{exc.object[exc.start]:02x} at position {exc.start} "
+                       f"cannot start or continue a character: {SEND_JSON}", position=exc.start)
+    if isinstance(exc, RecursionError):
+        return problem(400, "json-too-deep", "JSON nested too deeply",
+                       f"the body's arrays and objects are nested deeper than the JSON reader allows (about "
+                       f"{sys.getrecursionlimit()} levels; a request needs fewer than ten): {SEND_JSON}")
+    return None
+
+
+_METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
+
+
+def _allow(request: Request) -> str:
+    """Every method the request's path answers to, over all the routes that match it."""
+    routes = request.app.router.routes
+    return ", ".join(m for m in _METHODS
+                     if any(r.matches({**request.scope, "method": m})[0] == Match.FULL for r in routes))
+
+
+async def _http_handler(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, StarletteHTTPException)
-    # Starlette's 405 carries the Allow header; keep whatever headers the exception has.
-    return problem(exc.status_code, "http-error", str(exc.detail), str(exc.detail), headers=exc.headers)
+    if exc.status_code == 400 and (answer := _unreadable(exc.__cause__)) is not None:
+        return answer
+    headers = dict(exc.headers or {})
+    if exc.status_code == 405:
+        # Starlette names the methods of the first route on the path only; a path may have several routes.
+        headers["Allow"] = _allow(request) or headers.get("Allow", "")
+    return problem(exc.status_code, "http-error", str(exc.detail), str(exc.detail), headers=headers)
 
 
 async def _overloaded_handler(_: Request, exc: Exception) -> JSONResponse:
@@ -309,6 +359,57 @@ def install(app: FastAPI, settings: Settings) -> None:
                        larger={"/v1/library/import": settings.max_import_bytes})
 
 
+def state_limits(doc: dict[str, Any], settings: Settings) -> None:
+    """Every count the schemas mark with the setting that bounds it (``x-limit``) gets that setting's value as
+    its ``maximum`` (a number) or ``maxItems`` (a list), or the schema's own bound when that is lower: the
+    document states the limits of this service, which answers 413 beyond them."""
+
+    def bound(node: dict[str, Any], limit: int) -> None:
+        key = "maxItems" if node.get("type") == "array" else "maximum" if node.get("type") == "integer" else None
+        if key is not None:
+            node[key] = min(int(node.get(key, limit)), limit)
+        for member in node.get("anyOf", ()):
+            bound(member, limit)
+
+    def walk(node: Any) -> None:
+        if isinstance(node, dict):
+            setting = node.get("x-limit")
+            if isinstance(setting, str):
+                limit = int(getattr(settings, setting))
+                bound(node, limit)
+                note = f"At most {limit} (the service's `{setting}` setting; 413 beyond)."
+                node["description"] = f"{node['description']} {note}" if node.get("description") else note
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+
+    walk(doc)
+
+
+def tags_required(doc: dict[str, Any]) -> None:
+    """A member of a discriminated union must name its tag (``"type": "fourbar"``) even where the member's own
+    model gives it a default: say so in each member's ``required``."""
+    schemas = doc.get("components", {}).get("schemas", {})
+
+    def walk(node: Any) -> None:
+        if isinstance(node, dict):
+            disc = node.get("discriminator")
+            if isinstance(disc, dict) and isinstance(disc.get("mapping"), dict):
+                for ref in disc["mapping"].values():
+                    member = schemas.get(str(ref).rsplit("/", 1)[-1])
+                    if isinstance(member, dict) and disc["propertyName"] not in member.get("required", []):
+                        member["required"] = [*member.get("required", []), disc["propertyName"]]
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+
+    walk(doc)
+
+
 def document(app: FastAPI) -> None:
     """Make the OpenAPI document tell the truth: every POST operation lists its problem responses as
     ``application/problem+json`` with the one Problem schema, in place of FastAPI's default 422 body."""
@@ -318,6 +419,9 @@ def document(app: FastAPI) -> None:
         if app.openapi_schema is not None:
             return app.openapi_schema
         doc = build()
+        settings: Settings = app.state.settings
+        state_limits(doc, settings)
+        tags_required(doc)
         doc.setdefault("components", {}).setdefault("schemas", {})["Problem"] = PROBLEM_SCHEMA
         for schemas in (doc["components"]["schemas"],):
             schemas.pop("HTTPValidationError", None)
@@ -335,6 +439,8 @@ def document(app: FastAPI) -> None:
                 for status, description in statuses.items():
                     responses[str(status)] = {"description": description,
                                               "content": {PROBLEM_JSON: {"schema": ref}}}
+                if "413" in responses and method == "post":
+                    responses["413"]["description"] += f" The body may hold at most {settings.max_body_bytes} bytes."
                 if "503" in responses:
                     responses["503"]["headers"] = {"Retry-After": {"schema": {"type": "integer"},
                                                                    "description": "Seconds to wait."}}

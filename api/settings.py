@@ -4,8 +4,11 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, ValidationError
+from pydantic import Field, SecretStr, ValidationError
 from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+SECRET_SETTINGS = frozenset({"session_key", "admin_password", "database_url"})
 
 
 class Settings(BaseSettings):
@@ -72,12 +75,39 @@ class Settings(BaseSettings):
                                              "(a third of this apart); another process takes a study whose "
                                              "process stopped this long after.")
 
+    auth: Literal["off", "on"] = Field("off", description="on: every /v1 request needs a signed-in user or an API "
+                                      "token with a role that allows it (an office server); off: open (a laptop).")
+    allowed_hosts: str = Field("localhost,127.0.0.1,::1", min_length=1,
+                               description="Comma-separated host names the service answers to (the Host header; "
+                                           "*.example.com for subdomains, * for any); 400 for others.")
+    cors_origins: str = Field("", description="Comma-separated origins (https://cad.example.com) whose pages may "
+                                             "call the API from another site; none by default.")
+    behind_tls: bool = Field(False, description="The service is reached over HTTPS (a TLS proxy in front): cookies "
+                                                "are Secure and browsers are told to keep to HTTPS.")
+    session_key: SecretStr | None = Field(None, min_length=32, max_length=1024, description="Key signing the sign-in cookies (32+ characters); "
+                                                            "unset: a random key, so restarts sign everyone out.")
+    session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
+    admin_name: str | None = Field(None, min_length=1, max_length=64,
+                                   description="A first admin created at start when no user of that name exists.")
+    admin_password: SecretStr | None = Field(None, description="The first admin's password (with admin_name).")
+
+    def host_list(self) -> list[str]:
+        """The allowed hosts as the Host header spells them (IPv6 addresses in brackets)."""
+        hosts = [h.strip().lower() for h in self.allowed_hosts.split(",") if h.strip()]
+        return [f"[{h}]" if ":" in h and not h.startswith("[") else h for h in hosts]
+
+    def origin_list(self) -> list[str]:
+        """The origins allowed to call from another site, without a trailing slash."""
+        return [o.strip().rstrip("/") for o in self.cors_origins.split(",") if o.strip()]
+
     @classmethod
     def from_env(cls) -> Settings:
         """Settings from the environment; a bad value stops the service with the variable's name and the reason."""
         try:
             return cls()
         except ValidationError as exc:
-            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']} (got {e.get('input')!r})"
+            # a secret's value is never echoed (the message may end up in a log)
+            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']}"
+                     + ("" if e["loc"][:1] and e["loc"][0] in SECRET_SETTINGS else f" (got {e.get('input')!r})")
                      for e in exc.errors()]
             raise SystemExit("invalid service settings:\n  " + "\n  ".join(lines)) from None

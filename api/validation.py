@@ -69,7 +69,8 @@ def _choose(schema: Mapping[str, Any], value: Any, doc: Mapping[str, Any]) -> Ma
     """The member of a union that describes ``value``: by its discriminator, else the first of its kind."""
     schema = _resolve(schema, doc)
     members = schema.get("oneOf") or schema.get("anyOf")
-    if not members:
+    if not members or "properties" in schema:
+        # an object's own oneOf/anyOf are rules over its fields (one of two given), not alternatives to it
         return schema
     disc = schema.get("discriminator")
     if isinstance(disc, Mapping) and isinstance(value, Mapping):

@@ -7,9 +7,11 @@ is drawn as a polar diagram (the tip of the force vector over the cycle) with cr
 
 from __future__ import annotations
 
+import functools
 import io
 import math
-from collections.abc import Sequence
+import unicodedata
+from collections.abc import Callable, Sequence
 from typing import Any, Literal
 
 import matplotlib
@@ -19,7 +21,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.font_manager import findfont, get_font  # noqa: E402
 from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 from .analysis import Analysis  # noqa: E402
 from .kinematics import SlottedLever  # noqa: E402
@@ -32,11 +36,49 @@ FIGURE_FORMATS: tuple[FigureFormat, ...] = ("png", "svg", "pdf")
 BEFORE, AFTER = "tab:blue", "tab:red"
 
 
+@functools.cache
+def _drawable(font_path: str) -> Callable[[str], bool]:
+    font = get_font(font_path)
+    return functools.cache(lambda ch: ch == "\n" or (unicodedata.category(ch) != "Cc"
+                                                     and font.get_char_index(ord(ch)) != 0))
+
+
+def _as_drawn(text: Text) -> str:
+    """The text with every character its font cannot draw (control characters, scripts it lacks) as U+FFFD."""
+    drawable = _drawable(findfont(text.get_fontproperties()))
+    return "".join(ch if drawable(ch) else "\ufffd" for ch in text.get_text())
+
+
+def literal_text(fig: Figure) -> Figure:
+    """``fig`` with every text drawn as written: names from a request (trace points, links, machines) may hold
+    ``$`` or ``\\``, which matplotlib would otherwise read as mathtext and fail on, and characters the font
+    lacks, drawn as U+FFFD. The tick labels matplotlib formats itself keep their mathtext (a log axis writes its
+    powers of ten with it)."""
+    own: set[Text] = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            own.add(axis.offsetText)
+            for tick in (*axis.get_major_ticks(), *axis.get_minor_ticks()):
+                own.update((tick.label1, tick.label2))
+    for text in fig.findobj(Text):
+        if isinstance(text, Text) and text not in own:
+            text.set_parse_math(False)
+            if not all(" " <= ch <= "~" or ch == "\n" for ch in text.get_text()):
+                text.set_text(_as_drawn(text))
+    return fig
+
+
+def close_figures() -> None:
+    """Close every open figure: an export that failed half-way leaves its figure open, and pyplot keeps it."""
+    plt.close("all")
+
+
 def render(fig: Figure, fmt: FigureFormat = "png", dpi: int = 110) -> bytes:
-    """Render a figure as PNG, SVG or PDF bytes and close it.
+    """Render a figure as PNG, SVG or PDF bytes and close it; its texts are drawn as written (literal_text).
 
     SVG and PDF carry no creation date, so the same figure gives the same bytes.
     """
+    literal_text(fig)
     buf = io.BytesIO()
     metadata: dict[str, Any] = {"png": {}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
     fig.savefig(buf, format=fmt, dpi=dpi, bbox_inches="tight", metadata=metadata)
@@ -337,7 +379,7 @@ def analysis_figure(an: Analysis, phi: float = 0.0, fmt: FigureFormat = "png") -
         list(an.motion.point_pos.values())), "N·m")
     read_zero(axes[1, 0], float(np.hypot(*k.shaking_force.T).max()), scale, "N", polar=True)
     draw_mechanism(axes[1, 1], an, phi)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return render(fig, fmt)
 
 

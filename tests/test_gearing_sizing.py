@@ -106,4 +106,4 @@ def test_drive_answers_module_width_and_safety_per_stage() -> None:
 def test_sizing_an_impossible_load_names_the_stage() -> None:
     with pytest.raises(synth.Infeasible) as exc:
         synth.size_stage(4.0, synth.StageLoad(5e7, LOAD.speed), RULES, stage=2)
-    assert exc.value.details["stage"] == 2
+    assert exc.value.details["stage_index"] == 2

@@ -30,7 +30,7 @@ TABLES = {"crank_angle_deg": [0, 120, 240, 360], "resisting_torque_Nm": [-10, -2
     ("/v1/flywheel", {"tables": TABLES, "mean_speed_rad_s": 1e-300, "delta": 0.1}, "mean_speed_rad_s"),
     ("/v1/analysis", {"mechanism": FOURBAR, "speed_rpm": True}, "speed_rpm"),
     ("/v1/analysis", {"mechanism": FOURBAR, "speed_rpm": "60"}, "speed_rpm"),
-    ("/v1/analysis", {"mechanism": FOURBAR, "samples": 36.0}, "samples"),
+    ("/v1/analysis", {"mechanism": FOURBAR, "samples": 36.5}, "samples"),
 ])
 def test_out_of_range_and_wrong_typed_values_are_named(client: SynthClient, path: str, body: dict[str, Any],
                                                        field: str) -> None:

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import Annotated, Literal, TypeVar, Union
+from types import UnionType
+from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pydantic.config import JsonDict
 
 from ._engine import np, synth
@@ -23,6 +24,32 @@ MAX_FRICTION_COEFFICIENT = 3.0
 Length = Annotated[float, Field(ge=MIN_LENGTH_M, le=MAX_LENGTH_M, description="[m]")]
 
 
+def given(*names: str) -> JsonDict:
+    """JSON Schema: every field of ``names`` is present and not null."""
+    return {"required": list(names), "properties": {n: {"not": {"type": "null"}} for n in names}}
+
+
+def exactly_one(*names: str) -> JsonDict:
+    """JSON Schema: exactly one of the fields ``names`` is given (present and not null)."""
+    return {"oneOf": [given(n) for n in names]}
+
+
+def at_least_one(*names: str) -> JsonDict:
+    """JSON Schema: one or more of the fields ``names`` is given."""
+    return {"anyOf": [given(n) for n in names]}
+
+
+def at_most_one(*names: str) -> JsonDict:
+    """JSON Schema: no two of the fields ``names`` are given together."""
+    return {"allOf": [{"not": given(a, b)} for i, a in enumerate(names) for b in names[i + 1:]]}
+
+
+def service_limit(setting: str) -> JsonDict:
+    """Schema mark of a count the service bounds by its setting ``setting`` (413 beyond): the OpenAPI document
+    states the bound of the running service as the count's ``maximum`` or ``maxItems``."""
+    return {"x-limit": setting}
+
+
 Choice = TypeVar("Choice", bound=str | int)
 Branch = Literal[1, -1]
 BRANCHES: tuple[Branch, ...] = (1, -1)
@@ -36,10 +63,59 @@ def one_of(allowed: tuple[Choice, ...], value: str | int) -> Choice:
     raise RuntimeError(f"engine answered {value!r}, not one of {allowed}")
 
 
+def _integer_kind(annotation: Any) -> str | None:
+    """``"int"`` for an integer field (optional or in a union), ``"list"`` for a list of integers, else None."""
+    if get_origin(annotation) is Annotated:
+        return _integer_kind(get_args(annotation)[0])
+    if annotation is int or (get_origin(annotation) is Literal
+                             and all(type(a) is int for a in get_args(annotation))):
+        return "int"
+    if get_origin(annotation) is list:
+        return "list" if _integer_kind(get_args(annotation)[0]) == "int" else None
+    if get_origin(annotation) in (Union, UnionType):
+        kinds = {_integer_kind(a) for a in get_args(annotation)}
+        return "int" if "int" in kinds else "list" if "list" in kinds else None
+    return None
+
+
+def _whole(value: Any) -> Any:
+    """A float with no fractional part as the integer it is, anything else as it is."""
+    if type(value) is float and value.is_integer() and abs(value) <= 2.0**63:
+        return int(value)
+    return value
+
+
+_INTEGER_FIELDS: dict[type, dict[str, str]] = {}
+
+
 class StrictModel(BaseModel):
-    """Base of every schema: unknown fields and NaN/infinity are rejected at the edge."""
+    """Base of every schema: unknown fields and NaN/infinity are rejected at the edge.
+
+    Types are strict (a string is no number, a boolean no integer), but an integer field takes a whole number
+    written with a fraction (``36.0``): JSON Schema's ``integer`` is any number without a fractional part, and
+    the service accepts what its schema does.
+    """
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False, strict=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _whole_numbers(cls, data: Any) -> Any:
+        if not isinstance(data, dict):
+            return data
+        fields = _INTEGER_FIELDS.get(cls)
+        if fields is None:
+            fields = {(f.alias or name): kind for name, f in cls.model_fields.items()
+                      if (kind := _integer_kind(f.annotation)) is not None}
+            _INTEGER_FIELDS[cls] = fields
+        if not any(key in data for key in fields):
+            return data
+        out = dict(data)
+        for key, kind in fields.items():
+            if key in out:
+                value = out[key]
+                out[key] = [_whole(v) for v in value] if kind == "list" and isinstance(value, list) else _whole(value)
+        return out
 
 
 class LinkIn(StrictModel):
@@ -258,15 +334,25 @@ class _LoadBase(StrictModel):
         default_factory=lambda: [0.0, 0.0], description="Where a force acts, in the output link's frame [m]."
     )
     stroke: Literal[-1, 0, 1] = Field(0, description="Act only while the output moves in + (1) or - (-1); 0: both.")
+    direction: Literal["against_motion", "output", "frame"] = Field(
+        "against_motion", description="against_motion: a resistance, turning with the output's velocity (the "
+        "magnitude resists); output: signed and fixed along the output, + along the slide axis or "
+        "counter-clockwise (a spring preload, a constant thrust); frame: a force of fixed direction in the frame "
+        "at frame_angle_deg, signed, on a sliding or a turning output at point_m (a weight: force_N m·g at -90).")
+    frame_angle_deg: float = Field(0.0, ge=-360.0, le=360.0, description="direction frame: the force's direction, "
+                                   "counter-clockwise from +x [deg].")
+
+    def _engine_direction(self) -> dict[str, Any]:
+        return {"direction": self.direction, "angle": math.radians(self.frame_angle_deg)}
 
     def _magnitude(self, output_motion: str, table: bool) -> float | list[float]:
-        name, value = ("torque_Nm", self.torque_Nm) if output_motion == "rotation" else ("force_N", self.force_N)
+        turning = output_motion == "rotation" and self.direction != "frame"
+        name, value = ("torque_Nm", self.torque_Nm) if turning else ("force_N", self.force_N)
         other = self.force_N if name == "torque_Nm" else self.torque_Nm
         if value is None or other is not None:
-            raise synth.InvalidInput(
-                f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}: give its load as {name}",
-                field=f"loads.{name}",
-            )
+            what = ("a force of fixed direction in the frame" if self.direction == "frame" else
+                    f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}")
+            raise synth.InvalidInput(f"{what}: give its load as {name}", field=f"loads.{name}")
         if table != isinstance(value, list):
             raise synth.InvalidInput(
                 f"{name} must be {'a list matching the table' if table else 'a single number'}", field=f"loads.{name}"
@@ -288,7 +374,7 @@ class WindowLoadIn(_LoadBase):
         assert isinstance(mag, float)
         return synth.ProcessLoad(
             "window", mag, math.radians(self.start_deg), math.radians(self.end_deg),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
         )
 
 
@@ -305,7 +391,7 @@ class CrankTableLoadIn(_LoadBase):
         assert isinstance(mag, list)
         return synth.ProcessLoad(
             "crank_table", table_x=tuple(np.radians(self.crank_angle_deg)), values=tuple(mag),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
         )
 
 
@@ -330,7 +416,8 @@ class PositionTableLoadIn(_LoadBase):
                 raise synth.InvalidInput("a sliding output's table needs position_m", field="loads.position_m")
             x = tuple(self.position_m)
         return synth.ProcessLoad(
-            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1])
+            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            **self._engine_direction(),
         )
 
 
@@ -389,9 +476,11 @@ class LinkageFields(StrictModel):
     crank_acceleration_rad_s2: float = Field(
         0.0, ge=-1e9, le=1e9, description="Crank angular acceleration, the same at every angle [rad/s²]."
     )
-    samples: int = Field(360, ge=3, description="Uniformly spaced crank angles over one revolution.")
+    samples: int = Field(360, ge=3, json_schema_extra=service_limit("max_samples"),
+                         description="Uniformly spaced crank angles over one revolution.")
     crank_angle_deg: list[float] | None = Field(
-        None, min_length=1, description="Explicit crank angles [deg]; overrides samples."
+        None, min_length=1, json_schema_extra=service_limit("max_samples"),
+        description="Explicit crank angles [deg]; overrides samples."
     )
     gravity: GravityIn | None = Field(None, description="Gravity; null (default) switches it off.")
     loads: list[LoadIn] = Field(default_factory=list, description="Process loads on the output member.")

@@ -10,6 +10,10 @@ from pydantic.config import JsonDict
 
 from ._engine import np, synth
 from .common import (
+    at_most_one,
+    exactly_one,
+    given,
+    service_limit,
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
     FrictionIn,
@@ -39,7 +43,7 @@ class FlywheelTablesIn(StrictModel):
     """The machine reduced to its crank, tabulated over one cycle (linear between rows)."""
 
     crank_angle_deg: list[Annotated[float, Field(ge=-1e5, le=1e5)]] = Field(
-        min_length=3, examples=[[0, 60, 120, 180, 240, 300, 360]],
+        min_length=3, json_schema_extra=service_limit("max_samples"), examples=[[0, 60, 120, 180, 240, 300, 360]],
         description="Strictly increasing crank angles [deg]; a last row at first + cycle_deg closes it.",
     )
     reduced_inertia_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
@@ -184,6 +188,10 @@ class FlywheelIn(LinkageFields):
 
     model_config = ConfigDict(
         json_schema_extra={
+            # the rules mean_speed() and target_delta() apply, as JSON Schema states them
+            "allOf": [exactly_one("tables", "mechanism"), exactly_one("delta", "machine_type"),
+                      at_most_one("mean_speed_rpm", "mean_speed_rad_s"),
+                      {"anyOf": [given("mean_speed_rpm"), given("mean_speed_rad_s"), given("mechanism", "speed_rpm")]}],
             "examples": [
                 {"tables": SHAPER_TABLES_EXAMPLE, "mean_speed_rad_s": 9.8, "delta": 0.1,
                  "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 45, "max_diameter_m": 0.75,

@@ -8,8 +8,24 @@ from typing import TYPE_CHECKING, Annotated, Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import synth
-from .common import MAX_INERTIA_KGM2, StrictModel, WarningOut, one_of, warnings_out
+from .common import (
+    MAX_INERTIA_KGM2,
+    StrictModel,
+    WarningOut,
+    at_least_one,
+    at_most_one,
+    exactly_one,
+    given,
+    one_of,
+    service_limit,
+    warnings_out,
+)
 from .rating import SizedStageOut, StrengthIn, sized_stages_out
+
+_SPEEDS = ("motor_speed_rpm", "motor_speed_rad_s", "output_speed_rpm", "output_speed_rad_s")
+# The engine's bounds (synth.gearing.teeth): the schemas load without the engine.
+MIN_PRESSURE_ANGLE_DEG = 10.0
+MAX_PRESSURE_ANGLE_DEG = 30.0
 
 RPM = math.pi / 30.0
 
@@ -44,8 +60,9 @@ class StageIn(StrictModel):
 
 # Bounded here, before anything is allocated per stage; the service setting max_stages may lower it.
 MAX_STAGES = 12
-StagesIn = (Annotated[int, Field(ge=1, le=MAX_STAGES)]
-            | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=MAX_STAGES)])
+StagesIn = (Annotated[int, Field(ge=1, le=MAX_STAGES, json_schema_extra=service_limit("max_stages"))]
+            | Annotated[list[StageType | StageIn], Field(min_length=1, max_length=MAX_STAGES,
+                                                         json_schema_extra=service_limit("max_stages"))])
 
 
 def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpec | str]:
@@ -89,7 +106,15 @@ class SplitIn(_InertiaFields):
     snap_tolerance: float | None = Field(None, gt=0, lt=1, description="Admissible relative deviation of the "
                                          "snapped total; default 2.5 % up to U = 4.5, 4 % above.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [
+    model_config = ConfigDict(json_schema_extra={
+        # _one_ratio's rule: total_ratio, or a motor speed and an output speed, each given once
+        "allOf": [{"oneOf": [given("total_ratio"),
+                             {"allOf": [at_least_one("motor_speed_rpm", "motor_speed_rad_s"),
+                                        at_least_one("output_speed_rpm", "output_speed_rad_s")]}]},
+                  {"not": {"allOf": [given("total_ratio"), at_least_one(*_SPEEDS)]}},
+                  at_most_one("motor_speed_rpm", "motor_speed_rad_s"),
+                  at_most_one("output_speed_rpm", "output_speed_rad_s")],
+        "examples": [
         {"total_ratio": 12.5, "stages": 2, "objective": "min_inertia", "snap_r20": True},
         {"motor_speed_rpm": 1460, "output_speed_rpm": 30, "stages": ["helical", "helical", "spur"],
          "objective": "min_volume", "input_torque_Nm": 50},
@@ -209,7 +234,9 @@ class TeethIn(StrictModel):
     max_teeth: int = Field(100, ge=2, le=100_000, description="Most teeth on any wheel.")
     tolerance: float | None = Field(None, ge=0, lt=1, description="Relative ratio tolerance: given, the fewest "
                                     "teeth within it; else the closest ratio.")
-    pressure_angle_deg: float = Field(20.0, gt=0, lt=90, description="Pressure angle of the basic rack [deg].")
+    pressure_angle_deg: float = Field(20.0, ge=MIN_PRESSURE_ANGLE_DEG, le=MAX_PRESSURE_ANGLE_DEG,
+                                      description="Pressure angle of the basic rack [deg]; 20 is the ISO 53 "
+                                      "standard, 14.5 and 25 the older and the heavy-duty racks.")
     addendum_coefficient: float = Field(1.0, gt=0, le=2, description="Addendum over module, h_a* [-].")
     profile_shift: float = Field(0.0, ge=-1, le=1, description="Shift x on the smaller wheel of each pair, -x on the "
                                  "larger.")
@@ -368,7 +395,7 @@ class DriveIn(_InertiaFields):
                                         "factors. With objective min_volume and only spur or helical stages, "
                                         "the split's volume model is the sizing's.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [
+    model_config = ConfigDict(json_schema_extra={**exactly_one("output_speed_rpm", "output_speed_rad_s"), "examples": [
         {"output_power_W": 3000, "output_speed_rpm": 60, "stages": ["helical", "spur"], "objective": "min_volume",
          "strength": {"pinion_material": "case_hardened_MQ", "gear_material": "case_hardened_MQ",
                       "application_factor": 1.25, "life_h": 20000, "min_safety_contact": 1.1,

@@ -11,6 +11,8 @@ from ._engine import np, synth
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
 from .common import (
+    exactly_one,
+    service_limit,
     FOURBAR_EXAMPLE,
     MAX_INERTIA_KGM2,
     MAX_MASS_KG,
@@ -74,8 +76,9 @@ FOURBAR_MACHINE_EXAMPLE: JsonDict = {
 }
 
 
-StageCount = Annotated[int, Field(ge=1, le=20)]
-StageList = Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20)]
+StageCount = Annotated[int, Field(ge=1, le=20, json_schema_extra=service_limit("max_stages"))]
+StageList = Annotated[list[StageType | StageIn], Field(min_length=1, max_length=20,
+                                                       json_schema_extra=service_limit("max_stages"))]
 
 
 class MachineDriveIn(StrictModel):
@@ -228,7 +231,8 @@ class MachineIn(LinkageRequest):
                                              "revision, designed/checked/approved with names and dates, state); "
                                              "default a draft with blank names. Not part of the request's hash.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE]})
+    model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE],
+                                                 **exactly_one("delta", "machine_type")})
 
     def to_engine(self, max_stages: int) -> synth.MachineSpec:
         """Engine machine (degrees and rpm become radians and rad/s here)."""

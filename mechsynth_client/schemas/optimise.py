@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, pair_frictions
+from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, exactly_one, pair_frictions
 from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
 from .synthesis import (
     CrankRockerBoundsIn,
@@ -51,6 +51,10 @@ SLIDER_CRANK_OPTIMISE_EXAMPLE: JsonDict = {
     "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500},
     "weights": {"motor_power": 1, "rms_shaking_force": 1},
 }
+
+
+#: The manual's examples scan the fewest members on a coarser cycle, so that trying them answers within seconds.
+QUICK_SCAN: JsonDict = {"scan_members": MIN_SCAN, "samples": 48}
 
 
 class CrankRockerFunctionIn(StrictModel):
@@ -166,8 +170,10 @@ class MachineOptimiseIn(StrictModel):
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
                               "feasible family that the whole chain designs before the refinement.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [CRANK_ROCKER_OPTIMISE_EXAMPLE,
-                                                              SLIDER_CRANK_OPTIMISE_EXAMPLE]})
+    model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("delta", "machine_type"),
+                                                           exactly_one("objective", "weights")],
+                                                 "examples": [{**CRANK_ROCKER_OPTIMISE_EXAMPLE, **QUICK_SCAN},
+                                                              {**SLIDER_CRANK_OPTIMISE_EXAMPLE, **QUICK_SCAN}]})
 
     def to_engine(self, max_stages: int) -> synth.OptimiseSpec:
         """Engine optimisation (degrees and rpm become radians and rad/s here)."""

@@ -9,7 +9,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import np, synth
-from .common import StrictModel
+from .common import StrictModel, exactly_one
 
 MM = 1e-3
 UM = 1e-6
@@ -78,13 +78,17 @@ class RatingIn(_DutyFields):
                                            "default method C, pinion centred between its bearings.")
     max_face_width_ratio: float = Field(1.5, gt=0, le=5, description="Largest face width in pinion reference "
                                         "diameters b/d1 [-].")
+    pinion_rim_thickness_mm: float | None = Field(None, gt=0, le=1e4, description="Rim thickness s_R under the "
+                                                  "pinion's root [mm]; null: a solid wheel (Y_B = 1).")
+    gear_rim_thickness_mm: float | None = Field(None, gt=0, le=1e4, description="Rim thickness s_R under the gear's "
+                                                "root [mm]; null: a solid wheel (Y_B = 1).")
     pinion_speed_rpm: float = Field(gt=0, le=1e5, description="Pinion speed [rev/min].", examples=[360.0])
     pinion_torque_Nm: float | None = Field(None, gt=0, le=1e9, description="Nominal pinion torque [N·m] (times "
                                            "K_A); or give load_spectrum.", examples=[9000.0])
     load_spectrum: LoadSpectrumIn | None = Field(None, description="The pinion torque over the machine cycle: "
                                                  "life by Miner's rule; the rating is then at its peak.")
 
-    model_config = ConfigDict(json_schema_extra={"examples": [
+    model_config = ConfigDict(json_schema_extra={**exactly_one("pinion_torque_Nm", "load_spectrum"), "examples": [
         {"pinion_teeth": 17, "gear_teeth": 103, "normal_module_mm": 8.0, "face_width_mm": 100.0,
          "helix_angle_deg": 15.8, "pinion_profile_shift": 0.145, "centre_distance_mm": 500.0, "accuracy_grade": 5,
          "rack_dedendum": 1.4, "rack_root_radius": 0.39, "oil_viscosity_40C_mm2_s": 320.0,
@@ -112,7 +116,9 @@ class RatingIn(_DutyFields):
             None if self.tip_relief_um is None else self.tip_relief_um * UM, self.face_load_factor,
             synth.BasicRack(1.0, self.rack_dedendum, self.rack_root_radius,
                             math.radians(self.normal_pressure_angle_deg)),
-            self.max_face_width_ratio)
+            self.max_face_width_ratio,
+            (None if self.pinion_rim_thickness_mm is None else self.pinion_rim_thickness_mm * MM,
+             None if self.gear_rim_thickness_mm is None else self.gear_rim_thickness_mm * MM))
 
     def speed(self) -> float:
         """Pinion speed [rad/s]."""
@@ -219,7 +225,8 @@ class RatingOut(BaseModel):
                                             "K_Halpha) [MPa].")
     contact_limit_MPa: list[float] = Field(description="sigma_HG = sigma_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X [MPa].")
     permissible_contact_stress_MPa: list[float] = Field(description="sigma_HP = sigma_HG / S_Hmin [MPa].")
-    nominal_root_stress_MPa: list[float] = Field(description="sigma_F0 = F_t/(b m_n) Y_F Y_S Y_eps Y_beta [MPa].")
+    nominal_root_stress_MPa: list[float] = Field(description="sigma_F0 = F_t/(b m_n) Y_F Y_S Y_beta Y_B Y_DT "
+                                                 "(ISO 6336-3 method B) [MPa].")
     root_stress_MPa: list[float] = Field(description="sigma_F = sigma_F0 K_A K_V K_Fbeta K_Falpha [MPa].")
     root_limit_MPa: list[float] = Field(description="sigma_FG = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X "
                                         "[MPa].")

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from ._engine import synth
-from .common import FOURBAR_EXAMPLE, StrictModel
+from .common import FOURBAR_EXAMPLE, StrictModel, at_least_one, exactly_one, service_limit
 
 Path = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[A-Za-z0-9_\-]+(\.[A-Za-z0-9_\-]+)*$",
                             description="Dotted path: names and list indices separated by dots.")]
@@ -44,6 +44,8 @@ class StudyParameterIn(StrictModel):
     distribution: Literal["uniform"] = Field("uniform", description="How random and lhs sampling spread a range.")
     integer: bool = Field(False, description="Round values drawn from a range to whole numbers.")
 
+    model_config = ConfigDict(json_schema_extra=exactly_one("values", "range"))
+
     @model_validator(mode="after")
     def _one_source(self) -> StudyParameterIn:
         if (self.values is None) == (self.range is None):
@@ -59,6 +61,8 @@ class StudyConstraintIn(StrictModel):
     metric: Path
     min: float | None = Field(None, description="Least admissible value of the metric, in the metric's unit.")
     max: float | None = Field(None, description="Largest admissible value of the metric, in the metric's unit.")
+
+    model_config = ConfigDict(json_schema_extra=at_least_one("min", "max"))
 
     @model_validator(mode="after")
     def _a_bound(self) -> StudyConstraintIn:
@@ -77,7 +81,8 @@ class StudyIn(StrictModel):
                                                description="The request fields to vary, each by a dotted path.")
     sampling: Literal["grid", "random", "lhs"] = Field(
         "grid", description="grid: every combination; random: uniform draws; lhs: a Latin hypercube.")
-    samples: int | None = Field(None, ge=1, le=10_000_000, description="Variants drawn by random and lhs.")
+    samples: int | None = Field(None, ge=1, le=10_000_000, json_schema_extra=service_limit("max_study_variants"),
+                                description="Variants drawn by random and lhs.")
     seed: int = Field(0, ge=0, le=2**63 - 1, description="Seed of random and lhs; the same seed, the same variants.")
     metrics: list[Path] = Field(min_length=1, max_length=32,
                                 description="Dotted paths into the endpoint's answer, e.g. "

@@ -11,7 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.patches import Circle
 
 from ..model import FloatArray
-from ..plots import AFTER, BEFORE, FigureFormat, _curve, draw_linkage, render, shaking_polar
+from ..plots import AFTER, BEFORE, FigureFormat, _curve, draw_linkage, literal_text, render, shaking_polar
 from .fourbar import BalanceResult, counter_rotor_loads
 
 # Below this share of the peak before, the after-curve would be a dot under the origin: it gets its own scale.
@@ -158,7 +158,7 @@ def balance_figure(result: BalanceResult, fmt: FigureFormat = "png", *, sweep: S
     else:
         _summary(fig.add_subplot(grid[1, 2]), result)
     fig.suptitle(_headline(result), fontsize=11)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return render(fig, fmt)
 
 

@@ -11,6 +11,11 @@ import numpy as np
 
 from ..errors import InvalidInput
 
+#: Two correction planes closer than this share of the rotor's length (over its masses and planes), or than
+#: the absolute gap, are refused.
+MIN_PLANE_GAP_FRACTION = 0.01
+MIN_PLANE_GAP_M = 1e-6
+
 
 @dataclass(frozen=True, slots=True)
 class RotorMass:
@@ -94,6 +99,17 @@ def balance_rotor_dynamic(masses: Sequence[RotorMass], planes: tuple[float, floa
     z1, z2 = planes
     if not (math.isfinite(z1) and math.isfinite(z2)) or z1 == z2:
         raise InvalidInput("the two correction planes must be distinct", field="planes_m")
+    axial = [m.axial for m in masses] + [z1, z2]
+    length = max(axial) - min(axial)
+    gap = abs(z2 - z1)
+    # The corrections grow as length/gap: planes nearly together ask for masses no rotor carries, and at a
+    # gap of round-off size for numbers beyond any float.
+    least = max(MIN_PLANE_GAP_M, MIN_PLANE_GAP_FRACTION * length)
+    if gap < least:
+        raise InvalidInput(f"the correction planes are {gap:.3g} m apart, closer than {least:.3g} m "
+                           f"({MIN_PLANE_GAP_FRACTION:.0%} of the rotor's length {length:.3g} m over its masses "
+                           f"and planes, and at least {MIN_PLANE_GAP_M:g} m): place them further apart",
+                           field="planes_m")
     total = sum((m.unbalance for m in masses), 0j)
     moment = sum((m.unbalance * m.axial for m in masses), 0j)
     a = np.array([[1.0, 1.0], [z1, z2]], dtype=complex)

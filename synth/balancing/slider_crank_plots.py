@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.patches import Circle
 
-from ..plots import AFTER, BEFORE, FigureFormat, _curve, _frame_to_scale, draw_linkage, render
+from ..plots import AFTER, BEFORE, FigureFormat, _curve, _frame_to_scale, draw_linkage, literal_text, render
 from .plots import polar_before_after
 from .slider_crank import RESIDUAL_ORDERS, SliderCrankBalance, _peak_by_order, balancer_loads
 
@@ -52,7 +52,9 @@ def _shafts(ax: Axes, result: SliderCrankBalance, phi: float) -> None:
             ax.add_patch(Circle(tuple(centre), p.radius, fill=False, ls=":", ec="tab:green", lw=1, zorder=2))
             ax.plot(*centre, "+", color="tab:green", ms=8, zorder=3)
             ax.plot([centre[0], mass_at[0]], [centre[1], mass_at[1]], "-", color="tab:green", lw=1.8, zorder=3)
-            ax.add_patch(Circle(tuple(mass_at), 0.25 * p.radius * math.sqrt(p.mass / heaviest), fc="tab:green",
+            # a massless mechanism needs massless balancers: drawn as points
+            share = math.sqrt(p.mass / heaviest) if heaviest > 0 else 0.0
+            ax.add_patch(Circle(tuple(mass_at), 0.25 * p.radius * share, fc="tab:green",
                                 ec="k", zorder=4, label=None if side < 0 else
                                 f"order {p.order}: 2 × {p.mass:.3g} kg at {p.radius:.3g} m, "
                                 f"phase {math.degrees(p.phase):.2f}°"))
@@ -111,5 +113,5 @@ def slider_crank_balance_figure(result: SliderCrankBalance, fmt: FigureFormat = 
     fig.suptitle(f"slider-crank balancing: crank counterweight and Lanchester pairs of orders "
                  f"{', '.join(str(p.order) for p in result.pairs)} on the slide axis y = offset = "
                  f"{result.balancer_line_y:.4g} m", fontsize=11)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return render(fig, fmt)

@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 
-from ..plots import FigureFormat, render  # noqa: E402
+from ..plots import FigureFormat, literal_text, render  # noqa: E402
 from .problem import FlywheelResult  # noqa: E402
 
 _STYLE: dict[str, dict[str, Any]] = {
@@ -100,7 +100,7 @@ def flywheel_figure(result: FlywheelResult, fmt: FigureFormat = "png") -> bytes:
         _energy_mass(axes[0], result)
     _excess_work(axes[-2], result)
     _speed(axes[-1], result)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return render(fig, fmt)
 
 

@@ -222,7 +222,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
         raise Infeasible(
             f"stage {stage}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
             f"up to {rules.max_face_width_ratio:g} pinion diameters",
-            constraint="strength", stage=stage, pinion_torque_Nm=torque_peak)
+            constraint="strength", stage_index=stage, pinion_torque_Nm=torque_peak)
     _, m, b, s, binding = best
     r = _rating(rules, _spec(rules, z1, z2, m, b, helix), load)
     d = np.array([z1, z2]) * m / math.cos(helix)

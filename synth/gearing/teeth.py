@@ -58,6 +58,11 @@ _CHUNK = 1 << 17
 _MAX_CELLS = 1 << 22
 
 
+#: Pressure angles of the racks in use span 14.5 to 25 deg; beyond these bounds no rack is cut.
+MIN_PRESSURE_ANGLE_DEG = 10.0
+MAX_PRESSURE_ANGLE_DEG = 30.0
+
+
 @dataclass(frozen=True, slots=True)
 class ToothRules:
     """Rules every mesh of the train obeys.
@@ -74,6 +79,14 @@ class ToothRules:
     max_teeth: int = 100
     hunting: bool = False
     reverted: bool = False
+
+    def __post_init__(self) -> None:
+        # The undercut limit 2 (h_a - x)/sin² alpha grows without bound as the angle goes to zero.
+        if not (math.radians(MIN_PRESSURE_ANGLE_DEG) - 1e-12 <= self.pressure_angle
+                <= math.radians(MAX_PRESSURE_ANGLE_DEG) + 1e-12):
+            raise InvalidInput(f"the pressure angle must be within [{MIN_PRESSURE_ANGLE_DEG:g}, "
+                               f"{MAX_PRESSURE_ANGLE_DEG:g}] deg, got {math.degrees(self.pressure_angle):.6g} deg",
+                               field="pressure_angle_deg")
 
 
 @dataclass(frozen=True, slots=True)
@@ -529,9 +542,14 @@ def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | Non
         zp = z[z < total_sum]
         zg = total_sum - zp
     out = []
+    # Stages with the same ratio range admit the same pairs: the same arrays, so the search deduplicates them once.
+    made: dict[tuple[float, float], tuple[IntArray, IntArray]] = {}
     for s in stages:
-        ok = pairs_admissible(zp, zg, s, rules)
-        out.append((zp[ok], zg[ok]))
+        key = (s.ratio_min, s.ratio_max)
+        if key not in made:
+            ok = pairs_admissible(zp, zg, s, rules)
+            made[key] = (zp[ok], zg[ok])
+        out.append(made[key])
     return out
 
 
@@ -568,8 +586,12 @@ def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance
     Closest mode first searches narrow windows around the target, widening tenfold until one holds a product:
     a best found inside a window is the global best, since everything better lies inside it too.
     """
-    sets = [_dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else
-            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]) for zp, zg in pairs]
+    made: dict[int, _Set] = {}
+    for zp, zg in pairs:
+        if id(zp) not in made:
+            made[id(zp)] = (_dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else
+                            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]))
+    sets = [made[id(zp)] for zp, _ in pairs]
     if any(len(s.num) == 0 for s in sets):
         return None, 0
     streamed = math.prod(len(s.num) for s in sets[len(sets) // 2:])
@@ -706,7 +728,7 @@ def _empty_reason(stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntAr
             return Infeasible(
                 f"no tooth pair for stage {i} ({s.type}) within the teeth bounds, the interference limit and its "
                 f"ratio range [{s.ratio_min:g}, {s.ratio_max:g}]: raise max_teeth, lower min_teeth or widen the range",
-                constraint="max_teeth", stage=i)
+                constraint="max_teeth", stage_index=i)
     if rules.reverted:
         return Infeasible("no reverted train (equal tooth sums in every stage) meets the target: relax tolerance, "
                           "raise max_teeth or drop reverted", constraint="reverted")

@@ -49,7 +49,7 @@ from reportlab.platypus import (  # noqa: E402
 from ..gearing import SizedStage  # noqa: E402
 from ..model import Counterweight  # noqa: E402
 from ..kinematics import motion as solve_motion  # noqa: E402
-from ..plots import draw_linkage, draw_mechanism, figure_png, shaking_polar  # noqa: E402
+from ..plots import draw_linkage, draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
 from .record import DesignRecord, input_rows  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
@@ -615,7 +615,7 @@ def _summary_figure(d: MachineDesign) -> Figure:
     ax.text(0.0, 1.0, "\n".join(textwrap.fill(line, 48) for line in text.split("\n")), va="top", fontsize=7,
             family=_MONO, transform=ax.transAxes)
     fig.suptitle(f"machine design: {_verdict(d)}")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
     return fig
 
 
@@ -824,7 +824,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                 fig.subplots_adjust(left=0.08, right=0.98, bottom=0.15, top=0.88, wspace=0.3)
             pages += 1
             _figure_footer(fig, record, pages)
-            pdf.savefig(fig)
+            pdf.savefig(literal_text(fig))
             plt.close(fig)
     out.append(PdfReader(io.BytesIO(drawn.getvalue())))
     out.add_metadata({"/Title": f"Machine design record: {record.name}",

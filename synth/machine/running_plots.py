@@ -11,6 +11,7 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from ..plots import literal_text  # noqa: E402
 from .chain import MachineDesign  # noqa: E402
 from .running import MachineRunning  # noqa: E402
 
@@ -104,5 +105,5 @@ def running_figure(d: MachineDesign) -> Figure | None:
     table.set_fontsize(8)
     table.scale(1.0, 1.3)
     fig.suptitle("how the machine runs: efficiency, start-up and run-down")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
     return fig

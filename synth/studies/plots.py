@@ -7,7 +7,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import FloatArray
-from ..plots import figure_png
+from ..plots import figure_png, literal_text
 
 
 def pareto_png(x: FloatArray, y: FloatArray, feasible: NDArray[np.bool_], front: NDArray[np.bool_],
@@ -46,5 +46,5 @@ def pareto_png(x: FloatArray, y: FloatArray, feasible: NDArray[np.bool_], front:
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=9)
-    fig.tight_layout()
+    literal_text(fig).tight_layout()
     return figure_png(fig)
