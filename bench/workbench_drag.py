@@ -27,7 +27,7 @@ def main() -> None:
     try:
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-            page = browser.new_page(viewport={"width": 1400, "height": 1000})
+            page = browser.new_context(viewport={"width": 1400, "height": 1000}, bypass_csp=True).new_page()
             page.goto(url + "/")
             page.wait_for_selector("body[data-ready='1'][data-editor-ready='1']", timeout=60_000)
             page.click("#draw-toggle")

@@ -35,7 +35,7 @@ def page(base_url: str) -> Iterator[Page]:
     assert Path(CHROMIUM).exists(), f"{CHROMIUM} is missing"
     with sync_playwright() as p:
         b: Browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        context = b.new_context(viewport={"width": 1400, "height": 1000})
+        context = b.new_context(viewport={"width": 1400, "height": 1000}, bypass_csp=True)  # wait_for_function evals
         pg = context.new_page()
         errors: list[str] = []
         pg.on("pageerror", lambda e: errors.append(str(e)))

@@ -219,7 +219,8 @@ function commit(t0 = performance.now()) {
   }
   const wasLinkage = d.mechanism.type === "linkage";
   d.mechanism = c.mech;
-  syncJson(wasLinkage);
+  // the JSON box follows at the end of a drag, not at every step of it
+  if (!ed.dragging) syncJson(wasLinkage);
   render();
   document.body.dataset.mobility = String(c.W);
   if (c.problems.length || !c.mech.links.length) {
@@ -312,7 +313,20 @@ function viewFor(m) {
 function render() {
   if (!ed.on) return;
   drawCanvas();
-  renderSide();
+  // while a point is dragged only the numbers change: the table keeps its nodes
+  if (ed.dragging) updateSide(); else renderSide();
+}
+
+function updateSide() {
+  for (const p of ed.model.points) {
+    const x = document.getElementById(`dp-${p.name}-x`), y = document.getElementById(`dp-${p.name}-y`);
+    if (x) x.value = num(p.x);
+    if (y) y.value = num(p.y);
+  }
+  for (const l of ed.model.links) {
+    const el = document.getElementById(`dl-${l.name}`), [a, b] = l.points.map(pt);
+    if (el) el.value = num(Math.hypot(b.x - a.x, b.y - a.y));
+  }
 }
 
 function drawCanvas() {
