@@ -27,6 +27,8 @@ const TRACE = "P";
 export const state = {
   design: null, units: { length: "mm", mass: "kg" }, answer: null, layout: null, index: 0, fields: [],
   timings: [], seq: 0, pending: null, plots: [], targets: [], openapi: null,
+  // other modules' reactions to each answer and each refusal (the drawing editor)
+  hooks: { answer: [], problem: [] },
 };
 
 // --- paths into the request --------------------------------------------------------------------------------------
@@ -340,6 +342,7 @@ export async function analyse(t0 = performance.now()) {
     // while a joint is dragged the scale stays put, so the joint stays under the pointer
     if (!state.dragging || !state.layout) state.layout = layout(answer, state.design, { targets: state.targets });
     drawAll();
+    for (const f of state.hooks.answer) f(answer);
     for (const w of answer.warnings || []) {
       const text = w.message;
       if (!showMessage(w.field, text, true)) {
@@ -365,6 +368,7 @@ export async function analyse(t0 = performance.now()) {
     showProblem(err);
     markStale("the form holds an error");
     setStatus("not analysed: see the message in the form");
+    for (const f of state.hooks.problem) f(err);
     document.body.dataset.problem = String(seq);
   } finally {
     if (state.pending === ctl) state.pending = null;

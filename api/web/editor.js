@@ -1,0 +1,696 @@
+// The drawing editor: a general linkage placed point by point on the canvas, kept as one model (points, links,
+// blocks on guides) from which the `linkage` mechanism of the request is written. Every edit is undoable; the JSON
+// box of the form is a view of the same mechanism; the structure (mobility, Assur groups) is said as you draw.
+import { state, edited, renderForm, factor, markStale } from "./app.js";
+import { post, Problem } from "./api.js";
+import { h, s, put } from "./dom.js";
+import { TEMPLATES } from "./templates.js";
+
+// A drawn link is a steel bar of 10 kg per metre from its first point to each other point, its centre of mass at
+// the mean of its points and J = m·mean(r²)/3 about it (m L²/12 for a bar); a block is 5 kg.
+const KG_PER_M = 10, BLOCK_KG = 5;
+const GRID = { mm: [0.005, 0.01, 0.05], m: [0.01, 0.05, 0.1] };
+const TOOLS = [["move", "V", "Move / select"], ["frame", "F", "Frame point"], ["joint", "J", "Joint"],
+  ["bar", "B", "Binary link (2 points)"], ["plate", "T", "Ternary link (3 points)"],
+  ["slide", "S", "Block on a guide: joint, then frame point"], ["crank", "C", "Crank"], ["output", "O", "Output"],
+  ["delete", "X", "Delete"]];
+const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
+
+export const ed = {
+  on: false, model: null, tool: "move", pending: [], selected: null, undo: [], redo: [], view: null,
+  grid: 0.01, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
+};
+
+const clone = (m) => JSON.parse(JSON.stringify(m));
+const pt = (name) => ed.model.points.find((p) => p.name === name);
+const bodiesAt = (m, name) => [...m.links.filter((l) => l.points.includes(name)).map((l) => l.name),
+  ...m.blocks.filter((b) => b.point === name).map((b) => b.name)];
+
+// --- model -> request ------------------------------------------------------------------------------------------------
+function crankOf(m) {
+  const onFrame = (l) => l.points.some((n) => (m.points.find((p) => p.name === n) || {}).ground);
+  const c = m.links.find((l) => l.name === m.crank && onFrame(l)) || m.links.find(onFrame);
+  return c || null;
+}
+
+function outputOf(m, crank) {
+  if (m.output && (m.links.some((l) => l.name === m.output) || m.blocks.some((b) => b.name === m.output))) return m.output;
+  const grounded = [...m.links.filter((l) => l.points.some((n) => (m.points.find((p) => p.name === n) || {}).ground)).map((l) => l.name),
+    ...m.blocks.map((b) => b.name)].filter((n) => !crank || n !== crank.name);
+  return grounded.pop() || null;
+}
+
+/** The linkage of the request from the drawing: the crank pivot moved to the origin, each link's frame on its
+ *  first two points, masses by the bar rule above. */
+export function toMechanism(m) {
+  const crank = crankOf(m);
+  const P = Object.fromEntries(m.points.map((p) => [p.name, p]));
+  let pivot = m.points.find((p) => p.ground) || { x: 0, y: 0 };
+  if (crank) pivot = P[crank.points.find((n) => P[n].ground)];
+  const off = [pivot.x, pivot.y];
+  const rel = (n) => [P[n].x - off[0], P[n].y - off[1]];
+  const frame = {};
+  for (const p of m.points) if (p.ground) frame[p.name] = rel(p.name);
+  const links = m.links.map((l) => {
+    let names = [...l.points];
+    if (crank && l.name === crank.name) names = [names.find((n) => P[n].ground), ...names.filter((n) => n !== names.find((q) => P[q].ground))];
+    const [p0, p1] = names.map(rel);
+    const L = Math.hypot(p1[0] - p0[0], p1[1] - p0[1]), th = Math.atan2(p1[1] - p0[1], p1[0] - p0[0]);
+    const local = names.map((n) => {
+      const d = [rel(n)[0] - p0[0], rel(n)[1] - p0[1]];
+      return [Math.cos(th) * d[0] + Math.sin(th) * d[1], -Math.sin(th) * d[0] + Math.cos(th) * d[1]];
+    });
+    local[0] = [0, 0]; local[1] = [L, 0];
+    const com = [local.reduce((t, q) => t + q[0], 0) / local.length, local.reduce((t, q) => t + q[1], 0) / local.length];
+    const mass = l.mass_kg ?? KG_PER_M * local.slice(1).reduce((t, q) => t + Math.hypot(q[0], q[1]), 0);
+    const r2 = local.reduce((t, q) => t + (q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2, 0) / local.length;
+    const out = { name: l.name, joints: names.slice(0, 2), length_m: L };
+    if (names.length > 2) out.points_m = Object.fromEntries(names.slice(2).map((n, k) => [n, local[k + 2]]));
+    Object.assign(out, { mass_kg: mass, com_m: com, inertia_kgm2: (mass * r2) / 3 });
+    return out;
+  });
+  for (const b of m.blocks) links.push({ name: b.name, joints: [b.point], mass_kg: b.mass_kg ?? BLOCK_KG });
+  const joints = [];
+  for (const p of m.points) {
+    const bodies = [...(p.ground ? ["frame"] : []), ...bodiesAt(m, p.name)];
+    for (let k = 0; k + 1 < bodies.length; k++) {
+      const j = { name: k ? `${p.name}_${k + 1}` : p.name, kind: "revolute", links: [bodies[k], bodies[k + 1]] };
+      if (k) j.point = p.name;
+      joints.push(j);
+    }
+  }
+  for (const b of m.blocks) joints.push({ name: `${b.name}_guide`, kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+  const mech = { type: "linkage", frame_points_m: frame, links, joints };
+  if (crank) mech.crank = crank.name;
+  const output = outputOf(m, crank);
+  if (output) mech.output = output;
+  const branches = Object.fromEntries(Object.entries(m.branches || {}).filter(([k]) => joints.some((j) => j.name === k)));
+  if (Object.keys(branches).length) mech.branches = branches;
+  return { mech, offset: off, crank };
+}
+
+/** W = 3n − 2p and what is wrong with the chain, each said at its place. */
+export function check(m) {
+  const { mech, crank } = toMechanism(m);
+  const n = mech.links.length, p = mech.joints.length, W = 3 * n - 2 * p;
+  const out = [];
+  for (const q of m.points) {
+    if (!q.ground && !bodiesAt(m, q.name).length) out.push({ at: q.name, text: `joint ${q.name} is on no link` });
+  }
+  for (const l of m.links) {
+    const shared = l.points.some((name) => pt(name).ground || bodiesAt(m, name).length > 1);
+    if (!shared) out.push({ at: l.points[0], link: l.name, text: `link ${l.name} is joined to nothing` });
+  }
+  if (n && !crank) out.push({ at: null, text: "no link turns about a frame point: nothing can be the crank" });
+  if (n && W > 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain has ${W} degrees of freedom; one crank cannot drive it (add a link, or join a joint to the frame)` });
+  if (n && W < 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain cannot move (a structure); remove a link or a pair` });
+  return { W, n, p, problems: out, mech };
+}
+
+// --- the editor's model from a mechanism the service answered for -----------------------------------------------------
+/** Any answered design as an editable drawing: its points at the shown crank angle, its links through them. */
+export function fromAnswer(design, answer, i) {
+  const mech = design.mechanism, at = (n) => answer.points[n] && answer.points[n].position_m[i];
+  const points = [], seen = new Set();
+  const add = (name, ground) => {
+    if (seen.has(name) || !at(name)) return;
+    seen.add(name);
+    points.push({ name, x: at(name)[0], y: at(name)[1], ground });
+  };
+  if (mech.type === "linkage") {
+    for (const n of Object.keys(mech.frame_points_m || {})) add(n, true);
+    const links = [], blocks = [];
+    for (const l of mech.links) {
+      const names = [...(l.joints || []), ...Object.keys(l.points_m || {})];
+      names.forEach((n) => add(n, false));
+      if (names.length === 1) {
+        const g = (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && j.links.includes("frame"));
+        if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, mass_kg: l.mass_kg });
+      } else links.push({ name: l.name, points: names, mass_kg: l.mass_kg });
+    }
+    return { points, links, blocks, crank: mech.crank, output: mech.output, branches: { ...(mech.branches || {}) } };
+  }
+  const fam = mech.type;
+  if (fam === "fourbar") {
+    ["O", "Q"].forEach((n) => add(n, true)); ["A", "B"].forEach((n) => add(n, false));
+    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "coupler", points: ["A", "B"] }, { name: "rocker", points: ["Q", "B"] }],
+      blocks: [], crank: "crank", output: "rocker", branches: {} };
+  }
+  if (fam === "slider_crank") {
+    add("O", true); add("A", false); add("B", false);
+    points.push({ name: "G", x: at("B")[0], y: at("B")[1], ground: true });
+    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "rod", points: ["A", "B"] }],
+      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0 }], crank: "crank", output: "slider", branches: {} };
+  }
+  return null;
+}
+
+// --- edits -------------------------------------------------------------------------------------------------------------
+function snap(v) { return Math.round(v / ed.grid) * ed.grid; }
+function snapXY([x, y], free) {
+  if (free) return [x, y];
+  // to the grid in the chosen unit, exact in it (300 mm is 0.3 m, not 0.30000000000000004)
+  const u = factor("length");
+  const r = (v) => Math.round(snap(v) / u * 1e6) / 1e6 * u;
+  return [r(x), r(y)];
+}
+
+function nextName(ground) {
+  const used = new Set([...ed.model.points.map((p) => p.name)]);
+  const order = ground ? ["O", "Q", "G", "H", "K", "M", "N", "R", "U", "W"] : "ABCDEFIJLPSTVXYZ".split("");
+  const free = order.find((n) => !used.has(n));
+  if (free) return free;
+  for (let k = 1; ; k++) if (!used.has(`${ground ? "G" : "P"}${k}`)) return `${ground ? "G" : "P"}${k}`;
+}
+
+function nextLinkName(prefix) {
+  const used = new Set([...ed.model.links.map((l) => l.name), ...ed.model.blocks.map((b) => b.name)]);
+  for (let k = 1; ; k++) if (!used.has(`${prefix}${k}`)) return `${prefix}${k}`;
+}
+
+/** Apply an edit: the model before it goes on the undo stack (a drag pushes once, at its start). */
+function change(fn, { push = true, topology = true } = {}) {
+  if (push) { ed.undo.push(JSON.stringify(ed.model)); ed.redo = []; if (ed.undo.length > 500) ed.undo.shift(); }
+  fn(ed.model);
+  if (topology) ed.fit = 4;
+  commit();
+}
+
+function undo() {
+  if (!ed.undo.length) return;
+  ed.redo.push(JSON.stringify(ed.model));
+  ed.model = JSON.parse(ed.undo.pop());
+  ed.fit = 4; ed.pending = [];
+  commit();
+}
+
+function redo() {
+  if (!ed.redo.length) return;
+  ed.undo.push(JSON.stringify(ed.model));
+  ed.model = JSON.parse(ed.redo.pop());
+  ed.fit = 4; ed.pending = [];
+  commit();
+}
+
+function deletePoint(name) {
+  change((m) => {
+    m.points = m.points.filter((p) => p.name !== name);
+    m.links = m.links.filter((l) => !l.points.includes(name));
+    m.blocks = m.blocks.filter((b) => b.point !== name && b.through !== name);
+  });
+}
+
+function deleteLink(name) {
+  change((m) => { m.links = m.links.filter((l) => l.name !== name); m.blocks = m.blocks.filter((b) => b.name !== name); });
+}
+
+// --- the model into the design, the drawing, the table ----------------------------------------------------------------
+let lastChecked = null;
+function commit(t0 = performance.now()) {
+  const c = check(ed.model);
+  lastChecked = c;
+  ed.messages = c.problems;
+  const { offset } = toMechanism(ed.model);
+  ed.offset = offset;
+  const d = state.design;
+  if (d.mechanism.type !== "linkage") {
+    // names of the families' links mean nothing in a drawing: their loads, counterweights and points go
+    delete d.loads; delete d.counterweights; delete d.counter_rotors; delete d.coupler_inertia_kgm2; delete d.trace_points;
+  }
+  const wasLinkage = d.mechanism.type === "linkage";
+  d.mechanism = c.mech;
+  // the JSON box follows at the end of a drag, not at every step of it
+  if (!ed.dragging) syncJson(wasLinkage);
+  render();
+  document.body.dataset.mobility = String(c.W);
+  if (c.problems.length || !c.mech.links.length) {
+    // nothing the service could analyse: an answer still on its way is for a chain no longer drawn
+    if (state.pending) { state.pending.abort(); state.pending = null; }
+    state.seq += 1;
+    ed.answerOk = false;
+    markStale(c.problems.length ? c.problems[0].text : "nothing drawn yet");
+    document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
+    history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
+    return null;
+  }
+  document.body.dataset.drawProblem = "";
+  refreshStructure(c.mech);
+  return edited(t0);
+}
+
+function syncJson(wasLinkage) {
+  const box = document.getElementById("f-mechanism");
+  if (!wasLinkage || !box) { renderForm(); return; }
+  if (document.activeElement === box) return;
+  box.value = JSON.stringify(state.design.mechanism, null, 1);
+}
+
+async function refreshStructure(mech) {
+  const key = JSON.stringify([mech.crank, mech.joints.map((j) => [j.kind, ...j.links])]);
+  if (key === ed.structureKey) return;
+  ed.structureKey = key;
+  ed.groups = null;
+  try {
+    const st = await post("/v1/structure", { links: ["frame", ...mech.links.map((l) => l.name)],
+      pairs: mech.joints.map((j) => ({ name: j.name, links: j.links, kind: j.kind })), input_links: mech.crank ? [mech.crank] : null });
+    if (key !== ed.structureKey) return;
+    ed.groups = st.assur_groups || [];
+    ed.structureNote = st.note;
+    if (ed.answerOk && state.answer && state.pending === null) settle(state.answer); else render();
+  } catch { ed.groups = null; }
+}
+
+// --- the assembly branches, read off the drawing ------------------------------------------------------------------------
+/** The service places each dyad on one of its two branches: compare the answer at the drawn crank angle with the
+ *  drawing and turn round the first group whose points land elsewhere, until the answer is the drawing. */
+function fitBranches(answer) {
+  if (!ed.fit || !ed.groups || ed.dragging) return false;
+  ed.fit -= 1;
+  const m = ed.model, mech = state.design.mechanism, crank = crankOf(m);
+  if (!crank) { ed.fit = 0; return false; }
+  const lk = mech.links.find((l) => l.name === crank.name);
+  const a = pt(lk.joints[0]), b = pt(lk.joints[1]);
+  const phi = ((Math.atan2(b.y - a.y, b.x - a.x) * 180) / Math.PI + 360) % 360;
+  const angles = answer.crank_angle_deg;
+  let k = 0;
+  angles.forEach((v, j) => { if (Math.abs(((v - phi + 540) % 360) - 180) < Math.abs(((angles[k] - phi + 540) % 360) - 180)) k = j; });
+  const span = Math.max(...m.points.map((p) => p.x)) - Math.min(...m.points.map((p) => p.x)) + 1e-9;
+  const tol = 0.03 * span + Math.hypot(b.x - a.x, b.y - a.y) * 0.05;
+  for (const g of ed.groups) {
+    if (g.links.length !== 2) { ed.fit = 0; return false; }
+    const names = g.links.flatMap((l) => { const L = m.links.find((q) => q.name === l); return L ? L.points : m.blocks.filter((q) => q.name === l).map((q) => q.point); });
+    const off = names.some((n) => {
+      const r = answer.points[n] && answer.points[n].position_m[k];
+      return r && Math.hypot(r[0] + ed.offset[0] - pt(n).x, r[1] + ed.offset[1] - pt(n).y) > tol;
+    });
+    if (!off) continue;
+    const inner = mech.joints.find((j) => j.links.includes(g.links[0]) && j.links.includes(g.links[1]));
+    if (!inner) { ed.fit = 0; return false; }
+    m.branches = { ...(m.branches || {}), [inner.name]: -((m.branches || {})[inner.name] || 1) };
+    commit();
+    return true;
+  }
+  ed.fit = 0;
+  return false;
+}
+
+// --- drawing ------------------------------------------------------------------------------------------------------------
+function viewFor(m) {
+  const xs = m.points.map((p) => p.x), ys = m.points.map((p) => p.y);
+  if (state.answer && ed.answerOk) for (const p of Object.values(state.answer.points)) for (const [x, y] of p.position_m) { xs.push(x + ed.offset[0]); ys.push(y + ed.offset[1]); }
+  if (!xs.length) return { x0: -0.2, y0: -0.2, w: 1.2, h: 0.6 };
+  let x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
+  const span = Math.max(x1 - x0, y1 - y0, 0.2), pad = span * 0.2;
+  x0 -= pad; x1 += pad; y0 -= pad; y1 += pad;
+  // the canvas's own proportions, so a click lands where it is drawn
+  const box = document.getElementById("draw-canvas").getBoundingClientRect();
+  const aspect = box.width / Math.max(box.height, 1) || 2.5;
+  let w = x1 - x0, hh = y1 - y0;
+  if (w / hh < aspect) { const nw = hh * aspect; x0 -= (nw - w) / 2; w = nw; } else { const nh = w / aspect; y0 -= (nh - hh) / 2; hh = nh; }
+  return { x0, y0, w, h: hh };
+}
+
+function render() {
+  if (!ed.on) return;
+  drawCanvas();
+  // while a point is dragged only the numbers change: the table keeps its nodes
+  if (ed.dragging) updateSide(); else renderSide();
+}
+
+function updateSide() {
+  for (const p of ed.model.points) {
+    const x = document.getElementById(`dp-${p.name}-x`), y = document.getElementById(`dp-${p.name}-y`);
+    if (x) x.value = num(p.x);
+    if (y) y.value = num(p.y);
+  }
+  for (const l of ed.model.links) {
+    const el = document.getElementById(`dl-${l.name}`), [a, b] = l.points.map(pt);
+    if (el) el.value = num(Math.hypot(b.x - a.x, b.y - a.y));
+  }
+}
+
+function drawCanvas() {
+  const svg = document.getElementById("draw-canvas"), m = ed.model, v = ed.view;
+  svg.setAttribute("viewBox", `${v.x0} ${-(v.y0 + v.h)} ${v.w} ${v.h}`);
+  const sw = v.w / 600, g = s("g", { "stroke-width": sw });
+  const Y = (y) => -y;
+  // the grid: one line per step, every tenth darker
+  const step = ed.grid;
+  if (v.w / step < 300) {
+    const grid = s("g", { class: "draw-grid" });
+    for (let x = Math.ceil(v.x0 / step) * step; x <= v.x0 + v.w; x += step) grid.appendChild(s("line", { x1: x, x2: x, y1: Y(v.y0), y2: Y(v.y0 + v.h), "stroke-width": sw * 0.5 }));
+    for (let y = Math.ceil(v.y0 / step) * step; y <= v.y0 + v.h; y += step) grid.appendChild(s("line", { y1: Y(y), y2: Y(y), x1: v.x0, x2: v.x0 + v.w, "stroke-width": sw * 0.5 }));
+    g.appendChild(grid);
+  }
+  const colour = {};
+  const crank = crankOf(m);
+  if (crank) colour[crank.name] = "#1f5fbf";
+  (ed.groups || []).forEach((gr, k) => gr.links.forEach((l) => { colour[l] = GROUP_COLOURS[k % GROUP_COLOURS.length]; }));
+  // the paths every joint sweeps in the last answer
+  if (state.answer && ed.answerOk) {
+    for (const [name, p] of Object.entries(state.answer.points)) {
+      if (name.startsWith("S_") || name.startsWith("cw") || (pt(name) && pt(name).ground)) continue;
+      g.appendChild(s("polyline", { class: "draw-path", points: p.position_m.map((q) => `${q[0] + ed.offset[0]},${-(q[1] + ed.offset[1])}`).join(" "), "stroke-width": sw }));
+    }
+  }
+  for (const b of m.blocks) {
+    const gp = pt(b.through), jp = pt(b.point);
+    if (!gp || !jp) continue;
+    const a = (b.axis_deg * Math.PI) / 180, L = v.w;
+    g.appendChild(s("line", { class: "guide", x1: gp.x - Math.cos(a) * L, y1: Y(gp.y - Math.sin(a) * L), x2: gp.x + Math.cos(a) * L, y2: Y(gp.y + Math.sin(a) * L),
+      "stroke-width": sw, "stroke-dasharray": `${8 * sw} ${3 * sw}` }));
+    g.appendChild(s("rect", { class: "slider", dataset: { link: b.name }, x: jp.x - 16 * sw, y: Y(jp.y) - 9 * sw, width: 32 * sw, height: 18 * sw, "stroke-width": 2 * sw,
+      transform: `rotate(${-b.axis_deg} ${jp.x} ${Y(jp.y)})`, stroke: colour[b.name] || "#2d3e5c" }, s("title", {}, b.name)));
+  }
+  for (const l of m.links) {
+    const ps = l.points.map(pt).filter(Boolean);
+    const stroke = colour[l.name] || "#5b6575";
+    const attrs = { class: ["draw-link", ed.selected === `link:${l.name}` && "selected"], dataset: { link: l.name }, stroke };
+    if (ps.length === 2) g.appendChild(s("line", { ...attrs, x1: ps[0].x, y1: Y(ps[0].y), x2: ps[1].x, y2: Y(ps[1].y), "stroke-width": 6 * sw }, s("title", {}, l.name)));
+    else g.appendChild(s("polygon", { ...attrs, points: ps.map((p) => `${p.x},${Y(p.y)}`).join(" "), "stroke-width": 5 * sw }, s("title", {}, l.name)));
+    const c = [ps.reduce((t, p) => t + p.x, 0) / ps.length, ps.reduce((t, p) => t + p.y, 0) / ps.length];
+    const role = l.name === (crank && crank.name) ? " (crank)" : l.name === outputOf(m, crank) ? " (output)" : "";
+    g.appendChild(s("text", { class: "draw-link-name", x: c[0] + 6 * sw, y: Y(c[1]) - 6 * sw, "font-size": 11 * sw }, l.name + role));
+  }
+  for (const b of m.blocks) {
+    const jp = pt(b.point);
+    if (jp && b.name === outputOf(m, crank)) g.appendChild(s("text", { class: "draw-link-name", x: jp.x + 18 * sw, y: Y(jp.y) + 4 * sw, "font-size": 11 * sw }, `${b.name} (output)`));
+  }
+  for (const p of m.points) {
+    if (p.ground) g.appendChild(s("path", { class: "ground", d: `M${p.x},${Y(p.y)} l${-7 * sw},${12 * sw} h${14 * sw} z` }));
+    const sel = ed.selected === `point:${p.name}` || ed.pending.includes(p.name);
+    g.appendChild(s("circle", { class: ["draw-point", p.ground && "frame", sel && "selected"], dataset: { point: p.name }, cx: p.x, cy: Y(p.y), r: 5 * sw, "stroke-width": 2 * sw },
+      s("title", {}, p.name)));
+    g.appendChild(s("text", { class: "draw-point-name", x: p.x + 7 * sw, y: Y(p.y) - 7 * sw, "font-size": 13 * sw }, p.name));
+  }
+  // what is wrong, said at its place
+  let row = 0;
+  for (const msg of ed.messages) {
+    const p = msg.at && pt(msg.at);
+    const x = p ? p.x + 10 * sw : v.x0 + 10 * sw, y = p ? Y(p.y) + 18 * sw : Y(v.y0 + v.h) + (16 + 15 * row++) * sw;
+    g.appendChild(s("text", { class: "draw-msg", x, y, "font-size": 8 * sw }, msg.text));
+  }
+  svg.replaceChildren(g);
+}
+
+function num(v) { return String(Number((v / factor("length")).toPrecision(8))); }
+
+function renderSide() {
+  const side = document.getElementById("draw-side");
+  const m = ed.model, c = lastChecked || check(m), u = state.units.length;
+  const focused = document.activeElement && side.contains(document.activeElement) ? document.activeElement.id : null;
+  const W = h("p", { id: "draw-mobility", class: ["mobility", c.W !== 1 && "bad"] }, `W = 3n − 2p = 3·${c.n} − 2·${c.p} = ${c.W}`);
+  const groups = ed.groups ? h("p", { class: "groups" }, ed.groups.length ? `Assur groups: ${ed.groups.map((g2) => `${g2.group_class} (${g2.links.join(", ")})`).join("; ")}` : "") : null;
+  const msgs = h("ul", { id: "draw-messages", class: "draw-messages", role: "alert" }, ed.messages.map((p) => h("li", {}, p.text)));
+  const pointRows = m.points.map((p) => h("tr", { class: ed.selected === `point:${p.name}` ? "selected" : null },
+    h("td", {}, p.name), h("td", {}, p.ground ? "frame" : "joint"),
+    h("td", {}, h("input", { id: `dp-${p.name}-x`, "aria-label": `${p.name} x [${u}]`, value: num(p.x), dataset: { point: p.name, axis: "x" }, inputmode: "decimal" })),
+    h("td", {}, h("input", { id: `dp-${p.name}-y`, "aria-label": `${p.name} y [${u}]`, value: num(p.y), dataset: { point: p.name, axis: "y" }, inputmode: "decimal" }))));
+  const linkRows = m.links.map((l) => {
+    const [a, b] = l.points.map(pt);
+    const L = Math.hypot(b.x - a.x, b.y - a.y);
+    return h("tr", {}, h("td", {}, l.name), h("td", {}, l.points.join("-")),
+      h("td", {}, h("input", { id: `dl-${l.name}`, "aria-label": `${l.name} length ${l.points[0]}-${l.points[1]} [${u}]`, value: num(L), dataset: { link: l.name } })));
+  });
+  const blockRows = m.blocks.map((b) => h("tr", {}, h("td", {}, b.name), h("td", {}, `${b.point} on ${b.through}`),
+    h("td", {}, h("input", { id: `db-${b.name}`, "aria-label": `${b.name} guide axis [°]`, value: String(b.axis_deg), dataset: { block: b.name } }), "°")));
+  put(side,
+    h("div", { class: "draw-tools", role: "radiogroup", "aria-label": "Drawing tool" }, TOOLS.map(([id, key, label]) =>
+      h("button", { type: "button", role: "radio", "aria-checked": String(ed.tool === id), dataset: { tool: id }, title: `${label} (${key})`, id: `tool-${id}` }, `${label.split(" ")[0]} ${key}`))),
+    h("div", { class: "draw-actions" },
+      h("button", { type: "button", id: "draw-undo", disabled: !ed.undo.length, title: "Undo (Ctrl+Z)" }, "Undo"),
+      h("button", { type: "button", id: "draw-redo", disabled: !ed.redo.length, title: "Redo (Ctrl+Y)" }, "Redo"),
+      h("label", {}, "Grid ", h("select", { id: "draw-grid" }, GRID[u].map((g2) => h("option", { value: String(g2), selected: Math.abs(g2 - ed.grid) < 1e-12 }, `${num(g2)} ${u}`)))),
+      h("label", {}, "Template ", h("select", { id: "draw-template" }, h("option", { value: "" }, "—"), Object.entries(TEMPLATES).map(([k, t]) => h("option", { value: k }, t.label))))),
+    W, groups, msgs,
+    h("table", { class: "draw-table", id: "draw-points" }, h("tr", {}, h("th", {}, "Point"), h("th", {}, ""), h("th", {}, `x [${u}]`), h("th", {}, `y [${u}]`)), pointRows),
+    h("table", { class: "draw-table", id: "draw-links" }, h("tr", {}, h("th", {}, "Link"), h("th", {}, "points"), h("th", {}, `length [${u}]`)), linkRows, blockRows));
+  if (focused && document.getElementById(focused)) document.getElementById(focused).focus();
+}
+
+// --- input --------------------------------------------------------------------------------------------------------------
+function toModel(svg, evt) {
+  const p = svg.createSVGPoint();
+  p.x = evt.clientX; p.y = evt.clientY;
+  const q = p.matrixTransform(svg.getScreenCTM().inverse());
+  return [q.x, -q.y];
+}
+
+function hitPoint(svg, evt) {
+  const name = evt.target.dataset && evt.target.dataset.point;
+  if (name) return name;
+  const [x, y] = toModel(svg, evt), r = (ed.view.w / 600) * 9;
+  const near = ed.model.points.map((p) => [Math.hypot(p.x - x, p.y - y), p.name]).sort((a, b) => a[0] - b[0])[0];
+  return near && near[0] < r ? near[1] : null;
+}
+
+function place(xy, ground) {
+  const name = nextName(ground);
+  change((m) => { m.points.push({ name, x: xy[0], y: xy[1], ground }); }, { topology: true });
+  return name;
+}
+
+function onPointerDown(e) {
+  const svg = e.currentTarget;
+  svg.focus();
+  const hit = hitPoint(svg, e), link = e.target.dataset && e.target.dataset.link;
+  const xy = snapXY(toModel(svg, e), e.altKey);
+  const t = ed.tool;
+  if (t === "move") {
+    if (hit) {
+      ed.selected = `point:${hit}`;
+      ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+      ed.dragging = { name: hit, moved: false };
+      svg.setPointerCapture(e.pointerId);
+      render();
+    } else if (link) { ed.selected = `link:${link}`; render(); }
+  } else if (t === "frame" || t === "joint") {
+    if (hit) { ed.selected = `point:${hit}`; render(); } else place(xy, t === "frame");
+  } else if (t === "bar" || t === "plate") {
+    const name = hit || place(xy, false);
+    if (!ed.pending.includes(name)) ed.pending.push(name);
+    if (ed.pending.length === (t === "bar" ? 2 : 3)) {
+      const points = ed.pending; ed.pending = [];
+      change((m) => { m.links.push({ name: nextLinkName("L"), points }); });
+    } else render();
+  } else if (t === "slide") {
+    if (!hit) return;
+    ed.pending.push(hit);
+    if (ed.pending.length === 2) {
+      const [j, gname] = ed.pending; ed.pending = [];
+      const jp = pt(j), gp = pt(gname);
+      if (jp.ground || !gp.ground) { ed.problem = "a block: click its joint first, then the frame point its guide runs through"; render(); return; }
+      ed.problem = null;
+      const d = Math.hypot(jp.x - gp.x, jp.y - gp.y);
+      const axis = d > 1e-12 ? Math.round(((Math.atan2(jp.y - gp.y, jp.x - gp.x) * 180) / Math.PI) / 15) * 15 : 0;
+      change((m) => { m.blocks.push({ name: nextLinkName("block"), point: j, through: gname, axis_deg: ((axis % 360) + 360) % 360 }); });
+    } else render();
+  } else if (t === "crank" || t === "output") {
+    const name = link || (hit && bodiesAt(ed.model, hit)[0]);
+    if (name) change((m) => { m[t] = name; });
+  } else if (t === "delete") {
+    if (hit) deletePoint(hit); else if (link) deleteLink(link);
+  }
+  e.preventDefault();
+}
+
+function onPointerMove(e) {
+  if (!ed.dragging) return;
+  const t0 = performance.now();
+  const svg = e.currentTarget;
+  const [x, y] = snapXY(toModel(svg, e), e.altKey);
+  const p = pt(ed.dragging.name);
+  if (p.x === x && p.y === y) return;
+  p.x = x; p.y = y; ed.dragging.moved = true;
+  state.dragging = true;
+  commit(t0);
+}
+
+function onPointerUp() {
+  if (!ed.dragging) return;
+  const moved = ed.dragging.moved;
+  ed.dragging = null;
+  state.dragging = false;
+  if (!moved) { ed.undo.pop(); return; }
+  ed.fit = 4;
+  ed.view = viewFor(ed.model);
+  commit();
+}
+
+function onKey(e) {
+  if (!ed.on) return;
+  const inField = ["INPUT", "TEXTAREA", "SELECT"].includes(e.target.tagName);
+  const mod = e.ctrlKey || e.metaKey;
+  if (mod && !inField && (e.key === "z" || e.key === "Z") && !e.shiftKey) { undo(); e.preventDefault(); return; }
+  if (mod && !inField && (e.key === "y" || ((e.key === "z" || e.key === "Z") && e.shiftKey))) { redo(); e.preventDefault(); return; }
+  if (inField || mod || e.altKey) return;
+  const tool = TOOLS.find(([, k]) => k === e.key.toUpperCase());
+  if (tool) { setTool(tool[0]); e.preventDefault(); return; }
+  if (e.key === "Escape") { ed.pending = []; ed.selected = null; render(); return; }
+  if ((e.key === "Delete" || e.key === "Backspace") && ed.selected) {
+    const [kind, name] = ed.selected.split(":");
+    ed.selected = null;
+    if (kind === "point") deletePoint(name); else deleteLink(name);
+    e.preventDefault();
+    return;
+  }
+  const arrows = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, 1], ArrowDown: [0, -1] };
+  if (arrows[e.key] && ed.selected && ed.selected.startsWith("point:")) {
+    const name = ed.selected.slice(6), [dx, dy] = arrows[e.key];
+    change((m) => { const p = m.points.find((q) => q.name === name); [p.x, p.y] = snapXY([p.x + dx * ed.grid, p.y + dy * ed.grid]); });
+    e.preventDefault();
+  }
+}
+
+function setTool(id) { ed.tool = id; ed.pending = []; render(); }
+
+function onSideChange(e) {
+  const el = e.target;
+  if (el.id === "draw-grid") { ed.grid = Number(el.value); render(); return; }
+  if (el.id === "draw-template") { if (el.value) openTemplate(el.value); return; }
+  const v = Number(el.value.trim().replace(",", "."));
+  if (!Number.isFinite(v)) { el.setAttribute("aria-invalid", "true"); return; }
+  el.removeAttribute("aria-invalid");
+  if (el.dataset.point) change((m) => { m.points.find((p) => p.name === el.dataset.point)[el.dataset.axis] = v * factor("length"); });
+  else if (el.dataset.link) {
+    // a length typed: the link's second point moves along the link (its first, if the second is on the frame)
+    change((m) => {
+      const l = m.links.find((q) => q.name === el.dataset.link);
+      let [a, b] = l.points.map((n) => m.points.find((p) => p.name === n));
+      if (b.ground) [a, b] = [b, a];
+      const L = Math.hypot(b.x - a.x, b.y - a.y) || 1, want = v * factor("length");
+      b.x = a.x + ((b.x - a.x) * want) / L; b.y = a.y + ((b.y - a.y) * want) / L;
+    });
+  } else if (el.dataset.block) change((m) => { m.blocks.find((b) => b.name === el.dataset.block).axis_deg = v; });
+}
+
+function onSideClick(e) {
+  const b = e.target.closest("button");
+  if (!b) return;
+  if (b.dataset.tool) setTool(b.dataset.tool);
+  else if (b.id === "draw-undo") undo();
+  else if (b.id === "draw-redo") redo();
+}
+
+export function openTemplate(key) {
+  const t = TEMPLATES[key];
+  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.model = clone(t.model);
+  ed.fit = 4;
+  ed.view = null;
+  ed.structureKey = "";
+  if (t.loads) state.design.loads = clone(t.loads); else delete state.design.loads;
+  ed.view = viewFor(ed.model);
+  return commit();
+}
+
+// --- on and off ----------------------------------------------------------------------------------------------------------
+function emptyModel() { return { points: [], links: [], blocks: [], crank: null, output: null, branches: {} }; }
+
+export function setEditing(on) {
+  ed.on = on;
+  document.body.dataset.drawing = on ? "1" : "";
+  document.getElementById("draw-toggle").setAttribute("aria-pressed", String(on));
+  // SVG elements have no `hidden` property: the attribute itself
+  document.getElementById("draw-canvas").toggleAttribute("hidden", !on);
+  document.getElementById("drawing").toggleAttribute("hidden", on);
+  document.getElementById("draw-side").hidden = !on;
+  if (!on) return;
+  const imported = state.answer && fromAnswer(state.design, state.answer, state.index);
+  ed.model = imported || emptyModel();
+  ed.undo = []; ed.redo = []; ed.pending = []; ed.structureKey = "";
+  ed.answerOk = Boolean(imported) && state.design.mechanism.type === "linkage";
+  ed.offset = [0, 0];
+  ed.view = viewFor(ed.model);
+  if (imported) commit(); else render();
+}
+
+/** Start over with an empty canvas (the chain drawn from nothing). */
+export function clearDrawing() {
+  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.model = emptyModel();
+  // room for a linkage a metre across, in the canvas's proportions
+  const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
+  const w = Math.max(1.6, 1.5 * aspect);
+  ed.view = { x0: -0.25, y0: -0.3, w, h: w / aspect };
+  ed.groups = null; ed.structureKey = "";
+  return commit();
+}
+
+/** Screen position of a model point [m], for tests and the bench that click the canvas. */
+export function toScreen(x, y) {
+  const svg = document.getElementById("draw-canvas");
+  const p = svg.createSVGPoint();
+  p.x = x; p.y = -y;
+  const q = p.matrixTransform(svg.getScreenCTM());
+  return [q.x, q.y];
+}
+
+function install() {
+  const fig = document.getElementById("drawing-box");
+  const canvas = s("svg", { id: "draw-canvas", tabindex: "0", role: "application", "aria-label": "Drawing canvas: tools by letter (V move, F frame point, J joint, B binary link, T ternary link, S block, C crank, O output, X delete), arrows move the selected point, Ctrl+Z undo, Ctrl+Y redo", hidden: true });
+  fig.insertBefore(canvas, document.getElementById("drawing").nextSibling);
+  const side = h("section", { id: "draw-side", class: "draw-side", "aria-label": "Drawing: points and links", hidden: true });
+  const aside = document.getElementById("editor");
+  aside.insertBefore(side, aside.querySelector(".units").nextSibling);
+  const toggle = h("button", { id: "draw-toggle", type: "button", "aria-pressed": "false", title: "Draw and edit the linkage on the canvas" }, "Draw");
+  const clear = h("button", { id: "draw-new", type: "button", title: "An empty canvas to draw a linkage from nothing" }, "New drawing");
+  const cap = fig.querySelector("figcaption");
+  cap.insertBefore(clear, cap.firstChild);
+  cap.insertBefore(toggle, cap.firstChild);
+  toggle.addEventListener("click", () => setEditing(!ed.on));
+  clear.addEventListener("click", () => { if (!ed.on) setEditing(true); clearDrawing(); });
+  canvas.addEventListener("pointerdown", onPointerDown);
+  canvas.addEventListener("pointermove", onPointerMove);
+  canvas.addEventListener("pointerup", onPointerUp);
+  canvas.addEventListener("pointercancel", onPointerUp);
+  document.addEventListener("keydown", onKey);
+  side.addEventListener("change", onSideChange);
+  side.addEventListener("click", onSideClick);
+  state.hooks.answer.push((answer) => {
+    if (!ed.on) return;
+    ed.problem = null;
+    const mine = JSON.stringify(state.design.mechanism) === JSON.stringify(toMechanism(ed.model).mech);
+    if (!mine) {
+      // the JSON box or a panel changed the linkage: the drawing follows it
+      const m = fromAnswer(state.design, answer, state.index);
+      if (m) { ed.model = m; ed.offset = [0, 0]; ed.view = viewFor(m); }
+    }
+    ed.answerOk = true;
+    settle(answer);
+  });
+  state.hooks.problem.push((err) => {
+    if (!ed.on) return;
+    const body = err instanceof Problem ? err.body : { detail: String(err.message || err) };
+    ed.answerOk = false;
+    ed.problem = body.not_assemblable_ranges_deg
+      ? `${body.detail || "a dyad cannot close"}: no assembly for crank angles ${body.not_assemblable_ranges_deg.map(([a, b]) => `${Number(a).toFixed(1)}°–${Number(b).toFixed(1)}°`).join(", ")}`
+      : body.detail || body.title;
+    ed.messages = [...(lastChecked ? lastChecked.problems : []), { at: placeOf(body), text: ed.problem }];
+    render();
+  });
+  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo };
+  document.body.dataset.editorReady = "1";
+}
+
+/** After an answer (and the structure it needs): fit the branches, or say the drawing is settled. */
+function settle(answer) {
+  if (ed.fit && !ed.groups && !ed.dragging) return;  // the structure's answer calls again
+  if (fitBranches(answer)) return;
+  if (!ed.dragging && !ed.fit) document.body.dataset.editorFit = String(state.seq);
+  render();
+}
+
+/** The point a problem of the service is about, from the link or joint its field or text names. */
+function placeOf(body) {
+  const f = String(body.field || "") + " " + String(body.detail || "");
+  for (const l of ed.model.links) if (f.includes(`'${l.name}'`) || f.includes(`links.${l.name}`)) return l.points[l.points.length - 1];
+  for (const b of ed.model.blocks) if (f.includes(`'${b.name}'`) || f.includes(`links.${b.name}`)) return b.point;
+  return null;
+}
+
+function whenReady() {
+  if (document.body.dataset.ready === "1" && window.workbench) install();
+  else setTimeout(whenReady, 50);
+}
+whenReady();

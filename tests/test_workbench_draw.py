@@ -1,0 +1,223 @@
+"""The workbench's drawing editor in a real browser (Playwright, the system's Chromium, a live server): a six-bar
+press drawn from clicks alone is analysed as the same press written as JSON here (its link frames and masses derived
+in this file from the clicked coordinates), a dragged joint changes the diagrams, undo goes back to the start, a
+two-degree-of-freedom chain is named as such, and every template opens and analyses on the branch it is drawn in."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from playwright.sync_api import Browser, Page, sync_playwright
+from service import running_service
+
+from test_workbench import CHROMIUM, CHROMIUM_ARGS, SHOTS
+
+KG_PER_M, BLOCK_KG = 10.0, 5.0  # the editor's stated rule for a drawn link's mass (docs/workbench.md)
+
+
+@pytest.fixture(scope="module")
+def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    command = lambda port: [sys.executable, "-m", "uvicorn", "api.app:app", "--host", "127.0.0.1",  # noqa: E731
+                            "--port", str(port)]
+    with running_service(command, tmp_path_factory.mktemp("draw"), start_timeout_s=60) as url:
+        yield url
+
+
+@pytest.fixture(scope="module")
+def page(base_url: str) -> Iterator[Page]:
+    assert Path(CHROMIUM).exists(), f"{CHROMIUM} is missing"
+    with sync_playwright() as p:
+        b: Browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        context = b.new_context(viewport={"width": 1400, "height": 1000}, bypass_csp=True)  # wait_for_function evals
+        pg = context.new_page()
+        errors: list[str] = []
+        pg.on("pageerror", lambda e: errors.append(str(e)))
+        pg.goto(base_url + "/")
+        pg.wait_for_selector("body[data-ready='1'][data-editor-ready='1']", timeout=30_000)
+        yield pg
+        context.close()
+        b.close()
+        assert not errors, errors
+
+
+def _shot(page: Page, name: str) -> None:
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SHOTS / f"{name}.png"), full_page=False)
+    print(f"screenshot: {SHOTS / name}.png")
+
+
+def _click(page: Page, x: float, y: float) -> None:
+    sx, sy = page.evaluate(f"window.workbench.editor.toScreen({x}, {y})")
+    page.mouse.click(sx, sy)
+
+
+def _tool(page: Page, key: str) -> None:
+    page.focus("#draw-canvas")
+    page.keyboard.press(key)
+
+
+def _settled(page: Page) -> None:
+    """The last edit analysed, its branches read off the drawing, nothing in flight."""
+    page.wait_for_function("window.workbench.state.pending === null && document.body.dataset.editorFit === "
+                           "String(window.workbench.state.seq) && !window.workbench.editor.ed.fit", timeout=30_000)
+
+
+def _link(name: str, pts: list[tuple[str, tuple[float, float]]]) -> dict[str, Any]:
+    """A link through drawn points as the request writes it: frame on the first two, the rest in that frame."""
+    (_, p0), (_, p1) = pts[0], pts[1]
+    th = math.atan2(p1[1] - p0[1], p1[0] - p0[0])
+    c, s = math.cos(th), math.sin(th)
+    local = [(c * (x - p0[0]) + s * (y - p0[1]), -s * (x - p0[0]) + c * (y - p0[1])) for _, (x, y) in pts]
+    com = (sum(q[0] for q in local) / len(local), sum(q[1] for q in local) / len(local))
+    mass = KG_PER_M * sum(math.hypot(*q) for q in local[1:])
+    r2 = sum((q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2 for q in local) / len(local)
+    out: dict[str, Any] = {"name": name, "joints": [pts[0][0], pts[1][0]], "length_m": math.hypot(*local[1])}
+    if len(pts) > 2:
+        out["points_m"] = {n: list(q) for (n, _), q in zip(pts[2:], local[2:], strict=True)}
+    return {**out, "mass_kg": mass, "com_m": list(com), "inertia_kgm2": mass * r2 / 3}
+
+
+O, Q, G, A, B, C, D = (0.0, 0.0), (0.3, 0.0), (0.9, 0.0), (0.0, 0.1), (0.3, 0.5), (0.6, 0.4), (0.9, 1.0)
+PRESS = {
+    "type": "linkage", "frame_points_m": {"O": list(O), "Q": list(Q), "G": list(G)},
+    "links": [_link("L1", [("O", O), ("A", A)]), _link("L2", [("A", A), ("B", B)]),
+              _link("L3", [("Q", Q), ("B", B), ("C", C)]), _link("L4", [("C", C), ("D", D)]),
+              {"name": "block1", "joints": ["D"], "mass_kg": BLOCK_KG}],
+    "joints": [{"name": "O", "kind": "revolute", "links": ["frame", "L1"]},
+               {"name": "Q", "kind": "revolute", "links": ["frame", "L3"]},
+               {"name": "A", "kind": "revolute", "links": ["L1", "L2"]},
+               {"name": "B", "kind": "revolute", "links": ["L2", "L3"]},
+               {"name": "C", "kind": "revolute", "links": ["L3", "L4"]},
+               {"name": "D", "kind": "revolute", "links": ["L4", "block1"]},
+               {"name": "block1_guide", "kind": "prismatic", "links": ["frame", "block1"], "through": "G",
+                "axis_deg": 90.0}],
+    # B left of the line A->Q and D above C's foot on the guide: both dyads on branch +1, the default
+    "crank": "L1", "output": "block1",
+}
+COMPARED = ["driving_torque_Nm", "shaking_force_N", "shaking_moment_Nm", "reduced_inertia_kgm2"]
+
+
+def _flat(v: list[Any]) -> list[float]:
+    return [float(x) for row in v for x in (row if isinstance(row, list) else [row])]
+
+
+def _assert_same(page_answer: dict[str, Any], ref: dict[str, Any], tol: float = 1e-9) -> None:
+    """Every diagram's values equal to ``tol`` relative to its own largest value, every joint's path to ``tol`` m."""
+    for key in COMPARED:
+        got, want = _flat(page_answer[key]), _flat(ref[key])
+        scale = max(1.0, max(abs(w) for w in want))
+        assert max(abs(g - w) for g, w in zip(got, want, strict=True)) <= tol * scale, key
+    for name in ["A", "B", "C", "D"]:
+        got, want = _flat(page_answer["points"][name]["position_m"]), _flat(ref["points"][name]["position_m"])
+        assert max(abs(g - w) for g, w in zip(got, want, strict=True)) <= tol, name
+
+
+def test_a_press_drawn_from_clicks_is_the_json_press_drags_and_undoes(page: Page, base_url: str) -> None:
+    page.click("#draw-new")
+    _tool(page, "f")
+    for p in (O, Q, G):
+        _click(page, *p)
+    _tool(page, "b")
+    _click(page, *O); _click(page, *A)          # crank O-A, placing A  # noqa: E702
+    _click(page, *A); _click(page, *B)          # coupler A-B, placing B  # noqa: E702
+    _tool(page, "t")
+    _click(page, *Q); _click(page, *B); _click(page, *C)  # rocker Q-B with its arm to C  # noqa: E702
+    _tool(page, "b")
+    _click(page, *C); _click(page, *D)          # rod C-D  # noqa: E702
+    assert "degrees of freedom" in (page.text_content("#draw-messages") or "")  # W = 3·4 − 2·5 = 2 before the ram
+    _tool(page, "s")
+    _click(page, *D); _click(page, *G)          # the ram on a guide through G, upwards  # noqa: E702
+    _settled(page)
+    assert page.text_content("#draw-mobility") == "W = 3n − 2p = 3·5 − 2·7 = 1"
+    design = page.evaluate("window.workbench.state.design")
+    assert _close(design["mechanism"]["links"], PRESS["links"])  # lengths, link frames, masses of the clicks
+    request = {k: v for k, v in design.items() if k != "mechanism"}
+    ref = httpx.post(f"{base_url}/v1/analysis", json={**request, "mechanism": PRESS}, timeout=60).json()
+    drawn = page.evaluate("window.workbench.state.answer")
+    _assert_same(drawn, ref)
+    assert json.loads(page.input_value("[id='f-mechanism']")) == design["mechanism"]  # the JSON box is the drawing
+    assert "II (L2, L3)" in (page.text_content("#draw-side .groups") or "")
+    _shot(page, "draw-press")
+
+    # drag B 40 mm to the right: the coupler and rocker lengths change and the torque with them
+    _tool(page, "v")
+    b0 = page.evaluate(f"window.workbench.editor.toScreen({B[0]}, {B[1]})")
+    b1 = page.evaluate(f"window.workbench.editor.toScreen({B[0] + 0.04}, {B[1]})")
+    page.mouse.move(*b0)
+    page.mouse.down()
+    page.mouse.move(*b1, steps=8)
+    page.mouse.up()
+    _settled(page)
+    moved = page.evaluate("window.workbench.state.answer")
+    assert abs(page.evaluate("window.workbench.state.design.mechanism.links[1].length_m") - math.hypot(0.34, 0.4)) < 1e-9
+    assert max(abs(a - b) for a, b in zip(moved["driving_torque_Nm"], ref["driving_torque_Nm"], strict=True)) > 1e-3
+    assert page.input_value("[id='dl-L2']") == f"{math.hypot(0.34, 0.4) * 1000:.8g}"
+    _shot(page, "draw-dragged")
+
+    # one undo puts B back and the analysis is the JSON press's again; undo to the empty canvas, redo one step
+    page.focus("#draw-canvas")
+    page.keyboard.press("Control+z")
+    _settled(page)
+    _assert_same(page.evaluate("window.workbench.state.answer"), ref)
+    steps = page.evaluate("window.workbench.editor.ed.undo.length")
+    for _ in range(steps):
+        page.keyboard.press("Control+z")
+    # the start: the page's four-bar as the editor opened it, before "New drawing"
+    assert [p["name"] for p in page.evaluate("window.workbench.editor.ed.model.points")] == ["O", "Q", "A", "B"]
+    page.keyboard.press("Control+y")
+    assert page.evaluate("window.workbench.editor.ed.model.points.length") == 0  # the empty canvas again
+
+
+def _close(got: Any, want: Any, tol: float = 1e-12) -> bool:
+    """Same structure, numbers equal to ``tol``."""
+    if isinstance(want, dict):
+        return isinstance(got, dict) and got.keys() == want.keys() and all(_close(got[k], want[k], tol) for k in want)
+    if isinstance(want, list):
+        return isinstance(got, list) and len(got) == len(want) and all(_close(g, w, tol) for g, w in zip(got, want))
+    if isinstance(want, float | int) and not isinstance(want, bool):
+        return isinstance(got, float | int) and abs(got - want) <= tol
+    return bool(got == want)
+
+
+def test_a_two_degree_of_freedom_chain_is_named_at_once(page: Page) -> None:
+    page.click("#draw-new")
+    _tool(page, "f")
+    _click(page, 0.0, 0.0); _click(page, 0.5, 0.0)  # noqa: E702
+    _tool(page, "b")
+    for a, b in [((0.0, 0.0), (0.0, 0.1)), ((0.0, 0.1), (0.2, 0.3)), ((0.2, 0.3), (0.45, 0.25)),
+                 ((0.45, 0.25), (0.5, 0.0))]:
+        _click(page, *a); _click(page, *b)  # noqa: E702
+    text = page.text_content("#draw-messages") or ""
+    assert "W = 3·4 − 2·5 = 2" in text and "2 degrees of freedom" in text
+    assert page.get_attribute("body", "data-mobility") == "2"
+    assert "2 degrees of freedom" in (page.text_content("#draw-canvas .draw-msg") or "")
+    _shot(page, "draw-two-dof")
+
+
+@pytest.mark.parametrize("key", ["fourbar", "slider_crank", "quick_return", "watt", "press", "toggle"])
+def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: str) -> None:
+    page.evaluate(f"window.workbench.editor.openTemplate({json.dumps(key)})")
+    _settled(page)
+    assert page.get_attribute("body", "data-draw-problem") == "", key
+    ed = page.evaluate("window.workbench.editor.ed")
+    answer = page.evaluate("window.workbench.state.answer")
+    mech = page.evaluate("window.workbench.state.design.mechanism")
+    pts = {p["name"]: (p["x"], p["y"]) for p in ed["model"]["points"]}
+    crank = next(lk for lk in mech["links"] if lk["name"] == mech["crank"])
+    p0, p1 = pts[crank["joints"][0]], pts[crank["joints"][1]]
+    phi = math.degrees(math.atan2(p1[1] - p0[1], p1[0] - p0[0])) % 360
+    k = min(range(len(answer["crank_angle_deg"])), key=lambda j: abs((answer["crank_angle_deg"][j] - phi + 180) % 360 - 180))
+    step = math.radians(360 / len(answer["crank_angle_deg"]))
+    for name, (x, y) in pts.items():
+        got = answer["points"][name]["position_m"][k]
+        # within what half a sample of crank turn moves a point (a generous 5 crank lengths' worth of lever)
+        assert math.hypot(got[0] + ed["offset"][0] - x, got[1] + ed["offset"][1] - y) < 5 * crank["length_m"] * step, (key, name)
+    if key == "press":
+        _shot(page, "draw-template-press")
