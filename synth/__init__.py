@@ -448,3 +448,7 @@ __all__ = [
     "run_study",
     "study_from_dict",
 ]
+
+from .balancing.engines import Cylinder, EngineShaking, EngineSpec, OrderShaking, engine_layout, engine_shaking
+
+__all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_layout", "engine_shaking"]

@@ -51,6 +51,10 @@ def test_every_checkable_seed_case_goes_through_the_api_or_is_listed() -> None:
 COVERED_BEYOND_TABLE = {
     "an engine's torque table that drives, the constant torque resisting (seed 002 flywheel, 720° cycle)":
         "tests/test_flywheel_roles.py::test_engine_torque_drives_and_the_constant_torque_resists",
+    "an engine's balance shafts at k·w for each order (seed 003 (6.32)-(6.33))":
+        "tests/test_balancing_engines.py::test_single_cylinder_orders_and_the_seed_balance_shafts",
+    "in-line four, in-line six and 90° V-twin against the classic balance tables":
+        "tests/test_balancing_engines.py::test_inline_four_has_only_a_secondary_force",
 }
 
 

@@ -32,6 +32,7 @@ from mechsynth_client.schemas.balancing import (
     SliderCrankBalanceOut,
 )
 from mechsynth_client.schemas.flywheel import FlywheelIn
+from mechsynth_client.schemas.engines import EngineIn, EngineOut
 from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
 from mechsynth_client.schemas.rating import RatingIn, RatingOut
 from mechsynth_client.schemas.machine import MachineIn
@@ -144,6 +145,11 @@ def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
         return Plan(render, synth.balance_rotor_static, (rotor, b.correction_radius_m, b.correction_plane_m))
     return Plan(render, synth.balance_rotor_dynamic,
                 (rotor, (b.planes_m[0], b.planes_m[1]), (b.radii_m[0], b.radii_m[1])))
+
+
+def balance_engine(b: EngineIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/engine."""
+    return Plan(Render(EngineOut.from_engine), synth.engine_shaking, (b.to_engine(),))
 
 
 def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
@@ -310,4 +316,5 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/synthesis/path": (PathIn, synthesis_path),
     "/v1/machines/design": (MachineIn, machine_design),
     "/v1/machines/optimise": (MachineOptimiseIn, machine_optimise),
+    "/v1/balancing/engine": (EngineIn, balance_engine),
 }
