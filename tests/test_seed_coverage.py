@@ -55,6 +55,8 @@ COVERED_BEYOND_TABLE = {
         "tests/test_balancing_engines.py::test_single_cylinder_orders_and_the_seed_balance_shafts",
     "in-line four, in-line six and 90° V-twin against the classic balance tables":
         "tests/test_balancing_engines.py::test_inline_four_has_only_a_secondary_force",
+    "rolling friction k·N of a roller on its guide, pure rolling f > k/r (seed 000 §13.3)":
+        "tests/test_rolling_friction.py::test_rolling_guide_matches_the_closed_form",
 }
 
 
