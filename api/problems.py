@@ -196,7 +196,7 @@ async def _validation_handler(request: Request, exc: Exception) -> JSONResponse:
             where = validation.dotted(path[:-1]) or "the body"
             message = f"{path[-1]!r} is not a field of {where}" + (f"; did you mean {close[0]!r}?" if close else "")
             if allowed:
-                message += f" The fields there are: {', '.join(allowed)}"
+                message += ("" if close else ".") + f" The fields there are: {', '.join(allowed)}"
             item.update(message=message, did_you_mean=close, valid=allowed)
             hint = {"did_you_mean": close, "valid": allowed}
         if item not in errors:

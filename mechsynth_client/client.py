@@ -624,9 +624,10 @@ class SynthClient(_Policy):
         """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
         return self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
 
-    def revoke_token(self, token_id: str) -> None:
+    def revoke_token(self, token_id: int) -> None:
         """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
         self._send("DELETE", f"/v1/tokens/{token_id}")
+
 
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
@@ -955,6 +956,6 @@ class AsyncSynthClient(_Policy):
         """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
         return await self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
 
-    async def revoke_token(self, token_id: str) -> None:
+    async def revoke_token(self, token_id: int) -> None:
         """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
         await self._send("DELETE", f"/v1/tokens/{token_id}")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from mechsynth_client.client import SynthClient
@@ -13,7 +15,7 @@ from mechsynth_client.schemas.balancing import (
     RotorIn,
     SliderCrankBalanceIn,
 )
-from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.common import FOURBAR_EXAMPLE, SIX_BAR_PRESS_EXAMPLE
 
 MODELS = [BalanceIn, FullBalanceIn, OptimalBalanceIn, RotorIn, SliderCrankBalanceIn]
 PATHS = ["static", "full", "optimal", "rotor", "slider-crank"]
@@ -87,3 +89,17 @@ def test_problems_name_the_limit(client: SynthClient, path: str, patch: dict, sl
 def test_slider_crank_endpoint_rejects_a_fourbar(client: SynthClient) -> None:
     r = client.http.post("/v1/balancing/slider-crank", json={"mechanism": FOURBAR_EXAMPLE})
     assert r.status_code == 422 and r.json()["field"] == "mechanism.type"
+
+
+def test_optimal_balancing_of_a_linkage_does_not_depend_on_its_crank_s_name(client: SynthClient) -> None:
+    # Identity: renaming a link renames the answer and changes no number. The six-bar press's crank called
+    # "input" used to reach a lookup by the literal name "crank".
+    renamed = json.loads(json.dumps(SIX_BAR_PRESS_EXAMPLE).replace('"crank"', '"input"')
+                         .replace('"input": "input"', '"crank": "input"'))
+    by_name: dict[str, dict[str, float]] = {}
+    for mechanism, crank in ((SIX_BAR_PRESS_EXAMPLE, "crank"), (renamed, "input")):
+        out = client.balance_optimal(OptimalBalanceIn.model_validate({"mechanism": mechanism, "speed_rpm": 100}))
+        by_name[crank] = {("crank" if c.link == crank else c.link): c.mass_kg for c in out.counterweights}
+    assert by_name["crank"].keys() == by_name["input"].keys()
+    for link, mass in by_name["crank"].items():
+        assert by_name["input"][link] == pytest.approx(mass, rel=1e-9, abs=1e-12)

@@ -85,7 +85,9 @@ def _app_with_token() -> tuple[object, str]:
     from api.settings import Settings
 
     db = Path(tempfile.mkdtemp(prefix="synth-fuzz-")) / "store.sqlite"
-    app = create_app(Settings(auth="on", studies_db=str(db)))  # type: ignore[call-arg]
+    # solver work in this process's thread: the operations fuzzed here are about the caller, and one worker pool
+    # per test process (the app above) is enough for the machine
+    app = create_app(Settings(auth="on", studies_db=str(db), executor="serial"))  # type: ignore[call-arg]
     accounts: Accounts = app.state.access.accounts
     token = tokens.new_token()
     accounts.add_token(accounts.create("fuzz", {"admin"}).id, token, "fuzz")

@@ -77,7 +77,7 @@ def _no_refusal(page: Page, refused: list[str]) -> None:
 
 
 def _visit_every_panel(page: Page) -> None:
-    for panel in ("balancing", "flywheel", "drive", "machine", "synthesis", "studies", "mechanism"):
+    for panel in ("balancing", "flywheel", "drive", "machine", "synthesis", "studies", "cams", "mechanism"):
         page.click(f"button[data-panel={panel}]")
     page.click("button[data-panel=balancing]")
     page.click("#bal-run")

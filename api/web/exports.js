@@ -49,7 +49,8 @@ export function installExports({ state, request, redraw, setStatus }) {
       document.body.dataset.exported = name;
     } catch (err) { setStatus(`${name}: ${err.message}`); }
   };
-  const button = (label, title, path, name) => h("button", { type: "button", class: "export", title, onclick: () => get(path(), name) }, label);
+  const button = (label, title, path, name) => h("button", { type: "button", class: "export", id: `export-${label.toLowerCase()}`, title,
+    onclick: () => get(path(), name) }, label);
   bar.append(choose,
     button("CSV", "Every curve of the analysis, one row per crank angle", () => "/v1/analysis?format=csv", "analysis.csv"),
     button("SVG", "The drawing at this crank angle, to scale in mm", () => `/v1/analysis/drawing?format=svg&angle_deg=${angle()}`, "mechanism.svg"),

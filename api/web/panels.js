@@ -123,7 +123,7 @@ function download(blob, name) {
 
 function summaryTable(rows, before, after) {
   return table(["", "before", "after"], rows.map(([k, label, unit]) =>
-    [label, [`${fmt(before[k])} ${unit}`, { class: "num" }], [after ? `${fmt(after[k])} ${unit}` : "", { class: "num" }]]));
+    [label, [`${fmt(before[k])} ${unit}`, { class: "num" }], [after ? `${fmtZero(after[k], before[k])} ${unit}` : "", { class: "num" }]]));
 }
 
 /** The buttons and status line under a panel's fields. */
@@ -199,7 +199,8 @@ function balancingPanel() {
       ans.counter_rotors ? h("p", {}, `Counter-rotors: ${ans.counter_rotors.map((r) => `${r.link} ${fmt(r.inertia_kgm2)} kg·m² at −${fmt(r.ratio)}×`).join(", ")}` +
         (ans.coupler_inertia_kgm2 !== null ? `; coupler inertia about its centre ${fmt(ans.coupler_inertia_kgm2)} kg·m²` : "")) : null,
       summaryTable(SUMMARY_ROWS, ans.summary_before, ans.summary_after),
-      h("p", { class: "note" }, `Check: residual shaking force ${fmt(ans.checks.residual_shaking_force_N)} N, residual shaking moment ${fmt(ans.checks.residual_shaking_moment_Nm)} N·m ` +
+      h("p", { class: "note" }, `Check: residual shaking force ${fmtZero(ans.checks.residual_shaking_force_N, ans.summary_before.max_shaking_force_N)} N, ` +
+        `residual shaking moment ${fmtZero(ans.checks.residual_shaking_moment_Nm, ans.summary_before.rms_shaking_moment_Nm)} N·m ` +
         "(the balanced linkage re-analysed by the service)."));
     const box = document.getElementById("bal-plots");
     box.replaceChildren();
@@ -309,8 +310,8 @@ function flywheelPanel() {
         s("circle", { cx: 0, cy: 0, r: R * 0.08, ...ink, fill: "#fff" }),
         s("rect", { x: R * 1.3, y: -R, width: b, height: 2 * R, ...ink }),
         r > 0 ? s("rect", { x: R * 1.3 + b * 0.35, y: -r, width: b * 0.3, height: 2 * r, ...ink, fill: "#fff" }) : null,
-        s("text", { x: 0, y: R * 1.08, "text-anchor": "middle", "font-size": R / 9 }, `D = ${L(g.outer_diameter_m)}`),
-        s("text", { x: R * 1.3 + b / 2, y: -R * 1.06, "text-anchor": "middle", "font-size": R / 9 }, `b = ${L(b)}`))));
+        s("text", { x: 0, y: R * 1.08, "text-anchor": "middle", style: { fontSize: `${R / 9}px` } }, `D = ${L(g.outer_diameter_m)}`),
+        s("text", { x: R * 1.3 + b / 2, y: -R * 1.06, "text-anchor": "middle", style: { fontSize: `${R / 9}px` } }, `b = ${L(b)}`))));
   }
   return render;
 }
@@ -685,7 +686,7 @@ function synthesisPanel() {
         (a.check.swing_deg !== undefined ? `, swing ${fmt(a.check.swing_deg)}°` : `, stroke ${L(a.check.stroke_m)}`) +
         `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.`;
     }
-    put(res, h("h3", {}, `${m.type.replace(/_/g, "-")}: ${lengths}`), h("p", {}, text));
+    put(res, h("h3", {}, `${FAMILY[m.type] || m.type}: ${lengths}`), h("p", {}, text));
     document.getElementById("syn-open").disabled = false;
     document.body.dataset.synthesised = a.task;
   }

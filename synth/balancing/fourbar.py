@@ -730,13 +730,16 @@ def _crank_on_limit(cws: Sequence[Counterweight], spec: CounterweightSpec, linka
     l1: its minimum is on the limit. The term is so flat there that the solver stops short of it by up to a few
     tenths of a per cent; this is its exact minimiser for the same h (same forces, moments and torques).
     """
-    r_max = spec.limit(linkage, "crank")
-    if r_max > linkage.mechanism.crank or (spec.radius and "crank" in spec.radius):
+    crank = linkage.mechanism.topology.crank  # a general linkage names its crank as it likes
+    if crank not in spec.links:
+        return list(cws)
+    r_max = spec.limit(linkage, crank)
+    if r_max > linkage.mechanism.crank or (spec.radius and crank in spec.radius):
         return list(cws)
     out = []
     for c in cws:
         h = c.params()[1:3]
-        if c.link == "crank" and np.hypot(*h) > 0:
+        if c.link == crank and np.hypot(*h) > 0:
             mass = float(np.hypot(*h)) / r_max
             c = replace(c, mass=mass, position=(float(h[0]) / mass, float(h[1]) / mass), inertia=0.0)
         out.append(c)

@@ -542,9 +542,14 @@ def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | Non
         zp = z[z < total_sum]
         zg = total_sum - zp
     out = []
+    # Stages with the same ratio range admit the same pairs: the same arrays, so the search deduplicates them once.
+    made: dict[tuple[float, float], tuple[IntArray, IntArray]] = {}
     for s in stages:
-        ok = pairs_admissible(zp, zg, s, rules)
-        out.append((zp[ok], zg[ok]))
+        key = (s.ratio_min, s.ratio_max)
+        if key not in made:
+            ok = pairs_admissible(zp, zg, s, rules)
+            made[key] = (zp[ok], zg[ok])
+        out.append(made[key])
     return out
 
 
@@ -581,8 +586,12 @@ def _search(pairs: Sequence[tuple[IntArray, IntArray]], target: float, tolerance
     Closest mode first searches narrow windows around the target, widening tenfold until one holds a product:
     a best found inside a window is the global best, since everything better lies inside it too.
     """
-    sets = [_dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else
-            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]) for zp, zg in pairs]
+    made: dict[int, _Set] = {}
+    for zp, zg in pairs:
+        if id(zp) not in made:
+            made[id(zp)] = (_dedupe(zg, zp, zp + zg, np.arange(len(zp))[:, None]) if deduped else
+                            _Set(zg, zp, zp + zg, np.arange(len(zp))[:, None]))
+    sets = [made[id(zp)] for zp, _ in pairs]
     if any(len(s.num) == 0 for s in sets):
         return None, 0
     streamed = math.prod(len(s.num) for s in sets[len(sets) // 2:])

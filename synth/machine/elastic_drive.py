@@ -6,14 +6,16 @@ J_2(phi) = J_red(phi) + the constant inertia on its side, the elastic element of
 and the couplings' catalogue stiffness, each reduced to the crank by its speed ratio squared, in series) and a
 damper b = 2·zeta·sqrt(c·J_1·J_2m/(J_1 + J_2m)):
 
-    J_1·theta_1'' = M_d(theta_1') - M_e,     J_2(theta_2)·theta_2'' + J_2'(theta_2)·theta_2'²/2 = M_e + M_load(theta_2),
+    J_1·theta_1'' = M_d(theta_1') - M_e,
+    J_2(theta_2)·theta_2'' + J_2'(theta_2)·theta_2'²/2 = M_e + M_load(theta_2),
     M_e = c·(theta_1 - theta_2) + b·(theta_1' - theta_2')
 
 with M_d the motor's torque reduced to the crank (i·eta·T(i·w)). The free-free natural frequency is
 w = sqrt(c·(J_1 + J_2)/(J_1·J_2)) (J_2 its mean, and its range over the cycle). The steady cycle is found by
 a few revolutions integrated with ``solve_ivp`` from the rigid machine's steady motion, then, if the state where
-the crank passes its first sample does not yet repeat, Newton shooting on that state (a revolution a step); the torque in the elastic element over it is compared with the torque the rigid
-model passes between rotor and machine, M_d - J_1·alpha (the dynamic factor). The work integrals ride along as
+the crank passes its first sample does not yet repeat, Newton shooting on that state (a revolution a step);
+the torque in the elastic element over it is compared with the torque the rigid model passes between rotor and
+machine, M_d - J_1·alpha (the dynamic factor). The work integrals ride along as
 states, so every run reports its energy balance.
 """
 
@@ -97,7 +99,8 @@ def link_stiffness(elements: tuple[ElasticElement, ...]) -> float:
 
 
 def two_mass_frequency(stiffness: float, j1: float, j2: float) -> float:
-    """Free-free natural frequency of two inertias [kg·m²] on a spring [N·m/rad]: sqrt(c·(J1+J2)/(J1·J2)) [rad/s]."""
+    """Free-free natural frequency of two inertias [kg·m²] on a spring [N·m/rad]: sqrt(c·(J1+J2)/(J1·J2))
+    [rad/s]."""
     return math.sqrt(stiffness * (j1 + j2) / (j1 * j2))
 
 
@@ -399,7 +402,8 @@ def _finish(model: _Model, sol: Any, a: tuple[float, FloatArray], b_: tuple[floa
     if start:
         run, peak, rigid_peak = _start(model, cycle, motor, j1, machine_inertia, wn)
     return ElasticDrive(stiffness, damping, j1, (j2m, float(j2_all.min()), float(j2_all.max())),
-                        wn / (2 * math.pi), freqs, mean_speed, eigen / (2 * math.pi), cycle.phi, steady, rigid_torque, factor,
+                        wn / (2 * math.pi), freqs, mean_speed, eigen / (2 * math.pi), cycle.phi, steady, rigid_torque,
+                        factor,
                         tuple(harmonics), revs, run, peak, rigid_peak)
 
 

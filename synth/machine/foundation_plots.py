@@ -153,7 +153,8 @@ def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDri
                 else f"PI k_p {g.controller.kp:.3g}, k_i {g.controller.ki:.3g}")
         settle = "not within the run" if g.settling_time is None else f"{g.settling_time:.3g} s"
         rows += [["regulation", "load step, mode", f"{g.load_step:.4g} N·m, {mode}"],
-                 ["", "speed drop (closed form)", f"{g.drop * 30 / np.pi:.4g} rpm ({g.drop_closed_form * 30 / np.pi:.4g})"],
+                 ["", "speed drop (closed form)",
+                  f"{g.drop * 30 / np.pi:.4g} rpm ({g.drop_closed_form * 30 / np.pi:.4g})"],
                  ["", "settling in the delta band", settle]]
     table_ax = fig.add_subplot(grid[0, :])
     table_ax.axis("off")

@@ -8,11 +8,12 @@ inertia J and load the speed falls exponentially, w(t) = w_b + (w_a - w_b)·exp(
 by dw = dM/s, and comes within the band delta·w_b/2 of w_b after tau·ln(dw/(delta·w_b/2)). A frequency converter
 shifts the characteristic's no-load speed by u; a PI controller sets u = k_p·e + k_i·∫e from the error
 e = w_ref - w_m of the speed measured through a first-order filter T_f. The closed loop's characteristic equation
-(constant J) is J·T_f·p³ + (J + s·T_f)·p² + s·(1 + k_p)·p + s·k_i = 0; it is tuned (T_f = 0) for a damping ratio
-from the overshoot and a natural frequency from the settling time, and refused when Routh's conditions fail.
+(constant J) is J·T_f·p³ + (J + s·T_f)·p² + s·(1 + k_p)·p + s·k_i = 0; it is tuned (T_f = 0) for a damping
+ratio from the overshoot and a natural frequency from the settling time, and refused when Routh's conditions
+fail.
 
-Settling is judged on the speed with the cycle's own fluctuation taken off: w(t) - (w_ss(phi) - mean w_ss), w_ss the
-periodic steady motion after the step without a controller.
+Settling is judged on the speed with the cycle's own fluctuation taken off: w(t) - (w_ss(phi) - mean w_ss), w_ss
+the periodic steady motion after the step without a controller (with one: the run's last revolution).
 """
 
 from __future__ import annotations
@@ -140,8 +141,8 @@ class _Machine:
         f = s - k
         k %= self.n
         j, dj, h = self.j, self.dj, self.step
-        value = ((2 * f**3 - 3 * f**2 + 1) * j[k] + (f**3 - 2 * f**2 + f) * h * dj[k] + (-2 * f**3 + 3 * f**2) * j[k + 1]
-                 + (f**3 - f**2) * h * dj[k + 1])
+        value = ((2 * f**3 - 3 * f**2 + 1) * j[k] + (f**3 - 2 * f**2 + f) * h * dj[k]
+                 + (-2 * f**3 + 3 * f**2) * j[k + 1] + (f**3 - f**2) * h * dj[k + 1])
         slope = ((6 * f**2 - 6 * f) * (j[k] - j[k + 1]) / h + (3 * f**2 - 4 * f + 1) * dj[k]
                  + (3 * f**2 - 2 * f) * dj[k + 1])
         return value, slope, self.load[k] + f * (self.load[k + 1] - self.load[k])

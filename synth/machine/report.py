@@ -138,7 +138,9 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[str]], st: dict[str, P
     else:
         # each column as wide as its longest cell (its header's longest word at least), about 4.7 pt a character
         # at 7.5 pt plus the padding; columns of long text give way when the table is wider than the page
-        need = [max(max((len(r[c]) for r in rows), default=0), *(len(w) for w in header[c].split())) for c in range(n)]
+        # (a header's words are bold: about a third wider than the cells' characters, and never broken)
+        need = [max(max((len(r[c]) for r in rows), default=0), *(math.ceil(1.35 * len(w)) for w in header[c].split()))
+                for c in range(n)]
         widths = [4.7 * min(k, 70) + 14 for k in need]
         if sum(widths) > _FRAME_W:
             fixed = sum(w for w in widths if w <= 100)
