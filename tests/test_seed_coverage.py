@@ -57,6 +57,8 @@ COVERED_BEYOND_TABLE = {
         "tests/test_balancing_engines.py::test_inline_four_has_only_a_secondary_force",
     "rolling friction k·N of a roller on its guide, pure rolling f > k/r (seed 000 §13.3)":
         "tests/test_rolling_friction.py::test_rolling_guide_matches_the_closed_form",
+    "instant centres by Kennedy's theorem and the radius of curvature of a point's path":
+        "tests/test_instant_centres.py::test_coupler_centre_is_where_crank_and_rocker_lines_meet",
 }
 
 

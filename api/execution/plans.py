@@ -102,7 +102,8 @@ class Plan:
 
 def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan:
     """POST /v1/analysis."""
-    return Plan(Render(AnalysisOut.from_engine, analysis_file, export_extra=(plot_angle(b, angle_deg),)),
+    return Plan(Render(AnalysisOut.from_engine, analysis_file, model_extra=(b.geometry_request(),),
+                       export_extra=(plot_angle(b, angle_deg),)),
                 synth.analyse, (b.to_linkage(), b.omega_rad_s),
                 dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
                      max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors(),
