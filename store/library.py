@@ -304,6 +304,15 @@ class Library:
                            "machine designs")
         return bytes(row[0])
 
+    def sign_record(self, project: str, design: str, number: int, pdf: bytes) -> None:
+        """Keep ``pdf`` as a revision's design record: the same design with the title block as signed now (the
+        record of a revision is only ever rewritten for its title block)."""
+        with self.store.write() as db:
+            design_id = db.scalar(sa.select(designs.c.id).join(projects, projects.c.id == designs.c.project_id)
+                                  .where(projects.c.name == project, designs.c.name == design))
+            db.execute(revisions.update().where(revisions.c.design_id == design_id, revisions.c.number == number,
+                                                revisions.c.record_pdf.is_not(None)).values(record_pdf=pdf))
+
     def history(self, project: str, design: str) -> list[RevisionInfo]:
         """Every revision of a design, oldest first; :class:`NotFound` when the design does not exist."""
         with self.store.read() as db:

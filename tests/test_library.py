@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import io
 import json
 import time
 from collections.abc import Iterator
@@ -16,6 +17,7 @@ from typing import Any
 
 import pytest
 from fastapi import FastAPI, Request
+from pypdf import PdfReader
 from fastapi.testclient import TestClient
 
 from api.app import create_app
@@ -308,10 +310,35 @@ def test_the_async_client_has_every_library_method(store_url: str) -> None:
     with TestClient(_app(store_url)) as http:       # started (workers, store); spoken to over ASGI below
         async def run() -> tuple[Any, ...]:
             transport = httpx.ASGITransport(app=http.app)
-            async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://t")) as client:
+            async with AsyncSynthClient(http=httpx.AsyncClient(transport=transport, base_url="http://localhost")) as client:
                 saved = await client.library.save("press", "linkage", "/v1/balancing/static", REQUEST, author="ann")
                 return saved, await client.library.history("press", "linkage")
 
         saved, history = asyncio.run(run())
         assert [r.content_hash for r in history.revisions] == [saved.content_hash]
         assert SynthClient(http=http).library.revision("press", "linkage", 1).content_hash == saved.content_hash
+
+
+def test_a_machine_record_downloaded_after_sign_off_carries_the_signed_title_block(tmp_path: Path) -> None:
+    from mechsynth_client.schemas.machine import PRESS_EXAMPLE
+
+    # one engine: two machine designs take long, and the record's update is the same statement on both
+    with TestClient(_app(f"sqlite:///{tmp_path / 'store.sqlite'}")) as http:
+        lib = SynthClient(http=http).library
+        saved = lib.save("press", "machine", "/v1/machines/design", PRESS_EXAMPLE, author="ann")
+        kept = lib.revision("press", "machine", 1)
+        # the content hash is the record's own "request SHA-256": the title block is no part of the design
+        assert kept.answer is not None and kept.answer["request_sha256"] == saved.content_hash
+        draft = lib.record_pdf("press", "machine", 1)
+        assert lib_text_holds(draft, "ann") and lib_text_holds(draft, "press/machine")
+        assert lib_text_holds(draft, "draft") and lib_text_holds(draft, saved.content_hash)
+        lib.check("press", "machine", 1, name="bob")
+        lib.approve("press", "machine", 1, name="cid")
+        signed = lib.record_pdf("press", "machine", 1)
+        # written once: the signed record is kept and given again as it is
+        assert lib.record_pdf("press", "machine", 1) == signed
+    today = datetime.now(timezone.utc).strftime("%Y-%m-%d")
+    first_page = "".join(PdfReader(io.BytesIO(signed)).pages[0].extract_text().split())
+    for text in ("press/machine", "approved", "bob" + today, "cid" + today, saved.content_hash):
+        assert text in first_page, text
+    assert "draft" not in first_page

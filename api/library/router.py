@@ -5,7 +5,7 @@ revision; history, search, diff, restore, sign-off, and a project's export and i
 from __future__ import annotations
 
 import asyncio
-from datetime import datetime
+from datetime import datetime, timezone
 from functools import partial
 from typing import Annotated, Any, Literal
 
@@ -26,7 +26,7 @@ from mechsynth_client.schemas.library import (
     SignIn,
 )
 from store import User
-from store.library import Library
+from store.library import Library, title_block
 
 from ..deps import SettingsDep, SolverDep
 from ..execution.plans import Limits
@@ -35,7 +35,7 @@ from ..media import json_bytes, json_response
 from ..storage import StoreDep
 from .access import Forbidden, actor
 from .diff import answer_changes, request_changes
-from .tasks import answer_revision, canonical_request
+from .tasks import MACHINE, answer_revision, canonical_request, kept_title_block, machine_record, record_title_block
 
 router = APIRouter(prefix="/library", tags=["library"])
 
@@ -70,7 +70,16 @@ async def _save(library: Library, solvers: SolverDep, settings: Any, project: st
                 ) -> RevisionOut:
     canonical = canonical_request(endpoint, request)
     await asyncio.to_thread(library.check_parent, project, design, parent, branch)
-    answer, passed, record = await solvers.run(answer_revision, endpoint, Limits.from_settings(settings), canonical)
+    block = None
+    if endpoint == MACHINE:
+        # the record is written once with the title block of the revision this save becomes (a draft)
+        head = await asyncio.to_thread(library.head, project, design)
+        block = record_title_block({"project": project, "record_number": f"{project}/{design}",
+                                    "revision": (head or 0) + 1, "title": design, "designed_by": author,
+                                    "designed_on": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
+                                    "state": "draft"})
+    answer, passed, record = await solvers.run(answer_revision, endpoint, Limits.from_settings(settings), canonical,
+                                               block)
     info = await asyncio.to_thread(partial(library.save, project, design, endpoint, canonical, author=author,
                                            message=message, parent=parent, branch=branch, answer=answer,
                                            passed=passed, record_pdf=record))
@@ -147,10 +156,18 @@ async def get_revision(project: ProjectName, design: DesignName, number: Number,
             responses={200: {"content": {"application/pdf": {}},
                              "description": "The design record made from exactly this revision when it was saved."},
                        **_problems(404)})
-async def get_record(project: ProjectName, design: DesignName, number: Number, library: LibraryDep) -> Response:
-    """The design record (PDF) kept with a machine design's revision: the one made when it was saved, so the record
-    a checker signed is the one downloaded later."""
+async def get_record(project: ProjectName, design: DesignName, number: Number, library: LibraryDep,
+                     solvers: SolverDep, settings: SettingsDep) -> Response:
+    """The design record (PDF) kept with a machine design's revision, its title block as the revision stands:
+    project, record number, revision, state, who designed, checked and approved it and when. A record kept from
+    before a sign-off is written again once with the signed title block (the same request, so the same figures
+    and the same request SHA-256, which is the revision's content hash) and kept in its place."""
     pdf = await asyncio.to_thread(library.record_pdf, project, design, number)
+    revision = await asyncio.to_thread(library.revision, project, design, number)
+    block = record_title_block(title_block(revision.info))
+    if revision.info.endpoint == MACHINE and await asyncio.to_thread(kept_title_block, pdf) != block:
+        pdf = await solvers.run(machine_record, Limits.from_settings(settings), dict(revision.request), block)
+        await asyncio.to_thread(library.sign_record, project, design, number, pdf)
     return Response(pdf, media_type="application/pdf", headers={
         "content-disposition": f'attachment; filename="{project}-{design}-r{number}.pdf"'})
 

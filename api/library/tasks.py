@@ -3,15 +3,19 @@ design record, for machine designs) made from exactly that request."""
 
 from __future__ import annotations
 
+import io
 import json
+from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
 import orjson
 from pydantic import ValidationError
+from pypdf import PdfReader
 
 from mechsynth_client.schemas.studies import StudyIn
 from synth.errors import InvalidInput, SynthError
+from synth.machine.record import TITLE_BLOCK, TITLE_BLOCK_KEY
 
 from ..execution.plans import PLANS, Limits
 from ..studies.tasks import validate_request
@@ -37,16 +41,52 @@ def canonical_request(endpoint: str, request: dict[str, Any]) -> dict[str, Any]:
         raise InvalidInput(f"{endpoint!r} is not an endpoint the library keeps designs of; one of "
                            f"{list(ENDPOINTS)}", field="endpoint")
     dumped: dict[str, Any] = validate_request(endpoint, request, field="request").model_dump(mode="json")
+    if endpoint == MACHINE:
+        # the library writes a record's title block from the revision itself: it is no part of the design, so the
+        # content hash is the record's "request SHA-256"
+        dumped.pop(TITLE_BLOCK, None)
     return dumped
 
 
-def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any]
+def record_title_block(block: Mapping[str, Any]) -> dict[str, str]:
+    """A revision's title block (:func:`store.library.title_block`) as a machine design request's ``title_block``:
+    the record number, revision, names and dates as text, blank where nobody has signed."""
+    text = {k: "" if block.get(k) is None else str(block[k]) for k in (
+        "project", "revision", "title", "designed_by", "designed_on", "checked_by", "checked_on", "approved_by",
+        "approved_on", "state")}
+    return {**text, "number": str(block["record_number"])}
+
+
+def kept_title_block(pdf: bytes) -> dict[str, str] | None:
+    """The title block a kept design record was written with (its PDF's metadata), None when it does not say."""
+    info = PdfReader(io.BytesIO(pdf)).metadata
+    written = None if info is None else info.get(TITLE_BLOCK_KEY)
+    if not isinstance(written, str):
+        return None
+    try:
+        found = json.loads(written)
+    except ValueError:
+        return None
+    return {str(k): str(v) for k, v in found.items()} if isinstance(found, dict) else None
+
+
+def machine_record(limits: Limits, request: dict[str, Any], block: dict[str, str]) -> bytes:
+    """The design record of a machine design's canonical request, its title block ``block``
+    (:func:`record_title_block`): the same design, signed as the library has it now."""
+    plan = PLANS[MACHINE][1](validate_request(MACHINE, {**request, TITLE_BLOCK: block}), limits)
+    pdf: bytes = replace(plan.render, fmt="pdf")(plan.fn(*plan.args, **plan.kwargs))[0]
+    return pdf
+
+
+def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any], block: dict[str, str] | None = None
                     ) -> tuple[dict[str, Any] | None, bool | None, bytes | None]:
-    """The answer to a canonical request, whether it passed, and its design record (PDF) for a machine design;
-    an engine problem is the answer (``{"problem": ...}``, not passed). A study has no answer here."""
+    """The answer to a canonical request, whether it passed, and its design record (PDF) for a machine design,
+    with the title block ``block`` (:func:`record_title_block`); an engine problem is the answer
+    (``{"problem": ...}``, not passed). A study has no answer here."""
     if endpoint == STUDIES:
         return None, None, None
-    plan = PLANS[endpoint][1](validate_request(endpoint, request), limits)
+    signed = {**request, TITLE_BLOCK: block} if endpoint == MACHINE and block else request
+    plan = PLANS[endpoint][1](validate_request(endpoint, signed), limits)
     try:
         result = plan.fn(*plan.args, **plan.kwargs)
         content, _ = plan.render(result)

@@ -35,6 +35,8 @@ _DIMENSIONLESS = ("delta", "speed_tolerance", "reserve_factor", "efficiency", "r
 STATES = ("draft", "checked", "approved", "superseded")
 #: The request's key that holds the title block (outside the design's identity).
 TITLE_BLOCK = "title_block"
+#: The PDF metadata key a record's title block is written under (JSON), so a kept record says how it was signed.
+TITLE_BLOCK_KEY = "/MechsynthTitleBlock"
 
 
 @dataclass(frozen=True, slots=True)

@@ -16,10 +16,12 @@ scale is printed as 0.
 from __future__ import annotations
 
 import io
+import json
 import math
 import re
 import textwrap
 from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 from xml.sax.saxutils import escape as xml_escape
@@ -51,7 +53,7 @@ from ..model import Counterweight  # noqa: E402
 from ..kinematics import motion as solve_motion  # noqa: E402
 from ..plots import draw_linkage, draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
-from .record import DesignRecord, input_rows  # noqa: E402
+from .record import TITLE_BLOCK_KEY, DesignRecord, input_rows  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
 
 #: A4 landscape [in]: every page of the report.
@@ -831,7 +833,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
     out.append(PdfReader(io.BytesIO(drawn.getvalue())))
     out.add_metadata({"/Title": f"Machine design record: {record.name}",
                       "/Subject": f"request SHA-256 {record.request_sha256}",
-                      "/Creator": f"mechsynth {record.version}", "/Author": record.title_block.designed_by})
+                      "/Creator": f"mechsynth {record.version}", "/Author": record.title_block.designed_by,
+                      TITLE_BLOCK_KEY: json.dumps(asdict(record.title_block), sort_keys=True)})
     buf = io.BytesIO()
     out.write(buf)
     return buf.getvalue()
