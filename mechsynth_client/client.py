@@ -45,6 +45,7 @@ from .schemas.balancing import (
     SliderCrankBalanceOut,
 )
 from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
+from .schemas.engines import EngineIn, EngineOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
@@ -461,6 +462,10 @@ class SynthClient(_Policy):
         """POST /v1/balancing/rotor: single-plane static or two-plane dynamic rotor balance."""
         return self._post("/v1/balancing/rotor", body, RotorOut)
 
+    def balance_engine(self, body: EngineIn) -> EngineOut:
+        """POST /v1/balancing/engine: an engine's shaking force and moment by orders and what cancels each."""
+        return self._post("/v1/balancing/engine", body, EngineOut)
+
     def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank: crank counterweight and Lanchester balancer."""
         return self._post("/v1/balancing/slider-crank", body, SliderCrankBalanceOut)
@@ -784,6 +789,10 @@ class AsyncSynthClient(_Policy):
     async def balance_rotor(self, body: RotorIn) -> RotorOut:
         """POST /v1/balancing/rotor."""
         return await self._post("/v1/balancing/rotor", body, RotorOut)
+
+    async def balance_engine(self, body: EngineIn) -> EngineOut:
+        """POST /v1/balancing/engine."""
+        return await self._post("/v1/balancing/engine", body, EngineOut)
 
     async def balance_slider_crank(self, body: SliderCrankBalanceIn) -> SliderCrankBalanceOut:
         """POST /v1/balancing/slider-crank."""

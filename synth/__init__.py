@@ -448,3 +448,11 @@ __all__ = [
     "run_study",
     "study_from_dict",
 ]
+
+from .balancing.engines import Cylinder, EngineShaking, EngineSpec, OrderShaking, engine_layout, engine_shaking
+
+__all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_layout", "engine_shaking"]
+
+from .kinematics.centres import Centres, instant_centres, path_curvature
+
+__all__ += ["Centres", "instant_centres", "path_curvature"]

@@ -3,7 +3,11 @@
 A revolute pair with journal radius r and coefficient f carries a friction moment f·r·|R| (the reaction is
 tangent to the friction circle of radius f·r, seed 000:549-589, 003:902-953) against the relative rotation of
 its links; a prismatic pair a friction force f·|N| along its slide against the relative sliding, N the force
-normal to the slide. Viscous terms add c·w_rel or c·v_rel. The friction loads depend on the reactions they
+normal to the slide. A slide run on rollers (a roller of radius rho on its guide, seed 000 §13.3) has rolling
+friction instead: the moment k·|N| at the contact (k a length) resists the roller's turning, so the slide feels
+(k/rho)·|N| along it and loses k·|N|·|v|/rho, the power of k·N at the roller's speed v/rho; the sliding
+coefficient f is then the adhesion that keeps it rolling (pure rolling needs f > k/rho). Viscous terms add
+c·w_rel or c·v_rel. The friction loads depend on the reactions they
 change, so the equilibrium of every link, A(phi)·x + b(phi) + Phi(x) = 0, is solved by Newton's method at all
 crank angles at once (one stacked linear solve per iteration) until the residual, relative to the largest
 known load, is below ``tolerance``; the residual reached is reported. The direction of every friction load is
@@ -46,7 +50,8 @@ class PairFriction:
 
     ``coefficient`` f [-] (sliding); ``journal_radius`` r of a revolute pair's pin [m] (friction circle f·r);
     ``viscous`` c [N·m·s/rad for a revolute pair, N·s/m for a prismatic one]; ``static_coefficient`` f0 [-] for
-    breaking away from rest (default f).
+    breaking away from rest (default f); ``rolling_resistance`` k [m] and ``roller_radius`` rho [m] of a slide
+    run on rollers: its friction force is then (k/rho)·|N| and f only the adhesion that keeps them rolling.
     """
 
     joint: str
@@ -54,6 +59,13 @@ class PairFriction:
     journal_radius: float = 0.0
     viscous: float = 0.0
     static_coefficient: float | None = None
+    rolling_resistance: float = 0.0
+    roller_radius: float = 0.0
+
+    @property
+    def rolling(self) -> bool:
+        """A slide run on rollers (a rolling resistance given)."""
+        return self.rolling_resistance > 0
 
     @property
     def breakaway_coefficient(self) -> float:
@@ -155,10 +167,32 @@ def validate_pairs(motion: Motion, linkage: Linkage, pairs: Sequence[PairFrictio
                                field=f"{where}.journal_radius_m")
         if joint.kind == "prismatic" and p.journal_radius > 0:
             raise InvalidInput(f"pair {p.joint} is a slide: it has no journal radius", field=f"{where}.journal_radius_m")
+        _validate_rolling(p, joint, where)
         joined = [lengths[b] for b in joint.bodies if b is not None and b in lengths]
         if joined and p.journal_radius >= min(joined):
             raise InvalidInput(f"pair {p.joint}: the journal radius {p.journal_radius:g} m is not smaller than the "
                                f"link it joins ({min(joined):g} m)", field=f"{where}.journal_radius_m")
+
+
+def _validate_rolling(p: PairFriction, joint: Joint, where: str) -> None:
+    k, rho = p.rolling_resistance, p.roller_radius
+    if not (math.isfinite(k) and k >= 0):
+        raise InvalidInput(f"pair {p.joint}: the rolling resistance must be finite and not negative",
+                           field=f"{where}.rolling_resistance_m")
+    if not (math.isfinite(rho) and rho >= 0):
+        raise InvalidInput(f"pair {p.joint}: the roller radius must be finite and not negative",
+                           field=f"{where}.roller_radius_m")
+    if k == 0:
+        return
+    if joint.kind != "prismatic":
+        raise InvalidInput(f"pair {p.joint} turns on its journal: rolling resistance belongs to a slide run on "
+                           "rollers", field=f"{where}.rolling_resistance_m")
+    if rho <= k:
+        raise InvalidInput(f"pair {p.joint}: a rolling resistance of {k:g} m needs a roller radius larger than it",
+                           field=f"{where}.roller_radius_m")
+    if p.coefficient <= k / rho:
+        raise InvalidInput(f"pair {p.joint}: the roller slides: pure rolling needs the sliding coefficient "
+                           f"{p.coefficient:g} above k/rho = {k / rho:.4g}", field=f"{where}.coefficient")
 
 
 @dataclass(frozen=True, slots=True)
@@ -192,6 +226,9 @@ def _pairs(motion: Motion, topo: Topology, pairs: Sequence[PairFriction], static
             axis = _slide_axis(motion, joint)
             v = _body_velocity(motion, receiver, point) - _body_velocity(motion, giver, point)
             rel = np.einsum("ij,ij->i", v, axis)
+            if p.rolling:
+                # the rolling moment k·|N| over the roller's radius, starting as running (no breakaway of its own)
+                coefficient = p.rolling_resistance / p.roller_radius
             out.append(_Pair(j, joint, coefficient, p.viscous, np.sign(rel), rel, axis, point))
     return out
 

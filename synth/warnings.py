@@ -18,6 +18,7 @@ Codes
 ``transmission_angle_low``  a four-bar's transmission angle under 40° (with the crank angles where it is)
 ``link_ratio_large``        the longest bar (the frame's pivot distance included) over the shortest beyond 10
 ``load_work_positive``      the loads do positive work over the cycle: they drive the machine (sign typed wrong?)
+``drive_work_negative``     a flywheel's driving torque table does negative work over the cycle (sign typed wrong?)
 ``delta_out_of_range``      a target delta outside every machine type's usual range
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together

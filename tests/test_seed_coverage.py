@@ -45,3 +45,25 @@ def test_every_checkable_seed_case_goes_through_the_api_or_is_listed() -> None:
     stale = read & set(NOT_THROUGH_API)
     assert not stale, f"listed as not through the API but read by an API test: {sorted(stale)}"
     assert set(NOT_THROUGH_API) <= set(CASES) and all(NOT_THROUGH_API.values()) and all(NO_ANSWER.values())
+
+
+# The seeds' cases beyond the digest's table, each read through the API by the named test.
+COVERED_BEYOND_TABLE = {
+    "an engine's torque table that drives, the constant torque resisting (seed 002 flywheel, 720° cycle)":
+        "tests/test_flywheel_roles.py::test_engine_torque_drives_and_the_constant_torque_resists",
+    "an engine's balance shafts at k·w for each order (seed 003 (6.32)-(6.33))":
+        "tests/test_balancing_engines.py::test_single_cylinder_orders_and_the_seed_balance_shafts",
+    "in-line four, in-line six and 90° V-twin against the classic balance tables":
+        "tests/test_balancing_engines.py::test_inline_four_has_only_a_secondary_force",
+    "rolling friction k·N of a roller on its guide, pure rolling f > k/r (seed 000 §13.3)":
+        "tests/test_rolling_friction.py::test_rolling_guide_matches_the_closed_form",
+    "instant centres by Kennedy's theorem and the radius of curvature of a point's path":
+        "tests/test_instant_centres.py::test_coupler_centre_is_where_crank_and_rocker_lines_meet",
+}
+
+
+def test_cases_beyond_the_table_name_a_test_that_exists() -> None:
+    for where in COVERED_BEYOND_TABLE.values():
+        path, name = where.split("::")
+        text = (HERE.parent.parent / path).read_text(encoding="utf-8")
+        assert f"def {name}(client: SynthClient)" in text, where

@@ -32,6 +32,7 @@ from mechsynth_client.schemas.balancing import (
     SliderCrankBalanceOut,
 )
 from mechsynth_client.schemas.flywheel import FlywheelIn
+from mechsynth_client.schemas.engines import EngineIn, EngineOut
 from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
 from mechsynth_client.schemas.rating import RatingIn, RatingOut
 from mechsynth_client.schemas.machine import MachineIn
@@ -101,7 +102,8 @@ class Plan:
 
 def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan:
     """POST /v1/analysis."""
-    return Plan(Render(AnalysisOut.from_engine, analysis_file, export_extra=(plot_angle(b, angle_deg),)),
+    return Plan(Render(AnalysisOut.from_engine, analysis_file, model_extra=(b.geometry_request(),),
+                       export_extra=(plot_angle(b, angle_deg),)),
                 synth.analyse, (b.to_linkage(), b.omega_rad_s),
                 dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
                      max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors(),
@@ -144,6 +146,11 @@ def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
         return Plan(render, synth.balance_rotor_static, (rotor, b.correction_radius_m, b.correction_plane_m))
     return Plan(render, synth.balance_rotor_dynamic,
                 (rotor, (b.planes_m[0], b.planes_m[1]), (b.radii_m[0], b.radii_m[1])))
+
+
+def balance_engine(b: EngineIn, lim: Limits) -> Plan:
+    """POST /v1/balancing/engine."""
+    return Plan(Render(EngineOut.from_engine), synth.engine_shaking, (b.to_engine(),))
 
 
 def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
@@ -310,4 +317,5 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/synthesis/path": (PathIn, synthesis_path),
     "/v1/machines/design": (MachineIn, machine_design),
     "/v1/machines/optimise": (MachineOptimiseIn, machine_optimise),
+    "/v1/balancing/engine": (EngineIn, balance_engine),
 }

@@ -10,6 +10,7 @@ from fastapi.responses import Response
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import FIGURES, FormatQuery, format_responses
+from mechsynth_client.schemas.engines import EngineIn, EngineOut
 from mechsynth_client.schemas.balancing import (
     BalanceIn,
     BalanceOut,
@@ -61,3 +62,11 @@ async def balance_slider_crank(body: SliderCrankBalanceIn, request: Request, sol
     """Crank counterweight for the rotating masses, Lanchester pairs on the slide axis for the reciprocating
     ones, in-line or offset."""
     return await solvers.answer_plan(plans.balance_slider_crank(body, solvers.limits), request, format)
+
+
+@router.post("/engine", response_model=EngineOut)
+async def balance_engine(body: EngineIn, request: Request, solvers: SolverDep) -> Response:
+    """Shaking force and moment (about the transverse axes) of an engine of several cylinders, in line or in V,
+    by crank orders from the exact slider-crank acceleration; which orders the arrangement cancels, and the
+    counterweight and balance-shaft masses (shafts at ±k·w) that cancel the rest, with their check."""
+    return await solvers.answer_plan(plans.balance_engine(body, solvers.limits), request)

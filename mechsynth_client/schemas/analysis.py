@@ -66,6 +66,16 @@ class BalancingAnswerIn(BaseModel):
 class AnalysisIn(LinkageRequest):
     """A linkage, its speed, loads and optional counterweights, to analyse over one crank revolution."""
 
+    instant_centres: bool = Field(False, description="Add every link's instant centre relative to the frame over "
+                                  "the cycle and the coupler's centrodes (`centres`).")
+    relative_centres: bool = Field(False, description="With `instant_centres`: every pair of links' relative "
+                                   "centre too.")
+    path_curvature: bool = Field(False, description="Add the curvature of every point's path (`curvature`).")
+
+    def geometry_request(self) -> tuple[bool, bool, bool]:
+        """The optional kinematic geometry asked for: centres, relative centres, curvature."""
+        return self.instant_centres or self.relative_centres, self.relative_centres, self.path_curvature
+
     trace_points: list[TracePointIn] = Field(
         default_factory=list, max_length=20, description="Extra points to report, e.g. coupler points."
     )
@@ -256,6 +266,31 @@ class FrictionOut(BaseModel):
                                      virtual_power_max_diff_Nm=fr.power_check))
 
 
+class CentresOut(BaseModel):
+    """Instant centres over the cycle as unit homogeneous coordinates [x·w, y·w, w]: the point is (x, y) where
+    w ≠ 0; w = 0 puts it at infinity in the direction (x, y) (a link that translates)."""
+
+    absolute: dict[str, list[list[float]]] = Field(description="Each link's centre relative to the frame.")
+    relative: dict[str, list[list[float]]] = Field(description="Each pair of bodies' relative centre, keyed "
+                                                   "`a/b` (the frame is `frame`); empty unless asked for.")
+    coupler: str | None = Field(None, description="The link whose centrodes are given.")
+    fixed_centrode: list[list[float]] | None = Field(None, description="The coupler's centre in the frame.")
+    moving_centrode: list[list[float]] | None = Field(None, description="The same points in the coupler's own "
+                                                      "frame (origin at its first joint, x-axis along it).")
+    kennedy_check: float = Field(description="Check: the largest |det| of three relative centres of any three "
+                                 "bodies (Kennedy: collinear, so zero to rounding).")
+
+
+class CurvatureOut(BaseModel):
+    """The curvature of a point's path over the cycle."""
+
+    curvature_1_m: list[float] = Field(description="Signed curvature (v × a)/|v|³ [1/m], counter-clockwise "
+                                       "positive; the radius of curvature is its inverse (rho = |v|³/|v × a|). "
+                                       "Zero where the point stops.")
+    stopped_deg: list[float] = Field(description="Crank angles where the point stops and its path has no "
+                                     "curvature [deg].")
+
+
 class AnalysisOut(BaseModel):
     """Kinematics and kinetostatics over the cycle; reactions are forces of a joint's first link on its second."""
 
@@ -307,9 +342,13 @@ class AnalysisOut(BaseModel):
     friction: FrictionOut | None = Field(None, description="With friction in the pairs (when the request gives "
                                          "any): reactions, driving torque, losses and efficiency; null without.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
+    centres: CentresOut | None = Field(None, description="With `instant_centres`: instant centres and centrodes.")
+    curvature: dict[str, CurvatureOut] | None = Field(None, description="With `path_curvature`: per point by "
+                                                      "name, the curvature of its path.")
 
     @classmethod
-    def from_engine(cls, an: synth.Analysis) -> AnalysisOut:
+    def from_engine(cls, an: synth.Analysis, geometry: tuple[bool, bool, bool] = (False, False, False)
+                    ) -> AnalysisOut:
         """Schema from an engine analysis (radians become degrees here).
 
         Built without re-validating the engine's arrays (they are float arrays by construction), after one
@@ -358,6 +397,8 @@ class AnalysisOut(BaseModel):
             friction=None if an.friction is None else FrictionOut.from_engine(
                 an.friction, {j.name: j.kind for j in mech.topology.joints}),
             warnings=warnings_out(synth.check_analysis(an)),
+            centres=_centres(an, geometry[1]) if geometry[0] else None,
+            curvature=_curvature(an) if geometry[2] else None,
         )
 
     def to_lists(self) -> AnalysisOut:
@@ -381,3 +422,24 @@ def plot_angle(body: AnalysisIn, angle_deg: float | None) -> float:
         return math.radians(angle_deg)
     phi = body.phi()
     return 0.0 if phi is None else float(phi[0])
+
+
+def _centres(an: synth.Analysis, relative: bool) -> CentresOut:
+    links = list(an.motion.link_origin)
+    coupler = "coupler" if "coupler" in links else None
+    c = synth.instant_centres(an.motion, relative, coupler)
+    return CentresOut(
+        absolute={k: v.tolist() for k, v in c.absolute.items()},
+        relative={k: v.tolist() for k, v in c.relative.items()},
+        coupler=c.coupler,
+        fixed_centrode=None if c.fixed_centrode is None else c.fixed_centrode.tolist(),
+        moving_centrode=None if c.moving_centrode is None else c.moving_centrode.tolist(),
+        kennedy_check=c.kennedy,
+    )
+
+
+def _curvature(an: synth.Analysis) -> dict[str, CurvatureOut]:
+    curvature, stopped = synth.path_curvature(an.motion)
+    phi = np.degrees(an.motion.phi)
+    return {name: CurvatureOut(curvature_1_m=k.tolist(), stopped_deg=phi[stopped[name]].tolist())
+            for name, k in curvature.items()}

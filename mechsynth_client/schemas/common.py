@@ -449,11 +449,19 @@ class PairFrictionIn(StrictModel):
                                     "for a slide.", examples=[0.02])
     viscous: float = Field(0.0, ge=0, le=1e9, description="Viscous coefficient c: friction c·w_rel [N·m·s/rad] in "
                            "a revolute pair, c·v_rel [N·s/m] in a slide.")
+    rolling_resistance_m: float = Field(0.0, ge=0, le=MAX_LENGTH_M,
+                                        description="A slide run on rollers: coefficient of rolling friction k "
+                                        "[m], the resisting moment k·N at the contact (hardened steel on steel "
+                                        "about 1e-5 m); the slide then feels (k/rho)·N and `coefficient` is only "
+                                        "the adhesion (pure rolling needs f > k/rho).", examples=[1e-5])
+    roller_radius_m: float = Field(0.0, ge=0, le=MAX_LENGTH_M,
+                                   description="With `rolling_resistance_m`: the roller's radius rho [m].",
+                                   examples=[0.01])
 
     def to_engine(self, joint: str) -> synth.PairFriction:
         """Engine pair friction for ``joint``."""
         return synth.PairFriction(joint, self.coefficient, self.journal_radius_m, self.viscous,
-                                  self.static_coefficient)
+                                  self.static_coefficient, self.rolling_resistance_m, self.roller_radius_m)
 
 
 FrictionIn = Annotated[dict[str, PairFrictionIn], Field(

@@ -56,6 +56,12 @@ class FlywheelTablesIn(StrictModel):
     resisting_torque_Nm: list[Torque] | None = Field(
         None, description="Reduced resisting torque [N·m], negative where it resists."
     )
+    constant_torque_role: Literal["driving", "resisting"] | None = Field(
+        None, description="Which side the constant torque that balances the cycle's work takes: `driving` (the "
+        "tables are the loads) or `resisting` (the tables are the drive, e.g. an engine's gas torque over 720°, "
+        "and the constant torque is the consumer's load). Left out: `resisting` when only `driving_torque_Nm` is "
+        "given, `driving` otherwise.",
+    )
 
     def to_cycle(self, cycle_deg: float, max_samples: int) -> synth.ReducedCycle:
         """Engine cycle; degrees become radians here."""
@@ -67,6 +73,7 @@ class FlywheelTablesIn(StrictModel):
             resisting_torque=self.resisting_torque_Nm,
             period=math.radians(cycle_deg),
             max_samples=max_samples,
+            balance=self.constant_torque_role,
         )
 
 
@@ -385,7 +392,11 @@ class FlywheelOut(BaseModel):
     omega_min_rad_s: float = Field(description="Target w_m(1 - delta/2).")
     omega_max_rad_s: float = Field(description="Target w_m(1 + delta/2).")
     constant_inertia_kgm2: float = Field(description="Constant inertia already on the crank, motor rotor included.")
-    constant_driving_torque_Nm: float = Field(description="Constant driving torque that balances the cycle's work.")
+    constant_driving_torque_Nm: float = Field(description="Constant torque that balances the cycle's work, positive "
+                                              "where it drives the crank (negative: a constant resistance).")
+    constant_torque_role: Literal["driving", "resisting"] = Field(
+        "driving", description="The side the constant torque takes: `driving` (the given torques are loads) or "
+        "`resisting` (they are the drive, an engine's; the constant torque is then the consumer's load).")
     cycle_work_J: float = Field(description="Work of the given torques over the cycle, before that balance.")
     motor_mean_speed_rad_s: float | None = Field(None, description="Angle-average steady speed with the motor.")
     design_method: SizingMethod = Field(description="The method the top-level figures, the geometry and `speed` "
@@ -429,6 +440,7 @@ class FlywheelOut(BaseModel):
             omega_max_rad_s=w_max,
             constant_inertia_kgm2=r.constant_inertia,
             constant_driving_torque_Nm=r.driving_torque,
+            constant_torque_role=r.cycle.balance,
             cycle_work_J=r.cycle_work,
             motor_mean_speed_rad_s=r.motor_mean_speed,
             design_method=one_of(SIZING_METHODS, r.design_method),

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Literal
 
 import numpy as np
 
@@ -25,13 +26,20 @@ class ReducedCycle:
 
     ``phi`` crank angles [rad], strictly increasing, spanning less than ``period`` (the sample at
     ``phi[0] + period`` is ``phi[0]`` again); ``inertia`` J_red(phi) [kg·m²] of the variable-inertia part;
-    ``torque`` reduced torque of every given load and drive [N·m], positive drives the crank; ``period`` [rad].
+    ``torque`` reduced torque of every given load and drive [N·m], positive drives the crank; ``period`` [rad];
+    ``balance`` the role of the constant torque that balances the cycle's work: ``driving`` (the tables are the
+    loads, as in a machine driven by a motor) or ``resisting`` (the tables are the drive, as an engine's gas torque,
+    and the constant torque is the consumer's load); ``driving_work`` and ``resisting_work`` the work of each
+    given table over the cycle [J] when they came separately (None otherwise), for the sign checks.
     """
 
     phi: FloatArray
     inertia: FloatArray
     torque: FloatArray
     period: float
+    balance: Literal["driving", "resisting"] = "driving"
+    driving_work: float | None = None
+    resisting_work: float | None = None
 
     def __post_init__(self) -> None:
         n = self.phi.shape[0]
@@ -76,7 +84,7 @@ class ReducedCycle:
 
     def with_torque(self, torque: FloatArray) -> ReducedCycle:
         """The same cycle under another torque table [N·m]."""
-        return ReducedCycle(self.phi, self.inertia, np.asarray(torque, dtype=float), self.period)
+        return replace(self, torque=np.asarray(torque, dtype=float))
 
     def balanced(self) -> tuple[ReducedCycle, float]:
         """The cycle with the constant driving torque that makes its work zero, and that torque [N·m]."""
@@ -128,6 +136,7 @@ def cycle_from_tables(
     resisting_torque: Sequence[float] | None = None,
     period: float = 2 * math.pi,
     max_samples: int = MAX_SAMPLES,
+    balance: Literal["driving", "resisting"] | None = None,
 ) -> ReducedCycle:
     """A reduced cycle from tables over crank angle.
 
@@ -140,11 +149,16 @@ def cycle_from_tables(
         J_red at each angle [kg·m²]; left out, the machine's inertia is all constant (zero here).
     reduced_torque
         Sum of driving and resisting reduced torques [N·m] (positive drives the crank); or give
-        ``driving_torque`` and ``resisting_torque`` [N·m] (resisting ones negative, as the seeds tabulate them).
+        ``driving_torque`` and/or ``resisting_torque`` [N·m] (resisting ones negative, as the seeds tabulate
+        them); one of the two alone stands for the whole given torque.
     period
         Cycle length [rad]: 2π, or 4π for a four-stroke engine.
     max_samples
         Largest table accepted (TooLarge beyond).
+    balance
+        Which side the constant balancing torque takes: ``driving`` or ``resisting``. Left out, it is
+        ``resisting`` when only ``driving_torque`` is given (an engine: the consumer's load balances its gas
+        torque) and ``driving`` otherwise.
     """
     phi = np.asarray(crank_angle, dtype=float)
     if phi.size > max_samples:
@@ -161,15 +175,14 @@ def cycle_from_tables(
     resist = _table(resisting_torque, "resisting_torque_Nm", n)
     if (total is None) == (drive is None and resist is None):
         raise InvalidInput(
-            "give reduced_torque_Nm, or driving_torque_Nm with resisting_torque_Nm", field="tables.reduced_torque_Nm"
+            "give reduced_torque_Nm, or driving_torque_Nm and/or resisting_torque_Nm", field="tables.reduced_torque_Nm"
         )
     torque_field = "reduced_torque_Nm"
+    if balance is None:
+        balance = "resisting" if drive is not None and resist is None else "driving"
     if total is None:
-        torque_field = "resisting_torque_Nm"
-        if drive is None or resist is None:
-            missing = "driving_torque_Nm" if drive is None else "resisting_torque_Nm"
-            raise InvalidInput(f"{missing} is missing", field=f"tables.{missing}")
-        total = drive + resist
+        torque_field = "resisting_torque_Nm" if resist is not None else "driving_torque_Nm"
+        total = (np.zeros(n) if drive is None else drive) + (np.zeros(n) if resist is None else resist)
     if inertia is None:
         inertia = np.zeros(n)
     span = phi[-1] - phi[0]
@@ -185,7 +198,15 @@ def cycle_from_tables(
                     f"the table closes the cycle, so its last {name} must repeat the first", field=f"tables.{name}"
                 )
         phi, inertia, total = phi[:-1], inertia[:-1], total[:-1]
-    return ReducedCycle(phi, inertia, total, period)
+        drive = None if drive is None else drive[:-1]
+        resist = None if resist is None else resist[:-1]
+    cycle = ReducedCycle(phi, inertia, total, period, balance)
+    # each table's own work, on the same linear pieces as the cycle's, to tell a sign typed wrong from a role
+    return replace(
+        cycle,
+        driving_work=None if drive is None else cycle.with_torque(drive).cycle_work,
+        resisting_work=None if resist is None else cycle.with_torque(resist).cycle_work,
+    )
 
 
 def cycle_from_reduced(reduced: ReducedModel) -> ReducedCycle:

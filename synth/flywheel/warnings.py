@@ -14,19 +14,17 @@ def check_flywheel(result: FlywheelResult, geometry: GeometrySpec | None = None,
     """Loads that drive the machine, a target delta outside every machine type's range, a rim near its speed limit;
     with the ``analysis`` of a linkage also :func:`check_linkage` and the transmission angle.
 
-    The load sign is judged on the cycle's work as sized (``tables`` without an analysis, ``loads`` with one).
+    The load sign is judged on the cycle's work as sized (``tables`` without an analysis, ``loads`` with one),
+    against the role of the constant balancing torque: with the tables as loads it must drive (positive), with
+    them as the drive (an engine's gas torque) it must resist (negative). Separate driving and resisting tables
+    are each judged on their own work first.
     """
     out: list[DesignWarning] = []
     load_field = "tables"
     if analysis is not None:
         out += [w for w in check_analysis(analysis) if w.code != "load_work_positive"]
         load_field = "loads" if analysis.linkage.loads else "torques"
-    if result.driving_torque < 0:
-        out.append(DesignWarning(
-            "load_work_positive", load_field, result.cycle_work,
-            f"the given torques do {result.cycle_work:.4g} J of positive work per cycle, so the constant driving "
-            f"torque that balances them is negative ({result.driving_torque:.4g} N·m): resisting torques are "
-            "negative, driving ones positive", "J"))
+    out += _sign_mistakes(result, load_field)
     lo, hi = DELTA_RANGE
     delta = result.target_delta
     if not lo <= delta <= hi:
@@ -42,4 +40,35 @@ def check_flywheel(result: FlywheelResult, geometry: GeometrySpec | None = None,
                 "rim_speed_near_limit", "geometry.max_rim_speed_m_s", best.rim_speed,
                 f"the flywheel's rim runs at {best.rim_speed:.3g} m/s, {best.rim_speed / limit:.0%} of the "
                 f"{limit:g} m/s limit: no margin for overspeed; a larger width or another shaft gives one", "m/s"))
+    return out
+
+
+def _sign_mistakes(result: FlywheelResult, load_field: str) -> list[DesignWarning]:
+    cycle, work, torque = result.cycle, result.cycle_work, result.driving_torque
+    out: list[DesignWarning] = []
+    if cycle.driving_work is not None and cycle.driving_work < 0:
+        out.append(DesignWarning(
+            "drive_work_negative", "tables.driving_torque_Nm", cycle.driving_work,
+            f"the driving torques do {cycle.driving_work:.4g} J of negative work per cycle: driving torques are "
+            "positive where they drive the crank, resisting ones negative", "J"))
+    if cycle.resisting_work is not None and cycle.resisting_work > 0:
+        out.append(DesignWarning(
+            "load_work_positive", "tables.resisting_torque_Nm", cycle.resisting_work,
+            f"the resisting torques do {cycle.resisting_work:.4g} J of positive work per cycle: resisting torques "
+            "are negative, driving ones positive", "J"))
+    if out:
+        return out
+    if cycle.balance == "driving" and torque < 0:
+        out.append(DesignWarning(
+            "load_work_positive", load_field, work,
+            f"the given torques do {work:.4g} J of positive work per cycle, so the constant driving "
+            f"torque that balances them is negative ({torque:.4g} N·m): resisting torques are "
+            "negative, driving ones positive (an engine's torque table drives: give it as driving_torque_Nm, or "
+            "set constant_torque_role to resisting)", "J"))
+    if cycle.balance == "resisting" and torque > 0:
+        out.append(DesignWarning(
+            "drive_work_negative", load_field, work,
+            f"the given driving torques do {work:.4g} J of negative work per cycle, so the constant resisting "
+            f"torque that balances them would drive ({torque:.4g} N·m): driving torques are positive, resisting "
+            "ones negative", "J"))
     return out

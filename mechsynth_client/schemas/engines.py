@@ -1,0 +1,137 @@
+"""Schemas of POST /v1/balancing/engine: the shaking of an engine of several cylinders, order by order."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from ._engine import synth
+from .common import Coordinate, Length, StrictModel
+
+Arrangement = Literal["inline2_360", "inline2_180", "inline3", "inline4", "inline5", "inline6", "v2_90",
+                      "v8_crossplane", "boxer2", "flat4"]
+Angle = Annotated[float, Field(ge=-720, le=720)]
+Mass = Annotated[float, Field(ge=0, le=1e4)]
+
+
+class CylinderIn(StrictModel):
+    """One cylinder on the crankshaft."""
+
+    crank_angle_deg: Angle = Field(description="Its throw's phase behind the first throw [deg]: it reaches its "
+                                   "top dead centre that much later (in-line: the classic crank angles).")
+    bank_angle_deg: Angle = Field(0.0, description="Its axis' angle from the vertical, in the crank's sense of "
+                                  "rotation [deg]: 0 in line, ±45 for a 90° V.")
+    axial_position_m: Coordinate = Field(0.0, description="Its plane's position along the crankshaft [m].")
+
+
+class EngineIn(StrictModel):
+    """An engine: the slider-crank of every cylinder (all alike) and where each sits on the crankshaft."""
+
+    crank_radius_m: Length = Field(description="Crank radius r [m].")
+    rod_length_m: Length = Field(description="Connecting-rod length l [m], longer than r.")
+    reciprocating_mass_kg: Mass = Field(description="Reciprocating mass per cylinder (piston, pin, the rod's "
+                                        "share at the small end) [kg].")
+    rotating_mass_kg: Mass = Field(0.0, description="Rotating mass per cylinder at the crank pin (the rod's "
+                                   "share at the big end, the pin, unbalanced web) [kg].")
+    speed_rpm: float = Field(gt=0, le=1e5, description="Crank speed [rev/min].")
+    arrangement: Arrangement | None = Field(None, description="A classic arrangement instead of `cylinders`, its "
+                                            "cylinders `pitch_m` apart.")
+    pitch_m: Length = Field(0.1, description="With `arrangement`: distance between cylinder planes [m].")
+    cylinders: list[CylinderIn] | None = Field(None, min_length=1, max_length=64,
+                                               description="The cylinders, the first one's throw the reference.")
+    orders: int = Field(4, ge=1, le=24, description="Crank orders reported (FFT of the exact acceleration).")
+    reference_z_m: Coordinate | None = Field(None, description="Axial position the moments are taken about [m]; "
+                                             "left out: the cylinders' mean position.")
+
+    model_config = ConfigDict(json_schema_extra={
+        "allOf": [{"oneOf": [{"required": ["arrangement"], "not": {"required": ["cylinders"]}},
+                             {"required": ["cylinders"], "not": {"required": ["arrangement"]}}]}],
+        "examples": [
+            {"crank_radius_m": 0.045, "rod_length_m": 0.15, "reciprocating_mass_kg": 0.5, "speed_rpm": 3000,
+             "arrangement": "inline4", "pitch_m": 0.09},
+            {"crank_radius_m": 0.045, "rod_length_m": 0.15, "reciprocating_mass_kg": 0.5, "rotating_mass_kg": 0.3,
+             "speed_rpm": 3000, "cylinders": [{"crank_angle_deg": 0, "bank_angle_deg": -45},
+                                              {"crank_angle_deg": 0, "bank_angle_deg": 45}]},
+        ]})
+
+    def to_engine(self) -> synth.EngineSpec:
+        """Engine spec; degrees become radians, rev/min rad/s."""
+        if (self.arrangement is None) == (self.cylinders is None):
+            raise synth.InvalidInput("give either arrangement or cylinders", field="cylinders")
+        if self.arrangement is not None:
+            cylinders = synth.engine_layout(self.arrangement, self.pitch_m)
+        else:
+            cylinders = tuple(synth.Cylinder(math.radians(c.crank_angle_deg), math.radians(c.bank_angle_deg),
+                                             c.axial_position_m) for c in self.cylinders or [])
+        return synth.EngineSpec(self.crank_radius_m, self.rod_length_m, self.reciprocating_mass_kg,
+                                self.rotating_mass_kg, self.speed_rpm * math.pi / 30, cylinders, self.orders,
+                                self.reference_z_m)
+
+
+class OrderOut(BaseModel):
+    """One crank order of the shaking force [N] (or moment [N·m]): an ellipse, a forward and a backward circle."""
+
+    order: int = Field(description="Crank order k: it turns at k times crank speed.")
+    largest: float = Field(description="Largest magnitude over the revolution, |P| + |Q| [N or N·m].")
+    smallest: float = Field(description="Smallest magnitude, ||P| - |Q|| (equal to `largest`: constant "
+                            "magnitude, a pure circle) [N or N·m].")
+    forward: float = Field(description="|P|: the circle turning with the crank at k·w [N or N·m].")
+    backward: float = Field(description="|Q|: the circle turning against it at k·w [N or N·m].")
+    balanced: bool = Field(description="Cancelled by the arrangement itself (largest ≤ 1e-9 of the engine's "
+                           "scale).")
+    forward_mass_radius: float = Field(description="Mass times radius [kg·m] (for a moment: times the axial "
+                                       "spacing of the couple's two masses, kg·m²) on a shaft at +k·w that "
+                                       "cancels the forward circle: the crank's counterweight for order 1.")
+    forward_angle_deg: float = Field(description="Where that mass points at crank angle 0 [deg from vertical, "
+                                     "in the sense of rotation].")
+    backward_mass_radius: float = Field(description="The same on a shaft at -k·w for the backward circle (a "
+                                        "balance shaft) [kg·m or kg·m²].")
+    backward_angle_deg: float = Field(description="Where that mass points at crank angle 0 [deg].")
+
+    @classmethod
+    def from_engine(cls, o: synth.OrderShaking, tol: float) -> OrderOut:
+        """Schema from one engine order."""
+        return cls(order=o.order, largest=o.largest, smallest=o.smallest, forward=abs(o.forward),
+                   backward=abs(o.backward), balanced=o.largest <= tol, forward_mass_radius=o.forward_mr,
+                   forward_angle_deg=math.degrees(o.forward_angle), backward_mass_radius=o.backward_mr,
+                   backward_angle_deg=math.degrees(o.backward_angle))
+
+
+class EngineOut(BaseModel):
+    """Shaking force and moment (about the transverse axes) by crank orders, what cancels each, and the checks."""
+
+    cylinders: int = Field(description="Number of cylinders.")
+    speed_rad_s: float = Field(description="Crank speed [rad/s].")
+    reference_z_m: float = Field(description="Axial position the moments are taken about [m].")
+    force_orders: list[OrderOut] = Field(description="The shaking force's orders 1..`orders` [N].")
+    moment_orders: list[OrderOut] = Field(description="The shaking moment's orders about the transverse axes "
+                                          "[N·m], its masses as couples.")
+    largest_force_N: float = Field(description="Largest shaking force over the revolution [N].")
+    largest_moment_Nm: float = Field(description="Largest transverse shaking moment over the revolution [N·m].")
+    reconstruction_error_N: float = Field(description="Check: largest difference between the sampled force and "
+                                          "the sum of its orders [N].")
+    residual_force_N: float = Field(description="Check: the largest reported order of the force left once the "
+                                    "named masses, evaluated from their own motion, are added (zero to rounding).")
+    residual_moment_Nm: float = Field(description="Check: the same for the moment [N·m].")
+    remaining_force_N: float = Field(description="Largest force left with every named mass: the orders beyond "
+                                     "`orders` [N].")
+    remaining_moment_Nm: float = Field(description="Largest moment left with every named couple [N·m].")
+
+    @classmethod
+    def from_engine(cls, r: synth.EngineShaking) -> EngineOut:
+        """Schema from the engine result."""
+        tol = r.balanced_tolerance
+        span = max(1.0, max(c.axial_position for c in r.spec.cylinders) - min(c.axial_position
+                                                                             for c in r.spec.cylinders))
+        return cls(
+            cylinders=len(r.spec.cylinders), speed_rad_s=r.spec.speed, reference_z_m=r.reference_z,
+            force_orders=[OrderOut.from_engine(o, tol) for o in r.force_orders],
+            moment_orders=[OrderOut.from_engine(o, tol * span) for o in r.moment_orders],
+            largest_force_N=float(max(abs(complex(*f)) for f in r.force)),
+            largest_moment_Nm=float(max(abs(complex(*m)) for m in r.moment)),
+            reconstruction_error_N=r.reconstruction_error, residual_force_N=r.residual_force,
+            residual_moment_Nm=r.residual_moment, remaining_force_N=r.remaining_force,
+            remaining_moment_Nm=r.remaining_moment,
+        )
