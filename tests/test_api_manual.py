@@ -10,6 +10,7 @@ import pytest
 
 from api.app import create_app
 from mechsynth_client.client import SynthClient
+from mechsynth_client.library import AsyncLibraryClient, LibraryClient
 from mechsynth_client.studies import StudyHandle
 
 DOC: dict[str, Any] = create_app().openapi()
@@ -72,7 +73,20 @@ def test_every_operation_id_is_a_client_method() -> None:
     # A study's own operations are methods of the handle client.study() returns: study_<method>.
     ids = {op["operationId"] for ops in DOC["paths"].values() for op in ops.values()}
     handle = {f"study_{name}" for name in dir(StudyHandle) if not name.startswith("_")}
+    # The library's operations are methods of client.library, named for what they do to a design.
+    library = {op["operationId"]: LIBRARY_METHODS.get(op["operationId"]) for path, ops in DOC["paths"].items()
+               for op in ops.values() if path.startswith("/v1/library")}
+    assert all(m in dir(LibraryClient) and m in dir(AsyncLibraryClient) for m in library.values()), library
+    ids -= set(library)
     assert ids <= set(dir(SynthClient)) | handle, ids - set(dir(SynthClient)) - handle
+
+
+LIBRARY_METHODS = {
+    "import_project": "import_project", "list_projects": "projects", "design_history": "history",
+    "diff_revisions": "diff", "save_revision": "save", "get_revision": "revision", "approve_revision": "approve",
+    "check_revision": "check", "get_record": "record_pdf", "restore_revision": "restore",
+    "export_project": "export", "search_revisions": "search",
+}
 
 
 def test_schema_names_are_readable() -> None:
