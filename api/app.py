@@ -10,20 +10,22 @@ from typing import Literal
 from fastapi import FastAPI, Request, Response
 from pydantic import BaseModel, Field
 
-from . import manual, problems, workbench
+from . import auth, manual, problems, workbench
 from .routers import PREFIX, all_routers
 from .settings import Settings
 from .storage import migrate_at_start, open_store, store_status
 from .execution.admission import Solvers
 from .studies.router import router as studies_router
+from .library.router import router as library_router
 from .studies.runs import StudyRuns
 
 
 class ReadyOut(BaseModel):
     """What the service's workers are doing: requests (bounded by admission) and design studies (beside it)."""
 
-    status: Literal["ok", "busy", "store-unavailable"] = Field(
-        description="busy: every request slot is taken; new requests get 503. store-unavailable: the store cannot "
+    status: Literal["ok", "busy", "degraded", "store-unavailable"] = Field(
+        description="busy: every request slot is taken; new requests get 503. degraded: a worker is being "
+                    "replaced (requests wait for it or for the others). store-unavailable: the store cannot "
                     "be reached (store_problem says why); requests needing it get 503, and so does /ready.")
     executor: Literal["pool", "serial"] = Field(description="Where requests run: worker processes, or one thread.")
     started: bool = Field(description="The workers have been started.")
@@ -40,6 +42,14 @@ class ReadyOut(BaseModel):
         description="Design-study tasks (batches of variants) submitted and not finished, over all running studies: "
                     "at most workers + 1 per study. They bypass the request slots above, so while they run on "
                     "the same workers requests are slower, never refused.")
+    workers_alive: int = Field(description="Request workers up now; fewer than `workers` while one is replaced.")
+    worker_restarts: int = Field(description="Workers replaced since the start (died, timed out or cancelled).")
+    batch_workers: int = Field(0, description="Workers of the study lane (0: studies share the request workers).")
+    batch_workers_alive: int = Field(0, description="Study-lane workers up now.")
+    tasks_queued: int = Field(0, description="Request tasks waiting for a worker.")
+    batch_tasks_queued: int = Field(0, description="Study tasks waiting for a worker.")
+    batch_tasks_running: int = Field(0, description="Study tasks on a worker now.")
+    studies_queued: int = Field(0, description="Design studies waiting for a turn to run.")
     study_tasks_on: Literal["workers", "dask"] = Field(
         description="Where study tasks run: the service's own workers (shared with requests), or the Dask "
                     "cluster of SYNTH_DASK_SCHEDULER (requests unaffected).")
@@ -58,6 +68,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(_: FastAPI) -> AsyncIterator[None]:
         await asyncio.to_thread(migrate_at_start, store)
+        await asyncio.to_thread(auth.start, app)
         await asyncio.to_thread(solvers.start)
         await asyncio.to_thread(studies.open)
         yield
@@ -84,6 +95,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     problems.install(app, settings)
     manual.install(app)
     workbench.install(app)
+    auth.install(app, settings)
 
     @app.get("/health", tags=["service"])
     async def health() -> dict[str, str]:
@@ -98,13 +110,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         design studies' work beside the requests, and whether the store answers (503 when it does not)."""
         status = request.app.state.solvers.status()
         stored = await asyncio.to_thread(store_status, request.app.state.store)
-        state: Literal["ok", "busy", "store-unavailable"] = "ok" if status["queued"] < status["capacity"] else "busy"
+        state: Literal["ok", "busy", "degraded", "store-unavailable"] = (
+            "ok" if status["queued"] < status["capacity"] else "busy")
+        if status["started"] and status["workers_alive"] < status["workers"]:
+            state = "degraded"
         if not stored["store_ok"]:
             state = "store-unavailable"
             response.status_code = 503
         return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
 
-    for router in (*all_routers(), studies_router):
+    for router in (*all_routers(), studies_router, library_router, auth.router):
         app.include_router(router, prefix=PREFIX)
     problems.document(app)
     return app

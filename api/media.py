@@ -237,6 +237,8 @@ class Render:
     fmt: str = "json"
     model_extra: tuple[Any, ...] = ()
     export_extra: tuple[Any, ...] = ()
+    #: The largest answer the service sends [bytes]; 0 for no bound (a study's variant stays in the worker).
+    max_bytes: int = 0
 
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
@@ -256,6 +258,43 @@ class Render:
             raise synth.InvalidInput(f"the answer's {field} would be beyond any physical range "
                                      f"({err.get('msg', '')}); check the input's units and sizes",
                                      field=field) from None
+        if self.max_bytes:
+            check_answer_size(model, self.fmt, self.max_bytes)
         if self.fmt == "npz":
             return npz_bytes(model), MEDIA_TYPES["npz"]
         return json_bytes(model), "application/json"
+
+
+#: Bytes a number takes in an answer: JSON writes a float in up to 24 characters with its separator (about 20
+#: on average for the engine's values), an npz archive in 8.
+_BYTES_PER_NUMBER = {"json": 20, "npz": 8}
+
+
+def count_numbers(value: Any) -> int:
+    """Numbers in a response model's answer, counted from the arrays' shapes without writing anything."""
+    if isinstance(value, BaseModel):
+        return sum(count_numbers(getattr(value, name)) for name in type(value).model_fields)
+    if isinstance(value, np.ndarray):
+        return int(value.size)
+    if isinstance(value, dict):
+        return sum(count_numbers(item) for item in value.values())
+    if isinstance(value, (list, tuple)):
+        if value and isinstance(value[0], (int, float)) and not isinstance(value[0], bool):
+            return len(value)
+        if value and isinstance(value[0], (list, tuple)) and value[0] and isinstance(value[0][0], float):
+            return len(value) * len(value[0])  # rows of numbers (points over the cycle)
+        return sum(count_numbers(item) for item in value)
+    return 1 if isinstance(value, (int, float)) and not isinstance(value, bool) else 0
+
+
+def check_answer_size(model: BaseModel, fmt: str, max_bytes: int) -> None:
+    """TooLarge naming the bound when the answer's estimated size (its numbers times their size in ``fmt``)
+    passes ``max_bytes``, before the answer is written."""
+    numbers = count_numbers(model)
+    estimate = numbers * _BYTES_PER_NUMBER.get(fmt, 20)
+    if estimate > max_bytes:
+        hint = ("ask for fewer samples" if fmt == "npz" else
+                "ask for ?format=npz (8 bytes a number instead of about 20) or for fewer samples")
+        raise synth.TooLarge("answer size [bytes]", max_bytes, estimate,
+                             f"the answer would hold {numbers} numbers, about {estimate / 1e6:.1f} MB as {fmt}, "
+                             f"beyond this service's bound of {max_bytes / 1e6:.1f} MB: {hint}", field="samples")

@@ -29,10 +29,20 @@ from synth.errors import (
 )
 
 from store import StoreUnavailable
+from store.library import (
+    InvalidDocument,
+    LibraryError,
+    NotFound,
+    ProjectExists,
+    SignOffRefused,
+    StaleParent,
+    WrongState,
+)
 
 from . import validation
 from .settings import Settings
 from .execution.admission import Overloaded
+from .library.access import Forbidden
 
 log = logging.getLogger("api")
 
@@ -243,6 +253,31 @@ async def _store_handler(_: Request, exc: Exception) -> JSONResponse:
                    reason=exc.reason)
 
 
+_LIBRARY: dict[type[LibraryError], tuple[int, str, str]] = {
+    NotFound: (404, "not-found", "Not found"),
+    StaleParent: (409, "stale-parent", "Stale parent revision"),
+    WrongState: (409, "wrong-state", "Revision in the wrong state"),
+    ProjectExists: (409, "project-exists", "Project exists"),
+    SignOffRefused: (403, "sign-off-refused", "Sign-off refused"),
+    InvalidDocument: (422, "invalid-input", "Invalid input"),
+}
+
+
+async def _library_handler(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, LibraryError)
+    status, slug, title = next(_LIBRARY[c] for c in type(exc).__mro__ if c in _LIBRARY)
+    extras: dict[str, Any] = {}
+    if isinstance(exc, StaleParent):
+        extras["head_revision"] = exc.head
+    if isinstance(exc, InvalidDocument):
+        extras["field"] = exc.field
+    return problem(status, slug, title, str(exc), **extras)
+
+
+async def _forbidden_handler(_: Request, exc: Exception) -> JSONResponse:
+    return problem(403, "forbidden", "Forbidden", str(exc))
+
+
 async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
     log.exception("unexpected error", exc_info=exc)
     return problem(500, "internal-error", "Internal error", "the service failed unexpectedly; the error was logged")
@@ -252,18 +287,22 @@ class BodyLimit:
     """ASGI middleware that reads the whole body before the app sees it: 413 past ``max_bytes`` (declared or
     streamed in chunks), 408 when the client takes longer than ``timeout_s`` to send it."""
 
-    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float) -> None:
+    def __init__(self, app: ASGIApp, max_bytes: int, timeout_s: float,
+                 larger: Mapping[str, int] | None = None) -> None:
         self.app = app
         self.max_bytes = max_bytes
         self.timeout_s = timeout_s
+        # paths whose bodies are whole files (a library export), with their own bound
+        self.larger = dict(larger or {})
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
+        limit = self.larger.get(scope.get("path", ""), self.max_bytes)
         declared = dict(scope.get("headers", [])).get(b"content-length")
-        if declared is not None and declared.isdigit() and int(declared) > self.max_bytes:
-            await self._too_large(scope, receive, send, int(declared))
+        if declared is not None and declared.isdigit() and int(declared) > limit:
+            await self._too_large(scope, receive, send, int(declared), limit)
             return
         loop = asyncio.get_running_loop()
         deadline = loop.time() + self.timeout_s
@@ -282,8 +321,8 @@ class BodyLimit:
                 return
             chunk = message.get("body", b"")
             size += len(chunk)
-            if size > self.max_bytes:
-                await self._too_large(scope, receive, send, size)
+            if size > limit:
+                await self._too_large(scope, receive, send, size, limit)
                 return
             chunks.append(chunk)
             if not message.get("more_body", False):
@@ -300,8 +339,8 @@ class BodyLimit:
 
         await self.app(scope, replay, send)
 
-    async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int) -> None:
-        response = problem_response(TooLarge("request body bytes", self.max_bytes, got))
+    async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int, limit: int) -> None:
+        response = problem_response(TooLarge("request body bytes", limit, got))
         response.headers["Connection"] = "close"
         await response(scope, receive, send)
 
@@ -311,10 +350,13 @@ def install(app: FastAPI, settings: Settings) -> None:
     app.add_exception_handler(SynthError, _synth_handler)
     app.add_exception_handler(Overloaded, _overloaded_handler)
     app.add_exception_handler(StoreUnavailable, _store_handler)
+    app.add_exception_handler(LibraryError, _library_handler)
+    app.add_exception_handler(Forbidden, _forbidden_handler)
     app.add_exception_handler(RequestValidationError, _validation_handler)
     app.add_exception_handler(StarletteHTTPException, _http_handler)
     app.add_exception_handler(Exception, _unexpected_handler)
-    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s)
+    app.add_middleware(BodyLimit, max_bytes=settings.max_body_bytes, timeout_s=settings.body_timeout_s,
+                       larger={"/v1/library/import": settings.max_import_bytes})
 
 
 def state_limits(doc: dict[str, Any], settings: Settings) -> None:

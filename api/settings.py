@@ -4,8 +4,11 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, ValidationError
+from pydantic import Field, SecretStr, ValidationError
 from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+SECRET_SETTINGS = frozenset({"session_key", "admin_password", "database_url"})
 
 
 class Settings(BaseSettings):
@@ -38,13 +41,64 @@ class Settings(BaseSettings):
     max_study_variants: int = Field(100_000, ge=1, le=10_000_000,
                                     description="Variants per design study; 413 beyond it.")
 
+    study_workers: int = Field(0, ge=0, le=256, description="Worker processes of the study lane, at a lower "
+                               "scheduling priority than the request workers; 0 means as many as those.")
+    study_lane: Literal["separate", "shared"] = Field(
+        "separate", description="separate: study tasks run on workers of their own (niced); shared: on the "
+                                "request workers, requests first, studies holding at most all but one.")
+    study_nice: int = Field(19, ge=0, le=19, description="Niceness of the study workers (0..19).")
+    max_running_studies: int = Field(4, ge=1, le=1000, description="Studies running at once; the others wait as "
+                                                                   "queued, owners taking turns.")
+    max_study_work_s: float = Field(7200.0, gt=0, le=1e9, description="A study's estimated work, its variants "
+                                    "times the estimated cost of one [worker-seconds]; 413 beyond it.")
+    max_owner_work_s: float = Field(21600.0, gt=0, le=1e10, description="Estimated work of one owner's queued and "
+                                    "running studies together [worker-seconds]; 413 beyond it.")
+    max_request_work_s: float = Field(120.0, gt=0, le=1e6, description="A request's estimated time on the "
+                                      "workers it is dealt to (path synthesis: starts x points); 413 beyond it.")
+    max_answer_bytes: int = Field(64_000_000, ge=10_000, le=10_000_000_000, description="Estimated size of an "
+                                  "answer; 413 beyond it (with the hint to ask for npz or fewer samples).")
+    spool_above_bytes: int = Field(1_000_000, ge=0, le=1_000_000_000, description="Answers larger than this are "
+                                   "written to a file by the worker and streamed from it.")
+    header_timeout_s: float = Field(10.0, gt=0, le=600, description="Time a client has to send a request's "
+                                    "headers; the connection is closed past it.")
+    keep_alive_s: float = Field(5.0, gt=0, le=600, description="Idle time a kept-alive connection stays open.")
+    max_connections: int = Field(1000, ge=1, le=1_000_000, description="Open connections at once; beyond, "
+                                 "new connections are answered 503 and closed.")
     database_url: str | None = Field(None, description="The store on a PostgreSQL server "
                                      "(postgresql://user:password@host:5432/db), shared by several service "
                                      "processes; unset: the SQLite file SYNTH_STUDIES_DB.")
+    max_import_bytes: int = Field(200_000_000, ge=1_000, le=10_000_000_000,
+                                  description="Body size of a library import (a project's export: answers and "
+                                              "design records of every revision); 413 beyond it.")
     study_lease_s: float = Field(30.0, ge=0.5, le=3600,
                                  description="How long a running study's claim lasts unless its process renews it "
                                              "(a third of this apart); another process takes a study whose "
                                              "process stopped this long after.")
+
+    auth: Literal["off", "on"] = Field("off", description="on: every /v1 request needs a signed-in user or an API "
+                                      "token with a role that allows it (an office server); off: open (a laptop).")
+    allowed_hosts: str = Field("localhost,127.0.0.1,::1", min_length=1,
+                               description="Comma-separated host names the service answers to (the Host header; "
+                                           "*.example.com for subdomains, * for any); 400 for others.")
+    cors_origins: str = Field("", description="Comma-separated origins (https://cad.example.com) whose pages may "
+                                             "call the API from another site; none by default.")
+    behind_tls: bool = Field(False, description="The service is reached over HTTPS (a TLS proxy in front): cookies "
+                                                "are Secure and browsers are told to keep to HTTPS.")
+    session_key: SecretStr | None = Field(None, min_length=32, max_length=1024, description="Key signing the sign-in cookies (32+ characters); "
+                                                            "unset: a random key, so restarts sign everyone out.")
+    session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
+    admin_name: str | None = Field(None, min_length=1, max_length=64,
+                                   description="A first admin created at start when no user of that name exists.")
+    admin_password: SecretStr | None = Field(None, description="The first admin's password (with admin_name).")
+
+    def host_list(self) -> list[str]:
+        """The allowed hosts as the Host header spells them (IPv6 addresses in brackets)."""
+        hosts = [h.strip().lower() for h in self.allowed_hosts.split(",") if h.strip()]
+        return [f"[{h}]" if ":" in h and not h.startswith("[") else h for h in hosts]
+
+    def origin_list(self) -> list[str]:
+        """The origins allowed to call from another site, without a trailing slash."""
+        return [o.strip().rstrip("/") for o in self.cors_origins.split(",") if o.strip()]
 
     @classmethod
     def from_env(cls) -> Settings:
@@ -52,6 +106,8 @@ class Settings(BaseSettings):
         try:
             return cls()
         except ValidationError as exc:
-            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']} (got {e.get('input')!r})"
+            # a secret's value is never echoed (the message may end up in a log)
+            lines = [f"SYNTH_{'_'.join(str(p) for p in e['loc']).upper()}: {e['msg']}"
+                     + ("" if e["loc"][:1] and e["loc"][0] in SECRET_SETTINGS else f" (got {e.get('input')!r})")
                      for e in exc.errors()]
             raise SystemExit("invalid service settings:\n  " + "\n  ".join(lines)) from None

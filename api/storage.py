@@ -29,7 +29,9 @@ def migrate_at_start(store: Store) -> None:
     except StoreUnavailable as exc:
         log.error("%s; the service starts without it", exc)
     except MigrationFailed as exc:
-        raise SystemExit(f"the service cannot start: {exc}") from exc
+        # raised out of the start-up: the server reports the failed start with this reason and exits
+        log.critical("the service cannot start: %s", exc)
+        raise
 
 
 def store_status(store: Store) -> dict[str, Any]:

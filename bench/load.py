@@ -1,21 +1,34 @@
-"""Load on a real server over loopback: latency percentiles, throughput, errors and memory, alone and mixed.
+"""Load on a real server over loopback: fairness between studies and requests, memory under large answers,
+and (``--classic``) latency percentiles, throughput, errors and memory, alone and mixed.
 
-``python -m bench.load`` starts ``uvicorn api.app:app`` on a free loopback port with 1 and then 2 workers and
-drives it with concurrent clients, each scenario bounded in request count and in time. It reports, per scenario,
-p50/p95/p99 latency, requests per second, non-2xx answers and the server's RSS (all its processes) before and
-after; then the solver throughput ratio from 1 to 2 workers and /health's p99 while every worker is busy.
-``--soak N`` adds N analysis requests of 3600 samples (4 MB answers) to check that memory stays flat.
+``python -m bench.load`` starts ``uvicorn api.app:app`` on a free loopback port with 2 workers and measures, each
+scenario bounded in count and time:
+
+- fairness: a 90-sample analysis (one client, 0.1 s between requests) and ``/health`` (every 20 ms) on an idle
+  service; then 12 design studies of static balancing (2 000 variants each) alone, timed from submission to the
+  last one done; then the same 12 studies again with the analysis and health clients running beside them. It
+  prints analysis p50/p95 and health p99 idle and beside the studies, and the studies' time beside the requests
+  over their time alone;
+- large answers: 16 clients each asking for a 20 000-sample analysis (about 22 MB of JSON) and reading it
+  slowly (64 kB every 20 ms); it prints the web process's own peak RSS (VmHWM, the workers not counted).
+
+``--baseline DIR`` runs the same scenarios on another checkout of the service (say ``git archive main`` unpacked
+in a temporary directory) in the same run and prints both side by side; ``--shared`` adds this checkout with
+``SYNTH_STUDY_LANE=shared`` (studies on the request workers, requests first at task boundaries). ``--classic`` runs the former
+scenarios on 1 and 2 workers; ``--soak N`` adds N analysis requests of 3600 samples (4 MB answers) to them.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import math
 import os
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -90,12 +103,14 @@ def _rss_mb(pid: int) -> float:
 
 
 @contextmanager
-def server(workers: int, queue_size: int = 64) -> Iterator[tuple[str, int]]:
-    """A uvicorn server on loopback with ``workers`` worker processes; yields its URL and pid."""
+def server(workers: int, queue_size: int = 64, repo: Path = REPO,
+           extra_env: dict[str, str] | None = None) -> Iterator[tuple[str, int]]:
+    """A uvicorn server on loopback with ``workers`` worker processes, run from the checkout ``repo``; yields
+    its URL and pid."""
     port = _free_port()
-    env = {**os.environ, "SYNTH_WORKERS": str(workers), "SYNTH_QUEUE_SIZE": str(queue_size)}
+    env = {**os.environ, "SYNTH_WORKERS": str(workers), "SYNTH_QUEUE_SIZE": str(queue_size), **(extra_env or {})}
     proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "api.app:app", "--host", "127.0.0.1", "--port",
-                             str(port), "--log-level", "warning"], cwd=REPO, env=env, start_new_session=True)
+                             str(port), "--log-level", "warning"], cwd=repo, env=env, start_new_session=True)
     url = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + 60
@@ -154,13 +169,181 @@ def run(mix: dict[str, int], url: str, pid: int, per_client: int, limit_s: float
     return tallies
 
 
+STUDY = {
+    "endpoint": "/v1/balancing/static",
+    "base": {"mechanism": FOURBAR, "speed_rpm": 300, "samples": 90, "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
+    "parameters": [{"path": "mechanism.crank_length_m", "range": [0.05, 0.12]},
+                   {"path": "mechanism.coupler_length_m", "range": [0.30, 0.40]},
+                   {"path": "mechanism.rocker_length_m", "range": [0.20, 0.30]},
+                   {"path": "mass_budget_kg", "range": [2.0, 6.0]}],
+    "sampling": "lhs", "samples": 2000, "seed": 1,
+    "metrics": ["summary_after.rms_shaking_force_N", "total_added_mass_kg"],
+}
+ANALYSIS_90 = {"mechanism": FOURBAR, "speed_rpm": 300, "samples": 90}
+LARGE = {"mechanism": FOURBAR, "speed_rpm": 300, "samples": 20000}
+
+
+async def _probe(http: httpx.AsyncClient, method: str, path: str, body: dict[str, Any] | None, pause_s: float,
+                 stop: asyncio.Event, tally: Tally) -> None:
+    """One client sending the same request with a pause between answers until ``stop``."""
+    while not stop.is_set():
+        start = time.perf_counter()
+        try:
+            status = (await http.request(method, path, json=body)).status_code
+        except httpx.HTTPError:
+            status = 0
+        tally.latencies.append(time.perf_counter() - start)
+        tally.statuses[status] = tally.statuses.get(status, 0) + 1
+        tally.errors += not 200 <= status < 300
+        try:
+            await asyncio.wait_for(stop.wait(), pause_s)
+        except asyncio.TimeoutError:
+            pass
+
+
+async def _studies(http: httpx.AsyncClient, count: int, variants: int, limit_s: float) -> tuple[float, int]:
+    """Submit ``count`` studies and wait for all to end; their time from the first submission [s] and how many
+    ended done."""
+    start = time.perf_counter()
+    ids = []
+    for k in range(count):
+        r = await http.post("/v1/studies", json={**STUDY, "samples": variants, "seed": k + 1})
+        r.raise_for_status()
+        ids.append(r.json()["id"])
+    while time.perf_counter() - start < limit_s:
+        states = [(await http.get(f"/v1/studies/{i}")).json()["state"] for i in ids]
+        if all(s not in ("queued", "running") for s in states):
+            return time.perf_counter() - start, states.count("done")
+        await asyncio.sleep(0.25)
+    return math.inf, 0
+
+
+async def _fairness(url: str, args: argparse.Namespace) -> dict[str, float]:
+    out: dict[str, float] = {}
+    async with httpx.AsyncClient(base_url=url, timeout=120) as http:
+        for _ in range(5):
+            (await http.post("/v1/analysis", json=ANALYSIS_90)).raise_for_status()
+        for phase in ("idle", "studies"):
+            stop = asyncio.Event()
+            analysis, health = Tally(), Tally()
+            probes = [asyncio.create_task(_probe(http, "POST", "/v1/analysis", ANALYSIS_90, 0.1, stop, analysis)),
+                      asyncio.create_task(_probe(http, "GET", "/health", None, 0.02, stop, health))]
+            if phase == "idle":
+                await asyncio.sleep(args.idle_s)
+            else:
+                out["studies_beside_s"], out["done_beside"] = await _studies(http, args.studies, args.variants,
+                                                                             args.limit_s)
+            stop.set()
+            await asyncio.gather(*probes)
+            a = np.percentile(np.array(analysis.latencies) * 1e3, [50, 95])
+            out[f"analysis_p50_{phase}_ms"], out[f"analysis_p95_{phase}_ms"] = float(a[0]), float(a[1])
+            out[f"health_p99_{phase}_ms"] = float(np.percentile(np.array(health.latencies) * 1e3, 99))
+            out[f"errors_{phase}"] = analysis.errors + health.errors
+            if phase == "idle":
+                out["studies_alone_s"], out["done_alone"] = await _studies(http, args.studies, args.variants,
+                                                                           args.limit_s)
+    return out
+
+
+def _hwm_mb(pid: int) -> float:
+    """Peak resident memory of one process since it started (VmHWM) [MiB]."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1]) / 1024
+    return math.nan
+
+
+async def _slow_reader(http: httpx.AsyncClient, tally: Tally) -> int:
+    start = time.perf_counter()
+    size = 0
+    async with http.stream("POST", "/v1/analysis", json=LARGE) as r:
+        async for chunk in r.aiter_raw(65536):
+            size += len(chunk)
+            await asyncio.sleep(0.02)
+    tally.latencies.append(time.perf_counter() - start)
+    tally.statuses[r.status_code] = tally.statuses.get(r.status_code, 0) + 1
+    return size
+
+
+async def _large_answers(url: str, pid: int, clients: int) -> dict[str, float]:
+    tally = Tally()
+    before = _hwm_mb(pid)
+    async with httpx.AsyncClient(base_url=url, timeout=600, limits=httpx.Limits(max_connections=clients + 2)) as http:
+        sizes = await asyncio.gather(*(_slow_reader(http, tally) for _ in range(clients)))
+    return {"rss_peak_before_mb": before, "rss_peak_mb": _hwm_mb(pid), "answer_mb": max(sizes) / 1e6,
+            "large_s": max(tally.latencies), "large_ok": tally.statuses.get(200, 0)}
+
+
+def measure(repo: Path, args: argparse.Namespace, extra_env: dict[str, str] | None = None) -> dict[str, float]:
+    """The fairness and large-answer figures of the service in ``repo`` (with ``extra_env`` set)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite"), **(extra_env or {})}
+        with server(2, repo=repo, extra_env=env) as (url, pid):
+            figures = asyncio.run(_fairness(url, args))
+        with server(2, repo=repo, extra_env=env) as (url, pid):
+            figures |= asyncio.run(_large_answers(url, pid, args.large_clients))
+    return figures
+
+
+ROWS = [
+    ("analysis_p50_idle_ms", "analysis 90 samples p50, idle [ms]"),
+    ("analysis_p95_idle_ms", "analysis 90 samples p95, idle [ms]"),
+    ("health_p99_idle_ms", "/health p99, idle [ms]"),
+    ("analysis_p50_studies_ms", "analysis p50 beside 12 studies [ms]"),
+    ("analysis_p95_studies_ms", "analysis p95 beside 12 studies [ms] (goal <= 150)"),
+    ("health_p99_studies_ms", "/health p99 beside 12 studies [ms] (goal <= 50)"),
+    ("studies_alone_s", "12 studies alone [s]"),
+    ("studies_beside_s", "12 studies beside the requests [s]"),
+    ("studies_ratio", "studies beside / alone (goal <= 1.15)"),
+    ("errors_studies", "analysis and health errors beside studies"),
+    ("answer_mb", "large answer size [MB]"),
+    ("large_s", "slowest large answer read [s]"),
+    ("rss_peak_before_mb", "web process peak RSS before them [MiB]"),
+    ("rss_peak_mb", "web process peak RSS, 16 large answers, slow readers [MiB]"),
+]
+
+
+def fairness_main(args: argparse.Namespace) -> None:
+    """The fairness and memory figures, for this checkout and the baseline when one is given."""
+    trees: list[tuple[str, Path, dict[str, str]]] = [("this", REPO, {})]
+    if args.shared:
+        trees.append(("shared", REPO, {"SYNTH_STUDY_LANE": "shared"}))
+    if args.baseline:
+        trees.append(("baseline", Path(args.baseline), {}))
+    results = {}
+    for name, repo, env in trees:
+        print(f"== {name}: {repo} {env or ''}", flush=True)
+        figures = measure(repo, args, env)
+        figures["studies_ratio"] = figures["studies_beside_s"] / figures["studies_alone_s"]
+        results[name] = figures
+        for key, label in ROWS:
+            print(f"  {label:62s} {figures.get(key, math.nan):10.2f}", flush=True)
+    if len(results) > 1:
+        names = [n for n in ("baseline", "shared", "this") if n in results]
+        print(f"{'':64s} " + " ".join(f"{n:>10s}" for n in names))
+        for key, label in ROWS:
+            print(f"  {label:62s} " + " ".join(f"{results[n].get(key, math.nan):10.2f}" for n in names))
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Scenarios on 1 and 2 workers, bounded in count and time."""
+    """The fairness and memory scenarios (or the classic ones on 1 and 2 workers), bounded in count and time."""
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--per-client", type=int, default=40, help="requests per client per scenario")
-    parser.add_argument("--limit-s", type=float, default=20.0, help="time bound per scenario [s]")
+    parser.add_argument("--limit-s", type=float, default=240.0, help="time bound per scenario [s]")
     parser.add_argument("--soak", type=int, default=0, help="extra analysis requests for the memory check")
+    parser.add_argument("--classic", action="store_true", help="the former scenarios on 1 and 2 workers")
+    parser.add_argument("--baseline", help="another checkout of the service to measure in the same run")
+    parser.add_argument("--shared", action="store_true",
+                        help="also measure this checkout with SYNTH_STUDY_LANE=shared (one lane, requests first)")
+    parser.add_argument("--studies", type=int, default=12, help="studies submitted at once")
+    parser.add_argument("--variants", type=int, default=2000, help="variants per study")
+    parser.add_argument("--idle-s", type=float, default=8.0, help="time of the idle measurement [s]")
+    parser.add_argument("--large-clients", type=int, default=16, help="slow readers of large answers")
     args = parser.parse_args(argv)
+    if not args.classic:
+        fairness_main(args)
+        return
+    args.limit_s = min(args.limit_s, 20.0)
     throughput: dict[tuple[str, int], float] = {}
     for workers in (1, 2):
         print(f"== {workers} worker(s)")

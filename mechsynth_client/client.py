@@ -30,6 +30,7 @@ from typing import Any, Literal, TypeVar
 import httpx
 from pydantic import BaseModel
 
+from .library import AsyncLibraryClient, LibraryClient
 from .schemas.analysis import AnalysisIn, AnalysisOut
 from .schemas.balancing import (
     BalanceIn,
@@ -47,9 +48,20 @@ from .schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 from .schemas.gearing import DriveIn, DriveOut, MotorOut, SplitIn, SplitOut, StageTypeOut, TeethIn, TeethOut
 from .schemas.rating import GearMaterialOut, RatingIn, RatingOut
 from .schemas.machine import MachineDesignOut, MachineIn
+from .schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+    RegulationIn,
+    RegulationOut,
+)
 from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
 from .schemas.synthesis import (
     CrankRockerIn,
     CrankRockerOut,
@@ -59,6 +71,7 @@ from .schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from .schemas.studies import StudyIn, StudyOut
+from .schemas.auth import NewTokenOut, SessionOut, SignInIn, TokenIn, TokenOut, UserIn, UserOut, UserPatchIn
 from .studies import AsyncStudyHandle, StudyHandle
 
 __all__ = [
@@ -77,6 +90,8 @@ __all__ = [
     "SynthClient",
     "SynthesisKind",
     "TooLargeError",
+    "UnauthorizedError",
+    "ForbiddenError",
 ]
 
 M = TypeVar("M", bound=BaseModel)
@@ -120,6 +135,14 @@ class SolverTimeoutError(ProblemError):
 
 class TooLargeError(ProblemError):
     """The request exceeded a size limit."""
+
+
+class UnauthorizedError(ProblemError):
+    """401: the service has authentication on and the client gave no valid token (``SynthClient(url, token=...)``)."""
+
+
+class ForbiddenError(ProblemError):
+    """403: the caller's roles do not allow the request, or it came from another site's page."""
 
 
 class ServiceBusyError(ProblemError):
@@ -188,11 +211,23 @@ def _retry_after_s(response: httpx.Response) -> float | None:
 class _Policy:
     """What the sync and async clients share: the retry policy, encoding requests and decoding problems."""
 
-    def __init__(self, retries: int, max_retry_wait_s: float) -> None:
+    def __init__(self, retries: int, max_retry_wait_s: float, token: str | None = None) -> None:
         if retries < 0 or not max_retry_wait_s >= 0:
             raise ValueError("retries and max_retry_wait_s must not be negative")
         self.retries = retries
         self.max_retry_wait_s = max_retry_wait_s
+        # kept out of repr and logs; sent on every request
+        self._token = token
+        self._csrf: str | None = None
+
+    def _credentials(self, kwargs: dict[str, Any]) -> dict[str, Any]:
+        """The request's keyword arguments with the API token (or a signed-in session's CSRF token) added."""
+        headers = dict(kwargs.get("headers") or {})
+        if self._token is not None:
+            headers["authorization"] = f"Bearer {self._token}"
+        if self._csrf is not None:
+            headers["x-csrf-token"] = self._csrf
+        return {**kwargs, "headers": headers} if headers else kwargs
 
     def _wait_s(self, response: httpx.Response, attempt: int) -> float | None:
         """Seconds to wait before asking again, or None when this answer is final."""
@@ -215,6 +250,8 @@ class _Policy:
         if response.status_code == 503:
             raise ServiceBusyError(response.status_code, body, _retry_after_s(response))
         cls = _BY_TYPE.get(str(body.get("type", "")), ProblemError)
+        if cls is ProblemError and response.status_code in (401, 403):
+            cls = UnauthorizedError if response.status_code == 401 else ForbiddenError
         raise cls(response.status_code, body)
 
     @staticmethod
@@ -245,10 +282,10 @@ class SynthClient(_Policy):
     """Client of the mechanism synthesis service over a given ``httpx.Client`` or a base URL."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0,
-                 retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
+                 retries: int = 3, max_retry_wait_s: float = 30.0, token: str | None = None) -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.Client")
-        super().__init__(retries, max_retry_wait_s)
+        super().__init__(retries, max_retry_wait_s, token)
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
@@ -264,7 +301,7 @@ class SynthClient(_Policy):
             warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
             from fastapi.testclient import TestClient
 
-        return cls(http=TestClient(_service_app(executor)))
+        return cls(http=TestClient(_service_app(executor), base_url="http://localhost"))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -279,7 +316,7 @@ class SynthClient(_Policy):
     def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            request = self.http.build_request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **self._credentials(kwargs))
             try:
                 response = self.http.send(request)
             except httpx.TransportError as exc:
@@ -450,6 +487,36 @@ class SynthClient(_Policy):
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation: the machine's frame on isolators and what the foundation feels."""
+        return self._post("/v1/machines/isolation", body, IsolationOut)
+
+    def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png: force to the foundation, the frame's orbit, transmissibility."""
+        return self._export("/v1/machines/isolation", body, format).content
+
+    def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design: one isolator type (and an inertia block) for a force or amplitude
+        limit."""
+        return self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
+    def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive: the two-mass drive with an elastic link, its natural frequency, the
+        torque in the link and the run-up."""
+        return self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png: the link's torque against the rigid model's, the run-up."""
+        return self._export("/v1/machines/elastic-drive", body, format).content
+
+    def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation: the speed after a load step, self-regulated or with a PI controller."""
+        return self._post("/v1/machines/regulation", body, RegulationOut)
+
+    def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png: speed and torques over time."""
+        return self._export("/v1/machines/regulation", body, format).content
+
     def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker: the best crank-rocker for a rocker swing and a time ratio."""
         return self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -483,14 +550,88 @@ class SynthClient(_Policy):
         handle.status()
         return handle
 
+    def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis: a disc cam over one turn with its checks."""
+        return self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis: the least cam for pressure-angle and curvature limits."""
+        return self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    def cam_file(self, body: CamAnalysisIn | CamSynthesisIn, format: Literal["png", "svg", "pdf", "csv", "dxf"]
+                 = "png") -> bytes:
+        """The cam's figure (png, svg, pdf), point table (csv) or profile drawing (dxf, millimetres)."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return self._export(f"/v1/cams/{kind}", body, format).content
+
+    def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws: the standard motion laws' peak coefficients."""
+        return self._get_rows("/v1/cams/laws", MotionLawOut)
+
+    @property
+    def library(self) -> LibraryClient:
+        """The design library: save, history, search, diff, restore, sign-off, export and import."""
+        return LibraryClient(self)
+
+    def session(self) -> SessionOut:
+        """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
+        return SessionOut.model_validate_json(self._send("GET", "/v1/auth/session").content)
+
+    def sign_in(self, name: str, password: str) -> SessionOut:
+        """POST /v1/auth/signin: sign in with a name and password (a notebook without a token); the session cookie
+        and its CSRF token go with every later request of this client."""
+        body = SignInIn(name=name, password=password)
+        out = SessionOut.model_validate_json(self._send("POST", "/v1/auth/signin", json=self._json(body)).content)
+        self._csrf = out.csrf_token
+        return out
+
+    def sign_out(self) -> None:
+        """POST /v1/auth/signout: end this client's signed-in session."""
+        self._send("POST", "/v1/auth/signout")
+        self._csrf = None
+
+    def users(self) -> list[UserOut]:
+        """GET /v1/users (admins): every user with its roles."""
+        return self._get_rows("/v1/users", UserOut)
+
+    def user(self, name: str) -> UserOut:
+        """GET /v1/users/{name} (admins)."""
+        return UserOut.model_validate_json(self._send("GET", f"/v1/users/{name}").content)
+
+    def add_user(self, body: UserIn) -> UserOut:
+        """POST /v1/users (admins): make a user with a password and roles."""
+        return self._post("/v1/users", body, UserOut)
+
+    def update_user(self, name: str, body: UserPatchIn) -> UserOut:
+        """PATCH /v1/users/{name} (admins): a new password, new roles, or both."""
+        response = self._send("PATCH", f"/v1/users/{name}", json=self._json(body))
+        return UserOut.model_validate_json(response.content)
+
+    def remove_user(self, name: str) -> None:
+        """DELETE /v1/users/{name} (admins): the user and its tokens."""
+        self._send("DELETE", f"/v1/users/{name}")
+
+    def user_tokens(self, name: str) -> list[TokenOut]:
+        """GET /v1/users/{name}/tokens (admins): a user's tokens, without their secrets."""
+        return self._get_rows(f"/v1/users/{name}/tokens", TokenOut)
+
+    def add_token(self, name: str, body: TokenIn) -> NewTokenOut:
+        """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
+        return self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
+
+    def revoke_token(self, token_id: str) -> None:
+        """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
+        self._send("DELETE", f"/v1/tokens/{token_id}")
+
 class AsyncSynthClient(_Policy):
     """The same client for asyncio: every method of :class:`SynthClient` as a coroutine, over ``httpx.AsyncClient``."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.AsyncClient | None = None,
-                 timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0) -> None:
+                 timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0,
+                 token: str | None = None) -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.AsyncClient")
-        super().__init__(retries, max_retry_wait_s)
+        super().__init__(retries, max_retry_wait_s, token)
         self.http = http if http is not None else httpx.AsyncClient(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
@@ -498,7 +639,7 @@ class AsyncSynthClient(_Policy):
         """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
         as in :meth:`SynthClient.in_process`."""
         transport = httpx.ASGITransport(app=_service_app(executor))
-        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://in-process"))
+        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://localhost"))
 
     async def aclose(self) -> None:
         """Close the underlying HTTP client."""
@@ -513,7 +654,7 @@ class AsyncSynthClient(_Policy):
     async def _send(self, method: str, path: str, **kwargs: Any) -> httpx.Response:
         attempt = 0
         while True:
-            request = self.http.build_request(method, path, **kwargs)
+            request = self.http.build_request(method, path, **self._credentials(kwargs))
             try:
                 response = await self.http.send(request)
             except httpx.TransportError as exc:
@@ -675,6 +816,34 @@ class AsyncSynthClient(_Policy):
         """POST /v1/machines/optimise."""
         return await self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    async def isolate_machine(self, body: IsolationIn) -> IsolationOut:
+        """POST /v1/machines/isolation."""
+        return await self._post("/v1/machines/isolation", body, IsolationOut)
+
+    async def isolation_png(self, body: IsolationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/isolation?format=png."""
+        return (await self._export("/v1/machines/isolation", body, format)).content
+
+    async def design_isolation(self, body: IsolationDesignIn) -> IsolationDesignOut:
+        """POST /v1/machines/isolation/design."""
+        return await self._post("/v1/machines/isolation/design", body, IsolationDesignOut)
+
+    async def elastic_drive(self, body: ElasticDriveIn) -> ElasticDriveOut:
+        """POST /v1/machines/elastic-drive."""
+        return await self._post("/v1/machines/elastic-drive", body, ElasticDriveOut)
+
+    async def elastic_drive_png(self, body: ElasticDriveIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/elastic-drive?format=png."""
+        return (await self._export("/v1/machines/elastic-drive", body, format)).content
+
+    async def regulation(self, body: RegulationIn) -> RegulationOut:
+        """POST /v1/machines/regulation."""
+        return await self._post("/v1/machines/regulation", body, RegulationOut)
+
+    async def regulation_png(self, body: RegulationIn, format: FigureFormat = "png") -> bytes:
+        """POST /v1/machines/regulation?format=png."""
+        return (await self._export("/v1/machines/regulation", body, format)).content
+
     async def synthesise_crank_rocker(self, body: CrankRockerIn) -> CrankRockerOut:
         """POST /v1/synthesis/crank-rocker."""
         return await self._post("/v1/synthesis/crank-rocker", body, CrankRockerOut)
@@ -706,3 +875,77 @@ class AsyncSynthClient(_Policy):
         handle = AsyncStudyHandle(self, study_id)
         await handle.status()
         return handle
+
+    async def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
+        """POST /v1/cams/analysis."""
+        return await self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    async def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
+        """POST /v1/cams/synthesis."""
+        return await self._post("/v1/cams/synthesis", body, CamSynthesisOut)
+
+    async def cam_file(self, body: CamAnalysisIn | CamSynthesisIn,
+                       format: Literal["png", "svg", "pdf", "csv", "dxf"] = "png") -> bytes:
+        """The cam's figure, point table or profile drawing."""
+        kind = "analysis" if isinstance(body, CamAnalysisIn) else "synthesis"
+        return (await self._export(f"/v1/cams/{kind}", body, format)).content
+
+    async def cam_laws(self) -> list[MotionLawOut]:
+        """GET /v1/cams/laws."""
+        return await self._get_rows("/v1/cams/laws", MotionLawOut)
+
+    @property
+    def library(self) -> AsyncLibraryClient:
+        """The design library, as coroutines: save, history, revision, diff, sign-off, export and import."""
+        return AsyncLibraryClient(self)
+
+    async def session(self) -> SessionOut:
+        """GET /v1/auth/session: whether authentication is on, and who this client acts as, with which roles."""
+        return SessionOut.model_validate_json((await self._send("GET", "/v1/auth/session")).content)
+
+    async def sign_in(self, name: str, password: str) -> SessionOut:
+        """POST /v1/auth/signin: sign in with a name and password (a notebook without a token); the session cookie
+        and its CSRF token go with every later request of this client."""
+        body = SignInIn(name=name, password=password)
+        out = SessionOut.model_validate_json(
+            (await self._send("POST", "/v1/auth/signin", json=self._json(body))).content)
+        self._csrf = out.csrf_token
+        return out
+
+    async def sign_out(self) -> None:
+        """POST /v1/auth/signout: end this client's signed-in session."""
+        await self._send("POST", "/v1/auth/signout")
+        self._csrf = None
+
+    async def users(self) -> list[UserOut]:
+        """GET /v1/users (admins): every user with its roles."""
+        return await self._get_rows("/v1/users", UserOut)
+
+    async def user(self, name: str) -> UserOut:
+        """GET /v1/users/{name} (admins)."""
+        return UserOut.model_validate_json((await self._send("GET", f"/v1/users/{name}")).content)
+
+    async def add_user(self, body: UserIn) -> UserOut:
+        """POST /v1/users (admins): make a user with a password and roles."""
+        return await self._post("/v1/users", body, UserOut)
+
+    async def update_user(self, name: str, body: UserPatchIn) -> UserOut:
+        """PATCH /v1/users/{name} (admins): a new password, new roles, or both."""
+        response = await self._send("PATCH", f"/v1/users/{name}", json=self._json(body))
+        return UserOut.model_validate_json(response.content)
+
+    async def remove_user(self, name: str) -> None:
+        """DELETE /v1/users/{name} (admins): the user and its tokens."""
+        await self._send("DELETE", f"/v1/users/{name}")
+
+    async def user_tokens(self, name: str) -> list[TokenOut]:
+        """GET /v1/users/{name}/tokens (admins): a user's tokens, without their secrets."""
+        return await self._get_rows(f"/v1/users/{name}/tokens", TokenOut)
+
+    async def add_token(self, name: str, body: TokenIn) -> NewTokenOut:
+        """POST /v1/users/{name}/tokens (admins): a new API token for a user, its secret shown this once."""
+        return await self._post(f"/v1/users/{name}/tokens", body, NewTokenOut)
+
+    async def revoke_token(self, token_id: str) -> None:
+        """DELETE /v1/tokens/{token_id} (admins): revoke a token at once."""
+        await self._send("DELETE", f"/v1/tokens/{token_id}")

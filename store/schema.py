@@ -13,10 +13,12 @@ from sqlalchemy import (
     ForeignKey,
     Index,
     Integer,
+    LargeBinary,
     MetaData,
     String,
     Table,
     Text,
+    UniqueConstraint,
 )
 
 metadata = MetaData()
@@ -68,4 +70,49 @@ api_tokens = Table(
     Column("created_at", Float, nullable=False),
     Column("last_used_at", Float),
     Index("ix_api_tokens_user_id", "user_id"),
+)
+
+projects = Table(
+    "projects", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("name", String(100), nullable=False, unique=True),
+    Column("created_at", Float, nullable=False),
+    Column("created_by", String(100), nullable=False),
+)
+
+designs = Table(
+    "designs", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("project_id", Integer, ForeignKey("projects.id"), nullable=False),
+    Column("name", String(100), nullable=False),
+    # the endpoint whose request every revision of the design is, e.g. /v1/machines/design
+    Column("endpoint", String(100), nullable=False),
+    Column("created_at", Float, nullable=False),
+    Column("created_by", String(100), nullable=False),
+    UniqueConstraint("project_id", "name", name="uq_designs_project_name"),
+)
+
+revisions = Table(
+    "revisions", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("design_id", Integer, ForeignKey("designs.id"), nullable=False),
+    Column("number", Integer, nullable=False),
+    Column("parent", Integer),
+    Column("request", Text, nullable=False),
+    Column("content_hash", String(64), nullable=False),
+    Column("author", String(100), nullable=False),
+    Column("created_at", Float, nullable=False),
+    Column("message", Text, nullable=False),
+    Column("answer", Text),
+    Column("passed", Boolean),
+    Column("record_pdf", LargeBinary),
+    Column("state", String(16), nullable=False),
+    Column("checked_by", String(100)),
+    Column("checked_at", Float),
+    Column("approved_by", String(100)),
+    Column("approved_at", Float),
+    Column("superseded_by", Integer),
+    UniqueConstraint("design_id", "number", name="uq_revisions_design_number"),
+    Index("ix_revisions_content_hash", "content_hash"),
+    Index("ix_revisions_created_at", "created_at"),
 )

@@ -133,6 +133,15 @@ class SqlStudyStore:
                                elapsed_s=s.elapsed_s + sa.func.coalesce(now - s.run_started_at, 0.0),
                                run_started_at=None, lease_owner=None, lease_expires=None))
 
+    def cancel(self, study_id: str) -> bool:
+        """Cancel a queued or running study whichever process runs it: its rows are refused from now on and its
+        process stops the run when it next renews its lease. False when it was not queued or running."""
+        with self.store.write() as db:
+            return db.execute(studies.update().where(studies.c.id == study_id,
+                                                     studies.c.state.in_(("queued", "running")))
+                              .values(state="cancelled", message="cancelled; finished variants are kept")
+                              ).rowcount == 1
+
     def sweep(self) -> int:
         """Studies queued or running whose lease lapsed (their process stopped) become ``interrupted``; how many.
         A study whose lease is live is another process's, running: it is left alone."""
@@ -140,15 +149,18 @@ class SqlStudyStore:
         now = time.time()
         # the smaller of two values: SQLite's two-argument min(), PostgreSQL's least()
         least = sa.func.min if self.store.dialect == "sqlite" else sa.func.least
+        greatest = sa.func.max if self.store.dialect == "sqlite" else sa.func.greatest
         with self.store.write() as db:
             swept = db.execute(
                 studies.update()
                 .where(s.state.in_(("queued", "running")),
                        sa.or_(s.lease_expires.is_(None), s.lease_expires < now))
                 .values(state="interrupted", message="the service stopped while it ran",
-                        # the run ended when its lease lapsed, not now
-                        elapsed_s=s.elapsed_s + sa.func.coalesce(
-                            least(now, sa.func.coalesce(s.lease_expires, now)) - s.run_started_at, 0.0),
+                        # the run is known to have gone on until its lease was last renewed (a batch written, a
+                        # heartbeat): neither the rest of the lease nor the time the service was down is running
+                        elapsed_s=s.elapsed_s + greatest(0.0, sa.func.coalesce(
+                            least(now, sa.func.coalesce(s.lease_expires - self.lease_s, now)) - s.run_started_at,
+                            0.0)),
                         run_started_at=None, lease_owner=None, lease_expires=None))
             return swept.rowcount
 

@@ -6,28 +6,36 @@ solver work is a plain function of plain data submitted as a task. Three executo
 same input, because every task runs the same function with BLAS limited to one thread:
 
 - :class:`SerialExecutor` runs each task in one background thread of this process (tests, the engine as a library);
-- :class:`LocalPoolExecutor` runs tasks on worker processes (the service's default, one per core); a task past its
-  timeout, or cancelled while running, has its worker killed and replaced, and a worker that dies (segfault, out
-  of memory) fails only its own task with :class:`WorkerLost`;
+- :class:`LocalPoolExecutor` runs tasks on worker processes (the service's default, one per core), each watched by
+  a thread of this process; a task past its timeout, or cancelled while running, has its worker killed and
+  replaced; a worker that dies (segfault, out of memory, killed) is replaced whether it was idle or busy, and
+  fails only its own task with :class:`WorkerLost`; background tasks (studies) run in a lane of their own;
 - :class:`DaskExecutor` sends tasks to a ``distributed`` scheduler (a ``LocalCluster`` or ``Client(address)``).
 """
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
 import ctypes
 import functools
 import gc
+import logging
+import math
 import multiprocessing
+import multiprocessing.connection
 import os
 import resource
 import threading
+import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
 from .errors import SolverTimeout, TooLarge, WorkerLost
 
 T = TypeVar("T")
+log = logging.getLogger("synth.execution")
 
 # Read by OpenBLAS, MKL and OpenMP when a worker first loads them; threadpoolctl covers libraries loaded earlier.
 _THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
@@ -127,99 +135,434 @@ class SerialExecutor:
         self._pool.shutdown(wait=False, cancel_futures=True)
 
 
+#: The lanes of a pool: requests someone is waiting for, and background work (design studies).
+INTERACTIVE, BATCH = "interactive", "batch"
+# How often a slot looks at a running task's cancellation and at an idle worker's life [s].
+_POLL_S = 0.05
+_IDLE_CHECK_S = 0.25
+
+
+class _PoolFuture(cf.Future):  # type: ignore[type-arg]
+    """A pool task's future: cancelling it while it runs stops its worker (a plain Future refuses that), and it
+    records when its task left the queue (``started_at``, ``time.monotonic()`` seconds; None while queued)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.started_at: float | None = None
+
+    def cancel(self) -> bool:
+        with self._condition:
+            if self._state == "FINISHED":
+                return False
+            if self._state in ("CANCELLED", "CANCELLED_AND_NOTIFIED"):
+                return True
+            self._state = "CANCELLED"
+            self._condition.notify_all()
+        self._invoke_callbacks()  # type: ignore[attr-defined]
+        return True
+
+
+@dataclass(slots=True, eq=False)
+class _Task:
+    fn: Callable[..., Any]
+    args: tuple[Any, ...]
+    kwargs: dict[str, Any]
+    timeout: float | None
+    future: _PoolFuture
+    lane: str
+    group: str
+
+
+class _Scheduler:
+    """Tasks waiting for a worker: interactive ones first-in first-out; batch ones round-robin between their
+    groups (a study's owner), first-in first-out within a group, and at most ``batch_cap`` running at once."""
+
+    def __init__(self, batch_cap: int) -> None:
+        self._cond = threading.Condition()
+        self._interactive: collections.deque[_Task] = collections.deque()
+        self._batch: dict[str, collections.deque[_Task]] = {}
+        self.batch_cap = batch_cap
+        self.batch_running = 0
+        self.closed = False
+
+    def put(self, task: _Task) -> None:
+        with self._cond:
+            if self.closed:
+                raise RuntimeError("the worker pool is shut down")
+            if task.lane == INTERACTIVE:
+                self._interactive.append(task)
+            else:
+                self._batch.setdefault(task.group, collections.deque()).append(task)
+            self._cond.notify_all()
+
+    def take(self, lanes: tuple[str, ...], timeout: float) -> _Task | None:
+        """The next task of the first of ``lanes`` that has one, marked running; None after ``timeout`` [s]."""
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                task = self._pop(lanes)
+                remaining = deadline - time.monotonic()
+                if task is not None or self.closed or remaining <= 0:
+                    return task
+                self._cond.wait(remaining)
+
+    def _pop(self, lanes: tuple[str, ...]) -> _Task | None:
+        for lane in lanes:
+            if lane == INTERACTIVE:
+                while self._interactive:
+                    task = self._interactive.popleft()
+                    if task.future.set_running_or_notify_cancel():
+                        return task
+            elif self.batch_running < self.batch_cap:
+                while self._batch:
+                    group = next(iter(self._batch))
+                    queue = self._batch.pop(group)
+                    task = queue.popleft()
+                    if queue:
+                        self._batch[group] = queue  # the group goes to the back: round robin
+                    if task.future.set_running_or_notify_cancel():
+                        self.batch_running += 1
+                        return task
+        return None
+
+    def finished(self, task: _Task) -> None:
+        if task.lane == BATCH:
+            with self._cond:
+                self.batch_running -= 1
+                self._cond.notify_all()
+
+    def queued(self) -> dict[str, int]:
+        with self._cond:
+            return {INTERACTIVE: len(self._interactive), BATCH: sum(len(q) for q in self._batch.values())}
+
+    def close(self) -> list[_Task]:
+        """Refuse new tasks; the tasks still waiting."""
+        with self._cond:
+            self.closed = True
+            left = [*self._interactive, *(t for q in self._batch.values() for t in q)]
+            self._interactive.clear()
+            self._batch.clear()
+            self._cond.notify_all()
+            return left
+
+
+def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
+    """A worker process: run the tasks its slot sends, one at a time, and send back each outcome."""
+    import signal
+
+    # The web process decides when a worker stops (it kills it, or closes its pipe by exiting): Ctrl-C in a
+    # terminal or a SIGTERM to the whole process group would otherwise end the workers under a service that is
+    # still finishing its requests.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    if nice:
+        os.nice(nice)
+    _init_worker(memory_limit_bytes)
+    while True:
+        try:
+            fn, args, kwargs = conn.recv()
+            conn.send(None)  # received: from now on a death of this process is this task's
+        except (EOFError, OSError):
+            return  # the web process is gone
+        try:
+            outcome: tuple[bool, Any] = (True, run_task(fn, args, kwargs))
+        except BaseException as exc:  # every outcome goes back; the worker lives on
+            outcome = (False, exc.with_traceback(None))
+        del fn, args, kwargs
+        try:
+            conn.send(outcome)
+        except (BrokenPipeError, ConnectionError):
+            return
+        except Exception as exc:  # an answer or error that does not pickle
+            conn.send((False, RuntimeError(f"the task's outcome could not be sent back "
+                                           f"({type(exc).__name__}: {exc})")))
+        del outcome
+
+
+class _Slot:
+    """One worker process and the thread that feeds it tasks, watches it, and replaces it whenever it dies."""
+
+    def __init__(self, pool: LocalPoolExecutor, lanes: tuple[str, ...], nice: int, name: str) -> None:
+        self.pool = pool
+        self.lanes = lanes
+        self.nice = nice
+        self.process: Any = None
+        self.conn: Any = None
+        self.born = 0.0
+        self.quick = 0
+        self.busy = False
+        self.thread = threading.Thread(target=self._loop, daemon=True, name=name)
+
+    # -- the process -------------------------------------------------------------------------------------------
+    def alive(self) -> bool:
+        """The worker process is up (read without reaping it, so any thread may ask)."""
+        process = self.process
+        if process is None:
+            return False
+        try:
+            return not multiprocessing.connection.wait([process.sentinel], 0)
+        except (OSError, ValueError):
+            return False
+
+    def _spawn(self) -> bool:
+        """Start a worker process; False (after a pause) when it cannot be started."""
+        if self.pool.stopping:
+            return False
+        # Workers that keep dying as soon as they start, or cannot start, are not restarted in a tight loop.
+        self.quick = self.quick + 1 if self.born and time.monotonic() - self.born < 1.0 else 0
+        if self.quick >= 3:
+            time.sleep(min(1.0, 0.1 * self.quick))
+        self.born = time.monotonic()
+        parent, child = self.pool.context.Pipe(duplex=True)
+        process = self.pool.context.Process(target=_worker_main, args=(child, self.pool.memory_limit, self.nice),
+                                            daemon=True, name=self.thread.name)
+        try:
+            process.start()
+        except Exception as exc:
+            log.error("a worker process could not be started (%s: %s); trying again", type(exc).__name__, exc)
+            parent.close()
+            return False
+        finally:
+            child.close()
+        self.process, self.conn = process, parent
+        return True
+
+    def _retire(self) -> int | None:
+        """Stop the worker (killing it if it still runs); its exit code."""
+        process, conn = self.process, self.conn
+        self.process = self.conn = None
+        if process is None:
+            return None
+        if process.exitcode is None:
+            process.kill()
+        process.join(timeout=10)
+        code: int | None = process.exitcode
+        conn.close()
+        try:
+            process.close()
+        except ValueError:
+            pass  # not reaped yet: the system will
+        return code
+
+    def _replace(self) -> int | None:
+        code = self._retire()
+        if not self.pool.stopping:
+            with self.pool.lock:
+                self.pool.restarts += 1
+            self._spawn()
+        return code
+
+    # -- the loop ----------------------------------------------------------------------------------------------
+    def _loop(self) -> None:
+        try:
+            while not self.pool.stopping:
+                if self.process is None:
+                    self._spawn()
+                    continue
+                if not self.alive():
+                    code = self._replace()
+                    if not self.pool.stopping:
+                        log.warning("an idle worker process died (exit code %s) and was replaced", code)
+                    continue
+                task = self.pool.scheduler.take(self.lanes, _IDLE_CHECK_S)
+                if task is None:
+                    continue
+                self.busy = True
+                try:
+                    self._run(task)
+                finally:
+                    self.busy = False
+                    self.pool.scheduler.finished(task)
+                    del task  # the answer is the future's alone
+        finally:
+            self._retire()
+
+    def _run(self, task: _Task) -> None:
+        future = task.future
+        future.started_at = started = time.monotonic()
+        deadline = math.inf if task.timeout is None else started + task.timeout
+        # A worker that dies before it has received the task (killed while idle, an instant before) costs the
+        # task nothing: it goes to the replacement.
+        for _ in range(3):
+            if not self.alive():
+                self._replace()
+            if self.process is None:
+                _settle(future, WorkerLost("no worker process could be started for the task"))
+                return
+            try:
+                self.conn.send((task.fn, task.args, task.kwargs))
+            except (BrokenPipeError, ConnectionError, EOFError):
+                continue
+            except Exception as exc:  # the task does not pickle: nothing was written
+                _settle(future, exc)
+                return
+            if self._await(task, deadline):
+                return
+        _settle(future, WorkerLost("the worker processes died before they could receive the task"))
+
+    def _await(self, task: _Task, deadline: float) -> bool:
+        """Wait for the outcome of the task just sent and settle its future; False when the worker died before
+        it received the task."""
+        future = task.future
+        conn, sentinel = self.conn, self.process.sentinel
+        received = False
+        # The task's own time starts when its worker has it (a new worker first sets itself up); until then a
+        # worker that never answers is given a minute more.
+        deadline = deadline + 60.0
+        while True:
+            now = time.monotonic()
+            ready = multiprocessing.connection.wait([conn, sentinel], max(0.0, min(_POLL_S, deadline - now)))
+            if conn in ready:
+                try:
+                    message = conn.recv()
+                except (EOFError, OSError):
+                    ready = [sentinel]
+                except Exception as exc:  # an outcome that does not unpickle here
+                    _settle(future, exc)
+                    return True
+                else:
+                    if message is None:
+                        received = True
+                        if task.timeout is not None:
+                            deadline = time.monotonic() + task.timeout
+                        continue
+                    ok, payload = message
+                    _settle(future, None, payload) if ok else _settle(future, payload)
+                    return True
+            if sentinel in ready:
+                code = self._replace()
+                if not received:
+                    return False
+                _settle(future, WorkerLost(f"the worker process died while running the task (exit code {code})",
+                                           exit_code=code))
+                return True
+            if future.cancelled() or self.pool.stopping:
+                self._replace()
+                _settle(future, WorkerLost("the worker pool stopped while the task ran"))
+                return True
+            if time.monotonic() >= deadline:
+                self._replace()
+                timeout = task.timeout or 0.0
+                _settle(future, SolverTimeout(timeout, f"the task ran past its deadline of {timeout:.3g} s; "
+                                                       "its worker was stopped"))
+                return True
+
+
+def _settle(future: cf.Future[Any], exc: BaseException | None, result: Any = None) -> None:
+    try:
+        if exc is not None:
+            future.set_exception(exc)
+        else:
+            future.set_result(result)
+    except cf.InvalidStateError:
+        pass  # cancelled meanwhile by the caller
+
+
 class LocalPoolExecutor:
-    """Worker processes on this machine (pebble's ProcessPool), started from a fork server that preloads the engine.
+    """Worker processes on this machine, forked from a fork server that preloads the engine, each fed by a
+    supervising thread of this process that replaces its worker whenever it dies, idle or busy.
+
+    Two lanes: ``workers`` processes for interactive tasks (``submit``) and ``batch_workers`` processes for
+    background tasks (``lane(BATCH, group).submit``), the latter at a lower scheduling priority (``batch_nice``)
+    so that the system gives the interactive workers the cores the moment they have work, and the batch workers
+    every cycle they leave. With ``batch_workers=0`` both lanes share the ``workers`` processes: a free worker
+    takes an interactive task first, and batch tasks hold at most all but one of them.
 
     Parameters
     ----------
     workers
-        Number of worker processes [-]; each runs one task at a time.
+        Number of interactive worker processes [-]; each runs one task at a time.
     memory_limit_mb
         Address-space limit of each worker [MiB]; ``None`` for none.
     preload
         Modules the fork server imports besides the engine (those the tasks' functions live in).
+    batch_workers
+        Number of batch worker processes [-]; 0 to share the interactive ones.
+    batch_nice
+        Niceness added to the batch workers [-] (0..19).
     """
 
-    def __init__(self, workers: int, memory_limit_mb: int | None = None, preload: Sequence[str] = ()) -> None:
-        import pebble
-
-        if workers < 1:
+    def __init__(self, workers: int, memory_limit_mb: int | None = None, preload: Sequence[str] = (),
+                 batch_workers: int = 0, batch_nice: int = 19) -> None:
+        if workers < 1 or batch_workers < 0:
             raise ValueError("a worker pool needs at least one worker")
         self.workers = workers
-        context = multiprocessing.get_context("forkserver")
+        self.batch_workers = batch_workers
+        self.context = multiprocessing.get_context("forkserver")
         # Forked from a server that imported the engine once: a replaced worker is ready in milliseconds.
-        context.set_forkserver_preload(["numpy", "scipy.linalg", "synth", *preload])
-        limit = memory_limit_mb * 2**20 if memory_limit_mb else None
-        self._pool = pebble.ProcessPool(max_workers=workers, initializer=_init_worker, initargs=(limit,),
-                                        context=context)
-        self._lock = threading.Lock()
+        self.context.set_forkserver_preload(["numpy", "scipy.linalg", "synth", *preload])
+        self.memory_limit = memory_limit_mb * 2**20 if memory_limit_mb else None
+        self.lock = threading.Lock()
+        self.restarts = 0
+        self.stopping = False
+        shared = batch_workers == 0
+        self.scheduler = _Scheduler(max(1, workers - 1) if shared else batch_workers)
+        self._slots = [_Slot(self, (INTERACTIVE, BATCH) if shared else (INTERACTIVE,), 0, f"synth-worker-{k}")
+                       for k in range(workers)]
+        self._slots += [_Slot(self, (BATCH,), batch_nice, f"synth-batch-{k}") for k in range(batch_workers)]
+        for slot in self._slots:
+            slot.thread.start()
 
     def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
                **kwargs: Any) -> cf.Future[T]:
-        """Schedule ``fn(*args, **kwargs)`` on a worker; errors come back as the engine's typed errors."""
-        with self._lock:
-            inner = self._pool.schedule(run_task, args=(fn, args, kwargs), timeout=timeout)
-        outer = _Linked(inner)
-        inner.add_done_callback(lambda f: _settle(f, outer, timeout))
-        return outer
+        """Schedule ``fn(*args, **kwargs)`` on an interactive worker; errors come back as the engine's typed
+        errors."""
+        return self._put(INTERACTIVE, "", fn, args, kwargs, timeout)
+
+    def lane(self, lane: str, group: str = "") -> Executor:
+        """This pool as seen by one ``group`` (an owner) of the ``lane`` (``BATCH``); an Executor of its own."""
+        return _Lane(self, lane, group)
+
+    def _put(self, lane: str, group: str, fn: Callable[..., T], args: tuple[Any, ...], kwargs: dict[str, Any],
+             timeout: float | None) -> cf.Future[T]:
+        future = _PoolFuture()
+        self.scheduler.put(_Task(fn, args, kwargs, timeout, future, lane, group))
+        return future
+
+    def status(self) -> dict[str, Any]:
+        """Workers up per lane, the restarts since the start, the tasks waiting; never waits on a worker."""
+        queued = self.scheduler.queued()
+        interactive = self._slots[:self.workers]
+        batch = self._slots[self.workers:]
+        return {
+            "workers_alive": sum(s.alive() for s in interactive),
+            "batch_workers": self.batch_workers,
+            "batch_workers_alive": sum(s.alive() for s in batch),
+            "worker_restarts": self.restarts,
+            "tasks_queued": queued[INTERACTIVE],
+            "batch_tasks_queued": queued[BATCH],
+            "batch_tasks_running": self.scheduler.batch_running,
+        }
+
+    def pids(self) -> list[int]:
+        """Process ids of the workers now up (interactive first)."""
+        return [s.process.pid for s in self._slots if s.process is not None and s.alive()]
 
     def shutdown(self) -> None:
-        """Stop the workers, killing any task still running."""
-        self._pool.stop()  # type: ignore[no-untyped-call]
-        self._pool.join(timeout=5)
+        """Stop the workers, killing any task still running; tasks still waiting are cancelled."""
+        self.stopping = True
+        for task in self.scheduler.close():
+            task.future.cancel()
+        for slot in self._slots:
+            slot.thread.join(timeout=15)
 
 
-class _Linked(cf.Future):  # type: ignore[type-arg]
-    """A future whose cancellation reaches the pool's future (which kills a running worker).
+class _Lane:
+    """One lane and group of a :class:`LocalPoolExecutor`, as an Executor."""
 
-    The pool's future keeps its done-callback, which refers to this one: once settled, this future lets go of
-    the pool's, or the pair would be a reference cycle holding the task's answer (megabytes of JSON) until the
-    cyclic garbage collector happens to run.
-    """
+    def __init__(self, pool: LocalPoolExecutor, lane: str, group: str) -> None:
+        self.pool = pool
+        self.lane_name = lane
+        self.group = group
+        self.workers = (pool.batch_workers or pool.scheduler.batch_cap) if lane == BATCH else pool.workers
 
-    def __init__(self, inner: cf.Future[Any]) -> None:
-        super().__init__()
-        self._inner: cf.Future[Any] | None = inner
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+               **kwargs: Any) -> cf.Future[T]:
+        """Schedule ``fn(*args, **kwargs)`` in this lane."""
+        return self.pool._put(self.lane_name, self.group, fn, args, kwargs, timeout)
 
-    def cancel(self) -> bool:
-        if self._inner is not None:
-            self._inner.cancel()
-        return super().cancel()
-
-    def release(self) -> None:
-        """Drop the link to the pool's future once this one is settled."""
-        self._inner = None
-
-
-def _settle(inner: cf.Future[Any], outer: _Linked, timeout: float | None) -> None:
-    try:
-        _transfer(inner, outer, timeout)
-    finally:
-        outer.release()
-
-
-def _transfer(inner: cf.Future[Any], outer: cf.Future[Any], timeout: float | None) -> None:
-    import pebble
-
-    if outer.done():
-        return
-    if inner.cancelled():
-        outer.cancel()
-        return
-    exc = inner.exception()
-    if isinstance(exc, cf.TimeoutError):
-        exc = SolverTimeout(timeout or 0.0, f"the task ran past its deadline of {timeout or 0:.3g} s; "
-                                             "its worker was stopped")
-    elif isinstance(exc, pebble.ProcessExpired):
-        exc = WorkerLost(f"the worker process died while running the task (exit code {exc.exitcode})",
-                         exit_code=exc.exitcode)
-    try:
-        if exc is not None:
-            outer.set_exception(exc)
-        else:
-            outer.set_result(inner.result())
-    except cf.InvalidStateError:
-        pass  # cancelled meanwhile by the caller
+    def shutdown(self) -> None:
+        """Nothing to stop: the pool is shared."""
 
 
 class DaskExecutor:
@@ -309,12 +652,15 @@ def _expire(outer: cf.Future[Any], timeout: float) -> None:
 
 
 def make_executor(kind: str, workers: int = 0, dask_address: str | None = None,
-                  memory_limit_mb: int | None = None, preload: Sequence[str] = ()) -> Executor:
-    """An executor by name: ``serial``, ``pool`` (``workers`` processes; 0 means one per core) or ``dask``."""
+                  memory_limit_mb: int | None = None, preload: Sequence[str] = (), batch_workers: int = 0,
+                  batch_nice: int = 19) -> Executor:
+    """An executor by name: ``serial``, ``pool`` (``workers`` processes; 0 means one per core; and
+    ``batch_workers`` for background tasks) or ``dask``."""
     if kind == "serial":
         return SerialExecutor()
     if kind == "pool":
-        return LocalPoolExecutor(workers or os.cpu_count() or 1, memory_limit_mb, preload)
+        return LocalPoolExecutor(workers or os.cpu_count() or 1, memory_limit_mb, preload, batch_workers,
+                                 batch_nice)
     if kind == "dask":
         return DaskExecutor(dask_address)
     raise ValueError(f"unknown executor {kind!r}; expected serial, pool or dask")

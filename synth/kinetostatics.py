@@ -22,6 +22,7 @@ optimises over that map; the direct path re-analyses its answers.
 from __future__ import annotations
 
 import functools
+import math
 import itertools
 from dataclasses import dataclass
 
@@ -691,37 +692,61 @@ class ExternalLoads:
 
 
 def external_loads(motion: Motion, linkage: Linkage) -> ExternalLoads:
-    """Process loads against the output velocity, plus external torques, at every sample."""
+    """Process loads (against the output velocity, along the output or fixed in the frame), plus external torques,
+    at every sample.
+
+    A force of fixed direction on a turning output acts at its point on the output link; it is carried as the
+    same force at the link's origin plus its moment about that origin, so that several such loads share one
+    point of application.
+    """
     topo = linkage.mechanism.topology
     n = motion.samples
     force = np.zeros((n, 2))
-    point = motion.point_pos[motion.link_origin[topo.output]].copy()
+    origin_name = motion.link_origin[topo.output]
+    point = motion.point_pos[origin_name].copy()
     point_vel = np.zeros((n, 2))
     torques: dict[str, FloatArray] = {t.link: np.zeros(n) for t in linkage.torques}
     for t in linkage.torques:
         torques[t.link] = torques[t.link] + t.torque
     if not linkage.loads:
         return ExternalLoads(force, point, point_vel, torques, has_force=False)
-    if topo.output_motion == "translation":
+    sliding = topo.output_motion == "translation"
+    if sliding:
         axis = np.array([np.cos(topo.output_axis_angle), np.sin(topo.output_axis_angle)])
-        origin = motion.point_pos[motion.link_origin[topo.output]]
+        origin = motion.point_pos[origin_name]
         position = origin @ axis
-        speed = motion.point_vel[motion.link_origin[topo.output]] @ axis
+        speed = motion.point_vel[origin_name] @ axis
     else:
         position = motion.link_angle[topo.output]
         speed = motion.link_omega[topo.output]
     direction = -np.sign(speed)
+    has_force = sliding
     for load in linkage.loads:
         magnitude = load.magnitude_at(motion.phi, position)
         if load.stroke:
             magnitude = np.where(np.sign(speed) == load.stroke, magnitude, 0.0)
-        if topo.output_motion == "translation":
+        signed = magnitude * direction if load.direction == "against_motion" else magnitude
+        if load.direction == "frame":
+            along = np.array([math.cos(load.angle), math.sin(load.angle)])
+            state = motion.point_on(topo.output, load.point)
+            if sliding:
+                point, point_vel = state.pos, state.vel
+                force = force + signed[:, None] * along
+            else:
+                # at the origin, with its moment about the origin: the rigid link takes it alike
+                f = signed[:, None] * along
+                force = force + f
+                point, point_vel = motion.point_pos[origin_name], motion.point_vel[origin_name]
+                torques[topo.output] = (torques.get(topo.output, np.zeros(n))
+                                        + cross(state.pos - motion.point_pos[origin_name], f))
+                has_force = True
+        elif sliding:
             state = motion.point_on(topo.output, load.point)
             point, point_vel = state.pos, state.vel
-            force = force + (magnitude * direction)[:, None] * axis
+            force = force + signed[:, None] * axis
         else:
-            torques[topo.output] = torques.get(topo.output, np.zeros(n)) + magnitude * direction
-    return ExternalLoads(force, point, point_vel, torques, has_force=topo.output_motion == "translation")
+            torques[topo.output] = torques.get(topo.output, np.zeros(n)) + signed
+    return ExternalLoads(force, point, point_vel, torques, has_force=has_force)
 
 
 def _known_loads_direct(linkage: Linkage, loads: ExternalLoads, arrays: LinkArrays) -> FloatArray:
@@ -923,7 +948,7 @@ def linear_map(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = Non
     loads = external_loads(motion, linkage)
     for i, link in enumerate(topo.links):
         origin = arrays.origin_pos[i]
-        if link == topo.output and topo.output_motion == "translation":
+        if link == topo.output and loads.has_force:
             known[:, 3 * i : 3 * i + 2, -1] += loads.force
             known[:, 3 * i + 2, -1] += cross(loads.point - origin, loads.force)
         known[:, 3 * i + 2, -1] += loads.torques.get(link, 0.0)

@@ -95,6 +95,11 @@ class ProcessLoad:
     or output angle [rad]), zero outside the table.
     ``stroke`` limits it to one direction of the output velocity (+1 or -1); 0 acts in both.
     ``point`` is where a force acts, in the output link frame [m].
+    ``direction`` says which way it acts: ``"against_motion"`` (the default: a resistance, magnitude >= 0 resists,
+    its sign following the output velocity); ``"output"`` signed and fixed along the output, positive along the
+    slide axis or counter-clockwise on a turning output (a spring preload, a constant thrust); ``"frame"`` a force
+    of fixed direction in the frame, at ``angle`` [rad] from +x, signed (a weight: magnitude m·g at -90°), on a
+    sliding or a turning output at ``point``.
     """
 
     kind: Literal["window", "crank_table", "position_table"] = "window"
@@ -105,6 +110,8 @@ class ProcessLoad:
     values: tuple[float, ...] = ()
     stroke: int = 0
     point: tuple[float, float] = (0.0, 0.0)
+    direction: Literal["against_motion", "output", "frame"] = "against_motion"
+    angle: float = 0.0
 
     def validate(self) -> None:
         """Raise InvalidInput for tables of unequal length, unsorted abscissae or a bad stroke."""
@@ -121,6 +128,9 @@ class ProcessLoad:
                 raise InvalidInput("load table abscissae must increase strictly", field="load.table_x")
         if self.stroke not in (-1, 0, 1):
             raise InvalidInput("load.stroke must be -1, 0 or +1", field="load.stroke")
+        if self.direction not in ("against_motion", "output", "frame"):
+            raise InvalidInput("load.direction must be against_motion, output or frame", field="load.direction")
+        _finite(self.angle, "load.angle")
 
     def magnitude_at(self, phi: FloatArray, output_position: FloatArray) -> FloatArray:
         """Load magnitude at each crank angle, before the direction rule is applied."""

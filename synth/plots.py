@@ -334,6 +334,34 @@ def _curve(ax: Axes, deg: FloatArray, series: Sequence[tuple[FloatArray, str, di
     ax.grid(alpha=0.3)
 
 
+#: Below this fraction of a linkage's own force scale a shaking force (or moment) is rounding, not a quantity.
+ZERO_FRACTION = 1e-9
+#: The half-span of an axis that shows a zero: a thousandth of the scale, so rounding does not fill the plot.
+ZERO_SPAN = 1e-3
+
+
+def force_scale(an: Analysis) -> float:
+    """The linkage's own inertia-force scale Σm·ω²·size [N]: links and counterweights, the cycle's extent."""
+    lk = an.linkage
+    mass = sum(p.mass for p in lk.links.values()) + sum(c.mass for c in lk.counterweights)
+    return float(mass * an.motion.omega_crank ** 2 * _machine_size(list(an.motion.point_pos.values())))
+
+
+def read_zero(ax: Axes, peak: float, scale: float, unit: str, polar: bool = False) -> bool:
+    """When ``peak`` is below ZERO_FRACTION of ``scale``, show the axes as a zero: a span of ±ZERO_SPAN·scale
+    (both axes of a polar diagram) and the words "≈ 0"; True when it did."""
+    if not (scale > 0 and peak < ZERO_FRACTION * scale):
+        return False
+    half = ZERO_SPAN * scale
+    ax.set_ylim(-half, half)
+    if polar:
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(-half, half)
+    ax.text(0.02, 0.96, f"≈ 0 (largest |value| {peak:.2g} {unit})", transform=ax.transAxes, va="top", fontsize=8,
+            color="tab:green", weight="bold")
+    return True
+
+
 def analysis_figure(an: Analysis, phi: float = 0.0, fmt: FigureFormat = "png") -> bytes:
     """Driving torque (with the virtual-power check, and with friction when the analysis has it), shaking
     moment, shaking force polar diagram and the mechanism at ``phi`` [rad], as PNG, SVG or PDF."""
@@ -351,6 +379,11 @@ def analysis_figure(an: Analysis, phi: float = 0.0, fmt: FigureFormat = "png") -
     _curve(axes[0, 1], deg, [(k.shaking_moment, "shaking moment about O", {"lw": 2, "color": "tab:green"})],
            "shaking moment [N·m]", "shaking moment on the frame")
     shaking_polar(axes[1, 0], k.shaking_force, "shaking force", an.motion.phi, lw=1.5)
+    # a balanced linkage's force and moment are rounding: read as zero, not autoscaled to fill the axes
+    scale = force_scale(an)
+    read_zero(axes[0, 1], float(np.abs(k.shaking_moment).max()), scale * _machine_size(
+        list(an.motion.point_pos.values())), "N·m")
+    read_zero(axes[1, 0], float(np.hypot(*k.shaking_force.T).max()), scale, "N", polar=True)
     draw_mechanism(axes[1, 1], an, phi)
     literal_text(fig).tight_layout()
     return render(fig, fmt)

@@ -22,6 +22,8 @@ settings.load_profile("explore" if os.environ.get("SYNTH_HYPOTHESIS_RANDOM") els
 
 # Studies started by tests (fuzzing included) go to a scratch database, never into the working directory.
 os.environ.setdefault("SYNTH_STUDIES_DB", str(Path(tempfile.mkdtemp(prefix="synth-tests-")) / "studies.sqlite"))
+# Starlette's TestClient (and schemathesis in-process) speak to the app as host "testserver".
+os.environ.setdefault("SYNTH_ALLOWED_HOSTS", "localhost,127.0.0.1,::1,testserver")
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("SYNTH_SHARED_DIR", REPO.parent / "shared"))

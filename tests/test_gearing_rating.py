@@ -100,11 +100,13 @@ def test_contact_stress_grows_with_root_of_torque_and_root_stress_with_torque(sc
 
 
 def test_root_stress_is_the_stated_product_of_factors() -> None:
-    # Independent product written here from ISO 6336-3: sigma_F = F_t/(b m_n) Y_F Y_S Y_eps Y_beta K_A K_V K_Fb K_Fa.
+    # Independent product written here from ISO 6336-3:2006/2019 method B, eq. (3):
+    # sigma_F = F_t/(b m_n) Y_F Y_S Y_beta Y_B Y_DT K_A K_V K_Fb K_Fa, with no contact ratio factor Y_eps.
     r = _rating()
     f = {x.symbol: x for x in r.factors}
+    assert "Y_eps" not in f
     for i, side in enumerate(("pinion", "gear")):
-        y = math.prod(getattr(f[s], side) for s in ("Y_F", "Y_S", "Y_eps", "Y_beta"))
+        y = math.prod(getattr(f[s], side) for s in ("Y_F", "Y_S", "Y_beta", "Y_B", "Y_DT"))
         k = math.prod(getattr(f[s], side) for s in ("K_A", "K_V", "K_Fbeta", "K_Falpha"))
         assert r.root_stress[i] == pytest.approx(r.tangential_force / (0.1 * 0.008) * y * k, rel=1e-12)
         lim = r.materials[i].sigma_Flim * math.prod(getattr(f[s], side) for s in
@@ -235,3 +237,57 @@ def test_any_pair_is_rated_or_refused_by_field(z1: int, extra: int, module_mm: f
     assert all(math.isfinite(f.pinion) and math.isfinite(f.gear) for f in r.factors)
     assert r.checks.hertz_contact_stress == pytest.approx(r.contact_stress[0] / r.factor("Z_B/Z_D").pinion,
                                                           rel=1e-9)
+
+
+def test_iso_tr_6336_30_example_1_root_safety() -> None:
+    # The report's pinion root safety factor on example 1 is 1.93 (two decimals, as the figure is quoted against
+    # the 2.746 a load-at-the-tip Y_eps gave); solid wheels (Y_B = 1) and eps_alpha_n = 1.66 <= 2.05 (Y_DT = 1).
+    r = _rating()
+    assert r.safety_root[0] == pytest.approx(1.93, abs=0.005)
+    assert r.factor("Y_B").pinion == 1.0 and r.factor("Y_DT").pinion == 1.0
+
+
+def _deep_pair(grade: int) -> synth.RatingResult:
+    spec = synth.GearPairSpec(40, 120, 4e-3, 40e-3, math.radians(20.0), accuracy_grade=grade,
+                              rack=synth.BasicRack(1.25, 1.5, 0.3, math.radians(17.5)))
+    return synth.rate_pair(spec, 300.0, 100.0)
+
+
+def test_deep_tooth_factor_of_a_high_contact_ratio_pair() -> None:
+    # Independent contact ratio from the pair's circles: eps_alpha = (sqrt(ra1² - rb1²) + sqrt(ra2² - rb2²)
+    # - a sin alpha_wt)/(pi m_t cos alpha_t), eps_alpha_n = eps_alpha/cos² beta_b; Y_DT = 2.366 - 0.666 eps_alpha_n
+    # for 2.05 < eps_alpha_n <= 2.5 at grade 4 and finer (ISO 6336-3:2006 §7.8), 1 for a coarser grade.
+    mn, z1, z2, ha, beta, an = 4.0, 40, 120, 1.25, math.radians(20.0), math.radians(17.5)
+    at = math.atan(math.tan(an) / math.cos(beta))
+    mt = mn / math.cos(beta)
+    r1, r2 = z1 * mt / 2, z2 * mt / 2
+    rb1, rb2 = r1 * math.cos(at), r2 * math.cos(at)
+    ra1, ra2 = r1 + ha * mn, r2 + ha * mn
+    a = r1 + r2   # no profile shift: the working pressure angle is alpha_t
+    eps_alpha = (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - a * math.sin(at)) / (
+        math.pi * mt * math.cos(at))
+    beta_b = math.atan(math.tan(beta) * math.cos(at))
+    eps_an = eps_alpha / math.cos(beta_b) ** 2
+    assert 2.05 < eps_an <= 2.5
+    fine, coarse = _deep_pair(4), _deep_pair(5)
+    assert fine.factor("eps_alpha_n").pinion == pytest.approx(eps_an, rel=1e-9)
+    assert fine.factor("Y_DT").pinion == pytest.approx(2.366 - 0.666 * eps_an, rel=1e-9)
+    assert coarse.factor("Y_DT").pinion == 1.0
+
+
+def test_rim_thickness_factor_scales_the_root_stress() -> None:
+    # ISO 6336-3:2006 §7.7, external gear: Y_B = 1.6 ln(2.242 h/s_R) for 0.5 < s_R/h < 1.2; the root stress of
+    # that wheel grows by Y_B exactly, the other wheel's not at all.
+    solid = _rating()
+    h = (solid.geometry.da[1] - solid.geometry.df[1]) / 2
+    thin = synth.rate_pair(dataclasses.replace(TR_SPEC, rim_thickness=(None, 0.8 * h)), TR_TORQUE, TR_SPEED, TR_DUTY)
+    y_b = 1.6 * math.log(2.242 / 0.8)
+    assert thin.factor("Y_B").gear == pytest.approx(y_b, rel=1e-12)
+    assert thin.root_stress[1] / solid.root_stress[1] == pytest.approx(y_b, rel=1e-12)
+    assert thin.root_stress[0] == pytest.approx(solid.root_stress[0], rel=1e-12)
+    heavy = synth.rate_pair(dataclasses.replace(TR_SPEC, rim_thickness=(None, 1.3 * h)), TR_TORQUE, TR_SPEED,
+                            TR_DUTY)
+    assert heavy.factor("Y_B").gear == 1.0
+    with pytest.raises(synth.InvalidInput) as err:
+        synth.rate_pair(dataclasses.replace(TR_SPEC, rim_thickness=(0.4 * h, None)), TR_TORQUE, TR_SPEED, TR_DUTY)
+    assert err.value.field == "pinion_rim_thickness_mm"

@@ -33,7 +33,7 @@ def test_rating_over_http_is_the_engine_rating(client: SynthClient) -> None:
     assert out.safety_root == pytest.approx(list(engine.safety_root), rel=1e-12)
     assert out.geometry.centre_distance_mm == pytest.approx(500.0)
     assert {f.symbol for f in out.factors} >= {"K_A", "K_V", "K_Hbeta", "K_Halpha", "Z_H", "Z_E", "Z_eps", "Z_beta",
-                                               "Z_NT", "Z_L", "Z_v", "Z_R", "Z_W", "Z_X", "Y_F", "Y_S", "Y_eps",
+                                               "Z_NT", "Z_L", "Z_v", "Z_R", "Z_W", "Z_X", "Y_F", "Y_S", "Y_B", "Y_DT",
                                                "Y_beta", "K_Fbeta", "K_Falpha", "Y_ST", "Y_NT", "Y_deltarelT",
                                                "Y_RrelT", "Y_X"}
     assert out.checks.hertz_contact_stress_MPa == pytest.approx(out.contact_stress_MPa[0], rel=1e-12)

@@ -28,6 +28,7 @@ LAYERS: dict[str, float] = {
     "synth": 5,
     "mechsynth_client": 6,
     "api": 7,
+    "synth.cams": 3,
 }
 
 

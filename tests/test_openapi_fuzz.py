@@ -74,6 +74,41 @@ def test_every_operation_conforms(case: schemathesis.Case) -> None:
     ANSWERED[case.operation.label][(str(phase), f"{response.status_code // 100}xx")] += 1
 
 
+
+def _app_with_token() -> tuple[object, str]:
+    """The service with authentication on, its store in a scratch file, and an admin's API token."""
+    import tempfile
+    from pathlib import Path
+
+    from api.auth import tokens
+    from api.auth.users import Accounts
+    from api.settings import Settings
+
+    db = Path(tempfile.mkdtemp(prefix="synth-fuzz-")) / "store.sqlite"
+    app = create_app(Settings(auth="on", studies_db=str(db)))  # type: ignore[call-arg]
+    accounts: Accounts = app.state.access.accounts
+    token = tokens.new_token()
+    accounts.add_token(accounts.create("fuzz", {"admin"}).id, token, "fuzz")
+    return app, token
+
+
+signed_app, TOKEN = _app_with_token()
+# With a token, the operations whose answer depends on who calls (sign-in, users, tokens, studies and their
+# owners) and one design endpoint: the others answer a token's caller as they answer anyone above.
+signed_schema = schemathesis.openapi.from_asgi("/openapi.json", signed_app).include(
+    path_regex=r"^/(health|ready|v1/(auth|users|tokens|studies|gears/split))")
+signed_schema.config.generation.update(
+    modes=[schemathesis.GenerationMode.POSITIVE, schemathesis.GenerationMode.NEGATIVE], max_examples=EXAMPLES,
+)
+signed_schema.config.phases.update(phases=["examples", "fuzzing"])
+
+
+@signed_schema.parametrize()
+@settings(max_examples=EXAMPLES, derandomize=True, deadline=None, suppress_health_check=list(HealthCheck))
+def test_every_operation_conforms_with_authentication_on_and_a_token(case: schemathesis.Case) -> None:
+    case.call_and_validate(headers={"authorization": f"Bearer {TOKEN}"}, excluded_checks=[positive_data_acceptance])
+
+
 def test_every_operation_answers_2xx_to_generated_requests() -> None:
     if not ANSWERED:
         import pytest

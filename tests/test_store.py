@@ -25,10 +25,11 @@ def _rows(indices: range) -> list[VariantRow]:
 
 def test_migrations_bring_an_empty_store_to_head_once(open_store: Callable[[], Store]) -> None:
     store = open_store()
-    assert store.migrate()[0] == "0001"
+    assert store.migrate() == ["0001", "0002"]
     assert open_store().migrate() == []        # a second process finds the schema current
     tables = set(sa.inspect(store.engine).get_table_names())
-    assert {"studies", "study_rows", "users", "api_tokens", "alembic_version"} <= tables
+    assert {"studies", "study_rows", "users", "api_tokens", "projects", "designs", "revisions",
+            "alembic_version"} <= tables
 
 
 def test_a_lease_keeps_a_running_study_from_other_processes(open_store: Callable[[], Store]) -> None:
@@ -116,7 +117,7 @@ def test_a_study_file_from_before_migrations_is_taken_over(tmp_path: Path) -> No
         """)
     store = Store(f"sqlite:///{path}")
     try:
-        assert store.migrate() == ["0001"]
+        assert store.migrate() == ["0001", "0002"]
         studies = SqlStudyStore(store)
         assert studies.sweep() == 1 and studies.missing("s1", 2) == [1]
         assert studies.rows("s1") == [VariantRow(0, (0.5,), (2.0,), True)]
@@ -143,3 +144,60 @@ def test_a_failing_migration_stops_with_its_reason(tmp_path: Path) -> None:
     with pytest.raises(MigrationFailed, match="users"):
         store.migrate()
     store.dispose()
+
+
+def test_a_service_whose_store_fails_to_migrate_does_not_start(tmp_path: Path) -> None:
+    from fastapi.testclient import TestClient
+
+    from api.app import create_app
+    from api.settings import Settings
+
+    path = tmp_path / "taken.sqlite"
+    with sqlite3.connect(path) as db:
+        db.execute("CREATE TABLE users (something TEXT)")
+    # the start-up fails with the reason (uvicorn logs it and exits)
+    with pytest.raises(MigrationFailed, match="table users already exists"):
+        with TestClient(create_app(Settings(executor="serial", studies_db=str(path)))):
+            pass
+
+
+def test_a_study_cancelled_through_another_process_takes_no_more_rows(open_store: Callable[[], Store]) -> None:
+    store = open_store()
+    owner, other = SqlStudyStore(store), SqlStudyStore(store)
+    study_id = owner.create({}, 10)
+    owner.claim(study_id)
+    owner.write_rows(study_id, _rows(range(3)))
+    assert other.cancel(study_id) and not other.cancel(study_id)
+    with pytest.raises(LeaseLost):
+        owner.write_rows(study_id, _rows(range(3, 6)))
+    assert owner.renew() == set()                     # the owner's heartbeat sees it is no longer running it
+    owner.stopped(study_id, "cancelled", "cancelled; finished variants are kept")
+    record = owner.get(study_id)
+    assert record is not None and (record.state, record.done) == ("cancelled", 3)
+    assert other.claim(study_id)                      # resumed anywhere: the lease was released
+
+
+def test_two_first_saves_of_one_new_design_at_once_store_one(open_store: Callable[[], Store]) -> None:
+    from store.library import Library, StaleParent
+
+    store = open_store()
+    store.migrate()
+    outcomes: list[str] = []
+    barrier = threading.Barrier(2)
+
+    def save(author: str) -> None:
+        library = Library(open_store())
+        barrier.wait()
+        try:
+            library.save("new", "design", "/v1/analysis", {"by": author}, author=author, message="", parent=None)
+            outcomes.append("saved")
+        except StaleParent as exc:
+            outcomes.append(f"stale {exc.head}")
+
+    threads = [threading.Thread(target=save, args=(name,)) for name in ("ann", "bob")]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert sorted(outcomes) == ["saved", "stale 1"]
+    assert [r.number for r in Library(store).history("new", "design")] == [1]

@@ -1,6 +1,7 @@
-"""Two real service processes on one store (a SQLite file, and a PostgreSQL cluster): the second, sweeping for
-lapsed leases three times a lease, never takes the first's running study, and after the first is killed (SIGKILL:
-no shutdown, its lease just lapses) the study is resumed exactly once and every variant has exactly one row."""
+"""Two real service processes on one store (a SQLite file, and a PostgreSQL cluster): designs saved through one
+are the other's (a stale save through either is refused); the second, sweeping for lapsed leases three times a
+lease, never takes the first's running study, and after the first is killed (SIGKILL: no shutdown, its lease
+just lapses) the study is resumed exactly once and every variant has exactly one row."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import pytest
 import sqlalchemy as sa
 
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
+from mechsynth_client.schemas.library import SAVE_EXAMPLE
 from service import running_process
 from store import Store
 from store_engines import pg_cluster, store_url  # noqa: F401  (fixtures)
@@ -48,6 +50,19 @@ def _wait(predicate: Any, timeout_s: float, what: str) -> Any:
     pytest.fail(f"timed out waiting for {what}")
 
 
+def _share_designs(first: str, second: str) -> None:
+    design = "/v1/library/projects/shop/designs/crank/revisions"
+    saved = httpx.post(f"{first}{design}", json=SAVE_EXAMPLE, timeout=60)
+    assert saved.status_code == 201
+    seen = httpx.get(f"{second}{design}/1").json()
+    assert (seen["content_hash"], seen["author"]) == (saved.json()["content_hash"], "ann")
+    newer = {**SAVE_EXAMPLE, "parent": 1, "author": "bob",
+             "request": {**SAVE_EXAMPLE["request"], "speed_rpm": 320}}
+    assert httpx.post(f"{second}{design}", json=newer, timeout=60).status_code == 201
+    stale = httpx.post(f"{first}{design}", json={**newer, "author": "ann"}, timeout=60)
+    assert stale.status_code == 409 and stale.json()["head_revision"] == 2
+
+
 def test_a_killed_service_s_study_is_resumed_once_by_the_other(store_url: str, tmp_path: Path) -> None:
     env = {"SYNTH_EXECUTOR": "serial", "SYNTH_STUDY_LEASE_S": str(LEASE_S)}
     if store_url.startswith("postgresql"):
@@ -56,6 +71,7 @@ def test_a_killed_service_s_study_is_resumed_once_by_the_other(store_url: str, t
         env["SYNTH_STUDIES_DB"] = store_url.removeprefix("sqlite:///")
     with running_process(_command, tmp_path, env=env) as (first, first_proc), \
             running_process(_command, tmp_path, env=env) as (second, _):
+        _share_designs(first, second)
         created = httpx.post(f"{first}/v1/studies", json=SPEC, timeout=30)
         assert created.status_code == 202
         study = f"/v1/studies/{created.json()['id']}"

@@ -12,16 +12,19 @@ from __future__ import annotations
 
 import asyncio
 import math
+import os
+import tempfile
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
 from fastapi import Request, Response
+from fastapi.responses import StreamingResponse
 
 from synth.errors import SolverTimeout
-from synth.execution import Executor, make_executor
+from synth.execution import BATCH, Executor, LocalPoolExecutor, make_executor
 
 from ..media import Render, file_headers, negotiate
 from .plans import Limits, Plan
@@ -45,18 +48,68 @@ def render_task(render: Render, fn: Callable[..., Any], args: tuple[Any, ...], k
     return render(fn(*args, **kwargs))
 
 
+@dataclass(frozen=True, slots=True)
+class Spooled:
+    """A large answer the worker wrote to a file instead of sending it through the pipe: its path, size [bytes]
+    and media type. The web process streams it from the file and removes the file."""
+
+    path: str
+    size: int
+    media_type: str
+
+
+def answer_task(render: Render, spool_above: int, fn: Callable[..., Any], args: tuple[Any, ...],
+                kwargs: dict[str, Any]) -> tuple[bytes, str] | Spooled:
+    """Worker side of a request whose answer may be large: beyond ``spool_above`` bytes it goes to a file."""
+    content, media_type = render_task(render, fn, args, kwargs)
+    if len(content) <= spool_above:
+        return content, media_type
+    fd, path = tempfile.mkstemp(prefix="synth-answer-", suffix=".part")
+    with os.fdopen(fd, "wb") as f:
+        f.write(content)
+    return Spooled(path, len(content), media_type)
+
+
+_CHUNK_BYTES = 256 * 1024
+
+
+def _file_chunks(f: Any) -> Iterator[bytes]:
+    with f:
+        while chunk := f.read(_CHUNK_BYTES):
+            yield chunk
+
+
+def spooled_response(spooled: Spooled, headers: dict[str, str] | None) -> Response:
+    """Stream a spooled answer a chunk at a time; the file is unlinked at once (the open file keeps its data
+    until the answer is sent or the client goes away)."""
+    f = open(spooled.path, "rb")
+    os.unlink(spooled.path)
+    return StreamingResponse(_file_chunks(f), media_type=spooled.media_type,
+                             headers={**(headers or {}), "content-length": str(spooled.size)})
+
+
 # One executor per configuration and process: apps built alike (tests, a reload) share their workers, and the
 # last app to shut down stops them.
-_EXECUTORS: dict[tuple[str, int, int], tuple[Executor, int]] = {}
+_EXECUTORS: dict[tuple[Any, ...], tuple[Executor, int]] = {}
 _EXECUTORS_LOCK = threading.Lock()
 
 
-def _acquire_executor(kind: str, workers: int, memory_limit_mb: int) -> Executor:
-    key = (kind, workers, memory_limit_mb)
+def _batch_workers(settings: Settings, workers: int) -> int:
+    """Workers of the study lane: none (shared with requests), the setting, or as many as the request workers."""
+    if settings.study_lane == "shared":
+        return 0
+    return settings.study_workers or workers
+
+
+def _acquire_executor(settings: Settings) -> Executor:
+    s = settings
+    workers = s.workers or os.cpu_count() or 1
+    key = (s.executor, workers, s.worker_memory_mb, _batch_workers(s, workers), s.study_nice)
     with _EXECUTORS_LOCK:
         # Workers import the plans (schemas, exports) once in the fork server, not on their first request.
         executor, users = _EXECUTORS.get(key) or (
-            make_executor(kind, workers, memory_limit_mb=memory_limit_mb, preload=["api.execution.plans"]), 0)
+            make_executor(s.executor, workers, memory_limit_mb=s.worker_memory_mb, preload=["api.execution.plans"],
+                          batch_workers=_batch_workers(s, workers), batch_nice=s.study_nice), 0)
         _EXECUTORS[key] = (executor, users + 1)
         return executor
 
@@ -87,17 +140,21 @@ class Solvers:
     def executor(self) -> Executor:
         """The executor, started on first use so that importing the app spawns no process."""
         if self._executor is None:
-            s = self.settings
-            self._executor = _acquire_executor(s.executor, s.workers, s.worker_memory_mb)
+            self._executor = _acquire_executor(self.settings)
         return self._executor
+
+    def batch(self, owner: str) -> Executor:
+        """Where one owner's study tasks run: the pool's study lane (owners taking turns), else the executor."""
+        executor = self.executor
+        if isinstance(executor, LocalPoolExecutor):
+            return executor.lane(BATCH, owner)
+        return executor
 
     @property
     def workers(self) -> int:
         """Worker count the executor has or will have."""
         if self._executor is not None:
             return self._executor.workers
-        import os
-
         return 1 if self.settings.executor == "serial" else (self.settings.workers or os.cpu_count() or 1)
 
     @property
@@ -107,7 +164,11 @@ class Solvers:
 
     def status(self) -> dict[str, Any]:
         """Workers, queue and counters for ``/ready``; reads counters only, never waits on a worker."""
-        return {
+        pool: dict[str, Any] = {"workers_alive": self.workers if self.settings.executor == "serial" else 0,
+                                "worker_restarts": 0}
+        if isinstance(self._executor, LocalPoolExecutor):
+            pool = self._executor.status()
+        return {**pool,
             "executor": self.settings.executor,
             "started": self._executor is not None,
             "workers": self.workers,
@@ -145,19 +206,23 @@ class Solvers:
             if executor is None:  # starting the workers takes a second or two: never on the event loop
                 executor = await asyncio.to_thread(lambda: self.executor)
             future = executor.submit(fn, *args, timeout=remaining, **kwargs)
-            try:
-                return await asyncio.wait_for(asyncio.wrap_future(future), timeout=remaining)
-            except asyncio.TimeoutError:
-                # wait_for cancelled the wrapped future; that cancels the task and stops its worker.
-                self.timed_out += 1
-                elapsed = time.monotonic() - started
-                raise SolverTimeout(
-                    self.settings.request_deadline_s,
-                    f"the request's work did not finish within its deadline of "
-                    f"{self.settings.request_deadline_s:g} s; its worker was stopped and replaced",
-                    stage="running" if future.running() or future.cancelled() else "queued",
-                    elapsed_s=round(elapsed, 3),
-                ) from None
+            waiter = asyncio.wrap_future(future)
+            done, _ = await asyncio.wait({waiter}, timeout=remaining)
+            if waiter in done:
+                return waiter.result()
+            # Read before cancelling: a task that never left the queue is "queued", one a worker took "running".
+            ran = future.running() or getattr(future, "started_at", None) is not None
+            waiter.cancel()  # cancels the task; a running one has its worker stopped and replaced
+            self.timed_out += 1
+            elapsed = time.monotonic() - started
+            raise SolverTimeout(
+                self.settings.request_deadline_s,
+                f"the request's work did not finish within its deadline of "
+                f"{self.settings.request_deadline_s:g} s"
+                + ("; its worker was stopped and replaced" if ran else "; it never reached a worker"),
+                stage="running" if ran else "queued",
+                elapsed_s=round(elapsed, 3),
+            )
         finally:
             self.in_flight -= 1
             self.completed += 1
@@ -187,12 +252,16 @@ class RequestSolvers:
     async def answer(self, render: Render, fn: Callable[..., Any], /, *args: Any,
                      headers: dict[str, str] | None = None, **kwargs: Any) -> Response:
         """Run engine work in a worker and answer with the bytes ``render`` made of its result there."""
-        content, media_type = await self.solvers.run(self.deadline, render_task, render, fn, args, kwargs)
+        answer = await self.solvers.run(self.deadline, answer_task, render, self.settings.spool_above_bytes, fn,
+                                        args, kwargs)
+        if isinstance(answer, Spooled):
+            return spooled_response(answer, headers)
+        content, media_type = answer
         return Response(content=content, media_type=media_type, headers=headers)
 
     async def answer_plan(self, plan: Plan, request: Request, fmt: str | None = None) -> Response:
         """Answer with ``plan`` in the format the request asks for among those the plan offers."""
         chosen = negotiate(request, fmt, plan.offered)
-        render = replace(plan.render, fmt=chosen)
+        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes)
         return await self.answer(render, plan.fn, *plan.args, headers=file_headers(chosen, plan.stem),
                                  **plan.kwargs)

@@ -47,6 +47,7 @@ from mechsynth_client.schemas.synthesis import (
 )
 from mechsynth_client.schemas.train import TrainIn, TrainOut
 from ..settings import Settings
+from .work import estimate_s
 from .tasks import (
     analysis_file,
     crank_rocker_png,
@@ -75,11 +76,14 @@ class Limits:
     max_samples: int
     max_stages: int
     solver_time_limit_s: float
+    #: A request's estimated time on the workers it is dealt to [s]; beyond it TooLarge before any work starts.
+    max_work_s: float = float("inf")
 
     @classmethod
     def from_settings(cls, settings: Settings) -> Limits:
         """The limits of a service instance."""
-        return cls(settings.max_samples, settings.max_stages, settings.solver_time_limit_s)
+        return cls(settings.max_samples, settings.max_stages, settings.solver_time_limit_s,
+                   settings.max_request_work_s)
 
 
 @dataclass(frozen=True, slots=True)
@@ -246,6 +250,12 @@ def synthesis_path(b: PathIn, lim: Limits) -> Plan:
 def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpec, list[tuple[int, ...]]]:
     """POST /v1/synthesis/path, first step: the starts dealt into one chunk per worker, each a task of
     :func:`synth.synthesis.path.path_starts`."""
+    wall = estimate_s("/v1/synthesis/path", b) / max(1, workers)
+    if wall > lim.max_work_s:
+        raise synth.TooLarge("path synthesis estimated time [s]", int(lim.max_work_s), int(wall),
+                             f"{b.starts} starts through {len(b.points_m)} points take about {wall:.3g} s on the "
+                             f"{workers} workers, beyond the bound of {lim.max_work_s:g} s: ask for "
+                             "fewer starts or points", field="starts")
     spec = b.to_spec(lim.solver_time_limit_s)
     return spec, start_chunks(spec, workers)
 

@@ -9,6 +9,7 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Depends, Query, Request
 from fastapi.responses import Response, StreamingResponse
 
+from ..auth.guard import NotOwner, Principal, principal
 from ..deps import SolverDep
 from ..media import FormatQuery, json_response, png, wants_png
 from mechsynth_client.schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
@@ -24,6 +25,19 @@ def get_studies(request: Request) -> StudyRuns:
 
 
 StudiesDep = Annotated[StudyRuns, Depends(get_studies)]
+CallerDep = Annotated[Principal, Depends(principal)]
+
+
+async def may_change(study_id: str, studies: StudiesDep, caller: CallerDep) -> None:
+    """Only a study's owner or an admin may cancel or resume it (403 otherwise; with authentication off every
+    caller is an admin)."""
+    record = await asyncio.to_thread(studies.get, study_id)
+    owner = record.spec.get("owner")
+    if not caller.may_change(None if owner is None else str(owner)):
+        raise NotOwner(f"study {study_id}", None if owner is None else str(owner), caller.name)
+
+
+OwnerOnly = Annotated[None, Depends(may_change)]
 NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {
     "description": "No study has this id.",
     "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}},
@@ -31,11 +45,15 @@ NOT_FOUND: dict[int | str, dict[str, Any]] = {404: {
 
 
 @router.post("", status_code=202, response_model=StudyOut)
-async def study(body: StudyIn, studies: StudiesDep, response: Response) -> StudyOut:
+async def study(body: StudyIn, studies: StudiesDep, response: Response, caller: CallerDep) -> StudyOut:
     """Start a design study: every variant is a request to `endpoint` built from `base` with the parameters set;
-    answers 202 at once with the study's id and its `Location`. Follow it with GET on that location."""
-    record = await asyncio.to_thread(studies.create, body.model_dump(mode="json"))
-    out = StudyOut.from_record(record)
+    answers 202 at once with the study's id and its `Location`. Follow it with GET on that location. With
+    authentication on, the study's owner is the signed-in user."""
+    spec = body.model_dump(mode="json")
+    if caller.name is not None:
+        spec["owner"] = caller.name
+    record = await asyncio.to_thread(studies.create, spec)
+    out = StudyOut.from_record(record, await asyncio.to_thread(studies.position, record.id))
     response.headers["Location"] = out.links.self
     return out
 
@@ -47,25 +65,30 @@ async def studies(
     limit: Annotated[int, Query(ge=1, le=1000, description="Studies per page.")] = 100,
 ) -> list[StudyOut]:
     """The latest studies first, with their state and progress."""
-    return [StudyOut.from_record(r) for r in await asyncio.to_thread(studies.recent, limit, offset)]
+    records = await asyncio.to_thread(studies.recent, limit, offset)
+    places = await asyncio.to_thread(studies.positions)
+    return [StudyOut.from_record(r, places.get(r.id)) for r in records]
 
 
 @router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def study_status(study_id: str, studies: StudiesDep) -> StudyOut:
     """State, variants done of the total, failed variants, running time and the estimated time to finish."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.get, study_id))
+    record = await asyncio.to_thread(studies.get, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
-async def study_cancel(study_id: str, studies: StudiesDep) -> StudyOut:
+async def study_cancel(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
     """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.cancel, study_id))
+    record = await asyncio.to_thread(studies.cancel, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
-async def study_resume(study_id: str, studies: StudiesDep) -> StudyOut:
+async def study_resume(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
     """Run the variants of a cancelled or interrupted study that have no result yet."""
-    return StudyOut.from_record(await asyncio.to_thread(studies.resume, study_id))
+    record = await asyncio.to_thread(studies.resume, study_id)
+    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.get("/{study_id}/results", response_model=ResultsOut,

@@ -7,13 +7,19 @@ share one store. A study whose lease lapsed (its process stopped) is marked ``in
 looks first; resuming one takes it with an atomic claim, so exactly one process runs the variants that have no
 row yet.
 
-Study tasks go to the executor directly, beside the requests' admission bound (a study never gets 503): each
-running study keeps at most one task more than there are workers in flight, and ``/ready`` counts them.
+Study tasks go to the executor's study lane, beside the requests' admission bound (a study never gets 503):
+each running study keeps at most one task more than there are study workers in flight, and ``/ready`` counts
+them. At most ``max_running_studies`` run at once; the others wait as ``queued``, and owners take turns for the
+places that free up (the owner with the fewest running studies first, then the one served longest ago), so one
+owner's many studies cannot keep another's waiting. A study's estimated work (its variants times the estimated
+work of one, :mod:`api.execution.work`) is bounded, and so is the sum over one owner's queued and running ones.
 """
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
+import dataclasses
 import csv
 import io
 import logging
@@ -29,7 +35,7 @@ from numpy.typing import NDArray
 from starlette.exceptions import HTTPException
 
 import synth
-from synth.errors import InvalidInput, SynthError
+from synth.errors import InvalidInput, SynthError, TooLarge
 from synth.model import FloatArray
 from synth.execution import DaskExecutor, Executor
 
@@ -39,6 +45,7 @@ from ..settings import Settings
 from ..storage import open_store
 from ..execution.admission import Solvers
 from ..execution.plans import Limits
+from ..execution.work import describe_s, estimate_s, finite
 from .paths import check_metrics
 from .tasks import batch_function, validate_request, variant_function
 
@@ -117,10 +124,23 @@ class _Counted:
 @dataclass
 class _Run:
     thread: threading.Thread
+    owner: str
     cancel: threading.Event = field(default_factory=threading.Event)
     reason: str = "cancelled"
     # when this process's claim on the study was taken (monotonic clock); None until then
     claimed_at: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class _Waiting:
+    study_id: str
+    owner: str
+    study: synth.Study
+    indices: list[int] | None
+
+
+# Variants whose requests are estimated to find a study's most expensive one (evenly spread, ends included).
+_ESTIMATE_PROBES = 16
 
 
 class StudyRuns:
@@ -136,8 +156,13 @@ class StudyRuns:
         self._stopping = threading.Event()
         self._dask: Executor | None = None
         self._runs: dict[str, _Run] = {}
+        self._waiting: list[_Waiting] = []
+        self._served: dict[str, int] = {}  # owner -> turn at which one of its studies last started
+        self._turn = 0
+        self._work: dict[str, tuple[str, float]] = {}  # queued or running study -> (owner, estimated work [s])
+        self._closing = False
         self._tasks = _InFlight()
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()
         # Connecting to a scheduler can take its whole timeout; the store stays reachable meanwhile.
         self._dask_lock = threading.Lock()
 
@@ -178,7 +203,9 @@ class StudyRuns:
                     lost = [run for study_id, run in self._runs.items() if study_id not in held
                             and run.claimed_at is not None and run.claimed_at < asked]
                 for run in lost:
-                    run.reason = "lost"
+                    # cancelled through another process, or taken by one after this process stalled past its
+                    # lease: either way this run stops (and its end is recorded only if the study is still ours)
+                    run.reason = "cancelled"
                     run.cancel.set()
                 self._sweep(self.store)
             except StoreUnavailable as exc:
@@ -186,10 +213,10 @@ class StudyRuns:
             except Exception:
                 log.exception("the study leases were not renewed")
 
-    def executor(self) -> Executor:
-        """Where study tasks run: the Dask cluster when one is configured, else the service's workers."""
+    def executor(self, owner: str = "anonymous") -> Executor:
+        """Where study tasks run: the Dask cluster when one is configured, else the service's study lane."""
         if self.settings.dask_scheduler is None:
-            return self.solvers.executor
+            return self.solvers.batch(owner)
         with self._dask_lock:
             if self._dask is None:
                 self._dask = DaskExecutor(self.settings.dask_scheduler)
@@ -197,43 +224,137 @@ class StudyRuns:
 
     def status(self) -> dict[str, Any]:
         """Running studies, their tasks in flight and where those run, for ``/ready``; never waits on a study."""
-        with self._lock:
-            running = len(self._runs)
-        return {"studies_running": running, "study_tasks_in_flight": self._tasks.count,
+        # Read without the lock (one length each): /ready never waits behind a study being stored or started.
+        running, queued = len(self._runs), len(self._waiting)
+        return {"studies_running": running, "studies_queued": queued, "study_tasks_in_flight": self._tasks.count,
                 "study_tasks_on": "workers" if self.settings.dask_scheduler is None else "dask"}
 
-    def create(self, spec: dict[str, Any]) -> synth.StudyRecord:
+    def create(self, spec: dict[str, Any], owner: str | None = None) -> synth.StudyRecord:
         """Check a study (its metrics against the endpoint's answer, its size before anything is generated, its
-        base request against the endpoint), store it and start it."""
+        base request against the endpoint, its estimated work and its owner's), store it and queue it; it starts
+        at once when a running place is free."""
+        owner = owner or str(spec.get("owner") or "anonymous")
+        spec = {**spec, "owner": owner}
         study = synth.study_from_dict(spec)
         check_metrics(spec["endpoint"], study.metrics)
         total = study.check_size(self.settings.max_study_variants)
         validate_request(spec["endpoint"], _first_variant(study), field="base")
-        study_id = self.store.create(spec, total)
-        self._start(study_id, study, None)
+        work = self._estimate(spec["endpoint"], study, total)
+        with self._lock:
+            owned = sum(w for o, w in self._work.values() if o == owner)
+            if owned + work > self.settings.max_owner_work_s:
+                raise TooLarge("owner's estimated study work [s]", int(self.settings.max_owner_work_s),
+                               int(owned + work),
+                               f"this study's estimated work ({describe_s(work)}) and that of {owner!r}'s queued "
+                               f"and running studies ({describe_s(owned)}) pass the bound of "
+                               f"{describe_s(self.settings.max_owner_work_s)} per owner: wait for them to finish "
+                               "or cancel one", field="owner")
+            study_id = self.store.create(spec, total)
+            self._work[study_id] = (owner, work)
+            self._waiting.append(_Waiting(study_id, owner, study, None))
+            self._dispatch()
         return self.get(study_id)
+
+    def _estimate(self, endpoint: str, study: synth.Study, total: int) -> float:
+        """The study's estimated work [s]: its variant count times the costliest of a few spread variants;
+        TooLarge beyond the bound of one study."""
+        sampler = synth.Sampler(study)
+        probes = sorted({round(k * (total - 1) / max(1, _ESTIMATE_PROBES - 1)) for k in range(_ESTIMATE_PROBES)})
+        per_variant = 0.0
+        for index in probes:
+            request = synth.studies.variant_request(study.base, study.parameter_paths, sampler.values(index))
+            try:
+                body = validate_request(endpoint, request)
+            except InvalidInput:
+                continue  # a variant the endpoint refuses costs nothing: it becomes a problem row
+            per_variant = max(per_variant, finite(estimate_s(endpoint, body)))
+        work = finite(per_variant * total)
+        if work > self.settings.max_study_work_s:
+            raise TooLarge("study estimated work [s]", int(self.settings.max_study_work_s), int(min(work, 2**62)),
+                           f"{total} variants of {endpoint} at up to {describe_s(per_variant)} each: about "
+                           f"{describe_s(work)} of work, beyond the bound of "
+                           f"{describe_s(self.settings.max_study_work_s)} per study: fewer variants (samples, "
+                           "counts or values) or cheaper variants (fewer crank angles, smaller searches)",
+                           field="parameters")
+        return work
+
+    def position(self, study_id: str) -> int | None:
+        """A queued study's place in the queue (1: the next to start); None when it is not waiting."""
+        with self._lock:
+            for place, waiting in enumerate(self._order(), start=1):
+                if waiting.study_id == study_id:
+                    return place
+        return None
+
+    def positions(self) -> dict[str, int]:
+        """Every queued study's place in the queue."""
+        with self._lock:
+            return {w.study_id: place for place, w in enumerate(self._order(), start=1)}
+
+    def _order(self) -> list[_Waiting]:
+        """The waiting studies in the order they will start: owners take turns (fewest running studies first,
+        then the one served longest ago), each owner's studies first in, first out."""
+        running = collections.Counter(run.owner for run in self._runs.values())
+        served = dict(self._served)
+        queues: dict[str, collections.deque[_Waiting]] = {}
+        for waiting in self._waiting:
+            queues.setdefault(waiting.owner, collections.deque()).append(waiting)
+        out: list[_Waiting] = []
+        turn = self._turn
+        while queues:
+            owner = min(queues, key=lambda o: (running[o], served.get(o, -1)))
+            out.append(queues[owner].popleft())
+            running[owner] += 1
+            served[owner] = turn = turn + 1
+            if not queues[owner]:
+                del queues[owner]
+        return out
+
+    def _dispatch(self) -> None:
+        """Start waiting studies while running places are free (called with the lock held)."""
+        while not self._closing and self._waiting and len(self._runs) < self.settings.max_running_studies:
+            nxt = self._order()[0]
+            self._waiting.remove(nxt)
+            self._turn += 1
+            self._served[nxt.owner] = self._turn
+            self._start(nxt.study_id, nxt.study, nxt.indices, nxt.owner)
 
     def get(self, study_id: str) -> synth.StudyRecord:
         """The stored study with its progress; :class:`StudyNotFound` when there is none."""
         record = self.store.get(study_id)
         if record is None:
             raise StudyNotFound(study_id)
-        return record
+        return self._queued(record)
 
     def recent(self, limit: int, offset: int) -> list[synth.StudyRecord]:
         """The latest studies first."""
-        return self.store.recent(limit, offset)
+        return [self._queued(r) for r in self.store.recent(limit, offset)]
+
+    def _queued(self, record: synth.StudyRecord) -> synth.StudyRecord:
+        """A resumed study waiting for its turn is queued, whatever its stored state until its run starts."""
+        if record.state != "queued" and any(w.study_id == record.id for w in list(self._waiting)):
+            return dataclasses.replace(record, state="queued", message=None)
+        return record
 
     def cancel(self, study_id: str) -> synth.StudyRecord:
         """Stop a study: no new task is sent, tasks in flight are cancelled, finished rows stay."""
         record = self.get(study_id)
         with self._lock:
             run = self._runs.get(study_id)
+            waiting = next((w for w in self._waiting if w.study_id == study_id), None)
+            if waiting is not None:
+                self._waiting.remove(waiting)
+                self._work.pop(study_id, None)
+                self.store.stopped(study_id, "cancelled", "cancelled before it started")
+                return self.get(study_id)
         if run is not None:
             run.reason = "cancelled"
             run.cancel.set()
             run.thread.join(timeout=10.0)
-        elif record.state in ("queued", "interrupted"):
+        elif record.state in ("queued", "running"):
+            # run by another process sharing the store: it stops when it next renews its lease
+            self.store.cancel(study_id)
+        elif record.state == "interrupted":
             self.store.stopped(study_id, "cancelled", "cancelled before it finished")
         return self.get(study_id)
 
@@ -243,7 +364,16 @@ class StudyRuns:
         record = self.get(study_id)
         if record.state in ("cancelled", "interrupted", "failed"):
             study = synth.study_from_dict(record.spec)
-            self._start(study_id, study, self.store.missing(study_id, record.total))
+            owner = str(record.spec.get("owner") or "anonymous")
+            missing = self.store.missing(study_id, record.total)
+            work = self._estimate(record.spec["endpoint"], study, record.total) * len(missing) / max(1, record.total)
+            with self._lock:
+                if study_id in self._runs or any(w.study_id == study_id for w in self._waiting):
+                    return self.get(study_id)  # two resumes at once queue one run
+                # The store keeps its stopped state until the run claims it: shown as queued meanwhile.
+                self._work[study_id] = (owner, work)
+                self._waiting.append(_Waiting(study_id, owner, study, missing))
+                self._dispatch()
         return self.get(study_id)
 
     def page(self, study_id: str, offset: int, limit: int) -> tuple[synth.StudyRecord, list[synth.VariantRow]]:
@@ -309,7 +439,9 @@ class StudyRuns:
         """Stop every running study (they become interrupted and can be resumed) before the workers stop."""
         self._stopping.set()
         with self._lock:
+            self._closing = True
             runs = list(self._runs.values())
+            self._waiting.clear()  # stored as queued: the next start marks them interrupted
         for run in runs:
             run.reason = "interrupted"
             run.cancel.set()
@@ -321,40 +453,40 @@ class StudyRuns:
             self._dask.shutdown()
             self._dask = None
 
-    def _start(self, study_id: str, study: synth.Study, indices: list[int] | None) -> None:
-        thread = threading.Thread(target=self._drive, args=(study_id, study, indices), daemon=True,
+    def _start(self, study_id: str, study: synth.Study, indices: list[int] | None, owner: str) -> None:
+        """Start a study's run (called with the lock held)."""
+        thread = threading.Thread(target=self._drive, args=(study_id, study, indices, owner), daemon=True,
                                   name=f"study-{study_id[:8]}")
-        with self._lock:
-            if study_id in self._runs:
-                return  # two resumes at once start one run
-            self._runs[study_id] = _Run(thread)
+        if study_id in self._runs:
+            return  # two resumes at once start one run
+        self._runs[study_id] = _Run(thread, owner)
         try:
             claimed = self.store.claim(study_id)
         except BaseException:
-            with self._lock:
-                self._runs.pop(study_id, None)
+            self._runs.pop(study_id, None)
             raise
         if not claimed:
             # another process holds the study (its lease is live) or it is done: that process's run goes on
-            with self._lock:
-                self._runs.pop(study_id, None)
+            self._runs.pop(study_id, None)
             return
-        with self._lock:
-            self._runs[study_id].claimed_at = time.monotonic()
+        self._runs[study_id].claimed_at = time.monotonic()
         if indices is not None:
             # rows written between the look and the claim (a process that stopped while writing) are not redone
             indices = self.store.missing(study_id, study.variant_count)
+        thread = threading.Thread(target=self._drive, args=(study_id, study, indices, owner), daemon=True,
+                                  name=f"study-{study_id[:8]}")
+        self._runs[study_id].thread = thread
         thread.start()
 
-    def _drive(self, study_id: str, study: synth.Study, indices: list[int] | None) -> None:
+    def _drive(self, study_id: str, study: synth.Study, indices: list[int] | None, owner: str) -> None:
         with self._lock:
             run = self._runs[study_id]
         endpoint = self.store.get(study_id).spec["endpoint"]  # type: ignore[union-attr]
-        state, message, release = "failed", None, True
+        state, message = "failed", None
         try:
             report = synth.run_study(
                 study, variant_function(endpoint, Limits.from_settings(self.settings)),
-                _Counted(self.executor(), self._tasks),
+                _Counted(self.executor(owner), self._tasks),
                 partial(self.store.write_rows, study_id), indices=indices, cancel=run.cancel,
                 variant_timeout_s=self.settings.request_deadline_s,
                 batch_fn=batch_function(endpoint, Limits.from_settings(self.settings)),
@@ -369,18 +501,20 @@ class StudyRuns:
         except SynthError as exc:
             message = str(exc)
         except LeaseLost:
-            # the lease lapsed (this process stalled past it) and another process took the study: it is theirs
-            log.warning("design study %s was taken over by another process; this run stops", study_id)
-            release = False
+            # cancelled through another process, or taken by one after this process stalled past its lease
+            log.warning("design study %s was cancelled or taken over elsewhere; this run stops", study_id)
+            state, message = "cancelled", "cancelled; finished variants are kept"
         except Exception as exc:
             # A study-wide failure (the Dask scheduler unreachable, the store's disk full) ends this study only.
             log.exception("design study %s failed", study_id)
             message = f"the study stopped on an unexpected error ({type(exc).__name__}); the error was logged"
         finally:
-            if release and run.reason != "lost":
-                self.store.stopped(study_id, state, message)
+            # a no-op when another process holds the study now
+            self.store.stopped(study_id, state, message)
             with self._lock:
                 self._runs.pop(study_id, None)
+                self._work.pop(study_id, None)
+                self._dispatch()
 
 
 def _front(study: synth.Study, values: FloatArray, feasible: NDArray[np.bool_]

@@ -1,5 +1,7 @@
 // The page's only way to the engine: the public HTTP API, and the OpenAPI document for field descriptions.
 
+import { csrf } from "./signin.js";
+
 let openapi = null;
 
 export async function loadOpenApi() {
@@ -60,7 +62,7 @@ export class Problem extends Error {
 /** POST a JSON body; the JSON answer, or a Problem carrying the RFC 9457 body. */
 export async function post(path, body, { signal } = {}) {
   const r = await fetch(path, {
-    method: "POST", headers: { "content-type": "application/json", accept: "application/json" },
+    method: "POST", headers: { "content-type": "application/json", accept: "application/json", ...csrf() },
     body: JSON.stringify(body), signal,
   });
   return answer(r);
@@ -68,7 +70,7 @@ export async function post(path, body, { signal } = {}) {
 
 export async function get(path) { return answer(await fetch(path, { headers: { accept: "application/json" } })); }
 
-export async function del(path) { return answer(await fetch(path, { method: "DELETE" })); }
+export async function del(path) { return answer(await fetch(path, { method: "DELETE", headers: csrf() })); }
 
 async function answer(r) {
   const text = await r.text();
@@ -80,7 +82,7 @@ async function answer(r) {
 
 /** POST a JSON body and take the answer as a file (a PDF, a PNG). */
 export async function postFile(path, body) {
-  const r = await fetch(path, { method: "POST", headers: { "content-type": "application/json" }, body: JSON.stringify(body) });
+  const r = await fetch(path, { method: "POST", headers: { "content-type": "application/json", ...csrf() }, body: JSON.stringify(body) });
   if (!r.ok) return answer(r);
   return r.blob();
 }

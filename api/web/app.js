@@ -4,6 +4,7 @@ import { linePlot, polarPlot, fmt } from "./plot.js";
 import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
 import { h } from "./dom.js";
+import { installExports, vectorsAt } from "./exports.js";
 
 const UNITS = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
 const LINK_LABELS = {
@@ -348,6 +349,10 @@ export async function analyse(t0 = performance.now()) {
         document.getElementById("form-warnings").appendChild(li);
       }
     }
+    // a speed no crank of a machine turns at: most likely rad/s or a typing slip
+    if (state.design.speed_rpm > 20000) {
+      showMessage("speed_rpm", `${fmt(state.design.speed_rpm)} rev/min is beyond any machine crank: is the speed in rev/min?`, true);
+    }
     const dt = performance.now() - t0;
     // edit-to-redraw time, and the part of it spent waiting for the service (bench/workbench.py reads these)
     state.timings.push({ total: dt, service: tAnswer - t0 });
@@ -379,18 +384,31 @@ export function drawAll() {
   const box = document.getElementById("plots");
   const x = a.crank_angle_deg, i = state.index, fam = state.design.mechanism.type;
   const xl = "crank angle φ [°]";
+  // The linkage's own force scale, Σm·ω²·size: a shaking force below a billionth of it is rounding (a full
+  // balance leaves 1e-13 N), read as zero on an axis a thousandth of it wide.
+  const w = ((state.design.speed_rpm || 0) * Math.PI) / 30;
+  const masses = [...Object.values(state.design.mechanism.links || {}), ...(state.design.counterweights || [])]
+    .reduce((t, l) => t + (Number(l && l.mass_kg) || 0), 0);
+  const fScale = masses * w * w * (state.layout ? state.layout.span : 1), mScale = fScale * (state.layout ? state.layout.span : 1);
+  const zeroF = { zero: 1e-9 * fScale, zeroSpan: 1e-3 * fScale }, zeroM = { zero: 1e-9 * mScale, zeroSpan: 1e-3 * mScale };
   state.plots = [
     linePlot(box, "plot-torque", { title: "Driving torque on the crank", x, xLabel: xl, yLabel: "T [N·m]", unit: "N·m", cursor: i,
       series: [{ name: "kinetostatic", values: a.driving_torque_Nm }, { name: "virtual power", values: a.virtual_power_torque_Nm, dash: "4 3", colour: "#c25e00" }] }),
-    polarPlot(box, "plot-polar", { title: "Shaking force on the frame (polar diagram)", unit: "N", cursor: i,
+    polarPlot(box, "plot-polar", { title: "Shaking force on the frame (polar diagram)", unit: "N", cursor: i, ...zeroF,
       series: Object.assign([{ name: "shaking force", points: a.shaking_force_N }], { angles: x }) }),
-    linePlot(box, "plot-moment", { title: "Shaking moment about O", x, xLabel: xl, yLabel: "M [N·m]", unit: "N·m", cursor: i,
+    linePlot(box, "plot-moment", { title: "Shaking moment about O", x, xLabel: xl, yLabel: "M [N·m]", unit: "N·m", cursor: i, ...zeroM,
       series: [{ name: "shaking moment", values: a.shaking_moment_Nm }] }),
   ];
   if (a.transmission_angle_deg) {
     state.plots.push(linePlot(box, "plot-transmission", { title: "Transmission angle", x, xLabel: xl, yLabel: "μ [°]", unit: "°", cursor: i,
       series: [{ name: "μ", values: a.transmission_angle_deg }], limits: [{ y: 40, label: "40° limit" }, { y: 140, label: "140°" }] }));
   } else document.getElementById("plot-transmission")?.remove();
+  // each joint's reaction over the cycle (its vector at this angle: "joint reactions" under the drawing)
+  const reactions = Object.entries(a.joint_reactions_N || {});
+  if (reactions.length) {
+    state.plots.push(linePlot(box, "plot-reactions", { title: "Joint reactions |R|", x, xLabel: xl, yLabel: "|R| [N]", unit: "N", cursor: i,
+      series: reactions.map(([name, f]) => ({ name, values: f.map((v) => Math.hypot(v[0], v[1])) })) }));
+  }
   const out = outputMotion(a, fam);
   state.plots.push(
     linePlot(box, "plot-output-s", { title: `Output ${out.name}: displacement`, x, xLabel: xl, yLabel: `${out.s.label}`, unit: out.s.unit, cursor: i, series: [{ name: out.s.sym, values: out.s.values }] }),
@@ -444,6 +462,7 @@ export function drawFrame() {
     tracePoint: a.points[TRACE] ? TRACE : null, counterweights: counterweightExtras(), targets: state.targets,
     counterRotors: state.design.counter_rotors || [],
     unitLength: state.units.length,
+    vectors: vectorsAt(a, state.vectors, i, state.layout.span),
   });
   document.getElementById("angle-out").textContent = `φ = ${a.crank_angle_deg[i].toFixed(1)}°`;
   for (const p of state.plots) p.setCursor(i);
@@ -556,6 +575,7 @@ async function main() {
   document.getElementById("unit-mass").value = state.units.mass;
   state.design = fromUrl && fromUrl.mechanism ? fromUrl : defaultDesign();
   renderForm();
+  writeUrl();   // the address bar holds the design from the start, so a link to the page as opened reopens it
   const form = document.getElementById("design-form");
   form.addEventListener("input", (evt) => {
     const t0 = performance.now();
@@ -568,11 +588,18 @@ async function main() {
       return;
     }
     m.hidden = true; el.removeAttribute("aria-invalid");
+    state.edited = true;
     edited(t0);
   });
   form.addEventListener("submit", (e) => e.preventDefault());
   document.getElementById("family").addEventListener("change", (e) => {
     const fam = e.target.value;
+    // another family starts from the manual's example: an edited design is kept unless the user lets it go
+    if (state.edited && !window.confirm("Switch to another family? The design in the form is replaced (Save JSON keeps it).")) {
+      e.target.value = state.design.mechanism.type;
+      return;
+    }
+    state.edited = false;
     const mech = defaultMechanism(fam);
     const d = { mechanism: mech, speed_rpm: state.design.speed_rpm, samples: state.design.samples };
     if (!GEOMETRY[fam]) { setDesign(d); return; }
@@ -589,6 +616,7 @@ async function main() {
     });
   }
   installDragging();
+  installExports({ state, request: analysisRequest, redraw: drawFrame, setStatus });
   document.getElementById("angle").addEventListener("input", (e) => { state.index = Number(e.target.value); drawFrame(); });
   let timer = null;
   document.getElementById("play").addEventListener("click", (e) => {

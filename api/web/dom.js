@@ -8,6 +8,7 @@ function fill(node, attrs, children) {
     if (v === null || v === undefined || v === false) continue;
     if (k === "dataset") Object.assign(node.dataset, v);
     else if (k === "text") node.textContent = String(v);
+    else if (k === "style" && typeof v === "object") Object.assign(node.style, v);   // CSSOM: allowed by a strict CSP
     else if (k.startsWith("on") && typeof v === "function") node.addEventListener(k.slice(2), v);
     else if (k === "class") node.setAttribute("class", Array.isArray(v) ? v.filter(Boolean).join(" ") : String(v));
     else node.setAttribute(k, v === true ? "" : String(v));

@@ -18,7 +18,9 @@ export function layout(answer, design, extras) {
   for (const [x, y] of extras.targets || []) grow(x, y);
   const span = Math.max(x1 - x0, y1 - y0, 1e-6);
   const pad = span * 0.12;
-  return { x0: x0 - pad, x1: x1 + pad, y0: y0 - pad, y1: y1 + pad, span, family: design.mechanism.type };
+  // below the linkage: room for the ground symbols and names under the lowest pivot, then a strip for the scale
+  // bar of its own, so neither is cut at the edge nor written over
+  return { x0: x0 - pad, x1: x1 + pad, y0: y0 - pad - span * 0.1, y1: y1 + pad, span, family: design.mechanism.type };
 }
 
 function scaleBar(span) {

@@ -1,6 +1,6 @@
 // The capability panels: each builds a request from the current design and its own fields, posts it to the
 // public API and draws the answer. Nothing here computes what the service answers.
-import { post, get, del, postFile, describe } from "./api.js";
+import { post, get, del, postFile, describe, fieldSchema } from "./api.js";
 import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
 import { toModel } from "./draw.js";
 import { h, s, put, table } from "./dom.js";
@@ -16,6 +16,14 @@ function linkage() {
   for (const k of LINKAGE_FIELDS) if (ctx.state.design[k] !== undefined && ctx.state.design[k] !== null) out[k] = structuredClone(ctx.state.design[k]);
   return out;
 }
+
+const FAMILY = { fourbar: "four-bar", slider_crank: "slider-crank", slotted_lever: "shaper (slotted lever)", linkage: "linkage" };
+
+/** What is left of a quantity below a billionth of its unbalanced size is rounding, read as zero. */
+export const ZERO_FRACTION = 1e-9;
+
+/** A value read as "0" when it is below ZERO_FRACTION of `scale` (round-off of a balance), else as fmt does. */
+export function fmtZero(v, scale) { return Math.abs(v) <= ZERO_FRACTION * Math.abs(scale) ? "0" : fmt(v); }
 
 /** A length [m] in the form's unit, rounded for reading. */
 function L(v) { return `${fmt(v / ctx.factor("length"))} ${ctx.unitLabel("length")}`; }
@@ -61,13 +69,15 @@ function panelProblem(prefix, err) {
   clearPanel(prefix);
   ctx.showProblem(err, `${prefix}-problem`, (fieldName, message) => {
     if (!fieldName) return false;
-    const parts = fieldName.split(".");
+    const parts = fieldName.replace(/\[(\d+)\]/g, ".$1").split(".");
     for (let n = 0; n < parts.length; n++) {
       const id = `${prefix}-${parts.slice(n).join(".")}`;
       const el = document.getElementById(id);
       if (el) {
         const m = document.getElementById(`${id}-msg`);
         m.textContent = message; m.hidden = false; el.setAttribute("aria-invalid", "true");
+        const folded = el.closest("details");
+        if (folded) folded.open = true;
         (el.closest(".row") || m).scrollIntoView({ block: "nearest", inline: "nearest" });
         return true;
       }
@@ -113,7 +123,7 @@ function download(blob, name) {
 
 function summaryTable(rows, before, after) {
   return table(["", "before", "after"], rows.map(([k, label, unit]) =>
-    [label, [`${fmt(before[k])} ${unit}`, { class: "num" }], [after ? `${fmt(after[k])} ${unit}` : "", { class: "num" }]]));
+    [label, [`${fmt(before[k])} ${unit}`, { class: "num" }], [after ? `${fmtZero(after[k], before[k])} ${unit}` : "", { class: "num" }]]));
 }
 
 /** The buttons and status line under a panel's fields. */
@@ -189,7 +199,8 @@ function balancingPanel() {
       ans.counter_rotors ? h("p", {}, `Counter-rotors: ${ans.counter_rotors.map((r) => `${r.link} ${fmt(r.inertia_kgm2)} kg·m² at −${fmt(r.ratio)}×`).join(", ")}` +
         (ans.coupler_inertia_kgm2 !== null ? `; coupler inertia about its centre ${fmt(ans.coupler_inertia_kgm2)} kg·m²` : "")) : null,
       summaryTable(SUMMARY_ROWS, ans.summary_before, ans.summary_after),
-      h("p", { class: "note" }, `Check: residual shaking force ${fmt(ans.checks.residual_shaking_force_N)} N, residual shaking moment ${fmt(ans.checks.residual_shaking_moment_Nm)} N·m ` +
+      h("p", { class: "note" }, `Check: residual shaking force ${fmtZero(ans.checks.residual_shaking_force_N, ans.summary_before.max_shaking_force_N)} N, ` +
+        `residual shaking moment ${fmtZero(ans.checks.residual_shaking_moment_Nm, ans.summary_before.rms_shaking_moment_Nm)} N·m ` +
         "(the balanced linkage re-analysed by the service)."));
     const box = document.getElementById("bal-plots");
     box.replaceChildren();
@@ -299,8 +310,8 @@ function flywheelPanel() {
         s("circle", { cx: 0, cy: 0, r: R * 0.08, ...ink, fill: "#fff" }),
         s("rect", { x: R * 1.3, y: -R, width: b, height: 2 * R, ...ink }),
         r > 0 ? s("rect", { x: R * 1.3 + b * 0.35, y: -r, width: b * 0.3, height: 2 * r, ...ink, fill: "#fff" }) : null,
-        s("text", { x: 0, y: R * 1.08, "text-anchor": "middle", "font-size": R / 9 }, `D = ${L(g.outer_diameter_m)}`),
-        s("text", { x: R * 1.3 + b / 2, y: -R * 1.06, "text-anchor": "middle", "font-size": R / 9 }, `b = ${L(b)}`))));
+        s("text", { x: 0, y: R * 1.08, "text-anchor": "middle", style: { fontSize: `${R / 9}px` } }, `D = ${L(g.outer_diameter_m)}`),
+        s("text", { x: R * 1.3 + b / 2, y: -R * 1.06, "text-anchor": "middle", style: { fontSize: `${R / 9}px` } }, `b = ${L(b)}`))));
   }
   return render;
 }
@@ -350,6 +361,77 @@ function drivePanel() {
 }
 
 // --- the whole machine -------------------------------------------------------------------------------------------
+const STAGE_COUNTS = [1, 2, 3, 4, 5, 6];
+// The machine request's less common fields, by where they are folded away: path in MachineIn, label.
+const MACHINE_MORE = {
+  drive: [["drive.motor", "Motor (catalogue name)"], ["drive.reserve_factor", "Power reserve factor"], ["drive.objective", "Ratio split"],
+    ["drive.max_teeth", "Largest wheel (teeth)"], ["drive.min_teeth", "Smallest wheel (teeth)"], ["drive.tooth_tolerance", "Ratio tolerance of the teeth"],
+    ["drive.pinion_inertia_kgm2", "Pinion inertia"], ["drive.load_inertia_kgm2", "Extra inertia on the crank shaft"]],
+  other: [["balancing.mass_budget_kg", "Mass budget (optimal)"], ["flywheel.placement", "Flywheel on"], ["flywheel.geometry.shape", "Flywheel shape"],
+    ["flywheel.geometry.density_kg_m3", "Flywheel density"], ["flywheel.geometry.max_rim_speed_m_s", "Largest rim speed"],
+    ["flywheel.geometry.max_diameter_m", "Largest flywheel diameter"], ["speed_tolerance", "Mean speed tolerance"]],
+  running: [["start_under_load", "Starts under load"], ["max_startup_time_s", "Longest run-up"], ["max_rundown_time_s", "Longest run-down"],
+    ["brake_torque_Nm", "Brake torque at the crank"]],
+  strength: [["drive.size_gears", "Size the gears for strength"], ["drive.strength.life_h", "Required life"],
+    ["drive.strength.application_factor", "Application factor K_A"], ["drive.strength.min_safety_contact", "Least S_H"],
+    ["drive.strength.min_safety_root", "Least S_F"], ["drive.strength.pinion_material", "Pinion material"], ["drive.strength.gear_material", "Gear material"],
+    ["drive.strength.helix_angle_deg", "Helix angle"], ["drive.strength.pinion_teeth", "Pinion teeth"], ["drive.strength.accuracy_grade", "Accuracy grade (ISO 1328)"],
+    ["drive.strength.oil_viscosity_40C_mm2_s", "Oil viscosity at 40 °C"], ["drive.strength.module_series", "Module series"]],
+};
+for (const k of Object.keys(MACHINE_MORE)) MACHINE_MORE[k] = MACHINE_MORE[k].map(([path, label]) => ({ path, label }));
+
+/** A field of a request described by the manual: a choice for an enumeration or a yes/no, else a number (a text for
+ *  a name); left empty, the API's default stands (shown as the placeholder). */
+function schemaField(prefix, { path, label, schema = null, value = "" }) {
+  const [model, sp] = schema || ["MachineIn", path];
+  const raw = fieldSchema(model, sp) || {};
+  const deref = (x) => (x && x.$ref ? ctx.state.openapi.components.schemas[x.$ref.split("/").pop()] || x : x);
+  const alts = [deref(raw), ...(raw.anyOf || []).map(deref)];
+  const en = alts.flatMap((x) => x.enum || (x.const !== undefined ? [x.const] : []));
+  const type = alts.map((x) => x.type).find((t) => t && t !== "null");
+  const d = describe(model, sp);
+  const kind = /_m$/.test(path) ? "length" : /_kg$/.test(path) ? "mass" : "plain";
+  const id = `${prefix}-${path}`;
+  const dflt = raw.default;
+  let input;
+  if (en.length || type === "boolean") {
+    const opts = en.length ? en.map((v) => [String(v), String(v).replace(/_/g, " ")]) : [["true", "yes"], ["false", "no"]];
+    input = h("select", { id, name: path, title: d.text, dataset: { path, type: type || "string" } },
+      h("option", { value: "" }, dflt === undefined || dflt === null ? "default" : `default (${String(dflt).replace(/_/g, " ")})`),
+      opts.map(([v, l]) => h("option", { value: v, selected: String(value) === v }, l)));
+  } else {
+    input = h("input", { id, name: path, type: "text", autocomplete: "off", title: d.text, inputmode: type === "string" ? "text" : "decimal",
+      placeholder: typeof dflt === "number" ? ctx.toDisplay(dflt, kind) : "", dataset: { path, type: type || "number", kind } });
+    if (value !== "") input.value = String(value);
+  }
+  return h("div", { class: "row", dataset: { field: path } }, h("label", { for: id, title: d.text }, label), input,
+    h("span", { class: "unit" }, en.length || type === "boolean" || type === "string" ? "" : ctx.unitLabel(kind, d.unit)),
+    h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
+}
+
+/** A schema field's value for the request: undefined when left empty, NaN when not a number. */
+function readSchemaField(input) {
+  const raw = input.value.trim();
+  if (raw === "") return undefined;
+  const t = input.dataset.type;
+  if (t === "boolean") return raw === "true";
+  if (t === "string") return raw;
+  const v = Number(raw.replace(",", "."));
+  if (!Number.isFinite(v)) return NaN;
+  return t === "integer" ? Math.round(v) : v * ctx.factor(input.dataset.kind || "plain");
+}
+
+function checkSchemaFields(prefix) {
+  let ok = true;
+  document.querySelectorAll(`#panel-machine [data-path]`).forEach((input) => {
+    if (!Number.isNaN(readSchemaField(input))) return;
+    const m = document.getElementById(`${input.id}-msg`);
+    m.textContent = "enter a number"; m.hidden = false; input.setAttribute("aria-invalid", "true");
+    ok = false;
+  });
+  return ok;
+}
+
 function machinePanel() {
   const el = document.getElementById("panel-machine");
   let last = null;
@@ -358,23 +440,47 @@ function machinePanel() {
     // the modes the chain takes per family (docs/machine.md)
     const modes = { fourbar: ["none", "static", "full", "optimal"], slider_crank: ["none", "static", "full", "optimal"],
       slotted_lever: ["none", "optimal"] }[fam] || ["none"];
+    const more = (title, ...rows) => h("details", { class: "more" }, h("summary", {}, title), h("div", { class: "controls" }, rows));
     put(el, h("h2", {}, "The whole machine: linkage, balance, drive, flywheel, simulation"), h("div", { class: "controls" },
       field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }),
       field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }),
-      field("mac", { name: "drive.stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"]], value: "1" }),
+      field("mac", { name: "drive.synchronous_rpm", label: "Motor speed class", options: [["", "any"], ["750", "750 rev/min"],
+        ["1000", "1000 rev/min"], ["1500", "1500 rev/min"], ["3000", "3000 rev/min"]], value: "1500" }),
+      field("mac", { name: "stage-count", label: "Gear stages", options: STAGE_COUNTS.map((n) => [String(n), String(n)]), value: "1" }),
       field("mac", { name: "alternatives", label: "Alternatives side by side", options: [["true", "yes"], ["false", "no"]], value: "true" })),
+    h("div", { class: "controls", id: "mac-stages" }),
+    more("Drive: motor, split and teeth", ...MACHINE_MORE.drive.map((f) => schemaField("mac", f))),
+    more("Balancing, flywheel, speed", ...MACHINE_MORE.other.map((f) => schemaField("mac", f))),
+    more("Start-up and run-down", ...MACHINE_MORE.running.map((f) => schemaField("mac", f))),
+    more("Gear strength (ISO 6336)", ...MACHINE_MORE.strength.map((f) => schemaField("mac", f))),
     actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
       h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
       h("span", { id: "mac-status", class: "note" })),
     h("p", { id: "mac-problem", class: "problem", hidden: true }), h("div", { id: "mac-result" }));
+    const stageRows = () => {
+      const n = Number(read("mac", "stage-count"));
+      put(document.getElementById("mac-stages"), Array.from({ length: n }, (_, k) => [
+        schemaField("mac", { path: `drive.stages.${k}.type`, label: `Stage ${k + 1} type`, schema: ["StageIn", "type"], value: "helical" }),
+        schemaField("mac", { path: `drive.stages.${k}.ratio_min`, label: `Stage ${k + 1} ratio from`, schema: ["StageIn", "ratio_min"] }),
+        schemaField("mac", { path: `drive.stages.${k}.ratio_max`, label: `Stage ${k + 1} ratio to`, schema: ["StageIn", "ratio_max"] })]));
+    };
+    document.getElementById("mac-stage-count").addEventListener("change", stageRows);
+    stageRows();
   };
   const request = () => {
     const body = linkage();
     body.samples = Math.min(body.samples || 360, 3600);
     body.delta = read("mac", "delta");
     body.balancing = { mode: read("mac", "balancing.mode") };
-    body.drive = { stages: Array(Number(read("mac", "drive.stages"))).fill("helical"), synchronous_rpm: 1500 };
+    const sync = read("mac", "drive.synchronous_rpm");
+    body.drive = { stages: Array.from({ length: Number(read("mac", "stage-count")) }, () => ({})) };
+    if (sync) body.drive.synchronous_rpm = Number(sync);
     body.alternatives = read("mac", "alternatives") === "true";
+    // every other field: sent when filled, else the API's default
+    document.querySelectorAll("#panel-machine [data-path]").forEach((input) => {
+      const v = readSchemaField(input);
+      if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
+    });
     return body;
   };
   /** The answer shown and the PDF button go together: no answer, no record to download. */
@@ -389,7 +495,7 @@ function machinePanel() {
   async function run() {
     clearPanel("mac");
     forget();
-    if (!checkNumbers("mac", ["delta"])) return;
+    if (!checkNumbers("mac", ["delta"]) || !checkSchemaFields("mac")) return;
     const body = request();
     busy("mac", "designing…");
     try {
@@ -419,8 +525,9 @@ function machinePanel() {
     const tick = (ok) => (ok ? h("span", { class: "ok" }, "✔") : h("span", { class: "ko" }, "✘"));
     const fw = m.flywheel.geometry && m.flywheel.geometry.best;
     const stages = [
-      ["1 linkage", `${ctx.state.design.mechanism.type.replace(/_/g, "-")}, RMS driving torque ${fmt(m.analysis.summary.rms_driving_torque_Nm)} N·m, RMS shaking force ${fmt(m.analysis.summary.rms_shaking_force_N)} N`],
-      ["2 balance", `${m.balancing_mode}: RMS shaking force ${fmt(m.summary_after_balancing.rms_shaking_force_N)} N, moment ${fmt(m.summary_after_balancing.rms_shaking_moment_Nm)} N·m`],
+      ["1 linkage", `${FAMILY[ctx.state.design.mechanism.type] || ctx.state.design.mechanism.type.replace(/_/g, " ")}, RMS driving torque ${fmt(m.analysis.summary.rms_driving_torque_Nm)} N·m, RMS shaking force ${fmt(m.analysis.summary.rms_shaking_force_N)} N`],
+      ["2 balance", `${m.balancing_mode}: RMS shaking force ${fmtZero(m.summary_after_balancing.rms_shaking_force_N, m.analysis.summary.rms_shaking_force_N)} N, ` +
+        `moment ${fmtZero(m.summary_after_balancing.rms_shaking_moment_Nm, m.analysis.summary.rms_shaking_moment_Nm)} N·m`],
       ["3 motor", `${m.motor.motor.name}, ${fmt(m.motor.motor.rated_power_W / 1000)} kW; required ${fmt(m.motor.required_power_W / 1000)} kW`],
       ["4 gears", `ratios ${m.stage_ratios.map((r) => fmt(r)).join(" × ")}` + (m.teeth ? `, teeth ${m.teeth.stages.map((st) => `${st.pinion_teeth}/${st.gear_teeth}`).join(", ")}` : "")],
       ["5 flywheel", fw ? `${fmt(fw.mass_kg)} kg ${fw.shape} on the ${m.flywheel_shaft} shaft, D = ${L(fw.outer_diameter_m)}` : "none needed"],
@@ -579,7 +686,7 @@ function synthesisPanel() {
         (a.check.swing_deg !== undefined ? `, swing ${fmt(a.check.swing_deg)}°` : `, stroke ${L(a.check.stroke_m)}`) +
         `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.`;
     }
-    put(res, h("h3", {}, `${m.type.replace(/_/g, "-")}: ${lengths}`), h("p", {}, text));
+    put(res, h("h3", {}, `${FAMILY[m.type] || m.type}: ${lengths}`), h("p", {}, text));
     document.getElementById("syn-open").disabled = false;
     document.body.dataset.synthesised = a.task;
   }
@@ -701,9 +808,20 @@ function studiesPanel() {
   }
   async function front() {
     const x = read("stu", "x"), y = read("stu", "y");
-    const [all, pareto] = await Promise.all([get(`${study.links.results}?limit=1000`), get(study.links.pareto)]);
+    // every variant, page by page: a large study is more than one page of results
+    const PAGE = 1000;
+    const variants = [];
+    const pareto = await get(study.links.pareto);
+    for (let offset = 0; ; offset += PAGE) {
+      const page = await get(`${study.links.results}?offset=${offset}&limit=${PAGE}`);
+      variants.push(...page.variants);
+      if (page.variants.length < PAGE) break;
+    }
     const onFront = new Set(pareto.front.map((v) => v.index));
-    const pts = all.variants.filter((v) => v.metrics && v.metrics[x] !== null && v.metrics[y] !== null).map((v) => ({
+    // a front point is drawn whatever the pages held
+    const have = new Set(variants.map((v) => v.index));
+    for (const v of pareto.front) if (!have.has(v.index) && v.metrics) variants.push(v);
+    const pts = variants.filter((v) => v.metrics && v.metrics[x] !== null && v.metrics[y] !== null).map((v) => ({
       x: v.metrics[x], y: v.metrics[y], variant: v, colour: onFront.has(v.index) ? "#c25e00" : "#b8c2d3",
       label: `variant ${v.index}${onFront.has(v.index) ? " (Pareto front)" : ""}: ` + Object.entries(v.parameters).map(([k, val]) => `${k} = ${fmt(val)}`).join(", "),
     }));
@@ -714,6 +832,7 @@ function studiesPanel() {
     const plot = scatterPlot(box, "stu-pareto", { title: `Pareto front: ${pareto.front.length} of ${pareto.candidates} variants (click one to open it)`,
       xLabel: label(x), yLabel: label(y), points: pts, onPick: (p) => openVariant(p.variant) });
     plot.el.querySelectorAll("circle.pick").forEach((c, n) => { c.dataset.variant = pts[n].variant.index; c.dataset.front = String(onFront.has(pts[n].variant.index)); });
+    plot.el.dataset.points = String(pts.length);
   }
   function openVariant(v) {
     const d = structuredClone(base);

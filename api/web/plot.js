@@ -2,7 +2,7 @@
 import { h, s } from "./dom.js";
 
 const W = 420, H = 220, M = { l: 56, r: 12, t: 20, b: 30 };
-const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3"];
+const COLOURS = ["#1f5fbf", "#c25e00", "#1b7a3a", "#8a2be2", "#8a93a3", "#b3261e", "#007b83", "#6d4c41"];
 
 export function niceTicks(lo, hi, n = 5) {
   if (!(hi > lo)) { const d = Math.abs(lo) || 1; lo -= d * 0.5; hi += d * 0.5; }
@@ -76,8 +76,9 @@ function box(container, id, title) {
 
 function legend(series) {
   if (series.length < 2) return [];
-  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * 110} ${M.t - 10})` },
-    s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+  const step = Math.min(110, (W - M.l - M.r - 8) / series.length);
+  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * step} ${M.t - 10})` },
+    s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
     s("text", { x: 20, y: 4 }, c.name)));
 }
 
@@ -88,20 +89,20 @@ function zeroNote(peak, unit, x, y, anchor = "end") {
 
 /** Curves y(x) over one x axis (the crank angle), with optional horizontal limits, a cursor at one sample and a
  *  hover read-out of every curve at the nearest sample. `zero`: a magnitude below which the curves are read as
- *  zero (the axis keeps at least that span and says "≈ 0") rather than autoscaled onto rounding noise. */
-export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null, zero = 0 }) {
+ *  zero: the axis then spans ±`zeroSpan` and says "≈ 0", rather than autoscaling onto rounding noise. */
+export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit, limits = [], cursor = null, zero = 0, zeroSpan = zero }) {
   const { el, svg } = box(container, id, title);
   const xs = [x[0], x[x.length - 1]];
   if (xs[1] <= xs[0]) xs[1] = xs[0] + 1;
   let peak = 0;
   for (const c of series) for (const v of c.values) peak = Math.max(peak, Math.abs(v));
   const isZero = zero > 0 && peak < zero;
-  const ys = isZero ? [-zero, zero] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
+  const ys = isZero ? [-zeroSpan, zeroSpan] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
   const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
   const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] - 1e-12 * (ys[1] - ys[0]) && v <= ys[1] + 1e-12 * (ys[1] - ys[0]));
   const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
   series.forEach((c, i) => {
-    nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+    nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-dasharray": c.dash || null,
       points: polyline(x, c.values, X, Y) }));
   });
   for (const l of limits) {
@@ -138,12 +139,12 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
 
 /** Polar diagram of a planar vector over the cycle (the shaking force as the textbooks draw it): equal scales,
  *  origin marked, one curve per series; `zero` as for linePlot. */
-export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null, zero = 0 }) {
+export function polarPlot(container, id, { title, series, unit, labels = ["Fx", "Fy"], cursor = null, zero = 0, zeroSpan = zero }) {
   const { el, svg } = box(container, id, title);
   let peak = 0;
   for (const c of series) for (const [a, b] of c.points) peak = Math.max(peak, Math.hypot(a, b));
   const isZero = zero > 0 && peak < zero;
-  const r = isZero ? zero : peak > 0 ? peak * 1.08 : 1;
+  const r = isZero ? zeroSpan : peak > 0 ? peak * 1.08 : 1;
   const side = H - M.t - M.b, cx = M.l + (W - M.l - M.r) / 2, cy = M.t + side / 2;
   const k = side / (2 * r);
   const X = (v) => cx + v * k, Y = (v) => cy - v * k;
@@ -161,13 +162,13 @@ export function polarPlot(container, id, { title, series, unit, labels = ["Fx", 
     s("text", { x: W - M.r, y: H - 4, "text-anchor": "end", class: "tick" }, `[${unit}]`));
   series.forEach((c, i) => {
     const xs = c.points.map((p) => p[0]), ys = c.points.map((p) => p[1]);
-    nodes.push(s("polygon", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i], "stroke-dasharray": c.dash || null,
+    nodes.push(s("polygon", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-dasharray": c.dash || null,
       points: polyline(xs, ys, X, Y) }));
   });
   nodes.push(s("circle", { cx, cy, r: 2.5, fill: "#223047" }));
   if (series.length > 1) {
     series.forEach((c, i) => nodes.push(s("g", { transform: `translate(${W - M.r - 110} ${M.t + 8 + i * 14})` },
-      s("line", { x1: 0, x2: 16, stroke: c.colour || COLOURS[i], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
+      s("line", { x1: 0, x2: 16, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
       s("text", { x: 20, y: 4 }, c.name))));
   }
   if (isZero) nodes.push(zeroNote(peak, unit, M.l - 40, M.t + 4, "start"));
@@ -217,11 +218,11 @@ export function scatterPlot(container, id, { title, points, xLabel, yLabel, onPi
     nodes.push(s("polyline", { class: "curve", stroke: "#8a93a3", points: polyline(order.map((p) => p.x), order.map((p) => p.y), X, Y) }));
   }
   // many points: smaller dots, so the cloud stays readable; a large cloud is not each in the tab order
-  const r0 = points.length > 100 ? 3 : 5, focusable = points.length <= 200;
+  const dense = points.length > 100, r0 = dense ? 2.4 : 5, focusable = points.length <= 200;
   points.forEach((p, i) => {
     const hot = highlight.includes(i);
     nodes.push(s("circle", { class: "pick", dataset: { index: i }, cx: X(p.x), cy: Y(p.y), r: hot ? r0 + 2 : r0,
-      fill: p.colour || (hot ? "#c25e00" : "#1f5fbf"), stroke: "#fff", "stroke-width": 1.2, tabindex: focusable || p.focus ? 0 : null,
+      fill: p.colour || (hot ? "#c25e00" : "#1f5fbf"), stroke: dense ? "none" : "#fff", "stroke-width": 1.2, tabindex: focusable || p.focus ? 0 : null,
       role: "button", "aria-label": p.label || `point ${i}` }));
   });
   svg.replaceChildren(...nodes);

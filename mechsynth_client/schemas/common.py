@@ -334,15 +334,25 @@ class _LoadBase(StrictModel):
         default_factory=lambda: [0.0, 0.0], description="Where a force acts, in the output link's frame [m]."
     )
     stroke: Literal[-1, 0, 1] = Field(0, description="Act only while the output moves in + (1) or - (-1); 0: both.")
+    direction: Literal["against_motion", "output", "frame"] = Field(
+        "against_motion", description="against_motion: a resistance, turning with the output's velocity (the "
+        "magnitude resists); output: signed and fixed along the output, + along the slide axis or "
+        "counter-clockwise (a spring preload, a constant thrust); frame: a force of fixed direction in the frame "
+        "at frame_angle_deg, signed, on a sliding or a turning output at point_m (a weight: force_N m·g at -90).")
+    frame_angle_deg: float = Field(0.0, ge=-360.0, le=360.0, description="direction frame: the force's direction, "
+                                   "counter-clockwise from +x [deg].")
+
+    def _engine_direction(self) -> dict[str, Any]:
+        return {"direction": self.direction, "angle": math.radians(self.frame_angle_deg)}
 
     def _magnitude(self, output_motion: str, table: bool) -> float | list[float]:
-        name, value = ("torque_Nm", self.torque_Nm) if output_motion == "rotation" else ("force_N", self.force_N)
+        turning = output_motion == "rotation" and self.direction != "frame"
+        name, value = ("torque_Nm", self.torque_Nm) if turning else ("force_N", self.force_N)
         other = self.force_N if name == "torque_Nm" else self.torque_Nm
         if value is None or other is not None:
-            raise synth.InvalidInput(
-                f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}: give its load as {name}",
-                field=f"loads.{name}",
-            )
+            what = ("a force of fixed direction in the frame" if self.direction == "frame" else
+                    f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}")
+            raise synth.InvalidInput(f"{what}: give its load as {name}", field=f"loads.{name}")
         if table != isinstance(value, list):
             raise synth.InvalidInput(
                 f"{name} must be {'a list matching the table' if table else 'a single number'}", field=f"loads.{name}"
@@ -364,7 +374,7 @@ class WindowLoadIn(_LoadBase):
         assert isinstance(mag, float)
         return synth.ProcessLoad(
             "window", mag, math.radians(self.start_deg), math.radians(self.end_deg),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
         )
 
 
@@ -381,7 +391,7 @@ class CrankTableLoadIn(_LoadBase):
         assert isinstance(mag, list)
         return synth.ProcessLoad(
             "crank_table", table_x=tuple(np.radians(self.crank_angle_deg)), values=tuple(mag),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
         )
 
 
@@ -406,7 +416,8 @@ class PositionTableLoadIn(_LoadBase):
                 raise synth.InvalidInput("a sliding output's table needs position_m", field="loads.position_m")
             x = tuple(self.position_m)
         return synth.ProcessLoad(
-            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1])
+            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
+            **self._engine_direction(),
         )
 
 

@@ -178,6 +178,23 @@ class MachineFlywheelIn(StrictModel):
                                         "of the flywheel.")
 
 
+class TitleBlockIn(StrictModel):
+    """Who answers for the design record: printed in the PDF's title block, kept out of the request's hash."""
+
+    project: str = Field("", max_length=200, description="The project the machine belongs to.")
+    number: str = Field("", max_length=100, description="The record's number in the office's register.")
+    revision: str = Field("", max_length=20, description="The record's revision (A, B, … or 1, 2, …).")
+    title: str = Field("", max_length=200, description="The record's title; default the request's `name`.")
+    designed_by: str = Field("", max_length=100, description="Who designed it.")
+    designed_on: str = Field("", max_length=40, description="When (ISO 8601 date).")
+    checked_by: str = Field("", max_length=100, description="Who checked it.")
+    checked_on: str = Field("", max_length=40, description="When (ISO 8601 date).")
+    approved_by: str = Field("", max_length=100, description="Who approved it.")
+    approved_on: str = Field("", max_length=40, description="When (ISO 8601 date).")
+    state: Literal["draft", "checked", "approved", "superseded"] = Field("draft", description="Where the record "
+                                                                         "stands.")
+
+
 class MachineIn(LinkageRequest):
     """One machine: the linkage with its loads at its working speed (`speed_rpm`), the drive, the target delta
     (or a machine type), the balancing and flywheel choices."""
@@ -210,6 +227,9 @@ class MachineIn(LinkageRequest):
                                              "with the motor off [s] (check rundown_time); null: not checked.")
     name: str | None = Field(None, max_length=200, description="A label for people: the design record's title "
                              "(?format=pdf); default \"machine design\".")
+    title_block: TitleBlockIn | None = Field(None, description="The design record's title block (project, number, "
+                                             "revision, designed/checked/approved with names and dates, state); "
+                                             "default a draft with blank names. Not part of the request's hash.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE],
                                                  **exactly_one("delta", "machine_type")})

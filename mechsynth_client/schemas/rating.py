@@ -78,6 +78,10 @@ class RatingIn(_DutyFields):
                                            "default method C, pinion centred between its bearings.")
     max_face_width_ratio: float = Field(1.5, gt=0, le=5, description="Largest face width in pinion reference "
                                         "diameters b/d1 [-].")
+    pinion_rim_thickness_mm: float | None = Field(None, gt=0, le=1e4, description="Rim thickness s_R under the "
+                                                  "pinion's root [mm]; null: a solid wheel (Y_B = 1).")
+    gear_rim_thickness_mm: float | None = Field(None, gt=0, le=1e4, description="Rim thickness s_R under the gear's "
+                                                "root [mm]; null: a solid wheel (Y_B = 1).")
     pinion_speed_rpm: float = Field(gt=0, le=1e5, description="Pinion speed [rev/min].", examples=[360.0])
     pinion_torque_Nm: float | None = Field(None, gt=0, le=1e9, description="Nominal pinion torque [N·m] (times "
                                            "K_A); or give load_spectrum.", examples=[9000.0])
@@ -112,7 +116,9 @@ class RatingIn(_DutyFields):
             None if self.tip_relief_um is None else self.tip_relief_um * UM, self.face_load_factor,
             synth.BasicRack(1.0, self.rack_dedendum, self.rack_root_radius,
                             math.radians(self.normal_pressure_angle_deg)),
-            self.max_face_width_ratio)
+            self.max_face_width_ratio,
+            (None if self.pinion_rim_thickness_mm is None else self.pinion_rim_thickness_mm * MM,
+             None if self.gear_rim_thickness_mm is None else self.gear_rim_thickness_mm * MM))
 
     def speed(self) -> float:
         """Pinion speed [rad/s]."""
@@ -219,7 +225,8 @@ class RatingOut(BaseModel):
                                             "K_Halpha) [MPa].")
     contact_limit_MPa: list[float] = Field(description="sigma_HG = sigma_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X [MPa].")
     permissible_contact_stress_MPa: list[float] = Field(description="sigma_HP = sigma_HG / S_Hmin [MPa].")
-    nominal_root_stress_MPa: list[float] = Field(description="sigma_F0 = F_t/(b m_n) Y_F Y_S Y_eps Y_beta [MPa].")
+    nominal_root_stress_MPa: list[float] = Field(description="sigma_F0 = F_t/(b m_n) Y_F Y_S Y_beta Y_B Y_DT "
+                                                 "(ISO 6336-3 method B) [MPa].")
     root_stress_MPa: list[float] = Field(description="sigma_F = sigma_F0 K_A K_V K_Fbeta K_Falpha [MPa].")
     root_limit_MPa: list[float] = Field(description="sigma_FG = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X "
                                         "[MPa].")

@@ -98,6 +98,9 @@ class StudyIn(StrictModel):
                                     "it), so designs that differ only by noise do not beat each other; null: to "
                                     "the noise only.")
     name: str | None = Field(None, max_length=200, description="A label for people.")
+    owner: str = Field("anonymous", min_length=1, max_length=200,
+                       description="Who the study runs for: owners take turns for the running places, and each "
+                                   "owner's queued and running studies share one bound of estimated work.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [STUDY_EXAMPLE]})
 
@@ -145,15 +148,20 @@ class StudyOut(BaseModel):
     created_at: float = Field(description="Creation time [s since the epoch].")
     message: str | None = Field(None, description="Why the study failed or stopped.")
     links: StudyLinks = Field(description="Paths of the study's status, results and Pareto front.")
+    owner: str = Field("anonymous", description="Who the study runs for.")
+    position: int | None = Field(None, description="While queued: its place in the queue of studies waiting to "
+                                                   "run, 1 for the next to start; null otherwise.")
 
     @classmethod
-    def from_record(cls, r: synth.StudyRecord) -> StudyOut:
-        """Schema from the stored study."""
+    def from_record(cls, r: synth.StudyRecord, position: int | None = None) -> StudyOut:
+        """Schema from the stored study, with its place in the queue while it waits."""
         base = f"/v1/studies/{r.id}"
         return cls(id=r.id, name=r.spec.get("name"), endpoint=r.spec["endpoint"], state=r.state,  # type: ignore[arg-type]
                    total=r.total, done=r.done, failed=r.failed, elapsed_s=round(r.elapsed_s, 3),
                    eta_s=None if r.eta_s is None else round(r.eta_s, 1), created_at=r.created_at,
-                   message=r.message, links=StudyLinks(self=base, results=f"{base}/results", pareto=f"{base}/pareto"))
+                   message=r.message, links=StudyLinks(self=base, results=f"{base}/results", pareto=f"{base}/pareto"),
+                   owner=str(r.spec.get("owner") or "anonymous"),
+                   position=position if r.state == "queued" else None)
 
 
 class VariantOut(BaseModel):

@@ -1,17 +1,21 @@
 """Load capacity of an external spur or helical pair by ISO 6336 method B: pitting (part 2) and tooth root (part 3).
 
 Contact stress sigma_H = Z_B,D Z_H Z_E Z_eps Z_beta sqrt(F_t/(d1 b) (u + 1)/u) sqrt(K_A K_V K_Hbeta K_Halpha)
-against sigma_HG = sigma_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X; root stress sigma_F = F_t/(b m_n) Y_F Y_S Y_eps Y_beta
-K_A K_V K_Fbeta K_Falpha against sigma_FG = sigma_Flim Y_ST Y_NT Y_deltarelT Y_RrelT Y_X. The safety factors are
-S_H = sigma_HG/sigma_H and S_F = sigma_FG/sigma_F per gear.
+against sigma_HG = sigma_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X; root stress sigma_F = F_t/(b m_n) Y_F Y_S Y_beta Y_B Y_DT
+K_A K_V K_Fbeta K_Falpha (ISO 6336-3:2006 and :2019 method B, eq. (3)) against sigma_FG = sigma_Flim Y_ST Y_NT
+Y_deltarelT Y_RrelT Y_X. The safety factors are S_H = sigma_HG/sigma_H and S_F = sigma_FG/sigma_F per gear.
 
 Factors: K_V by method B (resonance ratio, ISO 6336-1 §6.5) with the single and mesh stiffness of §9;
 K_Halpha, K_Falpha by method B (§8.3); K_Hbeta by method C (§7.6: mesh misalignment from the pinion's bending
 and torsion, pinion centred between its bearings, plus the helix slope deviation of the accuracy grade) unless
 the request gives it from a shaft analysis; K_Fbeta = K_Hbeta^N_F. Line loads below 100 N/mm count as 100 N/mm
 in these factors, as ISO 6336-1 prescribes. Z_beta = 1/sqrt(cos beta) (ISO 6336-2:2019).
-Y_F, Y_S by method B at the outer point of single pair contact (ISO 6336-3:2006 §6.2, §7.2, with Y_eps and Y_beta
-of that edition). Deviations come from ISO 1328-1:2013 for the accuracy grade.
+Y_F, Y_S by method B with the load at the outer point of single pair contact (ISO 6336-3:2006 §6.2, §7.2: h_Fe,
+alpha_Fen at that point's diameter d_en); the load sharing this point accounts for is why method B has no contact
+ratio factor Y_eps (that belonged to the load at the tip, the old method C of DIN 3990). Y_beta of §8, the rim
+thickness factor Y_B (§7.7: 1 for a solid wheel or s_R/h >= 1.2, else 1.6 ln(2.242 h/s_R)) and the deep tooth
+factor Y_DT (§7.8: 1 for eps_alpha_n <= 2.05 or an accuracy grade above 4; below, 2.366 - 0.666 eps_alpha_n up to
+2.5 and 0.7 beyond). Deviations come from ISO 1328-1:2013 for the accuracy grade.
 
 The formulas are stated in ISO's units (mm, N, µm, N/mm²); inputs and results are SI. The load-dependent factors
 are evaluated elementwise, so one call rates a whole load spectrum.
@@ -57,7 +61,8 @@ class GearPairSpec:
     [rad]; ``profile_shift`` pinion and gear [-]; ``accuracy_grade`` ISO 1328-1 [-]; ``materials`` grade names of
     pinion and gear; ``oil_viscosity_40`` kinematic viscosity at 40 °C [m²/s]; ``flank_roughness_Ra`` [m];
     ``root_roughness_Rz`` [m]; ``tip_relief`` C_a [m], None for the running-in value; ``face_load_factor``
-    K_Hbeta from a shaft analysis, None for method C; ``max_face_width_ratio`` b/d1 limit [-].
+    K_Hbeta from a shaft analysis, None for method C; ``max_face_width_ratio`` b/d1 limit [-];
+    ``rim_thickness`` s_R under the root of pinion and gear [m], None for a solid wheel.
     """
 
     pinion_teeth: int
@@ -76,6 +81,7 @@ class GearPairSpec:
     face_load_factor: float | None = None
     rack: BasicRack = field(default_factory=BasicRack)
     max_face_width_ratio: float = 1.5
+    rim_thickness: tuple[float | None, float | None] = (None, None)
 
 
 @dataclass(frozen=True, slots=True)
@@ -261,6 +267,29 @@ def _root_form_factors(g: PairGeometry) -> dict[str, FloatArray]:
     return {"Y_F": y_f, "Y_S": y_s, "q_s": q_s, "s_Fn": s_fn, "rho_F": rho_f, "h_Fe": h_fe, "eps_an": eps_an}
 
 
+def rim_thickness_factor(rim: float | None, depth: float, field: str = "rim_thickness_mm") -> float:
+    """Y_B of an external gear (ISO 6336-3:2006 §7.7) from the rim thickness s_R under the root and the tooth
+    depth h [m]: 1 for a solid wheel (None) or s_R/h >= 1.2, 1.6 ln(2.242 h/s_R) down to s_R/h = 0.5; thinner
+    rims are outside the standard."""
+    if rim is None:
+        return 1.0
+    if not (math.isfinite(rim) and rim > 0):
+        raise InvalidInput(f"the rim thickness must be positive, got {rim}", field=field)
+    ratio = rim / depth
+    if ratio <= 0.5:
+        raise InvalidInput(f"a rim thickness of {ratio:.3g} tooth depths is below the 0.5 ISO 6336-3 rates",
+                           field=field)
+    return 1.0 if ratio >= 1.2 else 1.6 * math.log(2.242 / ratio)
+
+
+def deep_tooth_factor(eps_alpha_n: float, accuracy_grade: int) -> float:
+    """Y_DT (ISO 6336-3:2006 §7.8) from the virtual contact ratio eps_alpha_n and the ISO 1328 grade: 1 for
+    eps_alpha_n <= 2.05 or grades above 4 (coarser), 2.366 - 0.666 eps_alpha_n up to 2.5, 0.7 beyond."""
+    if accuracy_grade > 4 or eps_alpha_n <= 2.05:
+        return 1.0
+    return 2.366 - 0.666 * eps_alpha_n if eps_alpha_n <= 2.5 else 0.7
+
+
 def _single_pair_factors(g: PairGeometry) -> tuple[float, float]:
     """Z_B and Z_D (ISO 6336-2 §6): the contact stress at the inner points of single pair contact."""
     z1, z2 = g.z
@@ -363,9 +392,12 @@ class PairModel:
         self.root = root
         self.y_f, self.y_s = root["Y_F"], root["Y_S"]
         _check_finite(self)
-        self.y_eps = 0.25 + 0.75 / root["eps_an"]
         beta_deg = min(math.degrees(g.helix_angle), 30.0)
         self.y_beta = max(1 - min(eb, 1.0) * beta_deg / 120, 1 - 0.25 * min(eb, 1.0), 0.75)
+        depth = (np.array(g.da) - np.array(g.df)) / 2
+        self.y_b = np.array([rim_thickness_factor(sr, h, f"{who}_rim_thickness_mm") for sr, h, who in
+                             zip(spec.rim_thickness, depth, ("pinion", "gear"), strict=True)])
+        self.y_dt = deep_tooth_factor(float(root["eps_an"]), spec.accuracy_grade)
         self.y_nt = np.array([life_factor_root(m, c) for m, c in zip(self.mats, self.cycles, strict=True)],
                              dtype=float).reshape(2)
         chi = (1 + 2 * root["q_s"]) / 5
@@ -417,7 +449,7 @@ class PairModel:
         sh0 = self.z_h * self.z_e * self.z_eps * self.z_beta * np.sqrt(lf.ft / (d1 * b) * (u + 1) / u)
         k_h = np.sqrt(ka * lf.kv * lf.khb * lf.kha)
         sh = sh0[:, None] * k_h[:, None] * np.array([self.z_b, self.z_d])[None, :]
-        sf0 = lf.ft[:, None] / (b * mn) * (self.y_f * self.y_s * self.y_eps * self.y_beta)[None, :]
+        sf0 = lf.ft[:, None] / (b * mn) * (self.y_f * self.y_s * self.y_beta * self.y_b * self.y_dt)[None, :]
         sf = sf0 * (ka * lf.kv * lf.kfb * lf.kfa)[:, None]
         return sh0 * MPA, sh * MPA, sf * MPA, lf
 
@@ -455,7 +487,7 @@ def _result(model: PairModel, pinion_torque: float) -> RatingResult:
     sh, sf = sh[0], sf[0]
     sigma_hg, sigma_fg = model.sigma_hg, model.sigma_fg
     b, mn = g.face_width / MM, g.normal_module / MM
-    sf0 = lf.ft[0] / (b * mn) * model.y_f * model.y_s * model.y_eps * model.y_beta * MPA
+    sf0 = lf.ft[0] / (b * mn) * model.y_f * model.y_s * model.y_beta * model.y_b * model.y_dt * MPA
     ka = duty.application_factor
     # The independent check: Hertz stress of two cylinders of the flanks' radii at the pitch point.
     rho = np.array(g.db) / 2 * math.tan(g.alpha_wt) / math.cos(g.beta_b)   # normal-section radii
@@ -491,10 +523,12 @@ def _result(model: PairModel, pinion_torque: float) -> RatingResult:
         s("Z_R", "roughness factor", model.z_r),
         s("Z_W", "work hardening factor", model.z_w),
         s("Z_X", "size factor, contact", model.z_x),
-        s("Y_F", "tooth form factor (method B)", model.y_f),
-        s("Y_S", "stress correction factor (method B)", model.y_s),
-        s("Y_eps", "contact ratio factor, root", model.y_eps),
+        s("Y_F", "tooth form factor (method B, load at the outer point of single pair contact)", model.y_f),
+        s("Y_S", "stress correction factor (method B, same point)", model.y_s),
         s("Y_beta", "helix angle factor, root", model.y_beta),
+        s("Y_B", "rim thickness factor", model.y_b),
+        s("Y_DT", "deep tooth factor", model.y_dt),
+        s("eps_alpha_n", "virtual transverse contact ratio", model.root["eps_an"]),
         s("Y_ST", "stress correction factor of the test gear", Y_ST),
         s("Y_NT", "life factor, root", model.y_nt),
         s("Y_deltarelT", "relative notch sensitivity factor", model.y_delta),

@@ -118,6 +118,10 @@ def planetary_efficiency(i0: float, eta0: float, fixed: Member, driving: Member,
     sun_drives = sun_torque * (speed["sun"] - speed["carrier"]) > 0
     k = i0 * (eta0 if sun_drives else 1.0 / eta0)
     lossy = {"sun": 1.0, "ring": -k, "carrier": k - 1.0}
+    if abs(lossy[driving]) < 1e-12:
+        # the driving member would carry no torque: the loss exactly cancels the stage's torque ratio
+        raise InvalidInput("with this basic efficiency the driving member of the stage carries no torque: its "
+                           "efficiency is undefined", field="basic_efficiency")
     return -lossy[driven] / lossy[driving] * speed[driven]
 
 
@@ -297,7 +301,10 @@ def gear_train(elements: Sequence[TrainElement], *, module: float | None = None,
             wheels.append((f"planet {k}", e.planet_teeth, None))
             if e.planet_ring_teeth is not None:
                 wheels.append((f"planet {k}'", e.planet_ring_teeth, None))
-            forward, backward = e.stage_efficiency(), e.back_efficiency()
+            try:
+                forward, backward = e.stage_efficiency(), e.back_efficiency()
+            except InvalidInput as exc:
+                raise InvalidInput(str(exc), field=f"elements[{i}].basic_efficiency") from exc
             efficiency *= forward
             back *= backward
             warnings += _locking_warnings(i, k, e, forward, backward)

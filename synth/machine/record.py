@@ -1,8 +1,10 @@
 """What makes a machine design report a design record: who, when, which service, which request, every input.
 
 The request is kept as the client sent it (after validation, defaults included) and identified by the SHA-256 of
-its canonical JSON (keys sorted, no spaces), so a signed report can be matched to the request that made it and
-the design repeated. Every input is listed with its unit, read from the field name's unit suffix (the JSON field
+its canonical JSON (keys sorted, no spaces; the title block left out, so that signing a revision does not change
+the design's identity), so a signed report can be matched to the request that made it and the design repeated.
+The title block (project, record number, revision, who designed, checked and approved it and when, its state)
+comes from the request's optional ``title_block``: a design library fills it. Every input is listed with its unit, read from the field name's unit suffix (the JSON field
 names carry their unit: ``length_m``, ``mass_kg``, ``torque_Nm``, ``speed_rpm``, ``angle_deg``).
 """
 
@@ -17,14 +19,49 @@ from typing import Any
 
 #: Unit suffixes of the request's field names, longest first so that ``_m_s`` is not read as ``_s``.
 _UNITS: tuple[tuple[str, str], ...] = (
-    ("_kg_m3", "kg/m³"), ("_m_s2", "m/s²"), ("_kgm2", "kg·m²"), ("_m_s", "m/s"), ("_rad_s2", "rad/s²"),
+    ("_mm2_s", "mm²/s"), ("_kg_m3", "kg/m³"), ("_m_s2", "m/s²"), ("_kgm2", "kg·m²"), ("_m_s", "m/s"), ("_rad_s2", "rad/s²"),
     ("_rad_s", "rad/s"), ("_rpm", "rpm"), ("_deg", "°"), ("_Nm", "N·m"), ("_Pa", "Pa"), ("_kg", "kg"),
-    ("_W", "W"), ("_N", "N"), ("_m", "m"), ("_s", "s"),
+    ("_W", "W"), ("_N", "N"), ("_m", "m"), ("_s", "s"), ("_h", "h"),
 )
+#: Inputs whose unit their name does not carry.
+_NAMED_UNITS = {"viscous": "N·s/m"}
 #: Dimensionless inputs and choices, named so that the inputs page says so instead of leaving the unit blank.
 _DIMENSIONLESS = ("delta", "speed_tolerance", "reserve_factor", "efficiency", "ratio", "ratio_min", "ratio_max",
                   "tooth_tolerance", "thickness_ratio", "width_ratio", "breakdown_torque_ratio", "weights",
-                  "shaking_force", "shaking_moment", "driving_torque", "added_mass", "rotor_ratios")
+                  "shaking_force", "shaking_moment", "driving_torque", "added_mass", "rotor_ratios",
+                  "application_factor", "coefficient", "static_coefficient", "max_face_width_ratio",
+                  "min_face_width_ratio", "min_safety_contact", "min_safety_root")
+#: The states of a design record, in the order it passes through them.
+STATES = ("draft", "checked", "approved", "superseded")
+#: The request's key that holds the title block (outside the design's identity).
+TITLE_BLOCK = "title_block"
+
+
+@dataclass(frozen=True, slots=True)
+class TitleBlock:
+    """Who answers for a record: the project, the record's number and revision, its title, the names and dates
+    (ISO 8601) of whoever designed, checked and approved it, and its state (draft, checked, approved,
+    superseded). Blank names and dates are left for a pen."""
+
+    project: str = ""
+    number: str = ""
+    revision: str = ""
+    title: str = ""
+    designed_by: str = ""
+    designed_on: str = ""
+    checked_by: str = ""
+    checked_on: str = ""
+    approved_by: str = ""
+    approved_on: str = ""
+    state: str = "draft"
+
+    @staticmethod
+    def of(data: Mapping[str, Any] | None) -> TitleBlock:
+        """The title block of a request's ``title_block`` (None: a draft with blank names)."""
+        if not data:
+            return TitleBlock()
+        fields = TitleBlock.__dataclass_fields__
+        return TitleBlock(**{k: "" if v is None else str(v) for k, v in data.items() if k in fields})
 
 
 @dataclass(frozen=True, slots=True)
@@ -40,25 +77,30 @@ class DesignRecord:
     version: str
     request: Mapping[str, Any] = field(default_factory=dict)
     request_sha256: str = ""
+    title_block: TitleBlock = field(default_factory=TitleBlock)
 
     @staticmethod
     def of(request: Mapping[str, Any], *, name: str | None, version: str,
            created: _dt.datetime | None = None) -> DesignRecord:
-        """The record of ``request``, hashed; ``created`` default now (UTC)."""
+        """The record of ``request``, hashed without its title block; ``created`` default now (UTC)."""
         when = (created or _dt.datetime.now(_dt.timezone.utc)).astimezone(_dt.timezone.utc)
+        design = {k: v for k, v in request.items() if k != TITLE_BLOCK}
         return DesignRecord(name or "machine design", when.strftime("%Y-%m-%d %H:%M:%S UTC"), version,
-                            request, request_sha256(request))
+                            design, request_sha256(design), TitleBlock.of(request.get(TITLE_BLOCK)))
 
 
 def request_sha256(request: Mapping[str, Any]) -> str:
-    """SHA-256 of the request's canonical JSON: keys sorted, no spaces, UTF-8 [hex]."""
-    text = json.dumps(request, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
+    """SHA-256 of the request's canonical JSON, its title block left out: keys sorted, no spaces, UTF-8 [hex]."""
+    design = {k: v for k, v in request.items() if k != TITLE_BLOCK}
+    text = json.dumps(design, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def unit_of(key: str) -> str:
     """The unit a field name carries in its suffix; ``-`` for a dimensionless input, blank for a choice or a
     name."""
+    if key in _NAMED_UNITS:
+        return _NAMED_UNITS[key]
     for suffix, unit in _UNITS:
         if key.endswith(suffix):
             return unit

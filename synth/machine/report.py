@@ -1,22 +1,28 @@
-"""The design record of a whole machine: a multi-page A4 PDF (matplotlib's PdfPages) and a one-page PNG summary.
+"""The design record of a whole machine: a multi-page A4 PDF (reportlab's platypus for the pages and tables,
+matplotlib for the figures) and a one-page PNG summary.
 
-The PDF opens with a title block (name, date, service version, the request's SHA-256) and the verdict, then
-lists every input with its unit, each stage of the chain with its independent check figure, the counterweights
-(mass, radius, angle and the steel disc that realises each), the gear train (a table per stage), the flywheel
-where it sits, the motor and its operating point, every shaft, every check and every warning; the diagrams
-follow (mechanism, driving torque, simulated speed, shaking force and moment, energy-mass diagram, motor
-torque), and the alternatives when asked. Every page is A4 landscape; text is set in embedded TrueType fonts so
-it can be extracted; a value smaller than 1e-9 of its column's (or quantity's) scale is printed as 0.
+The PDF opens with a title block (project, record number, revision, title, designed/checked/approved with names
+and dates, state, date, service version, the request's SHA-256) and the verdict, then the key figures, every
+check with its unit, every warning, every input with its unit, each stage of the chain with its independent
+check figure, the counterweights (mass, radius, angle and the steel disc that realises each), the gear train,
+the flywheel where it sits, the motor and its operating point, every shaft, and the alternatives when asked; then
+the dimensioned drawings to scale (the linkage with its counterweights, the gear pairs, the flywheel) and the
+diagrams (mechanism, driving torque, simulated speed, shaking force and moment, energy-mass diagram, motor
+torque, start-up and run-down). Every page is A4 landscape; text is set in embedded TrueType fonts so it can be
+extracted; tables wrap their cells to fit the page; a value smaller than 1e-9 of its column's (or quantity's)
+scale is printed as 0.
 """
 
 from __future__ import annotations
 
 import io
 import math
+import re
 import textwrap
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
+from xml.sax.saxutils import escape as xml_escape
 
 import matplotlib
 
@@ -26,12 +32,25 @@ import numpy as np  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Circle, Rectangle  # noqa: E402
+from pypdf import PdfReader, PdfWriter  # noqa: E402
+from reportlab.lib import colors  # noqa: E402
+from reportlab.lib.enums import TA_RIGHT  # noqa: E402
+from reportlab.lib.pagesizes import A4 as _A4_PT  # noqa: E402
+from reportlab.lib.pagesizes import landscape  # noqa: E402
+from reportlab.lib.styles import ParagraphStyle  # noqa: E402
+from reportlab.lib.units import mm  # noqa: E402
+from reportlab.pdfbase import pdfmetrics  # noqa: E402
+from reportlab.pdfbase.ttfonts import TTFont  # noqa: E402
+from reportlab.platypus import (  # noqa: E402
+    BaseDocTemplate, CondPageBreak, Flowable, Frame, KeepTogether, PageTemplate, Paragraph, Spacer, Table,
+    TableStyle)
 
 from ..gearing import SizedStage  # noqa: E402
 from ..model import Counterweight  # noqa: E402
-from ..plots import draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
-from .chain import Alternative, MachineDesign  # noqa: E402
+from ..kinematics import motion as solve_motion  # noqa: E402
+from ..plots import draw_linkage, draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
+from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
 from .record import DesignRecord, input_rows  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
 
@@ -43,9 +62,6 @@ ZERO = 1e-9
 #: Steel of the counterweight discs [kg/m³].
 STEEL = 7850.0
 _MONO = "DejaVu Sans Mono"
-_LINE = 0.0175          # text line height, fraction of the page height
-_TOP, _BOTTOM, _LEFT = 0.93, 0.06, 0.045
-_WIDTH = 150            # characters of a text line in the monospaced font
 # TrueType fonts embedded whole (not Type 3): text a PDF reader can extract and search
 _STYLE: Any = {"pdf.fonttype": 42, "ps.fonttype": 42}
 
@@ -63,61 +79,40 @@ def num(value: float | None, scale: float | None = None, digits: int = 4) -> str
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# Text pages: headings, tables and paragraphs flowed over A4 pages in a monospaced font.
+# Pages: reportlab's platypus flows headings, paragraphs and tables over A4 landscape pages; the first page opens
+# with the title block, every page ends with the record's footer.
 
-@dataclass(frozen=True, slots=True)
-class _Line:
-    text: str
-    weight: str = "normal"
-    size: float = 8.0
-    family: str = _MONO
+_PAGE = landscape(_A4_PT)
+_MARGIN = 14 * mm
+_FRAME_W = _PAGE[0] - 2 * _MARGIN
+_FONTS_READY: list[bool] = []
 
 
-class _Flow:
-    """Lines of text flowed onto A4 pages, each page with the record's footer."""
+def _fonts() -> tuple[str, str, str]:
+    """DejaVu Sans, its bold and DejaVu Sans Mono (matplotlib's own TrueType files), embedded: every unit sign
+    (·, ², °, δ) prints and the text can be extracted."""
+    if not _FONTS_READY:
+        ttf = Path(matplotlib.get_data_path()) / "fonts" / "ttf"
+        for name, file in (("DejaVu", "DejaVuSans.ttf"), ("DejaVu-Bold", "DejaVuSans-Bold.ttf"),
+                           ("DejaVuMono", "DejaVuSansMono.ttf")):
+            pdfmetrics.registerFont(TTFont(name, str(ttf / file)))
+        _FONTS_READY.append(True)
+    return "DejaVu", "DejaVu-Bold", "DejaVuMono"
 
-    def __init__(self) -> None:
-        self.lines: list[_Line] = []
 
-    def heading(self, text: str) -> None:
-        if self.lines:
-            self.lines.append(_Line(""))
-        for line in textwrap.wrap(text, 110):
-            self.lines.append(_Line(line, "bold", 10.5, "DejaVu Sans"))
-
-    def paragraph(self, text: str) -> None:
-        for line in textwrap.wrap(text, _WIDTH) or [""]:
-            self.lines.append(_Line(line))
-
-    def table(self, header: Sequence[str], rows: Sequence[Sequence[str]], scale_columns: bool = False) -> None:
-        """A table: columns as wide as their widest cell, numbers right-aligned, text left-aligned."""
-        cells = [list(header)] + [list(r) for r in rows]
-        widths = [max(len(r[c]) for r in cells) for c in range(len(header))]
-        numeric = [all(_numeric(r[c]) for r in cells[1:]) and len(cells) > 1 for c in range(len(header))]
-
-        def line(r: Sequence[str]) -> str:
-            return "  ".join(v.rjust(w) if n else v.ljust(w) for v, w, n in zip(r, widths, numeric, strict=True))
-
-        self.lines.append(_Line(line(header), "bold"))
-        self.lines.append(_Line("  ".join("-" * w for w in widths)))
-        for r in cells[1:]:
-            text = line(r)
-            while len(text) > _WIDTH:
-                self.lines.append(_Line(text[:_WIDTH]))
-                text = "    " + text[_WIDTH:]
-            self.lines.append(_Line(text))
-
-    def pages(self, first_top: float = _TOP) -> list[list[_Line]]:
-        per_page = int((_TOP - _BOTTOM) / _LINE)
-        first = int((first_top - _BOTTOM) / _LINE)
-        out: list[list[_Line]] = []
-        rest = self.lines
-        take = first
-        while rest:
-            out.append(rest[:take])
-            rest = rest[take:]
-            take = per_page
-        return out
+def _styles() -> dict[str, ParagraphStyle]:
+    regular, bold, mono = _fonts()
+    return {
+        "title": ParagraphStyle("title", fontName=bold, fontSize=16, leading=19),
+        "h": ParagraphStyle("h", fontName=bold, fontSize=11, leading=14, spaceBefore=8, spaceAfter=4),
+        "p": ParagraphStyle("p", fontName=regular, fontSize=8, leading=10, spaceAfter=3),
+        "cell": ParagraphStyle("cell", fontName=regular, fontSize=7.5, leading=9),
+        "num": ParagraphStyle("num", fontName=regular, fontSize=7.5, leading=9, alignment=TA_RIGHT),
+        "head": ParagraphStyle("head", fontName=bold, fontSize=7.5, leading=9),
+        "label": ParagraphStyle("label", fontName=regular, fontSize=6.5, leading=8, textColor=colors.grey),
+        "value": ParagraphStyle("value", fontName=bold, fontSize=9, leading=11),
+        "mono": ParagraphStyle("mono", fontName=mono, fontSize=7.5, leading=9),
+    }
 
 
 def _numeric(text: str) -> bool:
@@ -128,17 +123,61 @@ def _numeric(text: str) -> bool:
     return True
 
 
-def _draw_lines(fig: Figure, lines: Iterable[_Line], top: float) -> None:
-    y = top
-    for ln in lines:
-        fig.text(_LEFT, y, ln.text, family=ln.family, size=ln.size, weight=ln.weight, va="top", ha="left")
-        y -= _LINE if ln.size <= 8.0 else _LINE * 1.35
+def _para(text: str, style: ParagraphStyle) -> Paragraph:
+    return Paragraph(xml_escape(text), style)
 
 
-def _footer(fig: Figure, record: DesignRecord, page: int) -> None:
-    fig.text(_LEFT, 0.025, f"{record.name}  ·  {record.created}  ·  mechsynth {record.version}  ·  request "
-             f"SHA-256 {record.request_sha256[:16]}…", size=7, color="0.35", family="DejaVu Sans")
-    fig.text(1 - _LEFT, 0.025, f"page {page}", size=7, color="0.35", ha="right", family="DejaVu Sans")
+def _table(header: Sequence[str], rows: Sequence[Sequence[str]], st: dict[str, ParagraphStyle],
+           weights: Sequence[float] | None = None) -> Table:
+    """A table as wide as the page at most: columns shared out by their longest cell (or ``weights``), text
+    wrapped inside its cell, numbers right-aligned, the header repeated on every page it runs over."""
+    n = len(header)
+    numeric = [len(rows) > 0 and all(_numeric(r[c]) for r in rows) for c in range(n)]
+    if weights is not None:
+        widths = [_FRAME_W * w / sum(weights) for w in weights]
+    else:
+        # each column as wide as its longest cell (its header's longest word at least), about 4.7 pt a character
+        # at 7.5 pt plus the padding; columns of long text give way when the table is wider than the page
+        need = [max(max((len(r[c]) for r in rows), default=0), *(len(w) for w in header[c].split())) for c in range(n)]
+        widths = [4.7 * min(k, 70) + 14 for k in need]
+        if sum(widths) > _FRAME_W:
+            fixed = sum(w for w in widths if w <= 100)
+            wide = sum(w for w in widths if w > 100)
+            squeeze = max((_FRAME_W - fixed) / wide, 0.2) if wide else _FRAME_W / sum(widths)
+            widths = [w if w <= 100 and wide else w * squeeze for w in widths]
+    data = [[_para(h, st["head"]) for h in header]]
+    data += [[_para(v, st["num"] if numeric[c] else st["cell"]) for c, v in enumerate(r)] for r in rows]
+    t = Table(data, colWidths=widths, repeatRows=1, hAlign="LEFT")
+    t.setStyle(TableStyle([("LINEBELOW", (0, 0), (-1, 0), 0.8, colors.black),
+                           ("LINEBELOW", (0, 1), (-1, -1), 0.25, colors.lightgrey),
+                           ("VALIGN", (0, 0), (-1, -1), "TOP"),
+                           ("TOPPADDING", (0, 0), (-1, -1), 1.5), ("BOTTOMPADDING", (0, 0), (-1, -1), 1.5)]))
+    return t
+
+
+def _section(title: str, body: Sequence[Flowable], st: dict[str, ParagraphStyle]) -> list[Flowable]:
+    """A heading kept on the page of what it heads: a short section whole on one page, a long one (a table of
+    many rows) starting on this page when a few of its rows fit, its header repeated where it runs over."""
+    head = _para(title, st["h"])
+    rows = sum(len(getattr(b, "_cellvalues", ())) for b in body)
+    if rows > 14:
+        return [CondPageBreak(90), head, *body]
+    return [KeepTogether([head, *body])]
+
+
+def _footer(canvas: Any, record: DesignRecord) -> None:
+    regular, _, _ = _fonts()
+    tb = record.title_block
+    canvas.saveState()
+    canvas.setFont(regular, 7)
+    canvas.setFillColor(colors.grey)
+    ident = " ".join(x for x in (tb.number, f"rev. {tb.revision}" if tb.revision else "") if x)
+    left = "  ·  ".join(x for x in (tb.title or record.name, ident, tb.state, record.created,
+                                    f"mechsynth {record.version}",
+                                    f"request SHA-256 {record.request_sha256[:16]}…") if x)
+    canvas.drawString(_MARGIN, 8 * mm, left)
+    canvas.drawRightString(_PAGE[0] - _MARGIN, 8 * mm, f"page {canvas.getPageNumber()}")
+    canvas.restoreState()
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -150,37 +189,61 @@ def _verdict(d: MachineDesign) -> str:
     return "FAILS: " + ", ".join(c.name for c in d.checks if not c.passed)
 
 
-def _title_block(fig: Figure, record: DesignRecord, d: MachineDesign) -> float:
-    """Draw the title block; the height below which text may follow (fraction of the page)."""
-    fig.text(_LEFT, 0.95, "Machine design record", size=17, weight="bold", va="top", family="DejaVu Sans")
-    rows = [("name", record.name), ("date", record.created), ("service version", f"mechsynth {record.version}"),
-            ("request SHA-256", record.request_sha256), ("result", _verdict(d))]
-    y = 0.89
-    for key, value in rows:
-        fig.text(_LEFT, y, key, size=9, weight="bold", va="top", family="DejaVu Sans")
-        fig.text(_LEFT + 0.16, y, value, size=9, va="top", family=_MONO)
-        y -= 0.027
-    fig.add_artist(Line2D([_LEFT, 1 - _LEFT], [y + 0.006, y + 0.006], color="0.3", lw=0.8,
-                          transform=fig.transFigure))
-    return y - 0.01
+#: What the record calls each linkage family.
+_FAMILIES = {"FourBar": "four-bar", "SliderCrank": "slider-crank", "SlottedLever": "shaper (slotted lever)"}
+
+
+def _family(d: MachineDesign) -> str:
+    """The linkage family in words (a class name split into words for a family the table does not know)."""
+    cls = type(d.spec.linkage.mechanism).__name__
+    return _FAMILIES.get(cls) or " ".join(w.lower() for w in re.findall(r"[A-Z][a-z0-9]*", cls)) or cls
+
+
+def _title_block(record: DesignRecord, d: MachineDesign, st: dict[str, ParagraphStyle]) -> list[Flowable]:
+    """The first page's title block: what the record is, who answers for it, where it stands, and its verdict."""
+    tb = record.title_block
+
+    def box(label: str, value: str, style: str = "value") -> list[Paragraph]:
+        return [_para(label, st["label"]), _para(value or " ", st[style])]
+
+    def signed(role: str, who: str, when: str) -> list[Paragraph]:
+        return box(role, f"{who or '—'}    {when}" if when else (who or "—"))
+
+    rows = [
+        [box("project", tb.project or "—"), box("title", tb.title or record.name), "", box("state", tb.state)],
+        [box("record number", tb.number or "—"), box("revision", tb.revision or "—"),
+         box("date of this answer", record.created), box("service", f"mechsynth {record.version}")],
+        [signed("designed", tb.designed_by, tb.designed_on), signed("checked", tb.checked_by, tb.checked_on),
+         signed("approved", tb.approved_by, tb.approved_on), box("result", _verdict(d))],
+        [box("request SHA-256 (the design's identity; the title block is not part of it)", record.request_sha256,
+             "mono"), "", "", ""],
+    ]
+    widths = [_FRAME_W * w for w in (0.25, 0.3, 0.25, 0.2)]
+    t = Table(rows, colWidths=widths, hAlign="LEFT")
+    t.setStyle(TableStyle([("BOX", (0, 0), (-1, -1), 1.0, colors.black),
+                           ("INNERGRID", (0, 0), (-1, -1), 0.4, colors.grey),
+                           ("SPAN", (1, 0), (2, 0)), ("SPAN", (0, 3), (-1, 3)),
+                           ("VALIGN", (0, 0), (-1, -1), "TOP"),
+                           ("BACKGROUND", (3, 2), (3, 2), colors.HexColor("#eaf5ec" if d.passed else "#fbe9e7"))]))
+    return [_para("Machine design record", st["title"]), Spacer(1, 4 * mm), t, Spacer(1, 3 * mm)]
 
 
 def _key_figures(d: MachineDesign) -> list[list[str]]:
     motor, body = d.drive.motor, d.placement
     return [
-        ["mechanism", type(d.spec.linkage.mechanism).__name__],
-        ["working speed", f"{num(d.spec.speed / RPM)} rpm"],
+        ["mechanism", _family(d)],
+        ["working speed", f"{num(d.spec.speed / RPM)} rev/min"],
         ["mean crank power", f"{num(d.output_power)} W"],
-        ["motor", f"{motor.name}: {num(motor.rated_power)} W, {num(motor.rated_speed / RPM)} rpm rated, runs at "
-                  f"{num(d.drive.shafts[0].speed / RPM)} rpm under the mean load"],
-        ["train ratio (teeth)", f"{num(d.train_ratio, digits=5)} = "
-                                + " × ".join(num(u, digits=5) for u in d.stage_ratios)],
+        ["motor", f"{motor.name}: {num(motor.rated_power)} W, {num(motor.rated_speed / RPM)} rev/min rated, runs "
+                  f"at {num(d.drive.shafts[0].speed / RPM)} rev/min under the mean load"],
+        ["train ratio (teeth)", num(d.train_ratio, digits=5) + ("" if len(d.stage_ratios) < 2 else " = " + " × ".join(
+            num(u, digits=5) for u in d.stage_ratios))],
         ["balancing", d.balancing.mode],
         ["flywheel", "none needed" if body is None else
          f"{num(body.inertia)} kg·m² on the {body.shaft} shaft ({num(d.flywheel_inertia)} kg·m² "
          f"crank-equivalent), {body.shape}, outer diameter {num(body.outer_diameter)} m, {num(body.mass)} kg"],
         ["simulated delta", f"{num(d.motion.delta)} (target {num(d.spec.delta)})"],
-        ["simulated mean crank speed", f"{num(d.motion.mean_speed / RPM)} rpm"],
+        ["simulated mean crank speed", f"{num(d.motion.mean_speed / RPM)} rev/min"],
         *_efficiency_rows(d),
         ["warnings", str(len(d.warnings))],
     ]
@@ -197,11 +260,6 @@ def _efficiency_rows(d: MachineDesign) -> list[list[str]]:
                       f"{num(float(up.check.resisting_torque.max()), up.check.starting_torque)} N·m at rest; "
                       f"steady after {num(up.steady_time)} s"],
             ["run-down", f"at rest after {num(down.stop_time)} s (brake {num(down.brake_torque)} N·m)"]]
-
-
-def _inputs(flow: _Flow, record: DesignRecord) -> None:
-    flow.heading("Inputs: the request as received, defaults included")
-    flow.table(["field", "value", "unit"], [list(r) for r in input_rows(record.request)])
 
 
 def _stage_rows(d: MachineDesign) -> list[list[str]]:
@@ -378,56 +436,58 @@ def _motor_rows(d: MachineDesign) -> list[list[str]]:
     ]
 
 
-def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: MachineDesign,
-                  alternatives: Sequence[Alternative]) -> int:
-    """The text pages; returns the number of pages written."""
-    flow = _Flow()
-    flow.heading("Design")
-    flow.table(["quantity", "value"], _key_figures(d))
-    flow.heading("Checks against the simulated machine")
-    flow.table(["check", "value", "limit", "met", "what it compares"],
-               [[c.name, num(c.value, c.limit), num(c.limit), "yes" if c.passed else "NO", c.detail]
-                for c in d.checks])
-    flow.heading(f"Warnings ({len(d.warnings)})")
-    if d.warnings:
-        for w in d.warnings:
-            flow.paragraph(f"[{w.stage or '-'}] {w.code}" + (f" ({w.field})" if w.field else "") + f": {w.message}")
-    else:
-        flow.paragraph("none")
-    _inputs(flow, record)
-    flow.heading("Stages and their check figures")
-    flow.table(["stage", "result", "check", "check figure"], _stage_rows(d))
-    flow.heading("Counterweights")
-    flow.paragraph("Radius and angle in the link frame (origin at the link's first joint, x toward its second); "
-                   "each realised as a steel disc of its own inertia, or as thick as its radius when that inertia "
-                   "is smaller.")
+def _check_rows(d: MachineDesign) -> list[list[str]]:
+    """Every check, in words, its value and limit in its unit."""
+    def with_unit(v: float, c: MachineCheck) -> str:
+        return f"{num(v, c.limit)} {c.unit}".strip()
+
+    return [[c.label or c.name.replace("_", " "), with_unit(c.value, c), "≤ " + with_unit(c.limit, c),
+             "yes" if c.passed else "NO", c.detail] for c in d.checks]
+
+
+def _record_flowables(record: DesignRecord, d: MachineDesign, alternatives: Sequence[Alternative],
+                      st: dict[str, ParagraphStyle]) -> list[Flowable]:
+    """The text of the record: key figures, checks, warnings, inputs, stages, counterweights, gears, flywheel,
+    motor, shafts and the alternatives."""
+    out: list[Flowable] = [*_title_block(record, d, st)]
+    out += _section("Design", [_table(["quantity", "value"], _key_figures(d), st)], st)
+    out += _section("Checks against the simulated machine",
+                    [_table(["check", "value", "limit", "met", "what it compares"], _check_rows(d), st)], st)
+    warn = [_para(f"[{w.stage or '-'}] {w.code}" + (f" ({w.field})" if w.field else "") + f": {w.message}", st["p"])
+            for w in d.warnings] or [_para("none", st["p"])]
+    out += _section(f"Warnings ({len(d.warnings)})", warn, st)
+    if record.request:
+        out += _section("Inputs: the request as received, defaults included",
+                        [_table(["field", "value", "unit"], [list(r) for r in input_rows(record.request)], st,
+                                [50, 60, 10])], st)
+    out += _section("Stages and their check figures",
+                    [_table(["stage", "result", "check", "check figure"], _stage_rows(d), st)], st)
     cw = _counterweight_rows(d)
-    if cw:
-        flow.table(["link", "mass [kg]", "radius [m]", "angle [deg]", "own inertia [kg·m²]",
-                    "steel disc diameter [m]", "disc thickness [m]"], cw)
-    else:
-        flow.paragraph("none")
-    flow.heading("Gear train, motor side first")
-    flow.table([h for h, _ in GEAR_COLUMNS],
-               [[cell(d, k) for _, cell in GEAR_COLUMNS] for k in range(len(d.spec.drive.stages))])
-    flow.heading("Gears sized for strength")
-    flow.paragraph(_sizing_paragraph(d))
+    out += _section("Counterweights", [
+        _para("Radius and angle in the link frame (origin at the link's first joint, x toward its second); each "
+              "realised as a steel disc of its own inertia, or as thick as its radius when that inertia is smaller "
+              "(drawn to scale on the drawings page).", st["p"]),
+        _table(["link", "mass [kg]", "radius [m]", "angle [°]", "own inertia [kg·m²]", "steel disc diameter [m]",
+                "disc thickness [m]"], cw, st) if cw else _para("none", st["p"])], st)
+    nstages = range(len(d.spec.drive.stages))
+    out += _section("Gear train, motor side first", [_table([h for h, _ in GEAR_COLUMNS],
+                                                            [[cell(d, k) for _, cell in GEAR_COLUMNS] for k in nstages],
+                                                            st)], st)
+    strength: list[Flowable] = [_para(_sizing_paragraph(d), st["p"])]
     if d.gears is not None:
-        flow.table([h for h, _ in STRENGTH_COLUMNS],
-                   [[cell(d, k) for _, cell in STRENGTH_COLUMNS] for k in range(len(d.spec.drive.stages))])
-    flow.heading("Flywheel")
-    flow.table(["quantity", "value"], _flywheel_rows(d))
-    flow.heading("Motor")
-    flow.table(["quantity", "value"], _motor_rows(d))
-    flow.heading("Shafts in the simulated steady motion (the torque each passes on)")
+        strength.append(_table([h for h, _ in STRENGTH_COLUMNS],
+                               [[cell(d, k) for _, cell in STRENGTH_COLUMNS] for k in nstages], st))
+    out += _section("Gears sized for strength", strength, st)
+    out += _section("Flywheel", [_table(["quantity", "value"], _flywheel_rows(d), st)], st)
+    out += _section("Motor", [_table(["quantity", "value"], _motor_rows(d), st)], st)
     peak = max((s.peak_torque for s in d.shafts), default=0.0)
-    flow.table(["shaft", "speed [rpm]", "power [W]", "mean T [N·m]", "peak T [N·m]", "RMS T [N·m]",
-                "inertia [kg·m²]", "flywheel"],
-               [[s.name, num(s.mean_speed / RPM), num(s.mean_power, d.output_power), num(s.mean_torque, peak),
-                 num(s.peak_torque, peak), num(s.rms_torque, peak), num(s.inertia), "yes" if s.carries_flywheel
-                 else ""] for s in d.shafts])
+    out += _section("Shafts in the simulated steady motion (the torque each passes on)", [_table(
+        ["shaft", "speed [rev/min]", "power [W]", "mean T [N·m]", "peak T [N·m]", "RMS T [N·m]", "inertia [kg·m²]",
+         "flywheel"],
+        [[s.name, num(s.mean_speed / RPM), num(s.mean_power, d.output_power), num(s.mean_torque, peak),
+          num(s.peak_torque, peak), num(s.rms_torque, peak), num(s.inertia), "yes" if s.carries_flywheel else ""]
+         for s in d.shafts], st)], st)
     if alternatives:
-        flow.heading("What each balancing choice costs")
         rows = []
         for a in [Alternative(d.balancing.mode + " (this design)", d, None), *alternatives]:
             if a.design is None:
@@ -439,23 +499,11 @@ def _record_pages(save: Callable[[Figure], None], record: DesignRecord, d: Machi
                          num(x.flywheel_inertia), "-" if x.placement is None else
                          f"{num(x.placement.mass)} ({x.placement.shaft})", x.drive.motor.name,
                          "yes" if x.passed else "no"])
-        flow.table(["mode", "RMS force [N]", "RMS moment [N·m]", "flywheel, crank-eq. [kg·m²]",
-                    "flywheel mass [kg]", "motor", "passed"], rows)
-        for a in alternatives:
-            if a.design is None:
-                flow.paragraph(f"{a.mode}: {a.reason}")
-    pages = 0
-    for i, lines in enumerate(flow.pages(first_top=0.72)):
-        fig = plt.figure(figsize=A4)
-        top = _TOP
-        if i == 0:
-            top = _title_block(fig, record, d)
-        _draw_lines(fig, lines, top)
-        pages += 1
-        _footer(fig, record, pages)
-        save(fig)
-        plt.close(fig)
-    return pages
+        body: list[Flowable] = [_table(["mode", "RMS force [N]", "RMS moment [N·m]", "flywheel, crank-eq. [kg·m²]",
+                                        "flywheel mass [kg]", "motor", "passed"], rows, st)]
+        body += [_para(f"{a.mode}: {a.reason}", st["p"]) for a in alternatives if a.design is None]
+        out += _section("What each balancing choice costs", body, st)
+    return out
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -571,46 +619,217 @@ def _summary_figure(d: MachineDesign) -> Figure:
     return fig
 
 
+def _scale_bar(ax: Axes, span: float) -> None:
+    """A scale bar in millimetres, bottom left of the axes' data limits: the drawing is to scale."""
+    raw = span / 4
+    mag = 10 ** math.floor(math.log10(raw))
+    length = max(s * mag for s in (1, 2, 5, 10) if s * mag <= raw)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    x, y = x0 + 0.04 * (x1 - x0), y0 + 0.05 * (y1 - y0)
+    ax.plot([x, x + length], [y, y], "k-", lw=2.5, solid_capstyle="butt")
+    ax.text(x, y + 0.015 * (y1 - y0), f"{length * 1e3:g} mm", fontsize=7, va="bottom")
+
+
+def _dimension(ax: Axes, a: Sequence[float], b: Sequence[float], text: str, offset: tuple[float, float] = (0, 0),
+               **kw: Any) -> None:
+    """A dimension line from ``a`` to ``b`` [m] with arrows at both ends and its text at the middle."""
+    ax.annotate("", xy=(b[0], b[1]), xytext=(a[0], a[1]), arrowprops={"arrowstyle": "<->", "lw": 0.8, "color": "0.15"})
+    mid = (0.5 * (a[0] + b[0]) + offset[0], 0.5 * (a[1] + b[1]) + offset[1])
+    ax.text(*mid, text, fontsize=7, ha="center", va="center",
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85}, **kw)
+
+
+def _linkage_drawing(ax: Axes, d: MachineDesign) -> None:
+    """The balanced linkage at a third of a turn, to scale, each counterweight drawn as its steel disc and
+    dimensioned: radius and angle in its link's frame, disc diameter and thickness."""
+    an = d.balanced
+    phi = float(an.motion.phi[len(an.motion.phi) // 6])
+    draw_linkage(ax, an.linkage, an, phi, counterweights=[])
+    mech = an.linkage.mechanism
+    single = solve_motion(mech, np.array([phi]), an.motion.omega_crank)
+    span = max(np.ptp(np.vstack(list(an.motion.point_pos.values())), axis=0).max(), 1e-6)
+    for n, cw in enumerate(_counterweights(d)):
+        if cw.mass <= 0:
+            continue
+        origin = single.point_pos[mech.origins[cw.link]][0]
+        ang = float(single.link_angle[cw.link][0])
+        c, s = math.cos(ang), math.sin(ang)
+        centre = origin + np.array([c * cw.position[0] - s * cw.position[1], s * cw.position[0] + c * cw.position[1]])
+        dia, thick = counterweight_disc(cw)
+        ax.add_patch(Circle(tuple(centre), dia / 2, fc="tab:orange", ec="saddlebrown", alpha=0.6, zorder=4))
+        radius = math.hypot(*cw.position)
+        theta = math.degrees(math.atan2(cw.position[1], cw.position[0]))
+        _dimension(ax, origin, centre, f"r = {num(radius * 1e3)} mm", offset=(0, 0.03 * span * (1 if n % 2 else -1)))
+        ax.annotate(f"counterweight on the {cw.link}: {num(cw.mass)} kg\nat {num(theta, 360.0)}° in the link frame\n"
+                    f"steel disc Ø {num(dia * 1e3)} mm × {num(thick * 1e3)} mm",
+                    tuple(centre), xytext=(12, -28 - 30 * n), textcoords="offset points", fontsize=7,
+                    arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.4"},
+                    bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "lw": 0.5})
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale_view()
+    ax.set_xticks([])
+    ax.set_yticks([])
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    _scale_bar(ax, max(x1 - x0, y1 - y0))
+    ax.set_title(f"{_family(d)} at {num(math.degrees(phi))}° with its counterweights", fontsize=9)
+
+
+def _gear_drawing(ax: Axes, d: MachineDesign) -> None:
+    """Each sized gear pair, to scale: pitch circles (tip circles dashed), the centre distance and both
+    diameters dimensioned, module and face width written."""
+    ax.set_xticks([])
+    ax.set_yticks([])
+    sized = [g for g in (d.gears.stages if d.gears is not None else []) if g is not None]
+    if not sized:
+        ax.text(0.5, 0.5, "gears not sized for strength", ha="center", va="center", transform=ax.transAxes)
+        ax.set_title("gear pairs", fontsize=9)
+        return
+    y = 0.0
+    widest = max(g.centre_distance + (g.tip_diameters[0] + g.tip_diameters[1]) / 2 for g in sized)
+    for g in sized:
+        r1, r2 = g.diameters[0] / 2, g.diameters[1] / 2
+        top = max(g.tip_diameters) / 2
+        y -= top
+        for x, r, tip in ((0.0, r1, g.tip_diameters[0] / 2), (g.centre_distance, r2, g.tip_diameters[1] / 2)):
+            ax.add_patch(Circle((x, y), r, fill=False, lw=1.2, ec="tab:blue"))
+            ax.add_patch(Circle((x, y), tip, fill=False, lw=0.6, ls="--", ec="tab:blue"))
+            ax.plot(x, y, "k+", ms=5)
+        _dimension(ax, (0.0, y - top - 0.06 * widest), (g.centre_distance, y - top - 0.06 * widest),
+                   f"a = {num(g.centre_distance * 1e3)} mm")
+        _dimension(ax, (0.0, y - r1), (0.0, y + r1), f"d1 = {num(g.diameters[0] * 1e3)} mm", rotation=90)
+        _dimension(ax, (g.centre_distance, y - r2), (g.centre_distance, y + r2),
+                   f"d2 = {num(g.diameters[1] * 1e3)} mm", rotation=90)
+        ax.text(-r1 - 0.05 * widest, y, f"stage {g.stage + 1}\nz {g.pinion_teeth}:{g.gear_teeth}\n"
+                f"m {g.module * 1e3:g} mm\nb {num(g.face_width * 1e3)} mm", fontsize=7, ha="right", va="center")
+        y -= top + 0.18 * widest
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale_view()
+    ax.relim()
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    ax.set_xlim(x0 - 0.35 * widest, x1)
+    _scale_bar(ax, max(x1 - x0, y1 - y0))
+    ax.set_title("gear pairs (pitch circles; tip circles dashed)", fontsize=9)
+
+
+def _flywheel_drawing(ax: Axes, d: MachineDesign) -> None:
+    """The flywheel, to scale: front view and section, outer and inner diameters and width dimensioned."""
+    ax.set_xticks([])
+    ax.set_yticks([])
+    b = d.placement
+    if b is None:
+        ax.text(0.5, 0.5, "no flywheel needed", ha="center", va="center", transform=ax.transAxes)
+        ax.set_title("flywheel", fontsize=9)
+        return
+    R = b.outer_diameter / 2
+    r = R - b.thickness if b.shape == "rim" and b.thickness is not None else 0.0
+    ax.add_patch(Circle((0, 0), R, fc="#dfe7f3", ec="#2d3e5c", lw=1.2))
+    if r > 0:
+        ax.add_patch(Circle((0, 0), r, fc="white", ec="#2d3e5c", lw=1.0))
+        for k in range(3):
+            a = math.pi * k / 3
+            ax.plot([-r * math.cos(a), r * math.cos(a)], [-r * math.sin(a), r * math.sin(a)], color="#2d3e5c", lw=2)
+    ax.add_patch(Circle((0, 0), 0.08 * R, fc="white", ec="#2d3e5c"))
+    x = 1.5 * R
+    ax.add_patch(Rectangle((x, -R), b.width, 2 * R, fc="#dfe7f3", ec="#2d3e5c", lw=1.2))
+    if r > 0:
+        ax.add_patch(Rectangle((x + 0.35 * b.width, -r), 0.3 * b.width, 2 * r, fc="white", ec="#2d3e5c"))
+    _dimension(ax, (-R, -1.15 * R), (R, -1.15 * R), f"D = {num(b.outer_diameter * 1e3)} mm")
+    if r > 0:
+        _dimension(ax, (-r, 0.0), (r, 0.0), f"d = {num(2 * r * 1e3)} mm", offset=(0, 0.1 * R))
+    _dimension(ax, (x, 1.12 * R), (x + b.width, 1.12 * R), f"b = {num(b.width * 1e3)} mm", offset=(0, 0.08 * R))
+    ax.set_xlim(-1.3 * R, x + b.width + 0.5 * R)
+    ax.set_ylim(-1.45 * R, 1.35 * R)
+    ax.set_aspect("equal", adjustable="datalim")
+    _scale_bar(ax, 2.8 * R)
+    ax.set_title(f"flywheel ({b.shape}) on the {b.shaft} shaft: {num(b.mass)} kg", fontsize=9)
+
+
+def dimensioned_figure(d: MachineDesign) -> Figure:
+    """The linkage with its counterweights, the gear pairs and the flywheel, each to scale and dimensioned."""
+    fig = plt.figure(figsize=(A4[0], A4[1] * 0.78))
+    grid = fig.add_gridspec(1, 3, width_ratios=(1.5, 1.0, 1.0))
+    _linkage_drawing(fig.add_subplot(grid[0]), d)
+    _gear_drawing(fig.add_subplot(grid[1]), d)
+    _flywheel_drawing(fig.add_subplot(grid[2]), d)
+    return fig
+
+
 def design_summary_png(design: MachineDesign) -> bytes:
     """One page: the mechanism, driving torque, simulated speed, shaking force, motor torque, key figures [PNG]."""
     return figure_png(_summary_figure(design), dpi=90)
 
 
+def _figure_footer(fig: Figure, record: DesignRecord, page: int) -> None:
+    """The record's footer on a figure page, as the text pages have it."""
+    tb = record.title_block
+    ident = " ".join(x for x in (tb.number, f"rev. {tb.revision}" if tb.revision else "") if x)
+    left = "  ·  ".join(x for x in (tb.title or record.name, ident, tb.state, record.created,
+                                    f"mechsynth {record.version}",
+                                    f"request SHA-256 {record.request_sha256[:16]}…") if x)
+    fig.text(_MARGIN / _PAGE[0], 8 * mm / _PAGE[1], left, size=7, color="0.5", family="DejaVu Sans")
+    fig.text(1 - _MARGIN / _PAGE[0], 8 * mm / _PAGE[1], f"page {page}", size=7, color="0.5", ha="right",
+             family="DejaVu Sans")
+
+
+def _figures(d: MachineDesign) -> list[tuple[str | None, Figure]]:
+    """The drawing and diagram pages, each an A4 landscape figure with its title (None: a figure that has its
+    own title and layout)."""
+    out: list[tuple[str | None, Figure]] = [("Dimensioned drawings, to scale", dimensioned_figure(d)),
+                                           (None, _summary_figure(d))]
+    fig, axes = plt.subplots(1, 3, figsize=A4)
+    _polar(axes[0], d)
+    _moment(axes[1], d)
+    _torque(axes[2], d)
+    out.append(("Balancing", fig))
+    fig, axes = plt.subplots(1, 3, figsize=A4)
+    _energy_mass(axes[0], d)
+    _speed(axes[1], d)
+    _motor(axes[2], d)
+    out.append(("Flywheel and motor", fig))
+    if (running := running_figure(d)) is not None:
+        out.append((None, running))
+    return out
+
+
 def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative] = (),
                       record: DesignRecord | None = None) -> bytes:
-    """The design record [PDF, A4 landscape]: title block and verdict, key figures, checks, warnings, every
-    input with its unit, each stage with its check figure, counterweights, gear train, flywheel, motor and
-    shafts, the alternatives; then the diagrams (summary, balancing, flywheel and motor, start-up and run-down).
+    """The design record [PDF, A4 landscape]: the title block (project, number, revision, title, designed,
+    checked and approved with names and dates, state) and verdict, key figures, checks, warnings, every input
+    with its unit, each stage with its check figure, counterweights, gear train, flywheel, motor and shafts, the
+    alternatives; then the dimensioned drawings and the diagrams (summary, balancing, flywheel and motor,
+    start-up and run-down).
 
     ``record`` names the design and holds the request; without one the report says so and lists no inputs.
     """
     d = design
     record = record or DesignRecord("machine design", "-", "-", {}, "not given")
-    buf = io.BytesIO()
-    with plt.rc_context(_STYLE), PdfPages(buf, metadata={"Title": f"Machine design record: {record.name}",
-                                                         "Subject": f"request SHA-256 {record.request_sha256}",
-                                                         "Creator": f"mechsynth {record.version}"}) as pdf:
-        page = _record_pages(lambda fig: pdf.savefig(literal_text(fig)), record, d, alternatives)
-        figures = [_summary_figure(d)]
-        fig, axes = plt.subplots(1, 3, figsize=A4)
-        _polar(axes[0], d)
-        _moment(axes[1], d)
-        _torque(axes[2], d)
-        fig.suptitle("balancing")
-        literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
-        figures.append(fig)
-        fig, axes = plt.subplots(1, 3, figsize=A4)
-        _energy_mass(axes[0], d)
-        _speed(axes[1], d)
-        _motor(axes[2], d)
-        fig.suptitle("flywheel and motor")
-        literal_text(fig).tight_layout(rect=(0, 0.03, 1, 1))
-        figures.append(fig)
-        if (running := running_figure(d)) is not None:
-            figures.append(running)
-        for fig in figures:
-            page += 1
-            _footer(fig, record, page)
+    st = _styles()
+    text = io.BytesIO()
+    doc = BaseDocTemplate(text, pagesize=_PAGE, leftMargin=_MARGIN, rightMargin=_MARGIN, topMargin=_MARGIN,
+                          bottomMargin=_MARGIN + 4 * mm)
+    frame = Frame(doc.leftMargin, doc.bottomMargin, doc.width, doc.height, id="body", leftPadding=0,
+                  rightPadding=0, topPadding=0, bottomPadding=0)
+    doc.addPageTemplates([PageTemplate(id="page", frames=[frame], onPage=lambda c, _: _footer(c, record))])
+    doc.build(_record_flowables(record, d, alternatives, st))
+    # The figures stay vector: matplotlib writes them as PDF pages of the same size, numbered on from the text.
+    out = PdfWriter(clone_from=PdfReader(io.BytesIO(text.getvalue())))
+    pages = len(out.pages)
+    drawn = io.BytesIO()
+    with plt.rc_context(_STYLE), PdfPages(drawn) as pdf:
+        for title, fig in _figures(d):
+            if title is not None:
+                fig.set_size_inches(_PAGE[0] / 72, _PAGE[1] / 72)
+                fig.suptitle(title, x=_MARGIN / _PAGE[0], ha="left", fontsize=12, weight="bold")
+                # fixed margins (tight_layout measures every text's extent: seconds on a busy machine)
+                fig.subplots_adjust(left=0.08, right=0.98, bottom=0.15, top=0.88, wspace=0.3)
+            pages += 1
+            _figure_footer(fig, record, pages)
             pdf.savefig(literal_text(fig))
             plt.close(fig)
+    out.append(PdfReader(io.BytesIO(drawn.getvalue())))
+    out.add_metadata({"/Title": f"Machine design record: {record.name}",
+                      "/Subject": f"request SHA-256 {record.request_sha256}",
+                      "/Creator": f"mechsynth {record.version}", "/Author": record.title_block.designed_by})
+    buf = io.BytesIO()
+    out.write(buf)
     return buf.getvalue()

@@ -85,6 +85,9 @@ class StudyStore(Protocol):
     def stopped(self, study_id: str, state: str, message: str | None = None) -> None:
         """End this process's run of a study in ``state``, adding its running time, releasing the lease."""
 
+    def cancel(self, study_id: str) -> bool:
+        """Cancel a queued or running study whichever process runs it; False when it was neither."""
+
     def sweep(self) -> int:
         """Studies queued or running whose lease lapsed (their process stopped) become ``interrupted``; how many."""
 

@@ -1,0 +1,119 @@
+"""Putting the security layer on the app: middleware in order, the sign-in and user endpoints, the first admin,
+and the OpenAPI document's security schemes."""
+
+from __future__ import annotations
+
+import logging
+import secrets
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.responses import JSONResponse
+from starlette.middleware.cors import CORSMiddleware
+
+import store
+
+from ..settings import Settings
+from . import passwords, roles
+from ..problems import problem
+from .guard import Access, Guard, NotOwner
+from .headers import SecurityHeaders
+from .hosts import AllowedHosts
+from .origin import SameOrigin
+from .router import Failures
+from .sessions import CSRF_HEADER, Sessions
+from .users import Accounts
+
+log = logging.getLogger("api.auth")
+
+
+def bootstrap(accounts: Accounts, settings: Settings) -> None:
+    """Make the first admin named by the settings, unless a user of that name exists."""
+    if settings.admin_name is None or settings.admin_password is None:
+        if settings.auth == "on" and not accounts.all():
+            log.warning("authentication is on and there are no users: add an admin with "
+                        "`python -m api.users add NAME --role admin` or SYNTH_ADMIN_NAME and SYNTH_ADMIN_PASSWORD")
+        return
+    if accounts.by_name(settings.admin_name) is None:
+        accounts.create(settings.admin_name, {"admin"},
+                        passwords.hash_password(settings.admin_password.get_secret_value()))
+        log.info("made the first admin, %s", settings.admin_name)
+
+
+def start(app: FastAPI) -> None:
+    """At start, once the store is migrated: the first admin; a store that cannot be reached is reported by
+    /ready, and the admin is made at the next start."""
+    try:
+        bootstrap(app.state.access.accounts, app.state.settings)
+    except store.StoreUnavailable as exc:
+        log.error("the first admin was not made: %s", exc)
+
+
+def install(app: FastAPI, settings: Settings) -> Access:
+    """Add the security middleware to ``app`` (outermost last: headers, hosts, CORS, origin, then the caller's
+    identity and roles); users live in ``app.state.store``. The app mounts :data:`router` (sign-in, users,
+    tokens) under /v1 with the other routers."""
+    key = (settings.session_key.get_secret_value().encode() if settings.session_key is not None
+           else secrets.token_bytes(32))
+    sessions = Sessions(key, settings.session_hours * 3600.0, settings.behind_tls)
+    access = Access(settings.auth == "on", Accounts(app.state.store), sessions)
+    app.state.access = access
+    app.state.sign_in_failures = Failures()
+    app.add_middleware(Guard, access=access)
+    app.add_middleware(SameOrigin, trusted_origins=settings.origin_list(), behind_tls=settings.behind_tls)
+    if settings.origin_list():
+        # Pages of these origins call with a bearer token; cookies stay same-site only.
+        app.add_middleware(CORSMiddleware, allow_origins=settings.origin_list(), allow_credentials=False,
+                           allow_methods=["GET", "POST", "PUT", "PATCH", "DELETE"],
+                           allow_headers=["authorization", "content-type", "accept", CSRF_HEADER],
+                           expose_headers=["location", "retry-after"])
+    app.add_middleware(AllowedHosts, allowed_hosts=settings.host_list())
+    app.add_middleware(SecurityHeaders, hsts=settings.behind_tls)
+    app.add_exception_handler(NotOwner, _not_owner)
+    _document(app)
+    return access
+
+
+async def _not_owner(_: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, NotOwner)
+    return problem(403, "not-owner", "Not the owner", str(exc), owner=exc.owner)
+
+
+def _problem(description: str) -> dict[str, Any]:
+    return {"description": description,
+            "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}}}
+
+
+def _document(app: FastAPI) -> None:
+    """The OpenAPI document names the two ways to sign in and the 401 and 403 answers of every /v1 operation."""
+    build = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        doc = build()
+        if "bearer" in doc.get("components", {}).get("securitySchemes", {}):
+            return doc
+        doc.setdefault("components", {})["securitySchemes"] = {
+            "bearer": {"type": "http", "scheme": "bearer",
+                       "description": "An API token (mst_...) made by an admin, when SYNTH_AUTH=on."},
+            "session": {"type": "apiKey", "in": "cookie", "name": "synth_session",
+                        "description": "A browser signed in with POST /v1/auth/signin; its changes carry "
+                                       "X-CSRF-Token."},
+        }
+        for path, item in doc.get("paths", {}).items():
+            for method, operation in item.items():
+                needed = roles.required(method.upper(), path)
+                responses = operation.setdefault("responses", {})
+                if method.upper() not in roles.SAFE_METHODS:
+                    responses.setdefault("403", _problem(
+                        "Refused: the request comes from another site's page, or (SYNTH_AUTH=on) the caller's "
+                        "roles do not allow it or a browser's change lacks its CSRF token."))
+                if needed is None:
+                    continue
+                operation["security"] = [{"bearer": []}, {"session": []}, {}]
+                responses.setdefault("401", _problem(
+                    "SYNTH_AUTH=on and the request has no valid API token or signed-in session."))
+                responses.setdefault("403", _problem(
+                    f"SYNTH_AUTH=on and the caller has none of the roles {sorted(needed)}."))
+        return doc
+
+    app.openapi = openapi  # type: ignore[method-assign]

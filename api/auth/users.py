@@ -1,0 +1,64 @@
+"""The users and API tokens of the service's store, with what sign-in and the admins need beyond it: a token's
+user found by the token's hash and confirmed by a constant-time comparison, a user's tokens, removing a user.
+
+A token acts with its user's roles at the time of the request, so changing a user's roles changes its tokens.
+"""
+
+from __future__ import annotations
+
+import hmac
+import time
+from dataclasses import dataclass
+
+import sqlalchemy as sa
+
+import store
+from store.schema import api_tokens, users
+
+
+@dataclass(frozen=True, slots=True)
+class TokenInfo:
+    """A kept API token, without its secret: its number, user, label and when it was made and last used."""
+
+    id: int
+    user: str
+    label: str
+    created_at: float
+    last_used_at: float | None
+
+
+class Accounts(store.Users):
+    """Users and API tokens in the service's store."""
+
+    def token_user(self, token: str) -> tuple[store.User, int] | None:
+        """The user holding ``token`` and the token's number, or None; the token's last use is set to now.
+
+        The row is found by the token's SHA-256 (a 256-bit random secret, so the index lookup tells an attacker
+        nothing); the stored hash is then compared byte for byte in constant time, whatever the database's
+        collation does with case or trailing spaces."""
+        digest = store.token_hash(token)
+        with self.store.write() as db:
+            row = db.execute(sa.select(api_tokens.c.id, api_tokens.c.token_hash, users.c.id, users.c.name,
+                                       users.c.roles, users.c.created_at)
+                             .join(users, api_tokens.c.user_id == users.c.id)
+                             .where(api_tokens.c.token_hash == digest)).one_or_none()
+            if row is None or not hmac.compare_digest(str(row[1]).encode(), digest.encode()):
+                return None
+            db.execute(api_tokens.update().where(api_tokens.c.id == row[0]).values(last_used_at=time.time()))
+        user = store.User(int(row[2]), str(row[3]), frozenset(str(row[4]).split()), float(row[5]))
+        return user, int(row[0])
+
+    def tokens(self, user: store.User) -> list[TokenInfo]:
+        """A user's tokens, oldest first."""
+        with self.store.read() as db:
+            rows = db.execute(sa.select(api_tokens.c.id, api_tokens.c.label, api_tokens.c.created_at,
+                                        api_tokens.c.last_used_at)
+                              .where(api_tokens.c.user_id == user.id).order_by(api_tokens.c.id)).all()
+        return [TokenInfo(int(r[0]), user.name, str(r[1] or ""), float(r[2]),
+                          None if r[3] is None else float(r[3])) for r in rows]
+
+    def remove(self, user: store.User) -> None:
+        """Remove a user and its tokens."""
+        with self.store.write() as db:
+            db.execute(api_tokens.delete().where(api_tokens.c.user_id == user.id))
+            db.execute(users.delete().where(users.c.id == user.id))

@@ -1,0 +1,95 @@
+"""An estimate of a request's work before it runs [worker-seconds on one core], from the request alone.
+
+A design study runs one request per variant, so its work is the count of variants times the work of one; the
+service bounds that product (per study and per owner) before the study is stored. The estimates are coarse on
+purpose: a per-request cost and a cost per crank angle (or per start, per member, per swept weight set) of
+each endpoint, measured on one core of the development machine and rounded up; the tooth search's from the
+products its meet in the middle streams per pass (about 1 ns each, see ``synth.gearing.teeth.MAX_STREAMED``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from pydantic import BaseModel
+
+#: Per endpoint: fixed cost [s] and cost per crank angle [s].
+_PER_SAMPLE: dict[str, tuple[float, float]] = {
+    "/v1/analysis": (0.002, 4e-6),
+    "/v1/balancing/static": (0.005, 1e-5),
+    "/v1/balancing/full": (0.008, 1.5e-5),
+    "/v1/balancing/optimal": (0.03, 3e-5),
+    "/v1/balancing/slider-crank": (0.01, 1.5e-5),
+    "/v1/flywheel": (0.01, 2e-5),
+    "/v1/synthesis/crank-rocker": (0.2, 1e-3),
+    "/v1/synthesis/slider-crank": (0.2, 1e-3),
+}
+#: Endpoints whose work is not driven by a count in the request: their cost [s].
+_FIXED: dict[str, float] = {
+    "/v1/balancing/rotor": 0.01,
+    "/v1/gears/split": 0.02,
+    "/v1/gears/drive": 0.1,
+    "/v1/gears/rating": 0.02,
+    "/v1/gears/train": 0.05,
+    "/v1/structure": 0.005,
+    "/v1/machines/design": 1.0,
+}
+# A path-synthesis start is an IPOPT solve of about 55 iterations at 0.25 ms each for 10 points.
+_PATH_START_S = 0.03
+_MEMBER_S = 0.05
+_STREAMED_PRODUCT_S = 1e-9
+
+
+def _tooth_pairs(max_teeth: int) -> float:
+    """Candidate pairs of one spur stage after deduplication, about 0.26 max_teeth² (256 000 at 1000 teeth,
+    23 000 at 200), never fewer than the ten thousand of the smallest searches."""
+    return max(1e4, 0.26 * max_teeth**2)
+
+
+def _teeth(b: Any) -> float:
+    stages = b.stages if isinstance(b.stages, int) else len(b.stages)
+    streamed = _tooth_pairs(int(b.max_teeth)) ** (stages - stages // 2)
+    return 0.01 + streamed * _STREAMED_PRODUCT_S
+
+
+def _path(b: Any) -> float:
+    return 0.02 + int(b.starts) * _PATH_START_S * max(1.0, len(b.points_m) / 10)
+
+
+def _optimise(b: Any) -> float:
+    return 1.0 + int(b.scan_members) * _MEMBER_S * int(b.samples) / 120
+
+
+_SPECIAL: dict[str, Callable[[Any], float]] = {
+    "/v1/gears/teeth": _teeth,
+    "/v1/synthesis/path": _path,
+    "/v1/machines/optimise": _optimise,
+}
+
+
+def estimate_s(endpoint: str, body: BaseModel) -> float:
+    """Estimated work of one request of ``endpoint`` [worker-seconds]."""
+    if endpoint in _SPECIAL:
+        return _SPECIAL[endpoint](body)
+    if endpoint in _PER_SAMPLE:
+        fixed, per_sample = _PER_SAMPLE[endpoint]
+        samples = getattr(body, "samples", None) or 360
+        sweep = len(getattr(body, "sweep", None) or ()) + 1
+        return (fixed + per_sample * int(samples)) * sweep
+    return _FIXED.get(endpoint, 0.05)
+
+
+def describe_s(seconds: float) -> str:
+    """A work estimate for people: seconds, hours or days of one worker."""
+    if seconds < 3600:
+        return f"{seconds:.3g} worker-seconds"
+    if seconds < 86400 * 3:
+        return f"{seconds / 3600:.3g} worker-hours"
+    return f"{seconds / 86400:.3g} worker-days"
+
+
+def finite(seconds: float) -> float:
+    """An estimate as a finite number (an overflowing power is simply huge)."""
+    return seconds if math.isfinite(seconds) else 1e300

@@ -1,0 +1,91 @@
+"""Serve the app with uvicorn under the service's connection limits: ``python -m api.serve --host H --port P``.
+
+Uvicorn bounds connections (``limit_concurrency``: beyond ``SYNTH_MAX_CONNECTIONS`` open connections or
+requests, a new request is answered 503 at once) and the idle time of a kept-alive connection
+(``timeout_keep_alive``: ``SYNTH_KEEP_ALIVE_S``), and h11 bounds the size of a request's head (16 kB). It has no
+bound on the time a client may take to send that head, so a client that sends a header line every few seconds
+would hold its connection for ever: :class:`HeaderTimeout` adds one. A connection whose request head is not
+complete ``SYNTH_HEADER_TIMEOUT_S`` after it opened (or after its previous answer) is answered 408 and closed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+from typing import Any
+
+import h11
+import uvicorn
+from uvicorn.protocols.http.h11_impl import H11Protocol
+
+from .settings import Settings
+
+_TIMED_OUT = (b"HTTP/1.1 408 Request Timeout\r\ncontent-type: text/plain\r\nconnection: close\r\n"
+              b"content-length: 41\r\n\r\nthe request's headers came too slowly\r\n\r\n")
+
+
+class HeaderTimeout(H11Protocol):
+    """uvicorn's h11 protocol with a bound on the time to receive a request's head."""
+
+    header_timeout_s = 10.0
+
+    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
+        self._header_timer: asyncio.TimerHandle | None = None
+        super().connection_made(transport)
+        self._arm()
+
+    def _arm(self) -> None:
+        self._disarm()
+        self._header_timer = self.loop.call_later(self.header_timeout_s, self._too_slow)
+
+    def _disarm(self) -> None:
+        if self._header_timer is not None:
+            self._header_timer.cancel()
+            self._header_timer = None
+
+    def data_received(self, data: bytes) -> None:
+        super().data_received(data)
+        if self.conn.their_state is not h11.IDLE:
+            self._disarm()  # the head is in: the body has its own timeout (SYNTH_BODY_TIMEOUT_S)
+
+    def on_response_complete(self) -> None:
+        super().on_response_complete()
+        if not self.transport.is_closing():
+            self._arm()  # the next request's head on a kept-alive connection
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._disarm()
+        super().connection_lost(exc)
+
+    def _too_slow(self) -> None:
+        self._header_timer = None
+        if self.conn.their_state is h11.IDLE and not self.transport.is_closing():
+            self.transport.write(_TIMED_OUT)
+            self.transport.close()
+
+
+def protocol(header_timeout_s: float) -> type[HeaderTimeout]:
+    """The protocol class with the given head timeout [s]."""
+    return type("HeaderTimeoutProtocol", (HeaderTimeout,), {"header_timeout_s": header_timeout_s})
+
+
+def config(host: str, port: int, settings: Settings, **extra: Any) -> uvicorn.Config:
+    """uvicorn's configuration of the service under ``settings``' connection limits."""
+    return uvicorn.Config("api.app:app", host=host, port=port, http=protocol(settings.header_timeout_s),
+                          limit_concurrency=settings.max_connections,
+                          timeout_keep_alive=settings.keep_alive_s,  # type: ignore[arg-type]
+                          **extra)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run the service on ``--host``/``--port`` until stopped."""
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--host", default="127.0.0.1")
+    parser.add_argument("--port", type=int, default=8000)
+    parser.add_argument("--log-level", default="info")
+    args = parser.parse_args(argv)
+    uvicorn.Server(config(args.host, args.port, Settings.from_env(), log_level=args.log_level)).run()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,186 @@
+"""Figures of the machine on its foundation: the force it passes on, the frame's orbit, the transmissibility per
+harmonic; the speed and torque of a regulated machine after a load step."""
+
+from __future__ import annotations
+
+import io
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from .foundation import Isolation  # noqa: E402
+from .elastic_drive import ElasticDrive  # noqa: E402
+from .foundation_design import IsolationDesign  # noqa: E402
+from .regulation import Regulation  # noqa: E402
+
+
+def _bytes(fig: Figure, fmt: str) -> bytes:
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=fmt, dpi=110)
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def isolation_figure(r: Isolation, fmt: str = "png") -> bytes:
+    """Force to the foundation against the shaking force over the cycle, the frame centre's orbit, and the force
+    transmissibility per harmonic, as PNG, SVG or PDF."""
+    if r.run_up is None:
+        fig, grid = plt.subplots(1, 3, figsize=(14, 4.4), layout="constrained")
+        axes = list(grid)
+    else:
+        fig, grid = plt.subplots(2, 2, figsize=(12, 8.5), layout="constrained")
+        axes = list(grid.reshape(-1))
+    deg = np.degrees(r.phi)
+    ax = axes[0]
+    ax.plot(deg, np.linalg.norm(r.shaking_force, axis=1), lw=1.2, label="shaking force (rigid floor)")
+    ax.plot(deg, np.linalg.norm(r.force, axis=1), lw=1.2, label="force to the foundation")
+    ax.set(xlabel="crank angle [deg]", ylabel="|F| [N]", title="Force the foundation feels")
+    ax.legend(fontsize=8)
+    ax = axes[1]
+    ax.plot(r.displacement[:, 0] * 1e3, r.displacement[:, 1] * 1e3, lw=1.2)
+    ax.plot(r.displacement[0, 0] * 1e3, r.displacement[0, 1] * 1e3, "o", ms=4, label="first sample")
+    ax.set(xlabel="x [mm]", ylabel="y [mm]", title=f"Frame centre's orbit (peak {r.peak_displacement * 1e3:.3g} mm)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=8)
+    ax = axes[2]
+    orders = [h.order for h in r.harmonics if h.force_transmissibility is not None]
+    values = [h.force_transmissibility for h in r.harmonics if h.force_transmissibility is not None]
+    ax.bar(orders, values, color="C1")
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    crank_hz = 1.0 / (r.time[1] * r.time.size)
+    for m in r.modes:
+        ax.axvline(m.frequency / crank_hz, color="C3", lw=0.8, ls=":")
+    ax.set(xlabel="harmonic order (modes dotted)", ylabel="transmitted / shaking [-]", yscale="log",
+           title="Force transmissibility per harmonic")
+    if r.run_up is not None:
+        ru = r.run_up
+        ax = axes[3]
+        ax.plot(ru.time, ru.amplitude * 1e3, lw=0.8, label="frame centre")
+        ax.axhline(ru.steady_amplitude * 1e3, color="g", ls="--", lw=1, label="steady peak")
+        ax.plot(ru.peak_time, ru.peak_amplitude * 1e3, "o", color="C3", ms=5,
+                label=f"peak {ru.peak_amplitude * 1e3:.3g} mm at {ru.peak_speed * 30 / np.pi:.4g} rpm")
+        twin = ax.twinx()
+        twin.plot(ru.time, ru.speed * 30 / np.pi, color="0.5", lw=1)
+        twin.set_ylabel("crank speed [rpm]", color="0.4")
+        ax.set(xlabel="time [s]", ylabel="displacement [mm]", title="Run-up: the frame through resonance")
+        ax.legend(fontsize=8, loc="upper right")
+    return _bytes(fig, fmt)
+
+
+def design_figure(d: IsolationDesign, fmt: str = "png") -> bytes:
+    """The figure of the frame on the designed isolators (see :func:`isolation_figure`)."""
+    return isolation_figure(d.isolation, fmt)
+
+
+def elastic_drive_figure(d: ElasticDrive, fmt: str = "png") -> bytes:
+    """Torque in the elastic link against the rigid model's over the steady cycle, and the run-up with the link."""
+    fig, axes = plt.subplots(1, 2 if d.start is not None else 1, figsize=(13 if d.start else 7, 4.6),
+                             layout="constrained", squeeze=False)
+    ax = axes[0][0]
+    deg = np.degrees(d.phi)
+    ax.plot(deg, d.rigid_torque, lw=1.2, label="rigid model, M_d - J1·alpha")
+    ax.plot(deg, d.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {d.dynamic_factor:.3g})")
+    ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]",
+           title=f"Steady cycle; link at {d.natural_frequency:.4g} Hz")
+    ax.legend(fontsize=8)
+    if d.start is not None:
+        ax = axes[0][1]
+        ax.plot(d.start.time, d.start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
+        ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
+        twin = ax.twinx()
+        twin.plot(d.start.time, d.start.crank_speed * 30 / np.pi, color="0.4", lw=1, label="crank speed")
+        twin.set_ylabel("crank speed [rpm]", color="0.4")
+        ax.legend(fontsize=8, loc="lower right")
+    return _bytes(fig, fmt)
+
+
+def regulation_figure(r: Regulation, fmt: str = "png") -> bytes:
+    """Speed and torques over time around the load step, with the settling band."""
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True, layout="constrained")
+    rpm = 30 / np.pi
+    final = r.controller.reference if r.controller is not None and r.controller.reference else r.speed_after
+    top.plot(r.time, r.omega * rpm, lw=0.7, color="0.6", label="crank speed")
+    top.plot(r.time, r.smoothed * rpm, lw=1.4, color="C0", label="without the cycle's fluctuation")
+    top.axhspan((final - r.band) * rpm, (final + r.band) * rpm, color="C2", alpha=0.15, label="delta band")
+    top.axvline(r.step_time, color="k", lw=0.8, ls=":")
+    if r.settling_time is not None:
+        top.axvline(r.step_time + r.settling_time, color="C3", lw=0.8, ls="--",
+                    label=f"settled after {r.settling_time:.3g} s")
+    mode = "self-regulation" if r.controller is None else (f"PI: k_p {r.controller.kp:.3g}, "
+                                                           f"k_i {r.controller.ki:.3g} 1/s")
+    top.set(ylabel="speed [rpm]", title=f"Load step of {r.load_step:.4g} N·m at the crank, {mode}")
+    top.legend(fontsize=8)
+    bottom.plot(r.time, r.motor_torque, lw=1.0, label="motor (at the crank)")
+    bottom.plot(r.time, -r.load_torque, lw=1.0, label="load (resisting)")
+    bottom.axvline(r.step_time, color="k", lw=0.8, ls=":")
+    bottom.set(xlabel="time [s]", ylabel="torque [N·m]")
+    bottom.legend(fontsize=8)
+    return _bytes(fig, fmt)
+
+
+def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDrive | None = None,
+                           regulation: Regulation | None = None) -> Figure:
+    """One A4 landscape page of the design record on the machine around the linkage: the frame on its isolators
+    (modes, peaks, the force the foundation feels), the elastic drive (natural frequency, dynamic factor, the
+    link's torque) and the speed after a load step; whichever are given. The caller saves and closes it."""
+    fig = plt.figure(figsize=(11.69, 8.27))
+    fig.suptitle("The machine on its foundation, its elastic drive and its speed regulation", fontsize=13)
+    grid = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.3], hspace=0.35, wspace=0.3, left=0.06, right=0.97,
+                            bottom=0.08, top=0.9)
+    rows: list[list[str]] = []
+    if isolation is not None:
+        r = isolation
+        rows += [["isolation", "natural frequencies", ", ".join(f"{m.frequency:.3g}" for m in r.modes) + " Hz"],
+                 ["", "peak force to the foundation", f"{r.peak_force:.4g} N (shaking {r.peak_shaking_force:.4g} N)"],
+                 ["", "frame amplitude", f"{r.peak_displacement * 1e3:.3g} mm, {r.peak_rotation * 1e3:.3g} mrad"],
+                 ["", "check: time integration", f"{r.check.relative_diff:.1e} of the peaks"]]
+        if r.run_up is not None:
+            rows.append(["", "run-up peak amplitude", f"{r.run_up.peak_amplitude * 1e3:.3g} mm at "
+                         f"{r.run_up.peak_speed * 30 / np.pi:.4g} rpm"])
+    if drive is not None:
+        rows += [["elastic drive", "link stiffness, frequency", f"{drive.stiffness:.4g} N·m/rad, "
+                  f"{drive.natural_frequency:.4g} Hz"],
+                 ["", "dynamic factor", f"{drive.dynamic_factor:.4f}"],
+                 ["", "harmonics near resonance", ", ".join(str(h.order) for h in drive.harmonics if h.near) or "none"],
+                 ["", "check: energy balance", f"{drive.steady.energy_residual:.1e}"]]
+    if regulation is not None:
+        g = regulation
+        mode = ("self-regulation" if g.controller is None
+                else f"PI k_p {g.controller.kp:.3g}, k_i {g.controller.ki:.3g}")
+        settle = "not within the run" if g.settling_time is None else f"{g.settling_time:.3g} s"
+        rows += [["regulation", "load step, mode", f"{g.load_step:.4g} N·m, {mode}"],
+                 ["", "speed drop (closed form)",
+                  f"{g.drop * 30 / np.pi:.4g} rpm ({g.drop_closed_form * 30 / np.pi:.4g})"],
+                 ["", "settling in the delta band", settle]]
+    table_ax = fig.add_subplot(grid[0, :])
+    table_ax.axis("off")
+    if rows:
+        table = table_ax.table(cellText=rows, colLabels=["", "figure", "value"], loc="center", cellLoc="left",
+                               colWidths=[0.15, 0.3, 0.55])
+        table.auto_set_font_size(False)
+        table.set_fontsize(8.5)
+        table.scale(1, 1.25)
+    if isolation is not None:
+        ax = fig.add_subplot(grid[1, 0])
+        deg = np.degrees(isolation.phi)
+        ax.plot(deg, np.linalg.norm(isolation.shaking_force, axis=1), lw=1, label="shaking force")
+        ax.plot(deg, np.linalg.norm(isolation.force, axis=1), lw=1, label="to the foundation")
+        ax.set(xlabel="crank angle [deg]", ylabel="|F| [N]", title="Force the foundation feels")
+        ax.legend(fontsize=7)
+    if drive is not None:
+        ax = fig.add_subplot(grid[1, 1])
+        deg = np.degrees(drive.phi)
+        ax.plot(deg, drive.rigid_torque, lw=1, label="rigid model")
+        ax.plot(deg, drive.steady.elastic_torque, lw=1, label="elastic link")
+        ax.set(xlabel="crank angle [deg]", ylabel="torque [N·m]", title="Torque in the link")
+        ax.legend(fontsize=7)
+    if regulation is not None:
+        ax = fig.add_subplot(grid[1, 2])
+        ax.plot(regulation.time, regulation.smoothed * 30 / np.pi, lw=1)
+        ax.axvline(regulation.step_time, color="k", lw=0.8, ls=":")
+        ax.set(xlabel="time [s]", ylabel="speed [rpm]", title="Speed after the load step")
+    return fig

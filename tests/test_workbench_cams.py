@@ -1,0 +1,85 @@
+"""The workbench's Cams panel in a real browser (Playwright, the system's Chromium, a live server): the least cam
+it shows is the service's own answer, asked here directly, and its files download."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+from playwright.sync_api import Browser, Page, sync_playwright
+from service import running_service
+
+from test_workbench import CHROMIUM, CHROMIUM_ARGS, SHOTS
+
+
+@pytest.fixture(scope="module")
+def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    command = lambda port: [sys.executable, "-m", "uvicorn", "api.app:app", "--host", "127.0.0.1",  # noqa: E731
+                            "--port", str(port)]
+    with running_service(command, tmp_path_factory.mktemp("studies"), start_timeout_s=60) as url:
+        yield url
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Browser]:
+    assert Path(CHROMIUM).exists(), f"{CHROMIUM} is missing: `make test` installs it (apt-get install chromium)"
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def page(browser: Browser, base_url: str) -> Iterator[Page]:
+    context = browser.new_context(viewport={"width": 1400, "height": 1000}, accept_downloads=True)
+    pg = context.new_page()
+    errors: list[str] = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto(base_url + "/")
+    pg.wait_for_selector("body[data-ready='1'][data-cam-ready='1']", timeout=30_000)
+    yield pg
+    context.close()
+    assert not errors, errors
+
+
+def _wait(page: Page, kind: str) -> None:
+    page.wait_for_function(f"(document.body.dataset.cam || '').startsWith({json.dumps(kind)})", timeout=60_000)
+
+
+def test_least_cam_in_the_panel_is_the_services_and_its_files_download(page: Page, base_url: str) -> None:
+    page.click("button[data-panel=cams]")
+    page.fill("[id='cam-alpha-rise']", "25")
+    page.click("#cam-least-run")
+    _wait(page, "synthesised")
+    body = json.loads(page.input_value("#cam-json"))
+    request = {k: v for k, v in body.items() if k != "base_radius_m"}
+    # the offset is kept (no offset range is given): the editor's offset is the request's
+    direct = httpx.post(f"{base_url}/v1/cams/synthesis", timeout=60, json={
+        **request, "max_pressure_angle_rise_deg": 25, "max_pressure_angle_return_deg": 45,
+        "base_radius_bounds_m": [0.005, 0.2]}).json()
+    assert body["base_radius_m"] == direct["base_radius_m"]
+    shown = page.text_content("#cam-least") or ""
+    assert f"{direct['base_radius_m'] * 1000:.5g} mm" in shown and direct["active_constraint"] in shown
+    assert page.evaluate("document.getElementById('cam-figure').naturalWidth") > 500
+    with page.expect_download() as dl:
+        page.click("#cam-dxf")
+    assert dl.value.suggested_filename == "cam.dxf"
+    assert "LWPOLYLINE" in Path(dl.value.path()).read_text()
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SHOTS / "cams.png"), full_page=True)
+    print(f"screenshot: {SHOTS / 'cams.png'}")
+
+
+def test_a_program_that_does_not_close_the_turn_names_its_field(page: Page) -> None:
+    page.click("button[data-panel=cams]")
+    body = json.loads(page.input_value("#cam-json"))
+    body["segments"] = body["segments"][:3]
+    page.fill("#cam-json", json.dumps(body))
+    page.click("#cam-analyse")
+    _wait(page, "problem")
+    text = page.text_content("#cam-problem") or ""
+    assert "360" in text and "field segments" in text
