@@ -11,7 +11,7 @@ import functools
 import io
 import math
 import unicodedata
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Literal
 
 import matplotlib
@@ -19,7 +19,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.artist import Artist  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.axis import Axis  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.font_manager import findfont, get_font  # noqa: E402
 from matplotlib.patches import Circle, Polygon, Rectangle  # noqa: E402
@@ -49,22 +51,26 @@ def _as_drawn(text: Text) -> str:
     return "".join(ch if drawable(ch) else "\ufffd" for ch in text.get_text())
 
 
+def _own_texts(artist: Artist) -> Iterator[Text]:
+    """The texts under ``artist`` that the figure's code set: an axis gives its label, never its tick labels."""
+    for child in artist.get_children():
+        if isinstance(child, Axis):
+            yield child.label
+            continue
+        if isinstance(child, Text):
+            yield child
+        yield from _own_texts(child)
+
+
 def literal_text(fig: Figure) -> Figure:
     """``fig`` with every text drawn as written: names from a request (trace points, links, machines) may hold
     ``$`` or ``\\``, which matplotlib would otherwise read as mathtext and fail on, and characters the font
     lacks, drawn as U+FFFD. The tick labels matplotlib formats itself keep their mathtext (a log axis writes its
     powers of ten with it)."""
-    own: set[Text] = set()
-    for ax in fig.axes:
-        for axis in (ax.xaxis, ax.yaxis):
-            own.add(axis.offsetText)
-            for tick in (*axis.get_major_ticks(), *axis.get_minor_ticks()):
-                own.update((tick.label1, tick.label2))
-    for text in fig.findobj(Text):
-        if isinstance(text, Text) and text not in own:
-            text.set_parse_math(False)
-            if not all(" " <= ch <= "~" or ch == "\n" for ch in text.get_text()):
-                text.set_text(_as_drawn(text))
+    for text in _own_texts(fig):
+        text.set_parse_math(False)
+        if not all(" " <= ch <= "~" or ch == "\n" for ch in text.get_text()):
+            text.set_text(_as_drawn(text))
     return fig
 
 

@@ -20,7 +20,8 @@ def _orders(ax: Axes, result: SliderCrankBalance) -> None:
     after = np.array(result.residual_by_order)
     before = np.array(_peak_by_order(result.analysis_before.kinetostatics.shaking_force, len(after)))
     k = np.arange(1, len(after) + 1)
-    floor = 1e-16 * max(float(before.max()), 1e-300)  # a log scale has no 0: exact zeros drawn below round-off
+    # a log scale has no 0: exact zeros drawn below round-off (of 1 N when nothing moves a mass)
+    floor = 1e-16 * (float(before.max()) if before.max() > 0 else 1.0)
     ax.bar(k - 0.2, np.maximum(before, floor), 0.4, color=BEFORE, label="before")
     ax.bar(k + 0.2, np.maximum(after, floor), 0.4, color=AFTER, label="after")
     ax.set_yscale("log")
