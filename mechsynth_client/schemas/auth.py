@@ -53,8 +53,8 @@ class UserIn(StrictModel):
 class UserPatchIn(StrictModel):
     """A new password, new roles, or both."""
 
-    password: Password | None = None
-    roles: Roles | None = None
+    password: Password | None = Field(None, description="The new password; left out: unchanged.")
+    roles: Roles | None = Field(None, description="The new roles, replacing the old; left out: unchanged.")
 
 
 class UserOut(BaseModel):

@@ -19,7 +19,7 @@ Mass = Annotated[float, Field(ge=0, le=1e4)]
 class CylinderIn(StrictModel):
     """One cylinder on the crankshaft."""
 
-    crank_angle_deg: Angle = Field(description="Its throw's phase behind the first throw [deg]: it reaches its "
+    crank_angle_deg: Angle = Field(examples=[180.0], description="Its throw's phase behind the first throw [deg]: it reaches its "
                                    "top dead centre that much later (in-line: the classic crank angles).")
     bank_angle_deg: Angle = Field(0.0, description="Its axis' angle from the vertical, in the crank's sense of "
                                   "rotation [deg]: 0 in line, ±45 for a 90° V.")
@@ -29,13 +29,13 @@ class CylinderIn(StrictModel):
 class EngineIn(StrictModel):
     """An engine: the slider-crank of every cylinder (all alike) and where each sits on the crankshaft."""
 
-    crank_radius_m: Length = Field(description="Crank radius r [m].")
-    rod_length_m: Length = Field(description="Connecting-rod length l [m], longer than r.")
-    reciprocating_mass_kg: Mass = Field(description="Reciprocating mass per cylinder (piston, pin, the rod's "
+    crank_radius_m: Length = Field(examples=[0.04], description="Crank radius r [m].")
+    rod_length_m: Length = Field(examples=[0.14], description="Connecting-rod length l [m], longer than r.")
+    reciprocating_mass_kg: Mass = Field(examples=[0.5], description="Reciprocating mass per cylinder (piston, pin, the rod's "
                                         "share at the small end) [kg].")
     rotating_mass_kg: Mass = Field(0.0, description="Rotating mass per cylinder at the crank pin (the rod's "
                                    "share at the big end, the pin, unbalanced web) [kg].")
-    speed_rpm: float = Field(gt=0, le=1e5, description="Crank speed [rev/min].")
+    speed_rpm: float = Field(gt=0, le=1e5, examples=[3000.0], description="Crank speed [rev/min].")
     arrangement: Arrangement | None = Field(None, description="A classic arrangement instead of `cylinders`, its "
                                             "cylinders `pitch_m` apart.")
     pitch_m: Length = Field(0.1, description="With `arrangement`: distance between cylinder planes [m].")

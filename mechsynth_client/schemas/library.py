@@ -74,33 +74,33 @@ class SignIn(StrictModel):
 class Links(BaseModel):
     """Where to find the revision, its design and its record."""
 
-    self: str
-    design: str
+    self: str = Field(description="This revision's address on the service.")
+    design: str = Field(description="The design's history on the service.")
     record: str | None = Field(description="The design record (PDF) kept with it, when there is one.")
 
 
 class RevisionOut(BaseModel):
     """A revision: where it is kept, its hash, who made it and when, its state and sign-offs."""
 
-    project: str
-    design: str
-    endpoint: str
+    project: str = Field(description="The project the design belongs to.")
+    design: str = Field(description="The design's name within its project.")
+    endpoint: str = Field(description="The service operation the request is for (/v1/...).")
     number: int = Field(description="1, 2, ... within the design.")
     parent: int | None = Field(description="The revision it was made from.")
     content_hash: str = Field(description="sha256 of the request's canonical JSON (keys sorted, no spaces), hex.")
-    author: str
-    created_at: datetime
-    message: str
+    author: str = Field(description="Who saved it.")
+    created_at: datetime = Field(description="When it was saved (UTC).")
+    message: str = Field(description="Why it was made.")
     passed: bool | None = Field(description="Every check of the answer passed (false: the engine refused it or a "
                                             "check failed); null without an answer (a study).")
     state: RevisionState = Field(description="draft -> checked -> approved; an approved revision is frozen and "
                                              "becomes superseded when a later one is approved.")
-    checked_by: str | None
-    checked_at: datetime | None
-    approved_by: str | None
-    approved_at: datetime | None
-    superseded_by: int | None
-    links: Links
+    checked_by: str | None = Field(description="Who checked it; null while unchecked.")
+    checked_at: datetime | None = Field(description="When it was checked (UTC).")
+    approved_by: str | None = Field(description="Who approved it; null while unapproved.")
+    approved_at: datetime | None = Field(description="When it was approved (UTC).")
+    superseded_by: int | None = Field(description="The approved revision that replaced it, when one did.")
+    links: Links = Field(description="Addresses of the revision, its design and its record.")
 
     @classmethod
     def from_info(cls, i: Any) -> RevisionOut:
@@ -118,7 +118,7 @@ class RevisionOut(BaseModel):
 class RevisionDetailOut(RevisionOut):
     """A revision with its request (canonical SI, as its endpoint validated it) and the answer made from it."""
 
-    request: dict[str, Any]
+    request: dict[str, Any] = Field(description="The canonical SI request the content hash is taken of.")
     answer: dict[str, Any] | None = Field(description="The endpoint's answer to exactly this request, or "
                                                       "{\"problem\": ...} when the engine refused it; null for a "
                                                       "study.")
@@ -127,20 +127,20 @@ class RevisionDetailOut(RevisionOut):
 class DesignOut(BaseModel):
     """A design and its history, oldest revision first."""
 
-    project: str
-    design: str
-    endpoint: str
-    revisions: list[RevisionOut]
+    project: str = Field(description="The project the design belongs to.")
+    design: str = Field(description="The design's name within its project.")
+    endpoint: str = Field(description="The service operation its requests are for.")
+    revisions: list[RevisionOut] = Field(description="Every revision, oldest first.")
 
 
 class ProjectOut(BaseModel):
     """A project and its counts."""
 
-    name: str
-    created_at: datetime
-    created_by: str
-    designs: int
-    revisions: int
+    name: str = Field(description="The project's name.")
+    created_at: datetime = Field(description="When its first design was saved (UTC).")
+    created_by: str = Field(description="Who saved it.")
+    designs: int = Field(description="Designs in the project.")
+    revisions: int = Field(description="Revisions of all its designs together.")
 
     @classmethod
     def from_project(cls, p: Any) -> ProjectOut:
@@ -161,10 +161,10 @@ class FieldChange(BaseModel):
 class FigureChange(BaseModel):
     """One figure of the answer in both revisions."""
 
-    path: str
-    unit: str
-    before: float | None
-    after: float | None
+    path: str = Field(description="Dotted JSON path of the figure in the answer; list items by index.")
+    unit: str = Field(description="The unit its name carries; '-' dimensionless, '' none.")
+    before: float | None = Field(description="Its value in the first revision; null when absent.")
+    after: float | None = Field(description="Its value in the second revision; null when absent.")
     change: float | None = Field(description="after - before, in the figure's unit.")
     change_rel: float | None = Field(description="change / |before|; null when before is zero or absent.")
 
@@ -173,53 +173,53 @@ class DiffOut(BaseModel):
     """What changed from one revision to another: every input field that differs, with its unit, and every
     figure of the answer that moved."""
 
-    project: str
-    design: str
-    before: int
-    after: int
-    request: list[FieldChange]
-    answer: list[FigureChange]
+    project: str = Field(description="The project the design belongs to.")
+    design: str = Field(description="The design's name within its project.")
+    before: int = Field(description="The first revision compared.")
+    after: int = Field(description="The second revision compared.")
+    request: list[FieldChange] = Field(description="Fields of the request that differ, with their units.")
+    answer: list[FigureChange] = Field(description="Figures of the answer that differ, with the change.")
     unchanged_figures: int = Field(description="Figures of the answer equal in both.")
 
 
 class ExportRevision(StrictModel):
     """A revision as exported: everything the library keeps, the record in base64."""
 
-    number: int = Field(ge=1, le=1_000_000)
-    parent: int | None = Field(ge=1, le=1_000_000)
-    request: dict[str, Any]
-    content_hash: str = Field(pattern=r"^[0-9a-f]{64}$")
-    author: Person
-    created_at: float = Field(ge=0)
-    message: str = Field(max_length=2000)
-    answer: dict[str, Any] | None
-    passed: bool | None
-    state: RevisionState
-    checked_by: str | None = Field(max_length=100)
-    checked_at: float | None = Field(ge=0)
-    approved_by: str | None = Field(max_length=100)
-    approved_at: float | None = Field(ge=0)
-    superseded_by: int | None = Field(ge=1, le=1_000_000)
-    record_pdf_base64: str | None
+    number: int = Field(ge=1, le=1_000_000, examples=[1], description="1, 2, ... within the design.")
+    parent: int | None = Field(ge=1, le=1_000_000, examples=[None], description="The revision it was made from.")
+    request: dict[str, Any] = Field(description="The canonical SI request.")
+    content_hash: str = Field(pattern=r"^[0-9a-f]{64}$", description="sha256 of the request's canonical JSON, hex.")
+    author: Person = Field(description="Who saved it.")
+    created_at: float = Field(ge=0, examples=[1.7e9], description="When it was saved [s since 1970, UTC].")
+    message: str = Field(max_length=2000, description="Why it was made.")
+    answer: dict[str, Any] | None = Field(description="The endpoint's answer to the request, when kept.")
+    passed: bool | None = Field(description="Every check of the answer passed.")
+    state: RevisionState = Field(description="draft, checked, approved or superseded.")
+    checked_by: str | None = Field(max_length=100, description="Who checked it.")
+    checked_at: float | None = Field(ge=0, examples=[1.7e9], description="When it was checked [s since 1970, UTC].")
+    approved_by: str | None = Field(max_length=100, description="Who approved it.")
+    approved_at: float | None = Field(ge=0, examples=[1.7e9], description="When it was approved [s since 1970, UTC].")
+    superseded_by: int | None = Field(ge=1, le=1_000_000, examples=[None], description="The approved revision that replaced it.")
+    record_pdf_base64: str | None = Field(description="The design record kept with it (PDF, base64), when there is one.")
 
 
 class ExportDesign(StrictModel):
     """A design as exported."""
 
-    name: Name
-    endpoint: str = Field(min_length=4, max_length=100)
-    created_at: float = Field(ge=0)
-    created_by: Person
-    revisions: list[ExportRevision] = Field(max_length=10_000)
+    name: Name = Field(description="The design's name within its project.")
+    endpoint: str = Field(min_length=4, max_length=100, description="The service operation its requests are for.")
+    created_at: float = Field(ge=0, examples=[1.7e9], description="When it was first saved [s since 1970, UTC].")
+    created_by: Person = Field(description="Who first saved it.")
+    revisions: list[ExportRevision] = Field(max_length=10_000, description="Every revision, oldest first.")
 
 
 class LibraryExport(StrictModel):
     """A project as one file: every design and revision with its answer and record; importing it on another
     service keeps every number, name, time, sign-off and content hash."""
 
-    format: Literal["mechsynth-library/1"]
-    project: Name
-    created_at: float = Field(ge=0)
-    created_by: Person
-    exported_at: float = Field(ge=0)
-    designs: list[ExportDesign] = Field(max_length=10_000)
+    format: Literal["mechsynth-library/1"] = Field(description="The export format and its version.")
+    project: Name = Field(description="The project exported.")
+    created_at: float = Field(ge=0, examples=[1.7e9], description="When the project was made [s since 1970, UTC].")
+    created_by: Person = Field(description="Who made it.")
+    exported_at: float = Field(ge=0, examples=[1.7e9], description="When it was exported [s since 1970, UTC].")
+    designs: list[ExportDesign] = Field(max_length=10_000, description="Every design with its revisions.")
