@@ -68,7 +68,7 @@ REFINE_EVALUATIONS = 2
 #: Best members of the search designed through the whole chain, in turn, until one passes its start checks.
 FINAL_TRIES = 3
 #: Plateaus walked at most in one cell.
-MAX_WALK = 5
+MAX_WALK = 6
 #: Bisection steps on the discrete choice locating each end of a plateau between two scanned members.
 BISECT_STEPS = 5
 #: A check within this fraction of its limit, or a kinematic bound within this many grid steps, binds.
@@ -441,11 +441,12 @@ def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) 
         bound = min(floors) if len(floors) == 2 else -math.inf
         ends = (float(s[i]), float(s[i + 1]))
         start = a if ends[0] <= ends[1] else b
-        found.append((min(ends), Refinement(a.parameter, b.parameter, start.parameter, 0, start.parameter,
+        found.append(((min(ends), max(ends)), Refinement(a.parameter, b.parameter, start.parameter, 0, start.parameter,
                                             start.choice, float(bound), "pruned")))
     out: list[Refinement] = []
     searched = 0
-    for rank, r in sorted(found, key=lambda x: (x[0], x[1].bound)):
+    # best scanned end first; of two cells sharing that end, the one whose other end is better
+    for _, r in sorted(found, key=lambda x: (x[0], x[1].bound)):
         if math.isfinite(best) and r.bound >= best * (1 - 1e-12):
             out.append(r)
         elif searched < MAX_SEARCHED:
