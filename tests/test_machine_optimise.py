@@ -202,8 +202,12 @@ def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
     assert c.kinematic_members == engine.KINEMATIC_GRID and 0 < c.kinematic_feasible <= c.kinematic_members
     assert c.members_designed == len(a.members) >= c.scan_members
     assert c.gap_bound is None and "no gap bound" in c.statement
+    assert c.cells_found == len(c.refinements) == c.cells_searched + c.cells_pruned + c.cells_unsearched
+    assert c.cells_searched <= engine.MAX_SEARCHED
     for r in c.refinements:
-        assert r.lo <= r.best_parameter <= r.hi and 0 < r.evaluations <= engine.REFINE_EVALUATIONS
+        assert r.lo < r.hi and r.status in ("searched", "pruned", "unsearched")
+        if r.status == "searched":
+            assert r.lo <= r.best_parameter <= r.hi and 1 <= r.plateaus <= engine.MAX_WALK
     # the offset and the stroke: the member's own kinematics give the requested stroke and time ratio
     mech = synth.SliderCrank(m["crank_length_m"], m["rod_length_m"], m["offset_m"], m["branch"])
     check = synth.check_slider_crank(mech)
@@ -215,10 +219,12 @@ def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
         assert g.optimum == pytest.approx(v, rel=1e-9, abs=1e-9)
 
 
-def test_engine_alone_gives_the_endpoint_answer(crank_rocker_answer: MachineOptimiseOut) -> None:
-    result = synth.optimise_machine(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE).to_engine(6))
-    assert result.parameter == crank_rocker_answer.parameter
-    assert result.score == pytest.approx(crank_rocker_answer.score, rel=1e-12)
+def test_engine_alone_gives_the_endpoint_answer(client: SynthClient) -> None:
+    body = _body(CRANK_ROCKER_OPTIMISE_EXAMPLE, scan_members=8)
+    result = synth.optimise_machine(body.to_engine(6))
+    answer = client.optimise_machine(body)
+    assert result.parameter == answer.parameter
+    assert result.score == pytest.approx(answer.score, rel=1e-12)
 
 
 @pytest.mark.parametrize(("changes", "error", "field"), [
@@ -276,3 +282,34 @@ def test_a_start_no_member_makes_is_infeasible(client: SynthClient) -> None:
     assert response.status_code == 422, response.text
     problem = response.json()
     assert problem["type"] == "/problems/infeasible" and "startup_time" in problem["detail"]
+
+
+def _scan_best(answer: MachineOptimiseOut) -> tuple[float, Any]:
+    """The best feasible member of the answer's evenly spread scan, scored here from its figures."""
+    scanned = [m for m in answer.members if m.stage == "scan" and m.feasible]
+    best = min(scanned, key=lambda m: _score(answer, (m.motor_power_W, m.added_mass_kg,  # type: ignore[arg-type]
+                                                      m.rms_shaking_force_N)))
+    return _score(answer, (best.motor_power_W, best.added_mass_kg, best.rms_shaking_force_N)), best  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("which", ["crank_rocker", "slider_crank"])
+def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, which: str,
+                                                          crank_rocker_answer: MachineOptimiseOut,
+                                                          slider_crank_answer: MachineOptimiseOut) -> None:
+    example, a = ((CRANK_ROCKER_OPTIMISE_EXAMPLE, crank_rocker_answer) if which == "crank_rocker"
+                  else (SLIDER_CRANK_OPTIMISE_EXAMPLE, slider_crank_answer))
+    # the members of the service's densest scan (scan_members 64), from the cheap kinematic scan alone
+    densest = engine.scan_family(_body(example, scan_members=MAX_SCAN).to_engine(6)).candidates
+    scanned = {m.parameter for m in a.members if m.stage == "scan"}
+    assert set(densest) <= scanned
+    best, member = _scan_best(a)
+    assert a.score <= best * (1 + 1e-4)
+    # the scan scored each member on its steady machine: the whole chain (/v1/machines/design) on the best of
+    # them gives the same figures
+    spec = _body(example).to_engine(6).function
+    linkage = (crank_rocker.member(spec, member.parameter) if isinstance(spec, synth.CrankRockerSpec)
+               else slider_crank.member(spec, member.parameter))
+    d = client.design_machine(_machine_request(example, mechanism_json(linkage)))
+    for v, w in zip(_objectives(d), (member.motor_power_W, member.added_mass_kg, member.rms_shaking_force_N),
+                    strict=True):
+        assert v == pytest.approx(w, rel=1e-9, abs=1e-9)

@@ -2,7 +2,7 @@
 
 The engine's :func:`synth.optimise_machine` runs its four stages one after another in one process (a design
 study's variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's
-members in one task per worker, one refinement per bracket, and the conclusion, which renders the answer in its
+members in one task per worker, one task per cell searched, and the conclusion, which renders the answer in its
 worker. The members are put back in the order the engine's own loop makes them, so both give the same answer.
 """
 
@@ -12,7 +12,7 @@ import asyncio
 
 from fastapi import Request, Response
 
-from synth.machine.optimise import BRACKETS, MemberScore, conclude, design_members, refine_bracket, scan_family
+from synth.machine.optimise import MAX_SEARCHED, MemberScore, conclude, design_members, scan_family, search_cell
 
 from .admission import RequestSolvers
 from .plans import machine_optimise_conclusion
@@ -31,9 +31,9 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
-    refined = await asyncio.gather(*(solvers.run(refine_bracket, spec, scan, members, k, time_limit_s=t)
-                                     for k in range(BRACKETS)))
-    refinements = tuple(r for r, _ in refined if r is not None)
-    extra = tuple(m for _, seen in refined for m in seen)
+    searched = await asyncio.gather(*(solvers.run(search_cell, spec, scan, members, k, time_limit_s=t)
+                                      for k in range(MAX_SEARCHED)))
+    refinements = tuple(r for r, _ in searched if r is not None)
+    extra = tuple(m for _, seen in searched for m in seen)
     plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t)
     return await solvers.answer_plan(plan, request)

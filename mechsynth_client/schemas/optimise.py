@@ -24,7 +24,7 @@ OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
 # The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN), spelled here so that the
 # schema loads without the engine; a test keeps them equal.
-MIN_SCAN, MAX_SCAN, DEFAULT_SCAN = 4, 64, 20
+MIN_SCAN, MAX_SCAN, DEFAULT_SCAN = 4, 64, 64
 
 #: A crank-rocker machine: 40° of rocker swing at a time ratio of 1.15 from a 0.25 m rocker, 40 N·m against the
 #: rocker over half the turn at 120 rpm, two helical stages, statically balanced, the least added mass.
@@ -168,7 +168,8 @@ class MachineOptimiseIn(StrictModel):
     max_rundown_time_s: float | None = Field(None, gt=0, le=1e4, description="Longest acceptable run-down to rest "
                                              "with the motor off [s]; null: not checked.")
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
-                              "feasible family that the whole chain designs before the refinement.")
+                              "feasible family that the chain designs (to its steady machine) before the cells "
+                              "between them are searched.")
 
     model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("delta", "machine_type"),
                                                            exactly_one("objective", "weights")],
@@ -226,7 +227,7 @@ class FamilyMemberOut(BaseModel):
 
     parameter: float = Field(description="Family parameter u of the member (the crank pivot's place on its "
                              "circle; its sign the side of the chord for a crank-rocker) [-].")
-    stage: str = Field(description="scan, refine (bounded Brent), optimum or chain.")
+    stage: str = Field(description="scan (the steady machine), refine (a cell walked plateau by plateau), optimum or chain.")
     feasible: bool = Field(description="Its machine passes every check and meets the shaking limits.")
     reason: str | None = Field(description="Why not, when not feasible; null otherwise.")
     motor_power_W: float | None = Field(description="Rated power of its catalogue motor [W]; null when the chain "
@@ -259,13 +260,20 @@ class GainOut(BaseModel):
 
 
 class RefinementOut(BaseModel):
-    """One bracket refined by bounded Brent on the whole chain."""
+    """One cell of the family between two neighbouring scanned members: its bound and how it was covered."""
 
-    lo: float = Field(description="Lower end of the bracket in u [-].")
+    lo: float = Field(description="Lower end of the cell in u (a scanned member) [-].")
     hi: float = Field(description="Upper end [-].")
-    start: float = Field(description="The scan's local minimum it brackets [-].")
-    evaluations: int = Field(description="Chain runs it spent.")
-    best_parameter: float = Field(description="Best member it found [-].")
+    start: float = Field(description="The cell's end with the better score [-].")
+    status: str = Field(description="searched (walked plateau by plateau), pruned (its bound is no better than "
+                        "the best scanned) or unsearched (beyond the budget of cells searched).")
+    bound: float | None = Field(description="Least score the motor, balancing masses and shaking force at its "
+                                "ends allow, the flywheel body left out [-]; null when an end was refused.")
+    plateaus: int = Field(description="Plateaus (members sharing one catalogue motor and tooth numbers) walked.")
+    evaluations: int = Field(description="Chain runs (to the steady machine) it spent.")
+    best_parameter: float = Field(description="Best member found in it [-].")
+    motor: str | None = Field(description="Catalogue motor of that member; null when none was designed.")
+    teeth: list[list[int]] | None = Field(description="Its (pinion, gear) teeth per toothed stage.")
 
 
 class OptimiseCertificateOut(BaseModel):
@@ -281,8 +289,12 @@ class OptimiseCertificateOut(BaseModel):
     members_designed: int = Field(description="Members the whole chain designed: scan and refinements.")
     feasible_designed: int = Field(description="Of these, the machines that pass every check and limit.")
     scan_members: int = Field(description="Members of the evenly spread scan (the chain's member among them).")
-    refinements: list[RefinementOut] = Field(description="The brackets refined around the scan's best local "
-                                             "minima (a multistart).")
+    refinements: list[RefinementOut] = Field(description="Every cell between neighbouring scanned members, in "
+                                             "the order searched, with its bound and status.")
+    cells_found: int = Field(description="Cells between neighbouring scanned members of one feasible run.")
+    cells_searched: int = Field(description="Cells walked plateau by plateau.")
+    cells_pruned: int = Field(description="Cells whose bound is no better than the best scanned score.")
+    cells_unsearched: int = Field(description="Cells left beyond the budget.")
     gap_bound: float | None = Field(description="A bound on how much any member could beat the answer, in the "
                                     "score's unit; null: the motor catalogue makes the objective step, so no "
                                     "Lipschitz bound holds.")
@@ -298,8 +310,15 @@ class OptimiseCertificateOut(BaseModel):
                    kinematic_feasible=s.feasible_points, feasible_runs=[list(r) for r in s.runs],
                    members_designed=c.members_designed, feasible_designed=c.feasible_designed,
                    scan_members=len(s.candidates),
-                   refinements=[RefinementOut(lo=r.lo, hi=r.hi, start=r.start, evaluations=r.evaluations,
-                                              best_parameter=r.best_parameter) for r in c.refinements],
+                   refinements=[RefinementOut(
+                       lo=r.lo, hi=r.hi, start=r.start, status=r.status, bound=_finite(r.bound), plateaus=r.plateaus,
+                       evaluations=r.evaluations, best_parameter=r.best_parameter,
+                       motor=None if r.choice is None else r.choice[0],
+                       teeth=None if r.choice is None else [list(p) for p in r.choice[1]]) for r in c.refinements],
+                   cells_found=len(c.refinements),
+                   cells_searched=sum(r.status == "searched" for r in c.refinements),
+                   cells_pruned=sum(r.status == "pruned" for r in c.refinements),
+                   cells_unsearched=sum(r.status == "unsearched" for r in c.refinements),
                    gap_bound=c.gap_bound, binding_constraints=list(c.binding))
 
 

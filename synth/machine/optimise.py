@@ -12,16 +12,21 @@ processes (:func:`optimise_machine` runs them one after another):
 
 1. :func:`scan_family`: the kinematic constraints of many members at once (vectorised), the feasible runs of the
    parameter, the chain's member, and evenly spread candidates over the feasible runs;
-2. :func:`design_members`: the whole chain on candidates, each scored on the simulated machine (its checks:
-   delta, speed, motor heating and breakdown) and the optional shaking limits;
-3. :func:`refine_bracket`: bounded Brent on the chain itself within the bracket around one of the best local
-   minima of the scan (a multistart over the brackets);
-4. :func:`conclude`: the best member designed again as a whole machine, the gain over the chain in every
+2. :func:`design_members`: the chain to its steady machine on the candidates (see :mod:`.optimise_light`), each
+   scored on the simulated steady machine (its checks: delta, speed, motor heating and breakdown) and the
+   optional shaking limits;
+3. :func:`cells` and :func:`search_cell`: the members sharing the chain's discrete choices (catalogue motor,
+   tooth numbers) form plateaus of the parameter on which the objective is continuous. Each cell between two
+   scanned members is bounded from below by the parts of the objective the choices and the balancing fix, and
+   pruned when that bound cannot beat the best scanned; the best cells are walked plateau by plateau, each
+   plateau's end located by bisection on the discrete choice and bounded Brent run between its ends;
+4. :func:`conclude`: the best member designed again as a whole machine (start and run-down simulations
+   included; the next best when that fails a check), the gain over the chain in every
    objective, the Pareto set of two objectives over every member designed, the binding constraints and the
    certificate of how the family was covered.
 
-The motor comes from a catalogue, so the objective steps where the motor changes: no Lipschitz constant bounds it
-and no gap bound is claimed; the certificate states the scan density and the refinements instead.
+The objective steps where the motor or the teeth change, so no Lipschitz constant bounds it and no gap bound is
+claimed; the certificate states the plateaus found, searched, pruned (and why) and left.
 """
 
 from __future__ import annotations
@@ -42,6 +47,7 @@ from ..synthesis import crank_rocker as _cr
 from ..synthesis import slider_crank as _sc
 from ..synthesis.family import MARGIN
 from .chain import MachineDesign, design_machine
+from .optimise_light import Choice, balancing_mass, discrete_choice, steady_member
 from .spec import BalancingChoice, DriveSpec, FlywheelChoice, MachineSpec
 
 ObjectiveName = Literal["motor_power", "added_mass", "rms_shaking_force"]
@@ -54,10 +60,17 @@ KINEMATIC_GRID = 4001
 #: Largest and least number of members the chain designs in the scan.
 MAX_SCAN, MIN_SCAN = 64, 4
 #: Members the chain designs in the scan unless the request says otherwise.
-DEFAULT_SCAN = 20
-#: Brackets refined around the scan's best local minima, and chain runs each refinement may spend.
-BRACKETS = 2
-REFINE_EVALUATIONS = 6
+DEFAULT_SCAN = 64
+#: Plateaus (members sharing a motor and a tooth pair) searched at most, and steady-machine runs each may spend
+#: on bounded Brent after its two ends.
+MAX_SEARCHED = 2
+REFINE_EVALUATIONS = 2
+#: Best members of the search designed through the whole chain, in turn, until one passes its start checks.
+FINAL_TRIES = 3
+#: Plateaus walked at most in one cell.
+MAX_WALK = 6
+#: Bisection steps on the discrete choice locating each end of a plateau between two scanned members.
+BISECT_STEPS = 5
 #: A check within this fraction of its limit, or a kinematic bound within this many grid steps, binds.
 BINDING_FRACTION = 0.02
 BINDING_STEPS = 2
@@ -162,17 +175,28 @@ class MemberScore:
     reason: str | None
     stage: str
     rms_shaking_force_before: float | None = None
+    choice: Choice | None = None
+    # the objectives without the flywheel body: what the member's discrete choice and balancing fix
+    floor_values: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)
 class Refinement:
-    """One bracket refined by bounded Brent on the chain: [lo, hi], its start, runs spent, best found."""
+    """One plateau of the family (the members sharing the chain's motor and tooth numbers ``choice``): its scanned
+    members' span [lo, hi] (after the search: its ends located by bisection), the scanned member ``start`` with
+    the best score in it, ``bound`` the least score its members' discrete choice and balancing allow (the flywheel
+    body left out), ``status`` searched, pruned (bound no better than the best found) or unsearched (beyond the
+    budget of plateaus searched), steady-machine runs spent and the best member found."""
 
     lo: float
     hi: float
     start: float
     evaluations: int
     best_parameter: float
+    choice: Choice | None = None
+    bound: float = math.inf
+    status: str = "searched"
+    plateaus: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -304,14 +328,36 @@ def scan_family(spec: OptimiseSpec) -> FamilyScan:
     )
 
 
+def _limits_missed(spec: OptimiseSpec, force: float, moment: float) -> list[str]:
+    out = []
+    if spec.max_rms_shaking_force is not None and force > spec.max_rms_shaking_force:
+        out.append("exceeds max_rms_shaking_force_N")
+    if spec.max_rms_shaking_moment is not None and moment > spec.max_rms_shaking_moment:
+        out.append("exceeds max_rms_shaking_moment_Nm")
+    return out
+
+
+def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float) -> MemberScore:
+    """The member's steady machine (no start or run-down simulation: the optimum's own design runs them); the
+    gears' strength sizing, which comes last and feeds nothing back, is left out too."""
+    machine = spec.machine(_member(spec, u))
+    machine = replace(machine, drive=replace(machine.drive, strength=None))
+    try:
+        m = steady_member(machine, time_limit_s=time_limit_s)
+    except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
+        return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage)
+    reasons = [f"fails its {name} check" for name in m.failed]
+    reasons += _limits_missed(spec, m.values[2], m.rms_shaking_moment)
+    return MemberScore(u, m.values, m.rms_shaking_moment, not reasons, "; ".join(reasons) or None, stage,
+                       m.rms_shaking_force_before, m.choice,
+                       (m.values[0], m.balancing_mass, m.values[2]))
+
+
 def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float) -> tuple[MemberScore,
                                                                                           MachineDesign | None]:
-    machine = spec.machine(_member(spec, u))
     if stage in ("scan", "refine"):
-        # the gears are sized last, for the torques of the simulated machine, and feed nothing back: no
-        # objective, check or limit here depends on them, so the search leaves them out and the optimum's own
-        # design sizes them as the request asks
-        machine = replace(machine, drive=replace(machine.drive, strength=None))
+        return _steady_score(spec, u, stage, time_limit_s), None
+    machine = spec.machine(_member(spec, u))
     try:
         d = design_machine(machine, time_limit_s=time_limit_s)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
@@ -319,25 +365,18 @@ def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float)
     values = objective_values(d)
     reasons = [f"fails its {c.name} check" for c in d.checks if not c.passed]
     after = d.balancing.after
-    if spec.max_rms_shaking_force is not None and after.rms_shaking_force > spec.max_rms_shaking_force:
-        reasons.append("exceeds max_rms_shaking_force_N")
-    if spec.max_rms_shaking_moment is not None and after.rms_shaking_moment > spec.max_rms_shaking_moment:
-        reasons.append("exceeds max_rms_shaking_moment_Nm")
+    reasons += _limits_missed(spec, after.rms_shaking_force, after.rms_shaking_moment)
+    choice = (d.drive.motor.name, () if d.teeth is None else tuple((s.pinion_teeth, s.gear_teeth)
+                                                                   for s in d.teeth.stages))
     return (MemberScore(u, values, after.rms_shaking_moment, not reasons, "; ".join(reasons) or None, stage,
-                        d.before.summary().rms_shaking_force), d)
+                        d.before.summary().rms_shaking_force, choice), d)
 
 
 def objective_values(d: MachineDesign) -> tuple[float, float, float]:
     """Motor rated power [W], added mass [kg] (counterweights, Lanchester balancer masses, flywheel body) and
     RMS shaking force after balancing [N] of a machine design."""
     bal = d.balancing
-    mass = 0.0
-    if bal.result is not None:
-        mass += sum(c.mass for c in bal.result.counterweights)
-    if bal.slider_crank is not None:
-        mass += bal.slider_crank.crank_counterweight.mass
-        if bal.mode == "full":
-            mass += sum(2 * p.mass for p in bal.slider_crank.pairs)  # each pair: two shafts, each with its mass
+    mass = balancing_mass(bal)
     if d.placement is not None:
         mass += d.placement.mass
     return (float(d.drive.motor.rated_power), float(mass), float(bal.after.rms_shaking_force))
@@ -376,51 +415,114 @@ def _scores(spec: OptimiseSpec, members: Sequence[MemberScore], norm: Sequence[f
                      for m in members])
 
 
-def brackets(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) -> list[tuple[float, float, float]]:
-    """(lo, hi, start) around the scan's best local minima, each within its feasible run, best first."""
+def _run_of(scan: FamilyScan, u: float) -> int:
+    return next(k for k, r in enumerate(scan.runs) if r[0] - 1e-12 <= u <= r[1] + 1e-12)
+
+
+def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) -> list[Refinement]:
+    """The cells of the scan: the spans between neighbouring scanned members of one feasible run, each with its
+    bound and status, in the order they are searched (best scanned end first, up to :data:`MAX_SEARCHED`).
+
+    Within a cell the chain's discrete choices (catalogue motor, tooth numbers) may change: the members sharing
+    one form a plateau on which the objective is continuous. A cell's bound is the least score of the
+    objectives' parts the discrete choice and the balancing fix (motor power, balancing masses, shaking force;
+    the flywheel body, never negative, left out) at its two ends: a bound as far as those parts are monotone
+    across the cell. A cell whose bound is no better than the best score scanned is pruned."""
     norm = normalisers(members, scan.chain_parameter)
-    order = sorted(range(len(members)), key=lambda i: members[i].parameter)
-    u = np.array([members[i].parameter for i in order])
-    s = _scores(spec, [members[i] for i in order], norm)
-    out = []
-    for i in np.argsort(s, kind="stable"):
-        if not np.isfinite(s[i]):
-            break
-        if (i > 0 and s[i - 1] < s[i]) or (i + 1 < s.size and s[i + 1] < s[i]):
-            continue  # not a local minimum of the scan
-        run = next(r for r in scan.runs if r[0] - 1e-12 <= u[i] <= r[1] + 1e-12)
-        lo = max(u[i - 1], run[0]) if i > 0 else run[0]
-        hi = min(u[i + 1], run[1]) if i + 1 < u.size else run[1]
-        if hi > lo:
-            out.append((float(lo), float(hi), float(u[i])))
-        if len(out) == BRACKETS:
-            break
+    scanned = sorted((m for m in members if m.stage == "scan"), key=lambda m: m.parameter)
+    s = _scores(spec, scanned, norm)
+    best = float(np.min(s)) if s.size else math.inf
+    found = []
+    for i in range(len(scanned) - 1):
+        a, b = scanned[i], scanned[i + 1]
+        if _run_of(scan, a.parameter) != _run_of(scan, b.parameter):
+            continue
+        floors = [score(spec, m.floor_values, norm) for m in (a, b) if m.floor_values is not None]
+        bound = min(floors) if len(floors) == 2 else -math.inf
+        ends = (float(s[i]), float(s[i + 1]))
+        start = a if ends[0] <= ends[1] else b
+        found.append(((min(ends), max(ends)), Refinement(a.parameter, b.parameter, start.parameter, 0, start.parameter,
+                                            start.choice, float(bound), "pruned")))
+    out: list[Refinement] = []
+    searched = 0
+    # best scanned end first; of two cells sharing that end, the one whose other end is better
+    for _, r in sorted(found, key=lambda x: (x[0], x[1].bound)):
+        if math.isfinite(best) and r.bound >= best * (1 - 1e-12):
+            out.append(r)
+        elif searched < MAX_SEARCHED:
+            out.append(replace(r, status="searched"))
+            searched += 1
+        else:
+            out.append(replace(r, status="unsearched"))
     return out
 
 
-def refine_bracket(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int, *,
-                   time_limit_s: float = 20.0) -> tuple[Refinement | None, tuple[MemberScore, ...]]:
-    """Bounded Brent on the chain within the ``k``-th bracket of :func:`brackets` (None when there is none),
-    and every member it designed."""
-    found = brackets(spec, scan, members)
-    if k >= len(found):
+def _choice_at(spec: OptimiseSpec, u: float, time_limit_s: float) -> Choice | None:
+    machine = spec.machine(_member(spec, u))
+    try:
+        return discrete_choice(replace(machine, drive=replace(machine.drive, strength=None)),
+                               time_limit_s=time_limit_s).choice
+    except (Infeasible, InvalidInput, SolverFailed, SolverTimeout):
+        return None
+
+
+def _plateau_end(spec: OptimiseSpec, inside: float, outside: float, choice: Choice | None,
+                 time_limit_s: float) -> tuple[float, float, Choice | None]:
+    """The plateau of ``choice`` ends between ``inside`` and ``outside``: the last member found on it and the
+    first beyond it with its choice, by :data:`BISECT_STEPS` bisections on the chain's discrete choice."""
+    beyond = _choice_at(spec, outside, time_limit_s)
+    if beyond == choice:
+        return outside, outside, beyond
+    for _ in range(BISECT_STEPS):
+        mid = 0.5 * (inside + outside)
+        at = _choice_at(spec, mid, time_limit_s)
+        if at == choice:
+            inside = mid
+        else:
+            outside, beyond = mid, at
+    return inside, outside, beyond
+
+
+def search_cell(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int, *,
+                time_limit_s: float = 20.0) -> tuple[Refinement | None, tuple[MemberScore, ...]]:
+    """The ``k``-th searched cell of :func:`cells` (None when there is none), walked plateau by plateau from its
+    lower end: each plateau's end located by bisection on the discrete choice, the steady machine at both its
+    ends, then bounded Brent between them. Returns the cell's record and every member it designed."""
+    todo = [r for r in cells(spec, scan, members) if r.status == "searched"]
+    if k >= len(todo):
         return None, ()
-    lo, hi, start = found[k]
+    r = todo[k]
     norm = normalisers(members, scan.chain_parameter)
+    s = _scores(spec, members, norm)
+    # an infeasible member is worse than any feasible one: the penalty keeps Brent's steps finite
+    penalty = 10.0 * (1.0 + float(np.max(np.where(np.isfinite(s), s, 0.0))))
+    known = {m.parameter: m for m in members}
     seen: list[MemberScore] = []
-    # an infeasible member is worse than any feasible one; the penalty keeps Brent's steps finite
-    penalty = 10.0 * (1.0 + float(np.max(np.where(np.isfinite(s := _scores(spec, members, norm)), s, 0.0))))
 
     def f(x: float) -> float:
-        m = _score_member(spec, float(x), "refine", time_limit_s)[0]
-        seen.append(m)
+        m = known.get(x) or _score_member(spec, float(x), "refine", time_limit_s)[0]
+        if x not in known:
+            known[x] = m
+            seen.append(m)
         return score(spec, m.values, norm) if m.feasible and m.values is not None else penalty
 
-    minimize_scalar(f, bounds=(lo, hi), method="bounded",
-                    options={"maxiter": REFINE_EVALUATIONS, "xatol": 1e-4 * (hi - lo)})
-    s = _scores(spec, seen, norm)
-    best = seen[int(np.argmin(s))].parameter if np.isfinite(s).any() else start
-    return Refinement(lo, hi, start, len(seen), float(best)), tuple(seen)
+    x, choice, walked = r.lo, known[r.lo].choice, 0
+    while x < r.hi and walked < MAX_WALK:
+        inside, outside, beyond = _plateau_end(spec, x, r.hi, choice, time_limit_s)
+        f(x)
+        f(inside)
+        if inside > x:
+            minimize_scalar(f, bounds=(x, inside), method="bounded",
+                            options={"maxiter": REFINE_EVALUATIONS, "xatol": 1e-5 * (r.hi - r.lo)})
+        walked += 1
+        if outside <= inside:
+            break
+        x, choice = outside, beyond
+    mine = [m for m in known.values() if r.lo <= m.parameter <= r.hi]
+    sm = _scores(spec, mine, norm)
+    i = int(np.argmin(sm))
+    return (replace(r, evaluations=len(seen), best_parameter=float(mine[i].parameter), choice=mine[i].choice,
+                    plateaus=walked), tuple(seen))
 
 
 def _pareto(members: Sequence[MemberScore], a: int, b: int) -> tuple[MemberScore, ...]:
@@ -467,9 +569,20 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
         reasons = sorted({m.reason for m in members if m.reason})
         raise Infeasible("no member of the family gives a machine that meets every check and limit: "
                          + "; ".join(reasons[:3]), "machine checks", field=None, members_designed=len(members))
-    best = members[int(np.argmin(s))]
-    again, design = _score_member(spec, best.parameter, "optimum", time_limit_s)
-    if design is None or again.values is None:
+    again, design, best = None, None, members[int(np.argmin(s))]
+    # the search ran the steady machine; the answer's whole chain adds the start and run-down checks
+    for i in np.argsort(s, kind="stable")[:FINAL_TRIES]:
+        if not np.isfinite(s[i]):
+            break
+        best = members[int(i)]
+        again, design = _score_member(spec, best.parameter, "optimum", time_limit_s)
+        if design is not None and again.feasible:
+            break
+    if again is not None and not again.feasible:
+        raise Infeasible("no member of the family gives a machine that meets every check and limit: the best "
+                         f"{FINAL_TRIES} of the search, designed through the whole chain: {again.reason}",
+                         "machine checks", field=None, members_designed=len(members))
+    if design is None or again is None or again.values is None:
         raise SolverFailed("not_reproduced", "the best member's chain did not run again")
     values = again.values
     # the chain's own member was designed in the scan, as /v1/machines/design designs it
@@ -483,16 +596,27 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     binding = _binding(spec, scan, design, best.parameter)
     designed = len(members)
     feasible = int(np.isfinite(s).sum())
+    searched = {(r.lo, r.hi): r for r in refinements}
+    found = [searched.get((r.lo, r.hi), r) if r.status == "searched" else r for r in cells(spec, scan, members)]
+    counts = {k: sum(r.status == k for r in found) for k in ("searched", "pruned", "unsearched")}
     statement = (
         f"{scan.grid_points} members of the family checked kinematically at once ({scan.feasible_points} within "
-        f"the bounds and the transmission-angle limit, in {len(scan.runs)} run(s) of the parameter); the chain "
-        f"designed {designed} of them ({feasible} meeting every check and limit): {len(scan.candidates)} spread "
-        f"evenly over the feasible runs, the chain's own member among them, then bounded Brent on the chain "
-        f"itself in {len(refinements)} bracket(s) around the best local minima of that scan "
-        f"({sum(r.evaluations for r in refinements)} runs). The motor comes from a catalogue, so the objective "
-        "steps where the motor changes: no Lipschitz bound holds and no gap bound is claimed."
+        f"the bounds and the transmission-angle limit, in {len(scan.runs)} run(s) of the parameter); "
+        f"{len(scan.candidates)} spread evenly over the feasible runs (the chain's own member among them) run "
+        f"through the chain to their steady machine. Members sharing the chain's motor and tooth numbers form "
+        f"plateaus of the parameter on which the objective is continuous. Of the {len(found)} cells between "
+        f"neighbouring scanned members, {counts['pruned']} were pruned: their least score from the motor, the "
+        f"balancing masses and the shaking force at their ends (the flywheel body, never negative, left out) is "
+        f"no better than the best scanned; {counts['searched']} were searched, "
+        f"{sum(r.plateaus for r in found if r.status == 'searched')} plateaus walked, each one's end located by "
+        f"{BISECT_STEPS} bisection steps on the discrete choice, then bounded Brent between its ends "
+        f"({sum(r.evaluations for r in refinements)} runs); {counts['unsearched']} were left beyond the budget "
+        f"of {MAX_SEARCHED}. {designed} members designed, {feasible} meeting every check and limit; the answer "
+        "was designed again through the whole chain, start and run-down included. A plateau narrower than a "
+        "bisection step is not seen, and the bound assumes the fixed parts monotone across a cell: no gap bound "
+        "is claimed."
     )
-    certificate = Certificate(scan, designed, feasible, tuple(refinements), None, binding, statement)
+    certificate = Certificate(scan, designed, feasible, tuple(found), None, binding, statement)
     return MachineOptimum(
         spec=spec, design=design, parameter=best.parameter, values=values, score=score(spec, values, norm),
         chain=chain_member, chain_linkage=_member(spec, scan.chain_parameter),
@@ -519,8 +643,8 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
     members = design_members(spec, scan.candidates, time_limit_s=time_limit_s)
     refinements = []
     extra: list[MemberScore] = []
-    for k in range(BRACKETS):
-        r, seen = refine_bracket(spec, scan, members, k, time_limit_s=time_limit_s)
+    for k in range(MAX_SEARCHED):
+        r, seen = search_cell(spec, scan, members, k, time_limit_s=time_limit_s)
         if r is not None:
             refinements.append(r)
             extra.extend(seen)

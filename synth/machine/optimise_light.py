@@ -1,0 +1,151 @@
+"""The design chain as the whole-machine optimisation searches it: its discrete choices alone, or its steady machine.
+
+:func:`design_machine` ends with the start and run-down simulations (most of its time). What the optimisation's
+objectives are made of (the motor, the balancing masses, the flywheel body, the shaking force after balancing)
+and the steady checks (delta, mean speed, motor heating and breakdown) come before them. The search therefore
+runs the chain to its steady machine (:func:`steady_member`) and the optimum's own design runs the whole chain,
+start and run-down included, before it is answered.
+
+:func:`discrete_choice` runs the chain only up to its discrete choices, the catalogue motor and the tooth numbers
+(analysis, balancing, the drive's split, the tooth search), with the parts of the objectives they fix: the
+motor's rated power, the balancing masses and the shaking force after balancing. The flywheel body is what it
+leaves out, and it is never negative: the choice's figures bound the objectives from below.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..analysis import Analysis, analyse
+from ..flywheel import Motor, ReducedCycle, cycle_from_reduced
+from ..friction import friction_kinetostatics
+from ..gearing import DriveResult, ToothResult, chain_efficiency, design_drive
+from ..gearing.split import teeth_limited
+from ..gearing.stages import Stage
+from ..gearing.teeth import ToothRules
+from ..errors import InvalidInput
+from . import chain as _chain
+from .chain import MAX_MOTOR_UPGRADES, MIN_POWER, Balancing, MachineCheck
+from .operating_point import MotorLoad, operating_speed
+from .simulate import MachineCycle
+from .spec import MachineSpec
+from .stages import refuse_likely_mistakes
+
+#: A member's discrete choice: the catalogue motor's name and each toothed stage's (pinion, gear) teeth.
+Choice = tuple[str, tuple[tuple[int, int], ...]]
+
+
+@dataclass(frozen=True, slots=True)
+class DiscreteChoice:
+    """The chain's discrete choices for one member and the objectives' parts they fix: ``choice`` motor and
+    teeth, ``motor_power`` rated [W], ``balancing_mass`` counterweights and balancer masses [kg],
+    ``rms_shaking_force`` after balancing [N]."""
+
+    choice: Choice
+    motor_power: float
+    balancing_mass: float
+    rms_shaking_force: float
+
+
+@dataclass(frozen=True, slots=True)
+class SteadyMember:
+    """One member's steady machine: its discrete ``choice``, objectives [W, kg, N] in the optimisation's order,
+    the RMS shaking moment after balancing [N·m], the steady checks failed (by name), the RMS shaking force
+    before balancing [N] and the balancing masses [kg]."""
+
+    choice: Choice
+    values: tuple[float, float, float]
+    rms_shaking_moment: float
+    failed: tuple[str, ...]
+    rms_shaking_force_before: float
+    balancing_mass: float
+
+
+def balancing_mass(bal: Balancing) -> float:
+    """Counterweights and Lanchester balancer masses [kg] of the chain's balancing stage."""
+    mass = 0.0
+    if bal.result is not None:
+        mass += sum(c.mass for c in bal.result.counterweights)
+    if bal.slider_crank is not None:
+        mass += bal.slider_crank.crank_counterweight.mass
+        if bal.mode == "full":
+            mass += sum(2 * p.mass for p in bal.slider_crank.pairs)  # each pair: two shafts, each with its mass
+    return float(mass)
+
+
+def _front(machine: MachineSpec, time_limit_s: float) -> tuple[Analysis, Balancing, Analysis, ReducedCycle, float]:
+    """Analysis, balancing and the cycle's mean output power, exactly as the chain makes them."""
+    machine.validate()
+    refuse_likely_mistakes(machine.linkage)
+    before = analyse(machine.linkage, machine.speed, samples=machine.samples, friction=machine.friction)
+    bal, balanced = _chain._balance(machine, before, time_limit_s)
+    if machine.friction:
+        fr = friction_kinetostatics(balanced.motion, balanced.linkage, balanced.kinetostatics, machine.friction)
+        balanced = replace(balanced, friction=fr, reduced=replace(balanced.reduced, friction_torque=fr.loss_torque))
+    cycle = cycle_from_reduced(balanced.reduced)
+    output_power = -cycle.cycle_work / cycle.period * machine.speed
+    if not output_power > MIN_POWER:
+        raise InvalidInput("the linkage does no work over the cycle, so there is no power to choose a motor for: "
+                           "give its process load", field="loads")
+    return before, bal, balanced, cycle, output_power
+
+
+def _drive(machine: MachineSpec, output_power: float, motor_name: str | None,
+           time_limit_s: float) -> tuple[DriveResult, ToothResult | None, tuple[float, ...], list[Stage]]:
+    d = machine.drive
+    motor_power = output_power / chain_efficiency(d.stages)
+    stages, _ = teeth_limited(d.stages, d.tooth_rules or ToothRules())
+    drive = design_drive(output_power, machine.speed, stages, reserve_factor=d.reserve_factor,
+                         synchronous_speed=d.synchronous_speed, motor=motor_name, objective=d.objective,
+                         torque_basis="load", inertia=d.inertia, time_limit_s=time_limit_s,
+                         catalogue=d.catalogue, motor_speed=MotorLoad(motor_power))
+    if d.motor is not None:
+        operating_speed(drive.motor, motor_power)
+    teeth, ratios, _ = _chain._teeth(machine, drive, stages)
+    return drive, teeth, tuple(ratios), list(stages)
+
+
+def _choice(drive: DriveResult, teeth: ToothResult | None) -> Choice:
+    pairs = () if teeth is None else tuple((s.pinion_teeth, s.gear_teeth) for s in teeth.stages)
+    return drive.motor.name, pairs
+
+
+def discrete_choice(machine: MachineSpec, *, time_limit_s: float = 20.0) -> DiscreteChoice:
+    """The motor and teeth the chain chooses from the mean power (before any upgrade the simulated cycle asks)
+    and the objectives' parts they fix. Raises as :func:`design_machine` does."""
+    _, bal, _, _, power = _front(machine, time_limit_s)
+    drive, teeth, _, _ = _drive(machine, power, machine.drive.motor, time_limit_s)
+    return DiscreteChoice(_choice(drive, teeth), float(drive.motor.rated_power), balancing_mass(bal),
+                          float(bal.after.rms_shaking_force))
+
+
+def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0) -> SteadyMember:
+    """The chain to its steady machine: motor (stepped up as the chain steps it up on the steady checks),
+    teeth, flywheel and the steady checks; no start or run-down simulation. Raises as :func:`design_machine`."""
+    before, bal, balanced, cycle, power = _front(machine, time_limit_s)
+    d = machine.drive
+    motor_name = d.motor
+    red = balanced.reduced
+    machine_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.resisting_torque)
+    for _ in range(MAX_MOTOR_UPGRADES + 1):
+        drive, teeth, ratios, _ = _drive(machine, power, motor_name, time_limit_s)
+        train_ratio = math.prod(ratios)
+        motor = Motor.from_catalogue(drive.motor, train_ratio, drive.chain_efficiency)
+        speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
+        own = np.array([s.inertia for s in drive.shafts])
+        train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
+        _, placement, motion = _chain._flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
+        checks: tuple[MachineCheck, ...] = _chain._checks(machine, motion, motor)
+        heavy = [c.name for c in checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
+        bigger = None if d.motor is not None or not heavy else _chain._next_motor(drive.motor, d.catalogue)
+        if bigger is None:
+            break
+        motor_name = bigger.name
+    mass = balancing_mass(bal) + (placement.mass if placement is not None else 0.0)
+    return SteadyMember(_choice(drive, teeth), (float(drive.motor.rated_power), float(mass),
+                                                float(bal.after.rms_shaking_force)),
+                        float(bal.after.rms_shaking_moment), tuple(c.name for c in checks if not c.passed),
+                        float(before.summary().rms_shaking_force), balancing_mass(bal))
