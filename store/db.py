@@ -26,6 +26,11 @@ SQLITE_BUSY_S = 30.0
 CONNECT_TIMEOUT_S = 5
 
 
+# Alembic's command context (alembic.op, alembic.context) is one per process, not per thread: two stores
+# migrating at once in one process take turns.
+_ALEMBIC = threading.Lock()
+
+
 class StoreUnavailable(Exception):
     """The store cannot be reached (server down, file unreadable); ``reason`` says what the driver said."""
 
@@ -72,7 +77,6 @@ class Store:
                                            connect_args={"connect_timeout": CONNECT_TIMEOUT_S})
 
         self._migrated = False
-        self._migrate_lock = threading.Lock()
 
     def __repr__(self) -> str:
         return f"Store({sa.make_url(self.url).render_as_string(hide_password=True)!r})"
@@ -120,7 +124,7 @@ class Store:
         :class:`StoreUnavailable` when the store cannot be reached, :class:`MigrationFailed` with the reason when a
         migration fails (the schema is left at the last revision that succeeded).
         """
-        with self._migrate_lock:
+        with _ALEMBIC:
             if self._migrated:
                 return []
             done = self._upgrade()
