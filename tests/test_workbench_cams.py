@@ -4,33 +4,14 @@ it shows is the service's own answer, asked here directly, and its files downloa
 from __future__ import annotations
 
 import json
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
 import httpx
 import pytest
-from playwright.sync_api import Browser, Page, sync_playwright
-from service import running_service
+from playwright.sync_api import Browser, Page
 
-from test_workbench import CHROMIUM, CHROMIUM_ARGS, SHOTS
-
-
-@pytest.fixture(scope="module")
-def base_url(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    command = lambda port: [sys.executable, "-m", "uvicorn", "api.app:app", "--host", "127.0.0.1",  # noqa: E731
-                            "--port", str(port)]
-    with running_service(command, tmp_path_factory.mktemp("studies"), start_timeout_s=60) as url:
-        yield url
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
-    assert Path(CHROMIUM).exists(), f"{CHROMIUM} is missing: `make test` installs it (apt-get install chromium)"
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        yield b
-        b.close()
+from test_workbench import SHOTS, base_url, browser  # noqa: F401  (the service and the browser, per module)
 
 
 @pytest.fixture
