@@ -15,6 +15,7 @@ same input, because every task runs the same function with BLAS limited to one t
 
 from __future__ import annotations
 
+import atexit
 import collections
 import concurrent.futures as cf
 import ctypes
@@ -28,6 +29,7 @@ import os
 import resource
 import threading
 import time
+import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
@@ -502,6 +504,9 @@ class LocalPoolExecutor:
         self._slots += [_Slot(self, (BATCH,), batch_nice, f"synth-batch-{k}") for k in range(batch_workers)]
         for slot in self._slots:
             slot.thread.start()
+        # At exit multiprocessing sends the workers SIGTERM, which they ignore, and then waits for them while this
+        # process still holds their pipes: a pool left running would hold the interpreter's exit for ever.
+        atexit.register(_shutdown_at_exit, weakref.ref(self))
 
     def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
                **kwargs: Any) -> cf.Future[T]:
@@ -545,6 +550,16 @@ class LocalPoolExecutor:
             task.future.cancel()
         for slot in self._slots:
             slot.thread.join(timeout=15)
+        for slot in self._slots:  # a slot thread that did not finish in time leaves its worker to this
+            process = slot.process
+            if process is not None and process.exitcode is None:
+                process.kill()
+
+
+def _shutdown_at_exit(ref: weakref.ReferenceType[LocalPoolExecutor]) -> None:
+    pool = ref()
+    if pool is not None and not pool.stopping:
+        pool.shutdown()
 
 
 class _Lane:

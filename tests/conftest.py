@@ -54,3 +54,12 @@ def client():  # type: ignore[no-untyped-def]
 
     with SynthClient.in_process() as c:
         yield c
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    """Whatever a test left running (a pool, a server, a thread) may not hold the run's exit: if the interpreter
+    is still alive three minutes after the last test, every thread's stack is printed and the run fails."""
+    import faulthandler
+    import sys
+
+    faulthandler.dump_traceback_later(180, exit=True, file=sys.__stderr__)

@@ -126,3 +126,21 @@ def test_a_worker_exempts_what_it_keeps_for_life_after_its_first_task(pool: Loca
     pool.submit(int, 0).result(timeout=30)
     frozen, enabled = pool.submit(_heap_state).result(timeout=30)
     assert frozen > 1000 and enabled
+
+
+def test_a_process_that_never_shuts_its_pool_down_still_exits(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Workers ignore SIGTERM, and multiprocessing waits at exit for the children it terminated: without the
+    pool's own exit hook this program never ends (measured: still running after 60 s)."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "forgets_the_pool.py"
+    script.write_text("from synth.execution import LocalPoolExecutor\n"
+                      "if __name__ == '__main__':\n"
+                      "    pool = LocalPoolExecutor(2)\n"
+                      "    print(pool.submit(sum, [1, 2]).result(timeout=60), flush=True)\n")
+    started = time.monotonic()
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "3"
+    assert time.monotonic() - started < 60.0
