@@ -62,4 +62,4 @@ def pytest_unconfigure(config: pytest.Config) -> None:
     import faulthandler
     import sys
 
-    faulthandler.dump_traceback_later(180, exit=True, file=sys.__stderr__)
+    faulthandler.dump_traceback_later(180, exit=True, file=sys.__stderr__ or sys.stderr)
