@@ -5,6 +5,7 @@ one list of checks that decides the verdict."""
 from __future__ import annotations
 
 import copy
+import io
 import math
 from typing import Any
 
@@ -163,3 +164,20 @@ def test_a_block_that_cannot_be_solved_is_refused_naming_its_field(client: Synth
     with pytest.raises(InvalidInputError) as err:
         client.design_machine(MachineIn.model_validate(body))
     assert err.value.problem.get("field") == field
+
+
+def test_the_design_record_has_pages_for_the_blocks() -> None:
+    from pypdf import PdfReader
+
+    from synth.machine.report import design_report_pdf
+
+    d = synth.design_machine(MachineIn.model_validate({**copy.deepcopy(MACHINE), "elastic_drive": None}).to_engine(6))
+    texts = [p.extract_text() for p in PdfReader(io.BytesIO(design_report_pdf(d))).pages]
+    # the blocks' summary page, the frame's page and the load step's page, once each, after the text pages
+    for title in ("The machine on its foundation, its elastic drive", "The frame on its isolators: the force",
+                  "The elastic drive and the speed after a load step"):
+        assert sum(title in t for t in texts) == 1, title
+    whole = "\n".join(texts)
+    for words in ("Spectrum of the force", "mode 3:", "Speed after a 40 N·m step", "Torques after the load step",
+                  "time integration against the harmonic answer", "force to the foundation, peak"):
+        assert words in whole, words
