@@ -181,3 +181,14 @@ def test_the_design_record_has_pages_for_the_blocks() -> None:
     for words in ("Spectrum of the force", "mode 3:", "Speed after a 40 N·m step", "Torques after the load step",
                   "time integration against the harmonic answer", "force to the foundation, peak"):
         assert words in whole, words
+
+
+def test_the_frame_feels_the_balanced_machine_lanchester_balancers_included() -> None:
+    # the press fully balanced: a crank counterweight and Lanchester balancers, whose shafts act on the frame too;
+    # the shaking force driving the frame is the balancing's own figure after balancing, not the linkage's alone
+    body = {**copy.deepcopy(MACHINE), "balancing": {"mode": "full"}, "elastic_drive": None, "regulation": None}
+    d = synth.design_machine(MachineIn.model_validate(body).to_engine(6))
+    assert d.foundation is not None and d.balancing.slider_crank is not None
+    assert d.foundation.peak_shaking_force == pytest.approx(d.balancing.after.max_shaking_force, rel=1e-12)
+    linkage_alone = float(np.max(np.linalg.norm(d.balanced.kinetostatics.shaking_force, axis=1)))
+    assert d.foundation.peak_shaking_force < 0.1 * linkage_alone
