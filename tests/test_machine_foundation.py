@@ -192,3 +192,21 @@ def test_the_frame_feels_the_balanced_machine_lanchester_balancers_included() ->
     assert d.foundation.peak_shaking_force == pytest.approx(d.balancing.after.max_shaking_force, rel=1e-12)
     linkage_alone = float(np.max(np.linalg.norm(d.balanced.kinetostatics.shaking_force, axis=1)))
     assert d.foundation.peak_shaking_force < 0.1 * linkage_alone
+
+
+def test_a_link_tuned_near_a_load_harmonic_is_solved_and_warned_about() -> None:
+    # 3 kN·m/rad puts the link near 25 Hz, the press's third harmonic at 480 rpm (24 Hz) lightly damped: the
+    # shooting settles at the integration's noise, the energy over the cycle still balances, and the harmonic is
+    # named in a warning of the elastic-drive stage
+    body = {**copy.deepcopy(MACHINE), "foundation": None, "regulation": None,
+            "elastic_drive": {"stiffness_Nm_rad": 3e3, "damping_ratio": 0.05, "start": False}}
+    d = synth.design_machine(MachineIn.model_validate(body).to_engine(6))
+    assert d.elastic is not None
+    e = d.elastic.drive
+    assert abs(e.steady.energy_residual) < 1e-6
+    crank_hz = e.mean_speed / (2 * math.pi)
+    near = [k for k in range(1, 10) if abs(k * crank_hz / e.natural_frequency - 1) <= 0.15]
+    assert near == [3]
+    warned = [w for w in d.warnings if w.code == "load_harmonic_near_resonance"]
+    assert [w.stage for w in warned] == ["elastic_drive"] and "harmonic 3 " in warned[0].message
+    assert e.dynamic_factor > 1.3
