@@ -61,6 +61,17 @@ def test_the_compressor_on_its_isolators_shows_the_services_answer(page: Page, b
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / "foundation.png"), full_page=True)
     print(f"screenshot: {SHOTS / 'foundation.png'}")
+    # the isolators chosen for the panel's limits (600 N, 20 mm, no block) are the design endpoint's and fill
+    # the table
+    page.click("#fnd-design")
+    _wait(page, "designed")
+    designed = httpx.post(f"{base_url}/v1/machines/isolation/design", timeout=90, json={
+        "mechanism": ex["mechanism"], "speed_rpm": ex["speed_rpm"], "samples": 360, "frame": ex["frame"],
+        "positions_m": [i["position_m"] for i in ex["isolators"]], "objective": "amplitude", "max_force_N": 600,
+        "max_static_deflection_m": 0.02, "max_block_mass_kg": 0}).json()
+    assert float(page.input_value("[id='fnd-isolators.0.ky_N_m']")) == designed["ky_N_m"]
+    shown = (page.text_content("#fnd-designed") or "").split("k_y ")[1].split(" N/m")[0]
+    assert float(shown) == pytest.approx(designed["ky_N_m"], rel=5e-4)
 
 
 def test_a_negative_isolator_stiffness_is_named_beside_its_field(page: Page) -> None:

@@ -130,6 +130,8 @@ def foundation_of_design(choice: FoundationChoice, forcing: Forcing, start: Star
             result = with_run_up(result, forcing, start)
     except InvalidInput as exc:
         raise InvalidInput(str(exc), field=_under("foundation", exc.field)) from exc
+    except Infeasible as exc:
+        raise Infeasible(exc.reason, "foundation.run_up", **exc.details) from exc
     return result
 
 
