@@ -29,6 +29,8 @@ _PER_SAMPLE: dict[str, tuple[float, float]] = {
     "/v1/machines/isolation/design": (0.2, 2e-3),
     "/v1/machines/elastic-drive": (0.2, 3e-3),
     "/v1/machines/regulation": (0.1, 2e-3),
+    "/v1/cams/analysis": (0.005, 2e-5),
+    "/v1/cams/synthesis": (0.05, 1e-4),
 }
 #: Endpoints whose work is not driven by a count in the request: their cost [s].
 _FIXED: dict[str, float] = {
