@@ -24,7 +24,7 @@ def test_machine_types_equal_the_seed_table(client: SynthClient) -> None:
         assert rows[name].default_delta == pytest.approx(lo, rel=case["tolerance_rel"])
 
 
-@pytest.mark.parametrize("example", EXAMPLES, ids=["tables", "mechanism"])
+@pytest.mark.parametrize("example", EXAMPLES[:2], ids=["tables", "mechanism"])
 def test_schema_examples_work(client: SynthClient, example: dict[str, Any]) -> None:
     out = client.flywheel(FlywheelIn.model_validate(example))
     assert {m.method for m in out.methods} == {"exact", "mertsalov", "energy"}

@@ -68,6 +68,7 @@ from mechsynth_client.schemas.foundation import (
 from ..settings import Settings
 from .work import estimate_s
 from .tasks import (
+    ElasticLink,
     analysis_file,
     crank_rocker_png,
     design_file,
@@ -187,10 +188,21 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
     """POST /v1/flywheel: from tables, or from a linkage analysed at its mean speed."""
     mean_speed, delta = b.mean_speed(), b.target_delta()
     geometry = None if b.geometry is None else b.geometry.to_engine()
-    sizing = dict(constant_inertia=b.constant_inertia_kgm2, motor=None if b.motor is None else b.motor.to_engine(),
-                  time_limit_s=lim.solver_time_limit_s)
+    sizing: dict[str, Any] = dict(constant_inertia=b.constant_inertia_kgm2,
+                                  motor=None if b.motor is None else b.motor.to_engine(),
+                                  time_limit_s=lim.solver_time_limit_s)
     render = Render(flywheel_out, flywheel_file)
     offered = (*FIGURES, "csv", *ARRAYS)
+    if b.elastic_drive is not None:
+        if b.motor is None:
+            raise synth.InvalidInput("the elastic drive joins a motor's rotor to the machine: give the motor",
+                                     field="elastic_drive")
+        if b.mechanism is None:
+            raise synth.InvalidInput("the elastic drive takes a linkage (its reduced inertia's slope comes from the "
+                                     "analysis), not tables", field="elastic_drive")
+        e = b.elastic_drive
+        sizing["elastic"] = ElasticLink(e.link_stiffness(), e.damping_ratio, e.flywheel_on == "motor_shaft",
+                                        e.motor_side_inertia_kgm2, e.start)
     if b.uses_tables():
         assert b.tables is not None
         return Plan(render, flywheel_from_tables,

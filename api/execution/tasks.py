@@ -6,9 +6,12 @@ warnings, figure or file) runs in the worker under the request's deadline.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import synth
+from synth.machine import elastic_drive as ed
+from synth.machine.simulate import MachineCycle
 from synth.exports import analysis_export, balance_export, flywheel_export, mechanism_dxf, mechanism_svg
 from synth.machine.record import DesignRecord
 from synth.machine.report import design_report_pdf, design_summary_png
@@ -19,7 +22,23 @@ from mechsynth_client.schemas.flywheel import FlywheelOut
 from mechsynth_client.schemas.machine import MachineDesignOut
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
-FlywheelAndWarnings = tuple[synth.FlywheelResult, list[synth.DesignWarning]]
+#: A flywheel with its warnings and, when asked, the elastic drive with that flywheel.
+FlywheelAndWarnings = tuple[synth.FlywheelResult, list[synth.DesignWarning], ed.ElasticDrive | None]
+#: Fields of the elastic drive's engine errors that are the request's ``elastic_drive`` block's.
+_BLOCK_FIELDS = ("stiffness_Nm_rad", "machine_inertia_kgm2", "motor_side_inertia_kgm2", "damping_ratio", "start")
+
+
+@dataclass(frozen=True, slots=True)
+class ElasticLink:
+    """The elastic link of a flywheel request: ``stiffness`` at the crank [N·m/rad], ``damping_ratio`` [-], the
+    flywheel ``on_motor_shaft`` or on the crank, ``motor_side_inertia`` besides rotor and flywheel on the motor
+    shaft [kg·m²], ``start`` the run-up too."""
+
+    stiffness: float
+    damping_ratio: float
+    on_motor_shaft: bool
+    motor_side_inertia: float
+    start: bool
 
 
 def analysis_file(an: synth.Analysis, fmt: str, phi: float) -> bytes:
@@ -48,18 +67,44 @@ def flywheel_from_tables(cycle: synth.ReducedCycle, mean_speed: float, delta: fl
                          geometry: synth.GeometrySpec | None, **sizing: Any) -> FlywheelAndWarnings:
     """Size the flywheel of a tabulated cycle and check the answer for likely mistakes."""
     result = synth.size_flywheel(cycle, mean_speed, delta, geometry=geometry, **sizing)
-    return result, synth.check_flywheel(result, geometry, None)
+    return result, synth.check_flywheel(result, geometry, None), None
 
 
 def flywheel_for_linkage(linkage: synth.Linkage, mean_speed: float, samples: int, max_samples: int,
                          delta: float, geometry: synth.GeometrySpec | None,
-                         friction: tuple[synth.PairFriction, ...] = (), **sizing: Any) -> FlywheelAndWarnings:
+                         friction: tuple[synth.PairFriction, ...] = (), elastic: ElasticLink | None = None,
+                         **sizing: Any) -> FlywheelAndWarnings:
     """Analyse a linkage at its mean speed (with friction in its pairs, whose losses the reduced load torque then
-    carries), size the flywheel on its reduced model and check the answer."""
+    carries), size the flywheel on its reduced model and check the answer; with an ``elastic`` link, drive the
+    same reduced machine through it with the sized flywheel on its side of the link."""
     analysis = synth.analyse(linkage, mean_speed, samples=samples, max_samples=max_samples, friction=friction)
     result = synth.size_flywheel(synth.cycle_from_reduced(analysis.reduced), mean_speed, delta, geometry=geometry,
                                  **sizing)
-    return result, synth.check_flywheel(result, geometry, analysis)
+    drive = None
+    if elastic is not None:
+        drive = _elastic_drive(analysis, result, elastic, sizing["motor"], sizing.get("constant_inertia", 0.0))
+    return result, synth.check_flywheel(result, geometry, analysis), drive
+
+
+def _elastic_drive(analysis: synth.Analysis, result: synth.FlywheelResult, link: ElasticLink, motor: synth.Motor,
+                   constant_inertia: float) -> ed.ElasticDrive:
+    """The reduced machine driven through the link: the flywheel with the rotor (its inertia on the motor shaft the
+    crank's over the ratio squared) or with the machine, whose constant inertia is always on the machine's side."""
+    red = analysis.reduced
+    cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.resisting_torque)
+    flywheel = result.design.flywheel_inertia
+    machine, motor_side = constant_inertia, link.motor_side_inertia
+    if link.on_motor_shaft:
+        motor_side += flywheel / motor.gear_ratio**2
+    else:
+        machine += flywheel
+    try:
+        return ed.elastic_drive(cycle, motor, link.stiffness, machine_inertia=machine, motor_side_inertia=motor_side,
+                                damping_ratio=link.damping_ratio, start=link.start)
+    except synth.InvalidInput as error:
+        if error.field in _BLOCK_FIELDS:
+            error.field = f"elastic_drive.{error.field}"
+        raise
 
 
 def flywheel_out(pair: FlywheelAndWarnings) -> FlywheelOut:

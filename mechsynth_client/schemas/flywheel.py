@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
 import math
-from typing import Annotated, Literal, get_args
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
@@ -126,6 +127,50 @@ class MotorIn(StrictModel):
         )
 
 
+# The elastic link's elements and the drive's answer are the standalone endpoint's; that module takes MotorIn from
+# here, so it is imported once MotorIn exists (the package imports this module first).
+from .foundation import ElasticDriveOut, ElasticElementIn  # noqa: E402
+
+
+class FlywheelElasticDriveIn(StrictModel):
+    """The motor's rotor joined to the machine by an elastic link, with the flywheel this request sizes on one side
+    of it: the two-mass drive of POST /v1/machines/elastic-drive, reduced to the crank."""
+
+    stiffness_Nm_rad: float | None = Field(None, gt=0, le=1e12, description="The link's torsional stiffness "
+                                           "reduced to the crank [N·m/rad]; or give `elements`.")
+    elements: list[ElasticElementIn] = Field(default_factory=list, max_length=16, description="Shafts and "
+                                             "couplings of the link, in series, each reduced by its speed ratio "
+                                             "squared.")
+    flywheel_on: Literal["crank", "motor_shaft"] = Field(
+        "crank", description="Where the flywheel sits: `crank`: with the machine (the link's second mass); "
+        "`motor_shaft`: with the rotor (the first mass), its inertia on that shaft the crank's over the gear ratio "
+        "squared.")
+    motor_side_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the motor "
+                                           "shaft besides the rotor and the flywheel (coupling half) [kg·m²].")
+    damping_ratio: float = Field(0.05, ge=0, le=2, description="The link's damping as a ratio of the two-mass "
+                                 "mode's critical damping [-].")
+    start: bool = Field(False, description="Also simulate the run-up from rest with the elastic link.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"stiffness_Nm_rad": 2000, "flywheel_on": "crank"},
+        {"elements": [{"type": "shaft", "speed_ratio": 3.0, "diameter_m": 0.03, "length_m": 0.4},
+                      {"type": "coupling", "speed_ratio": 3.0, "stiffness_Nm_rad": 2e3}],
+         "flywheel_on": "motor_shaft", "start": True}]})
+
+    def link_stiffness(self) -> float:
+        """The link's stiffness at the crank, given or from its elements; InvalidInput naming the field."""
+        if (self.stiffness_Nm_rad is None) == (not self.elements):
+            raise synth.InvalidInput("give the link's stiffness_Nm_rad or its elements, one of the two",
+                                     field="elastic_drive.stiffness_Nm_rad")
+        if self.stiffness_Nm_rad is not None:
+            return self.stiffness_Nm_rad
+        try:
+            elements = tuple(e.to_engine(k) for k, e in enumerate(self.elements))
+            return float(importlib.import_module("synth.machine.elastic_drive").link_stiffness(elements))
+        except synth.InvalidInput as error:
+            raise synth.InvalidInput(str(error), field=f"elastic_drive.{error.field}") from error
+
+
 class ShaftIn(StrictModel):
     """A shaft of the drive that may carry the flywheel."""
 
@@ -188,6 +233,10 @@ class FlywheelIn(LinkageFields):
     friction: FrictionIn | None = Field(None, description="A linkage's friction per pair: its losses at the mean "
                                         "speed are taken off the reduced load torque, so the flywheel and the motor "
                                         "are sized for the machine with its losses.")
+    elastic_drive: FlywheelElasticDriveIn | None = Field(
+        None, description="A linkage's drive with an elastic link between the `motor` (needed) and the machine, "
+        "the sized flywheel on the crank or the motor shaft: natural frequencies, the torque in the link over the "
+        "steady cycle against the rigid model's, the load harmonics near resonance and, when asked, the run-up.")
 
     def frictions(self) -> tuple[synth.PairFriction, ...]:
         """Engine pair frictions of the ``friction`` block."""
@@ -198,7 +247,8 @@ class FlywheelIn(LinkageFields):
             # the rules mean_speed() and target_delta() apply, as JSON Schema states them
             "allOf": [exactly_one("tables", "mechanism"), exactly_one("delta", "machine_type"),
                       at_most_one("mean_speed_rpm", "mean_speed_rad_s"),
-                      {"anyOf": [given("mean_speed_rpm"), given("mean_speed_rad_s"), given("mechanism", "speed_rpm")]}],
+                      {"anyOf": [given("mean_speed_rpm"), given("mean_speed_rad_s"), given("mechanism", "speed_rpm")]},
+                      {"anyOf": [{"not": given("elastic_drive")}, given("elastic_drive", "motor", "mechanism")]}],
             "examples": [
                 {"tables": SHAPER_TABLES_EXAMPLE, "mean_speed_rad_s": 9.8, "delta": 0.1,
                  "geometry": {"density_kg_m3": 7850, "max_rim_speed_m_s": 45, "max_diameter_m": 0.75,
@@ -206,6 +256,11 @@ class FlywheelIn(LinkageFields):
                 {"mechanism": FOURBAR_EXAMPLE, "mean_speed_rpm": 300, "machine_type": "piston_compressors",
                  "loads": [{"type": "window", "torque_Nm": 40, "start_deg": 0, "end_deg": 180}],
                  "constant_inertia_kgm2": 0.002},
+                {"mechanism": FOURBAR_EXAMPLE, "mean_speed_rpm": 298, "delta": 0.01,
+                 "loads": [{"type": "window", "torque_Nm": 40, "start_deg": 0, "end_deg": 180}],
+                 "motor": {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1420, "rated_torque_Nm": 10,
+                           "gear_ratio": 5, "rotor_inertia_kgm2": 0.005},
+                 "elastic_drive": {"stiffness_Nm_rad": 2000, "flywheel_on": "crank"}},
             ]
         }
     )
@@ -410,10 +465,18 @@ class FlywheelOut(BaseModel):
     geometry: GeometryOut | None = Field(None, description="The flywheel's shape on each candidate shaft; null "
                                          "without `geometry` in the request or when no flywheel is needed.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
+    elastic_drive: ElasticDriveOut | None = Field(
+        None, description="The drive through the elastic link with the sized flywheel (as POST "
+        "/v1/machines/elastic-drive answers it); null when the request has no `elastic_drive`. Its load "
+        "harmonics near resonance are also among `warnings`, their field under `elastic_drive`.")
 
     @classmethod
-    def from_engine(cls, r: synth.FlywheelResult, warnings: list[synth.DesignWarning] | None = None) -> FlywheelOut:
-        """Schema from the engine result (radians become degrees here)."""
+    def from_engine(cls, r: synth.FlywheelResult, warnings: list[synth.DesignWarning] | None = None,
+                    drive: Any = None) -> FlywheelOut:
+        """Schema from the engine result (radians become degrees here), with the elastic drive's when given."""
+        elastic = None if drive is None else ElasticDriveOut.from_engine(drive)
+        near = [] if elastic is None else [w.model_copy(update={"field": f"elastic_drive.{w.field}"})
+                                           for w in elastic.warnings]
         design, tan = r.design, r.tangents
         w_min, w_max = r.speed_band
         phi, omega = design.speed.thinned()
@@ -457,5 +520,6 @@ class FlywheelOut(BaseModel):
             speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=degree_list(phi),
                            omega_rad_s=omega.tolist()),
             geometry=geometry,
-            warnings=warnings_out(warnings or []),
+            warnings=[*warnings_out(warnings or []), *near],
+            elastic_drive=elastic,
         )
