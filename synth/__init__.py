@@ -167,6 +167,7 @@ from .kinematics import (
     SliderCrank,
     SlottedLever,
     cycle_angles,
+    linkage_structure,
     motion,
 )
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
@@ -407,6 +408,7 @@ __all__ = [
     "PairReport",
     "Structure",
     "analyse_structure",
+    "linkage_structure",
     "fixed_point_counterweights",
     # warnings
     "DesignWarning",

@@ -230,6 +230,9 @@ def gears_train(b: TrainIn, lim: Limits) -> Plan:
 
 def structure(b: StructureIn, lim: Limits) -> Plan:
     """POST /v1/structure."""
+    if b.mechanism is not None:
+        return Plan(Render(StructureOut.from_engine), synth.linkage_structure, (b.mechanism.to_mechanism(),), {})
+    assert b.links is not None and b.pairs is not None
     return Plan(Render(StructureOut.from_engine), synth.analyse_structure,
                 (b.links, [p.to_engine() for p in b.pairs]),
                 dict(frame=b.frame, planar=b.planar, input_links=b.input_links, known_mobility=b.known_mobility))

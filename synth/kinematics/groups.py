@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..errors import NotAssemblable
+from ..structure import PassiveLink, Redundancy
 from ..mechanism import FloatArray
 from .jets import Jet
 
@@ -52,49 +53,6 @@ class NumericGroup:
     links: tuple[str, ...]
     joints: tuple[str, ...]
     group_class: int
-
-
-@dataclass(frozen=True, slots=True)
-class PassiveLink:
-    """A binary link whose two revolute pairs repeat constraints of the others: placed on its two pins."""
-
-    link: str
-    joints: tuple[str, str]
-
-
-@dataclass(frozen=True, slots=True)
-class Redundancy:
-    """Mobility from the geometry of a linkage whose structural formula says less.
-
-    ``mobility_structural`` 3n - 2p; ``mobility_geometric`` 3n - rank of the constraint Jacobian (its largest
-    rank over ``samples`` crank angles of the cycle); ``rows`` 2p constraint equations; ``passive`` the links
-    taken out for the placement; ``dependent_pairs`` the pairs whose constraint rows are linearly dependent on
-    the others' (the left null space of the Jacobian touches them); ``max_residual`` the largest distance [m]
-    by which the passive links' pins miss their lengths over those angles.
-    """
-
-    mobility_structural: int
-    mobility_geometric: int
-    rank: int
-    rows: int
-    samples: int
-    passive: tuple[PassiveLink, ...]
-    dependent_pairs: tuple[str, ...]
-    max_residual: float
-
-    @property
-    def redundant_pairs(self) -> tuple[str, ...]:
-        """The pairs of the passive links: the constraints taken as redundant."""
-        return tuple(j for p in self.passive for j in p.joints)
-
-    def explanation(self) -> str:
-        """One sentence: which pairs are redundant and why."""
-        links = ", ".join(p.link for p in self.passive)
-        return (f"W = 3n - 2p = {self.mobility_structural} counts the pairs {list(self.redundant_pairs)} of the "
-                f"passive link(s) {links}, but the constraint Jacobian has rank {self.rank} of its {self.rows} rows "
-                f"at its most over {self.samples} crank angles of the cycle: the rows of pairs {list(self.dependent_pairs)} are "
-                f"linearly dependent, so the geometry gives W = {self.mobility_geometric}; with {links} taken out "
-                f"the rest moves and its pins keep their distance to {self.max_residual:.1e} m")
 
 
 @dataclass(frozen=True, slots=True)
@@ -346,5 +304,5 @@ def rank_and_dependent(jac: FloatArray, pair_names: Sequence[str]) -> tuple[int,
     return rank, tuple(p for p in pair_names if p in touched)
 
 
-__all__ = ["CLOSURE_TOLERANCE", "NumericGroup", "PassiveLink", "Redundancy", "constraint_jacobian",
+__all__ = ["CLOSURE_TOLERANCE", "NumericGroup", "constraint_jacobian",
            "continuation_path", "place_group", "rank_and_dependent"]

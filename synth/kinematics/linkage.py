@@ -25,6 +25,7 @@ derivatives in the crank angle with every value.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import itertools
 import math
@@ -37,11 +38,11 @@ from numpy.typing import NDArray
 
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..mechanism import AngleAnalogues, FloatArray, PointAnalogues
-from ..structure import ROMAN, Pair, analyse_structure
+from ..structure import ROMAN, Pair, PassiveLink, Redundancy, Structure, analyse_structure
 from ..topology import Joint, Topology
 from . import jets as J
-from .groups import (CLOSURE_TOLERANCE, RANK_TOLERANCE, NumericGroup, PassiveLink, Redundancy, Side, constraint_jacobian,
-                     continuation_path, place_group, rank_and_dependent)
+from .groups import (CLOSURE_TOLERANCE, RANK_TOLERANCE, NumericGroup, Side, constraint_jacobian, continuation_path,
+                     place_group, rank_and_dependent)
 from .jets import Jet
 from .motion import cross_c, dot_c
 
@@ -482,6 +483,30 @@ def _across_change_points(mech: PlanarLinkage, phi: FloatArray, steps: Sequence[
         a.d1[bad] = limit(side_angles[k].d1)
         a.d2[bad] = limit(side_angles[k].d2)
     return out
+
+
+def linkage_structure(mech: PlanarLinkage) -> Structure:
+    """The structure of a linkage judged from its geometry as well as its pairs: the structural formula's
+    counts of all its pairs; when passive links make W = 3n - 2p < 1 though it moves, the primary mechanism and
+    the Assur groups of the rest and ``geometry`` (the mobility from the constraint Jacobian, the redundant
+    pairs and why); ``placements`` says how each group is placed (a structure that cannot move is refused with
+    the reason, InvalidInput)."""
+    names = [link.name for link in mech.links]
+    full = analyse_structure([FRAME, *names], [Pair(j.name, j.links, j.kind) for j in mech.joints], frame=FRAME,
+                             input_links=None if mech.redundancy is not None else [mech.crank_link])
+    placements = tuple("numerical" if isinstance(s, NumericGroup) else "closed_form" for s in mech.steps)
+    r = mech.redundancy
+    if r is None:
+        return dataclasses.replace(full, placements=placements)
+    skip = {p.link for p in r.passive}
+    rest = analyse_structure([FRAME, *(x for x in names if x not in skip)],
+                             [Pair(j.name, j.links, j.kind) for j in mech.joints if not set(j.links) & skip],
+                             frame=FRAME, input_links=[mech.crank_link])
+    return dataclasses.replace(
+        full, primary_links=rest.primary_links, primary_pairs=rest.primary_pairs,
+        primary_mobility=rest.primary_mobility, groups=rest.groups, mechanism_class=rest.mechanism_class,
+        note=f"{r.explanation()}; the primary mechanism and Assur groups are those of the rest", geometry=r,
+        placements=placements)
 
 
 def _refuse_gap(passive: Sequence[PassiveLink], phi: FloatArray, gap: FloatArray) -> None:
@@ -942,4 +967,5 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
     return _Place(a1, q1, th1), _Place(x2, outer.on_axis, outer.angle), bad, None
 
 
-__all__ = ["Dyad", "JointSpec", "LinkSpec", "NumericGroup", "PassiveLink", "PlanarLinkage", "Redundancy"]
+__all__ = ["Dyad", "JointSpec", "LinkSpec", "NumericGroup", "PassiveLink", "PlanarLinkage", "Redundancy",
+           "linkage_structure"]
