@@ -168,23 +168,38 @@ def test_eight_bar_torque_by_virtual_power_and_static_balance() -> None:
     assert result.residual_force < 1e-6 * result.before.max_shaking_force
 
 
-def test_through_the_api(client: SynthClient) -> None:
+def test_double_parallelogram_through_the_api(client: SynthClient) -> None:
     out = client.analysis(AnalysisIn.model_validate({"mechanism": DOUBLE_PARALLELOGRAM, "speed_rpm": 60,
                                                      "samples": 37}))
     assert [w.code for w in out.warnings if w.code == "redundant_constraint"] == ["redundant_constraint"]
     assert out.assumptions and out.checks.loop_closure_m is not None and out.checks.loop_closure_m < 1e-12
-    eight = client.analysis(AnalysisIn.model_validate({"mechanism": EIGHT_BAR, "speed_rpm": 60, "samples": 36}))
-    assert eight.checks.virtual_power_torque_max_diff_Nm < 1e-8 and eight.checks.loop_closure_m is not None
-    assert eight.checks.loop_closure_m <= 1e-9
+    # F on its circle of 0.1 m about (0.15, 0), as the crank pin moves (the coupler translates).
+    phi = np.radians(out.crank_angle_deg)
+    f = np.array(out.points["F"].position_m)
+    assert np.abs(f - np.column_stack([0.15 + 0.1 * np.cos(phi), 0.1 * np.sin(phi)])).max() < 1e-12
+    assert out.checks.virtual_power_torque_max_diff_Nm <= 1e-9 * max(np.abs(out.driving_torque_Nm).max(), 1.0)
     # The structure from the geometry: W = 1 and the passive crank's pairs named.
     st = client.structure(StructureIn.model_validate({"mechanism": DOUBLE_PARALLELOGRAM}))
     assert st.mobility_chebyshev == 0 and st.geometry is not None and st.geometry.mobility_geometric == 1
     assert st.geometry.redundant_pairs == ["E", "C"] and st.geometry.passive_links == ["crank3"]
-    st8 = client.structure(StructureIn.model_validate({"mechanism": EIGHT_BAR}))
-    assert [(g.group_class, g.placement) for g in st8.assur_groups or []] == [("III", "numerical")]
+    assert [g.links for g in st.assur_groups or []] == [["coupler", "crank2"]]
+    # Without dimensions the formula alone speaks, and says so.
+    bare = client.structure(StructureIn.model_validate({
+        "links": ["frame", "crank", "coupler", "crank2", "crank3"],
+        "pairs": [{"name": j["name"], "links": j["links"], "kind": "revolute"} for j in DOUBLE_PARALLELOGRAM["joints"]]}))
+    assert bare.assur_groups is None and "dimensions" in bare.note
     triangle = {"type": "linkage", "frame_points_m": {"O": [0, 0], "Q": [0.3, 0]},
                 "links": [bar("crank", "O", "A", 0.1), bar("bar", "A", "Q", 0.25)],
                 "joints": [joint("O", "frame", "crank"), joint("A", "crank", "bar"), joint("Q", "frame", "bar")],
                 "crank": "crank"}
-    with pytest.raises(InvalidInputError):
+    with pytest.raises(InvalidInputError, match="does not move"):
         client.analysis(AnalysisIn.model_validate({"mechanism": triangle, "speed_rpm": 60}))
+
+
+def test_eight_bar_through_the_api(client: SynthClient) -> None:
+    eight = client.analysis(AnalysisIn.model_validate({"mechanism": EIGHT_BAR, "speed_rpm": 60, "samples": 36}))
+    assert eight.checks.virtual_power_torque_max_diff_Nm <= 1e-8 * max(np.abs(eight.driving_torque_Nm).max(), 1.0)
+    assert eight.checks.loop_closure_m is not None and eight.checks.loop_closure_m <= 1e-9
+    assert any("class-III" in a for a in eight.assumptions)
+    st8 = client.structure(StructureIn.model_validate({"mechanism": EIGHT_BAR}))
+    assert [(g.group_class, g.placement) for g in st8.assur_groups or []] == [("III", "numerical")]
