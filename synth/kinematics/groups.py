@@ -129,7 +129,20 @@ def _residual(sides: Sequence[tuple[Side, Side]], q: FloatArray, k: int) -> Floa
 
 
 def _jacobian(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> FloatArray:
-    return np.asarray(_jacobians(sides, q[None, :], m)[0])
+    """d(loop)/dq at one angle: scalar arithmetic, as the matrix is small and built at every Newton step."""
+    jac = np.zeros((2 * len(sides), 3 * m))
+    for j, pair in enumerate(sides):
+        for s in pair:
+            if s.known is not None:
+                continue
+            c = 3 * s.index
+            th = float(q[c + 2])
+            lever = complex(math.cos(th), math.sin(th)) * s.local * 1j
+            jac[2 * j, c] += s.sign
+            jac[2 * j + 1, c + 1] += s.sign
+            jac[2 * j, c + 2] += s.sign * lever.real
+            jac[2 * j + 1, c + 2] += s.sign * lever.imag
+    return jac
 
 
 def _jacobians(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> FloatArray:
@@ -296,8 +309,9 @@ def rank_and_dependent(jac: FloatArray, pair_names: Sequence[str]) -> tuple[int,
     touches at the angle of that rank (rows linearly dependent on the others)."""
     u, s, _ = np.linalg.svd(jac)
     ranks = np.sum(s > RANK_TOLERANCE * s[:, :1], axis=1)
-    k = int(np.argmax(ranks))
-    rank = int(ranks[k])
+    rank = int(np.max(ranks))
+    # The angle where that rank is best conditioned: at a change point a sub-loop's own rows depend on each other.
+    k = int(np.argmax(np.where(ranks == rank, s[:, rank - 1] / s[:, 0], -1.0)))
     null = u[k][:, rank:]
     weight = np.sqrt(np.sum(null * null, axis=1))
     touched = {pair_names[r // 2] for r in range(len(weight)) if weight[r] > 1e-6}

@@ -455,11 +455,18 @@ def _across_change_points(mech: PlanarLinkage, phi: FloatArray, steps: Sequence[
     jac = _jacobian(mech, points, angles)
     s = np.linalg.svd(jac, compute_uv=False)
     rank = int(np.max(np.sum(s > RANK_TOLERANCE * s[:, :1], axis=1)))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         weak = ~(s[:, rank - 1] / s[:, 0] > CHANGE_RATIO)
+        # Where a dyad of the rest is singular but the passive link is not, the closed form's rates are huge
+        # but finite: they break the whole linkage's velocity constraint J·q' = 0.
+        names = [link.name for link in mech.links]
+        rates = np.concatenate([np.column_stack([points[mech.origins[x]].d1, angles[x].d1]) for x in names], axis=1)
+        miss = np.linalg.norm(np.einsum("nij,nj->ni", jac, rates), axis=1)
+        size = np.linalg.norm(jac, axis=(1, 2)) * np.linalg.norm(rates, axis=1)
+        broken = ~(miss <= CHANGE_RATIO * size)
     finite = np.all([np.isfinite(v.d1).all(axis=-1) & np.isfinite(v.d2).all(axis=-1) for v in points.values()],
                     axis=0)
-    bad = np.flatnonzero(weak | ~finite)
+    bad = np.flatnonzero(weak | broken | ~finite)
     if bad.size == 0:
         return points
     h = CHANGE_STEP
