@@ -63,6 +63,8 @@ COVERED_BEYOND_TABLE = {
         "tests/test_passive_and_triads.py::test_double_parallelogram_through_the_api",
     "a class-III Assur group (an eight-bar's triad) placed and analysed (seed 001 groups of higher class)":
         "tests/test_passive_and_triads.py::test_eight_bar_through_the_api",
+    "rolling friction k·N of a cam's roller: the dwell's torque k·N·R/r (seed 000 §13.3)":
+        "tests/test_cam_rolling.py::test_cam_roller_rolling_friction_in_a_dwell",
 }
 
 
