@@ -176,6 +176,17 @@ def _plate_by_fsolve_from(p: float, guess: np.ndarray) -> np.ndarray:
     return np.asarray(fsolve(eqs, guess, xtol=1e-13))
 
 
+def test_eight_bar_that_cannot_close_names_the_first_angle() -> None:
+    # The link R-D 0.376 m long (0.32 drawn) cannot reach the plate's pin D over part of the turn: the continuation stops at the
+    # first crank angle where the loop does not close and names it.
+    mech = {**EIGHT_BAR, "links": [dict(link) for link in EIGHT_BAR["links"]]}
+    mech["links"][4] = bar("link", "R", "D", 0.376)
+    linkage = engine(mech)
+    with pytest.raises(synth.NotAssemblable, match=r"class-3 group of links .* does not close at crank angle") as err:
+        synth.analyse(linkage, SPEED, samples=72)
+    assert err.value.phi.size == 1 and 0.0 <= err.value.ranges_deg[0][0] < 360.0
+
+
 def test_eight_bar_torque_by_virtual_power_and_static_balance() -> None:
     linkage = engine(EIGHT_BAR)
     an = synth.analyse(linkage, SPEED, samples=90, crank_acceleration=2.0)
