@@ -551,7 +551,14 @@ def _find_passive(mech: PlanarLinkage) -> tuple[tuple[Dyad | NumericGroup, ...],
         tried += 1
         try:
             steps = _decompose(mech, tuple(p.link for p in combo))
-            points, angles, gap = mech._place_choosing(phi, steps, combo)
+            if any(isinstance(step, NumericGroup) for step in steps):
+                path, idx = continuation_path(phi)
+                points, angles, gap = mech._place_choosing(path, steps, combo)
+                points = {k: PointAnalogues(v.pos[idx], v.d1[idx], v.d2[idx]) for k, v in points.items()}
+                angles = {k: AngleAnalogues(v.angle[idx], v.d1[idx], v.d2[idx]) for k, v in angles.items()}
+                gap = gap[idx]
+            else:
+                points, angles, gap = mech._place_choosing(phi, steps, combo)
         except (InvalidInput, NotAssemblable) as exc:
             reasons.append(f"taking out {[p.link for p in combo]} leaves a linkage that does not work: {exc}")
             continue
