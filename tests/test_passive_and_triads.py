@@ -176,6 +176,20 @@ def _plate_by_fsolve_from(p: float, guess: np.ndarray) -> np.ndarray:
     return np.asarray(fsolve(eqs, guess, xtol=1e-13))
 
 
+def test_eight_bar_long_path_solved_at_once_matches_angle_by_angle() -> None:
+    # 1440 samples: the continuation runs on samples about 1° apart and the rest are solved at once; every tenth
+    # sample again on its own path (angle by angle) gives the same pose and rates.
+    mech = engine(EIGHT_BAR).mechanism
+    phi = np.linspace(0.0, 2 * math.pi, 1440, endpoint=False)
+    dense, dense_angles = mech.solve(phi)
+    sparse, _ = mech.solve(phi[::10])
+    for name in ("B", "C", "D"):
+        assert np.abs(dense[name].pos[::10] - sparse[name].pos).max() < 1e-12
+        assert np.abs(dense[name].d2[::10] - sparse[name].d2).max() < 1e-9 * np.abs(sparse[name].d2).max()
+    assert mech.closure_residual({k: v.pos for k, v in dense.items()},
+                                 {k: v.angle for k, v in dense_angles.items()}) <= 1e-9
+
+
 def test_eight_bar_that_cannot_close_names_the_first_angle() -> None:
     # The link R-D 0.376 m long (0.32 drawn) cannot reach the plate's pin D over part of the turn: the continuation stops at the
     # first crank angle where the loop does not close and names it.

@@ -10,7 +10,7 @@ are solved by Newton's method in the links' coordinates q = (x_o, y_o, theta) pe
 the previous crank angle moved on by its velocity (continuation keeps the assembly branch), starting at crank
 angle 0 from the positions as drawn. Differentiating the loop once and twice in the crank angle gives the
 analogues from linear systems with the same Jacobian: J·q' = -sum sign·K', J·q'' = -sum sign·K'' + sum over
-the group's sides sign·theta_l'²·exp(i·theta_l)·p_l (seed 001:1100-1190 on groups of higher class; the digest's
+the group's sides sign·theta_l'²·exp(i·theta_l)·p_l (seed 001:1160-1190 on groups of higher class; the digest's
 section 1).
 
 A passive link is a binary link whose two pairs repeat constraints the other links impose already (the third
@@ -28,17 +28,23 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from ..errors import NotAssemblable
-from ..structure import PassiveLink, Redundancy
 from ..mechanism import FloatArray
+from ..structure import PassiveLink, Redundancy
 from .jets import Jet
+
+IndexArray = NDArray[np.intp]
 
 #: Largest step [rad] of the continuation between two placements of a numerical group.
 MAX_STEP = math.radians(2.0)
 #: Largest loop-closure residual [m] accepted at any crank angle (numerical groups and passive links).
 CLOSURE_TOLERANCE = 1e-9
+#: Beyond this many samples on the path the group is continued on samples about MAX_STEP/2 apart and the rest
+#: solved all at once from them.
+DENSE = 400
 #: Newton iterations per crank angle before the group is declared not assemblable there.
 MAX_NEWTON = 25
 #: Singular values below this fraction of the largest count as zero in the rank of the constraint Jacobian.
@@ -77,30 +83,11 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
     at the first angle where Newton's method does not close the loop.
     """
     m, n = len(group.links), len(phi)
-    q = np.empty((n, 3 * m))
-    q[0] = _first(group, sides, start, link_points)
-    qd = np.zeros((n, 3 * m))
-    residual = np.empty(n)
-    for k in range(n):
-        if k:
-            q[k] = q[k - 1] + qd[k - 1] * (phi[k] - phi[k - 1])
-        for _ in range(MAX_NEWTON):
-            f = _residual(sides, q[k], k)
-            if np.max(np.abs(f)) <= 1e-14:
-                break
-            jac = _jacobian(sides, q[k], m)
-            try:
-                q[k] -= np.linalg.solve(jac, f)
-            except np.linalg.LinAlgError:
-                break
-        residual[k] = float(np.max(np.abs(_residual(sides, q[k], k))))
-        if not residual[k] <= CLOSURE_TOLERANCE:
-            raise NotAssemblable(
-                f"the class-{group.group_class} group of links {list(group.links)} does not close at crank angle "
-                f"{math.degrees(phi[k]) % 360:.3f}° (loop residual {residual[k]:.2e} m; it meets a dead or "
-                "unreachable position there)", phi=phi[k:k + 1],
-                ranges_deg=[(math.degrees(phi[k]) % 360, math.degrees(phi[k]) % 360)])
-        qd[k] = np.linalg.solve(_jacobian(sides, q[k], m), _rhs1(sides, k))
+    q0 = _first(group, sides, start, link_points)
+    q = _dense(group, sides, phi, q0) if n > DENSE else None
+    if q is None:
+        q = _continue(group, sides, phi, q0, np.arange(n))
+    residual = np.max(np.abs(_residuals(sides, q, np.arange(n))), axis=1)
     jac = _jacobians(sides, q, m)
     qd = np.asarray(np.linalg.solve(jac, _rhs1_all(sides, n)[..., None])[..., 0], dtype=float)
     qdd = np.asarray(np.linalg.solve(jac, _rhs2_all(sides, q, qd)[..., None])[..., 0], dtype=float)
@@ -111,6 +98,73 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
                      qdd[:, x][:, 0] + 1j * qdd[:, y][:, 0])
         out.append((origin, Jet(q[:, th][:, 0].copy(), qd[:, th][:, 0].copy(), qdd[:, th][:, 0].copy())))
     return out, residual
+
+
+def _continue(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray,
+              at: IndexArray) -> FloatArray:
+    """Newton's method angle after angle along the samples ``at`` of the path ``phi``, each started from the last
+    solution moved on by its velocity; NotAssemblable at the first angle where the loop does not close."""
+    m = len(group.links)
+    q = np.empty((len(at), 3 * m))
+    rate: FloatArray = np.zeros(3 * m)
+    for i, k in enumerate(at):
+        q[i] = q0 if i == 0 else q[i - 1] + rate * (phi[k] - phi[at[i - 1]])
+        for _ in range(MAX_NEWTON):
+            f = _residual(sides, q[i], k)
+            if np.max(np.abs(f)) <= 1e-14:
+                break
+            try:
+                q[i] -= np.linalg.solve(_jacobian(sides, q[i], m), f)
+            except np.linalg.LinAlgError:
+                break
+        miss = float(np.max(np.abs(_residual(sides, q[i], k))))
+        if not miss <= CLOSURE_TOLERANCE:
+            at_deg = math.degrees(phi[k]) % 360
+            raise NotAssemblable(
+                f"the class-{group.group_class} group of links {list(group.links)} does not close at crank angle "
+                f"{at_deg:.3f}° (loop residual {miss:.2e} m; it meets a dead or unreachable position there)",
+                phi=phi[k:k + 1], ranges_deg=[(at_deg, at_deg)])
+        rate = np.asarray(np.linalg.solve(_jacobian(sides, q[i], m), _rhs1(sides, k)), dtype=float)
+    return q
+
+
+def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray
+           ) -> FloatArray | None:
+    """A long path: continuation on every sample about MAX_STEP/2 apart, then every sample at once by batched
+    Newton steps from the nearest earlier one moved on by its velocity. None when a sample does not close that way
+    (the caller then continues sample by sample, which names the first angle that fails)."""
+    travel = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(phi)))])
+    coarse = np.unique(np.concatenate([[0], np.searchsorted(travel, np.arange(0.0, travel[-1], MAX_STEP / 2)),
+                                       [len(phi) - 1]]))
+    m = len(group.links)
+    qc = _continue(group, sides, phi, q0, coarse)
+    rates = np.linalg.solve(_jacobians(sides, qc, m), _rhs1_all(sides, len(phi))[coarse][..., None])[..., 0]
+    near = np.searchsorted(coarse, np.arange(len(phi)), side="right") - 1
+    q = qc[near] + rates[near] * (phi - phi[coarse[near]])[:, None]
+    every = np.arange(len(phi))
+    for _ in range(MAX_NEWTON):
+        f = _residuals(sides, q, every)
+        if np.max(np.abs(f)) <= 1e-14:
+            break
+        q -= np.linalg.solve(_jacobians(sides, q, m), f[..., None])[..., 0]
+    if not np.max(np.abs(_residuals(sides, q, every))) <= CLOSURE_TOLERANCE:
+        return None
+    return np.asarray(q, dtype=float)
+
+
+def _residuals(sides: Sequence[tuple[Side, Side]], q: FloatArray, at: IndexArray) -> FloatArray:
+    """The loop equations at the samples ``at`` for the coordinates ``q`` (one row each), (N, 2·pairs)."""
+    out = np.empty((len(at), 2 * len(sides)))
+    for j, pair in enumerate(sides):
+        z = np.zeros(len(at), dtype=complex)
+        for s in pair:
+            if s.known is not None:
+                z += s.sign * s.known.v[at]
+            else:
+                c = 3 * s.index
+                z += s.sign * (q[:, c] + 1j * q[:, c + 1] + np.exp(1j * q[:, c + 2]) * s.local)
+        out[:, 2 * j], out[:, 2 * j + 1] = z.real, z.imag
+    return out
 
 
 def _term(side: Side, q: FloatArray, k: int) -> complex:
