@@ -19,6 +19,8 @@ const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
 export const ed = {
   on: false, model: null, tool: "move", pending: [], selected: null, undo: [], redo: [], view: null,
   grid: 0.01, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
+  // every press on the canvas handled, and where it landed [m]: a script clicking waits on these
+  presses: 0, lastPress: null,
 };
 
 const clone = (m) => JSON.parse(JSON.stringify(m));
@@ -455,6 +457,9 @@ function onPointerDown(e) {
   svg.focus();
   const hit = hitPoint(svg, e), link = e.target.dataset && e.target.dataset.link;
   const xy = snapXY(toModel(svg, e), e.altKey);
+  ed.lastPress = toModel(svg, e);
+  ed.presses += 1;
+  svg.dataset.presses = String(ed.presses);
   const t = ed.tool;
   if (t === "move") {
     if (hit) {
