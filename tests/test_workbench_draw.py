@@ -121,13 +121,14 @@ def _flat(v: list[Any]) -> list[float]:
     return [float(x) for row in v for x in (row if isinstance(row, list) else [row])]
 
 
-def _assert_same(page_answer: dict[str, Any], ref: dict[str, Any], tol: float = 1e-9) -> None:
+def _assert_same(page_answer: dict[str, Any], ref: dict[str, Any], tol: float = 1e-9,
+                 points: tuple[str, ...] = ("A", "B", "C", "D")) -> None:
     """Every diagram's values equal to ``tol`` relative to its own largest value, every joint's path to ``tol`` m."""
     for key in COMPARED:
         got, want = _flat(page_answer[key]), _flat(ref[key])
         scale = max(1.0, max(abs(w) for w in want))
         assert max(abs(g - w) for g, w in zip(got, want, strict=True)) <= tol * scale, key
-    for name in ["A", "B", "C", "D"]:
+    for name in points:
         got, want = _flat(page_answer["points"][name]["position_m"]), _flat(ref["points"][name]["position_m"])
         assert max(abs(g - w) for g, w in zip(got, want, strict=True)) <= tol, name
 
@@ -234,3 +235,81 @@ def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: s
         assert math.hypot(got[0] + ed["offset"][0] - x, got[1] + ed["offset"][1] - y) < 5 * crank["length_m"] * step, (key, name)
     if key == "press":
         _shot(page, "draw-template-press")
+
+
+# A four-bar written as a general linkage with its own masses, centres and inertias (none by the editor's bar rule)
+BALANCED_FOURBAR = {
+    "type": "linkage", "frame_points_m": {"O": [0.0, 0.0], "Q": [0.3, 0.0]},
+    "links": [{"name": "crank", "joints": ["O", "A"], "length_m": 0.1, "mass_kg": 1.2, "com_m": [0.04, 0.0],
+               "inertia_kgm2": 0.002},
+              {"name": "coupler", "joints": ["A", "B"], "length_m": 0.5, "mass_kg": 3.0, "com_m": [0.22, 0.03],
+               "inertia_kgm2": 0.07},
+              {"name": "rocker", "joints": ["Q", "B"], "length_m": 0.5, "mass_kg": 2.5, "com_m": [0.2, -0.01],
+               "inertia_kgm2": 0.05}],
+    "joints": [{"name": "O", "kind": "revolute", "links": ["frame", "crank"]},
+               {"name": "A", "kind": "revolute", "links": ["crank", "coupler"]},
+               {"name": "B", "kind": "revolute", "links": ["coupler", "rocker"]},
+               {"name": "Q", "kind": "revolute", "links": ["frame", "rocker"]}],
+    "crank": "crank", "output": "rocker",
+}
+PROPS = ("mass_kg", "com_m", "inertia_kgm2")
+
+
+def _drag(page: Page, frm: tuple[float, float], to: tuple[float, float]) -> None:
+    _tool(page, "v")
+    page.mouse.move(*page.evaluate(f"window.workbench.editor.toScreen({frm[0]}, {frm[1]})"))
+    page.mouse.down()
+    page.mouse.move(*page.evaluate(f"window.workbench.editor.toScreen({to[0]}, {to[1]})"), steps=6)
+    page.mouse.up()
+    _settled(page)
+
+
+def test_a_balanced_linkage_keeps_its_masses_and_counterweights_as_it_is_edited(page: Page, base_url: str) -> None:
+    design = {"mechanism": BALANCED_FOURBAR, "speed_rpm": 120}
+    balanced = httpx.post(f"{base_url}/v1/balancing/optimal", json=design, timeout=120).json()
+    counterweights = balanced["counterweights"]
+    assert {cw["link"] for cw in counterweights} == {"crank", "rocker"}  # the service's default links
+    page.evaluate("window.workbench.editor.ed.on && window.workbench.editor.setEditing(false)")
+    page.evaluate("d => window.workbench.setDesign(d)", {**design, "counterweights": counterweights})
+    page.wait_for_function("window.workbench.state.pending === null && window.workbench.state.answer && "
+                           "window.workbench.state.design.counterweights", timeout=30_000)
+    page.click("#draw-toggle")
+    _settled(page)
+
+    # drag B 30 mm to the right: coupler and rocker change length, every mass and counterweight stays with its link
+    b = next(p for p in page.evaluate("window.workbench.editor.ed.model.points") if p["name"] == "B")
+    _drag(page, (b["x"], b["y"]), (b["x"] + 0.03, b["y"]))
+    got = page.evaluate("window.workbench.state.design")
+    lengths = {lk["name"]: lk["length_m"] for lk in got["mechanism"]["links"]}
+    assert abs(lengths["coupler"] - 0.5) > 1e-3 and abs(lengths["rocker"] - 0.5) > 1e-3, lengths
+    for want, have in zip(BALANCED_FOURBAR["links"], got["mechanism"]["links"], strict=True):
+        assert {k: have[k] for k in PROPS} == {k: want[k] for k in PROPS}, have["name"]
+    assert got["counterweights"] == counterweights
+    assert json.loads(page.input_value("[id='f-mechanism']")) == got["mechanism"]  # the JSON view holds them
+
+    # the page's answer is the service's for this design, and neither the massless nor the unbalanced one
+    shown = page.evaluate("window.workbench.state.answer")
+    ref = httpx.post(f"{base_url}/v1/analysis", json=got, timeout=60).json()
+    massless_mech = {**got["mechanism"], "links": [{k: v for k, v in lk.items() if k not in PROPS}
+                                                    for lk in got["mechanism"]["links"]]}
+    massless = httpx.post(f"{base_url}/v1/analysis", json={"mechanism": massless_mech, "speed_rpm": 120}, timeout=60)
+    bare = httpx.post(f"{base_url}/v1/analysis", json={**got, "counterweights": []}, timeout=60).json()
+    _assert_same(shown, ref, points=("A", "B"))
+    assert max(abs(t) for t in massless.json()["driving_torque_Nm"]) < 1e-9  # no mass, no load: no torque
+    assert max(abs(t) for t in shown["driving_torque_Nm"]) > 1.0
+    # the counterweights still take most of the shaking force off the frame after a 30 mm change
+    assert shown["summary"]["rms_shaking_force_N"] < 0.5 * bare["summary"]["rms_shaking_force_N"]
+    _shot(page, "draw-balanced")
+
+    # deleting the rocker takes its counterweight with it; undo brings both back
+    q = next(p for p in page.evaluate("window.workbench.editor.ed.model.points") if p["name"] == "Q")
+    _tool(page, "x")
+    mid = ((q["x"] + b["x"] + 0.03) / 2, (q["y"] + b["y"]) / 2)
+    page.mouse.click(*page.evaluate(f"window.workbench.editor.toScreen({mid[0]}, {mid[1]})"))
+    page.wait_for_function("!window.workbench.editor.ed.model.links.some((l) => l.name === 'rocker')", timeout=10_000)
+    assert [cw["link"] for cw in page.evaluate("window.workbench.state.design.counterweights")] == ["crank"]
+    page.focus("#draw-canvas")
+    page.keyboard.press("Control+z")
+    _settled(page)
+    assert page.evaluate("window.workbench.state.design.counterweights") == counterweights
+    _assert_same(page.evaluate("window.workbench.state.answer"), ref, points=("A", "B"))

@@ -24,6 +24,55 @@ export const ed = {
 };
 
 const clone = (m) => JSON.parse(JSON.stringify(m));
+// What a design says about its links and pairs by name, beside the mechanism: kept through every edit, each entry
+// dropped with the link or pair it names (and back with an undo).
+const BY_NAME = ["counterweights", "counter_rotors", "torques", "trace_points", "friction", "coupler_inertia_kgm2", "loads"];
+const jointKey = (kind, links) => `${kind}|${[...links].sort().join("|")}`;
+
+/** The model and the design's parts named after its links, as one undo step. */
+function snapshot() {
+  const d = state.design || {};
+  return JSON.stringify({ model: ed.model, byName: Object.fromEntries(BY_NAME.filter((k) => k in d).map((k) => [k, d[k]])) });
+}
+
+function restore(text) {
+  const snap = JSON.parse(text);
+  ed.model = snap.model;
+  for (const k of BY_NAME) delete state.design[k];
+  Object.assign(state.design, snap.byName);
+}
+
+/** The design's entries that name a link or pair no longer drawn go with it. */
+function prune(d, mech) {
+  const links = new Set(["frame", ...mech.links.map((l) => l.name)]), joints = new Set(mech.joints.map((j) => j.name));
+  for (const k of ["counterweights", "counter_rotors", "torques", "trace_points"]) {
+    if (!Array.isArray(d[k])) continue;
+    d[k] = d[k].filter((e) => links.has(e.link));
+    if (!d[k].length) delete d[k];
+  }
+  if (d.friction) {
+    d.friction = Object.fromEntries(Object.entries(d.friction).filter(([name]) => joints.has(name)));
+    if (!Object.keys(d.friction).length) delete d.friction;
+  }
+  if (d.coupler_inertia_kgm2 !== undefined && !links.has("coupler")) delete d.coupler_inertia_kgm2;
+  // a process load is on the output: a torque on one that turns, a force on one that slides (or of fixed direction)
+  const out = mech.links.find((l) => l.name === mech.output);
+  if (Array.isArray(d.loads) && out) {
+    const slides = out.joints.length === 1;
+    d.loads = d.loads.filter((l) => {
+      const want = !slides && l.direction !== "frame" ? "torque_Nm" : "force_N", other = want === "force_N" ? "torque_Nm" : "force_N";
+      return l[want] !== undefined && l[want] !== null && (l[other] === undefined || l[other] === null);
+    });
+    if (!d.loads.length) delete d.loads;
+  }
+}
+
+/** A link's mass properties: as the design gave them (they stay with the link by name), or the bar rule. */
+const PROPS = ["mass_kg", "com_m", "inertia_kgm2"];
+function propsOf(link) {
+  if (!link) return undefined;
+  return Object.fromEntries(PROPS.filter((k) => link[k] !== undefined).map((k) => [k, clone(link[k])]));
+}
 const pt = (name) => ed.model.points.find((p) => p.name === name);
 const bodiesAt = (m, name) => [...m.links.filter((l) => l.points.includes(name)).map((l) => l.name),
   ...m.blocks.filter((b) => b.point === name).map((b) => b.name)];
@@ -63,25 +112,36 @@ export function toMechanism(m) {
       return [Math.cos(th) * d[0] + Math.sin(th) * d[1], -Math.sin(th) * d[0] + Math.cos(th) * d[1]];
     });
     local[0] = [0, 0]; local[1] = [L, 0];
-    const com = [local.reduce((t, q) => t + q[0], 0) / local.length, local.reduce((t, q) => t + q[1], 0) / local.length];
-    const mass = l.mass_kg ?? KG_PER_M * local.slice(1).reduce((t, q) => t + Math.hypot(q[0], q[1]), 0);
-    const r2 = local.reduce((t, q) => t + (q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2, 0) / local.length;
     const out = { name: l.name, joints: names.slice(0, 2), length_m: L };
     if (names.length > 2) out.points_m = Object.fromEntries(names.slice(2).map((n, k) => [n, local[k + 2]]));
-    Object.assign(out, { mass_kg: mass, com_m: com, inertia_kgm2: (mass * r2) / 3 });
-    return out;
+    if (l.props) return Object.assign(out, clone(l.props));
+    const com = [local.reduce((t, q) => t + q[0], 0) / local.length, local.reduce((t, q) => t + q[1], 0) / local.length];
+    const mass = KG_PER_M * local.slice(1).reduce((t, q) => t + Math.hypot(q[0], q[1]), 0);
+    const r2 = local.reduce((t, q) => t + (q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2, 0) / local.length;
+    return Object.assign(out, { mass_kg: mass, com_m: com, inertia_kgm2: (mass * r2) / 3 });
   });
-  for (const b of m.blocks) links.push({ name: b.name, joints: [b.point], mass_kg: b.mass_kg ?? BLOCK_KG });
+  for (const b of m.blocks) links.push({ name: b.name, joints: [b.point], ...(b.props ? clone(b.props) : { mass_kg: BLOCK_KG }) });
+  // a pair keeps the name the design gave it (friction and branches are keyed by it), else its point's
+  const names = m.jointNames || {}, used = new Set();
+  const named = (kind, links, fallback) => {
+    const want = names[jointKey(kind, links)];
+    const name = want && !used.has(want) ? want : fallback;
+    used.add(name);
+    return name;
+  };
   const joints = [];
   for (const p of m.points) {
     const bodies = [...(p.ground ? ["frame"] : []), ...bodiesAt(m, p.name)];
     for (let k = 0; k + 1 < bodies.length; k++) {
-      const j = { name: k ? `${p.name}_${k + 1}` : p.name, kind: "revolute", links: [bodies[k], bodies[k + 1]] };
-      if (k) j.point = p.name;
+      const pair = [bodies[k], bodies[k + 1]];
+      const j = { name: named("revolute", pair, k ? `${p.name}_${k + 1}` : p.name), kind: "revolute", links: pair };
+      if (j.name !== p.name) j.point = p.name;
       joints.push(j);
     }
   }
-  for (const b of m.blocks) joints.push({ name: `${b.name}_guide`, kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+  for (const b of m.blocks) {
+    joints.push({ name: named("prismatic", ["frame", b.name], `${b.name}_guide`), kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+  }
   const mech = { type: "linkage", frame_points_m: frame, links, joints };
   if (crank) mech.crank = crank.name;
   const output = outputOf(m, crank);
@@ -127,22 +187,27 @@ export function fromAnswer(design, answer, i) {
       names.forEach((n) => add(n, false));
       if (names.length === 1) {
         const g = (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && j.links.includes("frame"));
-        if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, mass_kg: l.mass_kg });
-      } else links.push({ name: l.name, points: names, mass_kg: l.mass_kg });
+        if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, props: propsOf(l) });
+      } else links.push({ name: l.name, points: names, props: propsOf(l) });
     }
-    return { points, links, blocks, crank: mech.crank, output: mech.output, branches: { ...(mech.branches || {}) } };
+    const jointNames = Object.fromEntries((mech.joints || []).map((j) => [jointKey(j.kind, j.links), j.name]));
+    return { points, links, blocks, crank: mech.crank, output: mech.output, branches: { ...(mech.branches || {}) }, jointNames };
   }
+  const famLinks = mech.links || {};
   const fam = mech.type;
   if (fam === "fourbar") {
     ["O", "Q"].forEach((n) => add(n, true)); ["A", "B"].forEach((n) => add(n, false));
-    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "coupler", points: ["A", "B"] }, { name: "rocker", points: ["Q", "B"] }],
-      blocks: [], crank: "crank", output: "rocker", branches: {} };
+    // the family's link frames are the drawing's (origin at the first point, x toward the second): masses carry over
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: propsOf(famLinks.crank) }, { name: "coupler", points: ["A", "B"], props: propsOf(famLinks.coupler) },
+      { name: "rocker", points: ["Q", "B"], props: propsOf(famLinks.rocker) }],
+    blocks: [], crank: "crank", output: "rocker", branches: {} };
   }
   if (fam === "slider_crank") {
     add("O", true); add("A", false); add("B", false);
     points.push({ name: "G", x: at("B")[0], y: at("B")[1], ground: true });
-    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "rod", points: ["A", "B"] }],
-      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0 }], crank: "crank", output: "slider", branches: {} };
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: propsOf(famLinks.crank) }, { name: "rod", points: ["A", "B"], props: propsOf(famLinks.rod) }],
+      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0, props: propsOf(famLinks.slider) }], crank: "crank", output: "slider",
+      branches: {}, jointNames: { [jointKey("prismatic", ["frame", "slider"])]: "guide" } };
   }
   return null;
 }
@@ -172,7 +237,7 @@ function nextLinkName(prefix) {
 
 /** Apply an edit: the model before it goes on the undo stack (a drag pushes once, at its start). */
 function change(fn, { push = true, topology = true } = {}) {
-  if (push) { ed.undo.push(JSON.stringify(ed.model)); ed.redo = []; if (ed.undo.length > 500) ed.undo.shift(); }
+  if (push) { ed.undo.push(snapshot()); ed.redo = []; if (ed.undo.length > 500) ed.undo.shift(); }
   fn(ed.model);
   if (topology) ed.fit = 4;
   commit();
@@ -180,16 +245,16 @@ function change(fn, { push = true, topology = true } = {}) {
 
 function undo() {
   if (!ed.undo.length) return;
-  ed.redo.push(JSON.stringify(ed.model));
-  ed.model = JSON.parse(ed.undo.pop());
+  ed.redo.push(snapshot());
+  restore(ed.undo.pop());
   ed.fit = 4; ed.pending = [];
   commit();
 }
 
 function redo() {
   if (!ed.redo.length) return;
-  ed.undo.push(JSON.stringify(ed.model));
-  ed.model = JSON.parse(ed.redo.pop());
+  ed.undo.push(snapshot());
+  restore(ed.redo.pop());
   ed.fit = 4; ed.pending = [];
   commit();
 }
@@ -215,12 +280,9 @@ function commit(t0 = performance.now()) {
   const { offset } = toMechanism(ed.model);
   ed.offset = offset;
   const d = state.design;
-  if (d.mechanism.type !== "linkage") {
-    // names of the families' links mean nothing in a drawing: their loads, counterweights and points go
-    delete d.loads; delete d.counterweights; delete d.counter_rotors; delete d.coupler_inertia_kgm2; delete d.trace_points;
-  }
   const wasLinkage = d.mechanism.type === "linkage";
   d.mechanism = c.mech;
+  prune(d, c.mech);
   // the JSON box follows at the end of a drag, not at every step of it
   if (!ed.dragging) syncJson(wasLinkage);
   render();
@@ -374,6 +436,19 @@ function drawCanvas() {
     const role = l.name === (crank && crank.name) ? " (crank)" : l.name === outputOf(m, crank) ? " (output)" : "";
     g.appendChild(s("text", { class: "draw-link-name", x: c[0] + 6 * sw, y: Y(c[1]) - 6 * sw, "font-size": 11 * sw }, l.name + role));
   }
+  // counterweights where they sit on their links, the disc's area as their mass
+  const mechLinks = Object.fromEntries(((state.design && state.design.mechanism.links) || []).map((l) => [l.name, l]));
+  const cws = (state.design && state.design.counterweights) || [];
+  const heaviest = Math.max(1e-9, ...cws.map((cw) => cw.mass_kg));
+  for (const cw of cws) {
+    const l = mechLinks[cw.link], p0 = l && pt(l.joints[0]), p1 = l && l.joints[1] && pt(l.joints[1]);
+    if (!p0) continue;
+    const th = p1 ? Math.atan2(p1.y - p0.y, p1.x - p0.x) : 0, [u, w] = cw.position_m;
+    const x = p0.x + Math.cos(th) * u - Math.sin(th) * w, y = p0.y + Math.sin(th) * u + Math.cos(th) * w;
+    g.appendChild(s("line", { class: "draw-cw-arm", x1: p0.x, y1: Y(p0.y), x2: x, y2: Y(y), "stroke-width": 3 * sw }));
+    g.appendChild(s("circle", { class: "draw-cw", cx: x, cy: Y(y), r: (6 + 8 * Math.sqrt(cw.mass_kg / heaviest)) * sw, "stroke-width": sw },
+      s("title", {}, `counterweight ${cw.mass_kg.toPrecision(3)} kg on the ${cw.link}`)));
+  }
   for (const b of m.blocks) {
     const jp = pt(b.point);
     if (jp && b.name === outputOf(m, crank)) g.appendChild(s("text", { class: "draw-link-name", x: jp.x + 18 * sw, y: Y(jp.y) + 4 * sw, "font-size": 11 * sw }, `${b.name} (output)`));
@@ -464,7 +539,7 @@ function onPointerDown(e) {
   if (t === "move") {
     if (hit) {
       ed.selected = `point:${hit}`;
-      ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+      ed.undo.push(snapshot()); ed.redo = [];
       ed.dragging = { name: hit, moved: false };
       svg.setPointerCapture(e.pointerId);
       render();
@@ -579,7 +654,7 @@ function onSideClick(e) {
 
 export function openTemplate(key) {
   const t = TEMPLATES[key];
-  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.undo.push(snapshot()); ed.redo = [];
   ed.model = clone(t.model);
   ed.fit = 4;
   ed.view = null;
@@ -605,6 +680,8 @@ export function setEditing(on) {
   ed.model = imported || emptyModel();
   ed.undo = []; ed.redo = []; ed.pending = []; ed.structureKey = "";
   ed.answerOk = Boolean(imported) && state.design.mechanism.type === "linkage";
+  // a family's assembly branch becomes the drawing's: read off the points as they were drawn
+  if (imported && state.design.mechanism.type !== "linkage") ed.fit = 4;
   ed.offset = [0, 0];
   ed.view = viewFor(ed.model);
   if (imported) commit(); else render();
@@ -612,7 +689,7 @@ export function setEditing(on) {
 
 /** Start over with an empty canvas (the chain drawn from nothing). */
 export function clearDrawing() {
-  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.undo.push(snapshot()); ed.redo = [];
   ed.model = emptyModel();
   // room for a linkage a metre across, in the canvas's proportions
   const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
