@@ -53,12 +53,16 @@ def _shot(page: Page, name: str) -> None:
     print(f"screenshot: {SHOTS / name}.png")
 
 
-def _click(page: Page, x: float, y: float) -> None:
+def _click(page: Page, x: float, y: float, hold: str = "") -> None:
     """Click the canvas at model point (x, y) [m] and wait until the editor has handled the press; where it landed is
     checked, so a canvas that moved between reading its position and the click fails here, not as a wrong link."""
     n = page.evaluate("window.workbench.editor.ed.presses")
     sx, sy = page.evaluate(f"window.workbench.editor.toScreen({x}, {y})")
+    if hold:
+        page.keyboard.down(hold)
     page.mouse.click(sx, sy)
+    if hold:
+        page.keyboard.up(hold)
     page.wait_for_function(f"window.workbench.editor.ed.presses > {n}", timeout=10_000)
     landed = page.evaluate("window.workbench.editor.ed.lastPress")
     per_px = page.evaluate("window.workbench.editor.ed.view.w / document.getElementById('draw-canvas')"
@@ -144,7 +148,7 @@ def test_a_press_drawn_from_clicks_is_the_json_press_drags_and_undoes(page: Page
     _tool(page, "t")
     _click(page, *Q); _click(page, *B); _click(page, *C)  # rocker Q-B with its arm to C  # noqa: E702
     _tool(page, "b")
-    _click(page, *C); _click(page, *D)          # rod C-D  # noqa: E702
+    _click(page, *C); _click(page, *D, "Shift")  # rod C-D, D on the grid at any length  # noqa: E702
     assert "degrees of freedom" in (page.text_content("#draw-messages") or "")  # W = 3·4 − 2·5 = 2 before the ram
     _tool(page, "s")
     _click(page, *D); _click(page, *G)          # the ram on a guide through G, upwards  # noqa: E702
@@ -215,11 +219,12 @@ def test_a_two_degree_of_freedom_chain_is_named_at_once(page: Page) -> None:
     _shot(page, "draw-two-dof")
 
 
-@pytest.mark.parametrize("key", ["fourbar", "slider_crank", "quick_return", "watt", "press", "toggle"])
+@pytest.mark.parametrize("key", ["fourbar", "slider_crank", "quick_return", "watt", "press", "toggle", "stephenson"])
 def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: str) -> None:
     page.evaluate(f"window.workbench.editor.openTemplate({json.dumps(key)})")
     _settled(page)
     assert page.get_attribute("body", "data-draw-problem") == "", key
+    assert page.get_attribute("body", "data-mobility") == "1", key
     ed = page.evaluate("window.workbench.editor.ed")
     answer = page.evaluate("window.workbench.state.answer")
     mech = page.evaluate("window.workbench.state.design.mechanism")
@@ -235,6 +240,13 @@ def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: s
         assert math.hypot(got[0] + ed["offset"][0] - x, got[1] + ed["offset"][1] - y) < 5 * crank["length_m"] * step, (key, name)
     if key == "press":
         _shot(page, "draw-template-press")
+    if key == "stephenson":
+        # its two ternary links, the frame and the coupler, share no pair; the service split it into two dyads
+        assert len(mech["frame_points_m"]) == 3 and len(mech["links"][1]["points_m"]) == 1
+        assert not any(set(j["links"]) == {"frame", "coupler"} for j in mech["joints"])
+        groups = page.evaluate("window.workbench.editor.ed.groups")
+        assert [(g["group_class"], g["links"]) for g in groups] == [("II", ["coupler", "rocker"]), ("II", ["link", "follower"])]
+        _shot(page, "draw-template-stephenson")
 
 
 # A four-bar written as a general linkage with its own masses, centres and inertias (none by the editor's bar rule)
@@ -313,3 +325,22 @@ def test_a_balanced_linkage_keeps_its_masses_and_counterweights_as_it_is_edited(
     _settled(page)
     assert page.evaluate("window.workbench.state.design.counterweights") == counterweights
     _assert_same(page.evaluate("window.workbench.state.answer"), ref, points=("A", "B"))
+
+
+def test_a_link_drawn_from_a_point_snaps_to_a_round_length_and_shift_places_it_freely(page: Page) -> None:
+    page.click("#draw-new")
+    page.select_option("#draw-grid", "0.005")
+    _tool(page, "f")
+    _click(page, 0.0, 0.0)
+    _tool(page, "b")
+    _click(page, 0.0, 0.0); _click(page, 0.2, 0.11)  # noqa: E702
+    # clicked on the grid point (0.2, 0.11), 228.25 mm from O: placed along that line at 230 mm, 46 grid steps
+    a = next(p for p in page.evaluate("window.workbench.editor.ed.model.points") if p["name"] == "A")
+    scale = 0.23 / math.hypot(0.2, 0.11)
+    assert abs(a["x"] - 0.2 * scale) < 1e-12 and abs(a["y"] - 0.11 * scale) < 1e-12, a
+    assert page.input_value("[id='dl-L1']") == "230"
+    # Shift: the far end on the grid point itself, the link as long as that makes it
+    _click(page, a["x"], a["y"]); _click(page, 0.35, 0.2, "Shift")  # noqa: E702
+    b = next(p for p in page.evaluate("window.workbench.editor.ed.model.points") if p["name"] == "B")
+    assert (b["x"], b["y"]) == (0.35, 0.2)
+    assert page.input_value("[id='dl-L2']") == f"{math.hypot(0.35 - a['x'], 0.2 - a['y']) * 1000:.8g}"

@@ -18,7 +18,7 @@ const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
 
 export const ed = {
   on: false, model: null, tool: "move", pending: [], selected: null, undo: [], redo: [], view: null,
-  grid: 0.01, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
+  grid: 0.005, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
   // every press on the canvas handled, and where it landed [m]: a script clicking waits on these
   presses: 0, lastPress: null,
 };
@@ -217,9 +217,20 @@ function snap(v) { return Math.round(v / ed.grid) * ed.grid; }
 function snapXY([x, y], free) {
   if (free) return [x, y];
   // to the grid in the chosen unit, exact in it (300 mm is 0.3 m, not 0.30000000000000004)
-  const u = factor("length");
-  const r = (v) => Math.round(snap(v) / u * 1e6) / 1e6 * u;
+  const per = Math.round(1 / factor("length")) * 1e6;
+  const r = (v) => Math.round(snap(v) * per) / per;
   return [r(x), r(y)];
+}
+
+/** A joint placed as the far end of a binary link: the link's length a whole number of grid steps (exact in the
+ *  chosen unit), its direction as clicked. */
+function snapLength(from, xy) {
+  const dx = xy[0] - from.x, dy = xy[1] - from.y, L = Math.hypot(dx, dy);
+  if (L < 1e-12) return xy;
+  const per = Math.round(1 / factor("length")) * 1e6;
+  const want = Math.round(Math.max(1, Math.round(L / ed.grid)) * ed.grid * per) / per;
+  if (Math.abs(want - L) < 1e-9) return xy;  // the grid point is already at a round length: keep it exact
+  return [from.x + (dx * want) / L, from.y + (dy * want) / L];
 }
 
 function nextName(ground) {
@@ -547,7 +558,9 @@ function onPointerDown(e) {
   } else if (t === "frame" || t === "joint") {
     if (hit) { ed.selected = `point:${hit}`; render(); } else place(xy, t === "frame");
   } else if (t === "bar" || t === "plate") {
-    const name = hit || place(xy, false);
+    // Shift: the point on the grid, its link any length; Alt: anywhere
+    const from = t === "bar" && ed.pending.length ? pt(ed.pending[0]) : null;
+    const name = hit || place(from && !e.shiftKey && !e.altKey ? snapLength(from, xy) : xy, false);
     if (!ed.pending.includes(name)) ed.pending.push(name);
     if (ed.pending.length === (t === "bar" ? 2 : 3)) {
       const points = ed.pending; ed.pending = [];
@@ -710,7 +723,7 @@ export function toScreen(x, y) {
 
 function install() {
   const fig = document.getElementById("drawing-box");
-  const canvas = s("svg", { id: "draw-canvas", tabindex: "0", role: "application", "aria-label": "Drawing canvas: tools by letter (V move, F frame point, J joint, B binary link, T ternary link, S block, C crank, O output, X delete), arrows move the selected point, Ctrl+Z undo, Ctrl+Y redo", hidden: true });
+  const canvas = s("svg", { id: "draw-canvas", tabindex: "0", role: "application", "aria-label": "Drawing canvas: tools by letter (V move, F frame point, J joint, B binary link, T ternary link, S block, C crank, O output, X delete), a link's far end snaps to a length in whole grid steps (Shift: any length, Alt: off the grid), arrows move the selected point, Ctrl+Z undo, Ctrl+Y redo", hidden: true });
   fig.insertBefore(canvas, document.getElementById("drawing").nextSibling);
   const side = h("section", { id: "draw-side", class: "draw-side", "aria-label": "Drawing: points and links", hidden: true });
   const aside = document.getElementById("editor");

@@ -21,6 +21,10 @@ export const TEMPLATES = {
     links: [...fourbarLinks, L("rocker", "Q", "B", "C"), L("rod", "C", "D")], blocks: [{ name: "ram", point: "D", through: "G", axis_deg: 90 }],
     crank: "crank", output: "ram", branches: {} },
   loads: [{ type: "window", force_N: 2000, start_deg: 200, end_deg: 300 }] },
+  // the two ternary links not joined to each other: the frame (O, Q, R) and the coupler (A, B, C)
+  stephenson: { label: "Stephenson six-bar", model: { points: [...fourbar, J("C", 0, 0.5), F("R", 0.7, 0.2), J("D", 0.5, 0.7)],
+    links: [L("crank", "O", "A"), L("coupler", "A", "B", "C"), L("rocker", "Q", "B"), L("link", "C", "D"), L("follower", "R", "D")], blocks: [],
+    crank: "crank", output: "follower", branches: {} } },
   toggle: { label: "toggle press", model: { points: [F("O", 0, 0), F("Q", 0.5, 0.3), F("G", 0.5, -0.5), J("A", 0.1, 0), J("B", 0.5, 0), J("D", 0.5, -0.3)],
     links: [L("crank", "O", "A"), L("coupler", "A", "B"), L("rocker", "Q", "B"), L("toggle", "B", "D")],
     blocks: [{ name: "ram", point: "D", through: "G", axis_deg: 90 }], crank: "crank", output: "ram", branches: {} } },
