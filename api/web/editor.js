@@ -1,7 +1,7 @@
 // The drawing editor: a general linkage placed point by point on the canvas, kept as one model (points, links,
 // blocks on guides) from which the `linkage` mechanism of the request is written. Every edit is undoable; the JSON
 // box of the form is a view of the same mechanism; the structure (mobility, Assur groups) is said as you draw.
-import { state, edited, renderForm, factor, markStale } from "./app.js";
+import { state, edited, analyse, renderForm, factor, markStale } from "./app.js";
 import { post, Problem } from "./api.js";
 import { h, s, put } from "./dom.js";
 import { TEMPLATES } from "./templates.js";
@@ -153,7 +153,7 @@ export function toMechanism(m) {
 
 /** W = 3n − 2p and what is wrong with the chain, each said at its place. */
 export function check(m) {
-  const { mech, crank } = toMechanism(m);
+  const { mech, crank, offset } = toMechanism(m);
   const n = mech.links.length, p = mech.joints.length, W = 3 * n - 2 * p;
   const out = [];
   for (const q of m.points) {
@@ -166,7 +166,7 @@ export function check(m) {
   if (n && !crank) out.push({ at: null, text: "no link turns about a frame point: nothing can be the crank" });
   if (n && W > 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain has ${W} degrees of freedom; one crank cannot drive it (add a link, or join a joint to the frame)` });
   if (n && W < 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain cannot move (a structure); remove a link or a pair` });
-  return { W, n, p, problems: out, mech };
+  return { W, n, p, problems: out, mech, offset };
 }
 
 // --- the editor's model from a mechanism the service answered for -----------------------------------------------------
@@ -288,11 +288,11 @@ function commit(t0 = performance.now()) {
   const c = check(ed.model);
   lastChecked = c;
   ed.messages = c.problems;
-  const { offset } = toMechanism(ed.model);
-  ed.offset = offset;
+  ed.offset = c.offset;
   const d = state.design;
   const wasLinkage = d.mechanism.type === "linkage";
   d.mechanism = c.mech;
+  ed.committed = JSON.stringify(c.mech);
   prune(d, c.mech);
   // the JSON box follows at the end of a drag, not at every step of it
   if (!ed.dragging) syncJson(wasLinkage);
@@ -305,12 +305,13 @@ function commit(t0 = performance.now()) {
     ed.answerOk = false;
     markStale(c.problems.length ? c.problems[0].text : "nothing drawn yet");
     document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
-    history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
+    if (!ed.dragging) history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
     return null;
   }
   document.body.dataset.drawProblem = "";
   refreshStructure(c.mech);
-  return edited(t0);
+  // the address bar (the whole design, encoded) follows at the end of a drag: writing it costs as much as drawing
+  return ed.dragging ? analyse(t0) : edited(t0);
 }
 
 function syncJson(wasLinkage) {
@@ -410,8 +411,9 @@ function drawCanvas() {
   const sw = v.w / 600, g = s("g", { "stroke-width": sw });
   const Y = (y) => -y;
   // the grid: one line per step, every tenth darker
-  const step = ed.grid;
-  if (v.w / step < 300) {
+  // a line every grid step, or every 2, 5, 10… steps when the view is wide for it
+  const step = ed.grid * [1, 2, 5, 10, 20, 50, 100].find((k) => v.w / (ed.grid * k) <= 120);
+  if (Number.isFinite(step)) {
     const grid = s("g", { class: "draw-grid" });
     for (let x = Math.ceil(v.x0 / step) * step; x <= v.x0 + v.w; x += step) grid.appendChild(s("line", { x1: x, x2: x, y1: Y(v.y0), y2: Y(v.y0 + v.h), "stroke-width": sw * 0.5 }));
     for (let y = Math.ceil(v.y0 / step) * step; y <= v.y0 + v.h; y += step) grid.appendChild(s("line", { y1: Y(y), y2: Y(y), x1: v.x0, x2: v.x0 + v.w, "stroke-width": sw * 0.5 }));
@@ -587,15 +589,26 @@ function onPointerDown(e) {
   e.preventDefault();
 }
 
+// A drag keeps at most one analysis in flight: the joint follows the pointer at once, and the position it has when
+// the answer comes is the next one sent (the moves in between are never asked for, so none is thrown away).
 function onPointerMove(e) {
   if (!ed.dragging) return;
   const t0 = performance.now();
-  const svg = e.currentTarget;
-  const [x, y] = snapXY(toModel(svg, e), e.altKey);
-  const p = pt(ed.dragging.name);
+  const d = ed.dragging, [x, y] = snapXY(toModel(e.currentTarget, e), e.altKey);
+  const p = pt(d.name);
   if (p.x === x && p.y === y) return;
-  p.x = x; p.y = y; ed.dragging.moved = true;
+  p.x = x; p.y = y; d.moved = true;
   state.dragging = true;
+  if (d.since === undefined) d.since = t0;  // the oldest move not yet analysed: the latency is counted from it
+  if (state.pending) { d.queued = true; drawCanvas(); updateSide(); return; }
+  sendDrag();
+}
+
+function sendDrag() {
+  const d = ed.dragging;
+  if (!d || d.since === undefined) return;
+  const t0 = d.since;
+  d.since = undefined; d.queued = false;
   commit(t0);
 }
 
@@ -742,10 +755,15 @@ function install() {
   document.addEventListener("keydown", onKey);
   side.addEventListener("change", onSideChange);
   side.addEventListener("click", onSideClick);
+  // the answer's own drawing first (the rest of analyse runs before a microtask), then the drag's latest position
+  const sendQueued = () => { if (ed.dragging && ed.dragging.queued) queueMicrotask(sendDrag); };
+  state.hooks.answer.push(sendQueued);
+  state.hooks.problem.push(sendQueued);
   state.hooks.answer.push((answer) => {
     if (!ed.on) return;
     ed.problem = null;
-    const mine = JSON.stringify(state.design.mechanism) === JSON.stringify(toMechanism(ed.model).mech);
+    // the drawing's own linkage (a dragged joint may have moved on since it was sent)
+    const mine = JSON.stringify(state.design.mechanism) === ed.committed;
     if (!mine) {
       // the JSON box or a panel changed the linkage: the drawing follows it
       const m = fromAnswer(state.design, answer, state.index);
