@@ -219,8 +219,9 @@ def test_a_two_degree_of_freedom_chain_is_named_at_once(page: Page) -> None:
     _shot(page, "draw-two-dof")
 
 
-@pytest.mark.parametrize("key", ["fourbar", "slider_crank", "quick_return", "watt", "press", "toggle", "stephenson"])
+@pytest.mark.parametrize("key", ["fourbar", "slider_crank", "quick_return", "watt", "press", "toggle", "stephenson", "shaper"])
 def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: str) -> None:
+    page.evaluate("window.workbench.editor.ed.on || window.workbench.editor.setEditing(true)")
     page.evaluate(f"window.workbench.editor.openTemplate({json.dumps(key)})")
     _settled(page)
     assert page.get_attribute("body", "data-draw-problem") == "", key
@@ -247,6 +248,8 @@ def test_every_template_analyses_on_the_branch_it_is_drawn_in(page: Page, key: s
         groups = page.evaluate("window.workbench.editor.ed.groups")
         assert [(g["group_class"], g["links"]) for g in groups] == [("II", ["coupler", "rocker"]), ("II", ["link", "follower"])]
         _shot(page, "draw-template-stephenson")
+    if key == "shaper":
+        _shot(page, "draw-template-shaper")
 
 
 # A four-bar written as a general linkage with its own masses, centres and inertias (none by the editor's bar rule)
@@ -344,3 +347,33 @@ def test_a_link_drawn_from_a_point_snaps_to_a_round_length_and_shift_places_it_f
     b = next(p for p in page.evaluate("window.workbench.editor.ed.model.points") if p["name"] == "B")
     assert (b["x"], b["y"]) == (0.35, 0.2)
     assert page.input_value("[id='dl-L2']") == f"{math.hypot(0.35 - a['x'], 0.2 - a['y']) * 1000:.8g}"
+
+
+def test_a_block_in_the_slot_of_a_moving_lever_is_drawn_and_the_lever_follows_the_crank_pin(page: Page) -> None:
+    page.click("#draw-new")
+    # O1 300 mm below O, the pin A 100 mm from O, B on the line O1-A 1.5 times as far
+    o, o1, a, b = (0.0, 0.35), (0.0, 0.05), (0.06, 0.43), (0.09, 0.62)
+    _tool(page, "f")
+    _click(page, *o); _click(page, *o1)  # noqa: E702
+    _tool(page, "b")
+    _click(page, *o); _click(page, *a)  # crank O-A, 100 mm  # noqa: E702
+    _click(page, *o1); _click(page, *b, "Shift")  # the lever O1-B  # noqa: E702
+    lever_mid = ((o1[0] + a[0]) / 2, (o1[1] + a[1]) / 2)
+    _tool(page, "s")
+    _click(page, *a); _click(page, *lever_mid)  # a block at the crank pin A in the lever's slot  # noqa: E702
+    _tool(page, "o")
+    _click(page, *lever_mid)
+    _settled(page)
+    assert page.get_attribute("body", "data-mobility") == "1"
+    assert page.get_attribute("body", "data-draw-problem") == ""
+    mech = page.evaluate("window.workbench.state.design.mechanism")
+    assert {"name": "block1_slot", "kind": "prismatic", "links": ["L2", "block1"], "axis_link": "L2",
+            "axis_deg": 0} in mech["joints"]
+    assert mech["output"] == "L2"
+    answer = page.evaluate("window.workbench.state.answer")
+    # the lever always points from its pivot O1 through the crank pin A (positions relative to the crank pivot O)
+    pins = answer["points"]["A"]["position_m"]
+    want = [math.degrees(math.atan2(p[1] - (o1[1] - o[1]), p[0] - (o1[0] - o[0]))) for p in pins]
+    got = answer["links"]["L2"]["angle_deg"]
+    assert max(abs((g - w + 180) % 360 - 180) for g, w in zip(got, want, strict=True)) < 1e-9
+    _shot(page, "draw-slot")

@@ -12,7 +12,7 @@ const KG_PER_M = 10, BLOCK_KG = 5;
 const GRID = { mm: [0.005, 0.01, 0.05], m: [0.01, 0.05, 0.1] };
 const TOOLS = [["move", "V", "Move / select"], ["frame", "F", "Frame point"], ["joint", "J", "Joint"],
   ["bar", "B", "Binary link (2 points)"], ["plate", "T", "Ternary link (3 points)"],
-  ["slide", "S", "Block on a guide: joint, then frame point"], ["crank", "C", "Crank"], ["output", "O", "Output"],
+  ["slide", "S", "Block on a guide or in a slot: joint, then frame point or link"], ["crank", "C", "Crank"], ["output", "O", "Output"],
   ["delete", "X", "Delete"]];
 const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
 
@@ -140,7 +140,9 @@ export function toMechanism(m) {
     }
   }
   for (const b of m.blocks) {
-    joints.push({ name: named("prismatic", ["frame", b.name], `${b.name}_guide`), kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+    // a block in a slot of a moving link: the slot through that link's origin at axis_deg in its frame
+    if (b.slot) joints.push({ name: named("prismatic", [b.slot, b.name], `${b.name}_slot`), kind: "prismatic", links: [b.slot, b.name], axis_link: b.slot, axis_deg: b.axis_deg });
+    else joints.push({ name: named("prismatic", ["frame", b.name], `${b.name}_guide`), kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
   }
   const mech = { type: "linkage", frame_points_m: frame, links, joints };
   if (crank) mech.crank = crank.name;
@@ -187,7 +189,9 @@ export function fromAnswer(design, answer, i) {
       names.forEach((n) => add(n, false));
       if (names.length === 1) {
         const g = (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && j.links.includes("frame"));
+        const slot = !g && (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && (j.axis_link || j.links[0]) !== l.name);
         if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, props: propsOf(l) });
+        else if (slot) blocks.push({ name: l.name, point: names[0], slot: slot.axis_link || slot.links[0], axis_deg: slot.axis_deg || 0, props: propsOf(l) });
       } else links.push({ name: l.name, points: names, props: propsOf(l) });
     }
     const jointNames = Object.fromEntries((mech.joints || []).map((j) => [jointKey(j.kind, j.links), j.name]));
@@ -270,16 +274,38 @@ function redo() {
   commit();
 }
 
+/** Blocks whose slot was in a link no longer there go with it (and the blocks in theirs). */
+function dropSlots(m) {
+  for (let n = -1; n !== m.blocks.length;) {
+    n = m.blocks.length;
+    const bodies = new Set([...m.links.map((l) => l.name), ...m.blocks.map((b) => b.name)]);
+    m.blocks = m.blocks.filter((b) => !b.slot || bodies.has(b.slot));
+  }
+}
+
+/** The world angle [deg] of a block's slide: its guide's, or its slot's in the slotted link as drawn. */
+function slideAngle(m, b, depth = 0) {
+  if (!b.slot) return b.axis_deg;
+  const l = m.links.find((q) => q.name === b.slot);
+  if (l) {
+    const [a, c] = l.points.map((n) => m.points.find((p) => p.name === n));
+    return (Math.atan2(c.y - a.y, c.x - a.x) * 180) / Math.PI + b.axis_deg;
+  }
+  const host = m.blocks.find((q) => q.name === b.slot);
+  return (host && depth < 8 ? slideAngle(m, host, depth + 1) : 0) + b.axis_deg;
+}
+
 function deletePoint(name) {
   change((m) => {
     m.points = m.points.filter((p) => p.name !== name);
     m.links = m.links.filter((l) => !l.points.includes(name));
     m.blocks = m.blocks.filter((b) => b.point !== name && b.through !== name);
+    dropSlots(m);
   });
 }
 
 function deleteLink(name) {
-  change((m) => { m.links = m.links.filter((l) => l.name !== name); m.blocks = m.blocks.filter((b) => b.name !== name); });
+  change((m) => { m.links = m.links.filter((l) => l.name !== name); m.blocks = m.blocks.filter((b) => b.name !== name); dropSlots(m); });
 }
 
 // --- the model into the design, the drawing, the table ----------------------------------------------------------------
@@ -431,13 +457,20 @@ function drawCanvas() {
     }
   }
   for (const b of m.blocks) {
-    const gp = pt(b.through), jp = pt(b.point);
+    const jp = pt(b.point), host = b.slot && (m.links.find((l) => l.name === b.slot) || m.blocks.find((q) => q.name === b.slot));
+    const gp = b.slot ? host && pt(host.points ? host.points[0] : host.point) : pt(b.through);
     if (!gp || !jp) continue;
-    const a = (b.axis_deg * Math.PI) / 180, L = v.w;
-    g.appendChild(s("line", { class: "guide", x1: gp.x - Math.cos(a) * L, y1: Y(gp.y - Math.sin(a) * L), x2: gp.x + Math.cos(a) * L, y2: Y(gp.y + Math.sin(a) * L),
-      "stroke-width": sw, "stroke-dasharray": `${8 * sw} ${3 * sw}` }));
+    const deg = slideAngle(m, b), a = (deg * Math.PI) / 180;
+    // a frame guide runs across the view; a slot is drawn along its link, a little past the block either way
+    const L = b.slot ? Math.hypot(jp.x - gp.x, jp.y - gp.y) + 40 * sw : v.w;
+    g.appendChild(s("line", { class: b.slot ? "slot" : "guide", x1: gp.x - Math.cos(a) * (b.slot ? 0 : L), y1: Y(gp.y - Math.sin(a) * (b.slot ? 0 : L)), x2: gp.x + Math.cos(a) * L, y2: Y(gp.y + Math.sin(a) * L),
+      "stroke-width": b.slot ? 12 * sw : sw, "stroke-dasharray": b.slot ? null : `${8 * sw} ${3 * sw}` }));
+    if (b.slot) {
+      // the slot's own run the other way, for a block between the link's origin and its far side
+      g.appendChild(s("line", { class: "slot", x1: gp.x, y1: Y(gp.y), x2: gp.x - Math.cos(a) * 40 * sw, y2: Y(gp.y - Math.sin(a) * 40 * sw), "stroke-width": 12 * sw }));
+    }
     g.appendChild(s("rect", { class: "slider", dataset: { link: b.name }, x: jp.x - 16 * sw, y: Y(jp.y) - 9 * sw, width: 32 * sw, height: 18 * sw, "stroke-width": 2 * sw,
-      transform: `rotate(${-b.axis_deg} ${jp.x} ${Y(jp.y)})`, stroke: colour[b.name] || "#2d3e5c" }, s("title", {}, b.name)));
+      transform: `rotate(${-deg} ${jp.x} ${Y(jp.y)})`, stroke: colour[b.name] || "#2d3e5c" }, s("title", {}, b.name)));
   }
   for (const l of m.links) {
     const ps = l.points.map(pt).filter(Boolean);
@@ -502,8 +535,8 @@ function renderSide() {
     return h("tr", {}, h("td", {}, l.name), h("td", {}, l.points.join("-")),
       h("td", {}, h("input", { id: `dl-${l.name}`, "aria-label": `${l.name} length ${l.points[0]}-${l.points[1]} [${u}]`, value: num(L), dataset: { link: l.name } })));
   });
-  const blockRows = m.blocks.map((b) => h("tr", {}, h("td", {}, b.name), h("td", {}, `${b.point} on ${b.through}`),
-    h("td", {}, h("input", { id: `db-${b.name}`, "aria-label": `${b.name} guide axis [°]`, value: String(b.axis_deg), dataset: { block: b.name } }), "°")));
+  const blockRows = m.blocks.map((b) => h("tr", {}, h("td", {}, b.name), h("td", {}, b.slot ? `${b.point} in ${b.slot}` : `${b.point} on ${b.through}`),
+    h("td", {}, h("input", { id: `db-${b.name}`, "aria-label": b.slot ? `${b.name} slot axis in ${b.slot}'s frame [°]` : `${b.name} guide axis [°]`, value: String(b.axis_deg), dataset: { block: b.name } }), "°")));
   put(side,
     h("div", { class: "draw-tools", role: "radiogroup", "aria-label": "Drawing tool" }, TOOLS.map(([id, key, label]) =>
       h("button", { type: "button", role: "radio", "aria-checked": String(ed.tool === id), dataset: { tool: id }, title: `${label} (${key})`, id: `tool-${id}` }, `${label.split(" ")[0]} ${key}`))),
@@ -569,12 +602,20 @@ function onPointerDown(e) {
       change((m) => { m.links.push({ name: nextLinkName("L"), points }); });
     } else render();
   } else if (t === "slide") {
+    if (!hit && link && ed.pending.length === 1 && !pt(ed.pending[0]).ground && !bodiesAt(ed.model, ed.pending[0]).includes(link)) {
+      // a joint, then a moving link: a block at the joint in a slot of that link, along it (a block's: across it)
+      const j = ed.pending[0], host = ed.model.blocks.find((b) => b.name === link);
+      ed.pending = []; ed.problem = null;
+      change((m) => { m.blocks.push({ name: nextLinkName("block"), point: j, slot: link, axis_deg: host ? 90 : 0 }); });
+      e.preventDefault();
+      return;
+    }
     if (!hit) return;
     ed.pending.push(hit);
     if (ed.pending.length === 2) {
       const [j, gname] = ed.pending; ed.pending = [];
       const jp = pt(j), gp = pt(gname);
-      if (jp.ground || !gp.ground) { ed.problem = "a block: click its joint first, then the frame point its guide runs through"; render(); return; }
+      if (jp.ground || !gp.ground) { ed.problem = "a block: click its joint first, then the frame point its guide runs through or the link its slot is in"; render(); return; }
       ed.problem = null;
       const d = Math.hypot(jp.x - gp.x, jp.y - gp.y);
       const axis = d > 1e-12 ? Math.round(((Math.atan2(jp.y - gp.y, jp.x - gp.x) * 180) / Math.PI) / 15) * 15 : 0;
