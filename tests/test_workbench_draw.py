@@ -377,3 +377,23 @@ def test_a_block_in_the_slot_of_a_moving_lever_is_drawn_and_the_lever_follows_th
     got = answer["links"]["L2"]["angle_deg"]
     assert max(abs((g - w + 180) % 360 - 180) for g, w in zip(got, want, strict=True)) < 1e-9
     _shot(page, "draw-slot")
+
+
+@pytest.mark.parametrize("family", ["fourbar", "slider_crank", "slotted_lever"])
+def test_a_family_design_opened_in_the_editor_is_the_same_linkage(page: Page, family: str) -> None:
+    """The manual's example of each family, opened on the canvas, is analysed as a general linkage with the family's
+    masses and pair names: the same torque, shaking force and moment, reduced inertia and joint paths."""
+    page.evaluate("window.workbench.editor.ed.on && window.workbench.editor.setEditing(false)")
+    page.evaluate("f => window.workbench.setDesign({mechanism: window.workbench.editor.familyExample(f), speed_rpm: 120})",
+                  family)
+    page.wait_for_function(f"window.workbench.state.pending === null && window.workbench.state.answer && "
+                           f"window.workbench.state.design.mechanism.type === '{family}'", timeout=30_000)
+    ref = page.evaluate("window.workbench.state.answer")
+    page.click("#draw-toggle")
+    _settled(page)
+    assert page.evaluate("window.workbench.state.design.mechanism.type") == "linkage"
+    drawn = page.evaluate("window.workbench.state.answer")
+    _assert_same(drawn, ref, points=("A", "B") if family != "slotted_lever" else ("A", "B", "R"))
+    assert sorted(drawn["joint_reactions_N"]) == sorted(ref["joint_reactions_N"])  # the family's pair names
+    if family == "slotted_lever":
+        _shot(page, "draw-shaper-family")

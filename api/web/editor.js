@@ -1,7 +1,7 @@
 // The drawing editor: a general linkage placed point by point on the canvas, kept as one model (points, links,
 // blocks on guides) from which the `linkage` mechanism of the request is written. Every edit is undoable; the JSON
 // box of the form is a view of the same mechanism; the structure (mobility, Assur groups) is said as you draw.
-import { state, edited, analyse, renderForm, factor, markStale } from "./app.js";
+import { state, edited, analyse, renderForm, factor, markStale, defaultMechanism } from "./app.js";
 import { post, Problem } from "./api.js";
 import { h, s, put } from "./dom.js";
 import { TEMPLATES } from "./templates.js";
@@ -73,6 +73,8 @@ function propsOf(link) {
   if (!link) return undefined;
   return Object.fromEntries(PROPS.filter((k) => link[k] !== undefined).map((k) => [k, clone(link[k])]));
 }
+// a family's link left out of its `links` is massless
+const famProps = (link) => propsOf(link) || {};
 const pt = (name) => ed.model.points.find((p) => p.name === name);
 const bodiesAt = (m, name) => [...m.links.filter((l) => l.points.includes(name)).map((l) => l.name),
   ...m.blocks.filter((b) => b.point === name).map((b) => b.name)];
@@ -202,16 +204,27 @@ export function fromAnswer(design, answer, i) {
   if (fam === "fourbar") {
     ["O", "Q"].forEach((n) => add(n, true)); ["A", "B"].forEach((n) => add(n, false));
     // the family's link frames are the drawing's (origin at the first point, x toward the second): masses carry over
-    return { points, links: [{ name: "crank", points: ["O", "A"], props: propsOf(famLinks.crank) }, { name: "coupler", points: ["A", "B"], props: propsOf(famLinks.coupler) },
-      { name: "rocker", points: ["Q", "B"], props: propsOf(famLinks.rocker) }],
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "coupler", points: ["A", "B"], props: famProps(famLinks.coupler) },
+      { name: "rocker", points: ["Q", "B"], props: famProps(famLinks.rocker) }],
     blocks: [], crank: "crank", output: "rocker", branches: {} };
   }
   if (fam === "slider_crank") {
     add("O", true); add("A", false); add("B", false);
     points.push({ name: "G", x: at("B")[0], y: at("B")[1], ground: true });
-    return { points, links: [{ name: "crank", points: ["O", "A"], props: propsOf(famLinks.crank) }, { name: "rod", points: ["A", "B"], props: propsOf(famLinks.rod) }],
-      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0, props: propsOf(famLinks.slider) }], crank: "crank", output: "slider",
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "rod", points: ["A", "B"], props: famProps(famLinks.rod) }],
+      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0, props: famProps(famLinks.slider) }], crank: "crank", output: "slider",
       branches: {}, jointNames: { [jointKey("prismatic", ["frame", "slider"])]: "guide" } };
+  }
+  if (fam === "slotted_lever") {
+    // the shaper as its engine writes it: blocks in the lever's slot and across the ram, the ram guide through G
+    add("O", true); add("O1", true); ["A", "B", "R"].forEach((n) => add(n, false));
+    points.push({ name: "G", x: 0, y: -mech.ground_length_m + mech.ram_height_m, ground: true });
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "rocker", points: ["O1", "B"], props: famProps(famLinks.rocker) }],
+      blocks: [{ name: "slider", point: "A", slot: "rocker", axis_deg: 0, props: famProps(famLinks.slider) },
+        { name: "ram", point: "R", through: "G", axis_deg: 0, props: famProps(famLinks.ram) },
+        { name: "ram_slider", point: "B", slot: "ram", axis_deg: 90, props: famProps(famLinks.ram_slider) }],
+      crank: "crank", output: "ram", branches: {},
+      jointNames: { [jointKey("prismatic", ["rocker", "slider"])]: "A_slot", [jointKey("prismatic", ["ram", "ram_slider"])]: "B_slot", [jointKey("prismatic", ["frame", "ram"])]: "R" } };
   }
   return null;
 }
@@ -823,7 +836,7 @@ function install() {
     ed.messages = [...(lastChecked ? lastChecked.problems : []), { at: placeOf(body), text: ed.problem }];
     render();
   });
-  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo };
+  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
   document.body.dataset.editorReady = "1";
 }
 
