@@ -771,6 +771,8 @@ export function setEditing(on) {
 export function clearDrawing() {
   ed.undo.push(snapshot()); ed.redo = [];
   ed.model = emptyModel();
+  // a new linkage: the loads, counterweights and the rest of the one before are not its own (an undo keeps them)
+  for (const k of BY_NAME) delete state.design[k];
   // room for a linkage a metre across, in the canvas's proportions
   const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
   const w = Math.max(1.6, 1.5 * aspect);
