@@ -18,6 +18,11 @@ from pydantic import BaseModel
 import synth
 import synth.cams
 from synth.exports import balance_export, slider_crank_balance_export
+from synth.machine import elastic_drive as ed
+from synth.machine import foundation as fd
+from synth.machine import foundation_design as fdd
+from synth.machine import regulation as rg
+from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure, regulation_figure
 from synth.machine.record import DesignRecord, input_rows
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
@@ -50,6 +55,16 @@ from mechsynth_client.schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from mechsynth_client.schemas.train import TrainIn, TrainOut
+from mechsynth_client.schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+    RegulationIn,
+    RegulationOut,
+)
 from ..settings import Settings
 from .work import estimate_s
 from .tasks import (
@@ -303,6 +318,57 @@ def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any) -> Plan:
     return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
 
 
+def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn) -> None:
+    """The foundation's harmonics and the drives' periodic states take the whole cycle at uniform samples."""
+    if b.crank_angle_deg is not None:
+        raise synth.InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
+                                 "not crank_angle_deg", field="crank_angle_deg")
+
+
+def isolation(b: IsolationIn, lim: Limits) -> Plan:
+    """POST /v1/machines/isolation."""
+    _uniform(b)
+    frame, isolators = b.to_frame()
+    return Plan(Render(IsolationOut.from_engine, isolation_figure), fd.isolate_linkage,
+                (b.to_linkage(), b.omega_rad_s, frame, isolators),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     run_up=b.run_up_engine()),
+                FIGURES, "isolation")
+
+
+def isolation_design(b: IsolationDesignIn, lim: Limits) -> Plan:
+    """POST /v1/machines/isolation/design."""
+    _uniform(b)
+    return Plan(Render(IsolationDesignOut.from_engine, design_figure), fdd.design_linkage_isolation,
+                (b.to_linkage(), b.omega_rad_s, b.frame.to_engine(), b.to_spec()),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors()),
+                FIGURES, "isolation-design")
+
+
+def elastic_drive(b: ElasticDriveIn, lim: Limits) -> Plan:
+    """POST /v1/machines/elastic-drive."""
+    _uniform(b)
+    return Plan(Render(ElasticDriveOut.from_engine, elastic_drive_figure), ed.elastic_drive_for_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine()),
+                dict(stiffness=b.stiffness_Nm_rad, elements=b.to_elements(), samples=b.samples,
+                     max_samples=lim.max_samples, counter_rotors=b.rotors(), friction=b.frictions(),
+                     machine_inertia=b.machine_inertia_kgm2, motor_side_inertia=b.motor_side_inertia_kgm2,
+                     damping_ratio=b.damping_ratio, start=b.start),
+                FIGURES, "elastic-drive")
+
+
+def regulation(b: RegulationIn, lim: Limits) -> Plan:
+    """POST /v1/machines/regulation."""
+    _uniform(b)
+    controller, tuning = (None, None) if b.regulator is None else b.regulator.to_engine()
+    return Plan(Render(RegulationOut.from_engine, regulation_figure), rg.regulate_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine(), b.load_step_Nm),
+                dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, controller=controller, tuning=tuning,
+                     samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     friction=b.frictions()),
+                FIGURES, "regulation")
+
+
 CAM_FORMATS = (*FIGURES, "csv", "dxf")
 
 
@@ -361,6 +427,10 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/machines/design": (MachineIn, machine_design),
     "/v1/machines/optimise": (MachineOptimiseIn, machine_optimise),
     "/v1/balancing/engine": (EngineIn, balance_engine),
+    "/v1/machines/isolation": (IsolationIn, isolation),
+    "/v1/machines/isolation/design": (IsolationDesignIn, isolation_design),
+    "/v1/machines/elastic-drive": (ElasticDriveIn, elastic_drive),
+    "/v1/machines/regulation": (RegulationIn, regulation),
     "/v1/cams/analysis": (CamAnalysisIn, cam_analysis_plan),
     "/v1/cams/synthesis": (CamSynthesisIn, cam_synthesis_plan),
 }

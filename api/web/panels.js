@@ -410,6 +410,9 @@ const MACHINE_MORE = {
     ["drive.strength.min_safety_root", "Least S_F"], ["drive.strength.pinion_material", "Pinion material"], ["drive.strength.gear_material", "Gear material"],
     ["drive.strength.helix_angle_deg", "Helix angle"], ["drive.strength.pinion_teeth", "Pinion teeth"], ["drive.strength.accuracy_grade", "Accuracy grade (ISO 1328)"],
     ["drive.strength.oil_viscosity_40C_mm2_s", "Oil viscosity at 40 °C"], ["drive.strength.module_series", "Module series"]],
+  around: [["elastic_drive.stiffness_Nm_rad", "Elastic link stiffness at the crank"], ["elastic_drive.damping_ratio", "Elastic link damping ratio"],
+    ["elastic_drive.max_dynamic_factor", "Largest dynamic factor"], ["regulation.load_step_Nm", "Load step at the crank"],
+    ["regulation.max_settling_time_s", "Longest settling after the step"]],
 };
 for (const k of Object.keys(MACHINE_MORE)) MACHINE_MORE[k] = MACHINE_MORE[k].map(([path, label]) => ({ path, label }));
 
@@ -486,6 +489,7 @@ function machinePanel() {
     more("Balancing, flywheel, speed", ...MACHINE_MORE.other.map((f) => schemaField("mac", f))),
     more("Start-up and run-down", ...MACHINE_MORE.running.map((f) => schemaField("mac", f))),
     more("Gear strength (ISO 6336)", ...MACHINE_MORE.strength.map((f) => schemaField("mac", f))),
+    more("Elastic drive and load step", ...MACHINE_MORE.around.map((f) => schemaField("mac", f))),
     actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
       h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
       h("span", { id: "mac-status", class: "note" })),
@@ -592,6 +596,7 @@ function machinePanel() {
     linePlot(box, "mac-motor", { title: "Motor torque over the cycle", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
       yLabel: "T_motor [N·m]", unit: "N·m", series: [{ name: "motor torque", values: m.simulation.motor_torque_Nm }],
       limits: [{ y: m.motor.rated_torque_Nm, label: "rated" }] });
+    res.dispatchEvent(new CustomEvent("machine-answer", { detail: m, bubbles: true }));
   }
   return render;
 }
