@@ -607,7 +607,7 @@ def _solve_least_norm(motion: Motion, topo: Topology, b_last: FloatArray) -> Flo
             f"at {int(bad.sum())} of {motion.samples} crank angles (deg: {angle_ranges_deg(motion.phi, bad)}) the "
             "linkage with redundant pairs passes a change point (its links in line): the loads there have a part no "
             "reactions balance, and the rigid model's reactions grow without bound near it; analyse at other "
-            "angles (an odd number of samples) or move a passive link's pivot off the line",
+            "angles (crank_angle_deg) or move a passive link's pivot off the line",
             phi=motion.phi[bad], ranges_deg=angle_ranges_deg(motion.phi, bad))
     return x
 
