@@ -128,7 +128,8 @@ class Redundancy:
         links = ", ".join(p.link for p in self.passive)
         return (f"W = 3n - 2p = {self.mobility_structural} counts the pairs {list(self.redundant_pairs)} of the "
                 f"passive link(s) {links}, but the constraint Jacobian has rank {self.rank} of its {self.rows} rows "
-                f"at its most over {self.samples} crank angles of the cycle: the rows of pairs {list(self.dependent_pairs)} are "
+                f"at its most over {self.samples} crank angles of the cycle: the rows of pairs "
+                f"{list(self.dependent_pairs)} are "
                 f"linearly dependent, so the geometry gives W = {self.mobility_geometric}; with {links} taken out "
                 f"the rest moves and its pins keep their distance to {self.max_residual:.1e} m")
 

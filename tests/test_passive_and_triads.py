@@ -24,7 +24,8 @@ def rev(name: str, a: str, b: str) -> JointSpec:
 
 
 def bar(name: str, a: str, b: str, length: float, **points: tuple[float, float]) -> dict[str, Any]:
-    return {"name": name, "joints": [a, b], "length_m": length, "points_m": {k: list(v) for k, v in points.items()}, "mass_kg": 10 * length,
+    return {"name": name, "joints": [a, b], "length_m": length, "points_m": {k: list(v) for k, v in points.items()},
+            "mass_kg": 10 * length,
             "com_m": [length / 2, 0.0], "inertia_kgm2": 10 * length**3 / 12}
 
 
@@ -191,8 +192,8 @@ def test_eight_bar_long_path_solved_at_once_matches_angle_by_angle() -> None:
 
 
 def test_eight_bar_that_cannot_close_names_the_first_angle() -> None:
-    # The link R-D 0.376 m long (0.32 drawn) cannot reach the plate's pin D over part of the turn: the continuation stops at the
-    # first crank angle where the loop does not close and names it.
+    # The link R-D 0.376 m long (0.32 drawn) cannot reach the plate's pin D over part of the turn: the
+    # continuation stops at the first crank angle where the loop does not close and names it.
     mech = {**EIGHT_BAR, "links": [dict(link) for link in EIGHT_BAR["links"]]}
     mech["links"][4] = bar("link", "R", "D", 0.376)
     linkage = engine(mech)
@@ -229,7 +230,8 @@ def test_double_parallelogram_through_the_api(client: SynthClient) -> None:
     # Without dimensions the formula alone speaks, and says so.
     bare = client.structure(StructureIn.model_validate({
         "links": ["frame", "crank", "coupler", "crank2", "crank3"],
-        "pairs": [{"name": j["name"], "links": j["links"], "kind": "revolute"} for j in DOUBLE_PARALLELOGRAM["joints"]]}))
+        "pairs": [{"name": j["name"], "links": j["links"], "kind": "revolute"}
+                  for j in DOUBLE_PARALLELOGRAM["joints"]]}))
     assert bare.assur_groups is None and "dimensions" in bare.note
     triangle = {"type": "linkage", "frame_points_m": {"O": [0, 0], "Q": [0.3, 0]},
                 "links": [bar("crank", "O", "A", 0.1), bar("bar", "A", "Q", 0.25)],

@@ -450,7 +450,8 @@ def _across_change_points(mech: PlanarLinkage, phi: FloatArray, steps: Sequence[
                           angles: dict[str, AngleAnalogues]) -> dict[str, PointAnalogues]:
     """At a change point the constraint Jacobian loses rank and the closed forms' analogues divide zero by
     zero, though the motion on the branch the passive links keep is smooth: there the analogues are the mean of
-    those at CHANGE_STEP and twice that either side, combined by Richardson (exact to O(CHANGE_STEP⁴)). Angles are corrected in ``angles`` in place;
+    those at CHANGE_STEP and twice that either side, combined by Richardson (exact to O(CHANGE_STEP⁴)). Angles
+    are corrected in ``angles`` in place;
     the corrected points are returned."""
     jac = _jacobian(mech, points, angles)
     s = np.linalg.svd(jac, compute_uv=False)
@@ -712,7 +713,8 @@ def _validate(mech: PlanarLinkage) -> None:
                            "load is a torque or a force along the slide", field="mechanism.output")
     for key, xy in mech.assembly:
         if key not in owners:
-            raise InvalidInput(f"assembly point {key!r} is no point of the linkage", field=f"mechanism.assembly_m.{key}")
+            raise InvalidInput(f"assembly point {key!r} is no point of the linkage",
+                               field=f"mechanism.assembly_m.{key}")
         if not all(math.isfinite(v) for v in xy):
             raise InvalidInput(f"assembly point {key!r} must be finite", field=f"mechanism.assembly_m.{key}")
     inner = {j.name for j in mech.joints}
