@@ -28,7 +28,8 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
     # interleaved, so every worker gets members from the whole family and about the same work
     shares = [scan.candidates[k::n] for k in range(n)]
-    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t) for share in shares))
+    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t,
+                                               size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
     searched = await asyncio.gather(*(solvers.run(search_cell, spec, scan, members, k, time_limit_s=t)

@@ -20,7 +20,7 @@ from .synthesis import (
     _within_limits,
 )
 
-OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force"]
+OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
 # The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN), spelled here so that the
 # schema loads without the engine; a test keeps them equal.
@@ -121,6 +121,29 @@ class SliderCrankFunctionIn(StrictModel):
 
 FunctionIn = Annotated[Union[CrankRockerFunctionIn, SliderCrankFunctionIn], Field(discriminator="type")]
 Weight = Annotated[float, Field(ge=0, le=1e6)]
+Price = Annotated[float, Field(ge=0, le=1e9)]
+
+
+class PricesIn(StrictModel):
+    """Prices of the machine's parts in one currency, for the `cost` objective. The defaults are rough euro
+    figures for a small machine: steel counterweights cut and drilled, balancer masses with their machining,
+    a grey cast-iron flywheel cast and turned, hardened alloy-steel wheels cut and ground, and an IEC
+    four-pole motor by its mass when it has no price of its own."""
+
+    counterweight_per_kg: Price = Field(3.0, description="Counterweights [currency/kg].")
+    balancer_per_kg: Price = Field(4.0, description="Lanchester balancer masses [currency/kg].")
+    flywheel_per_kg: Price = Field(2.5, description="The flywheel body [currency/kg].")
+    gears_per_kg: Price = Field(12.0, description="Gear wheels as sized for strength [currency/kg].")
+    motor_per_kg: Price = Field(6.0, description="A catalogue motor without its own price in `motors`, by its "
+                                "catalogue mass [currency/kg].")
+    motors: dict[Annotated[str, Field(min_length=1, max_length=80)], Price] = Field(
+        default_factory=dict, max_length=500, description="Catalogue name -> price of that motor [currency].",
+        examples=[{"4A71A4": 140.0}])
+
+    def to_engine(self) -> synth.Prices:
+        """Engine prices."""
+        return synth.Prices(self.counterweight_per_kg, self.balancer_per_kg, self.flywheel_per_kg,
+                            self.gears_per_kg, self.motor_per_kg, dict(self.motors))
 
 
 class MachineOptimiseIn(StrictModel):
@@ -145,10 +168,11 @@ class MachineOptimiseIn(StrictModel):
                                    "from speed_rpm [-].")
     objective: OptimiseObjective | None = Field(
         None, description="One objective to minimise: motor_power (rated power of the catalogue motor), added_mass "
-        "(counterweights, balancer masses and the flywheel body) or rms_shaking_force (after balancing); "
-        "or give weights.")
+        "(counterweights, balancer masses and the flywheel body), rms_shaking_force (after balancing), "
+        "machine_mass (those with the gear wheels as sized for strength and the motor's catalogue mass) or cost "
+        "(the same parts at `prices`); or give weights.")
     weights: dict[OptimiseObjective, Weight] | None = Field(
-        None, max_length=3, description="Weights of the objectives, each normalised by its value on the chain's "
+        None, max_length=5, description="Weights of the objectives, each normalised by its value on the chain's "
         "machine (/v1/machines/design on the synthesis endpoint's default member); instead of objective.")
     max_rms_shaking_force_N: float | None = Field(None, gt=0, le=1e9, description="Largest RMS shaking force "
                                                   "after balancing [N].")
@@ -170,6 +194,8 @@ class MachineOptimiseIn(StrictModel):
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
                               "feasible family that the chain designs (to its steady machine) before the cells "
                               "between them are searched.")
+    prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts for the cost objective "
+                             "(and the cost every answer reports).")
 
     model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("delta", "machine_type"),
                                                            exactly_one("objective", "weights")],
@@ -195,7 +221,7 @@ class MachineOptimiseIn(StrictModel):
             max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
             scan=self.scan_members, friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
             start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
-            max_rundown_time=self.max_rundown_time_s,
+            max_rundown_time=self.max_rundown_time_s, prices=self.prices.to_engine(),
         )
 
 
@@ -236,6 +262,16 @@ class FamilyMemberOut(BaseModel):
     rms_shaking_force_N: float | None = Field(description="RMS shaking force after balancing [N].")
     rms_shaking_moment_Nm: float | None = Field(description="RMS shaking moment about the crank pivot after "
                                                 "balancing [N·m].")
+    machine_mass_kg: float | None = Field(None, description="Counterweights, balancer masses, flywheel body, gear "
+                                          "wheels and motor [kg]; null when its wheels were not sized (the search "
+                                          "sizes them only when the objective or the Pareto set weighs the "
+                                          "machine).")
+    cost: float | None = Field(None, description="The same parts at the request's prices [currency]; null as "
+                               "machine_mass_kg.")
+    machine_mass_bound_kg: float | None = Field(None, description="Its machine mass without the gear wheels "
+                                                "(counterweights, balancers, flywheel body, motor): a lower bound "
+                                                "where the wheels were not sized [kg].")
+    motor: str | None = Field(None, description="Its catalogue motor; null when the chain refused the member.")
 
     @classmethod
     def from_engine(cls, m: Any) -> FamilyMemberOut:
@@ -243,14 +279,42 @@ class FamilyMemberOut(BaseModel):
         v = m.values
         return cls(parameter=m.parameter, stage=m.stage, feasible=m.feasible, reason=m.reason,
                    motor_power_W=None if v is None else v[0], added_mass_kg=None if v is None else v[1],
-                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment)
+                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment,
+                   machine_mass_kg=None if v is None else _finite(v[3]),
+                   cost=None if v is None else _finite(v[4]),
+                   machine_mass_bound_kg=None if m.lower_values is None else _finite(m.lower_values[3]),
+                   motor=None if m.choice is None else m.choice[0])
+
+
+class MachinePartsOut(BaseModel):
+    """What the optimised machine weighs, part by part, and what it costs."""
+
+    counterweights_kg: float = Field(description="Counterweights (a slider-crank's crank counterweight among "
+                                     "them) [kg].")
+    balancers_kg: float = Field(description="Lanchester balancer masses, two per pair [kg].")
+    flywheel_kg: float = Field(description="The flywheel body (rim or disc: density × volume) [kg].")
+    gears_kg: float = Field(description="Every wheel as sized for strength, solid discs of the reference "
+                            "diameters and the face width [kg]; 0 when drive.size_gears is false.")
+    motor_kg: float = Field(description="The catalogue motor's mass [kg].")
+    motor: str = Field(description="The catalogue motor.")
+    machine_mass_kg: float = Field(description="Their sum [kg].")
+    motor_price: float = Field(description="The motor's price: its own in prices.motors, else its mass at "
+                               "prices.motor_per_kg [currency].")
+    cost: float = Field(description="Every part at its price [currency].")
+
+    @classmethod
+    def from_engine(cls, p: Any, prices: Any) -> MachinePartsOut:
+        """Schema from the engine's parts and prices."""
+        return cls(counterweights_kg=p.counterweights, balancers_kg=p.balancers, flywheel_kg=p.flywheel,
+                   gears_kg=p.gears or 0.0, motor_kg=p.motor, motor=p.motor_name, machine_mass_kg=p.mass,
+                   motor_price=p.motor_price(prices), cost=p.cost(prices))
 
 
 class GainOut(BaseModel):
     """One objective on the chain's machine and on the optimum."""
 
-    objective: str = Field(description="motor_power, added_mass or rms_shaking_force.")
-    unit: str = Field(description="W, kg or N.")
+    objective: str = Field(description="motor_power, added_mass, rms_shaking_force, machine_mass or cost.")
+    unit: str = Field(description="W, kg, N, kg or currency (the prices' own).")
     chain: float | None = Field(description="Its value on the chain's machine; null when the chain refused its "
                                 "member.")
     optimum: float = Field(description="Its value on the optimised machine.")
@@ -349,6 +413,8 @@ class MachineOptimiseOut(BaseModel):
     pareto: list[FamilyMemberOut] = Field(description="Members designed that no other designed member beats in "
                                           "both Pareto objectives, by the first objective.")
     members: list[FamilyMemberOut] = Field(description="Every member the chain designed, by parameter.")
+    parts: MachinePartsOut | None = Field(None, description="The optimised machine's parts: their masses, the "
+                                          "machine's mass and its cost.")
 
     @classmethod
     def from_engine(cls, r: synth.MachineOptimum) -> MachineOptimiseOut:
@@ -365,4 +431,5 @@ class MachineOptimiseOut(BaseModel):
             pareto_objectives=list(r.pareto_objectives),
             pareto=[FamilyMemberOut.from_engine(m) for m in r.pareto],
             members=[FamilyMemberOut.from_engine(m) for m in sorted(r.members, key=lambda m: m.parameter)],
+            parts=None if r.parts is None else MachinePartsOut.from_engine(r.parts, r.spec.prices),
         )
