@@ -59,7 +59,7 @@ from .schemas.foundation import (
     RegulationIn,
     RegulationOut,
 )
-from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
+from .schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut, MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
 from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
@@ -491,6 +491,10 @@ class SynthClient(_Policy):
     def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
+
+    def optimise_linkage(self, body: LinkageOptimiseIn) -> LinkageOptimiseOut:
+        """POST /v1/machines/optimise-linkage: any linkage's free dimensions chosen with its machine."""
+        return self._post("/v1/machines/optimise-linkage", body, LinkageOptimiseOut)
 
     def isolate_machine(self, body: IsolationIn) -> IsolationOut:
         """POST /v1/machines/isolation: the machine's frame on isolators and what the foundation feels."""

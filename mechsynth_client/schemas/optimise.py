@@ -10,8 +10,18 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, exactly_one, pair_frictions
-from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
+from .common import (
+    SIX_BAR_PRESS_EXAMPLE,
+    FourBarIn,
+    FrictionIn,
+    Length,
+    LoadIn,
+    SliderCrankIn,
+    StrictModel,
+    exactly_one,
+    pair_frictions,
+)
+from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn, MachineIn
 from .synthesis import (
     CrankRockerBoundsIn,
     CrankRockerDensityIn,
@@ -433,3 +443,210 @@ class MachineOptimiseOut(BaseModel):
             members=[FamilyMemberOut.from_engine(m) for m in sorted(r.members, key=lambda m: m.parameter)],
             parts=None if r.parts is None else MachinePartsOut.from_engine(r.parts, r.spec.prices),
         )
+
+
+# Bounds of POST /v1/machines/optimise-linkage (synth.machine.optimise_linkage's), spelled here so that the schema
+# loads without the engine; a test keeps them equal.
+LINKAGE_MIN_SAMPLES, LINKAGE_MAX_SAMPLES, LINKAGE_DEFAULT_SAMPLES = 8, 512, 64
+LINKAGE_MAX_FREE, LINKAGE_MAX_REFINED, LINKAGE_MAX_REFINE_RUNS = 6, 8, 200
+
+#: The six-bar press of /v1/analysis (a crank-rocker whose rocker drives a ram through a rod) with the guide's
+#: place and the rocker's lever arm free: a ram stroke of 0.18 to 0.26 m at a time ratio of 1.2 to 2.0 (the ram
+#: reaches its top twice a turn, so both readings of its time ratio must lie in the band), no transmission angle
+#: under 30°, 2 kN against the ram over the whole turn at 60 rpm, least machine mass.
+SIX_BAR_OPTIMISE_EXAMPLE: JsonDict = {
+    "machine": {
+        "mechanism": SIX_BAR_PRESS_EXAMPLE,
+        "loads": [{"type": "window", "force_N": 2000, "start_deg": 0, "end_deg": 360}],
+        "speed_rpm": 60, "samples": 72, "delta": 0.05,
+        "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500, "size_gears": False},
+    },
+    "free": [{"path": "frame_points_m.G.x", "min": 0.40, "max": 0.50},
+             {"path": "links.rocker.points_m.C.x", "min": 0.30, "max": 0.45}],
+    "stroke_m": {"min": 0.18, "max": 0.26},
+    "time_ratio": {"min": 1.2, "max": 2.0},
+    "min_transmission_angle_deg": 30,
+    "objective": "machine_mass",
+}
+
+
+class FreeDimensionIn(StrictModel):
+    """One number of the linkage left free within bounds."""
+
+    path: str = Field(min_length=3, max_length=200, description="frame_points_m.<point>.x (or .y), "
+                      "links.<link>.length_m or links.<link>.points_m.<point>.x (or .y).",
+                      examples=["frame_points_m.G.x"])
+    min: float = Field(ge=-1e3, le=1e3, description="Least value [m].")
+    max: float = Field(ge=-1e3, le=1e3, description="Largest value [m].")
+
+
+class BandIn(StrictModel):
+    """A band [min, max]."""
+
+    min: float = Field(ge=0, le=1e4, description="Least value.")
+    max: float = Field(ge=0, le=1e4, description="Largest value.")
+
+    def pair(self, field: str, scale: float = 1.0) -> tuple[float, float]:
+        """(min, max) times ``scale``; InvalidInput naming ``field`` when min > max."""
+        if self.min > self.max:
+            raise synth.InvalidInput("a band needs min <= max", field=f"{field}.min")
+        return (self.min * scale, self.max * scale)
+
+
+class LinkageOptimiseIn(StrictModel):
+    """Any linkage's free dimensions chosen with its machine: the machine as /v1/machines/design takes it (its
+    mechanism a general `linkage`), the numbers left free with their bounds, what the linkage must do and what to
+    minimise."""
+
+    machine: MachineIn = Field(description="The machine as /v1/machines/design takes it; its mechanism a general "
+                               "linkage (type linkage) with the request's own numbers.")
+    free: list[FreeDimensionIn] = Field(min_length=1, max_length=LINKAGE_MAX_FREE, description="The free numbers "
+                                        "and their bounds.")
+    stroke_m: BandIn | None = Field(None, description="The output's stroke band, for a sliding output [m].")
+    swing_deg: BandIn | None = Field(None, description="The output's swing band, for a turning output [deg].")
+    time_ratio: BandIn | None = Field(None, description="The time-ratio band (slower stroke over faster) [-].")
+    min_transmission_angle_deg: float = Field(0.0, ge=0, le=89, description="Least transmission angle of every RRR "
+                                              "and RRP dyad over the turn [deg].")
+    objective: OptimiseObjective | None = Field(None, description="One objective to minimise (as "
+                                                "/v1/machines/optimise); or give weights.")
+    weights: dict[OptimiseObjective, Weight] | None = Field(None, max_length=5, description="Weights of the "
+                                                            "objectives, each normalised by its value on the first "
+                                                            "member designed (the request's own numbers when they "
+                                                            "meet the function).")
+    samples: int = Field(LINKAGE_DEFAULT_SAMPLES, ge=LINKAGE_MIN_SAMPLES, le=LINKAGE_MAX_SAMPLES,
+                         description="Members of the scrambled Sobol sample of the box (the request's own numbers "
+                         "are added when inside it).")
+    refined: int = Field(4, ge=0, le=LINKAGE_MAX_REFINED, description="Best members refined by COBYLA, the "
+                         "function as its constraints.")
+    refine_runs: int = Field(60, ge=1, le=LINKAGE_MAX_REFINE_RUNS, description="Chain runs each refinement may "
+                             "spend.")
+    prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts, as /v1/machines/optimise.")
+
+    model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("objective", "weights")],
+                                                 "examples": [SIX_BAR_OPTIMISE_EXAMPLE]})
+
+    def to_engine(self, max_stages: int) -> Any:
+        """Engine spec (degrees become radians here)."""
+        from synth.machine.optimise_linkage import FreeDimension, LinkageFunction, LinkageOptimiseSpec
+
+        if (self.objective is None) == (self.weights is None):
+            raise synth.InvalidInput("give objective or weights (one of them)", field="objective")
+        if self.machine.mechanism.type != "linkage":
+            raise synth.InvalidInput("free dimensions need a general linkage (type linkage)",
+                                     field="machine.mechanism.type")
+        if self.stroke_m is not None and self.swing_deg is not None:
+            raise synth.InvalidInput("give stroke_m (a sliding output) or swing_deg (a turning one), not both",
+                                     field="swing_deg")
+        travel = (self.stroke_m.pair("stroke_m") if self.stroke_m is not None
+                  else self.swing_deg.pair("swing_deg", math.pi / 180) if self.swing_deg is not None else None)
+        weights = {self.objective: 1.0} if self.objective is not None else dict(self.weights or {})
+        return LinkageOptimiseSpec(
+            machine=self.machine.to_engine(max_stages),
+            free=tuple(FreeDimension(d.path, d.min, d.max) for d in self.free),
+            function=LinkageFunction(travel, None if self.time_ratio is None else self.time_ratio.pair("time_ratio"),
+                                     math.radians(self.min_transmission_angle_deg)),
+            weights={str(k): v for k, v in weights.items()}, samples=self.samples, refined=self.refined,
+            refine_runs=self.refine_runs, prices=self.prices.to_engine())
+
+    def mechanism_with(self, x: Any) -> dict[str, Any]:
+        """The request's linkage with the free numbers set to ``x``, as the `mechanism` of a request."""
+        body = self.machine.model_dump(mode="json")["mechanism"]
+        for d, v in zip(self.free, x, strict=True):
+            p = d.path.split(".")
+            if p[0] == "frame_points_m":
+                body["frame_points_m"][p[1]][0 if p[2] == "x" else 1] = float(v)
+                continue
+            link = next(k for k in body["links"] if k["name"] == p[1])
+            if p[2] == "length_m":
+                link["length_m"] = float(v)
+            else:
+                link["points_m"][p[3]][0 if p[4] == "x" else 1] = float(v)
+        return dict(body)
+
+
+class LinkageMemberOut(BaseModel):
+    """One member of the box."""
+
+    x: list[float] = Field(description="Its free numbers, in the order of `free` [m].")
+    stage: str = Field(description="sample or refine.")
+    feasible: bool = Field(description="It meets the function and its machine every check.")
+    reason: str | None = Field(description="Why not; null when feasible.")
+    stroke_or_swing: float | None = Field(description="The output's travel: stroke [m] or swing [deg]; null when it "
+                                          "does not assemble.")
+    time_ratio: float | None = Field(description="Its time ratio [-]; null when it does not assemble.")
+    min_transmission_angle_deg: float | None = Field(description="Its least transmission angle [deg].")
+    values: dict[str, float | None] | None = Field(description="Its objectives by name (null: not computed); "
+                                                   "null when the chain did not run.")
+
+
+class LinkageCertificateOut(BaseModel):
+    """How the box was covered."""
+
+    statement: str = Field(description="The certificate in words.")
+    sampled: int = Field(description="Members of the Sobol sample (and the request's own).")
+    kinematic_feasible: int = Field(description="Of these, the members meeting the function kinematically.")
+    designed: int = Field(description="Members the chain designed (sample and refinement).")
+    feasible: int = Field(description="Of these, those meeting every constraint and check.")
+    refined: int = Field(description="Members refined by COBYLA.")
+    refine_runs: int = Field(description="Members the refinement looked at.")
+    gap_bound: float | None = Field(description="null: no gap bound is claimed.")
+
+
+class LinkageOptimiseOut(BaseModel):
+    """The linkage's free numbers and its machine chosen together."""
+
+    design: MachineDesignOut = Field(description="The optimised machine, as /v1/machines/design answers it.")
+    mechanism: dict[str, Any] = Field(description="The chosen linkage as the `mechanism` of a /v1/machines/design "
+                                      "request.")
+    free: dict[str, float] = Field(description="The free numbers chosen, by path [m].")
+    stroke_or_swing: float = Field(description="Its output's travel: stroke [m] or swing [deg].")
+    time_ratio: float = Field(description="Its time ratio [-], from its highest and lowest positions.")
+    time_ratio_range: list[float] = Field(description="The least and largest time ratio over every pair of its "
+                                          "ends (extremes within 1 % of the travel of the highest or lowest): an "
+                                          "output that reaches its end twice a turn has two readings [-].")
+    min_transmission_angle_deg: float = Field(description="Its least transmission angle [deg].")
+    values: dict[str, float] = Field(description="Its objectives by name (units as /v1/machines/optimise's gains).")
+    score: float = Field(description="Weighted sum of the normalised objectives [-].")
+    parts: MachinePartsOut = Field(description="Its parts' masses, its machine mass and its cost.")
+    certificate: LinkageCertificateOut = Field(description="How the box was covered.")
+    members: list[LinkageMemberOut] = Field(description="Every member, sample then refinement.")
+
+    @classmethod
+    def from_engine(cls, r: Any, body: dict[str, Any]) -> LinkageOptimiseOut:
+        """Schema from the engine's optimum and the request (as JSON)."""
+        req = LinkageOptimiseIn.model_validate(body)
+        turning = req.swing_deg is not None or (req.stroke_m is None and _turns(req))
+        k = 180 / math.pi if turning else 1.0
+        names = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
+
+        def member(m: Any) -> LinkageMemberOut:
+            kin = m.kinematics
+            ok = math.isfinite(kin.travel)
+            return LinkageMemberOut(
+                x=list(m.x), stage=m.stage, feasible=m.feasible, reason=m.reason,
+                stroke_or_swing=kin.travel * k if ok else None, time_ratio=_finite(kin.time_ratio) if ok else None,
+                min_transmission_angle_deg=math.degrees(kin.min_transmission_angle) if ok else None,
+                values=None if m.values is None else {n: _finite(v) for n, v in zip(names, m.values, strict=True)})
+
+        c = r.certificate
+        return cls(
+            design=MachineDesignOut.from_engine(r.design), mechanism=req.mechanism_with(r.x),
+            free={d.path: float(v) for d, v in zip(req.free, r.x, strict=True)},
+            stroke_or_swing=r.kinematics.travel * k, time_ratio=r.kinematics.time_ratio,
+            time_ratio_range=list(r.kinematics.time_ratio_span),
+            min_transmission_angle_deg=math.degrees(r.kinematics.min_transmission_angle),
+            values=dict(zip(names, r.values, strict=True)), score=r.score,
+            parts=MachinePartsOut.from_engine(r.parts, r.spec.prices),
+            certificate=LinkageCertificateOut(statement=c.statement, sampled=c.sampled,
+                                              kinematic_feasible=c.kinematic_feasible, designed=c.designed,
+                                              feasible=c.feasible, refined=c.refined, refine_runs=c.refine_runs,
+                                              gap_bound=c.gap_bound),
+            members=[member(m) for m in r.members])
+
+
+def _turns(req: LinkageOptimiseIn) -> bool:
+    """The linkage's output turns (a link with two points) rather than slides (a block)."""
+    mech = req.machine.mechanism
+    assert mech.type == "linkage"
+    out = mech.output or mech.links[-1].name
+    return len(next(k for k in mech.links if k.name == out).joints) > 1
