@@ -106,7 +106,8 @@ def test_machine_mass_never_worse_than_the_densest_scan(client: SynthClient, ans
     assert len(sized) == len(feasible)
     best = min(sized, key=lambda m: m.machine_mass_kg or 0.0)
     f = MachineOptimiseIn.model_validate(BODY).to_engine(6).function
-    d = client.design_machine(_machine_request(BODY, mechanism_json(slider_crank.member(f, best.parameter))))  # type: ignore[arg-type]
+    member = slider_crank.member(f, best.parameter)  # type: ignore[arg-type]
+    d = client.design_machine(_machine_request(BODY, mechanism_json(member)))
     parts = machine_parts(d)
     assert parts["gears"] == 0.0
     assert sum(parts.values()) == pytest.approx(best.machine_mass_kg, rel=1e-9)

@@ -64,8 +64,8 @@ async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: S
     transmission angle of every dyad, assembly over the whole turn), for the least motor power, added mass,
     shaking force, machine mass, cost or a weighted sum. A scrambled Sobol sample of the box is checked
     kinematically, the members that meet the function run through the chain to their steady machine, the best
-    are refined by COBYLA (the function as its constraints) and the best member is designed whole; the certificate states the
-    coverage and claims no gap."""
+    are refined by COBYLA (the function as its constraints) and the best member is designed whole; the
+    certificate states the coverage and claims no gap."""
     spec = body.to_engine(solvers.limits.max_stages)
     plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
                 _optimise_linkage, (spec,), dict(time_limit_s=solvers.limits.solver_time_limit_s))

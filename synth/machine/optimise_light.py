@@ -146,7 +146,8 @@ def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0, size_gear
         speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
         own = np.array([s.inertia for s in drive.shafts])
         train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
-        flywheel, placement, motion = _chain._flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
+        flywheel, placement, motion = _chain._flywheel(machine, motor, cycle, machine_cycle, ratios, train,
+                                                       time_limit_s)
         checks: tuple[MachineCheck, ...] = _chain._checks(machine, motion, motor)
         heavy = [c.name for c in checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _chain._next_motor(drive.motor, d.catalogue)

@@ -476,9 +476,9 @@ def optimise_linkage(spec: LinkageOptimiseSpec, *, time_limit_s: float = 20.0) -
         f"a scrambled Sobol sample) checked kinematically over the whole turn, each in one vectorised pass over "
         f"{CHECK_ANGLES} crank angles (assembly, travel, time ratio, least transmission angle): {kin_ok} met the "
         f"function and ran through the chain to their steady machine. The best {len(starts)} were refined by "
-        f"COBYLA on the score with the function as its constraints ({runs} members looked at). {feasible} of the {len(everything)} "
-        "members (sample and refinement) meet every constraint and check; the answer was designed again through the whole chain, start "
-        "and run-down included. The objective steps where the catalogue motor or the teeth change and the "
+        f"COBYLA on the score with the function as its constraints ({runs} members looked at). {feasible} of "
+        f"the {len(everything)} members (sample and refinement) meet every constraint and check; the answer was "
+        "designed again through the whole chain, start and run-down included. The objective steps where the catalogue motor or the teeth change and the "
         "feasible set need not be convex or connected: no gap bound is claimed."
     )
     cert = LinkageCertificate(len(members), kin_ok, sum(m.values is not None for m in everything), feasible,
