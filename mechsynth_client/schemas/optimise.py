@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
+
 from .common import (
     SIX_BAR_PRESS_EXAMPLE,
     FourBarIn,
@@ -258,6 +259,13 @@ def mechanism_out(linkage: synth.Linkage) -> FourBarIn | SliderCrankIn:
     return FourBarIn.model_validate(body) if body["type"] == "fourbar" else SliderCrankIn.model_validate(body)
 
 
+def member_linkage(spec: Any, u: float) -> Any:
+    """The family member at ``u`` of an optimisation spec (engine objects)."""
+    from synth.machine.optimise import member_linkage as engine_member
+
+    return engine_member(spec, u)
+
+
 class FamilyMemberOut(BaseModel):
     """One member of the family the whole chain designed, and what its machine gives."""
 
@@ -282,10 +290,13 @@ class FamilyMemberOut(BaseModel):
                                                 "(counterweights, balancers, flywheel body, motor): a lower bound "
                                                 "where the wheels were not sized [kg].")
     motor: str | None = Field(None, description="Its catalogue motor; null when the chain refused the member.")
+    mechanism: MemberMechanism | None = Field(None, description="The member as the `mechanism` of a "
+                                              "/v1/machines/design request (that request with the optimisation's "
+                                              "machine around it designs this member).")
 
     @classmethod
-    def from_engine(cls, m: Any) -> FamilyMemberOut:
-        """Schema from an engine member score."""
+    def from_engine(cls, m: Any, linkage: synth.Linkage | None = None) -> FamilyMemberOut:
+        """Schema from an engine member score and its linkage."""
         v = m.values
         return cls(parameter=m.parameter, stage=m.stage, feasible=m.feasible, reason=m.reason,
                    motor_power_W=None if v is None else v[0], added_mass_kg=None if v is None else v[1],
@@ -293,7 +304,8 @@ class FamilyMemberOut(BaseModel):
                    machine_mass_kg=None if v is None else _finite(v[3]),
                    cost=None if v is None else _finite(v[4]),
                    machine_mass_bound_kg=None if m.lower_values is None else _finite(m.lower_values[3]),
-                   motor=None if m.choice is None else m.choice[0])
+                   motor=None if m.choice is None else m.choice[0],
+                   mechanism=None if linkage is None else mechanism_out(linkage))
 
 
 class MachinePartsOut(BaseModel):
@@ -440,7 +452,8 @@ class MachineOptimiseOut(BaseModel):
             certificate=OptimiseCertificateOut.from_engine(r.certificate),
             pareto_objectives=list(r.pareto_objectives),
             pareto=[FamilyMemberOut.from_engine(m) for m in r.pareto],
-            members=[FamilyMemberOut.from_engine(m) for m in sorted(r.members, key=lambda m: m.parameter)],
+            members=[FamilyMemberOut.from_engine(m, member_linkage(r.spec, m.parameter))
+                     for m in sorted(r.members, key=lambda m: m.parameter)],
             parts=None if r.parts is None else MachinePartsOut.from_engine(r.parts, r.spec.prices),
         )
 

@@ -47,7 +47,7 @@ from ..synthesis import crank_rocker as _cr
 from ..synthesis import slider_crank as _sc
 from ..synthesis.family import MARGIN
 from .chain import MachineDesign, design_machine
-from .optimise_light import Choice, balancing_mass, discrete_choice, steady_member
+from .optimise_light import SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, steady_member
 from .optimise_parts import MachineParts, Prices, machine_parts
 from .spec import BalancingChoice, DriveSpec, FlywheelChoice, MachineSpec
 
@@ -297,6 +297,11 @@ def _field_of_constraint(name: str | None) -> str | None:
     return f"function.{name}"
 
 
+def member_linkage(spec: OptimiseSpec, u: float) -> Linkage:
+    """The family member at ``u`` with its link masses and loads."""
+    return _member(spec, u)
+
+
 def _member(spec: OptimiseSpec, u: float) -> Linkage:
     f = spec.function
     return _cr.member(f, u) if isinstance(f, CrankRockerSpec) else _sc.member(f, u)
@@ -363,7 +368,8 @@ def _limits_missed(spec: OptimiseSpec, force: float, moment: float) -> list[str]
     return out
 
 
-def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float, size_gears: bool) -> MemberScore:
+def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float, size_gears: bool,
+                  exact: bool = False) -> MemberScore:
     """The member's steady machine (no start or run-down simulation: the optimum's own design runs them); the
     gears' strength sizing, which comes last and feeds nothing back, only when ``size_gears`` (the machine's
     mass and cost need the wheels)."""
@@ -371,7 +377,8 @@ def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float,
     if not size_gears:
         machine = replace(machine, drive=replace(machine.drive, strength=None))
     try:
-        m = steady_member(machine, time_limit_s=time_limit_s, size_gears=size_gears)
+        m = steady_member(machine, time_limit_s=time_limit_s, size_gears=size_gears,
+                          width_steps=None if exact else SEARCH_WIDTH_STEPS)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage)
     reasons = [f"fails its {name} check" for name in m.failed]
@@ -387,7 +394,8 @@ def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float,
 def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float,
                   size_gears: bool = False) -> tuple[MemberScore, MachineDesign | None]:
     if stage in ("scan", "refine"):
-        return _steady_score(spec, u, stage, time_limit_s, size_gears or spec.weighs_parts), None
+        # the members asked for by name (the chain's own) get the chain's precision: the gains compare them
+        return _steady_score(spec, u, stage, time_limit_s, size_gears or spec.weighs_parts, size_gears), None
     machine = spec.machine(_member(spec, u))
     try:
         d = design_machine(machine, time_limit_s=time_limit_s)

@@ -129,11 +129,13 @@ def discrete_choice(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Disc
                           float(bal.after.rms_shaking_force))
 
 
-def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0, size_gears: bool = False) -> SteadyMember:
+def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0, size_gears: bool = False,
+                  width_steps: int | None = SEARCH_WIDTH_STEPS) -> SteadyMember:
     """The chain to its steady machine: motor (stepped up as the chain steps it up on the steady checks),
     teeth, flywheel and the steady checks; no start or run-down simulation. ``size_gears`` sizes the wheels
     for strength on the steady cycle as the chain does (the drive's strength rules; none: no wheels counted),
-    for their mass. Raises as :func:`design_machine`."""
+    for their mass, with ``width_steps`` bisections of the face width (None: the chain's own precision). Raises
+    as :func:`design_machine`."""
     before, bal, balanced, cycle, power = _front(machine, time_limit_s)
     d = machine.drive
     motor_name = d.motor
@@ -159,7 +161,7 @@ def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0, size_gear
         inertia = flywheel.design.flywheel_inertia
         shafts = _chain._shafts(ratios, drive, motion, placement, inertia)
         torques = _chain._shaft_torques(ratios, drive, motion, placement, inertia)
-        gears, _ = _chain._gears(machine, teeth, ratios, torques, motion, shafts, width_steps=SEARCH_WIDTH_STEPS)
+        gears, _ = _chain._gears(machine, teeth, ratios, torques, motion, shafts, width_steps=width_steps)
     parts = machine_parts(bal, placement, gears, size_gears, drive.motor)
     mass = balancing_mass(bal) + (placement.mass if placement is not None else 0.0)
     return SteadyMember(_choice(drive, teeth), (float(drive.motor.rated_power), float(mass),
