@@ -13,6 +13,8 @@ Run: ``.venv/bin/python -m bench.foundation``.
    harmonics.
 4. Regulation: the PI loop after a load step on a constant-inertia machine, simulated, against the closed-form
    inverse Laplace transform of the linear loop (the baseline of accuracy), and the time of each.
+5. The blocks of the machine design: the README press designed with the foundation, elastic-drive and
+   regulation blocks against the same design without them (the chain alone), and with each block alone.
 """
 
 from __future__ import annotations
@@ -167,11 +169,34 @@ def regulation() -> None:
           f"they differ by {err:.1e} of the dip; settled after {r.settling_time:.3f} s, overshoot {r.overshoot:.3f}")
 
 
+def blocks() -> None:
+    from mechsynth_client.schemas.foundation import FRAME_EXAMPLE, ISOLATORS_EXAMPLE
+    from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
+
+    around = {"foundation": {"frame": FRAME_EXAMPLE, "isolators": ISOLATORS_EXAMPLE, "max_force_N": 600},
+              "elastic_drive": {"stiffness_Nm_rad": 1e4, "damping_ratio": 0.1, "start": False},
+              "regulation": {"load_step_Nm": 40}}
+
+    def spec(**blocks: object) -> synth.MachineSpec:
+        return MachineIn.model_validate({**PRESS_EXAMPLE, "samples": 180, **blocks}).to_engine(6)
+
+    chain = median_of(lambda: synth.design_machine(spec()), 5)
+    parts = {}
+    for name, block in around.items():
+        one = spec(**{name: block})
+        parts[name] = median_of(lambda: synth.design_machine(one), 5)
+    whole = median_of(lambda: synth.design_machine(spec(**around)), 5)
+    print(f"machine design blocks (press, 180 samples): the chain alone {chain:.2f} s, with all three blocks "
+          f"{whole:.2f} s (ratio {whole / chain:.2f}); with one block "
+          + ", ".join(f"{n} {t:.2f} s ({t / chain:.2f})" for n, t in parts.items()))
+
+
 def main() -> None:
     isolation()
     design()
     elastic()
     regulation()
+    blocks()
 
 
 if __name__ == "__main__":

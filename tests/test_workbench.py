@@ -416,6 +416,28 @@ def test_flywheel_and_drive_panels_answer_from_the_service(page: Page, base_url:
                                                            "stages": ["helical", "helical"]}, timeout=30).json()
     assert motor.group(1) == direct["motor"]["name"]
 
+    # The gears sized for strength in the Drive panel: the same stages as the API sizes them, and a life the
+    # schema refuses is named beside its field.
+    page.click("#drv-strength summary")
+    page.select_option("[id='drv-size_gears']", "true")
+    page.fill("[id='drv-strength.life_h']", "-5")
+    page.click("#drv-run")
+    page.wait_for_selector("[id='drv-strength.life_h-msg']:not([hidden])", timeout=30_000)
+    page.fill("[id='drv-strength.life_h']", "40000")
+    page.click("#drv-run")
+    page.wait_for_selector("#drv-result h3:has-text('strength')", timeout=60_000)
+    _shot(page, "drive-strength")
+    sized = httpx.post(f"{base_url}/v1/gears/drive", json={"output_power_W": power, "output_speed_rpm": 300,
+                                                          "stages": ["helical", "helical"],
+                                                          "strength": {"life_h": 40000}}, timeout=60).json()
+    rows = page.locator("#drv-result table").nth(2).locator("tr").all_inner_texts()[1:]
+    assert len(rows) == len(sized["gears"]) == 2
+    for row, gear in zip(rows, sized["gears"]):
+        cells = row.split("\t")
+        assert float(cells[1].split()[0]) == pytest.approx(gear["module_mm"], rel=1e-3)
+        assert cells[2] == f"{gear['pinion_teeth']} / {gear['gear_teeth']}"
+        assert float(cells[3].split()[0]) == pytest.approx(gear["face_width_mm"], rel=1e-3)
+
 
 def test_page_assets_are_light_and_local() -> None:
     web = REPO / "api" / "web"

@@ -149,3 +149,14 @@ def test_save_edit_save_compare_check_approve_and_download_the_signed_record(pag
         (SHOTS / "library-5-record.pdf").write_bytes(pdf)
         subprocess.run(["pdftoppm", "-png", "-r", "70", "-f", "1", "-l", "1", str(SHOTS / "library-5-record.pdf"),
                         str(SHOTS / "library-5-record")], check=True)
+
+    # revision 1 restored: a new revision 3 on top of the approved 2, with revision 1's request byte for byte
+    page.fill("#lib-name", "ann")
+    page.fill("#lib-message", "back to the first speed")
+    _act(page, "#lib-history tr[data-revision='1'] button:has-text('Restore')", "restored", SLOW_MS)
+    third = httpx.get(f"{base_url}{DESIGN}/revisions/3", timeout=30).json()
+    assert (third["parent"], third["author"], third["state"]) == (2, "ann", "draft")
+    assert third["content_hash"] == first["content_hash"] and third["request"]["speed_rpm"] == speed
+    assert page.inner_text("#lib-history tr[data-revision='3'] td.state") == "draft"
+    assert page.locator("#lib-history tr[data-revision='3'] button:has-text('Restore')").count() == 0
+    _shot(page, "6-restored")

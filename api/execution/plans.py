@@ -7,16 +7,23 @@ runs the same plans for its variants, so a study row is exactly what the endpoin
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import metadata
 from typing import Any
 
 from pydantic import BaseModel
 
 import synth
+import synth.cams
 from synth.exports import balance_export, slider_crank_balance_export
-from synth.machine.record import DesignRecord
+from synth.machine import elastic_drive as ed
+from synth.machine import foundation as fd
+from synth.machine import foundation_design as fdd
+from synth.machine import regulation as rg
+from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure, regulation_figure
+from synth.machine.record import DesignRecord, input_rows
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
@@ -31,6 +38,7 @@ from mechsynth_client.schemas.balancing import (
     SliderCrankBalanceIn,
     SliderCrankBalanceOut,
 )
+from mechsynth_client.schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut
 from mechsynth_client.schemas.flywheel import FlywheelIn
 from mechsynth_client.schemas.engines import EngineIn, EngineOut
 from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOut, TeethIn, TeethOut
@@ -47,6 +55,16 @@ from mechsynth_client.schemas.synthesis import (
     SliderCrankSynthesisOut,
 )
 from mechsynth_client.schemas.train import TrainIn, TrainOut
+from mechsynth_client.schemas.foundation import (
+    ElasticDriveIn,
+    ElasticDriveOut,
+    IsolationDesignIn,
+    IsolationDesignOut,
+    IsolationIn,
+    IsolationOut,
+    RegulationIn,
+    RegulationOut,
+)
 from ..settings import Settings
 from .work import estimate_s
 from .tasks import (
@@ -297,6 +315,94 @@ def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any) -> Plan:
     return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
 
 
+def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn) -> None:
+    """The foundation's harmonics and the drives' periodic states take the whole cycle at uniform samples."""
+    if b.crank_angle_deg is not None:
+        raise synth.InvalidInput("the foundation takes uniformly spaced samples over one revolution: give samples, "
+                                 "not crank_angle_deg", field="crank_angle_deg")
+
+
+def isolation(b: IsolationIn, lim: Limits) -> Plan:
+    """POST /v1/machines/isolation."""
+    _uniform(b)
+    frame, isolators = b.to_frame()
+    return Plan(Render(IsolationOut.from_engine, isolation_figure), fd.isolate_linkage,
+                (b.to_linkage(), b.omega_rad_s, frame, isolators),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     run_up=b.run_up_engine()),
+                FIGURES, "isolation")
+
+
+def isolation_design(b: IsolationDesignIn, lim: Limits) -> Plan:
+    """POST /v1/machines/isolation/design."""
+    _uniform(b)
+    return Plan(Render(IsolationDesignOut.from_engine, design_figure), fdd.design_linkage_isolation,
+                (b.to_linkage(), b.omega_rad_s, b.frame.to_engine(), b.to_spec()),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors()),
+                FIGURES, "isolation-design")
+
+
+def elastic_drive(b: ElasticDriveIn, lim: Limits) -> Plan:
+    """POST /v1/machines/elastic-drive."""
+    _uniform(b)
+    return Plan(Render(ElasticDriveOut.from_engine, elastic_drive_figure), ed.elastic_drive_for_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine()),
+                dict(stiffness=b.stiffness_Nm_rad, elements=b.to_elements(), samples=b.samples,
+                     max_samples=lim.max_samples, counter_rotors=b.rotors(), friction=b.frictions(),
+                     machine_inertia=b.machine_inertia_kgm2, motor_side_inertia=b.motor_side_inertia_kgm2,
+                     damping_ratio=b.damping_ratio, start=b.start),
+                FIGURES, "elastic-drive")
+
+
+def regulation(b: RegulationIn, lim: Limits) -> Plan:
+    """POST /v1/machines/regulation."""
+    _uniform(b)
+    controller, tuning = (None, None) if b.regulator is None else b.regulator.to_engine()
+    return Plan(Render(RegulationOut.from_engine, regulation_figure), rg.regulate_linkage,
+                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine(), b.load_step_Nm),
+                dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, controller=controller, tuning=tuning,
+                     samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
+                     friction=b.frictions()),
+                FIGURES, "regulation")
+
+
+CAM_FORMATS = (*FIGURES, "csv", "dxf")
+
+
+def cam_record_title(body: CamAnalysisIn | CamSynthesisIn, name: str) -> synth.cams.RecordTitle:
+    """The design record's title block for a request: now, this service, the request's hash and its inputs."""
+    record = DesignRecord.of(body.model_dump(mode="json", exclude_none=True), name=name, version=SERVICE_VERSION)
+    return synth.cams.RecordTitle(record.name, record.created, record.version, record.request_sha256,
+                                  tuple(input_rows(record.request)))
+
+
+def cam_synthesis_export(result: synth.cams.CamSynthesis, fmt: str, at: float, tolerance: float,
+                     title: synth.cams.RecordTitle) -> bytes:
+    """The least cam's figure, point table, drawing or design record (with the search's certificate)."""
+    lc = result.least
+    least = (f"base radius {lc.base_radius * 1e3:.6g} mm at offset {lc.offset * 1e3:.5g} mm; active limit: "
+             f"{lc.active}", lc.statement)
+    return synth.cams.cam_export(result.analysis, fmt, at, tolerance,
+                                 replace(title, least=least))
+
+
+def cam_analysis_plan(b: CamAnalysisIn, lim: Limits) -> Plan:
+    """POST /v1/cams/analysis."""
+    return Plan(Render(CamAnalysisOut.from_engine, synth.cams.cam_export,
+                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
+                                     cam_record_title(b, "disc cam"))),
+                synth.cams.analyse_cam, (b.spec(),), dict(max_samples=lim.max_samples), CAM_FORMATS, "cam")
+
+
+def cam_synthesis_plan(b: CamSynthesisIn, lim: Limits) -> Plan:
+    """POST /v1/cams/synthesis."""
+    return Plan(Render(CamSynthesisOut.from_engine, cam_synthesis_export,
+                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
+                                     cam_record_title(b, "least disc cam"))),
+                synth.cams.synthesise_cam, (b.to_spec(), b.limits()), dict(max_samples=lim.max_samples), CAM_FORMATS,
+                "least-cam")
+
+
 # The design endpoints by path: request schema and plan. A study may vary any of them.
 PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/analysis": (AnalysisIn, analysis),
@@ -318,4 +424,10 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/machines/design": (MachineIn, machine_design),
     "/v1/machines/optimise": (MachineOptimiseIn, machine_optimise),
     "/v1/balancing/engine": (EngineIn, balance_engine),
+    "/v1/machines/isolation": (IsolationIn, isolation),
+    "/v1/machines/isolation/design": (IsolationDesignIn, isolation_design),
+    "/v1/machines/elastic-drive": (ElasticDriveIn, elastic_drive),
+    "/v1/machines/regulation": (RegulationIn, regulation),
+    "/v1/cams/analysis": (CamAnalysisIn, cam_analysis_plan),
+    "/v1/cams/synthesis": (CamSynthesisIn, cam_synthesis_plan),
 }

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-from dataclasses import replace
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Query, Request
@@ -12,10 +10,10 @@ from fastapi.responses import Response
 import synth.cams
 
 from ..deps import SolverDep
-from synth.machine.record import DesignRecord, input_rows
-
-from ..execution.plans import SERVICE_VERSION, Limits, Plan
-from ..media import FIGURES, Render, format_responses
+from ..execution.plans import CAM_FORMATS as FORMATS
+from ..execution.plans import cam_analysis_plan as analysis_plan
+from ..execution.plans import cam_synthesis_plan as synthesis_plan
+from ..media import format_responses
 from mechsynth_client.schemas.cams import (
     CamAnalysisIn,
     CamAnalysisOut,
@@ -25,7 +23,6 @@ from mechsynth_client.schemas.cams import (
 )
 
 router = APIRouter(prefix="/cams", tags=["cams"])
-FORMATS = (*FIGURES, "csv", "dxf")
 CamFormat = Annotated[
     Literal["json", "png", "svg", "pdf", "csv", "dxf"] | None,
     Query(description="Answer format: `json` (default); `png` or `svg` for the figure (s, v, a, jerk and the "
@@ -36,40 +33,6 @@ CamFormat = Annotated[
                       "for the profile as a closed polyline within chord_tolerance_m, with the pitch curve and "
                       "the base circle, in millimetres. An `Accept` header chooses the same way."),
 ]
-
-
-def record_title(body: CamAnalysisIn | CamSynthesisIn, name: str) -> synth.cams.RecordTitle:
-    """The design record's title block for a request: now, this service, the request's hash and its inputs."""
-    record = DesignRecord.of(body.model_dump(mode="json", exclude_none=True), name=name, version=SERVICE_VERSION)
-    return synth.cams.RecordTitle(record.name, record.created, record.version, record.request_sha256,
-                                  tuple(input_rows(record.request)))
-
-
-def synthesis_export(result: synth.cams.CamSynthesis, fmt: str, at: float, tolerance: float,
-                     title: synth.cams.RecordTitle) -> bytes:
-    """The least cam's figure, point table, drawing or design record (with the search's certificate)."""
-    lc = result.least
-    least = (f"base radius {lc.base_radius * 1e3:.6g} mm at offset {lc.offset * 1e3:.5g} mm; active limit: "
-             f"{lc.active}", lc.statement)
-    return synth.cams.cam_export(result.analysis, fmt, at, tolerance,
-                                 replace(title, least=least))
-
-
-def analysis_plan(b: CamAnalysisIn, lim: Limits) -> Plan:
-    """POST /v1/cams/analysis."""
-    return Plan(Render(CamAnalysisOut.from_engine, synth.cams.cam_export,
-                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
-                                     record_title(b, "disc cam"))),
-                synth.cams.analyse_cam, (b.spec(),), dict(max_samples=lim.max_samples), FORMATS, "cam")
-
-
-def synthesis_plan(b: CamSynthesisIn, lim: Limits) -> Plan:
-    """POST /v1/cams/synthesis."""
-    return Plan(Render(CamSynthesisOut.from_engine, synthesis_export,
-                       export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
-                                     record_title(b, "least disc cam"))),
-                synth.cams.synthesise_cam, (b.to_spec(), b.limits()), dict(max_samples=lim.max_samples), FORMATS,
-                "least-cam")
 
 
 @router.post("/analysis", response_model=CamAnalysisOut, responses=format_responses(FORMATS))

@@ -125,6 +125,16 @@ async function sign(project, design, number, role) {
   } catch (err) { say(`Not signed: ${problemText(err)}`, true); done("refused"); }
 }
 
+async function restore(project, design, number) {
+  try {
+    const r = await post(`${path(project, design)}/revisions/${number}/restore`, { author: who(), message: el("lib-message").value.trim() });
+    current = { project, design, number: r.number, endpoint: r.endpoint };
+    say(`Revision ${number} restored as revision ${r.number} (${r.state}); revision ${number} itself is unchanged.`);
+    await history(project, design);
+    done("restored");
+  } catch (err) { say(`Not restored: ${problemText(err)}`, true); done("refused"); }
+}
+
 async function record(project, design, number) {
   say("writing the design record…");
   const r = await fetch(`${path(project, design)}/revisions/${number}/record`, { headers: csrf() });
@@ -152,6 +162,8 @@ async function history(project, design) {
       h("td", {}, signedBy(r.checked_by, r.checked_at)), h("td", {}, signedBy(r.approved_by, r.approved_at)),
       h("td", { class: "actions" },
         h("button", { class: "secondary", onclick: () => open(project, design, r.number) }, "Open"),
+        r.number < last ? h("button", { class: "secondary", title: `save revision ${r.number}'s request again as the newest revision`,
+          onclick: () => restore(project, design, r.number) }, "Restore") : null,
         r.state === "draft" ? h("button", { class: "secondary", onclick: () => sign(project, design, r.number, "check") }, "Check") : null,
         r.state === "checked" ? h("button", { class: "secondary", onclick: () => sign(project, design, r.number, "approve") }, "Approve") : null,
         r.links.record ? h("button", { class: "secondary", onclick: () => record(project, design, r.number) }, "Record (PDF)") : null)));

@@ -317,6 +317,27 @@ function flywheelPanel() {
 }
 
 // --- drive -------------------------------------------------------------------------------------------------------
+// The strength block of the drive request (StrengthIn), folded away in the Drive panel.
+const DRIVE_STRENGTH = [["life_h", "Required life"], ["application_factor", "Application factor K_A"],
+  ["min_safety_contact", "Least S_H"], ["min_safety_root", "Least S_F"], ["pinion_material", "Pinion material"],
+  ["gear_material", "Gear material"], ["helix_angle_deg", "Helix angle"], ["pinion_teeth", "Pinion teeth"],
+  ["accuracy_grade", "Accuracy grade (ISO 1328)"], ["oil_viscosity_40C_mm2_s", "Oil viscosity at 40 °C"],
+  ["module_series", "Module series"], ["objective", "Sized for"]]
+  .map(([name, label]) => ({ path: `strength.${name}`, label, schema: ["StrengthIn", name] }));
+
+/** The stages of a drive answer sized for strength: module, teeth, width, safety factors, mass. */
+function sizedGears(d) {
+  const num = (t) => [t, { class: "num" }];
+  const pair = (xs) => xs.map((x) => fmt(x, 3)).join(" / ");
+  return [h("h3", {}, "Gears sized for strength (ISO 6336)"),
+    table(["stage", "module", "teeth", "face width", "centre distance", "S_H pinion / gear", "S_F pinion / gear", "width set by", "mass"],
+      d.gears.map((g, n) => (g === null ? [String(n + 1), "not a cylindrical pair", "", "", "", "", "", "", ""] : [String(g.stage + 1),
+        num(`${fmt(g.module_mm)} mm`), num(`${g.pinion_teeth} / ${g.gear_teeth}`), num(`${fmt(g.face_width_mm, 4)} mm`),
+        num(`${fmt(g.centre_distance_mm, 5)} mm`), num(pair(g.safety_contact)), num(pair(g.safety_root)),
+        g.binding.replace(/_/g, " "), num(`${fmt(g.mass_kg, 4)} kg`)]))),
+    h("p", {}, `Wheels' mass ${fmt(d.gear_mass_kg, 4)} kg (solid discs of the reference diameters).`)];
+}
+
 function drivePanel() {
   const el = document.getElementById("panel-drive");
   const render = () => {
@@ -328,14 +349,25 @@ function drivePanel() {
       field("drv", { name: "output_power_W", label: "Power at the crank", model: "DriveIn", path: "output_power_W", value: Math.max(1, Number(mean.toPrecision(4))) }),
       field("drv", { name: "output_speed_rpm", label: "Crank speed", model: "DriveIn", path: "output_speed_rpm", value: ctx.state.design.speed_rpm }),
       field("drv", { name: "stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"], ["3", "3 helical"]], value: "2" })),
+    h("details", { class: "more", id: "drv-strength" }, h("summary", {}, "Gear strength (ISO 6336)"), h("div", { class: "controls" },
+      field("drv", { name: "size_gears", label: "Size the gears for strength", options: [["false", "no"], ["true", "yes"]], value: "false" }),
+      DRIVE_STRENGTH.map((f) => schemaField("drv", f)))),
     actions(h("button", { class: "run", id: "drv-run", onclick: run }, "Design the drive"), h("span", { id: "drv-status", class: "note" })),
     h("p", { id: "drv-problem", class: "problem", hidden: true }), h("div", { id: "drv-result" }));
   };
   async function run() {
     clearPanel("drv");
-    if (!checkNumbers("drv", ["output_power_W", "output_speed_rpm"])) return;
+    if (!checkNumbers("drv", ["output_power_W", "output_speed_rpm"]) || !checkSchemaFields("drive")) return;
     const stages = Array(Number(read("drv", "stages"))).fill("helical");
     const body = { output_power_W: read("drv", "output_power_W"), output_speed_rpm: read("drv", "output_speed_rpm"), stages };
+    if (read("drv", "size_gears") === "true") {
+      // the strength block: sent whole, its fields when filled (else the API's defaults)
+      body.strength = {};
+      document.querySelectorAll("#panel-drive [data-path]").forEach((input) => {
+        const v = readSchemaField(input);
+        if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
+      });
+    }
     busy("drv", "designing…");
     try {
       const d = await post("/v1/gears/drive", body);
@@ -354,6 +386,7 @@ function drivePanel() {
         table(["shaft", "speed", "torque", "power"], d.shafts.map((sh, n) => [n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `shaft ${n}`,
           num(`${fmt(sh.speed_rpm)} rev/min`), num(`${fmt(sh.torque_Nm)} N·m`), num(`${fmt(sh.power_W)} W`)])),
         h("p", { class: "note" }, `Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J.`),
+        d.gears ? sizedGears(d) : null,
         (d.warnings || []).map((w) => h("p", { class: "note" }, `⚠ ${w.message}`)));
     } catch (err) { busy("drv", ""); panelProblem("drv", err); }
   }
@@ -377,6 +410,9 @@ const MACHINE_MORE = {
     ["drive.strength.min_safety_root", "Least S_F"], ["drive.strength.pinion_material", "Pinion material"], ["drive.strength.gear_material", "Gear material"],
     ["drive.strength.helix_angle_deg", "Helix angle"], ["drive.strength.pinion_teeth", "Pinion teeth"], ["drive.strength.accuracy_grade", "Accuracy grade (ISO 1328)"],
     ["drive.strength.oil_viscosity_40C_mm2_s", "Oil viscosity at 40 °C"], ["drive.strength.module_series", "Module series"]],
+  around: [["elastic_drive.stiffness_Nm_rad", "Elastic link stiffness at the crank"], ["elastic_drive.damping_ratio", "Elastic link damping ratio"],
+    ["elastic_drive.max_dynamic_factor", "Largest dynamic factor"], ["regulation.load_step_Nm", "Load step at the crank"],
+    ["regulation.max_settling_time_s", "Longest settling after the step"]],
 };
 for (const k of Object.keys(MACHINE_MORE)) MACHINE_MORE[k] = MACHINE_MORE[k].map(([path, label]) => ({ path, label }));
 
@@ -401,7 +437,7 @@ function schemaField(prefix, { path, label, schema = null, value = "" }) {
       opts.map(([v, l]) => h("option", { value: v, selected: String(value) === v }, l)));
   } else {
     input = h("input", { id, name: path, type: "text", autocomplete: "off", title: d.text, inputmode: type === "string" ? "text" : "decimal",
-      placeholder: typeof dflt === "number" ? ctx.toDisplay(dflt, kind) : "", dataset: { path, type: type || "number", kind } });
+      placeholder: typeof dflt === "number" ? ctx.toDisplay(dflt, kind) : typeof dflt === "string" ? dflt : "", dataset: { path, type: type || "number", kind } });
     if (value !== "") input.value = String(value);
   }
   return h("div", { class: "row", dataset: { field: path } }, h("label", { for: id, title: d.text }, label), input,
@@ -421,9 +457,9 @@ function readSchemaField(input) {
   return t === "integer" ? Math.round(v) : v * ctx.factor(input.dataset.kind || "plain");
 }
 
-function checkSchemaFields(prefix) {
+function checkSchemaFields(panel) {
   let ok = true;
-  document.querySelectorAll(`#panel-machine [data-path]`).forEach((input) => {
+  document.querySelectorAll(`#panel-${panel} [data-path]`).forEach((input) => {
     if (!Number.isNaN(readSchemaField(input))) return;
     const m = document.getElementById(`${input.id}-msg`);
     m.textContent = "enter a number"; m.hidden = false; input.setAttribute("aria-invalid", "true");
@@ -453,6 +489,7 @@ function machinePanel() {
     more("Balancing, flywheel, speed", ...MACHINE_MORE.other.map((f) => schemaField("mac", f))),
     more("Start-up and run-down", ...MACHINE_MORE.running.map((f) => schemaField("mac", f))),
     more("Gear strength (ISO 6336)", ...MACHINE_MORE.strength.map((f) => schemaField("mac", f))),
+    more("Elastic drive and load step", ...MACHINE_MORE.around.map((f) => schemaField("mac", f))),
     actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
       h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
       h("span", { id: "mac-status", class: "note" })),
@@ -495,7 +532,7 @@ function machinePanel() {
   async function run() {
     clearPanel("mac");
     forget();
-    if (!checkNumbers("mac", ["delta"]) || !checkSchemaFields("mac")) return;
+    if (!checkNumbers("mac", ["delta"]) || !checkSchemaFields("machine")) return;
     const body = request();
     busy("mac", "designing…");
     try {
@@ -559,6 +596,7 @@ function machinePanel() {
     linePlot(box, "mac-motor", { title: "Motor torque over the cycle", x: m.simulation.crank_angle_deg, xLabel: "crank angle φ [°]",
       yLabel: "T_motor [N·m]", unit: "N·m", series: [{ name: "motor torque", values: m.simulation.motor_torque_Nm }],
       limits: [{ y: m.motor.rated_torque_Nm, label: "rated" }] });
+    res.dispatchEvent(new CustomEvent("machine-answer", { detail: m, bubbles: true }));
   }
   return render;
 }

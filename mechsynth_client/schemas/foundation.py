@@ -594,3 +594,126 @@ class RegulationOut(BaseModel):
             poles_real_1_s=None if r.poles is None else [float(p.real) for p in r.poles],
             poles_imag_1_s=None if r.poles is None else [float(p.imag) for p in r.poles])
         return cls.model_construct(**values)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The blocks of POST /v1/machines/design: the same capabilities for the designed machine.
+
+def _chain_engine() -> Any:
+    return importlib.import_module("synth.machine.foundation_chain")
+
+
+class MachineFoundationIn(StrictModel):
+    """The designed machine's frame on isolators: its shaking force and moment after balancing (the Lanchester
+    balancers' included) at the working speed drive the frame, as POST /v1/machines/isolation answers."""
+
+    frame: FrameIn = Field(description="The machine as a rigid body.")
+    isolators: list[IsolatorIn] = Field(max_length=MAX_ISOLATORS, description="The isolators under the frame "
+                                        "(enough to hold x, y and rotation).")
+    max_force_N: float | None = Field(None, gt=0, le=1e12, description="Limit of the peak force to the "
+                                      "foundation [N]: check foundation_force; null: not checked.")
+    max_amplitude_m: float | None = Field(None, gt=0, le=10, description="Limit of the frame centre's peak "
+                                          "displacement [m]: check foundation_amplitude; null: not checked.")
+    run_up: bool = Field(False, description="Also follow the frame while the designed machine runs up from rest "
+                         "(its motor through the train, rotor, train and flywheel).")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"frame": FRAME_EXAMPLE, "isolators": ISOLATORS_EXAMPLE, "max_force_N": 600}]})
+
+    def to_engine(self) -> Any:
+        """Engine foundation choice."""
+        return _chain_engine().FoundationChoice(
+            self.frame.to_engine(), tuple(i.to_engine() for i in self.isolators), self.max_force_N,
+            self.max_amplitude_m, self.run_up)
+
+
+class MachineElasticDriveIn(StrictModel):
+    """The designed machine driven through an elastic link between the motor's rotor and the train (two-mass
+    model reduced to the crank), as POST /v1/machines/elastic-drive answers; the gear stages are then sized for
+    the link's torque where it is larger than the rigid machine's."""
+
+    stiffness_Nm_rad: float | None = Field(None, gt=0, le=1e12, description="The link's torsional stiffness "
+                                           "reduced to the crank [N·m/rad]; or give `elements`.")
+    elements: list[ElasticElementIn] = Field(default_factory=list, max_length=16, description="Shafts and "
+                                             "couplings of the link, in series, each reduced by its speed ratio "
+                                             "squared.")
+    motor_side_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the motor "
+                                           "shaft besides the rotor (coupling half) [kg·m²]; a flywheel on the "
+                                           "motor shaft joins it.")
+    damping_ratio: float = Field(0.05, ge=0, le=2, description="The link's damping as a ratio of the two-mass "
+                                 "mode's critical damping [-].")
+    start: bool = Field(True, description="Also simulate the run-up from rest with the elastic link.")
+    max_dynamic_factor: float | None = Field(None, gt=0, le=1e3, description="Limit of the dynamic factor [-]: "
+                                             "check dynamic_factor; null: not checked.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"elements": [{"type": "shaft", "speed_ratio": 3.0, "diameter_m": 0.03, "length_m": 0.4},
+                      {"type": "coupling", "speed_ratio": 3.0, "stiffness_Nm_rad": 2e3}],
+         "max_dynamic_factor": 1.5}]})
+
+    def to_engine(self) -> Any:
+        """Engine elastic-drive choice."""
+        return _chain_engine().ElasticDriveChoice(
+            self.stiffness_Nm_rad, tuple(e.to_engine(k) for k, e in enumerate(self.elements)),
+            self.motor_side_inertia_kgm2, self.damping_ratio, self.start, self.max_dynamic_factor)
+
+
+class MachineRegulationIn(StrictModel):
+    """A step in the designed machine's process load: its self-regulation through the chosen motor's
+    characteristic, or a PI controller on a frequency converter, as POST /v1/machines/regulation answers."""
+
+    load_step_Nm: float = Field(ge=-1e9, le=1e9, description="Step in the load torque at the crank [N·m], "
+                                "positive resists (more load).", examples=[40])
+    delta: float | None = Field(None, gt=0, lt=1, description="The band the settling is judged in: delta·w/2 "
+                                "[-]; default the design's target delta.")
+    regulator: RegulatorIn | None = Field(None, description="A PI controller on a frequency converter; null: "
+                                          "self-regulation through the characteristic.")
+    max_settling_time_s: float | None = Field(None, gt=0, le=1e4, description="Limit of the time to settle in "
+                                              "the band after the step [s]: check regulation_settling_time; null: "
+                                              "not checked.")
+    max_speed_drop_rad_s: float | None = Field(None, gt=0, le=1e4, description="Limit of the mean crank speed's "
+                                               "drop (with a regulator: its largest deviation) [rad/s]: check "
+                                               "regulation_speed_drop; null: not checked.")
+
+    model_config = ConfigDict(json_schema_extra={"examples": [
+        {"load_step_Nm": 40, "max_settling_time_s": 2.0},
+        {"load_step_Nm": 40, "regulator": {"settling_time_s": 0.5, "overshoot": 0.05}}]})
+
+    def to_engine(self) -> Any:
+        """Engine regulation choice."""
+        controller, tuning = (None, None) if self.regulator is None else self.regulator.to_engine()
+        return _chain_engine().RegulationChoice(self.load_step_Nm, self.delta, controller, tuning,
+                                                self.max_settling_time_s, self.max_speed_drop_rad_s)
+
+
+class MachineElasticDriveOut(ElasticDriveOut):
+    """The designed machine's elastic drive, and what it was given."""
+
+    motor_side_inertia_kgm2: float = Field(description="On the motor shaft besides the rotor, the flywheel there "
+                                           "included [kg·m²].")
+    machine_constant_inertia_kgm2: float = Field(description="Train (and the flywheel elsewhere) reduced to the "
+                                                 "crank, on the machine's side of the link [kg·m²].")
+    gear_torque_basis: Literal["rigid", "elastic"] = Field(description="`elastic`: the gear stages were sized for "
+                                                           "the elastic link's torque, carried to each shaft, "
+                                                           "where it is larger than the rigid machine's; `rigid`: "
+                                                           "it is nowhere larger, or no stage is sized.")
+
+    @classmethod
+    def from_design(cls, e: Any) -> MachineElasticDriveOut:
+        """Schema from the engine's elastic drive of a design."""
+        base = ElasticDriveOut.from_engine(e.drive)
+        return cls.model_construct(**dict(base), motor_side_inertia_kgm2=e.motor_side_inertia,
+                                   machine_constant_inertia_kgm2=e.machine_constant_inertia,
+                                   gear_torque_basis=e.gear_torque_basis)
+
+
+class MachineRegulationOut(RegulationOut):
+    """The designed machine after the load step, and the inertia it ran with."""
+
+    constant_inertia_kgm2: float = Field(description="Rotor, train and flywheel reduced to the crank [kg·m²].")
+
+    @classmethod
+    def from_design(cls, g: Any) -> MachineRegulationOut:
+        """Schema from the engine's load step of a design."""
+        base = RegulationOut.from_engine(g.regulation)
+        return cls.model_construct(**dict(base), constant_inertia_kgm2=g.constant_inertia)

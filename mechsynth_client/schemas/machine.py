@@ -29,6 +29,14 @@ from .common import (
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
 from .rating import SizedStageOut, StrengthIn, sized_stages_out
+from .foundation import (
+    IsolationOut,
+    MachineElasticDriveIn,
+    MachineElasticDriveOut,
+    MachineFoundationIn,
+    MachineRegulationIn,
+    MachineRegulationOut,
+)
 
 #: The README's slider-crank press: a 2.5 kN pressing stroke over half the turn at 480 rpm, one helical stage.
 PRESS_EXAMPLE: JsonDict = {
@@ -230,6 +238,13 @@ class MachineIn(LinkageRequest):
     title_block: TitleBlockIn | None = Field(None, description="The design record's title block (project, number, "
                                              "revision, designed/checked/approved with names and dates, state); "
                                              "default a draft with blank names. Not part of the request's hash.")
+    foundation: MachineFoundationIn | None = Field(None, description="The machine's frame on isolators, driven "
+                                                   "by its shaking force and moment after balancing at the "
+                                                   "working speed; null: not asked.")
+    elastic_drive: MachineElasticDriveIn | None = Field(None, description="An elastic link between the motor's "
+                                                        "rotor and the train; null: the drive is rigid.")
+    regulation: MachineRegulationIn | None = Field(None, description="A step in the process load and the speed's "
+                                                   "answer (self-regulation or a PI controller); null: not asked.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE],
                                                  **exactly_one("delta", "machine_type")})
@@ -251,6 +266,9 @@ class MachineIn(LinkageRequest):
             brake_torque=self.brake_torque_Nm, start_under_load=self.start_under_load,
             max_startup_time=self.max_startup_time_s,
             max_rundown_time=self.max_rundown_time_s,
+            foundation=None if self.foundation is None else self.foundation.to_engine(),
+            elastic_drive=None if self.elastic_drive is None else self.elastic_drive.to_engine(),
+            regulation=None if self.regulation is None else self.regulation.to_engine(),
         )
 
 
@@ -590,6 +608,16 @@ class MachineDesignOut(BaseModel):
     request_sha256: str | None = Field(None, description="SHA-256 of the request's canonical JSON (validated, "
                                        "defaults included, keys sorted): the design record's identity, printed "
                                        "in the report's title block.")
+    foundation: IsolationOut | None = Field(None, description="With `foundation`: the frame on its isolators, as "
+                                            "/v1/machines/isolation answers (its time-integration check "
+                                            "included); null otherwise.")
+    elastic_drive: MachineElasticDriveOut | None = Field(None, description="With `elastic_drive`: the drive "
+                                                         "with its elastic link, as /v1/machines/elastic-drive "
+                                                         "answers (its checks included), and whether the gears "
+                                                         "were sized for its torque; null otherwise.")
+    regulation: MachineRegulationOut | None = Field(None, description="With `regulation`: the speed after the "
+                                                    "load step, as /v1/machines/regulation answers; null "
+                                                    "otherwise.")
 
     @classmethod
     def from_engine(cls, d: synth.MachineDesign, alternatives: tuple[synth.Alternative, ...] = (),
@@ -643,6 +671,9 @@ class MachineDesignOut(BaseModel):
             alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
             warnings=warnings_out(d.warnings),
             request_sha256=request_sha256,
+            foundation=None if d.foundation is None else IsolationOut.from_engine(d.foundation),
+            elastic_drive=None if d.elastic is None else MachineElasticDriveOut.from_design(d.elastic),
+            regulation=None if d.regulation is None else MachineRegulationOut.from_design(d.regulation),
         )
 
 

@@ -61,11 +61,29 @@ from ..gearing.teeth import ToothRules
 from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import FloatArray, Linkage
 from ..warnings import DELTA_RANGE, RIM_SPEED_MARGIN, DesignWarning, check_analysis, check_counterweights
+from .foundation import Isolation
+from .foundation_chain import (
+    check_choices,
+    ElasticInDesign,
+    Limit,
+    RegulationInDesign,
+    elastic_limits,
+    elastic_of_design,
+    elastic_shaft_torques,
+    elastic_warnings,
+    forcing_of_design,
+    foundation_limits,
+    foundation_of_design,
+    regulation_limits,
+    regulation_of_design,
+)
 from .operating_point import MotorLoad, operating_speed
 from ..friction import friction_kinetostatics
+from ..dynamics import reduced_model
 from .running import MachineRunning, machine_running
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
+from .stages import Stage as DesignStage
 from .stages import gathered, refuse_likely_mistakes, stage, staged
 
 #: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
@@ -146,7 +164,9 @@ class MachineDesign:
     ``shafts`` motor first; ``checks`` every target against the simulation, the steady motion's and the start,
     run-up and run-down's, in one list that alone decides ``passed``; ``gears`` every cylindrical stage sized
     for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive asks
-    for no sizing); ``running`` the stages' efficiencies, the start-up and the run-down.
+    for no sizing), the elastic link's where it is larger; ``running`` the stages' efficiencies, the start-up
+    and the run-down; ``foundation`` the frame on its isolators, ``elastic`` the drive with its elastic link and
+    ``regulation`` the load step, each when the machine asks for it (their limits are among ``checks``).
     """
 
     spec: MachineSpec
@@ -168,6 +188,9 @@ class MachineDesign:
     warnings: tuple[DesignWarning, ...]
     gears: TrainSizing | None = None
     running: MachineRunning | None = None
+    foundation: Isolation | None = None
+    elastic: ElasticInDesign | None = None
+    regulation: RegulationInDesign | None = None
 
     @property
     def running_checks(self) -> tuple[MachineCheck, ...]:
@@ -567,6 +590,7 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
     ratio, no shaft holds the flywheel, ...), SolverFailed or SolverTimeout, each naming what binds.
     """
     machine.validate()
+    check_choices(machine.foundation, machine.elastic_drive)
     notes = refuse_likely_mistakes(machine.linkage)
     # a load or mass typed a hundred orders of magnitude off overflows somewhere down the chain: say so once
     with np.errstate(over="raise"):
@@ -610,7 +634,80 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
             f"motor {design.drive.motor.name} chosen from the mean power fails {', '.join(heavy)} on the simulated "
             f"cycle; replaced by {bigger.name}", "W", stage="motor"))
         motor_name = bigger.name
-    return replace(design, warnings=tuple(replaced) + design.warnings)
+    return _around(machine, replace(design, warnings=tuple(replaced) + design.warnings))
+
+
+#: The request's field each block's limit is given in.
+_LIMIT_FIELDS = {"foundation_force": "foundation.max_force_N", "foundation_amplitude": "foundation.max_amplitude_m",
+                 "dynamic_factor": "elastic_drive.max_dynamic_factor",
+                 "regulation_settling_time": "regulation.max_settling_time_s",
+                 "regulation_speed_drop": "regulation.max_speed_drop_rad_s"}
+
+
+def _limit_checks(limits: Sequence[Limit], block: DesignStage) -> tuple[list[MachineCheck], list[DesignWarning]]:
+    """A block's limits as checks of the machine, and a warning for each it fails."""
+    checks = [MachineCheck(x.name, x.value, x.limit, x.passed, x.detail, x.unit, x.label) for x in limits]
+    warnings = [DesignWarning("check_failed", _LIMIT_FIELDS.get(x.name), x.value,
+                              f"the machine fails its {x.name} check ({x.value:.4g} against {x.limit:.4g}): "
+                              f"{x.detail}", x.unit, stage=block) for x in limits if not x.passed]
+    return checks, warnings
+
+
+def _around(machine: MachineSpec, d: MachineDesign) -> MachineDesign:
+    """The machine around its linkage, when the request asks for it: the frame on its isolators, the elastic
+    drive (the gear stages then sized for its torque where it is larger) and the load step; each block's limits
+    join the one list of checks."""
+    if machine.foundation is None and machine.elastic_drive is None and machine.regulation is None:
+        return d
+    red = d.balanced.reduced
+    cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.resisting_torque)
+    constant = d.train_inertia + d.motor.reduced().inertia + d.flywheel_inertia
+    checks, warnings = list(d.checks), list(d.warnings)
+    foundation = elastic = regulation = None
+    gears = d.gears
+    if machine.foundation is not None:
+        with stage("foundation"):
+            ks, sc = d.balanced.kinetostatics, d.balancing.slider_crank
+            force, moment = ks.shaking_force, ks.shaking_moment
+            if sc is not None and d.balancing.mode == "full":
+                # the Lanchester balancers act on the frame too
+                force, moment = sc.after_force, sc.after_moment
+            forcing = forcing_of_design(d.balanced.motion.phi, d.balanced.motion.omega_crank, force, moment)
+            foundation = foundation_of_design(machine.foundation, forcing,
+                                              None if d.running is None else d.running.startup)
+        more, notes = _limit_checks(foundation_limits(machine.foundation, foundation), "foundation")
+        checks += more
+        warnings += notes
+    if machine.elastic_drive is not None:
+        with stage("elastic_drive"):
+            start_cycle = cycle
+            if not machine.start_under_load:
+                # it runs up idling, as the design's start-up does (gravity and link torques, no friction)
+                idle = reduced_model(d.balanced.motion, replace(d.balanced.linkage, loads=()))
+                start_cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, idle.load_torque)
+            elastic = elastic_of_design(machine.elastic_drive, cycle, d.motor, d.train_inertia, d.flywheel_inertia,
+                                        d.placement, start_cycle)
+        if d.gears is not None:
+            n = len(d.stage_ratios)
+            r = np.array([math.prod(d.stage_ratios[k:]) for k in range(n)] + [1.0])
+            eta = np.concatenate([[1.0], np.cumprod(d.drive.stage_efficiencies)])
+            rigid = _shaft_torques(d.stage_ratios, d.drive, d.motion, d.placement, d.flywheel_inertia)
+            torques = elastic_shaft_torques(rigid, d.motion.phi, elastic.drive, r, eta, d.motor.efficiency)
+            if np.any(torques != rigid):
+                gears, not_sized = _gears(machine, d.teeth, d.stage_ratios, torques, d.motion, d.shafts)
+                elastic = replace(elastic, gear_torque_basis="elastic")
+                warnings += not_sized
+        more, notes = _limit_checks(elastic_limits(machine.elastic_drive, elastic.drive), "elastic_drive")
+        checks += more
+        warnings += notes + elastic_warnings(elastic.drive)
+    if machine.regulation is not None:
+        with stage("regulation"):
+            regulation = regulation_of_design(machine.regulation, cycle, d.motor, constant, machine.delta)
+        more, notes = _limit_checks(regulation_limits(machine.regulation, regulation.regulation), "regulation")
+        checks += more
+        warnings += notes
+    return replace(d, checks=tuple(checks), warnings=tuple(warnings), gears=gears, foundation=foundation,
+                   elastic=elastic, regulation=regulation)
 
 
 def _next_motor(motor: CatalogueMotor, catalogue: Sequence[CatalogueMotor] | None) -> CatalogueMotor | None:

@@ -53,6 +53,10 @@ PLAIN_REVOLUTIONS = 6
 METHOD = "RK45"
 #: The state at the same crank angle counts as repeating within this fraction of the mean speed [-].
 PERIODIC_TOLERANCE = 1e-7
+#: Newton's residual may stall above :data:`PERIODIC_TOLERANCE` at the integration's own noise (a lightly damped
+#: link near a load harmonic amplifies it); below this fraction of the mean speed, a step that no longer halves
+#: the residual ends the shooting [-].
+NOISE_TOLERANCE = 1e-4
 #: Most points of a start-up's time series in an answer.
 START_POINTS = 3000
 
@@ -249,7 +253,8 @@ class _Model:
 
 
 def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machine_inertia: float = 0.0,
-                  motor_side_inertia: float = 0.0, damping_ratio: float = 0.05, start: bool = True) -> ElasticDrive:
+                  motor_side_inertia: float = 0.0, damping_ratio: float = 0.05, start: bool = True,
+                  start_cycle: MachineCycle | None = None) -> ElasticDrive:
     """The machine driven through an elastic link (see the module's notes).
 
     Parameters
@@ -268,6 +273,9 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
         The link's damping as a ratio of the critical damping of the two-mass mode [-].
     start
         Also simulate the run-up from rest with the elastic link.
+    start_cycle
+        The machine the run-up drives, when it is not ``cycle`` (a machine that runs up idling and takes its
+        process load once it runs).
     """
     for name, v in (("stiffness_Nm_rad", stiffness),):
         if not (math.isfinite(v) and v > 0):
@@ -344,6 +352,7 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
             break
     # then Newton shooting on the state where the crank passes phi0, Jacobian by differences (a revolution each)
     newton = 0
+    last = math.inf
     while not settled:
         if newton == MAX_NEWTON:
             raise SolverFailed("no_periodic_motion", f"the elastic drive's shooting did not converge in "
@@ -351,8 +360,10 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
         z_next = step_map(z)
         revs += 1
         r = z_next - z
-        if np.all(np.abs(r) <= PERIODIC_TOLERANCE * scale):
+        size = float(np.max(np.abs(r) / scale))
+        if size <= PERIODIC_TOLERANCE or (size <= NOISE_TOLERANCE and size > 0.5 * last):
             break
+        last = size
         jac = np.empty((3, 3))
         for k in range(3):
             dz = np.zeros(3)
@@ -363,13 +374,17 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
         newton += 1
     sol = revolution(z, dense=True)
     t_end = float(sol.t_events[0][0])
+    starting = None
+    if start:
+        starting = cycle if start_cycle is None else start_cycle
     return _finish(model, sol, (0.0, sol.y[:, 0]), (t_end, sol.y_events[0][0]), cycle, rigid, stiffness, b, j1,
-                   j2_all, wn, eigen, revs + 1, motor, machine_inertia, start)
+                   j2_all, wn, eigen, revs + 1, motor, machine_inertia, starting)
 
 
 def _finish(model: _Model, sol: Any, a: tuple[float, FloatArray], b_: tuple[float, FloatArray],
             cycle: MachineCycle, rigid: MachineMotion, stiffness: float, damping: float, j1: float, j2_all: FloatArray,
-            wn: float, eigen: float, revs: int, motor: Motor, machine_inertia: float, start: bool) -> ElasticDrive:
+            wn: float, eigen: float, revs: int, motor: Motor, machine_inertia: float,
+            start: MachineCycle | None) -> ElasticDrive:
     ta, tb = a[0], b_[0]
     grid = np.linspace(ta, tb, 40 * cycle.phi.size + 1)
     ys = sol.sol(grid)
@@ -399,8 +414,9 @@ def _finish(model: _Model, sol: Any, a: tuple[float, FloatArray], b_: tuple[floa
     freqs = (two_mass_frequency(stiffness, j1, float(j2_all.max())) / (2 * math.pi),
              two_mass_frequency(stiffness, j1, float(j2_all.min())) / (2 * math.pi))
     run, peak, rigid_peak = None, None, None
-    if start:
-        run, peak, rigid_peak = _start(model, cycle, motor, j1, machine_inertia, wn)
+    if start is not None:
+        start_model = model if start is cycle else _Model(start, machine_inertia, motor, j1, stiffness, damping)
+        run, peak, rigid_peak = _start(start_model, start, motor, j1, machine_inertia, wn)
     return ElasticDrive(stiffness, damping, j1, (j2m, float(j2_all.min()), float(j2_all.max())),
                         wn / (2 * math.pi), freqs, mean_speed, eigen / (2 * math.pi), cycle.phi, steady, rigid_torque,
                         factor,

@@ -30,7 +30,7 @@ from ..errors import Infeasible, InvalidInput
 from ..flywheel import Motor
 from ..model import FloatArray, Linkage
 from .simulate import MachineCycle
-from .startup import simulate_startup
+from .startup import StartUp, simulate_startup
 
 ComplexArray = npt.NDArray[np.complex128]
 #: Standard gravity, for the static deflection under the machine's weight [m/s²].
@@ -555,6 +555,14 @@ def isolate_linkage(linkage: Linkage, speed: float, frame: Frame, isolators: tup
     red = an.reduced
     start = simulate_startup(MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque),
                              constant_inertia, motor)
+    return with_run_up(result, forcing, start)
+
+
+def with_run_up(result: Isolation, forcing: Forcing, start: StartUp) -> Isolation:
+    """``result`` with the frame's passage while the machine runs up from rest on the speed history ``start``
+    of :func:`synth.machine.startup.simulate_startup`; ``forcing`` the steady cycle's at its constant crank
+    speed."""
+    frame, isolators, speed = result.frame, result.isolators, forcing.speed
     if start.run is None:
         raise Infeasible("the motor cannot start the machine, so there is no run-up to follow",
                          constraint="run_up.motor", margin=start.check.margin)

@@ -4,13 +4,17 @@ harmonic; the speed and torque of a regulated machine after a load step."""
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+
+from ..model import FloatArray  # noqa: E402
 
 from .foundation import Isolation  # noqa: E402
 from .elastic_drive import ElasticDrive  # noqa: E402
@@ -130,7 +134,7 @@ def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDri
     fig = plt.figure(figsize=(11.69, 8.27))
     fig.suptitle("The machine on its foundation, its elastic drive and its speed regulation", fontsize=13)
     grid = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.3], hspace=0.35, wspace=0.3, left=0.06, right=0.97,
-                            bottom=0.08, top=0.9)
+                            bottom=0.12, top=0.9)
     rows: list[list[str]] = []
     if isolation is not None:
         r = isolation
@@ -184,3 +188,162 @@ def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDri
         ax.axvline(regulation.step_time, color="k", lw=0.8, ls=":")
         ax.set(xlabel="time [s]", ylabel="speed [rpm]", title="Speed after the load step")
     return fig
+
+
+def _outline(r: Isolation) -> FloatArray:
+    """The frame drawn as the rectangle around its centre, isolator points and the crank pivot, with a margin [m],
+    closed (5, 2)."""
+    pts = np.vstack([np.array([i.position for i in r.isolators], dtype=float), [r.frame.centre], [[0.0, 0.0]]])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.08 * max(float(np.max(hi - lo)), 0.1)
+    lo, hi = lo - pad, hi + pad
+    return np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]], [lo[0], lo[1]]])
+
+
+def _moved(points: FloatArray, centre: FloatArray, q: tuple[float, float, float], scale: float) -> FloatArray:
+    """``points`` [m] after the frame's rigid motion (x, y, theta) of its centre, magnified by ``scale``."""
+    x, y, theta = (scale * v for v in q)
+    c, s = np.cos(theta), np.sin(theta)
+    rel = points - centre
+    return np.asarray(centre + np.column_stack([c * rel[:, 0] - s * rel[:, 1], s * rel[:, 0] + c * rel[:, 1]])
+                      + [x, y], dtype=float)
+
+
+def mode_shapes(axes: Sequence[Axes], r: Isolation) -> None:
+    """Each natural mode drawn on the frame: the frame at rest (grey), its isolators (triangles) and the
+    crank pivot O, and the frame moved along the mode's shape, magnified so its largest point moves a fifth of
+    the frame's size (the shape's sign is arbitrary)."""
+    outline = _outline(r)
+    centre = np.asarray(r.frame.centre, dtype=float)
+    size = float(np.max(np.ptp(outline, axis=0)))
+    iso = np.array([i.position for i in r.isolators], dtype=float)
+    for k, (ax, m, colour) in enumerate(zip(axes, r.modes, ("C0", "C1", "C3"), strict=False)):
+        unit = _moved(outline, centre, m.shape, 1.0) - outline
+        scale = 0.2 * size / max(float(np.max(np.linalg.norm(unit, axis=1))), 1e-300)
+        ax.plot(outline[:, 0], outline[:, 1], color="0.6", lw=1)
+        moved = _moved(outline, centre, m.shape, scale)
+        ax.plot(moved[:, 0], moved[:, 1], color=colour, lw=1.6)
+        ax.plot(iso[:, 0], iso[:, 1], "^", color="0.3", ms=7)
+        shifted = _moved(iso, centre, m.shape, scale)
+        for a, b in zip(iso, shifted, strict=True):
+            ax.plot([a[0], b[0]], [a[1], b[1]], color=colour, lw=0.8, ls=":")
+        ax.plot(*centre, "+", color="k", ms=8)
+        ax.plot(0.0, 0.0, "o", color="k", ms=3)
+        ax.annotate("O", (0.0, 0.0), textcoords="offset points", xytext=(3, 3), fontsize=7)
+        both = np.vstack([outline, moved])
+        middle = (both.min(axis=0) + both.max(axis=0)) / 2
+        half = 0.55 * float(np.max(np.ptp(both, axis=0)))
+        ax.set(xlim=(middle[0] - half, middle[0] + half), ylim=(middle[1] - half, middle[1] + half))
+        ax.set_aspect("equal", adjustable="box")
+        x, y, th = (0.0 if abs(v) < 1e-9 else v for v in m.shape)
+        ax.set_title(f"mode {k + 1}: {m.frequency:.3g} Hz, "
+                     f"ζ {m.damping_ratio:.3g}\nshape x {x:.2f}, y {y:.2f}, θ {th:.3g} rad", fontsize=8)
+        ax.set_xlabel("x [m]", fontsize=8)
+        ax.tick_params(labelsize=7)
+    if axes:
+        axes[0].set_ylabel("y [m]", fontsize=8)
+
+
+def force_spectrum(ax: Axes, r: Isolation) -> None:
+    """Amplitude of each harmonic of the shaking force and of the force to the foundation (log scale), with the
+    natural frequencies as orders of the crank speed."""
+    orders = np.array([h.order for h in r.harmonics])
+    shaking = np.array([h.shaking_force for h in r.harmonics])
+    passed = np.array([h.transmitted_force for h in r.harmonics])
+    keep = shaking > 1e-9 * max(float(shaking.max(initial=0.0)), 1e-300)
+    width = 0.38
+    ax.bar(orders[keep] - width / 2, shaking[keep], width, label="shaking force (rigid floor)", color="C0")
+    ax.bar(orders[keep] + width / 2, passed[keep], width, label="to the foundation", color="C1")
+    crank_hz = 1.0 / (r.time[1] * r.time.size)
+    for m in r.modes:
+        ax.axvline(m.frequency / crank_hz, color="C3", lw=0.8, ls=":")
+    ax.set_yscale("log")
+    ax.set_xlim(0, min(float(orders[keep].max(initial=1.0)), 12.0) + 0.8)
+    ax.set(xlabel="harmonic order (natural frequencies dotted)", ylabel="amplitude [N]",
+           title="Spectrum of the force")
+    ax.legend(fontsize=7)
+
+
+def force_over_cycle(ax: Axes, r: Isolation) -> None:
+    """The force to the foundation over the cycle, x and y and magnitude, against the shaking force's magnitude."""
+    deg = np.degrees(r.phi)
+    ax.plot(deg, np.linalg.norm(r.shaking_force, axis=1), lw=1, color="0.5", label="|shaking force|")
+    ax.plot(deg, r.force[:, 0], lw=1, label="F_x to the foundation")
+    ax.plot(deg, r.force[:, 1], lw=1, label="F_y to the foundation")
+    ax.plot(deg, np.linalg.norm(r.force, axis=1), lw=1.4, color="k", label="|F| to the foundation")
+    ax.set(xlabel="crank angle [deg]", ylabel="force [N]", title="Force the foundation feels over the cycle")
+    ax.legend(fontsize=7)
+
+
+def isolation_record_page(r: Isolation) -> Figure:
+    """A page of the design record: the force to the foundation over the cycle and its spectrum, the mode shapes
+    drawn on the frame."""
+    fig = plt.figure(figsize=(11.69, 8.27))
+    fig.suptitle("The frame on its isolators: the force the foundation feels and the natural modes", fontsize=13)
+    grid = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.1], hspace=0.45, wspace=0.3, left=0.07, right=0.97,
+                            bottom=0.12, top=0.9)
+    force_over_cycle(fig.add_subplot(grid[0, :2]), r)
+    force_spectrum(fig.add_subplot(grid[0, 2]), r)
+    mode_shapes([fig.add_subplot(grid[1, k]) for k in range(3)], r)
+    return fig
+
+
+def drive_record_page(drive: ElasticDrive | None, regulation: Regulation | None) -> Figure:
+    """A page of the design record: the elastic link's torque over the steady cycle (and the run-up with it), the
+    speed and the torques after the load step; whichever are given."""
+    fig = plt.figure(figsize=(11.69, 8.27))
+    fig.suptitle("The elastic drive and the speed after a load step", fontsize=13)
+    grid = fig.add_gridspec(2, 2, hspace=0.4, wspace=0.25, left=0.07, right=0.95, bottom=0.12, top=0.9)
+    if drive is not None:
+        ax = fig.add_subplot(grid[0, 0])
+        deg = np.degrees(drive.phi)
+        ax.plot(deg, drive.rigid_torque, lw=1.2, label="rigid model, M_d − J₁α")
+        ax.plot(deg, drive.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {drive.dynamic_factor:.3g})")
+        ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]",
+               title=f"Torque in the link over the steady cycle; {drive.natural_frequency:.4g} Hz")
+        ax.legend(fontsize=7)
+        if drive.start is not None:
+            ax = fig.add_subplot(grid[0, 1])
+            ax.plot(drive.start.time, drive.start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
+            ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
+            twin = ax.twinx()
+            twin.plot(drive.start.time, drive.start.crank_speed * 30 / np.pi, color="0.4", lw=1)
+            twin.set_ylabel("crank speed [rpm]", color="0.4")
+            ax.legend(fontsize=7, loc="lower right")
+    if regulation is not None:
+        g = regulation
+        rpm = 30 / np.pi
+        final = g.controller.reference if g.controller is not None and g.controller.reference else g.speed_after
+        ax = fig.add_subplot(grid[1, 0])
+        ax.plot(g.time, g.omega * rpm, lw=0.6, color="0.6", label="crank speed")
+        ax.plot(g.time, g.smoothed * rpm, lw=1.3, color="C0", label="without the cycle's fluctuation")
+        ax.axhspan((final - g.band) * rpm, (final + g.band) * rpm, color="C2", alpha=0.15, label="delta band")
+        ax.axvline(g.step_time, color="k", lw=0.8, ls=":")
+        if g.settling_time is not None:
+            ax.axvline(g.step_time + g.settling_time, color="C3", lw=0.8, ls="--",
+                       label=f"settled after {g.settling_time:.3g} s")
+        mode = "self-regulation" if g.controller is None else f"PI k_p {g.controller.kp:.3g}, k_i {g.controller.ki:.3g}"
+        ax.set(xlabel="time [s]", ylabel="speed [rpm]", title=f"Speed after a {g.load_step:.4g} N·m step, {mode}")
+        ax.legend(fontsize=7)
+        ax = fig.add_subplot(grid[1, 1])
+        ax.plot(g.time, g.motor_torque, lw=1.0, label="motor (at the crank)")
+        ax.plot(g.time, -g.load_torque, lw=1.0, label="load (resisting)")
+        ax.axvline(g.step_time, color="k", lw=0.8, ls=":")
+        ax.set(xlabel="time [s]", ylabel="torque [N·m]", title="Torques after the load step")
+        ax.legend(fontsize=7)
+    return fig
+
+
+def foundation_record_pages(isolation: Isolation | None = None, drive: ElasticDrive | None = None,
+                            regulation: Regulation | None = None) -> list[Figure]:
+    """The design record's pages on the machine around the linkage: the summary page
+    (:func:`foundation_record_page`), then the frame's page and the drive's page when there is something for
+    them. The caller saves and closes them."""
+    if isolation is None and drive is None and regulation is None:
+        return []
+    pages = [foundation_record_page(isolation, drive, regulation)]
+    if isolation is not None:
+        pages.append(isolation_record_page(isolation))
+    if drive is not None or regulation is not None:
+        pages.append(drive_record_page(drive, regulation))
+    return pages

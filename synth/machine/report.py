@@ -55,6 +55,7 @@ from ..plots import draw_linkage, draw_mechanism, figure_png, literal_text, shak
 from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
 from .record import TITLE_BLOCK_KEY, DesignRecord, input_rows  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
+from .foundation_plots import foundation_record_pages  # noqa: E402
 
 #: A4 landscape [in]: every page of the report.
 A4 = (11.69, 8.27)
@@ -298,6 +299,29 @@ def _stage_rows(d: MachineDesign) -> list[list[str]]:
                  "simulated mean motor speed", f"{num(d.motor.gear_ratio * d.motion.mean_speed / RPM)} rpm"])
     rows.append(["simulation", f"period {num(d.motion.period)} s", "mean crank speed against the working speed",
                  f"{num(d.motion.mean_speed / RPM)} rpm for {num(d.spec.speed / RPM)} rpm"])
+    return rows + _around_rows(d)
+
+
+def _around_rows(d: MachineDesign) -> list[list[str]]:
+    """The foundation, the elastic drive and the load step, when asked: what each found and its check figure."""
+    rows = []
+    if (f := d.foundation) is not None:
+        rows.append(["foundation", f"modes {', '.join(num(m.frequency, digits=3) for m in f.modes)} Hz; peak force "
+                                   f"{num(f.peak_force)} N (shaking {num(f.peak_shaking_force)} N), amplitude "
+                                   f"{num(f.peak_displacement * 1e3, digits=3)} mm",
+                     "time integration against the harmonic answer", f"{f.check.relative_diff:.1e} of the peaks"])
+    if d.elastic is not None:
+        e = d.elastic.drive
+        rows.append(["elastic drive", f"link {num(e.stiffness)} N·m/rad at the crank, {num(e.natural_frequency)} Hz, "
+                                      f"dynamic factor {num(e.dynamic_factor)}; gears sized for the "
+                                      f"{d.elastic.gear_torque_basis} torque",
+                     "eigenvalues against sqrt(c(J₁+J₂)/(J₁J₂)); energy over the cycle",
+                     f"{abs(e.eigen_frequency / e.natural_frequency - 1):.1e}; {e.steady.energy_residual:.1e}"])
+    if d.regulation is not None:
+        g = d.regulation.regulation
+        settle = "not within the run" if g.settling_time is None else f"settles in {num(g.settling_time, digits=3)} s"
+        rows.append(["regulation", f"{num(g.load_step)} N·m step: drop {num(g.drop / RPM)} rpm, {settle}",
+                     "drop against the closed form ΔM/s", f"{num(g.drop_closed_form / RPM)} rpm"])
     return rows
 
 
@@ -792,6 +816,9 @@ def _figures(d: MachineDesign) -> list[tuple[str | None, Figure]]:
     out.append(("Flywheel and motor", fig))
     if (running := running_figure(d)) is not None:
         out.append((None, running))
+    out += [(None, page) for page in foundation_record_pages(
+        d.foundation, None if d.elastic is None else d.elastic.drive,
+        None if d.regulation is None else d.regulation.regulation)]
     return out
 
 

@@ -12,6 +12,7 @@ from ..flywheel import GeometrySpec
 from ..friction import PairFriction
 from ..gearing import CatalogueMotor, InertiaModel, SizingRules, Stage, ToothRules
 from ..model import Linkage
+from .foundation_chain import ElasticDriveChoice, FoundationChoice, RegulationChoice
 
 BalancingMode = Literal["none", "static", "full", "optimal"]
 Placement = Literal["crank", "motor", "lightest"]
@@ -72,7 +73,8 @@ class MachineSpec:
     angles per revolution for every stage of the chain; ``friction`` per pair of the linkage; ``brake_torque``
     at the crank during the run-down [N·m]; ``start_under_load`` the start check holds the process load too;
     ``max_startup_time`` and ``max_rundown_time`` (None: not checked)
-    the limits of the start-up and run-down checks [s].
+    the limits of the start-up and run-down checks [s]; ``foundation``, ``elastic_drive`` and ``regulation`` the
+    machine around its linkage (None: not asked).
     """
 
     linkage: Linkage
@@ -88,6 +90,9 @@ class MachineSpec:
     start_under_load: bool = False
     max_startup_time: float = 60.0
     max_rundown_time: float | None = None
+    foundation: FoundationChoice | None = None
+    elastic_drive: ElasticDriveChoice | None = None
+    regulation: RegulationChoice | None = None
 
     def validate(self) -> None:
         """InvalidInput naming the field for a speed, target or tolerance out of range, or no stages."""

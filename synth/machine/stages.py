@@ -18,8 +18,10 @@ from ..errors import InvalidInput, SolverFailed, SynthError
 from ..model import Linkage
 from ..warnings import DesignWarning, check_linkage
 
-Stage = Literal["analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation"]
-STAGES: tuple[Stage, ...] = ("analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation")
+Stage = Literal["analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation", "foundation",
+                "elastic_drive", "regulation"]
+STAGES: tuple[Stage, ...] = ("analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation",
+                             "foundation", "elastic_drive", "regulation")
 
 #: Likely-mistake codes that refuse a machine before its chain: the numbers are in other units, and the chain
 #: would otherwise fail deep inside a solver instead of saying so.
@@ -41,6 +43,12 @@ _SOLVER_ADVICE: dict[str, str] = {
     "simulation": "the assembled machine finds no steady motion: the motor cannot keep the crank turning "
                   "against the load through this train; check the loads' and the linkage's units, or choose a "
                   "larger motor (drive.motor) or a larger delta",
+    "foundation": "the frame's motion on its isolators could not be computed; check the isolators' stiffness and "
+                  "damping",
+    "elastic_drive": "the drive with its elastic link finds no steady motion; check the link's stiffness and the "
+                     "motor-side inertia",
+    "regulation": "the speed after the load step could not be followed; a smaller step, a larger motor or other "
+                  "regulator gains make it possible",
 }
 
 
