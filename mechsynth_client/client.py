@@ -492,6 +492,11 @@ class SynthClient(_Policy):
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    def optimisation_record_pdf(self, body: MachineOptimiseIn) -> bytes:
+        """POST /v1/machines/optimise?format=pdf: the optimised machine's design record with a page for the
+        optimisation's certificate."""
+        return self._export("/v1/machines/optimise", body, "pdf").content
+
     def optimise_linkage(self, body: LinkageOptimiseIn) -> LinkageOptimiseOut:
         """POST /v1/machines/optimise-linkage: any linkage's free dimensions chosen with its machine."""
         return self._post("/v1/machines/optimise-linkage", body, LinkageOptimiseOut)

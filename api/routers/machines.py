@@ -43,8 +43,13 @@ async def design(body: MachineIn, request: Request, solvers: SolverDep, format: 
     return await solvers.answer_plan(plans.machine_design(body, solvers.limits), request, format)
 
 
-@router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine")
-async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep) -> Response:
+@router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine",
+             responses={200: {"content": {"application/pdf": {}},
+                              "description": "The optimised machine, or its design record (?format=pdf)."}})
+async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep,
+                   format: Annotated[Literal["json", "pdf"] | None, Query(
+                       description="`pdf`: the chosen machine's design record with a page for the "
+                       "optimisation's certificate.")] = None) -> Response:
     """Optimise the machine as a whole: the linkage's family member (for its function: swing or stroke and time
     ratio), the counterweights, the flywheel and its shaft, the motor and the ratio together, for the least motor
     power, added mass, RMS shaking force or a weighted sum of these, each normalised by its value on the chain's
@@ -53,7 +58,7 @@ async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep
     spread members (side by side on the workers) and bounded Brent refines the best brackets. The answer holds
     the design as /v1/machines/design answers it, the gain over the chain in every objective, the certificate of
     how the family was covered and the Pareto set of two objectives over every member designed."""
-    return await answer_optimisation(body, request, solvers)
+    return await answer_optimisation(body, request, solvers, format)
 
 
 @router.post("/optimise-linkage", response_model=LinkageOptimiseOut, name="optimise_linkage")
