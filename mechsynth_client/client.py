@@ -831,6 +831,14 @@ class AsyncSynthClient(_Policy):
         """POST /v1/machines/design?format=pdf."""
         return (await self._export("/v1/machines/design", body, "pdf")).content
 
+    async def optimisation_record_pdf(self, body: MachineOptimiseIn) -> bytes:
+        """POST /v1/machines/optimise?format=pdf."""
+        return (await self._export("/v1/machines/optimise", body, "pdf")).content
+
+    async def optimise_linkage(self, body: LinkageOptimiseIn) -> LinkageOptimiseOut:
+        """POST /v1/machines/optimise-linkage."""
+        return await self._post("/v1/machines/optimise-linkage", body, LinkageOptimiseOut)
+
     async def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
         """POST /v1/machines/optimise."""
         return await self._post("/v1/machines/optimise", body, MachineOptimiseOut)

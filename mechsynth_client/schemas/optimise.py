@@ -489,15 +489,15 @@ class FreeDimensionIn(StrictModel):
     path: str = Field(min_length=3, max_length=200, description="frame_points_m.<point>.x (or .y), "
                       "links.<link>.length_m or links.<link>.points_m.<point>.x (or .y).",
                       examples=["frame_points_m.G.x"])
-    min: float = Field(ge=-1e3, le=1e3, description="Least value [m].")
-    max: float = Field(ge=-1e3, le=1e3, description="Largest value [m].")
+    min: float = Field(ge=-1e3, le=1e3, description="Least value [m].", examples=[0.4])
+    max: float = Field(ge=-1e3, le=1e3, description="Largest value [m].", examples=[0.5])
 
 
 class BandIn(StrictModel):
     """A band [min, max]."""
 
-    min: float = Field(ge=0, le=1e4, description="Least value.")
-    max: float = Field(ge=0, le=1e4, description="Largest value.")
+    min: float = Field(ge=0, le=1e4, description="Least value.", examples=[0.18])
+    max: float = Field(ge=0, le=1e4, description="Largest value.", examples=[0.26])
 
     def pair(self, field: str, scale: float = 1.0) -> tuple[float, float]:
         """(min, max) times ``scale``; InvalidInput naming ``field`` when min > max."""
@@ -621,7 +621,8 @@ class LinkageOptimiseOut(BaseModel):
     values: dict[str, float] = Field(description="Its objectives by name (units as /v1/machines/optimise's gains).")
     score: float = Field(description="Weighted sum of the normalised objectives [-].")
     parts: MachinePartsOut = Field(description="Its parts' masses, its machine mass and its cost.")
-    certificate: LinkageCertificateOut = Field(description="How the box was covered.")
+    certificate: LinkageCertificateOut = Field(description="The certificate: members sampled, feasible, designed "
+                                               "and refined, and its statement.")
     members: list[LinkageMemberOut] = Field(description="Every member, sample then refinement.")
 
     @classmethod
