@@ -483,6 +483,10 @@ SIX_BAR_OPTIMISE_EXAMPLE: JsonDict = {
 }
 
 
+#: The manual's example samples fewer members and refines one, so that trying it answers within seconds.
+LINKAGE_QUICK: JsonDict = {"samples": 16, "refined": 1, "refine_runs": 20}
+
+
 class FreeDimensionIn(StrictModel):
     """One number of the linkage left free within bounds."""
 
@@ -536,7 +540,7 @@ class LinkageOptimiseIn(StrictModel):
     prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts, as /v1/machines/optimise.")
 
     model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("objective", "weights")],
-                                                 "examples": [SIX_BAR_OPTIMISE_EXAMPLE]})
+                                                 "examples": [{**SIX_BAR_OPTIMISE_EXAMPLE, **LINKAGE_QUICK}]})
 
     def to_engine(self, max_stages: int) -> Any:
         """Engine spec (degrees become radians here)."""
