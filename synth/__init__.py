@@ -458,3 +458,7 @@ __all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_l
 from .kinematics.centres import Centres, instant_centres, path_curvature
 
 __all__ += ["Centres", "instant_centres", "path_curvature"]
+
+from .machine.optimise_parts import MachineParts, Prices
+
+__all__ += ["MachineParts", "Prices"]

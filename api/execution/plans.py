@@ -311,11 +311,22 @@ def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
                 dict(time_limit_s=lim.solver_time_limit_s))
 
 
-def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any) -> Plan:
+def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any, record: DesignRecord | None = None) -> Plan:
     """The last task of POST /v1/machines/optimise: ``fn(spec, scan, members, refinements, time_limit_s)``
-    concludes and its answer is rendered in the worker."""
+    concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
+    chosen machine with the certificate's page (pdf)."""
     *head, time_limit_s = args
-    return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
+    if record is None:
+        return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
+    return Plan(Render(MachineOptimiseOut.from_engine, optimisation_file, export_extra=(record,)), fn, tuple(head),
+                dict(time_limit_s=time_limit_s), offered=("pdf",), stem="machine-optimisation")
+
+
+def optimisation_file(result: synth.MachineOptimum, fmt: str, record: DesignRecord) -> bytes:
+    """The optimised machine's design record with the optimisation's certificate page."""
+    from synth.machine.optimise_record import optimisation_record_pdf
+
+    return optimisation_record_pdf(result, record)
 
 
 def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn) -> None:
