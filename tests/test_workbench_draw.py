@@ -397,3 +397,26 @@ def test_a_family_design_opened_in_the_editor_is_the_same_linkage(page: Page, fa
     assert sorted(drawn["joint_reactions_N"]) == sorted(ref["joint_reactions_N"])  # the family's pair names
     if family == "slotted_lever":
         _shot(page, "draw-shaper-family")
+
+
+def test_a_double_parallelogram_is_analysed_though_the_formula_says_it_cannot_move(page: Page,
+                                                                                    base_url: str) -> None:
+    """W = 3·4 − 2·6 = 0 is said, but the analysis is asked for: the service finds the passive link from the
+    geometry (docs/linkages.md), and the page shows its answer and its redundant_constraint warning. The coupler's
+    middle F moves like the crank pin (the coupler translates): on a circle of 0.1 m about (0.15, 0)."""
+    examples = httpx.get(f"{base_url}/openapi.json", timeout=60).json()["components"]["schemas"]["StructureIn"]
+    mech = next(e["mechanism"] for e in examples["examples"] if "mechanism" in e)
+    mech["links"][1]["points_m"]["F"] = [0.15, 0.0]
+    page.evaluate("window.workbench.editor.ed.on && window.workbench.editor.setEditing(false)")
+    page.evaluate("m => window.workbench.setDesign({mechanism: m, speed_rpm: 60, samples: 72})", mech)
+    page.click("#draw-toggle")
+    _settled(page)
+    assert page.get_attribute("body", "data-mobility") == "0"
+    assert "W = 3·4 − 2·6 = 0 by the formula" in (page.text_content("#draw-messages") or "")
+    answer = page.evaluate("window.workbench.state.answer")
+    assert "redundant_constraint" in [w["code"] for w in answer["warnings"]]  # beside: the links have no masses
+    said = next(w for w in answer["warnings"] if w["code"] == "redundant_constraint")["message"]
+    assert page.get_by_text(said).first.is_visible()
+    f = answer["points"]["F"]["position_m"]
+    assert max(abs(math.hypot(x - 0.15, y) - 0.1) for x, y in f) < 1e-9
+    _shot(page, "draw-double-parallelogram")

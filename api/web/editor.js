@@ -169,7 +169,9 @@ export function check(m) {
   }
   if (n && !crank) out.push({ at: null, text: "no link turns about a frame point: nothing can be the crank" });
   if (n && W > 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain has ${W} degrees of freedom; one crank cannot drive it (add a link, or join a joint to the frame)` });
-  if (n && W < 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain cannot move (a structure); remove a link or a pair` });
+  // A chain the formula counts as a structure may still move when a link is passive (a double parallelogram): the
+  // service judges it from its geometry, so this is said but the analysis is still asked for.
+  if (n && W < 1) out.push({ at: null, soft: true, text: `W = 3·${n} − 2·${p} = ${W} by the formula: the chain moves only if a link is passive (its constraints repeat others'); the service judges it from the geometry` });
   return { W, n, p, problems: out, mech, offset };
 }
 
@@ -337,17 +339,18 @@ function commit(t0 = performance.now()) {
   if (!ed.dragging) syncJson(wasLinkage);
   render();
   document.body.dataset.mobility = String(c.W);
-  if (c.problems.length || !c.mech.links.length) {
+  const blocking = c.problems.filter((q) => !q.soft);
+  if (blocking.length || !c.mech.links.length) {
     // nothing the service could analyse: an answer still on its way is for a chain no longer drawn
     if (state.pending) { state.pending.abort(); state.pending = null; }
     state.seq += 1;
     ed.answerOk = false;
-    markStale(c.problems.length ? c.problems[0].text : "nothing drawn yet");
+    markStale(blocking.length ? blocking[0].text : "nothing drawn yet");
     document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
     if (!ed.dragging) history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
     return null;
   }
-  document.body.dataset.drawProblem = "";
+  document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
   refreshStructure(c.mech);
   // the address bar (the whole design, encoded) follows at the end of a drag: writing it costs as much as drawing
   return ed.dragging ? analyse(t0) : edited(t0);
