@@ -12,7 +12,7 @@ import synth
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.balancing import BalanceIn, OptimalBalanceIn
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
-from synth.balancing.fourbar import _optimal_program, _program, _rows, _static_system
+from synth.balancing.fourbar import _force_rows, _optimal_program, _program, _rows, _static_system
 from synth.balancing.program import counterweight_layout, solve
 from bench._timing import asgi_medians, median_of
 
@@ -49,7 +49,7 @@ def _cones(r_max: np.ndarray) -> list[dict[str, object]]:
 
 def slsqp_static(linkage: synth.Linkage, lm: synth.LinearMap, r_max: np.ndarray) -> tuple[float, float]:
     cw = counterweight_layout(synth.CounterweightSpec(LINKS), linkage)
-    ar, br = _static_system(linkage, lm, cw)
+    ar, br = _static_system(linkage, _force_rows(lm), cw)
     x0 = np.tile([1.0, 0.0, 0.0, 0.1], len(LINKS))
     res = minimize(lambda x: x.reshape(-1, 4)[:, 0].sum(), x0, method="SLSQP",
                    constraints=[{"type": "eq", "fun": lambda x: ar @ x - br}, *_cones(r_max)],
@@ -103,7 +103,7 @@ def realisable(x: np.ndarray, r_max: np.ndarray) -> tuple[list[synth.Counterweig
 def ours_static(linkage: synth.Linkage, lm: synth.LinearMap) -> float:
     """The engine's static program on the same map (assembled for Clarabel and solved): added mass [kg]."""
     cw = counterweight_layout(synth.CounterweightSpec(LINKS), linkage)
-    ar, br = _static_system(linkage, lm, cw)
+    ar, br = _static_system(linkage, _force_rows(lm), cw)
     program = _program(cw)
     program.equal(ar, br)
     program.q = cw.mass_columns() + 1e-9 * cw.inertia_columns()

@@ -1,58 +1,88 @@
-"""The whole-machine optimisation of the README's crank-rocker example against the design chain alone.
+"""The whole-machine optimisations against the design chain alone, on three functions.
 
-Run: ``.venv/bin/python -m bench.optimise``. The machine is the optimisation page's crank-rocker (static
-balancing, least added mass). Prints wall times [s] of one chain run (/v1/machines/design on the chain's member),
-the engine's optimisation in one process and the endpoint on two workers, and the objective before (the chain's
-machine, and the best member of the densest evenly spread scan) and after (the optimum), with how the family was
-covered. The cores are shared: the load average is printed beside the times.
+Run: ``.venv/bin/python -m bench.optimise``. The machines are the optimisation page's: the crank-rocker of the
+README (static balancing, least added mass), the slider-crank press (motor power and RMS shaking force alike)
+and the six-bar press with two free dimensions (least machine mass, ``/v1/machines/optimise-linkage``). For each,
+the wall times [s] of one chain run (``/v1/machines/design`` on the chain's member, or on the six-bar as drawn),
+of the engine's optimisation in one process and of the endpoint on a two-worker pool, and the objective before
+and after; for the crank-rocker also the best member of the densest evenly spread scan. The cores are shared:
+the load average is printed beside the times. Completes in about a minute on a quiet machine.
 """
 
 from __future__ import annotations
 
 import os
-
-import numpy as np
+import time
+from collections.abc import Callable
+from typing import Any
 
 import synth
 from bench._timing import best_of
 from mechsynth_client import SynthClient
-from mechsynth_client.schemas.optimise import CRANK_ROCKER_OPTIMISE_EXAMPLE, MachineOptimiseIn
+from mechsynth_client.schemas.optimise import (
+    CRANK_ROCKER_OPTIMISE_EXAMPLE,
+    SIX_BAR_OPTIMISE_EXAMPLE,
+    SLIDER_CRANK_OPTIMISE_EXAMPLE,
+    LinkageOptimiseIn,
+    MachineOptimiseIn,
+)
 from synth.machine.optimise import OBJECTIVES, normalisers, score
+from synth.machine.optimise_linkage import optimise_linkage
 
-REPEAT = 1
+
+def _once(fn: Callable[[], Any]) -> tuple[Any, float]:
+    t0 = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - t0
+
+
+def _line(name: str, t_chain: float, t_engine: float, t_endpoint: float, before: str, after: str) -> None:
+    print(f"{name:13s} chain {t_chain:6.2f} s | engine {t_engine:6.2f} s ({t_engine / t_chain:5.1f} chains) | "
+          f"endpoint, 2 workers {t_endpoint:6.2f} s ({t_endpoint / t_chain:5.1f} chains) | {before} -> {after}")
 
 
 def main() -> None:
-    """Time the chain alone, the engine in one process and the endpoint on a two-worker pool."""
-    body = MachineOptimiseIn.model_validate(CRANK_ROCKER_OPTIMISE_EXAMPLE)
-    spec = body.to_engine(max_stages=6)
-    result = synth.optimise_machine(spec)
-    chain_machine = spec.machine(result.chain_linkage)
-    t_chain = best_of(lambda: synth.design_machine(chain_machine), 3)
-    t_engine = best_of(lambda: synth.optimise_machine(spec), REPEAT)
+    """Time the chain alone, the engine in one process and the endpoint on a two-worker pool, per function."""
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    family = {"crank-rocker": (CRANK_ROCKER_OPTIMISE_EXAMPLE, "added_mass"),
+              "slider-crank": (SLIDER_CRANK_OPTIMISE_EXAMPLE, None)}
+    engine: dict[str, tuple[Any, float, float, MachineOptimiseIn]] = {}
+    for name, (example, _) in family.items():
+        body = MachineOptimiseIn.model_validate(example)
+        spec = body.to_engine(max_stages=6)
+        result, t_engine = _once(lambda spec=spec: synth.optimise_machine(spec))  # type: ignore[misc]
+        chain_machine = spec.machine(result.chain_linkage)
+        t_chain = best_of(lambda m=chain_machine: synth.design_machine(m), 2)  # type: ignore[misc]
+        engine[name] = (result, t_chain, t_engine, body)
+    six = LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE)
+    six_spec = six.to_engine(6)
+    six_result, t_six_engine = _once(lambda: optimise_linkage(six_spec))
+    t_six_chain = best_of(lambda: synth.design_machine(six_spec.machine), 2)
     os.environ["SYNTH_WORKERS"] = "2"
     with SynthClient.in_process("pool") as client:
-        client.optimise_machine(body)  # workers start and import the engine once
-        t_endpoint = best_of(lambda: client.optimise_machine(body), REPEAT)
-    c = result.certificate
-    norm = normalisers(result.members, c.scan.chain_parameter)
-    scanned = [m for m in result.members if m.stage == "scan" and m.feasible and m.values is not None]
-    best_scan = min(scanned, key=lambda m: score(spec, m.values, norm))  # type: ignore[arg-type]
-    print(f"crank-rocker machine, {spec.samples} samples, {spec.balancing.mode} balancing, objective "
-          f"{dict(spec.weights)}; load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
-    print(f"chain alone (one /v1/machines/design run)  {t_chain:6.2f} s")
-    print(f"optimise_machine, one process             {t_engine:6.2f} s   {t_engine / t_chain:5.1f} chain runs")
-    print(f"POST /v1/machines/optimise, 2 workers      {t_endpoint:6.2f} s   {t_endpoint / t_chain:5.1f} chain runs")
-    k = OBJECTIVES.index("added_mass")
-    assert best_scan.values is not None
-    print(f"added mass: chain {result.chain.values[k] if result.chain.values else np.nan:.4f} kg, best of the "
-          f"{len(c.scan.candidates)}-member scan {best_scan.values[k]:.4f} kg (u = {best_scan.parameter:.4f}), "
-          f"optimum {result.values[k]:.4f} kg (u = {result.parameter:.4f})")
-    cells = c.refinements
-    print(f"family: {c.scan.grid_points} members checked kinematically, {c.members_designed} designed "
-          f"({c.feasible_designed} feasible); cells {len(cells)}: "
-          + ", ".join(f"{sum(r.status == s for r in cells)} {s}" for s in ("searched", "pruned", "unsearched"))
-          + f"; plateaus walked {sum(r.plateaus for r in cells)}; binding {list(c.binding)}")
+        client.optimise_machine(engine["crank-rocker"][3])  # workers start and import the engine once
+        endpoint = {name: _once(lambda b=body: client.optimise_machine(b))[1]  # type: ignore[misc]
+                    for name, (_, _, _, body) in engine.items()}
+        t_six_endpoint = _once(lambda: client.optimise_linkage(six))[1]
+    for name, (result, t_chain, t_engine, body) in engine.items():
+        spec = result.spec
+        norm = normalisers(result.members, result.certificate.scan.chain_parameter)
+        before = f"score {result.chain_score:.4f}" if result.chain_score is not None else "chain infeasible"
+        after = f"score {result.score:.4f}"
+        if name == "crank-rocker":
+            k = OBJECTIVES.index("added_mass")
+            scanned = [m for m in result.members if m.stage == "scan" and m.feasible and m.values is not None]
+            best = min(scanned, key=lambda m: score(spec, m.values, norm))
+            assert result.chain.values is not None and best.values is not None
+            before = (f"added mass {result.chain.values[k]:.4f} kg (best of the {len(scanned)}-member scan "
+                      f"{best.values[k]:.4f} kg)")
+            after = f"{result.values[k]:.4f} kg"
+        _line(name, t_chain, t_engine, endpoint[name], before, after)
+    own = six_result.members[0]
+    before = (f"machine mass as drawn {own.values[3]:.3f} kg" if own.values is not None
+              else "as drawn: infeasible")
+    _line("six-bar", t_six_chain, t_six_engine, t_six_endpoint, before, f"{six_result.values[3]:.3f} kg "
+          f"({six_result.certificate.sampled} sampled, {six_result.certificate.refine_runs} refinement runs)")
 
 
 if __name__ == "__main__":

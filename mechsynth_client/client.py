@@ -59,7 +59,7 @@ from .schemas.foundation import (
     RegulationIn,
     RegulationOut,
 )
-from .schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
+from .schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut, MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
 from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
@@ -492,6 +492,15 @@ class SynthClient(_Policy):
         """POST /v1/machines/optimise: the machine optimised as a whole over its linkage family."""
         return self._post("/v1/machines/optimise", body, MachineOptimiseOut)
 
+    def optimisation_record_pdf(self, body: MachineOptimiseIn) -> bytes:
+        """POST /v1/machines/optimise?format=pdf: the optimised machine's design record with a page for the
+        optimisation's certificate."""
+        return self._export("/v1/machines/optimise", body, "pdf").content
+
+    def optimise_linkage(self, body: LinkageOptimiseIn) -> LinkageOptimiseOut:
+        """POST /v1/machines/optimise-linkage: any linkage's free dimensions chosen with its machine."""
+        return self._post("/v1/machines/optimise-linkage", body, LinkageOptimiseOut)
+
     def isolate_machine(self, body: IsolationIn) -> IsolationOut:
         """POST /v1/machines/isolation: the machine's frame on isolators and what the foundation feels."""
         return self._post("/v1/machines/isolation", body, IsolationOut)
@@ -821,6 +830,14 @@ class AsyncSynthClient(_Policy):
     async def design_report_pdf(self, body: MachineIn) -> bytes:
         """POST /v1/machines/design?format=pdf."""
         return (await self._export("/v1/machines/design", body, "pdf")).content
+
+    async def optimisation_record_pdf(self, body: MachineOptimiseIn) -> bytes:
+        """POST /v1/machines/optimise?format=pdf."""
+        return (await self._export("/v1/machines/optimise", body, "pdf")).content
+
+    async def optimise_linkage(self, body: LinkageOptimiseIn) -> LinkageOptimiseOut:
+        """POST /v1/machines/optimise-linkage."""
+        return await self._post("/v1/machines/optimise-linkage", body, LinkageOptimiseOut)
 
     async def optimise_machine(self, body: MachineOptimiseIn) -> MachineOptimiseOut:
         """POST /v1/machines/optimise."""

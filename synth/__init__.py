@@ -167,6 +167,7 @@ from .kinematics import (
     SliderCrank,
     SlottedLever,
     cycle_angles,
+    linkage_structure,
     motion,
 )
 from .kinetostatics import Kinetostatics, LinearMap, linear_map, solve_direct, virtual_power_torque
@@ -407,6 +408,7 @@ __all__ = [
     "PairReport",
     "Structure",
     "analyse_structure",
+    "linkage_structure",
     "fixed_point_counterweights",
     # warnings
     "DesignWarning",
@@ -456,3 +458,7 @@ __all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_l
 from .kinematics.centres import Centres, instant_centres, path_curvature
 
 __all__ += ["Centres", "instant_centres", "path_curvature"]
+
+from .machine.optimise_parts import MachineParts, Prices
+
+__all__ += ["MachineParts", "Prices"]

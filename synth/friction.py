@@ -305,6 +305,11 @@ def friction_kinetostatics(motion: Motion, linkage: Linkage, frictionless: Kinet
     """
     validate_pairs(motion, linkage, pairs)
     topo = linkage.mechanism.topology
+    if topo.indeterminate:
+        # Friction forces follow the normal forces, which redundant pairs leave undetermined.
+        raise InvalidInput("friction in the pairs of a linkage with redundant constraints (a passive link) is not "
+                           "determined by equilibrium: analyse it without friction, or take the passive link out",
+                           field="friction")
     a = system_matrix(motion, topo)
     x0 = frictionless.unknowns
     known = -np.einsum("nij,nj->ni", a, x0)  # b of A·x + b = 0, from the frictionless solution

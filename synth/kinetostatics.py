@@ -165,8 +165,7 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
     The angle is the last axis so that each coefficient is one contiguous run over the cycle: filling and
     combining the small matrices then streams memory instead of striding across it.
     """
-    n_links = len(topo.links)
-    a = np.zeros((3 * n_links, 3 * n_links, motion.samples))
+    a = np.zeros((len(row_pos), len(col_pos), motion.samples))
     for j, joint in enumerate(topo.joints):
         cx, cy = col_pos[2 * j], col_pos[2 * j + 1]
         p = motion.point_pos[joint.point]
@@ -579,10 +578,38 @@ def _solve_angle_last(motion: Motion, topo: Topology, b_last: FloatArray) -> Flo
     Every force row constant (revolute joints, slides fixed in the frame): :func:`_solve_constant_forces`.
     Otherwise the whole matrix is assembled, in the reduced system's solving order when the topology has one.
     """
+    if topo.indeterminate:
+        return _solve_least_norm(motion, topo, b_last)
     red = _reduction(topo)
     if red is not None and red.g is not None and red.force_rows_norm is not None:
         return _solve_constant_forces(motion, topo, red, red.g, red.force_rows_norm, b_last)
     return _solve_assembled(motion, topo, red, b_last.transpose(2, 0, 1))
+
+
+def _solve_least_norm(motion: Motion, topo: Topology, b_last: FloatArray) -> FloatArray:
+    """``_solve_stacked`` when redundant pairs leave more unknowns than equations (3n x (2p + 1), rank 3n): the
+    least-norm solution, x = A⁺·b by the pseudo-inverse at every angle. The equations fix the driving torque (no
+    self-balanced set of reactions moves the crank); among the reaction sets that balance every link this takes
+    the one of least sum of squared components (forces [N], couples [N·m]). A dead position is where no
+    solution balances every link."""
+    rows = tuple(range(3 * len(topo.links)))
+    cols = tuple(range(2 * len(topo.joints) + 1))
+    a = np.moveaxis(_assemble(motion, topo, rows, cols), -1, 0)
+    b = b_last.transpose(2, 0, 1)
+    x = np.asarray(np.linalg.pinv(a, rcond=SINGULAR_RATIO) @ b)
+    # Where A loses rank (a change point where all the links line up) the loads may still balance: refuse only
+    # the angles where the least-norm solution leaves an equation unbalanced.
+    miss = np.linalg.norm(a @ x - b, axis=(1, 2))
+    scale = np.linalg.norm(a, axis=(1, 2)) * np.linalg.norm(x, axis=(1, 2)) + np.linalg.norm(b, axis=(1, 2))
+    bad = ~(miss <= 1e-9 * scale)
+    if bad.any():
+        raise NotAssemblable(
+            f"at {int(bad.sum())} of {motion.samples} crank angles (deg: {angle_ranges_deg(motion.phi, bad)}) the "
+            "linkage with redundant pairs passes a change point (its links in line): the loads there have a part no "
+            "reactions balance, and the rigid model's reactions grow without bound near it; analyse at other "
+            "angles (crank_angle_deg) or move a passive link's pivot off the line",
+            phi=motion.phi[bad], ranges_deg=angle_ranges_deg(motion.phi, bad))
+    return x
 
 
 def _solve_assembled(motion: Motion, topo: Topology, red: _Reduction | None, b: FloatArray) -> FloatArray:

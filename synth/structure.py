@@ -91,6 +91,50 @@ class AssurGroup:
 
 
 @dataclass(frozen=True, slots=True)
+class PassiveLink:
+    """A binary link whose two revolute pairs repeat constraints of the others: placed on its two pins."""
+
+    link: str
+    joints: tuple[str, str]
+
+
+@dataclass(frozen=True, slots=True)
+class Redundancy:
+    """Mobility from the geometry of a linkage whose structural formula says less.
+
+    ``mobility_structural`` 3n - 2p; ``mobility_geometric`` 3n - rank of the constraint Jacobian (its largest
+    rank over ``samples`` crank angles of the cycle); ``rows`` 2p constraint equations; ``passive`` the links
+    taken out for the placement; ``dependent_pairs`` the pairs whose constraint rows are linearly dependent on
+    the others' (the left null space of the Jacobian touches them); ``max_residual`` the largest distance [m]
+    by which the passive links' pins miss their lengths over those angles.
+    """
+
+    mobility_structural: int
+    mobility_geometric: int
+    rank: int
+    rows: int
+    samples: int
+    passive: tuple[PassiveLink, ...]
+    dependent_pairs: tuple[str, ...]
+    max_residual: float
+
+    @property
+    def redundant_pairs(self) -> tuple[str, ...]:
+        """The pairs of the passive links: the constraints taken as redundant."""
+        return tuple(j for p in self.passive for j in p.joints)
+
+    def explanation(self) -> str:
+        """One sentence: which pairs are redundant and why."""
+        links = ", ".join(p.link for p in self.passive)
+        return (f"W = 3n - 2p = {self.mobility_structural} counts the pairs {list(self.redundant_pairs)} of the "
+                f"passive link(s) {links}, but the constraint Jacobian has rank {self.rank} of its {self.rows} rows "
+                f"at its most over {self.samples} crank angles of the cycle: the rows of pairs "
+                f"{list(self.dependent_pairs)} are "
+                f"linearly dependent, so the geometry gives W = {self.mobility_geometric}; with {links} taken out "
+                f"the rest moves and its pins keep their distance to {self.max_residual:.1e} m")
+
+
+@dataclass(frozen=True, slots=True)
 class Structure:
     """Structural analysis of one mechanism.
 
@@ -99,6 +143,9 @@ class Structure:
     ``known_mobility`` minus the Somov-Malyshev figure, or None); ``primary`` the frame and the input links with
     their pairs, ``groups`` the Assur groups in the order they are added (None when not decomposed, with the
     reason in ``note``), ``mechanism_class`` the highest group class (1 for the primary mechanism alone).
+    From a linkage with its dimensions (:func:`synth.kinematics.linkage.linkage_structure`) also ``geometry``,
+    the mobility from the constraint Jacobian when the formula says less (passive links), and ``placements``,
+    how each group is placed (``closed_form`` or ``numerical``).
     """
 
     moving_links: int
@@ -114,6 +161,8 @@ class Structure:
     mechanism_class: int | None
     replaced_higher_pairs: tuple[str, ...]
     note: str
+    geometry: Redundancy | None = None
+    placements: tuple[str, ...] | None = None
 
 
 def _validate(links: Sequence[str], pairs: Sequence[Pair], frame: str, planar: bool) -> None:
@@ -172,7 +221,9 @@ def analyse_structure(links: Sequence[str], pairs: Sequence[Pair], *, frame: str
     base = Structure(n, reports, (counts[0], counts[1], counts[2], counts[3], counts[4]), w_somov, w,
                      w - w_somov, (), (), None, None, None, (), "")
     if w < 1:
-        return _replace_note(base, f"W = {w}: the chain does not move, so it has no primary mechanism")
+        return _replace_note(base, f"W = {w}: by the structural formula the chain does not move, so it has no "
+                             "primary mechanism (unless pairs repeat each other's constraints: give the linkage with "
+                             "its dimensions to judge from the geometry)")
     # Each higher pair becomes a link with two revolutes, which keeps 3n - 2p5 - p4 (3 - 2·2 = -1).
     lower: list[Pair] = [p for p in pairs if p.kind != "higher"]
     all_links = list(links)

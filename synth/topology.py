@@ -43,6 +43,7 @@ class Joint:
 class Topology:
     """Links (in parameter order), joints, the driven crank and the working (output) member.
 
+    A linkage with redundant (passive) pairs has more joints than 3·links - 1 (see :attr:`indeterminate`).
     ``output_motion`` says whether the output member turns (its load is a torque) or slides along
     ``output_axis_angle`` in the frame (its load is a force).
     """
@@ -55,8 +56,14 @@ class Topology:
     output_axis_angle: float = 0.0
 
     def __post_init__(self) -> None:
-        if 2 * len(self.joints) + 1 != 3 * len(self.links):
+        if 2 * len(self.joints) + 1 < 3 * len(self.links):
             raise ValueError(
                 f"a one-degree-of-freedom linkage needs 2 joints + 1 driving torque per 3 link equations; "
                 f"got {len(self.links)} links and {len(self.joints)} joints"
             )
+
+    @property
+    def indeterminate(self) -> bool:
+        """More unknown reactions than equations of equilibrium: redundant pairs make the reactions statically
+        indeterminate (the equations fix them only up to self-balanced sets)."""
+        return 2 * len(self.joints) + 1 > 3 * len(self.links)

@@ -21,6 +21,8 @@ Codes
 ``drive_work_negative``     a flywheel's driving torque table does negative work over the cycle (sign typed wrong?)
 ``delta_out_of_range``      a target delta outside every machine type's usual range
 ``rim_speed_near_limit``    the flywheel's rim runs at 95 % or more of its speed limit
+``redundant_constraint``    a linkage whose pairs repeat constraints (a passive link): it moves though 3n - 2p < 1,
+                            and its reactions are statically indeterminate (the least-norm split is given)
 ``correction_radius_small`` a rotor correction heavier than all the rotor's unbalanced masses together
 Gearing adds ``stage_ratio_out_of_range``, ``below_undercut_limit``, ``undercut``, ``representative_catalogue``,
 ``rotor_inertia_missing``, ``rated_power_exceeds`` and ``stage_not_sized`` (a stage the strength sizing cannot
@@ -220,6 +222,13 @@ def check_linkage(linkage: Linkage) -> list[DesignWarning]:
                 f"a {cw.mass:g} kg counterweight outweighs a solid steel cube of {size:g} m (the machine's size, "
                 f"{heavy:.3g} kg); was it typed in grams?", "kg"))
     out += check_counterweights(linkage, linkage.counterweights, "counterweights")
+    if isinstance(mech, PlanarLinkage) and mech.redundancy is not None:
+        r = mech.redundancy
+        out.append(DesignWarning(
+            "redundant_constraint", f"mechanism.joints.{r.redundant_pairs[0]}",
+            float(r.mobility_geometric - r.mobility_structural),
+            f"pairs {list(r.redundant_pairs)} are redundant constraints: {r.explanation()}; the reactions are "
+            "statically indeterminate and given as the least-norm split", "1"))
     return out
 
 

@@ -270,7 +270,7 @@ def test_rpp_and_prp_dyads_agree_with_loop_closure() -> None:
         assert np.abs(mot.point_acc[name] - SPEED**2 * spectral_derivative(pos, 2)).max() < 1e-9 * SPEED**2
 
 
-def test_class_three_group_is_refused_with_its_links() -> None:
+def test_class_three_group_is_named_and_placed_numerically() -> None:
     # A ternary link T held by three binary links to the crank and two frame points: one class-III group.
     mech_args = (
         (("O", (0.0, 0.0)), ("Q1", (0.4, 0.0)), ("Q2", (0.2, 0.5))),
@@ -281,9 +281,9 @@ def test_class_three_group_is_refused_with_its_links() -> None:
          rev("Q1", "frame", "l2"), rev("E", "t", "l3"), rev("Q2", "frame", "l3")),
         "crank", "l2",
     )
-    with pytest.raises(synth.InvalidInput, match=r"class-3 Assur group of 4 links") as err:
-        PlanarLinkage(*mech_args)  # type: ignore[arg-type]
-    assert all(name in str(err.value) for name in ("'l1'", "'t'", "'l2'", "'l3'"))
+    mech = PlanarLinkage(*mech_args)  # type: ignore[arg-type]
+    (group,) = mech.numeric_groups
+    assert set(group.links) == {"l1", "t", "l2", "l3"} and group.group_class == 3 and not mech.dyads
 
 
 def test_bad_descriptions_name_the_link_joint_or_angles() -> None:

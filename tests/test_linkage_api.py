@@ -147,10 +147,12 @@ def test_bad_linkages_are_problems_naming_what_is_wrong(client: SynthClient) -> 
                   {"name": "l1", "joints": ["A", "B"], "length_m": 0.3},
                   {"name": "t", "joints": ["B", "C"], "length_m": 0.2, "points_m": {"E": [0.1, 0.15]}},
                   {"name": "l2", "joints": ["Q1", "C"], "length_m": 0.3},
-                  {"name": "l3", "joints": ["Q2", "E"], "length_m": 0.3}],
+                  {"name": "l3", "joints": ["S", "E"], "length_m": 0.3}],
         "joints": [{"name": n, "kind": "revolute", "links": ls} for n, ls in
                    (("O", ["frame", "crank"]), ("A", ["crank", "l1"]), ("B", ["l1", "t"]), ("C", ["t", "l2"]),
-                    ("Q1", ["frame", "l2"]), ("E", ["t", "l3"]), ("Q2", ["frame", "l3"]))],
+                    ("Q1", ["frame", "l2"]), ("E", ["t", "l3"]))]
+        + [{"name": "Q2", "kind": "prismatic", "links": ["frame", "l3"], "through": "Q2", "point": "S"}],
         "crank": "crank", "output": "l2"}
+    # A class-III group is placed numerically when its pairs all turn; with a slide in it, it is refused.
     group = problem(class_three)
-    assert "class-3 Assur group" in group["detail"] and "'t'" in group["detail"]
+    assert "class-3 Assur group" in group["detail"] and "'t'" in group["detail"] and "['Q2']" in group["detail"]

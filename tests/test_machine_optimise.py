@@ -58,25 +58,52 @@ def _machine_request(example: dict[str, Any], mechanism: Any) -> MachineIn:
     return MachineIn.model_validate({**body, "mechanism": mechanism})
 
 
-def _objectives(d: MachineDesignOut) -> tuple[float, float, float]:
-    """Motor rated power [W], added mass [kg] and RMS shaking force [N], read from a design answer's own parts:
-    the catalogue motor, the counterweights' and balancers' masses with the flywheel body's, the summary after
-    balancing."""
-    mass = 0.0
+def _objectives(d: MachineDesignOut, density: float = 7200.0) -> tuple[float, ...]:
+    """Motor rated power [W], added mass [kg], RMS shaking force [N], the machine's mass [kg] and its cost at the
+    default prices, read from a design answer's own parts (see :func:`machine_parts`)."""
+    p = machine_parts(d, density)
+    added = p["counterweights"] + p["flywheel"]
+    prices = {"counterweights": 3.0, "flywheel": 2.5, "gears": 12.0, "motor": 6.0}
+    return (d.drive.motor.rated_power_W, added, d.summary_after_balancing.rms_shaking_force_N, sum(p.values()),
+            sum(prices[k] * v for k, v in p.items()))
+
+
+def machine_parts(d: MachineDesignOut, density: float = 7200.0) -> dict[str, float]:
+    """The masses [kg] of a design's parts, recomputed here from its own figures: the counterweights as
+    answered, the flywheel body from its geometry (a rim: density × pi D_mean a b; a disc: density × pi D² b / 4,
+    ``density`` the request's flywheel density), each sized wheel as a solid disc of its reference diameter and
+    face width in its material's density, and the motor's mass from the shipped catalogue by its name."""
+    from synth.gearing.materials import gear_material
+
+    cw = 0.0
     if d.balancing is not None:
-        mass += sum(cw.mass_kg for cw in d.balancing.counterweights)
+        cw += sum(c.mass_kg for c in d.balancing.counterweights)
     if d.slider_crank_balancing is not None:
-        mass += d.slider_crank_balancing.crank_counterweight.mass_kg
-    if d.flywheel_body is not None:
-        mass += d.flywheel_body.mass_kg
-    return (d.drive.motor.rated_power_W, mass, d.summary_after_balancing.rms_shaking_force_N)
+        cw += d.slider_crank_balancing.crank_counterweight.mass_kg
+    fly = 0.0
+    b = d.flywheel_body
+    if b is not None:
+        if b.shape == "rim":
+            assert b.rim_thickness_m is not None
+            fly = density * math.pi * b.mean_diameter_m * b.rim_thickness_m * b.width_m
+        else:
+            fly = density * math.pi * b.mean_diameter_m**2 * b.width_m / 4
+    from mechsynth_client.schemas.machine import MachineDriveIn
+
+    rho = [gear_material(n).density for n in MachineDriveIn().strength.to_engine().materials]
+    gears = sum(r * math.pi / 4 * g.face_width_mm * 1e-3 * (dia * 1e-3) ** 2
+                for g in d.gears or [] if g is not None
+                for r, dia in zip(rho, g.reference_diameters_mm, strict=True))
+    motor = next(m.mass for m in synth.motor_catalogue() if m.name == d.drive.motor.name)
+    assert motor is not None
+    return {"counterweights": cw, "flywheel": fly, "gears": gears, "motor": motor}
 
 
-def _score(answer: MachineOptimiseOut, values: tuple[float, float, float]) -> float:
+def _score(answer: MachineOptimiseOut, values: tuple[float | None, ...]) -> float:
     """The weighted normalised objective, written here from the answer's weights and the chain's values."""
     scale = {g.objective: g.chain for g in answer.gains}
-    names = ("motor_power", "added_mass", "rms_shaking_force")
-    return sum(answer.weights.get(n, 0.0) * v / scale[n] for n, v in zip(names, values, strict=True)
+    names = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
+    return sum(answer.weights.get(n, 0.0) * v / scale[n] for n, v in zip(names, values, strict=False)  # type: ignore[operator]
                if answer.weights.get(n, 0.0) > 0)
 
 
@@ -310,6 +337,6 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
     linkage = (crank_rocker.member(spec, member.parameter) if isinstance(spec, synth.CrankRockerSpec)
                else slider_crank.member(spec, member.parameter))
     d = client.design_machine(_machine_request(example, mechanism_json(linkage)))
-    for v, w in zip(_objectives(d), (member.motor_power_W, member.added_mass_kg, member.rms_shaking_force_N),
+    for v, w in zip(_objectives(d)[:3], (member.motor_power_W, member.added_mass_kg, member.rms_shaking_force_N),
                     strict=True):
         assert v == pytest.approx(w, rel=1e-9, abs=1e-9)

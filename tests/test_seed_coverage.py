@@ -59,6 +59,12 @@ COVERED_BEYOND_TABLE = {
         "tests/test_rolling_friction.py::test_rolling_guide_matches_the_closed_form",
     "instant centres by Kennedy's theorem and the radius of curvature of a point's path":
         "tests/test_instant_centres.py::test_coupler_centre_is_where_crank_and_rocker_lines_meet",
+    "a passive link: the double parallelogram moves though W = 3n - 2p = 0 (seed 001 redundant constraints)":
+        "tests/test_passive_and_triads.py::test_double_parallelogram_through_the_api",
+    "a class-III Assur group (an eight-bar's triad) placed and analysed (seed 001 groups of higher class)":
+        "tests/test_passive_and_triads.py::test_eight_bar_through_the_api",
+    "rolling friction k·N of a cam's roller: the dwell's torque k·N·R/r (seed 000 §13.3)":
+        "tests/test_cam_rolling.py::test_cam_roller_rolling_friction_in_a_dwell",
 }
 
 

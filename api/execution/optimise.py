@@ -15,12 +15,16 @@ from fastapi import Request, Response
 from synth.machine.optimise import MAX_SEARCHED, MemberScore, conclude, design_members, scan_family, search_cell
 
 from .admission import RequestSolvers
-from .plans import machine_optimise_conclusion
+from synth.machine.record import DesignRecord
+
+from .plans import SERVICE_VERSION, machine_optimise_conclusion
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
-async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers) -> Response:
-    """Answer the request with the optimised machine, its chains spread over the workers."""
+async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers,
+                              fmt: str | None = None) -> Response:
+    """Answer the request with the optimised machine, its chains spread over the workers; ``fmt`` pdf: the
+    chosen machine's design record with the certificate's page."""
     lim = solvers.limits
     spec = body.to_engine(lim.max_stages)
     t = lim.solver_time_limit_s
@@ -28,12 +32,14 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
     # interleaved, so every worker gets members from the whole family and about the same work
     shares = [scan.candidates[k::n] for k in range(n)]
-    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t) for share in shares))
+    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t,
+                                               size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
     searched = await asyncio.gather(*(solvers.run(search_cell, spec, scan, members, k, time_limit_s=t)
                                       for k in range(MAX_SEARCHED)))
     refinements = tuple(r for r, _ in searched if r is not None)
     extra = tuple(m for _, seen in searched for m in seen)
-    plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t)
-    return await solvers.answer_plan(plan, request)
+    record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
+    plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t, record=record)
+    return await solvers.answer_plan(plan, request, fmt)

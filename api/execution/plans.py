@@ -260,6 +260,9 @@ def gears_train(b: TrainIn, lim: Limits) -> Plan:
 
 def structure(b: StructureIn, lim: Limits) -> Plan:
     """POST /v1/structure."""
+    if b.mechanism is not None:
+        return Plan(Render(StructureOut.from_engine), synth.linkage_structure, (b.mechanism.to_mechanism(),), {})
+    assert b.links is not None and b.pairs is not None
     return Plan(Render(StructureOut.from_engine), synth.analyse_structure,
                 (b.links, [p.to_engine() for p in b.pairs]),
                 dict(frame=b.frame, planar=b.planar, input_links=b.input_links, known_mobility=b.known_mobility))
@@ -320,11 +323,22 @@ def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
                 dict(time_limit_s=lim.solver_time_limit_s))
 
 
-def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any) -> Plan:
+def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any, record: DesignRecord | None = None) -> Plan:
     """The last task of POST /v1/machines/optimise: ``fn(spec, scan, members, refinements, time_limit_s)``
-    concludes and its answer is rendered in the worker."""
+    concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
+    chosen machine with the certificate's page (pdf)."""
     *head, time_limit_s = args
-    return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
+    if record is None:
+        return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
+    return Plan(Render(MachineOptimiseOut.from_engine, optimisation_file, export_extra=(record,)), fn, tuple(head),
+                dict(time_limit_s=time_limit_s), offered=("pdf",), stem="machine-optimisation")
+
+
+def optimisation_file(result: synth.MachineOptimum, fmt: str, record: DesignRecord) -> bytes:
+    """The optimised machine's design record with the optimisation's certificate page."""
+    from synth.machine.optimise_record import optimisation_record_pdf
+
+    return optimisation_record_pdf(result, record)
 
 
 def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn) -> None:

@@ -11,7 +11,15 @@ from ..execution import plans
 from ..execution.optimise import answer_optimisation
 from ..deps import SolverDep
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
-from mechsynth_client.schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
+from mechsynth_client.schemas.optimise import (
+    LinkageOptimiseIn,
+    LinkageOptimiseOut,
+    MachineOptimiseIn,
+    MachineOptimiseOut,
+)
+from synth.machine.optimise_linkage import optimise_linkage as _optimise_linkage
+from ..execution.plans import Plan
+from ..media import Render
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -35,8 +43,13 @@ async def design(body: MachineIn, request: Request, solvers: SolverDep, format: 
     return await solvers.answer_plan(plans.machine_design(body, solvers.limits), request, format)
 
 
-@router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine")
-async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep) -> Response:
+@router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine",
+             responses={200: {"content": {"application/pdf": {}},
+                              "description": "The optimised machine, or its design record (?format=pdf)."}})
+async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep,
+                   format: Annotated[Literal["json", "pdf"] | None, Query(
+                       description="`pdf`: the chosen machine's design record with a page for the "
+                       "optimisation's certificate.")] = None) -> Response:
     """Optimise the machine as a whole: the linkage's family member (for its function: swing or stroke and time
     ratio), the counterweights, the flywheel and its shaft, the motor and the ratio together, for the least motor
     power, added mass, RMS shaking force or a weighted sum of these, each normalised by its value on the chain's
@@ -45,4 +58,20 @@ async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep
     spread members (side by side on the workers) and bounded Brent refines the best brackets. The answer holds
     the design as /v1/machines/design answers it, the gain over the chain in every objective, the certificate of
     how the family was covered and the Pareto set of two objectives over every member designed."""
-    return await answer_optimisation(body, request, solvers)
+    return await answer_optimisation(body, request, solvers, format)
+
+
+@router.post("/optimise-linkage", response_model=LinkageOptimiseOut, name="optimise_linkage")
+async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: SolverDep) -> Response:
+    """Choose any linkage's free dimensions together with its machine: numbers of a general linkage (a frame
+    point's coordinate, a link's length, a point of a link) free within bounds, the function as constraints on
+    the analysed linkage (the output's stroke or swing within a band, the time ratio within a band, the least
+    transmission angle of every dyad, assembly over the whole turn), for the least motor power, added mass,
+    shaking force, machine mass, cost or a weighted sum. A scrambled Sobol sample of the box is checked
+    kinematically, the members that meet the function run through the chain to their steady machine, the best
+    are refined by COBYLA (the function as its constraints) and the best member is designed whole; the
+    certificate states the coverage and claims no gap."""
+    spec = body.to_engine(solvers.limits.max_stages)
+    plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
+                _optimise_linkage, (spec,), dict(time_limit_s=solvers.limits.solver_time_limit_s))
+    return await solvers.answer_plan(plan, request)

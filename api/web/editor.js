@@ -1,7 +1,7 @@
 // The drawing editor: a general linkage placed point by point on the canvas, kept as one model (points, links,
 // blocks on guides) from which the `linkage` mechanism of the request is written. Every edit is undoable; the JSON
 // box of the form is a view of the same mechanism; the structure (mobility, Assur groups) is said as you draw.
-import { state, edited, renderForm, factor, markStale } from "./app.js";
+import { state, edited, analyse, renderForm, factor, markStale, defaultMechanism } from "./app.js";
 import { post, Problem } from "./api.js";
 import { h, s, put } from "./dom.js";
 import { TEMPLATES } from "./templates.js";
@@ -12,16 +12,69 @@ const KG_PER_M = 10, BLOCK_KG = 5;
 const GRID = { mm: [0.005, 0.01, 0.05], m: [0.01, 0.05, 0.1] };
 const TOOLS = [["move", "V", "Move / select"], ["frame", "F", "Frame point"], ["joint", "J", "Joint"],
   ["bar", "B", "Binary link (2 points)"], ["plate", "T", "Ternary link (3 points)"],
-  ["slide", "S", "Block on a guide: joint, then frame point"], ["crank", "C", "Crank"], ["output", "O", "Output"],
+  ["slide", "S", "Block on a guide or in a slot: joint, then frame point or link"], ["crank", "C", "Crank"], ["output", "O", "Output"],
   ["delete", "X", "Delete"]];
 const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
 
 export const ed = {
   on: false, model: null, tool: "move", pending: [], selected: null, undo: [], redo: [], view: null,
-  grid: 0.01, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
+  grid: 0.005, groups: null, structureKey: "", offset: [0, 0], fit: 0, dragging: null, messages: [], answerOk: false,
+  // every press on the canvas handled, and where it landed [m]: a script clicking waits on these
+  presses: 0, lastPress: null,
 };
 
 const clone = (m) => JSON.parse(JSON.stringify(m));
+// What a design says about its links and pairs by name, beside the mechanism: kept through every edit, each entry
+// dropped with the link or pair it names (and back with an undo).
+const BY_NAME = ["counterweights", "counter_rotors", "torques", "trace_points", "friction", "coupler_inertia_kgm2", "loads"];
+const jointKey = (kind, links) => `${kind}|${[...links].sort().join("|")}`;
+
+/** The model and the design's parts named after its links, as one undo step. */
+function snapshot() {
+  const d = state.design || {};
+  return JSON.stringify({ model: ed.model, byName: Object.fromEntries(BY_NAME.filter((k) => k in d).map((k) => [k, d[k]])) });
+}
+
+function restore(text) {
+  const snap = JSON.parse(text);
+  ed.model = snap.model;
+  for (const k of BY_NAME) delete state.design[k];
+  Object.assign(state.design, snap.byName);
+}
+
+/** The design's entries that name a link or pair no longer drawn go with it. */
+function prune(d, mech) {
+  const links = new Set(["frame", ...mech.links.map((l) => l.name)]), joints = new Set(mech.joints.map((j) => j.name));
+  for (const k of ["counterweights", "counter_rotors", "torques", "trace_points"]) {
+    if (!Array.isArray(d[k])) continue;
+    d[k] = d[k].filter((e) => links.has(e.link));
+    if (!d[k].length) delete d[k];
+  }
+  if (d.friction) {
+    d.friction = Object.fromEntries(Object.entries(d.friction).filter(([name]) => joints.has(name)));
+    if (!Object.keys(d.friction).length) delete d.friction;
+  }
+  if (d.coupler_inertia_kgm2 !== undefined && !links.has("coupler")) delete d.coupler_inertia_kgm2;
+  // a process load is on the output: a torque on one that turns, a force on one that slides (or of fixed direction)
+  const out = mech.links.find((l) => l.name === mech.output);
+  if (Array.isArray(d.loads) && out) {
+    const slides = out.joints.length === 1;
+    d.loads = d.loads.filter((l) => {
+      const want = !slides && l.direction !== "frame" ? "torque_Nm" : "force_N", other = want === "force_N" ? "torque_Nm" : "force_N";
+      return l[want] !== undefined && l[want] !== null && (l[other] === undefined || l[other] === null);
+    });
+    if (!d.loads.length) delete d.loads;
+  }
+}
+
+/** A link's mass properties: as the design gave them (they stay with the link by name), or the bar rule. */
+const PROPS = ["mass_kg", "com_m", "inertia_kgm2"];
+function propsOf(link) {
+  if (!link) return undefined;
+  return Object.fromEntries(PROPS.filter((k) => link[k] !== undefined).map((k) => [k, clone(link[k])]));
+}
+// a family's link left out of its `links` is massless
+const famProps = (link) => propsOf(link) || {};
 const pt = (name) => ed.model.points.find((p) => p.name === name);
 const bodiesAt = (m, name) => [...m.links.filter((l) => l.points.includes(name)).map((l) => l.name),
   ...m.blocks.filter((b) => b.point === name).map((b) => b.name)];
@@ -61,25 +114,38 @@ export function toMechanism(m) {
       return [Math.cos(th) * d[0] + Math.sin(th) * d[1], -Math.sin(th) * d[0] + Math.cos(th) * d[1]];
     });
     local[0] = [0, 0]; local[1] = [L, 0];
-    const com = [local.reduce((t, q) => t + q[0], 0) / local.length, local.reduce((t, q) => t + q[1], 0) / local.length];
-    const mass = l.mass_kg ?? KG_PER_M * local.slice(1).reduce((t, q) => t + Math.hypot(q[0], q[1]), 0);
-    const r2 = local.reduce((t, q) => t + (q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2, 0) / local.length;
     const out = { name: l.name, joints: names.slice(0, 2), length_m: L };
     if (names.length > 2) out.points_m = Object.fromEntries(names.slice(2).map((n, k) => [n, local[k + 2]]));
-    Object.assign(out, { mass_kg: mass, com_m: com, inertia_kgm2: (mass * r2) / 3 });
-    return out;
+    if (l.props) return Object.assign(out, clone(l.props));
+    const com = [local.reduce((t, q) => t + q[0], 0) / local.length, local.reduce((t, q) => t + q[1], 0) / local.length];
+    const mass = KG_PER_M * local.slice(1).reduce((t, q) => t + Math.hypot(q[0], q[1]), 0);
+    const r2 = local.reduce((t, q) => t + (q[0] - com[0]) ** 2 + (q[1] - com[1]) ** 2, 0) / local.length;
+    return Object.assign(out, { mass_kg: mass, com_m: com, inertia_kgm2: (mass * r2) / 3 });
   });
-  for (const b of m.blocks) links.push({ name: b.name, joints: [b.point], mass_kg: b.mass_kg ?? BLOCK_KG });
+  for (const b of m.blocks) links.push({ name: b.name, joints: [b.point], ...(b.props ? clone(b.props) : { mass_kg: BLOCK_KG }) });
+  // a pair keeps the name the design gave it (friction and branches are keyed by it), else its point's
+  const names = m.jointNames || {}, used = new Set();
+  const named = (kind, links, fallback) => {
+    const want = names[jointKey(kind, links)];
+    const name = want && !used.has(want) ? want : fallback;
+    used.add(name);
+    return name;
+  };
   const joints = [];
   for (const p of m.points) {
     const bodies = [...(p.ground ? ["frame"] : []), ...bodiesAt(m, p.name)];
     for (let k = 0; k + 1 < bodies.length; k++) {
-      const j = { name: k ? `${p.name}_${k + 1}` : p.name, kind: "revolute", links: [bodies[k], bodies[k + 1]] };
-      if (k) j.point = p.name;
+      const pair = [bodies[k], bodies[k + 1]];
+      const j = { name: named("revolute", pair, k ? `${p.name}_${k + 1}` : p.name), kind: "revolute", links: pair };
+      if (j.name !== p.name) j.point = p.name;
       joints.push(j);
     }
   }
-  for (const b of m.blocks) joints.push({ name: `${b.name}_guide`, kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+  for (const b of m.blocks) {
+    // a block in a slot of a moving link: the slot through that link's origin at axis_deg in its frame
+    if (b.slot) joints.push({ name: named("prismatic", [b.slot, b.name], `${b.name}_slot`), kind: "prismatic", links: [b.slot, b.name], axis_link: b.slot, axis_deg: b.axis_deg });
+    else joints.push({ name: named("prismatic", ["frame", b.name], `${b.name}_guide`), kind: "prismatic", links: ["frame", b.name], through: b.through, axis_deg: b.axis_deg });
+  }
   const mech = { type: "linkage", frame_points_m: frame, links, joints };
   if (crank) mech.crank = crank.name;
   const output = outputOf(m, crank);
@@ -91,7 +157,7 @@ export function toMechanism(m) {
 
 /** W = 3n − 2p and what is wrong with the chain, each said at its place. */
 export function check(m) {
-  const { mech, crank } = toMechanism(m);
+  const { mech, crank, offset } = toMechanism(m);
   const n = mech.links.length, p = mech.joints.length, W = 3 * n - 2 * p;
   const out = [];
   for (const q of m.points) {
@@ -103,8 +169,10 @@ export function check(m) {
   }
   if (n && !crank) out.push({ at: null, text: "no link turns about a frame point: nothing can be the crank" });
   if (n && W > 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain has ${W} degrees of freedom; one crank cannot drive it (add a link, or join a joint to the frame)` });
-  if (n && W < 1) out.push({ at: null, text: `W = 3·${n} − 2·${p} = ${W}: the chain cannot move (a structure); remove a link or a pair` });
-  return { W, n, p, problems: out, mech };
+  // A chain the formula counts as a structure may still move when a link is passive (a double parallelogram): the
+  // service judges it from its geometry, so this is said but the analysis is still asked for.
+  if (n && W < 1) out.push({ at: null, soft: true, text: `W = 3·${n} − 2·${p} = ${W} by the formula: the chain moves only if a link is passive (its constraints repeat others'); the service judges it from the geometry` });
+  return { W, n, p, problems: out, mech, offset };
 }
 
 // --- the editor's model from a mechanism the service answered for -----------------------------------------------------
@@ -125,22 +193,40 @@ export function fromAnswer(design, answer, i) {
       names.forEach((n) => add(n, false));
       if (names.length === 1) {
         const g = (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && j.links.includes("frame"));
-        if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, mass_kg: l.mass_kg });
-      } else links.push({ name: l.name, points: names, mass_kg: l.mass_kg });
+        const slot = !g && (mech.joints || []).find((j) => j.kind === "prismatic" && j.links.includes(l.name) && (j.axis_link || j.links[0]) !== l.name);
+        if (g) blocks.push({ name: l.name, point: names[0], through: g.through, axis_deg: g.axis_deg || 0, props: propsOf(l) });
+        else if (slot) blocks.push({ name: l.name, point: names[0], slot: slot.axis_link || slot.links[0], axis_deg: slot.axis_deg || 0, props: propsOf(l) });
+      } else links.push({ name: l.name, points: names, props: propsOf(l) });
     }
-    return { points, links, blocks, crank: mech.crank, output: mech.output, branches: { ...(mech.branches || {}) } };
+    const jointNames = Object.fromEntries((mech.joints || []).map((j) => [jointKey(j.kind, j.links), j.name]));
+    return { points, links, blocks, crank: mech.crank, output: mech.output, branches: { ...(mech.branches || {}) }, jointNames };
   }
+  const famLinks = mech.links || {};
   const fam = mech.type;
   if (fam === "fourbar") {
     ["O", "Q"].forEach((n) => add(n, true)); ["A", "B"].forEach((n) => add(n, false));
-    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "coupler", points: ["A", "B"] }, { name: "rocker", points: ["Q", "B"] }],
-      blocks: [], crank: "crank", output: "rocker", branches: {} };
+    // the family's link frames are the drawing's (origin at the first point, x toward the second): masses carry over
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "coupler", points: ["A", "B"], props: famProps(famLinks.coupler) },
+      { name: "rocker", points: ["Q", "B"], props: famProps(famLinks.rocker) }],
+    blocks: [], crank: "crank", output: "rocker", branches: {} };
   }
   if (fam === "slider_crank") {
     add("O", true); add("A", false); add("B", false);
     points.push({ name: "G", x: at("B")[0], y: at("B")[1], ground: true });
-    return { points, links: [{ name: "crank", points: ["O", "A"] }, { name: "rod", points: ["A", "B"] }],
-      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0 }], crank: "crank", output: "slider", branches: {} };
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "rod", points: ["A", "B"], props: famProps(famLinks.rod) }],
+      blocks: [{ name: "slider", point: "B", through: "G", axis_deg: 0, props: famProps(famLinks.slider) }], crank: "crank", output: "slider",
+      branches: {}, jointNames: { [jointKey("prismatic", ["frame", "slider"])]: "guide" } };
+  }
+  if (fam === "slotted_lever") {
+    // the shaper as its engine writes it: blocks in the lever's slot and across the ram, the ram guide through G
+    add("O", true); add("O1", true); ["A", "B", "R"].forEach((n) => add(n, false));
+    points.push({ name: "G", x: 0, y: -mech.ground_length_m + mech.ram_height_m, ground: true });
+    return { points, links: [{ name: "crank", points: ["O", "A"], props: famProps(famLinks.crank) }, { name: "rocker", points: ["O1", "B"], props: famProps(famLinks.rocker) }],
+      blocks: [{ name: "slider", point: "A", slot: "rocker", axis_deg: 0, props: famProps(famLinks.slider) },
+        { name: "ram", point: "R", through: "G", axis_deg: 0, props: famProps(famLinks.ram) },
+        { name: "ram_slider", point: "B", slot: "ram", axis_deg: 90, props: famProps(famLinks.ram_slider) }],
+      crank: "crank", output: "ram", branches: {},
+      jointNames: { [jointKey("prismatic", ["rocker", "slider"])]: "A_slot", [jointKey("prismatic", ["ram", "ram_slider"])]: "B_slot", [jointKey("prismatic", ["frame", "ram"])]: "R" } };
   }
   return null;
 }
@@ -150,9 +236,20 @@ function snap(v) { return Math.round(v / ed.grid) * ed.grid; }
 function snapXY([x, y], free) {
   if (free) return [x, y];
   // to the grid in the chosen unit, exact in it (300 mm is 0.3 m, not 0.30000000000000004)
-  const u = factor("length");
-  const r = (v) => Math.round(snap(v) / u * 1e6) / 1e6 * u;
+  const per = Math.round(1 / factor("length")) * 1e6;
+  const r = (v) => Math.round(snap(v) * per) / per;
   return [r(x), r(y)];
+}
+
+/** A joint placed as the far end of a binary link: the link's length a whole number of grid steps (exact in the
+ *  chosen unit), its direction as clicked. */
+function snapLength(from, xy) {
+  const dx = xy[0] - from.x, dy = xy[1] - from.y, L = Math.hypot(dx, dy);
+  if (L < 1e-12) return xy;
+  const per = Math.round(1 / factor("length")) * 1e6;
+  const want = Math.round(Math.max(1, Math.round(L / ed.grid)) * ed.grid * per) / per;
+  if (Math.abs(want - L) < 1e-9) return xy;  // the grid point is already at a round length: keep it exact
+  return [from.x + (dx * want) / L, from.y + (dy * want) / L];
 }
 
 function nextName(ground) {
@@ -170,7 +267,7 @@ function nextLinkName(prefix) {
 
 /** Apply an edit: the model before it goes on the undo stack (a drag pushes once, at its start). */
 function change(fn, { push = true, topology = true } = {}) {
-  if (push) { ed.undo.push(JSON.stringify(ed.model)); ed.redo = []; if (ed.undo.length > 500) ed.undo.shift(); }
+  if (push) { ed.undo.push(snapshot()); ed.redo = []; if (ed.undo.length > 500) ed.undo.shift(); }
   fn(ed.model);
   if (topology) ed.fit = 4;
   commit();
@@ -178,18 +275,39 @@ function change(fn, { push = true, topology = true } = {}) {
 
 function undo() {
   if (!ed.undo.length) return;
-  ed.redo.push(JSON.stringify(ed.model));
-  ed.model = JSON.parse(ed.undo.pop());
+  ed.redo.push(snapshot());
+  restore(ed.undo.pop());
   ed.fit = 4; ed.pending = [];
   commit();
 }
 
 function redo() {
   if (!ed.redo.length) return;
-  ed.undo.push(JSON.stringify(ed.model));
-  ed.model = JSON.parse(ed.redo.pop());
+  ed.undo.push(snapshot());
+  restore(ed.redo.pop());
   ed.fit = 4; ed.pending = [];
   commit();
+}
+
+/** Blocks whose slot was in a link no longer there go with it (and the blocks in theirs). */
+function dropSlots(m) {
+  for (let n = -1; n !== m.blocks.length;) {
+    n = m.blocks.length;
+    const bodies = new Set([...m.links.map((l) => l.name), ...m.blocks.map((b) => b.name)]);
+    m.blocks = m.blocks.filter((b) => !b.slot || bodies.has(b.slot));
+  }
+}
+
+/** The world angle [deg] of a block's slide: its guide's, or its slot's in the slotted link as drawn. */
+function slideAngle(m, b, depth = 0) {
+  if (!b.slot) return b.axis_deg;
+  const l = m.links.find((q) => q.name === b.slot);
+  if (l) {
+    const [a, c] = l.points.map((n) => m.points.find((p) => p.name === n));
+    return (Math.atan2(c.y - a.y, c.x - a.x) * 180) / Math.PI + b.axis_deg;
+  }
+  const host = m.blocks.find((q) => q.name === b.slot);
+  return (host && depth < 8 ? slideAngle(m, host, depth + 1) : 0) + b.axis_deg;
 }
 
 function deletePoint(name) {
@@ -197,11 +315,12 @@ function deletePoint(name) {
     m.points = m.points.filter((p) => p.name !== name);
     m.links = m.links.filter((l) => !l.points.includes(name));
     m.blocks = m.blocks.filter((b) => b.point !== name && b.through !== name);
+    dropSlots(m);
   });
 }
 
 function deleteLink(name) {
-  change((m) => { m.links = m.links.filter((l) => l.name !== name); m.blocks = m.blocks.filter((b) => b.name !== name); });
+  change((m) => { m.links = m.links.filter((l) => l.name !== name); m.blocks = m.blocks.filter((b) => b.name !== name); dropSlots(m); });
 }
 
 // --- the model into the design, the drawing, the table ----------------------------------------------------------------
@@ -210,32 +329,31 @@ function commit(t0 = performance.now()) {
   const c = check(ed.model);
   lastChecked = c;
   ed.messages = c.problems;
-  const { offset } = toMechanism(ed.model);
-  ed.offset = offset;
+  ed.offset = c.offset;
   const d = state.design;
-  if (d.mechanism.type !== "linkage") {
-    // names of the families' links mean nothing in a drawing: their loads, counterweights and points go
-    delete d.loads; delete d.counterweights; delete d.counter_rotors; delete d.coupler_inertia_kgm2; delete d.trace_points;
-  }
   const wasLinkage = d.mechanism.type === "linkage";
   d.mechanism = c.mech;
+  ed.committed = JSON.stringify(c.mech);
+  prune(d, c.mech);
   // the JSON box follows at the end of a drag, not at every step of it
   if (!ed.dragging) syncJson(wasLinkage);
   render();
   document.body.dataset.mobility = String(c.W);
-  if (c.problems.length || !c.mech.links.length) {
+  const blocking = c.problems.filter((q) => !q.soft);
+  if (blocking.length || !c.mech.links.length) {
     // nothing the service could analyse: an answer still on its way is for a chain no longer drawn
     if (state.pending) { state.pending.abort(); state.pending = null; }
     state.seq += 1;
     ed.answerOk = false;
-    markStale(c.problems.length ? c.problems[0].text : "nothing drawn yet");
+    markStale(blocking.length ? blocking[0].text : "nothing drawn yet");
     document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
-    history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
+    if (!ed.dragging) history.replaceState(null, "", `#design=${encodeURIComponent(JSON.stringify(state.design))}`);
     return null;
   }
-  document.body.dataset.drawProblem = "";
+  document.body.dataset.drawProblem = c.problems.map((p) => p.text).join(" | ");
   refreshStructure(c.mech);
-  return edited(t0);
+  // the address bar (the whole design, encoded) follows at the end of a drag: writing it costs as much as drawing
+  return ed.dragging ? analyse(t0) : edited(t0);
 }
 
 function syncJson(wasLinkage) {
@@ -335,8 +453,9 @@ function drawCanvas() {
   const sw = v.w / 600, g = s("g", { "stroke-width": sw });
   const Y = (y) => -y;
   // the grid: one line per step, every tenth darker
-  const step = ed.grid;
-  if (v.w / step < 300) {
+  // a line every grid step, or every 2, 5, 10… steps when the view is wide for it
+  const step = ed.grid * [1, 2, 5, 10, 20, 50, 100].find((k) => v.w / (ed.grid * k) <= 120);
+  if (Number.isFinite(step)) {
     const grid = s("g", { class: "draw-grid" });
     for (let x = Math.ceil(v.x0 / step) * step; x <= v.x0 + v.w; x += step) grid.appendChild(s("line", { x1: x, x2: x, y1: Y(v.y0), y2: Y(v.y0 + v.h), "stroke-width": sw * 0.5 }));
     for (let y = Math.ceil(v.y0 / step) * step; y <= v.y0 + v.h; y += step) grid.appendChild(s("line", { y1: Y(y), y2: Y(y), x1: v.x0, x2: v.x0 + v.w, "stroke-width": sw * 0.5 }));
@@ -354,13 +473,20 @@ function drawCanvas() {
     }
   }
   for (const b of m.blocks) {
-    const gp = pt(b.through), jp = pt(b.point);
+    const jp = pt(b.point), host = b.slot && (m.links.find((l) => l.name === b.slot) || m.blocks.find((q) => q.name === b.slot));
+    const gp = b.slot ? host && pt(host.points ? host.points[0] : host.point) : pt(b.through);
     if (!gp || !jp) continue;
-    const a = (b.axis_deg * Math.PI) / 180, L = v.w;
-    g.appendChild(s("line", { class: "guide", x1: gp.x - Math.cos(a) * L, y1: Y(gp.y - Math.sin(a) * L), x2: gp.x + Math.cos(a) * L, y2: Y(gp.y + Math.sin(a) * L),
-      "stroke-width": sw, "stroke-dasharray": `${8 * sw} ${3 * sw}` }));
+    const deg = slideAngle(m, b), a = (deg * Math.PI) / 180;
+    // a frame guide runs across the view; a slot is drawn along its link, a little past the block either way
+    const L = b.slot ? Math.hypot(jp.x - gp.x, jp.y - gp.y) + 40 * sw : v.w;
+    g.appendChild(s("line", { class: b.slot ? "slot" : "guide", x1: gp.x - Math.cos(a) * (b.slot ? 0 : L), y1: Y(gp.y - Math.sin(a) * (b.slot ? 0 : L)), x2: gp.x + Math.cos(a) * L, y2: Y(gp.y + Math.sin(a) * L),
+      "stroke-width": b.slot ? 12 * sw : sw, "stroke-dasharray": b.slot ? null : `${8 * sw} ${3 * sw}` }));
+    if (b.slot) {
+      // the slot's own run the other way, for a block between the link's origin and its far side
+      g.appendChild(s("line", { class: "slot", x1: gp.x, y1: Y(gp.y), x2: gp.x - Math.cos(a) * 40 * sw, y2: Y(gp.y - Math.sin(a) * 40 * sw), "stroke-width": 12 * sw }));
+    }
     g.appendChild(s("rect", { class: "slider", dataset: { link: b.name }, x: jp.x - 16 * sw, y: Y(jp.y) - 9 * sw, width: 32 * sw, height: 18 * sw, "stroke-width": 2 * sw,
-      transform: `rotate(${-b.axis_deg} ${jp.x} ${Y(jp.y)})`, stroke: colour[b.name] || "#2d3e5c" }, s("title", {}, b.name)));
+      transform: `rotate(${-deg} ${jp.x} ${Y(jp.y)})`, stroke: colour[b.name] || "#2d3e5c" }, s("title", {}, b.name)));
   }
   for (const l of m.links) {
     const ps = l.points.map(pt).filter(Boolean);
@@ -371,6 +497,19 @@ function drawCanvas() {
     const c = [ps.reduce((t, p) => t + p.x, 0) / ps.length, ps.reduce((t, p) => t + p.y, 0) / ps.length];
     const role = l.name === (crank && crank.name) ? " (crank)" : l.name === outputOf(m, crank) ? " (output)" : "";
     g.appendChild(s("text", { class: "draw-link-name", x: c[0] + 6 * sw, y: Y(c[1]) - 6 * sw, "font-size": 11 * sw }, l.name + role));
+  }
+  // counterweights where they sit on their links, the disc's area as their mass
+  const mechLinks = Object.fromEntries(((state.design && state.design.mechanism.links) || []).map((l) => [l.name, l]));
+  const cws = (state.design && state.design.counterweights) || [];
+  const heaviest = Math.max(1e-9, ...cws.map((cw) => cw.mass_kg));
+  for (const cw of cws) {
+    const l = mechLinks[cw.link], p0 = l && pt(l.joints[0]), p1 = l && l.joints[1] && pt(l.joints[1]);
+    if (!p0) continue;
+    const th = p1 ? Math.atan2(p1.y - p0.y, p1.x - p0.x) : 0, [u, w] = cw.position_m;
+    const x = p0.x + Math.cos(th) * u - Math.sin(th) * w, y = p0.y + Math.sin(th) * u + Math.cos(th) * w;
+    g.appendChild(s("line", { class: "draw-cw-arm", x1: p0.x, y1: Y(p0.y), x2: x, y2: Y(y), "stroke-width": 3 * sw }));
+    g.appendChild(s("circle", { class: "draw-cw", cx: x, cy: Y(y), r: (6 + 8 * Math.sqrt(cw.mass_kg / heaviest)) * sw, "stroke-width": sw },
+      s("title", {}, `counterweight ${cw.mass_kg.toPrecision(3)} kg on the ${cw.link}`)));
   }
   for (const b of m.blocks) {
     const jp = pt(b.point);
@@ -412,8 +551,8 @@ function renderSide() {
     return h("tr", {}, h("td", {}, l.name), h("td", {}, l.points.join("-")),
       h("td", {}, h("input", { id: `dl-${l.name}`, "aria-label": `${l.name} length ${l.points[0]}-${l.points[1]} [${u}]`, value: num(L), dataset: { link: l.name } })));
   });
-  const blockRows = m.blocks.map((b) => h("tr", {}, h("td", {}, b.name), h("td", {}, `${b.point} on ${b.through}`),
-    h("td", {}, h("input", { id: `db-${b.name}`, "aria-label": `${b.name} guide axis [°]`, value: String(b.axis_deg), dataset: { block: b.name } }), "°")));
+  const blockRows = m.blocks.map((b) => h("tr", {}, h("td", {}, b.name), h("td", {}, b.slot ? `${b.point} in ${b.slot}` : `${b.point} on ${b.through}`),
+    h("td", {}, h("input", { id: `db-${b.name}`, "aria-label": b.slot ? `${b.name} slot axis in ${b.slot}'s frame [°]` : `${b.name} guide axis [°]`, value: String(b.axis_deg), dataset: { block: b.name } }), "°")));
   put(side,
     h("div", { class: "draw-tools", role: "radiogroup", "aria-label": "Drawing tool" }, TOOLS.map(([id, key, label]) =>
       h("button", { type: "button", role: "radio", "aria-checked": String(ed.tool === id), dataset: { tool: id }, title: `${label} (${key})`, id: `tool-${id}` }, `${label.split(" ")[0]} ${key}`))),
@@ -455,11 +594,14 @@ function onPointerDown(e) {
   svg.focus();
   const hit = hitPoint(svg, e), link = e.target.dataset && e.target.dataset.link;
   const xy = snapXY(toModel(svg, e), e.altKey);
+  ed.lastPress = toModel(svg, e);
+  ed.presses += 1;
+  svg.dataset.presses = String(ed.presses);
   const t = ed.tool;
   if (t === "move") {
     if (hit) {
       ed.selected = `point:${hit}`;
-      ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+      ed.undo.push(snapshot()); ed.redo = [];
       ed.dragging = { name: hit, moved: false };
       svg.setPointerCapture(e.pointerId);
       render();
@@ -467,19 +609,29 @@ function onPointerDown(e) {
   } else if (t === "frame" || t === "joint") {
     if (hit) { ed.selected = `point:${hit}`; render(); } else place(xy, t === "frame");
   } else if (t === "bar" || t === "plate") {
-    const name = hit || place(xy, false);
+    // Shift: the point on the grid, its link any length; Alt: anywhere
+    const from = t === "bar" && ed.pending.length ? pt(ed.pending[0]) : null;
+    const name = hit || place(from && !e.shiftKey && !e.altKey ? snapLength(from, xy) : xy, false);
     if (!ed.pending.includes(name)) ed.pending.push(name);
     if (ed.pending.length === (t === "bar" ? 2 : 3)) {
       const points = ed.pending; ed.pending = [];
       change((m) => { m.links.push({ name: nextLinkName("L"), points }); });
     } else render();
   } else if (t === "slide") {
+    if (!hit && link && ed.pending.length === 1 && !pt(ed.pending[0]).ground && !bodiesAt(ed.model, ed.pending[0]).includes(link)) {
+      // a joint, then a moving link: a block at the joint in a slot of that link, along it (a block's: across it)
+      const j = ed.pending[0], host = ed.model.blocks.find((b) => b.name === link);
+      ed.pending = []; ed.problem = null;
+      change((m) => { m.blocks.push({ name: nextLinkName("block"), point: j, slot: link, axis_deg: host ? 90 : 0 }); });
+      e.preventDefault();
+      return;
+    }
     if (!hit) return;
     ed.pending.push(hit);
     if (ed.pending.length === 2) {
       const [j, gname] = ed.pending; ed.pending = [];
       const jp = pt(j), gp = pt(gname);
-      if (jp.ground || !gp.ground) { ed.problem = "a block: click its joint first, then the frame point its guide runs through"; render(); return; }
+      if (jp.ground || !gp.ground) { ed.problem = "a block: click its joint first, then the frame point its guide runs through or the link its slot is in"; render(); return; }
       ed.problem = null;
       const d = Math.hypot(jp.x - gp.x, jp.y - gp.y);
       const axis = d > 1e-12 ? Math.round(((Math.atan2(jp.y - gp.y, jp.x - gp.x) * 180) / Math.PI) / 15) * 15 : 0;
@@ -494,15 +646,26 @@ function onPointerDown(e) {
   e.preventDefault();
 }
 
+// A drag keeps at most one analysis in flight: the joint follows the pointer at once, and the position it has when
+// the answer comes is the next one sent (the moves in between are never asked for, so none is thrown away).
 function onPointerMove(e) {
   if (!ed.dragging) return;
   const t0 = performance.now();
-  const svg = e.currentTarget;
-  const [x, y] = snapXY(toModel(svg, e), e.altKey);
-  const p = pt(ed.dragging.name);
+  const d = ed.dragging, [x, y] = snapXY(toModel(e.currentTarget, e), e.altKey);
+  const p = pt(d.name);
   if (p.x === x && p.y === y) return;
-  p.x = x; p.y = y; ed.dragging.moved = true;
+  p.x = x; p.y = y; d.moved = true;
   state.dragging = true;
+  if (d.since === undefined) d.since = t0;  // the oldest move not yet analysed: the latency is counted from it
+  if (state.pending) { d.queued = true; drawCanvas(); updateSide(); return; }
+  sendDrag();
+}
+
+function sendDrag() {
+  const d = ed.dragging;
+  if (!d || d.since === undefined) return;
+  const t0 = d.since;
+  d.since = undefined; d.queued = false;
   commit(t0);
 }
 
@@ -574,7 +737,7 @@ function onSideClick(e) {
 
 export function openTemplate(key) {
   const t = TEMPLATES[key];
-  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.undo.push(snapshot()); ed.redo = [];
   ed.model = clone(t.model);
   ed.fit = 4;
   ed.view = null;
@@ -600,6 +763,8 @@ export function setEditing(on) {
   ed.model = imported || emptyModel();
   ed.undo = []; ed.redo = []; ed.pending = []; ed.structureKey = "";
   ed.answerOk = Boolean(imported) && state.design.mechanism.type === "linkage";
+  // a family's assembly branch becomes the drawing's: read off the points as they were drawn
+  if (imported && state.design.mechanism.type !== "linkage") ed.fit = 4;
   ed.offset = [0, 0];
   ed.view = viewFor(ed.model);
   if (imported) commit(); else render();
@@ -607,8 +772,10 @@ export function setEditing(on) {
 
 /** Start over with an empty canvas (the chain drawn from nothing). */
 export function clearDrawing() {
-  ed.undo.push(JSON.stringify(ed.model)); ed.redo = [];
+  ed.undo.push(snapshot()); ed.redo = [];
   ed.model = emptyModel();
+  // a new linkage: the loads, counterweights and the rest of the one before are not its own (an undo keeps them)
+  for (const k of BY_NAME) delete state.design[k];
   // room for a linkage a metre across, in the canvas's proportions
   const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
   const w = Math.max(1.6, 1.5 * aspect);
@@ -628,7 +795,7 @@ export function toScreen(x, y) {
 
 function install() {
   const fig = document.getElementById("drawing-box");
-  const canvas = s("svg", { id: "draw-canvas", tabindex: "0", role: "application", "aria-label": "Drawing canvas: tools by letter (V move, F frame point, J joint, B binary link, T ternary link, S block, C crank, O output, X delete), arrows move the selected point, Ctrl+Z undo, Ctrl+Y redo", hidden: true });
+  const canvas = s("svg", { id: "draw-canvas", tabindex: "0", role: "application", "aria-label": "Drawing canvas: tools by letter (V move, F frame point, J joint, B binary link, T ternary link, S block, C crank, O output, X delete), a link's far end snaps to a length in whole grid steps (Shift: any length, Alt: off the grid), arrows move the selected point, Ctrl+Z undo, Ctrl+Y redo", hidden: true });
   fig.insertBefore(canvas, document.getElementById("drawing").nextSibling);
   const side = h("section", { id: "draw-side", class: "draw-side", "aria-label": "Drawing: points and links", hidden: true });
   const aside = document.getElementById("editor");
@@ -647,10 +814,15 @@ function install() {
   document.addEventListener("keydown", onKey);
   side.addEventListener("change", onSideChange);
   side.addEventListener("click", onSideClick);
+  // the answer's own drawing first (the rest of analyse runs before a microtask), then the drag's latest position
+  const sendQueued = () => { if (ed.dragging && ed.dragging.queued) queueMicrotask(sendDrag); };
+  state.hooks.answer.push(sendQueued);
+  state.hooks.problem.push(sendQueued);
   state.hooks.answer.push((answer) => {
     if (!ed.on) return;
     ed.problem = null;
-    const mine = JSON.stringify(state.design.mechanism) === JSON.stringify(toMechanism(ed.model).mech);
+    // the drawing's own linkage (a dragged joint may have moved on since it was sent)
+    const mine = JSON.stringify(state.design.mechanism) === ed.committed;
     if (!mine) {
       // the JSON box or a panel changed the linkage: the drawing follows it
       const m = fromAnswer(state.design, answer, state.index);
@@ -669,7 +841,7 @@ function install() {
     ed.messages = [...(lastChecked ? lastChecked.problems : []), { at: placeOf(body), text: ed.problem }];
     render();
   });
-  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo };
+  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
   document.body.dataset.editorReady = "1";
 }
 

@@ -21,6 +21,15 @@ export const TEMPLATES = {
     links: [...fourbarLinks, L("rocker", "Q", "B", "C"), L("rod", "C", "D")], blocks: [{ name: "ram", point: "D", through: "G", axis_deg: 90 }],
     crank: "crank", output: "ram", branches: {} },
   loads: [{ type: "window", force_N: 2000, start_deg: 200, end_deg: 300 }] },
+  // the two ternary links not joined to each other: the frame (O, Q, R) and the coupler (A, B, C)
+  stephenson: { label: "Stephenson six-bar", model: { points: [...fourbar, J("C", 0, 0.5), F("R", 0.7, 0.2), J("D", 0.5, 0.7)],
+    links: [L("crank", "O", "A"), L("coupler", "A", "B", "C"), L("rocker", "Q", "B"), L("link", "C", "D"), L("follower", "R", "D")], blocks: [],
+    crank: "crank", output: "follower", branches: {} } },
+  // the slotted lever: a block at the crank pin in the lever's slot, the lever's end in a slot across the ram
+  shaper: { label: "shaper (slotted lever)", model: { points: [F("O", 0, 0), F("O1", 0, -0.3), F("G", 0.5, 0.3), J("A", 0.06, 0.08), J("B", 0.09, 0.27), J("R", 0.09, 0.3)],
+    links: [L("crank", "O", "A"), L("rocker", "O1", "B")],
+    blocks: [{ name: "slider", point: "A", slot: "rocker", axis_deg: 0 }, { name: "ram", point: "R", through: "G", axis_deg: 0 },
+      { name: "ram_slider", point: "B", slot: "ram", axis_deg: 90 }], crank: "crank", output: "ram", branches: {} } },
   toggle: { label: "toggle press", model: { points: [F("O", 0, 0), F("Q", 0.5, 0.3), F("G", 0.5, -0.5), J("A", 0.1, 0), J("B", 0.5, 0), J("D", 0.5, -0.3)],
     links: [L("crank", "O", "A"), L("coupler", "A", "B"), L("rocker", "Q", "B"), L("toggle", "B", "D")],
     blocks: [{ name: "ram", point: "D", through: "G", axis_deg: 90 }], crank: "crank", output: "ram", branches: {} } },

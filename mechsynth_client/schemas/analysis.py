@@ -197,6 +197,11 @@ class ChecksOut(BaseModel):
         description="Largest difference over the samples between the kinetostatic and the virtual-power driving "
         "torque [N·m]."
     )
+    loop_closure_m: float | None = Field(
+        None, description="General linkages: the largest distance over every pair and sample between where its two "
+        "links put it (each revolute's point from each link's position and angle, each slider point from its axis) "
+        "[m]; zero to rounding when every loop closes (passive links and groups placed numerically included). "
+        "Null for the named families.")
 
 
 class PairFrictionOut(BaseModel):
@@ -342,6 +347,9 @@ class AnalysisOut(BaseModel):
     friction: FrictionOut | None = Field(None, description="With friction in the pairs (when the request gives "
                                          "any): reactions, driving torque, losses and efficiency; null without.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
+    assumptions: list[str] = Field(default_factory=list, description="What the answer assumes beyond rigid links "
+                                   "and ideal pairs: how statically indeterminate reactions are split (redundant "
+                                   "pairs), how a group of class III or above is placed.")
     centres: CentresOut | None = Field(None, description="With `instant_centres`: instant centres and centrodes.")
     curvature: dict[str, CurvatureOut] | None = Field(None, description="With `path_curvature`: per point by "
                                                       "name, the curvature of its path.")
@@ -393,10 +401,14 @@ class AnalysisOut(BaseModel):
             transmission_angle_deg=None if tau is None else degree_array(tau),
             grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
             summary=SummaryOut.from_engine(an.summary()),
-            checks=ChecksOut.model_construct(virtual_power_torque_max_diff_Nm=an.torque_check),
+            checks=ChecksOut.model_construct(
+                virtual_power_torque_max_diff_Nm=an.torque_check,
+                loop_closure_m=mech.closure_residual(m.point_pos, m.link_angle)
+                if isinstance(mech, synth.PlanarLinkage) else None),
             friction=None if an.friction is None else FrictionOut.from_engine(
                 an.friction, {j.name: j.kind for j in mech.topology.joints}),
             warnings=warnings_out(synth.check_analysis(an)),
+            assumptions=list(mech.assumptions()) if isinstance(mech, synth.PlanarLinkage) else [],
             centres=_centres(an, geometry[1]) if geometry[0] else None,
             curvature=_curvature(an) if geometry[2] else None,
         )

@@ -110,6 +110,9 @@ class CamLoadsIn(StrictModel):
     process: list[CamProcessLoadIn] = Field(default_factory=list, max_length=8, description="Process loads.")
     contact_margin: float = Field(0.2, ge=0.0, le=10.0, description="The spring must exceed the separating force "
                                   "by this fraction at every angle.")
+    rolling_resistance_m: float = Field(0.0, ge=0.0, le=0.1, description="Roller followers: the coefficient of "
+                                        "rolling friction k [m] of the roller on the cam (a couple k·N against its "
+                                        "rolling); smaller than the roller radius.", examples=[0.0005])
 
 
 class LawOptionsIn(StrictModel):
@@ -180,7 +183,7 @@ class _CamFields(StrictModel):
                                         field=f"loads.process.{i}.{want}")
             process.append(cams.ProcessLoad(math.radians(p.from_deg), math.radians(p.to_deg), value))
         return cams.PairLoads(inertia or 0.0, self.omega_rad_s, stiffness, preload, tuple(process),
-                              ld.contact_margin)
+                              ld.contact_margin, ld.rolling_resistance_m)
 
     def to_spec(self, base_radius: float = 0.0) -> cams.CamSpec:
         """Engine spec; degrees and rev/min become radians and rad/s here."""
@@ -371,9 +374,14 @@ class CamForcesOut(BaseModel):
     min_contact_force_N: float = Field(description="Least contact force [N]; contact holds while it is > 0.")
     max_contact_force_N: float = Field(description="Largest contact force [N].")
     driving_torque_Nm: list[float] = Field(description="Camshaft driving torque from the contact geometry, "
-                                           "N (C x n), per cam angle [N·m].")
+                                           "N (C x n), per cam angle [N·m]; with rolling resistance also the "
+                                           "tangential force's moment and the rolling couple.")
     driving_torque_virtual_power_Nm: list[float] = Field(description="The same by virtual power, T = Q dq/dtheta, "
-                                                         "per cam angle [N·m].")
+                                                         "plus the rolling loss, per cam angle [N·m].")
+    rolling_loss_torque_Nm: list[float] = Field(default_factory=list, description="The rolling resistance's "
+                                                "share of the driving torque, k N |v_t| / r (the couple times the "
+                                                "roller's rotation relative to the cam), per cam angle [N·m]; "
+                                                "zeros without rolling resistance.")
     peak_driving_torque_Nm: float = Field(description="Largest |driving torque| [N·m].")
     mean_driving_torque_Nm: float = Field(description="Mean driving torque: the work per turn over 2 pi [N·m].")
     rms_driving_torque_Nm: float = Field(description="RMS driving torque [N·m].")
@@ -399,7 +407,7 @@ def forces_out(an: cams.CamAnalysis) -> CamForcesOut | None:
         least_contact_margin=f.least_margin if math.isfinite(f.least_margin) else None,
         contact_force_N=_l(f.contact), min_contact_force_N=float(f.contact.min()),
         max_contact_force_N=float(f.contact.max()), driving_torque_Nm=_l(f.torque),
-        driving_torque_virtual_power_Nm=_l(f.torque_virtual_power),
+        driving_torque_virtual_power_Nm=_l(f.torque_virtual_power), rolling_loss_torque_Nm=_l(f.rolling_loss),
         peak_driving_torque_Nm=float(np.max(np.abs(f.torque))), mean_driving_torque_Nm=float(np.mean(f.torque)),
         rms_driving_torque_Nm=float(np.sqrt(np.mean(f.torque**2))), reduced_inertia_kgm2=_l(f.reduced_inertia),
         load_torque_Nm=_l(f.load_torque))

@@ -278,6 +278,11 @@ class PlanarLinkageIn(StrictModel):
     branches: dict[Name, Literal[1, -1]] = Field(default_factory=dict, max_length=MAX_LINKAGE_LINKS,
                                                  description="Assembly branch per dyad, keyed by its inner joint; "
                                                  "+1 (default) or -1 (see docs/linkages.md).")
+    assembly_m: dict[Name, Vec2] = Field(default_factory=dict, max_length=4 * MAX_LINKAGE_LINKS,
+                                         description="Points as drawn at crank angle 0 [m]: where a group of class "
+                                         "III or above (placed numerically) starts, and so the branch it keeps; "
+                                         "without them the first start that closes its loops is taken.",
+                                         examples=[{"B": [0.28, 0.12], "C": [0.47, 0.15]}])
 
     def to_mechanism(self) -> synth.PlanarLinkage:
         """Engine mechanism."""
@@ -290,6 +295,7 @@ class PlanarLinkageIn(StrictModel):
             crank_link=self.crank,
             output=self.output,
             branches=tuple(self.branches.items()),
+            assembly=tuple((k, (v[0], v[1])) for k, v in self.assembly_m.items()),
         )
 
     def link_props(self) -> dict[str, synth.MassProps]:

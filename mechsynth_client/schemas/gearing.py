@@ -352,6 +352,8 @@ class CatalogueMotorIn(StrictModel):
     rated_rpm: float = Field(gt=0, le=1e5, description="Speed at rated power [rev/min].", examples=[1430.0])
     rotor_inertia_kgm2: float | None = Field(None, ge=0, le=MAX_INERTIA_KGM2,
                                              description="Rotor inertia [kg·m²]; unknown: null.")
+    mass_kg: float | None = Field(None, gt=0, le=1e6, description="Mass of the motor [kg]; unknown: null (the "
+                                  "machine optimisation's machine_mass and cost need it).")
 
     @model_validator(mode="after")
     def _slip(self) -> CatalogueMotorIn:
@@ -362,7 +364,7 @@ class CatalogueMotorIn(StrictModel):
     def to_engine(self) -> synth.CatalogueMotor:
         """Engine motor (rpm become rad/s here)."""
         return synth.CatalogueMotor(self.name, self.rated_power_W, self.synchronous_rpm * RPM,
-                                    self.rated_rpm * RPM, self.rotor_inertia_kgm2)
+                                    self.rated_rpm * RPM, self.rotor_inertia_kgm2, mass=self.mass_kg)
 
 
 class DriveIn(_InertiaFields):
@@ -440,12 +442,14 @@ class MotorOut(BaseModel):
     rated_rpm: float = Field(description="Speed at rated power [rev/min].")
     rotor_inertia_kgm2: float | None = Field(description="Rotor inertia [kg·m²]; null when the catalogue does not "
                                              "give it.")
+    mass_kg: float | None = Field(None, description="Catalogue mass of the foot-mounted motor [kg]; null when the "
+                                  "catalogue does not give it.")
 
     @classmethod
     def from_engine(cls, m: synth.CatalogueMotor) -> MotorOut:
         """Schema from an engine motor (rad/s become rpm here)."""
         return cls(name=m.name, rated_power_W=m.rated_power, synchronous_rpm=round(m.synchronous_speed / RPM, 9),
-                   rated_rpm=round(m.rated_speed / RPM, 9), rotor_inertia_kgm2=m.rotor_inertia)
+                   rated_rpm=round(m.rated_speed / RPM, 9), rotor_inertia_kgm2=m.rotor_inertia, mass_kg=m.mass)
 
 
 class ShaftOut(BaseModel):

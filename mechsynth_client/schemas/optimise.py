@@ -10,8 +10,19 @@ from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import FourBarIn, FrictionIn, Length, LoadIn, SliderCrankIn, StrictModel, exactly_one, pair_frictions
-from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn
+
+from .common import (
+    SIX_BAR_PRESS_EXAMPLE,
+    FourBarIn,
+    FrictionIn,
+    Length,
+    LoadIn,
+    SliderCrankIn,
+    StrictModel,
+    exactly_one,
+    pair_frictions,
+)
+from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn, MachineIn
 from .synthesis import (
     CrankRockerBoundsIn,
     CrankRockerDensityIn,
@@ -20,7 +31,7 @@ from .synthesis import (
     _within_limits,
 )
 
-OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force"]
+OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
 # The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN), spelled here so that the
 # schema loads without the engine; a test keeps them equal.
@@ -121,6 +132,29 @@ class SliderCrankFunctionIn(StrictModel):
 
 FunctionIn = Annotated[Union[CrankRockerFunctionIn, SliderCrankFunctionIn], Field(discriminator="type")]
 Weight = Annotated[float, Field(ge=0, le=1e6)]
+Price = Annotated[float, Field(ge=0, le=1e9)]
+
+
+class PricesIn(StrictModel):
+    """Prices of the machine's parts in one currency, for the `cost` objective. The defaults are rough euro
+    figures for a small machine: steel counterweights cut and drilled, balancer masses with their machining,
+    a grey cast-iron flywheel cast and turned, hardened alloy-steel wheels cut and ground, and an IEC
+    four-pole motor by its mass when it has no price of its own."""
+
+    counterweight_per_kg: Price = Field(3.0, description="Counterweights [currency/kg].")
+    balancer_per_kg: Price = Field(4.0, description="Lanchester balancer masses [currency/kg].")
+    flywheel_per_kg: Price = Field(2.5, description="The flywheel body [currency/kg].")
+    gears_per_kg: Price = Field(12.0, description="Gear wheels as sized for strength [currency/kg].")
+    motor_per_kg: Price = Field(6.0, description="A catalogue motor without its own price in `motors`, by its "
+                                "catalogue mass [currency/kg].")
+    motors: dict[Annotated[str, Field(min_length=1, max_length=80)], Price] = Field(
+        default_factory=dict, max_length=500, description="Catalogue name -> price of that motor [currency].",
+        examples=[{"4A71A4": 140.0}])
+
+    def to_engine(self) -> synth.Prices:
+        """Engine prices."""
+        return synth.Prices(self.counterweight_per_kg, self.balancer_per_kg, self.flywheel_per_kg,
+                            self.gears_per_kg, self.motor_per_kg, dict(self.motors))
 
 
 class MachineOptimiseIn(StrictModel):
@@ -145,10 +179,11 @@ class MachineOptimiseIn(StrictModel):
                                    "from speed_rpm [-].")
     objective: OptimiseObjective | None = Field(
         None, description="One objective to minimise: motor_power (rated power of the catalogue motor), added_mass "
-        "(counterweights, balancer masses and the flywheel body) or rms_shaking_force (after balancing); "
-        "or give weights.")
+        "(counterweights, balancer masses and the flywheel body), rms_shaking_force (after balancing), "
+        "machine_mass (those with the gear wheels as sized for strength and the motor's catalogue mass) or cost "
+        "(the same parts at `prices`); or give weights.")
     weights: dict[OptimiseObjective, Weight] | None = Field(
-        None, max_length=3, description="Weights of the objectives, each normalised by its value on the chain's "
+        None, max_length=5, description="Weights of the objectives, each normalised by its value on the chain's "
         "machine (/v1/machines/design on the synthesis endpoint's default member); instead of objective.")
     max_rms_shaking_force_N: float | None = Field(None, gt=0, le=1e9, description="Largest RMS shaking force "
                                                   "after balancing [N].")
@@ -170,6 +205,8 @@ class MachineOptimiseIn(StrictModel):
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
                               "feasible family that the chain designs (to its steady machine) before the cells "
                               "between them are searched.")
+    prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts for the cost objective "
+                             "(and the cost every answer reports).")
 
     model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("delta", "machine_type"),
                                                            exactly_one("objective", "weights")],
@@ -195,7 +232,7 @@ class MachineOptimiseIn(StrictModel):
             max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
             scan=self.scan_members, friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
             start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
-            max_rundown_time=self.max_rundown_time_s,
+            max_rundown_time=self.max_rundown_time_s, prices=self.prices.to_engine(),
         )
 
 
@@ -222,6 +259,13 @@ def mechanism_out(linkage: synth.Linkage) -> FourBarIn | SliderCrankIn:
     return FourBarIn.model_validate(body) if body["type"] == "fourbar" else SliderCrankIn.model_validate(body)
 
 
+def member_linkage(spec: Any, u: float) -> Any:
+    """The family member at ``u`` of an optimisation spec (engine objects)."""
+    from synth.machine.optimise import member_linkage as engine_member
+
+    return engine_member(spec, u)
+
+
 class FamilyMemberOut(BaseModel):
     """One member of the family the whole chain designed, and what its machine gives."""
 
@@ -236,21 +280,63 @@ class FamilyMemberOut(BaseModel):
     rms_shaking_force_N: float | None = Field(description="RMS shaking force after balancing [N].")
     rms_shaking_moment_Nm: float | None = Field(description="RMS shaking moment about the crank pivot after "
                                                 "balancing [N·m].")
+    machine_mass_kg: float | None = Field(None, description="Counterweights, balancer masses, flywheel body, gear "
+                                          "wheels and motor [kg]; null when its wheels were not sized (the search "
+                                          "sizes them only when the objective or the Pareto set weighs the "
+                                          "machine).")
+    cost: float | None = Field(None, description="The same parts at the request's prices [currency]; null as "
+                               "machine_mass_kg.")
+    machine_mass_bound_kg: float | None = Field(None, description="Its machine mass without the gear wheels "
+                                                "(counterweights, balancers, flywheel body, motor): a lower bound "
+                                                "where the wheels were not sized [kg].")
+    motor: str | None = Field(None, description="Its catalogue motor; null when the chain refused the member.")
+    mechanism: MemberMechanism | None = Field(None, description="The member as the `mechanism` of a "
+                                              "/v1/machines/design request (that request with the optimisation's "
+                                              "machine around it designs this member).")
 
     @classmethod
-    def from_engine(cls, m: Any) -> FamilyMemberOut:
-        """Schema from an engine member score."""
+    def from_engine(cls, m: Any, linkage: synth.Linkage | None = None) -> FamilyMemberOut:
+        """Schema from an engine member score and its linkage."""
         v = m.values
         return cls(parameter=m.parameter, stage=m.stage, feasible=m.feasible, reason=m.reason,
                    motor_power_W=None if v is None else v[0], added_mass_kg=None if v is None else v[1],
-                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment)
+                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment,
+                   machine_mass_kg=None if v is None else _finite(v[3]),
+                   cost=None if v is None else _finite(v[4]),
+                   machine_mass_bound_kg=None if m.lower_values is None else _finite(m.lower_values[3]),
+                   motor=None if m.choice is None else m.choice[0],
+                   mechanism=None if linkage is None else mechanism_out(linkage))
+
+
+class MachinePartsOut(BaseModel):
+    """What the optimised machine weighs, part by part, and what it costs."""
+
+    counterweights_kg: float = Field(description="Counterweights (a slider-crank's crank counterweight among "
+                                     "them) [kg].")
+    balancers_kg: float = Field(description="Lanchester balancer masses, two per pair [kg].")
+    flywheel_kg: float = Field(description="The flywheel body (rim or disc: density × volume) [kg].")
+    gears_kg: float = Field(description="Every wheel as sized for strength, solid discs of the reference "
+                            "diameters and the face width [kg]; 0 when drive.size_gears is false.")
+    motor_kg: float = Field(description="The catalogue motor's mass [kg].")
+    motor: str = Field(description="The catalogue motor.")
+    machine_mass_kg: float = Field(description="Their sum [kg].")
+    motor_price: float = Field(description="The motor's price: its own in prices.motors, else its mass at "
+                               "prices.motor_per_kg [currency].")
+    cost: float = Field(description="Every part at its price [currency].")
+
+    @classmethod
+    def from_engine(cls, p: Any, prices: Any) -> MachinePartsOut:
+        """Schema from the engine's parts and prices."""
+        return cls(counterweights_kg=p.counterweights, balancers_kg=p.balancers, flywheel_kg=p.flywheel,
+                   gears_kg=p.gears or 0.0, motor_kg=p.motor, motor=p.motor_name, machine_mass_kg=p.mass,
+                   motor_price=p.motor_price(prices), cost=p.cost(prices))
 
 
 class GainOut(BaseModel):
     """One objective on the chain's machine and on the optimum."""
 
-    objective: str = Field(description="motor_power, added_mass or rms_shaking_force.")
-    unit: str = Field(description="W, kg or N.")
+    objective: str = Field(description="motor_power, added_mass, rms_shaking_force, machine_mass or cost.")
+    unit: str = Field(description="W, kg, N, kg or currency (the prices' own).")
     chain: float | None = Field(description="Its value on the chain's machine; null when the chain refused its "
                                 "member.")
     optimum: float = Field(description="Its value on the optimised machine.")
@@ -349,6 +435,8 @@ class MachineOptimiseOut(BaseModel):
     pareto: list[FamilyMemberOut] = Field(description="Members designed that no other designed member beats in "
                                           "both Pareto objectives, by the first objective.")
     members: list[FamilyMemberOut] = Field(description="Every member the chain designed, by parameter.")
+    parts: MachinePartsOut | None = Field(None, description="The optimised machine's parts: their masses, the "
+                                          "machine's mass and its cost.")
 
     @classmethod
     def from_engine(cls, r: synth.MachineOptimum) -> MachineOptimiseOut:
@@ -364,5 +452,219 @@ class MachineOptimiseOut(BaseModel):
             certificate=OptimiseCertificateOut.from_engine(r.certificate),
             pareto_objectives=list(r.pareto_objectives),
             pareto=[FamilyMemberOut.from_engine(m) for m in r.pareto],
-            members=[FamilyMemberOut.from_engine(m) for m in sorted(r.members, key=lambda m: m.parameter)],
+            members=[FamilyMemberOut.from_engine(m, member_linkage(r.spec, m.parameter))
+                     for m in sorted(r.members, key=lambda m: m.parameter)],
+            parts=None if r.parts is None else MachinePartsOut.from_engine(r.parts, r.spec.prices),
         )
+
+
+# Bounds of POST /v1/machines/optimise-linkage (synth.machine.optimise_linkage's), spelled here so that the schema
+# loads without the engine; a test keeps them equal.
+LINKAGE_MIN_SAMPLES, LINKAGE_MAX_SAMPLES, LINKAGE_DEFAULT_SAMPLES = 8, 512, 64
+LINKAGE_MAX_FREE, LINKAGE_MAX_REFINED, LINKAGE_MAX_REFINE_RUNS = 6, 8, 200
+
+#: The six-bar press of /v1/analysis (a crank-rocker whose rocker drives a ram through a rod) with the guide's
+#: place and the rocker's lever arm free: a ram stroke of 0.18 to 0.26 m at a time ratio of 1.2 to 2.0 (the ram
+#: reaches its top twice a turn, so both readings of its time ratio must lie in the band), no transmission angle
+#: under 30°, 2 kN against the ram over the whole turn at 60 rpm, least machine mass.
+SIX_BAR_OPTIMISE_EXAMPLE: JsonDict = {
+    "machine": {
+        "mechanism": SIX_BAR_PRESS_EXAMPLE,
+        "loads": [{"type": "window", "force_N": 2000, "start_deg": 0, "end_deg": 360}],
+        "speed_rpm": 60, "samples": 72, "delta": 0.05,
+        "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500, "size_gears": False},
+    },
+    "free": [{"path": "frame_points_m.G.x", "min": 0.40, "max": 0.50},
+             {"path": "links.rocker.points_m.C.x", "min": 0.30, "max": 0.45}],
+    "stroke_m": {"min": 0.18, "max": 0.26},
+    "time_ratio": {"min": 1.2, "max": 2.0},
+    "min_transmission_angle_deg": 30,
+    "objective": "machine_mass",
+}
+
+
+#: The manual's example samples fewer members and refines one, so that trying it answers within seconds.
+LINKAGE_QUICK: JsonDict = {"samples": 16, "refined": 1, "refine_runs": 20}
+
+
+class FreeDimensionIn(StrictModel):
+    """One number of the linkage left free within bounds."""
+
+    path: str = Field(min_length=3, max_length=200, description="frame_points_m.<point>.x (or .y), "
+                      "links.<link>.length_m or links.<link>.points_m.<point>.x (or .y).",
+                      examples=["frame_points_m.G.x"])
+    min: float = Field(ge=-1e3, le=1e3, description="Least value [m].", examples=[0.4])
+    max: float = Field(ge=-1e3, le=1e3, description="Largest value [m].", examples=[0.5])
+
+
+class BandIn(StrictModel):
+    """A band [min, max]."""
+
+    min: float = Field(ge=0, le=1e4, description="Least value.", examples=[0.18])
+    max: float = Field(ge=0, le=1e4, description="Largest value.", examples=[0.26])
+
+    def pair(self, field: str, scale: float = 1.0) -> tuple[float, float]:
+        """(min, max) times ``scale``; InvalidInput naming ``field`` when min > max."""
+        if self.min > self.max:
+            raise synth.InvalidInput("a band needs min <= max", field=f"{field}.min")
+        return (self.min * scale, self.max * scale)
+
+
+class LinkageOptimiseIn(StrictModel):
+    """Any linkage's free dimensions chosen with its machine: the machine as /v1/machines/design takes it (its
+    mechanism a general `linkage`), the numbers left free with their bounds, what the linkage must do and what to
+    minimise."""
+
+    machine: MachineIn = Field(description="The machine as /v1/machines/design takes it; its mechanism a general "
+                               "linkage (type linkage) with the request's own numbers.")
+    free: list[FreeDimensionIn] = Field(min_length=1, max_length=LINKAGE_MAX_FREE, description="The free numbers "
+                                        "and their bounds.")
+    stroke_m: BandIn | None = Field(None, description="The output's stroke band, for a sliding output [m].")
+    swing_deg: BandIn | None = Field(None, description="The output's swing band, for a turning output [deg].")
+    time_ratio: BandIn | None = Field(None, description="The time-ratio band (slower stroke over faster) [-].")
+    min_transmission_angle_deg: float = Field(0.0, ge=0, le=89, description="Least transmission angle of every RRR "
+                                              "and RRP dyad over the turn [deg].")
+    objective: OptimiseObjective | None = Field(None, description="One objective to minimise (as "
+                                                "/v1/machines/optimise); or give weights.")
+    weights: dict[OptimiseObjective, Weight] | None = Field(None, max_length=5, description="Weights of the "
+                                                            "objectives, each normalised by its value on the first "
+                                                            "member designed (the request's own numbers when they "
+                                                            "meet the function).")
+    samples: int = Field(LINKAGE_DEFAULT_SAMPLES, ge=LINKAGE_MIN_SAMPLES, le=LINKAGE_MAX_SAMPLES,
+                         description="Members of the scrambled Sobol sample of the box (the request's own numbers "
+                         "are added when inside it).")
+    refined: int = Field(4, ge=0, le=LINKAGE_MAX_REFINED, description="Best members refined by COBYLA, the "
+                         "function as its constraints.")
+    refine_runs: int = Field(60, ge=1, le=LINKAGE_MAX_REFINE_RUNS, description="Chain runs each refinement may "
+                             "spend.")
+    prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts, as /v1/machines/optimise.")
+
+    model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("objective", "weights")],
+                                                 "examples": [{**SIX_BAR_OPTIMISE_EXAMPLE, **LINKAGE_QUICK}]})
+
+    def to_engine(self, max_stages: int) -> Any:
+        """Engine spec (degrees become radians here)."""
+        from synth.machine.optimise_linkage import FreeDimension, LinkageFunction, LinkageOptimiseSpec
+
+        if (self.objective is None) == (self.weights is None):
+            raise synth.InvalidInput("give objective or weights (one of them)", field="objective")
+        if self.machine.mechanism.type != "linkage":
+            raise synth.InvalidInput("free dimensions need a general linkage (type linkage)",
+                                     field="machine.mechanism.type")
+        if self.stroke_m is not None and self.swing_deg is not None:
+            raise synth.InvalidInput("give stroke_m (a sliding output) or swing_deg (a turning one), not both",
+                                     field="swing_deg")
+        travel = (self.stroke_m.pair("stroke_m") if self.stroke_m is not None
+                  else self.swing_deg.pair("swing_deg", math.pi / 180) if self.swing_deg is not None else None)
+        weights = {self.objective: 1.0} if self.objective is not None else dict(self.weights or {})
+        return LinkageOptimiseSpec(
+            machine=self.machine.to_engine(max_stages),
+            free=tuple(FreeDimension(d.path, d.min, d.max) for d in self.free),
+            function=LinkageFunction(travel, None if self.time_ratio is None else self.time_ratio.pair("time_ratio"),
+                                     math.radians(self.min_transmission_angle_deg)),
+            weights={str(k): v for k, v in weights.items()}, samples=self.samples, refined=self.refined,
+            refine_runs=self.refine_runs, prices=self.prices.to_engine())
+
+    def mechanism_with(self, x: Any) -> dict[str, Any]:
+        """The request's linkage with the free numbers set to ``x``, as the `mechanism` of a request."""
+        body = self.machine.model_dump(mode="json")["mechanism"]
+        for d, v in zip(self.free, x, strict=True):
+            p = d.path.split(".")
+            if p[0] == "frame_points_m":
+                body["frame_points_m"][p[1]][0 if p[2] == "x" else 1] = float(v)
+                continue
+            link = next(k for k in body["links"] if k["name"] == p[1])
+            if p[2] == "length_m":
+                link["length_m"] = float(v)
+            else:
+                link["points_m"][p[3]][0 if p[4] == "x" else 1] = float(v)
+        return dict(body)
+
+
+class LinkageMemberOut(BaseModel):
+    """One member of the box."""
+
+    x: list[float] = Field(description="Its free numbers, in the order of `free` [m].")
+    stage: str = Field(description="sample or refine.")
+    feasible: bool = Field(description="It meets the function and its machine every check.")
+    reason: str | None = Field(description="Why not; null when feasible.")
+    stroke_or_swing: float | None = Field(description="The output's travel: stroke [m] or swing [deg]; null when it "
+                                          "does not assemble.")
+    time_ratio: float | None = Field(description="Its time ratio [-]; null when it does not assemble.")
+    min_transmission_angle_deg: float | None = Field(description="Its least transmission angle [deg].")
+    values: dict[str, float | None] | None = Field(description="Its objectives by name (null: not computed); "
+                                                   "null when the chain did not run.")
+
+
+class LinkageCertificateOut(BaseModel):
+    """How the box was covered."""
+
+    statement: str = Field(description="The certificate in words.")
+    sampled: int = Field(description="Members of the Sobol sample (and the request's own).")
+    kinematic_feasible: int = Field(description="Of these, the members meeting the function kinematically.")
+    designed: int = Field(description="Members the chain designed (sample and refinement).")
+    feasible: int = Field(description="Of these, those meeting every constraint and check.")
+    refined: int = Field(description="Members refined by COBYLA.")
+    refine_runs: int = Field(description="Members the refinement looked at.")
+    gap_bound: float | None = Field(description="null: no gap bound is claimed.")
+
+
+class LinkageOptimiseOut(BaseModel):
+    """The linkage's free numbers and its machine chosen together."""
+
+    design: MachineDesignOut = Field(description="The optimised machine, as /v1/machines/design answers it.")
+    mechanism: dict[str, Any] = Field(description="The chosen linkage as the `mechanism` of a /v1/machines/design "
+                                      "request.")
+    free: dict[str, float] = Field(description="The free numbers chosen, by path [m].")
+    stroke_or_swing: float = Field(description="Its output's travel: stroke [m] or swing [deg].")
+    time_ratio: float = Field(description="Its time ratio [-], from its highest and lowest positions.")
+    time_ratio_range: list[float] = Field(description="The least and largest time ratio over every pair of its "
+                                          "ends (extremes within 1 % of the travel of the highest or lowest): an "
+                                          "output that reaches its end twice a turn has two readings [-].")
+    min_transmission_angle_deg: float = Field(description="Its least transmission angle [deg].")
+    values: dict[str, float] = Field(description="Its objectives by name (units as /v1/machines/optimise's gains).")
+    score: float = Field(description="Weighted sum of the normalised objectives [-].")
+    parts: MachinePartsOut = Field(description="Its parts' masses, its machine mass and its cost.")
+    certificate: LinkageCertificateOut = Field(description="The certificate: members sampled, feasible, designed "
+                                               "and refined, and its statement.")
+    members: list[LinkageMemberOut] = Field(description="Every member, sample then refinement.")
+
+    @classmethod
+    def from_engine(cls, r: Any, body: dict[str, Any]) -> LinkageOptimiseOut:
+        """Schema from the engine's optimum and the request (as JSON)."""
+        req = LinkageOptimiseIn.model_validate(body)
+        turning = req.swing_deg is not None or (req.stroke_m is None and _turns(req))
+        k = 180 / math.pi if turning else 1.0
+        names = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
+
+        def member(m: Any) -> LinkageMemberOut:
+            kin = m.kinematics
+            ok = math.isfinite(kin.travel)
+            return LinkageMemberOut(
+                x=list(m.x), stage=m.stage, feasible=m.feasible, reason=m.reason,
+                stroke_or_swing=kin.travel * k if ok else None, time_ratio=_finite(kin.time_ratio) if ok else None,
+                min_transmission_angle_deg=math.degrees(kin.min_transmission_angle) if ok else None,
+                values=None if m.values is None else {n: _finite(v) for n, v in zip(names, m.values, strict=True)})
+
+        c = r.certificate
+        return cls(
+            design=MachineDesignOut.from_engine(r.design), mechanism=req.mechanism_with(r.x),
+            free={d.path: float(v) for d, v in zip(req.free, r.x, strict=True)},
+            stroke_or_swing=r.kinematics.travel * k, time_ratio=r.kinematics.time_ratio,
+            time_ratio_range=list(r.kinematics.time_ratio_span),
+            min_transmission_angle_deg=math.degrees(r.kinematics.min_transmission_angle),
+            values=dict(zip(names, r.values, strict=True)), score=r.score,
+            parts=MachinePartsOut.from_engine(r.parts, r.spec.prices),
+            certificate=LinkageCertificateOut(statement=c.statement, sampled=c.sampled,
+                                              kinematic_feasible=c.kinematic_feasible, designed=c.designed,
+                                              feasible=c.feasible, refined=c.refined, refine_runs=c.refine_runs,
+                                              gap_bound=c.gap_bound),
+            members=[member(m) for m in r.members])
+
+
+def _turns(req: LinkageOptimiseIn) -> bool:
+    """The linkage's output turns (a link with two points) rather than slides (a block)."""
+    mech = req.machine.mechanism
+    assert mech.type == "linkage"
+    out = mech.output or mech.links[-1].name
+    return len(next(k for k in mech.links if k.name == out).joints) > 1

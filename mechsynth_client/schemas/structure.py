@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pydantic.config import JsonDict
 
 from ._engine import synth
-from .common import StrictModel
+from .common import PlanarLinkageIn, StrictModel
 
 Name = Annotated[str, Field(min_length=1, max_length=40)]
 
@@ -44,11 +44,37 @@ class PairIn(StrictModel):
         return synth.Pair(self.name, (self.links[0], self.links[1]), self.kind, self.pair_class, self.dof, self.higher)
 
 
-class StructureIn(StrictModel):
-    """A mechanism as links (the frame among them) and the pairs that join them."""
+DOUBLE_PARALLELOGRAM_EXAMPLE: JsonDict = {
+    "type": "linkage",
+    "frame_points_m": {"O": [0.0, 0.0], "Q": [0.3, 0.0], "E": [0.15, 0.0]},
+    "links": [{"name": "crank", "joints": ["O", "A"], "length_m": 0.1},
+              {"name": "coupler", "joints": ["A", "B"], "length_m": 0.3, "points_m": {"C": [0.15, 0.0]}},
+              {"name": "crank2", "joints": ["Q", "B"], "length_m": 0.1},
+              {"name": "crank3", "joints": ["E", "C"], "length_m": 0.1}],
+    "joints": [{"name": "O", "kind": "revolute", "links": ["frame", "crank"]},
+               {"name": "A", "kind": "revolute", "links": ["crank", "coupler"]},
+               {"name": "B", "kind": "revolute", "links": ["coupler", "crank2"]},
+               {"name": "Q", "kind": "revolute", "links": ["frame", "crank2"]},
+               {"name": "E", "kind": "revolute", "links": ["frame", "crank3"]},
+               {"name": "C", "kind": "revolute", "links": ["coupler", "crank3"]}],
+    "crank": "crank",
+    "output": "crank2",
+}
 
-    links: list[Name] = Field(min_length=2, max_length=40, description="Every link by name, the frame included.")
-    pairs: list[PairIn] = Field(min_length=1, max_length=80, description="Every kinematic pair.")
+
+class StructureIn(StrictModel):
+    """A mechanism as links (the frame among them) and the pairs that join them; or a planar linkage with its
+    dimensions (`mechanism`), whose mobility is then judged from its geometry too."""
+
+    links: Annotated[list[Name], Field(min_length=2, max_length=40)] | None = Field(
+        None, description="Every link by name, the frame included (with `pairs`; or give `mechanism`).")
+    pairs: Annotated[list[PairIn], Field(min_length=1, max_length=80)] | None = Field(
+        None, description="Every kinematic pair (with `links`).")
+    mechanism: PlanarLinkageIn | None = Field(
+        None, description="Instead of `links` and `pairs`: a linkage with its dimensions (as `/v1/analysis` takes "
+        "it, masses optional). Its mobility is then also judged from the geometry (the rank of the constraint "
+        "Jacobian over the cycle), passive links and their redundant pairs are named, and each Assur group says "
+        "how it is placed.")
     frame: Name = Field("frame", description="Name of the fixed link.")
     planar: bool = Field(True, description="Planar (Chebyshev's mobility formula) or spatial (Somov-Malyshev).")
     input_links: list[Name] | None = Field(None, max_length=40, description="Driven links of the primary "
@@ -56,8 +82,19 @@ class StructureIn(StrictModel):
     known_mobility: int | None = Field(None, ge=-1000, le=1000, description="Spatial: the actual mobility, for "
                                        "the redundant constraints.")
 
+    @model_validator(mode="after")
+    def _one_description(self) -> StructureIn:
+        if self.mechanism is None and (self.links is None or self.pairs is None):
+            raise ValueError("give `links` and `pairs`, or a `mechanism` with its dimensions")
+        if self.mechanism is not None and (self.links is not None or self.pairs is not None):
+            raise ValueError("give `links` and `pairs`, or a `mechanism`: not both")
+        if self.mechanism is not None and (not self.planar or self.input_links is not None):
+            raise ValueError("a `mechanism` is planar and driven by its crank: leave `planar` and `input_links` out")
+        return self
+
     model_config = ConfigDict(json_schema_extra={"examples": [
         SIXBAR_EXAMPLE,
+        {"mechanism": DOUBLE_PARALLELOGRAM_EXAMPLE},
         {"links": ["frame", "1", "2", "3"], "planar": False, "known_mobility": 1,
          "pairs": [{"name": "A", "links": ["frame", "1"], "pair_class": 5},
                    {"name": "B", "links": ["1", "2"], "pair_class": 5},
@@ -67,6 +104,9 @@ class StructureIn(StrictModel):
 
     def run(self) -> synth.Structure:
         """Engine call arguments as one structure analysis."""
+        if self.mechanism is not None:
+            return synth.linkage_structure(self.mechanism.to_mechanism())
+        assert self.links is not None and self.pairs is not None
         return synth.analyse_structure(self.links, [p.to_engine() for p in self.pairs], frame=self.frame,
                                        planar=self.planar, input_links=self.input_links,
                                        known_mobility=self.known_mobility)
@@ -96,6 +136,26 @@ class AssurGroupOut(BaseModel):
                              "or the longest closed contour of its inner pairs, whichever is larger.")
     order: int = Field(description="Order: the number of outer pairs joining it to the links already placed.")
     statically_determinate: bool = Field(description="3n = 2p5.")
+    placement: Literal["closed_form", "numerical"] | None = Field(
+        None, description="With `mechanism`: how the analysis places it, `closed_form` (a dyad) or `numerical` "
+        "(class III and above: Newton continuation on its loop equations); null without dimensions.")
+
+
+class GeometryOut(BaseModel):
+    """Mobility from the geometry of a linkage whose pairs repeat constraints (passive links)."""
+
+    mobility_geometric: int = Field(description="W = 3n - rank of the constraint Jacobian (its largest rank over "
+                                    "the sampled crank angles).")
+    jacobian_rank: int = Field(description="That rank.")
+    constraint_rows: int = Field(description="Rows of the Jacobian: 2 per lower pair.")
+    samples: int = Field(description="Crank angles over the cycle at which it was judged.")
+    passive_links: list[str] = Field(description="The links taken out to place the rest (passive links).")
+    redundant_pairs: list[str] = Field(description="Their pairs: the constraints taken as redundant.")
+    dependent_pairs: list[str] = Field(description="Every pair whose constraint rows are linearly dependent on the "
+                                       "others' (touched by the Jacobian's left null space).")
+    max_residual_m: float = Field(description="Largest distance by which the passive links' pins miss their "
+                                  "lengths over the sampled angles, with the rest placed [m]: zero to rounding.")
+    explanation: str = Field(description="Which pairs are redundant and why, in one sentence.")
 
 
 class StructureOut(BaseModel):
@@ -121,7 +181,10 @@ class StructureOut(BaseModel):
                                         "for the primary mechanism alone); null when not decomposed.")
     replaced_higher_pairs: list[str] = Field(description="Higher pairs replaced by a link with two revolutes "
                                              "for the decomposition.")
-    note: str = Field(description="Why the mechanism was not decomposed into Assur groups; empty when it was.")
+    note: str = Field(description="Why the mechanism was not decomposed into Assur groups; empty when it was "
+                      "(with passive links: which pairs are redundant).")
+    geometry: GeometryOut | None = Field(None, description="With `mechanism` and passive links: the mobility from "
+                                         "the geometry and the redundant pairs; null otherwise.")
 
     @classmethod
     def from_engine(cls, s: synth.Structure) -> StructureOut:
@@ -138,8 +201,15 @@ class StructureOut(BaseModel):
             assur_groups=None if s.groups is None else [
                 AssurGroupOut(links=list(g.links), pairs=list(g.pairs), n=g.n, p5=g.p5, mobility=g.mobility,
                               group_class=roman[g.group_class], order=g.order,
-                              statically_determinate=g.statically_determinate)
-                for g in s.groups],
+                              statically_determinate=g.statically_determinate,
+                              placement=None if s.placements is None else s.placements[i])  # type: ignore[arg-type]
+                for i, g in enumerate(s.groups)],
             mechanism_class=None if s.mechanism_class is None else roman[s.mechanism_class],
             replaced_higher_pairs=list(s.replaced_higher_pairs), note=s.note,
+            geometry=None if s.geometry is None else GeometryOut(
+                mobility_geometric=s.geometry.mobility_geometric, jacobian_rank=s.geometry.rank,
+                constraint_rows=s.geometry.rows, samples=s.geometry.samples,
+                passive_links=[p.link for p in s.geometry.passive],
+                redundant_pairs=list(s.geometry.redundant_pairs), dependent_pairs=list(s.geometry.dependent_pairs),
+                max_residual_m=s.geometry.max_residual, explanation=s.geometry.explanation()),
         )

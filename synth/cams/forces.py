@@ -11,6 +11,13 @@ The cam's driving torque is taken from the contact geometry, T = N (C x n) with 
 normal, and checked by virtual power: without friction the power into the cam equals the power the follower takes,
 T omega = Q dq/dt, i.e. T = Q dq/dtheta.
 
+A roller with rolling resistance k [m] (seed 000 §13.3) resists rolling on the cam with the couple k·N; the
+roller turning freely on its pin, its moment balance asks a tangential force mu·N at the contact, mu = k/r, against
+the roller centre's motion relative to the cam surface (t = n turned 90°, v_t = (dP/dtheta - omega x P/omega)·t).
+So N = Q / (lever - mu s (w·t)) with s = sign v_t, and the cam's torque adds the tangential force's moment and the
+couple: T = N (C x n - mu s C x t - s k). Virtual power then counts the loss: T = Q dq/dtheta + k N |v_t| / r,
+the couple times the roller's rotation relative to the cam (it rolls on the contact point, so v_t = r times that).
+
 The least spring is a linear program in (k, F0): the spring force must exceed, at every angle, 1 + margin times
 the force that would lift the follower off the cam, -(m q_tt + F_p); minimise the largest spring force, reached at
 full lift.
@@ -48,7 +55,8 @@ class ProcessLoad:
 class PairLoads:
     """What the follower asks of the cam: ``inertia`` (mass or moment of inertia), spring ``stiffness`` and
     ``preload`` (None: the least spring is found), process loads, the contact ``margin`` the spring must keep
-    (spring force at least 1 + margin times the separating force) and the cam ``speed`` [rad/s]."""
+    (spring force at least 1 + margin times the separating force), the cam ``speed`` [rad/s] and a roller's
+    ``rolling_resistance`` k [m] on the cam (its couple k·N)."""
 
     inertia: float
     speed: float
@@ -56,6 +64,7 @@ class PairLoads:
     preload: float | None = None
     process: tuple[ProcessLoad, ...] = ()
     margin: float = 0.2
+    rolling_resistance: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +85,8 @@ class PairForces:
     least_margin: float          # min over separating angles of spring / separating force, less 1 (inf if none)
     reduced_inertia: FloatArray  # the follower's inertia reduced to the camshaft, m (dq/dtheta)² [kg·m²]
     load_torque: FloatArray      # spring and process reduced to the camshaft, (k q + F0 + F_p) dq/dtheta [N·m]
-    reduced_check: float         # max |T - (load + omega²/2 dJ/dtheta)| over the peak |T|, dJ by differences
+    reduced_check: float         # max |T - loss - (load + omega²/2 dJ/dtheta)| over the peak |T|, dJ by differences
+    rolling_loss: FloatArray     # the rolling resistance's share of the torque, k N |v_t| / r [N·m]; zeros without
 
 
 def _least_spring(q: FloatArray, need: FloatArray, margin: float, stiffness: float | None,
@@ -114,12 +124,14 @@ def pair_forces(g: CamGeometry, loads: PairLoads) -> PairForces:
         k, f0 = loads.stiffness, loads.preload
     spring = k * m.s + f0
     Q = inertia + spring + process
-    if np.any(np.abs(g.lever) < 1e-12):
+    lever, arm, loss_per_newton = _rolling(g, loads.rolling_resistance)
+    if np.any(np.abs(lever) < 1e-12):
         raise InvalidInput("the contact normal is square to the follower's motion at some cam angle: the "
                            "follower locks", field="follower")
-    N = Q / g.lever
-    torque = N * g.arm
-    vp = Q * m.v
+    N = Q / lever
+    torque = N * arm
+    loss = N * loss_per_newton
+    vp = Q * m.v + loss
     scale = max(float(np.max(np.abs(torque))), 1e-300)
     separating = need > 0.0
     least = float(np.min(spring[separating] / need[separating]) - 1.0) if separating.any() else float("inf")
@@ -136,6 +148,27 @@ def pair_forces(g: CamGeometry, loads: PairLoads) -> PairForces:
     smooth = np.ones(n, dtype=bool)
     for shift in (-2, -1, 1, 2):
         smooth &= m.segment[(idx + shift) % n] == m.segment
-    reduced = float(np.max(np.abs(torque - load_torque - 0.5 * w * w * dJ)[smooth], initial=0.0)) / scale
+    reduced = float(np.max(np.abs(torque - loss - load_torque - 0.5 * w * w * dJ)[smooth], initial=0.0)) / scale
     return PairForces(k, f0, designed, Q, spring, process, inertia, N, torque, vp,
-                      float(np.max(np.abs(torque - vp))) / scale, least, reduced_inertia, load_torque, reduced)
+                      float(np.max(np.abs(torque - vp))) / scale, least, reduced_inertia, load_torque, reduced, loss)
+
+
+def _rolling(g: CamGeometry, k: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The lever and arm of the contact force with a roller's rolling resistance ``k`` [m], and the rolling loss
+    per newton of contact force [m] (see the module's notes); the plain lever and arm, and zeros, without."""
+    if k == 0.0:
+        return g.lever, g.arm, np.zeros_like(g.lever)
+    r = g.follower.roller
+    if g.follower.contact != "roller" or not 0.0 < k < r:
+        raise InvalidInput(f"a rolling resistance of {k:g} m needs a roller follower of a larger radius",
+                           field="loads.rolling_resistance_m")
+    n, c = g.normal, g.contact
+    t = np.stack([-n[:, 1], n[:, 0]], axis=-1)
+    centre = c + r * n
+    rel = g.drive * g.motion.v[:, None] - np.stack([-centre[:, 1], centre[:, 0]], axis=-1)
+    vt = rel[:, 0] * t[:, 0] + rel[:, 1] * t[:, 1]
+    s = np.sign(vt)
+    mu = k / r
+    lever = g.lever - mu * s * (g.drive[:, 0] * t[:, 0] + g.drive[:, 1] * t[:, 1])
+    arm = g.arm - mu * s * (c[:, 0] * t[:, 1] - c[:, 1] * t[:, 0]) - s * k
+    return lever, arm, k * np.abs(vt) / r

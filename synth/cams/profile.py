@@ -63,7 +63,9 @@ class CamGeometry:
     ``kappa`` its curvature 1/rho [1/m] (positive convex); ``rho_pitch`` the pitch curve's. ``lever`` maps the
     contact force N to the generalised force along the follower's coordinate (N·lever; lever is cos alpha for a
     translating follower, a length for an oscillating one); ``arm`` gives the cam's driving torque N·arm [m].
-    ``face`` is the contact's position along a flat face from its reference point [m].
+    ``face`` is the contact's position along a flat face from its reference point [m]; ``drive`` the velocity
+    of the roller centre (knife edge, or the contact as a point of the arm) per unit of the follower's coordinate,
+    in the follower frame [m per m or per rad].
     """
 
     follower: Follower
@@ -80,6 +82,7 @@ class CamGeometry:
     lever: FloatArray
     arm: FloatArray
     face: FloatArray
+    drive: FloatArray
 
     @property
     def prime_radius(self) -> float:
@@ -234,7 +237,7 @@ def cam_geometry(follower: Follower, base_radius: float, m: FollowerMotion, stri
     with np.errstate(divide="ignore"):
         kappa = np.where(np.isfinite(rho), 1.0 / np.where(rho != 0.0, rho, 1.0), 0.0)
     return CamGeometry(follower, base_radius, m, to_cam_frame(pitch, theta), to_cam_frame(C, theta), C, n,
-                       alpha, rho, kappa, rho_pitch, lever, _cross(C, n), face)
+                       alpha, rho, kappa, rho_pitch, lever, _cross(C, n), face, w)
 
 
 @dataclass(frozen=True, slots=True)

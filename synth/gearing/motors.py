@@ -19,7 +19,8 @@ class CatalogueMotor:
     """A catalogue motor: ``rated_power`` [W], ``synchronous_speed`` and ``rated_speed`` [rad/s],
     ``rotor_inertia`` [kg·m²] or None when the catalogue does not give it, ``breakdown_ratio`` breakdown over
     rated torque [-] (2.2 is typical of four-pole induction motors of this size), ``starting_ratio`` locked-rotor
-    (starting) torque over rated torque [-] (2.0 is typical of the series up to 11 kW).
+    (starting) torque over rated torque [-] (2.0 is typical of the series up to 11 kW); ``mass`` the catalogue
+    mass of the motor [kg], or None when the catalogue does not give it.
 
     Its static characteristic is linear from zero torque at synchronous speed through the rated point, up to the
     breakdown torque: the one motor model the flywheel NLP, the drive and the machine simulation share. Below
@@ -34,6 +35,7 @@ class CatalogueMotor:
     rotor_inertia: float | None
     breakdown_ratio: float = 2.2
     starting_ratio: float = 2.0
+    mass: float | None = None
 
     @property
     def rated_torque(self) -> float:
@@ -58,7 +60,8 @@ def motor_catalogue() -> tuple[CatalogueMotor, ...]:
     rows = json.loads(text)["motors"]
     motors = [CatalogueMotor(r["name"], float(r["rated_power_W"]), r["synchronous_rpm"] * RPM, r["rated_rpm"] * RPM,
                              r["rotor_inertia_kgm2"], float(r.get("breakdown_torque_ratio", 2.2)),
-                             float(r.get("starting_torque_ratio", 2.0))) for r in rows]
+                             float(r.get("starting_torque_ratio", 2.0)),
+                             None if r.get("mass_kg") is None else float(r["mass_kg"])) for r in rows]
     return tuple(sorted(motors, key=lambda m: (m.rated_power, m.synchronous_speed)))
 
 

@@ -166,8 +166,13 @@ def _margins(s: FloatArray, duty: Duty) -> FloatArray:
 
 
 def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, *, stage: int = 0,
-               helix_angle: float | None = None, pinion_teeth: int | None = None) -> SizedStage:
+               helix_angle: float | None = None, pinion_teeth: int | None = None,
+               width_steps: int | None = None) -> SizedStage:
     """Least-mass (or least centre distance) pair of about ``ratio`` [-] for ``load``.
+
+    ``width_steps`` bisections in log face width locate the least width each module needs: the default (26) finds it
+    to a few parts in 1e8; fewer give a mass figure (the width found is never below the least one, and lies
+    within ln(5)/2^steps of it) at less cost.
 
     The gear gets round(ratio z1) teeth. Raises Infeasible when no module of the series carries the load
     within the face width limits (naming the stage), InvalidInput for bad rules.
@@ -189,9 +194,16 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     best: tuple[float, float, float, FloatArray, str] | None = None
     examined = 0
     modules = module_series(rules.series)
+    rho = np.array([gear_material(n).density for n in rules.materials])
     for m in modules:
         d1 = z1 * m / math.cos(helix)
         b_lo, b_hi = rules.min_face_width_ratio * d1, rules.max_face_width_ratio * d1
+        if best is not None and rules.objective == "mass":
+            # the least mass this module could have (the narrowest face) grows as the module cubed: once it
+            # reaches the best found, no larger module can beat it
+            d = np.array([z1, z2]) * m / math.cos(helix)
+            if float(np.sum(rho * math.pi / 4 * b_lo * d**2)) >= best[0]:
+                break
         examined += 1
         if not _feasible(rules, _spec(rules, z1, z2, m, b_hi, helix), load):
             continue                     # even the widest face fails: a larger module is needed
@@ -200,7 +212,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
             binding = "min_face_width"
         else:
             lo, hi = math.log(b_lo), math.log(b_hi)
-            for _ in range(_WIDTH_STEPS):
+            for _ in range(_WIDTH_STEPS if width_steps is None else width_steps):
                 mid = (lo + hi) / 2
                 if _feasible(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load):
                     hi = mid
@@ -210,7 +222,6 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
             s = _safeties(rules, _spec(rules, z1, z2, m, b, helix), load)
             binding = _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
         d = np.array([z1, z2]) * m / math.cos(helix)
-        rho = np.array([gear_material(n).density for n in rules.materials])
         mass = float(np.sum(rho * math.pi / 4 * b * d**2))
         a = float(d.sum() / 2)
         key = mass if rules.objective == "mass" else a + 1e-9 * mass

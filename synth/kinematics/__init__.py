@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InvalidInput, TooLarge
 from ..mechanism import FloatArray, Mechanism
 from .fourbar import FourBar, transmission_angle
-from .linkage import JointSpec, LinkSpec, PlanarLinkage
+from .linkage import JointSpec, LinkSpec, PlanarLinkage, linkage_structure
 from .motion import Motion, PointState, build_motion
 from .slider_crank import SliderCrank
 from .slotted_lever import SlottedLever
@@ -56,6 +56,7 @@ __all__ = [
     "Motion",
     "PointState",
     "cycle_angles",
+    "linkage_structure",
     "motion",
     "transmission_angle",
 ]

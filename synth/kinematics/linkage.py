@@ -25,9 +25,11 @@ derivatives in the crank angle with every value.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -36,9 +38,11 @@ from numpy.typing import NDArray
 
 from ..errors import InvalidInput, NotAssemblable, angle_ranges_deg
 from ..mechanism import AngleAnalogues, FloatArray, PointAnalogues
-from ..structure import Pair, analyse_structure
+from ..structure import ROMAN, Pair, PassiveLink, Redundancy, Structure, analyse_structure
 from ..topology import Joint, Topology
 from . import jets as J
+from .groups import (CLOSURE_TOLERANCE, RANK_TOLERANCE, NumericGroup, Side, constraint_jacobian, continuation_path,
+                     place_group, rank_and_dependent)
 from .jets import Jet
 from .motion import cross_c, dot_c
 
@@ -47,6 +51,16 @@ BoolArray = NDArray[np.bool_]
 DyadKind = Literal["RRR", "RRP", "RPR", "PRP", "RPP"]
 # Below this the two lines of a PRP or RPP dyad are taken as parallel (sine of the angle between them).
 PARALLEL = 1e-12
+#: Crank angles over the cycle at which a linkage with W = 3n - 2p < 1 is tried for redundant constraints.
+REDUNDANCY_SAMPLES = 24
+#: Sets of passive links tried before a chain is declared a structure.
+MAX_PASSIVE_TRIES = 64
+#: Dyads whose branches a passive link chooses angle by angle (2**this placements).
+MAX_BRANCH_FLIPS = 4
+#: Below this ratio of the constraint Jacobian's last kept singular value to its largest an angle is a change
+#: point, and the analogues there come from CHANGE_STEP [rad] either side.
+CHANGE_RATIO = 1e-6
+CHANGE_STEP = 1e-3
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,6 +184,8 @@ class PlanarLinkage:
     output : the working member (default the last link), joined to the frame: by a revolute (it turns, its load
         is a torque) or by a prismatic pair (it slides, its load is a force along the slide).
     branches : assembly branch (+1 or -1) per dyad, keyed by the dyad's inner joint; default +1.
+    assembly : points (name, (x, y)) [m] as drawn at crank angle 0: where a group of class III or above starts
+        its numerical placement, and so the branch it keeps.
     """
 
     frame_points: tuple[tuple[str, tuple[float, float]], ...]
@@ -178,20 +194,56 @@ class PlanarLinkage:
     crank_link: str
     output: str | None = None
     branches: tuple[tuple[str, int], ...] = ()
+    assembly: tuple[tuple[str, tuple[float, float]], ...] = ()
     family: str = field(default="linkage", init=False)
     topology: Topology = field(init=False, compare=False)
     origins: dict[str, str] = field(init=False, compare=False)
     dyads: tuple[Dyad, ...] = field(init=False, compare=False)
+    steps: tuple[Dyad | NumericGroup, ...] = field(init=False, compare=False)
+    passive: tuple[PassiveLink, ...] = field(init=False, compare=False)
+    redundancy: Redundancy | None = field(init=False, compare=False)
 
     def __post_init__(self) -> None:
         _validate(self)
         topo = _topology(self)
         object.__setattr__(self, "topology", topo)
         object.__setattr__(self, "origins", {link.name: link.joints[0] for link in self.links})
-        object.__setattr__(self, "dyads", _decompose(self))
+        object.__setattr__(self, "passive", ())
+        object.__setattr__(self, "redundancy", None)
+        if 3 * len(self.links) - 2 * len(self.joints) == 1:
+            steps = _decompose(self, ())
+        else:
+            steps, passive, redundancy = _find_passive(self)
+            object.__setattr__(self, "passive", passive)
+            object.__setattr__(self, "redundancy", redundancy)
+        object.__setattr__(self, "steps", steps)
+        object.__setattr__(self, "dyads", tuple(s for s in steps if isinstance(s, Dyad)))
 
     def __hash__(self) -> int:
-        return hash((self.frame_points, self.links, self.joints, self.crank_link, self.output, self.branches))
+        return hash((self.frame_points, self.links, self.joints, self.crank_link, self.output, self.branches,
+                     self.assembly))
+
+    def assumptions(self) -> tuple[str, ...]:
+        """What the answer for this linkage assumes beyond rigid links and ideal pairs, one sentence each."""
+        out = []
+        if self.redundancy is not None:
+            r = self.redundancy
+            out.append(f"statically indeterminate reactions: the pairs {list(r.redundant_pairs)} of the passive "
+                       f"link(s) {[p.link for p in r.passive]} repeat constraints of the others, so equilibrium fixes "
+                       "the reactions only up to self-balanced sets; those given are the least-norm split (the "
+                       "pseudo-inverse: the least sum of squared reaction components), the driving torque does not "
+                       "depend on it")
+        for g in self.numeric_groups:
+            out.append(f"the class-{ROMAN[g.group_class]} group of links {list(g.links)} is placed numerically: "
+                       "Newton's method on its loop equations, continued from its assembly at crank angle 0 "
+                       "(assembly_m, or the first start that closes) in steps of at most 2°, each loop closed to "
+                       "1e-9 m")
+        return tuple(out)
+
+    @property
+    def numeric_groups(self) -> tuple[NumericGroup, ...]:
+        """The groups of class III and above, placed numerically."""
+        return tuple(s for s in self.steps if isinstance(s, NumericGroup))
 
     @property
     def crank(self) -> float:
@@ -208,8 +260,111 @@ class PlanarLinkage:
 
     def solve(self, phi: FloatArray) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues]]:
         """Every named point and link angle with its analogues over ``phi`` [rad]; NotAssemblable naming the
-        dyad and the crank-angle ranges where it cannot be placed."""
+        group and the crank-angle ranges where it cannot be placed (for a group placed numerically or a passive
+        link, the first angle where its loop does not close)."""
         phi = np.asarray(phi, dtype=float)
+        if not self.numeric_groups:
+            points, angles, gap = self._place_choosing(phi, self.steps, self.passive)
+            _refuse_gap(self.passive, phi, gap)
+            return points, angles
+        # Continuation from the drawn assembly at crank angle 0 through the requested angles in small steps.
+        path, idx = continuation_path(phi)
+        points, angles, gap = self._place_choosing(path, self.steps, self.passive)
+        _refuse_gap(self.passive, path, gap)
+        return ({k: PointAnalogues(v.pos[idx], v.d1[idx], v.d2[idx]) for k, v in points.items()},
+                {k: AngleAnalogues(v.angle[idx], v.d1[idx], v.d2[idx], None if v.unit is None else v.unit[idx])
+                 for k, v in angles.items()})
+
+    def closure_residual(self, points: Mapping[str, FloatArray], angles: Mapping[str, FloatArray]) -> float:
+        """Largest distance [m] between where the two links of a pair put it, over every pair and sample: each
+        revolute's point from each link's origin and angle, each slider point from its axis; positions
+        ``points`` (N, 2) and link angles ``angles`` (N,) of a solved motion. Zero to rounding when every loop
+        closes."""
+        local = {link.name: link.local() for link in self.links}
+        local[FRAME] = dict(self.frame_points)
+
+        def where(link: str, name: str) -> FloatArray:
+            if link == FRAME:
+                xy = local[FRAME][name]
+                return np.broadcast_to(np.array(xy, dtype=float), points[self.origins[self.crank_link]].shape)
+            o, th = points[self.origins[link]], angles[link]
+            x, y = local[link][name]
+            c, s = np.cos(th), np.sin(th)
+            return o + np.stack([c * x - s * y, s * x + c * y], axis=-1)
+
+        worst = 0.0
+        for j in self.joints:
+            if j.kind == "revolute":
+                p = _revolute_point(j)
+                gap = np.hypot(*(where(j.links[0], p) - where(j.links[1], p)).T)
+            else:
+                axis, through, other, point = _axis_and_point(j, local)
+                psi = j.axis_angle + (angles[axis] if axis != FRAME else 0.0)
+                d = where(other, point) - where(axis, through)
+                gap = np.abs(np.cos(psi) * d[:, 1] - np.sin(psi) * d[:, 0])
+            worst = max(worst, float(np.max(gap)))
+        return worst
+
+    def _place_choosing(self, phi: FloatArray, steps: Sequence[Dyad | NumericGroup],
+                        passive: Sequence[PassiveLink]
+                        ) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues], FloatArray]:
+        """:meth:`_place_choosing_plain`, with the analogues at change points taken from either side."""
+        points, angles, gap = self._place_choosing_plain(phi, steps, passive)
+        if passive and len(phi):
+            points = _across_change_points(self, phi, steps, passive, points, angles)
+        return points, angles, gap
+
+    def _place_choosing_plain(self, phi: FloatArray, steps: Sequence[Dyad | NumericGroup],
+                              passive: Sequence[PassiveLink]
+                              ) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues], FloatArray]:
+        """:meth:`_place`, with passive links choosing the dyads' branches at every angle.
+
+        A parallelogram loop passes change points, where its dyad's two branches meet (the links in line): past
+        one the closed form on a fixed branch turns into the crossed (anti-parallelogram) linkage, which is what
+        a passive link prevents. So every combination of the dyads' branches is placed and at each angle the one
+        whose passive pins keep their distance best is kept.
+        """
+        flips = [i for i, s in enumerate(steps) if isinstance(s, Dyad) and s.kind in ("RRR", "RRP", "RPR")]
+        if not passive or not flips or len(flips) > MAX_BRANCH_FLIPS:
+            return self._place(phi, steps, passive)
+        runs = []
+        failure: NotAssemblable | None = None
+        for signs in itertools.product((1, -1), repeat=len(flips)):
+            trial = list(steps)
+            for i, sign in zip(flips, signs):
+                d = trial[i]
+                assert isinstance(d, Dyad)
+                trial[i] = Dyad(d.kind, d.links, d.inner, d.outer, d.branch * sign)
+            try:
+                runs.append(self._place(phi, trial, passive))
+            except NotAssemblable as exc:
+                failure = exc
+        if not runs:
+            assert failure is not None
+            raise failure
+        pick = np.argmin(np.stack([r[2] for r in runs]), axis=0)
+        at = np.arange(len(phi))
+        if at.size == 0:
+            return runs[0]
+
+        def choose(arrays: Sequence[FloatArray]) -> FloatArray:
+            return np.asarray(np.stack(arrays)[pick, at])
+
+        points = {k: PointAnalogues(choose([r[0][k].pos for r in runs]), choose([r[0][k].d1 for r in runs]),
+                                    choose([r[0][k].d2 for r in runs])) for k in runs[0][0]}
+        angles = {}
+        for k, first in runs[0][1].items():
+            units = [r[1][k].unit for r in runs]
+            angles[k] = AngleAnalogues(choose([r[1][k].angle for r in runs]), choose([r[1][k].d1 for r in runs]),
+                                       choose([r[1][k].d2 for r in runs]),
+                                       None if any(u is None for u in units) else
+                                       choose([u for u in units if u is not None]))
+        return points, angles, choose([r[2] for r in runs])
+
+    def _place(self, phi: FloatArray, steps: Sequence[Dyad | NumericGroup], passive: Sequence[PassiveLink]
+               ) -> tuple[dict[str, PointAnalogues], dict[str, AngleAnalogues], FloatArray]:
+        """Place ``steps`` one after the other and the ``passive`` links on their pins; also by how much the
+        passive links' pins miss their lengths at every angle [m]."""
         n = len(phi)
         local = {link.name: link.local() for link in self.links}
         local[FRAME] = dict(self.frame_points)
@@ -222,7 +377,11 @@ class PlanarLinkage:
         }
         joints = {j.name: j for j in self.joints}
         solved: dict[str, Jet] = {}
-        for dyad in self.dyads:
+        for step in steps:
+            if isinstance(step, NumericGroup):
+                self._place_group(step, joints, local, places, phi)
+                continue
+            dyad = step
             # Where a dyad cannot close its square roots meet negative numbers: those samples are flagged and
             # refused below, so their NaNs never leave this loop.
             with np.errstate(invalid="ignore", divide="ignore"):
@@ -239,17 +398,214 @@ class PlanarLinkage:
             places[dyad.links[0]], places[dyad.links[1]] = first, second
             if joint is not None:  # the dyad's own closed form for its inner pin, not again from a link's pose
                 solved[_revolute_point(joints[dyad.inner])] = joint
+        gap = np.zeros(n)
+        for link in passive:
+            j0, j1 = joints[link.joints[0]], joints[link.joints[1]]
+            p0, p1 = _revolute_point(j0), _revolute_point(j1)
+            k0, k1 = _known(j0, link.link), _known(j1, link.link)
+            a, b = places[k0].point(local[k0][p0]), places[k1].point(local[k1][p1])
+            q0, q1 = local[link.link][p0], local[link.link][p1]
+            v = J.sub(b, a)
+            gap = np.maximum(gap, np.abs(np.abs(v.v) - math.hypot(q1[0] - q0[0], q1[1] - q0[1])))
+            places[link.link] = _Place(a, q0, J.shift(J.angle(v), -math.atan2(q1[1] - q0[1], q1[0] - q0[0])))
         points: dict[str, PointAnalogues] = {name: J.analogues(jet) for name, jet in solved.items()}
         for name, xy in self.frame_points:
             points[name] = J.analogues(fixed[xy])
-        for link in self.links:
-            place = places[link.name]
-            for name, xy in local[link.name].items():
+        for spec in self.links:
+            place = places[spec.name]
+            for name, xy in local[spec.name].items():
                 if name not in points:
                     points[name] = J.analogues(place.point(xy))
-        angles = {link.name: AngleAnalogues(*places[link.name].angle, places[link.name].axis.v)
-                  for link in self.links}
-        return points, angles
+        angles = {spec.name: AngleAnalogues(*places[spec.name].angle, places[spec.name].axis.v)
+                  for spec in self.links}
+        return points, angles, gap
+
+    def _place_group(self, group: NumericGroup, joints: Mapping[str, JointSpec],
+                     local: Mapping[str, Mapping[str, tuple[float, float]]], places: dict[str, _Place],
+                     phi: FloatArray) -> None:
+        """Place a group of class III or above by Newton continuation on its loop equations."""
+        sides = []
+        start = dict(self.assembly)
+        for name in group.joints:
+            j = joints[name]
+            p = _revolute_point(j)
+            pair = []
+            for link, sign in zip(j.links, (1.0, -1.0)):
+                if link in group.links:
+                    xy = local[link][p]
+                    pair.append(Side(sign, group.links.index(link), complex(xy[0], xy[1]), None))
+                else:
+                    known = places[link].point(local[link][p])
+                    start.setdefault(p, (float(known.v[0].real), float(known.v[0].imag)))
+                    pair.append(Side(sign, -1, 0j, known))
+            sides.append((pair[0], pair[1]))
+        link_points = {link: {k: complex(xy[0], xy[1]) for k, xy in local[link].items()} for link in group.links}
+        placed, _ = place_group(group, sides, phi, start, link_points)
+        for link, (origin, angle) in zip(group.links, placed):
+            places[link] = _Place(origin, (0.0, 0.0), angle)
+
+
+def _across_change_points(mech: PlanarLinkage, phi: FloatArray, steps: Sequence[Dyad | NumericGroup],
+                          passive: Sequence[PassiveLink], points: dict[str, PointAnalogues],
+                          angles: dict[str, AngleAnalogues]) -> dict[str, PointAnalogues]:
+    """At a change point the constraint Jacobian loses rank and the closed forms' analogues divide zero by
+    zero, though the motion on the branch the passive links keep is smooth: there the analogues are the mean of
+    those at CHANGE_STEP and twice that either side, combined by Richardson (exact to O(CHANGE_STEP⁴)). Angles
+    are corrected in ``angles`` in place;
+    the corrected points are returned."""
+    jac = _jacobian(mech, points, angles)
+    s = np.linalg.svd(jac, compute_uv=False)
+    rank = int(np.max(np.sum(s > RANK_TOLERANCE * s[:, :1], axis=1)))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        weak = ~(s[:, rank - 1] / s[:, 0] > CHANGE_RATIO)
+        # Where a dyad of the rest is singular but the passive link is not, the closed form's rates are huge
+        # but finite: they break the whole linkage's velocity constraint J·q' = 0.
+        names = [link.name for link in mech.links]
+        rates = np.concatenate([np.column_stack([points[mech.origins[x]].d1, angles[x].d1]) for x in names], axis=1)
+        miss = np.linalg.norm(np.einsum("nij,nj->ni", jac, rates), axis=1)
+        size = np.linalg.norm(jac, axis=(1, 2)) * np.linalg.norm(rates, axis=1)
+        broken = ~(miss <= CHANGE_RATIO * size)
+    finite = np.all([np.isfinite(v.d1).all(axis=-1) & np.isfinite(v.d2).all(axis=-1) for v in points.values()],
+                    axis=0)
+    bad = np.flatnonzero(weak | broken | ~finite)
+    if bad.size == 0:
+        return points
+    h = CHANGE_STEP
+    near = np.concatenate([phi[bad] - h, phi[bad] + h, phi[bad] - 2 * h, phi[bad] + 2 * h])
+    side_points, side_angles, _ = mech._place_choosing_plain(near, steps, passive)
+    m = bad.size
+
+    def limit(values: FloatArray) -> FloatArray:
+        # Richardson on the means of both sides: (4·mean(h) - mean(2h))/3, exact to O(h⁴).
+        near_mean = 0.5 * (values[:m] + values[m:2 * m])
+        far_mean = 0.5 * (values[2 * m:3 * m] + values[3 * m:])
+        return np.asarray((4.0 * near_mean - far_mean) / 3.0)
+
+    out = {}
+    for k, v in points.items():
+        d1, d2 = v.d1.copy(), v.d2.copy()
+        d1[bad] = limit(side_points[k].d1)
+        d2[bad] = limit(side_points[k].d2)
+        out[k] = PointAnalogues(v.pos, d1, d2)
+    for k, a in angles.items():
+        a.d1[bad] = limit(side_angles[k].d1)
+        a.d2[bad] = limit(side_angles[k].d2)
+    return out
+
+
+def linkage_structure(mech: PlanarLinkage) -> Structure:
+    """The structure of a linkage judged from its geometry as well as its pairs: the structural formula's
+    counts of all its pairs; when passive links make W = 3n - 2p < 1 though it moves, the primary mechanism and
+    the Assur groups of the rest and ``geometry`` (the mobility from the constraint Jacobian, the redundant
+    pairs and why); ``placements`` says how each group is placed (a structure that cannot move is refused with
+    the reason, InvalidInput)."""
+    names = [link.name for link in mech.links]
+    full = analyse_structure([FRAME, *names], [Pair(j.name, j.links, j.kind) for j in mech.joints], frame=FRAME,
+                             input_links=None if mech.redundancy is not None else [mech.crank_link])
+    placements = tuple("numerical" if isinstance(s, NumericGroup) else "closed_form" for s in mech.steps)
+    r = mech.redundancy
+    if r is None:
+        return dataclasses.replace(full, placements=placements)
+    skip = {p.link for p in r.passive}
+    rest = analyse_structure([FRAME, *(x for x in names if x not in skip)],
+                             [Pair(j.name, j.links, j.kind) for j in mech.joints if not set(j.links) & skip],
+                             frame=FRAME, input_links=[mech.crank_link])
+    return dataclasses.replace(
+        full, primary_links=rest.primary_links, primary_pairs=rest.primary_pairs,
+        primary_mobility=rest.primary_mobility, groups=rest.groups, mechanism_class=rest.mechanism_class,
+        note=f"{r.explanation()}; the primary mechanism and Assur groups are those of the rest", geometry=r,
+        placements=placements)
+
+
+def _refuse_gap(passive: Sequence[PassiveLink], phi: FloatArray, gap: FloatArray) -> None:
+    """NotAssemblable at the first angle where a passive link's pins miss its length."""
+    bad = ~(gap <= CLOSURE_TOLERANCE)
+    if passive and bad.any():
+        k = int(np.argmax(bad))
+        names = [p.link for p in passive]
+        raise NotAssemblable(
+            f"the passive link(s) {names} no longer fit their pins: by {gap[k]:.2e} m at crank angle "
+            f"{math.degrees(phi[k]) % 360:.3f}° (first of {int(bad.sum())}); their constraints are not redundant "
+            "there", phi=phi[bad], ranges_deg=angle_ranges_deg(phi, bad))
+
+
+def _find_passive(mech: PlanarLinkage) -> tuple[tuple[Dyad | NumericGroup, ...], tuple[PassiveLink, ...],
+                                                 Redundancy]:
+    """W = 3n - 2p < 1: look for binary links whose pairs repeat the others' constraints. Each candidate set
+    taken out must leave a linkage of one degree of freedom that decomposes, and its pins must keep their
+    distance over a sampled cycle; else the chain is a structure and is refused."""
+    joint_of = {j.name: j for j in mech.joints}
+    w = 3 * len(mech.links) - 2 * len(mech.joints)
+    candidates = []
+    for link in reversed(mech.links):
+        own = [j for j in mech.joints if link.name in j.links]
+        if (link.name != mech.crank_link and len(own) == 2 and all(j.kind == "revolute" for j in own)
+                and _revolute_point(own[0]) != _revolute_point(own[1])):
+            first = own if link.local().get(_revolute_point(own[0])) == (0.0, 0.0) else own[::-1]
+            candidates.append(PassiveLink(link.name, (first[0].name, first[1].name)))
+    phi = np.linspace(0.0, 2 * math.pi, REDUNDANCY_SAMPLES, endpoint=False)
+    reasons: list[str] = []
+    tried = 0
+    for combo in itertools.combinations(candidates, 1 - w):
+        if tried >= MAX_PASSIVE_TRIES:
+            break
+        tried += 1
+        try:
+            steps = _decompose(mech, tuple(p.link for p in combo))
+            if any(isinstance(step, NumericGroup) for step in steps):
+                path, idx = continuation_path(phi)
+                points, angles, gap = mech._place_choosing(path, steps, combo)
+                points = {k: PointAnalogues(v.pos[idx], v.d1[idx], v.d2[idx]) for k, v in points.items()}
+                angles = {k: AngleAnalogues(v.angle[idx], v.d1[idx], v.d2[idx]) for k, v in angles.items()}
+                gap = gap[idx]
+            else:
+                points, angles, gap = mech._place_choosing(phi, steps, combo)
+        except (InvalidInput, NotAssemblable) as exc:
+            reasons.append(f"taking out {[p.link for p in combo]} leaves a linkage that does not work: {exc}")
+            continue
+        if not np.all(gap <= CLOSURE_TOLERANCE):
+            k = int(np.argmax(gap))
+            reasons.append(f"with {[p.link for p in combo]} taken out the rest moves, but the pins of "
+                           f"{[p.joints for p in combo]} then move apart by up to {gap[k]:.3g} m (at crank angle "
+                           f"{math.degrees(phi[k]):.1f}°)")
+            continue
+        jac = _jacobian(mech, points, angles)
+        rank, dependent = rank_and_dependent(jac, [j.name for j in mech.joints])
+        w_geom = 3 * len(mech.links) - rank
+        if w_geom != 1:
+            reasons.append(f"with {[p.link for p in combo]} taken out the constraint Jacobian has rank {rank}, so the "
+                           f"geometry gives W = {w_geom}")
+            continue
+        return steps, combo, Redundancy(w, w_geom, rank, 2 * len(joint_of), REDUNDANCY_SAMPLES, combo, dependent,
+                                        float(np.max(gap)))
+    raise InvalidInput(f"W = 3n - 2p = 3·{len(mech.links)} - 2·{len(mech.joints)} = {w}: the chain does not move "
+                       "as a crank-driven linkage: no pair repeats the others' constraints at every angle; "
+                       + ("; ".join(reasons) if reasons else "no binary link of two revolute pairs can be taken out "
+                          "to leave a linkage of one degree of freedom"), field="mechanism.joints")
+
+
+def _jacobian(mech: PlanarLinkage, points: Mapping[str, PointAnalogues], angles: Mapping[str, AngleAnalogues]
+              ) -> FloatArray:
+    """The whole linkage's constraint Jacobian at every solved angle (see :func:`constraint_jacobian`)."""
+    local = {link.name: link.local() for link in mech.links}
+    local[FRAME] = dict(mech.frame_points)
+    names = [link.name for link in mech.links]
+
+    def axis_of(angle: float) -> Callable[[str], FloatArray]:
+        def axis(link: str) -> FloatArray:
+            th = angle + (angles[link].angle if link != FRAME else np.zeros(len(angles[names[0]].angle)))
+            return np.stack([np.cos(th), np.sin(th)], axis=-1)
+        return axis
+
+    rows: list[tuple[str, str, tuple[str, str], FloatArray | None, Callable[[str], FloatArray]]] = []
+    for j in mech.joints:
+        if j.kind == "revolute":
+            rows.append((j.name, "revolute", j.links, points[_revolute_point(j)].pos, axis_of(0.0)))
+        else:
+            axis, _, other, point = _axis_and_point(j, local)
+            rows.append((j.name, "prismatic", (axis, other), points[point].pos, axis_of(j.axis_angle)))
+    return constraint_jacobian(names, {x: points[mech.origins[x]].pos for x in names},
+                               {x: angles[x].angle for x in names}, rows)
 
 
 def _validate(mech: PlanarLinkage) -> None:
@@ -330,7 +686,8 @@ def _validate(mech: PlanarLinkage) -> None:
             raise InvalidInput(f"link {name!r} is not connected: no joint joins it", field=f"mechanism.links.{name}")
     _connected(mech, names)
     n_links, n_pairs = len(names), len(mech.joints)
-    if 3 * n_links - 2 * n_pairs != 1:
+    if 3 * n_links - 2 * n_pairs > 1:
+        # W < 1 may still move when constraints repeat each other: the decomposition judges it from the geometry.
         raise InvalidInput(f"a crank-driven linkage has one degree of freedom: W = 3n - 2p = 3·{n_links} - "
                            f"2·{n_pairs} = {3 * n_links - 2 * n_pairs} (n moving links, p lower pairs)",
                            field="mechanism.joints")
@@ -354,6 +711,12 @@ def _validate(mech: PlanarLinkage) -> None:
     if not any(FRAME in j.links and output in j.links for j in mech.joints):
         raise InvalidInput(f"the output {output!r} must be joined to the frame (a rocker or a slide), so that its "
                            "load is a torque or a force along the slide", field="mechanism.output")
+    for key, xy in mech.assembly:
+        if key not in owners:
+            raise InvalidInput(f"assembly point {key!r} is no point of the linkage",
+                               field=f"mechanism.assembly_m.{key}")
+        if not all(math.isfinite(v) for v in xy):
+            raise InvalidInput(f"assembly point {key!r} must be finite", field=f"mechanism.assembly_m.{key}")
     inner = {j.name for j in mech.joints}
     for key, value in mech.branches:
         if key not in inner:
@@ -409,24 +772,29 @@ def _topology(mech: PlanarLinkage) -> Topology:
                     axis_angle)
 
 
-def _decompose(mech: PlanarLinkage) -> tuple[Dyad, ...]:
-    """The dyads in the order they can be placed, from the structural analysis; a larger group is refused."""
-    names = [link.name for link in mech.links]
-    pairs = [Pair(j.name, j.links, j.kind) for j in mech.joints]
+def _decompose(mech: PlanarLinkage, skip: tuple[str, ...]) -> tuple[Dyad | NumericGroup, ...]:
+    """The Assur groups in the order they can be placed, from the structural analysis of the linkage without
+    the links ``skip``: dyads solved in closed form, larger groups of revolute pairs numerically."""
+    names = [link.name for link in mech.links if link.name not in skip]
+    pairs = [Pair(j.name, j.links, j.kind) for j in mech.joints if not set(j.links) & set(skip)]
     structure = analyse_structure([FRAME, *names], pairs, frame=FRAME, input_links=[mech.crank_link])
     if structure.groups is None:
         raise InvalidInput(f"the linkage does not split into a crank and Assur groups: {structure.note}",
                            field="mechanism.joints")
     kinds = {j.name: j for j in mech.joints}
     branches = dict(mech.branches)
-    dyads: list[Dyad] = []
+    dyads: list[Dyad | NumericGroup] = []
     used: set[str] = set()
     for group in structure.groups:
         if group.n != 2:
-            raise InvalidInput(
-                f"links {list(group.links)} with pairs {list(group.pairs)} form a class-{group.group_class} Assur "
-                f"group of {group.n} links: only class-II groups (dyads) are solved in closed form",
-                field=f"mechanism.links.{group.links[0]}")
+            slides = [p for p in group.pairs if kinds[p].kind != "revolute"]
+            if slides:
+                raise InvalidInput(
+                    f"links {list(group.links)} form a class-{group.group_class} Assur group of {group.n} links with "
+                    f"prismatic pairs {slides}: a group of class III or above is placed numerically only when all "
+                    "its pairs are revolute", field=f"mechanism.joints.{slides[0]}")
+            dyads.append(NumericGroup(tuple(group.links), tuple(group.pairs), group.group_class))
+            continue
         first, second = sorted(group.links, key=names.index)
         inners = [p for p in group.pairs if set(kinds[p].links) == {first, second}]
         outs1 = [p for p in group.pairs if p not in inners and first in kinds[p].links]
@@ -615,4 +983,5 @@ def _solve_dyad(d: Dyad, joints: Mapping[str, JointSpec], local: Mapping[str, Ma
     return _Place(a1, q1, th1), _Place(x2, outer.on_axis, outer.angle), bad, None
 
 
-__all__ = ["Dyad", "JointSpec", "LinkSpec", "PlanarLinkage"]
+__all__ = ["Dyad", "JointSpec", "LinkSpec", "NumericGroup", "PassiveLink", "PlanarLinkage", "Redundancy",
+           "linkage_structure"]

@@ -463,7 +463,8 @@ def _time_weights(motion: MachineMotion) -> FloatArray:
 
 
 def _gears(machine: MachineSpec, teeth: ToothResult | None, ratios: Sequence[float], torques: FloatArray,
-           motion: MachineMotion, shafts: Sequence[MachineShaft]) -> tuple[TrainSizing | None, list[DesignWarning]]:
+           motion: MachineMotion, shafts: Sequence[MachineShaft],
+           width_steps: int | None = None) -> tuple[TrainSizing | None, list[DesignWarning]]:
     """Each cylindrical stage sized for the torque its pinion shaft passes on over the simulated cycle; a stage
     that cannot be sized is reported, not fatal (the machine design stands without it)."""
     rules = machine.drive.strength
@@ -484,7 +485,7 @@ def _gears(machine: MachineSpec, teeth: ToothResult | None, ratios: Sequence[flo
         load = StageLoad(torques[k], shafts[k].mean_speed, weights)
         try:
             out.append(size_stage(mesh.gear_teeth / mesh.pinion_teeth, load, rules, stage=k, helix_angle=helix,
-                                  pinion_teeth=mesh.pinion_teeth))
+                                  pinion_teeth=mesh.pinion_teeth, width_steps=width_steps))
         except (InvalidInput, Infeasible) as exc:
             out.append(None)
             warnings.append(DesignWarning("stage_not_sized", f"drive.stages[{k}]", None,

@@ -47,14 +47,17 @@ from ..synthesis import crank_rocker as _cr
 from ..synthesis import slider_crank as _sc
 from ..synthesis.family import MARGIN
 from .chain import MachineDesign, design_machine
-from .optimise_light import Choice, balancing_mass, discrete_choice, steady_member
+from .optimise_light import SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, steady_member
+from .optimise_parts import MachineParts, Prices, machine_parts
 from .spec import BalancingChoice, DriveSpec, FlywheelChoice, MachineSpec
 
-ObjectiveName = Literal["motor_power", "added_mass", "rms_shaking_force"]
+ObjectiveName = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 #: The objectives, in the order every tuple of objective values holds them.
-OBJECTIVES: tuple[ObjectiveName, ...] = ("motor_power", "added_mass", "rms_shaking_force")
-#: Units of the objectives, in the same order.
-OBJECTIVE_UNITS = ("W", "kg", "N")
+OBJECTIVES: tuple[ObjectiveName, ...] = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
+#: Units of the objectives, in the same order (cost in the currency of the request's prices).
+OBJECTIVE_UNITS = ("W", "kg", "N", "kg", "currency")
+#: The objectives that need the gear wheels sized in the search (the rest leave the sizing to the answer).
+WEIGHED_PARTS = ("machine_mass", "cost")
 #: Members whose kinematic constraints are evaluated at once to find the feasible runs of the parameter.
 KINEMATIC_GRID = 4001
 #: Largest and least number of members the chain designs in the scan.
@@ -111,10 +114,28 @@ class OptimiseSpec:
     start_under_load: bool = False
     max_startup_time: float = 60.0
     max_rundown_time: float | None = None
+    prices: Prices = field(default_factory=Prices)
+
+    @property
+    def pareto_weighs_parts(self) -> bool:
+        """The Pareto set holds the machine's mass or cost: every member's wheels are sized in the search."""
+        return any(n in self.pareto for n in WEIGHED_PARTS)
+
+    @property
+    def weighs_parts(self) -> bool:
+        """The objective or the Pareto set holds the machine's mass or cost: every member's wheels are sized."""
+        return any(self.weights.get(n, 0.0) > 0 or n in self.pareto for n in WEIGHED_PARTS)
 
     def validate(self) -> None:
-        """InvalidInput naming the field for an unknown objective, no weight, a bad limit or scan size."""
+        """InvalidInput naming the field for an unknown objective, no weight, a bad limit or scan size, a price,
+        or a motor catalogue without masses when the machine is weighed or priced."""
         self.function.validate()
+        self.prices.validate()
+        if self.weighs_parts and self.drive.catalogue is not None:
+            for k, m in enumerate(self.drive.catalogue):
+                if m.mass is None:
+                    raise InvalidInput(f"catalogue motor {m.name!r} has no mass: machine_mass and cost need the "
+                                       "mass of every motor", field=f"drive.motor_catalogue.{k}.mass_kg")
         for name, w in self.weights.items():
             if name not in OBJECTIVES:
                 raise InvalidInput(f"unknown objective {name!r}; the objectives are {list(OBJECTIVES)}",
@@ -164,20 +185,24 @@ class FamilyScan:
 
 @dataclass(frozen=True, slots=True)
 class MemberScore:
-    """One member designed by the chain: ``values`` its objectives in :data:`OBJECTIVES` order [W, kg, N] and
-    ``rms_shaking_moment`` [N·m] (None when the chain refused it), ``feasible`` every check and limit met,
-    ``reason`` why not; ``stage`` scan or refine."""
+    """One member designed by the chain: ``values`` its objectives in :data:`OBJECTIVES` order [W, kg, N, kg,
+    currency] (machine mass and cost NaN when its wheels were not sized) and ``rms_shaking_moment`` [N·m] (None
+    when the chain refused it), ``feasible`` every check and limit met, ``reason`` why not; ``stage`` scan or
+    refine; ``parts`` the masses of its parts."""
 
     parameter: float
-    values: tuple[float, float, float] | None
+    values: tuple[float, ...] | None
     rms_shaking_moment: float | None
     feasible: bool
     reason: str | None
     stage: str
     rms_shaking_force_before: float | None = None
     choice: Choice | None = None
-    # the objectives without the flywheel body: what the member's discrete choice and balancing fix
-    floor_values: tuple[float, float, float] | None = None
+    # the objectives without the flywheel body and the wheels: what the member's discrete choice and balancing fix
+    floor_values: tuple[float, ...] | None = None
+    parts: MachineParts | None = None
+    # the objectives with the wheels left out (never negative): a lower bound where they were not sized
+    lower_values: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -235,18 +260,19 @@ class MachineOptimum:
     spec: OptimiseSpec
     design: MachineDesign
     parameter: float
-    values: tuple[float, float, float]
+    values: tuple[float, ...]
     score: float
     chain: MemberScore
     chain_linkage: Linkage
     chain_score: float | None
     chain_reason: str | None
-    normalisers: tuple[float, float, float]
+    normalisers: tuple[float, ...]
     gains: tuple[Gain, ...]
     pareto_objectives: tuple[str, str]
     pareto: tuple[MemberScore, ...]
     members: tuple[MemberScore, ...]
     certificate: Certificate
+    parts: MachineParts | None = None
 
 
 _FIELDS = {
@@ -269,6 +295,11 @@ def _field_of_constraint(name: str | None) -> str | None:
     if name.startswith("pivot_"):
         return "function.crank_pivot_region_m"
     return f"function.{name}"
+
+
+def member_linkage(spec: OptimiseSpec, u: float) -> Linkage:
+    """The family member at ``u`` with its link masses and loads."""
+    return _member(spec, u)
 
 
 def _member(spec: OptimiseSpec, u: float) -> Linkage:
@@ -337,58 +368,78 @@ def _limits_missed(spec: OptimiseSpec, force: float, moment: float) -> list[str]
     return out
 
 
-def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float) -> MemberScore:
+def _steady_score(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float, size_gears: bool,
+                  exact: bool = False) -> MemberScore:
     """The member's steady machine (no start or run-down simulation: the optimum's own design runs them); the
-    gears' strength sizing, which comes last and feeds nothing back, is left out too."""
+    gears' strength sizing, which comes last and feeds nothing back, only when ``size_gears`` (the machine's
+    mass and cost need the wheels)."""
     machine = spec.machine(_member(spec, u))
-    machine = replace(machine, drive=replace(machine.drive, strength=None))
+    if not size_gears:
+        machine = replace(machine, drive=replace(machine.drive, strength=None))
     try:
-        m = steady_member(machine, time_limit_s=time_limit_s)
+        m = steady_member(machine, time_limit_s=time_limit_s, size_gears=size_gears,
+                          width_steps=None if exact else SEARCH_WIDTH_STEPS)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage)
     reasons = [f"fails its {name} check" for name in m.failed]
     reasons += _limits_missed(spec, m.values[2], m.rms_shaking_moment)
-    return MemberScore(u, m.values, m.rms_shaking_moment, not reasons, "; ".join(reasons) or None, stage,
-                       m.rms_shaking_force_before, m.choice,
-                       (m.values[0], m.balancing_mass, m.values[2]))
+    p = m.parts
+    return MemberScore(u, (*m.values, p.mass, p.cost(spec.prices)), m.rms_shaking_moment, not reasons,
+                       "; ".join(reasons) or None, stage, m.rms_shaking_force_before, m.choice,
+                       (m.values[0], m.balancing_mass, m.values[2], p.fixed_mass, p.fixed_cost(spec.prices)), p,
+                       (*m.values, p.fixed_mass + p.flywheel,
+                        p.fixed_cost(spec.prices) + spec.prices.flywheel * p.flywheel))
 
 
-def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float) -> tuple[MemberScore,
-                                                                                          MachineDesign | None]:
+def _score_member(spec: OptimiseSpec, u: float, stage: str, time_limit_s: float,
+                  size_gears: bool = False) -> tuple[MemberScore, MachineDesign | None]:
     if stage in ("scan", "refine"):
-        return _steady_score(spec, u, stage, time_limit_s), None
+        # the members asked for by name (the chain's own) get the chain's precision: the gains compare them
+        return _steady_score(spec, u, stage, time_limit_s, size_gears or spec.weighs_parts, size_gears), None
     machine = spec.machine(_member(spec, u))
     try:
         d = design_machine(machine, time_limit_s=time_limit_s)
     except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
         return MemberScore(u, None, None, False, f"the chain refuses it: {exc}", stage), None
-    values = objective_values(d)
+    values = objective_values(d, spec.prices)
     reasons = [f"fails its {c.name} check" for c in d.checks if not c.passed]
     after = d.balancing.after
     reasons += _limits_missed(spec, after.rms_shaking_force, after.rms_shaking_moment)
     choice = (d.drive.motor.name, () if d.teeth is None else tuple((s.pinion_teeth, s.gear_teeth)
                                                                    for s in d.teeth.stages))
     return (MemberScore(u, values, after.rms_shaking_moment, not reasons, "; ".join(reasons) or None, stage,
-                        d.before.summary().rms_shaking_force, choice), d)
+                        d.before.summary().rms_shaking_force, choice, parts=design_parts(d)), d)
 
 
-def objective_values(d: MachineDesign) -> tuple[float, float, float]:
-    """Motor rated power [W], added mass [kg] (counterweights, Lanchester balancer masses, flywheel body) and
-    RMS shaking force after balancing [N] of a machine design."""
+def design_parts(d: MachineDesign) -> MachineParts:
+    """The parts of a whole machine design: counterweights, balancers, flywheel body, the wheels as the chain
+    sized them (none when the drive asks for no sizing) and the catalogue motor."""
+    return machine_parts(d.balancing, d.placement, d.gears, True, d.drive.motor)
+
+
+def objective_values(d: MachineDesign, prices: Prices | None = None) -> tuple[float, ...]:
+    """Motor rated power [W], added mass [kg] (counterweights, Lanchester balancer masses, flywheel body), RMS
+    shaking force after balancing [N], the machine's mass [kg] (those with the wheels and the motor) and its
+    cost at ``prices`` of a machine design."""
     bal = d.balancing
     mass = balancing_mass(bal)
     if d.placement is not None:
         mass += d.placement.mass
-    return (float(d.drive.motor.rated_power), float(mass), float(bal.after.rms_shaking_force))
+    p = design_parts(d)
+    return (float(d.drive.motor.rated_power), float(mass), float(bal.after.rms_shaking_force), p.mass,
+            p.cost(prices or Prices()))
 
 
 def design_members(spec: OptimiseSpec, parameters: Sequence[float], *, time_limit_s: float = 20.0,
-                   stage: str = "scan") -> tuple[MemberScore, ...]:
-    """The chain on each member at ``parameters``, scored on its simulated machine."""
-    return tuple(_score_member(spec, float(u), stage, time_limit_s)[0] for u in parameters)
+                   stage: str = "scan", size_gears_at: Sequence[float] = ()) -> tuple[MemberScore, ...]:
+    """The chain on each member at ``parameters``, scored on its simulated machine; the wheels sized on the
+    members at ``size_gears_at`` (the chain's own, whose mass and cost the gains report) or on every member when
+    the objective weighs the machine."""
+    sized = {float(u) for u in size_gears_at}
+    return tuple(_score_member(spec, float(u), stage, time_limit_s, float(u) in sized)[0] for u in parameters)
 
 
-def normalisers(members: Iterable[MemberScore], chain_parameter: float) -> tuple[float, float, float]:
+def normalisers(members: Iterable[MemberScore], chain_parameter: float) -> tuple[float, ...]:
     """Each objective's scale: its value on the chain's machine, else the largest over the members designed,
     else 1 (an objective that is zero everywhere weighs nothing). A balanced machine's RMS shaking force is
     rounding; its scale is at least a millionth of the chain's linkage before balancing."""
@@ -400,19 +451,55 @@ def normalisers(members: Iterable[MemberScore], chain_parameter: float) -> tuple
         if OBJECTIVES[k] == "rms_shaking_force" and chain is not None and chain.rms_shaking_force_before:
             v = max(v, SHAKING_FLOOR * chain.rms_shaking_force_before)
         if not v > 0:
-            v = max((m.values[k] for m in members if m.values is not None), default=0.0)
+            v = max((m.values[k] for m in members if m.values is not None and math.isfinite(m.values[k])),
+                    default=0.0)
         out.append(v if v > 0 else 1.0)
-    return (out[0], out[1], out[2])
+    return tuple(out)
 
 
 def score(spec: OptimiseSpec, values: Sequence[float], norm: Sequence[float]) -> float:
-    """The weighted sum of the normalised objectives [-]."""
-    return float(sum(spec.weights.get(name, 0.0) * values[k] / norm[k] for k, name in enumerate(OBJECTIVES)))
+    """The weighted sum of the normalised objectives [-] (an objective of no weight, sized or not, adds nothing)."""
+    return float(sum(spec.weights[name] * values[k] / norm[k] for k, name in enumerate(OBJECTIVES)
+                     if spec.weights.get(name, 0.0) > 0))
+
+
+def _search_values(m: MemberScore) -> tuple[float, ...] | None:
+    """A member's objectives, their lower bound where its wheels were not sized."""
+    if m.values is not None and m.lower_values is not None and not all(math.isfinite(v) for v in m.values):
+        return m.lower_values
+    return m.values
 
 
 def _scores(spec: OptimiseSpec, members: Sequence[MemberScore], norm: Sequence[float]) -> np.ndarray:
-    return np.array([score(spec, m.values, norm) if m.feasible and m.values is not None else np.inf
-                     for m in members])
+    out = []
+    for m in members:
+        v = _search_values(m)
+        out.append(score(spec, v, norm) if m.feasible and v is not None else np.inf)
+    return np.array(out)
+
+
+def settle(spec: OptimiseSpec, members: Sequence[MemberScore], chain_parameter: float, *,
+           time_limit_s: float = 20.0) -> tuple[tuple[MemberScore, ...], int]:
+    """Size the wheels of the members, best bound first, until no member left unsized could beat the best sized
+    one: its score without the wheels (their mass and cost never negative) is no better. Returns the members
+    (the sized ones in place of their bounds) and how many were sized here. Nothing to do unless the objective
+    weighs the machine's mass or cost."""
+    out = list(members)
+    if not spec.weighs_parts:
+        return tuple(out), 0
+    norm = normalisers(out, chain_parameter)
+    sized_here = 0
+    while True:
+        s = _scores(spec, out, norm)
+        exact = np.array([m.values is not None and all(math.isfinite(v) for v in m.values) for m in out])
+        best = float(np.min(np.where(exact, s, np.inf)))
+        open_ = [i for i in np.argsort(s, kind="stable") if not exact[i] and np.isfinite(s[i])]
+        if not open_ or s[open_[0]] >= best * (1 - 1e-12):
+            return tuple(out), sized_here
+        i = int(open_[0])
+        again = _score_member(spec, out[i].parameter, out[i].stage, time_limit_s, True)[0]
+        out[i] = again
+        sized_here += 1
 
 
 def _run_of(scan: FamilyScan, u: float) -> int:
@@ -562,7 +649,7 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
              Sequence[Refinement], *, time_limit_s: float = 20.0) -> MachineOptimum:
     """The best member designed again as a whole machine, with the chain's design, the gains, the Pareto set and
     the certificate. Infeasible when no member designed meets every check and limit."""
-    members = tuple(members)
+    members, sized_here = settle(spec, members, scan.chain_parameter, time_limit_s=time_limit_s)
     norm = normalisers(members, scan.chain_parameter)
     s = _scores(spec, members, norm)
     if not np.isfinite(s).any():
@@ -616,6 +703,12 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
         "bisection step is not seen, and the bound assumes the fixed parts monotone across a cell: no gap bound "
         "is claimed."
     )
+    if spec.weighs_parts:
+        sized = sum(1 for m in members if m.values is not None and all(math.isfinite(v) for v in m.values))
+        statement += (f" The machine's mass and cost need the gear wheels sized for strength: {sized} members "
+                      f"were sized ({sized_here} of them best bound first after the search); every other member's "
+                      "score without its wheels (never negative) is no better than the best sized, so sizing it "
+                      "could not change the answer.")
     certificate = Certificate(scan, designed, feasible, tuple(found), None, binding, statement)
     return MachineOptimum(
         spec=spec, design=design, parameter=best.parameter, values=values, score=score(spec, values, norm),
@@ -623,6 +716,7 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
         chain_score=score(spec, chain_values, norm) if chain_values is not None and chain_member.feasible else None,
         chain_reason=chain_member.reason, normalisers=norm, gains=tuple(gains),
         pareto_objectives=spec.pareto, pareto=_pareto(members, a, b), members=members, certificate=certificate,
+        parts=design_parts(design),
     )
 
 
@@ -640,7 +734,8 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
     Raises InvalidInput or Infeasible naming the request field, or Infeasible when no member meets the checks.
     """
     scan = scan_family(spec)
-    members = design_members(spec, scan.candidates, time_limit_s=time_limit_s)
+    members = design_members(spec, scan.candidates, time_limit_s=time_limit_s,
+                             size_gears_at=(scan.chain_parameter,))
     refinements = []
     extra: list[MemberScore] = []
     for k in range(MAX_SEARCHED):

@@ -30,9 +30,14 @@ from ..errors import InvalidInput
 from . import chain as _chain
 from .chain import MAX_MOTOR_UPGRADES, MIN_POWER, Balancing, MachineCheck
 from .operating_point import MotorLoad, operating_speed
+from .optimise_parts import MachineParts, machine_parts
 from .simulate import MachineCycle
 from .spec import MachineSpec
 from .stages import refuse_likely_mistakes
+
+#: Bisections of the face width when the search sizes the wheels for their mass: the width within ln(5)/2^12,
+#: a few parts in 1e4, never below the least (the answer's own design sizes them to the chain's precision).
+SEARCH_WIDTH_STEPS = 12
 
 #: A member's discrete choice: the catalogue motor's name and each toothed stage's (pinion, gear) teeth.
 Choice = tuple[str, tuple[tuple[int, int], ...]]
@@ -54,7 +59,8 @@ class DiscreteChoice:
 class SteadyMember:
     """One member's steady machine: its discrete ``choice``, objectives [W, kg, N] in the optimisation's order,
     the RMS shaking moment after balancing [N·m], the steady checks failed (by name), the RMS shaking force
-    before balancing [N] and the balancing masses [kg]."""
+    before balancing [N], the balancing masses [kg] and the machine's parts (the gear wheels' mass only when
+    sized)."""
 
     choice: Choice
     values: tuple[float, float, float]
@@ -62,6 +68,7 @@ class SteadyMember:
     failed: tuple[str, ...]
     rms_shaking_force_before: float
     balancing_mass: float
+    parts: MachineParts
 
 
 def balancing_mass(bal: Balancing) -> float:
@@ -122,9 +129,13 @@ def discrete_choice(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Disc
                           float(bal.after.rms_shaking_force))
 
 
-def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0) -> SteadyMember:
+def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0, size_gears: bool = False,
+                  width_steps: int | None = SEARCH_WIDTH_STEPS) -> SteadyMember:
     """The chain to its steady machine: motor (stepped up as the chain steps it up on the steady checks),
-    teeth, flywheel and the steady checks; no start or run-down simulation. Raises as :func:`design_machine`."""
+    teeth, flywheel and the steady checks; no start or run-down simulation. ``size_gears`` sizes the wheels
+    for strength on the steady cycle as the chain does (the drive's strength rules; none: no wheels counted),
+    for their mass, with ``width_steps`` bisections of the face width (None: the chain's own precision). Raises
+    as :func:`design_machine`."""
     before, bal, balanced, cycle, power = _front(machine, time_limit_s)
     d = machine.drive
     motor_name = d.motor
@@ -137,15 +148,23 @@ def steady_member(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Steady
         speed_ratios = [math.prod(ratios[k:]) for k in range(len(ratios))] + [1.0]
         own = np.array([s.inertia for s in drive.shafts])
         train = float(own @ np.square(speed_ratios)) - motor.reduced().inertia + bal.balancer_inertia
-        _, placement, motion = _chain._flywheel(machine, motor, cycle, machine_cycle, ratios, train, time_limit_s)
+        flywheel, placement, motion = _chain._flywheel(machine, motor, cycle, machine_cycle, ratios, train,
+                                                       time_limit_s)
         checks: tuple[MachineCheck, ...] = _chain._checks(machine, motion, motor)
         heavy = [c.name for c in checks if c.name in ("motor_rms_torque", "motor_peak_torque") and not c.passed]
         bigger = None if d.motor is not None or not heavy else _chain._next_motor(drive.motor, d.catalogue)
         if bigger is None:
             break
         motor_name = bigger.name
+    gears = None
+    if size_gears and machine.drive.strength is not None:
+        inertia = flywheel.design.flywheel_inertia
+        shafts = _chain._shafts(ratios, drive, motion, placement, inertia)
+        torques = _chain._shaft_torques(ratios, drive, motion, placement, inertia)
+        gears, _ = _chain._gears(machine, teeth, ratios, torques, motion, shafts, width_steps=width_steps)
+    parts = machine_parts(bal, placement, gears, size_gears, drive.motor)
     mass = balancing_mass(bal) + (placement.mass if placement is not None else 0.0)
     return SteadyMember(_choice(drive, teeth), (float(drive.motor.rated_power), float(mass),
                                                 float(bal.after.rms_shaking_force)),
                         float(bal.after.rms_shaking_moment), tuple(c.name for c in checks if not c.passed),
-                        float(before.summary().rms_shaking_force), balancing_mass(bal))
+                        float(before.summary().rms_shaking_force), balancing_mass(bal), parts)
