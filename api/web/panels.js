@@ -235,6 +235,13 @@ function balancingPanel() {
 }
 
 // --- flywheel ----------------------------------------------------------------------------------------------------
+// The flywheel request's motor and elastic link, folded away: path in FlywheelIn, label.
+const FLYWHEEL_ELASTIC = [["motor.synchronous_speed_rpm", "Motor synchronous speed"], ["motor.rated_speed_rpm", "Motor rated speed"],
+  ["motor.rated_torque_Nm", "Motor rated torque"], ["motor.gear_ratio", "Gear ratio (motor over crank)"], ["motor.rotor_inertia_kgm2", "Rotor inertia"],
+  ["elastic_drive.stiffness_Nm_rad", "Elastic link stiffness at the crank"], ["elastic_drive.damping_ratio", "Elastic link damping ratio"],
+  ["elastic_drive.flywheel_on", "Flywheel on"], ["elastic_drive.start", "Simulate the run-up"]]
+  .map(([path, label]) => ({ path, label, schema: ["FlywheelIn", path] }));
+
 function flywheelPanel() {
   const el = document.getElementById("panel-flywheel");
   let types = [];
@@ -246,12 +253,15 @@ function flywheelPanel() {
       field("fly", { name: "geometry.shape", label: "Shape", options: [["rim", "rim on spokes"], ["disc", "solid disc"]], value: "rim" }),
       field("fly", { name: "geometry.density_kg_m3", label: "Density", model: "GeometryIn", path: "density_kg_m3", value: 7200 }),
       field("fly", { name: "geometry.max_rim_speed_m_s", label: "Largest rim speed", model: "GeometryIn", path: "max_rim_speed_m_s", value: 30 })),
+    h("details", { class: "more", id: "fly-elastic-more" }, h("summary", {}, "Motor and elastic drive"),
+      h("div", { class: "controls" }, FLYWHEEL_ELASTIC.map((f) => schemaField("fly", f)))),
     actions(h("button", { class: "run", id: "fly-run", onclick: run }, "Size the flywheel"), h("span", { id: "fly-status", class: "note" })),
     h("p", { id: "fly-problem", class: "problem", hidden: true }), h("div", { id: "fly-result" }), h("div", { id: "fly-plots", class: "plots" }));
   };
   async function run() {
     clearPanel("fly");
     if (!checkNumbers("fly", ["delta", "geometry.density_kg_m3", "geometry.max_rim_speed_m_s"])) return;
+    if (!checkSchemaFields("flywheel")) return;
     const body = linkage();
     body.mean_speed_rpm = body.speed_rpm; delete body.speed_rpm;
     const delta = read("fly", "delta"), type = read("fly", "machine_type");
@@ -259,6 +269,11 @@ function flywheelPanel() {
     if (type) body.machine_type = type;
     body.geometry = { shape: read("fly", "geometry.shape"), density_kg_m3: read("fly", "geometry.density_kg_m3"),
       max_rim_speed_m_s: read("fly", "geometry.max_rim_speed_m_s") };
+    // the folded motor and elastic-link fields: sent when filled, else the API's default (no motor, no link)
+    document.querySelectorAll("#panel-flywheel [data-path]").forEach((input) => {
+      const v = readSchemaField(input);
+      if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
+    });
     busy("fly", "sizing…");
     try {
       const a = await post("/v1/flywheel", body);
@@ -296,6 +311,27 @@ function flywheelPanel() {
       svg.appendChild(l);
     }
     if (g) drawBody(box, g);
+    if (a.elastic_drive) showElastic(res, box, a.elastic_drive);
+  }
+  /** The drive through the elastic link with the sized flywheel: its mode, the link's torque against the rigid
+   *  model's, and the load harmonics near the mode. */
+  function showElastic(res, box, e) {
+    const num = (t) => [t, { class: "num" }];
+    const near = e.harmonics.filter((x) => x.near_resonance);
+    res.appendChild(h("h3", {}, "Elastic drive with this flywheel"));
+    res.appendChild(table(null, [["Link stiffness at the crank", num(`${fmt(e.stiffness_Nm_rad)} N·m/rad`)],
+      ["J1 (rotor side) / J2 (machine, mean)", num(`${fmt(e.rotor_inertia_kgm2)} / ${fmt(e.machine_inertia_kgm2[0])} kg·m²`)],
+      ["Natural frequency (over the cycle)", num(`${fmt(e.natural_frequency_Hz)} Hz (${fmt(e.natural_frequency_range_Hz[0])} … ${fmt(e.natural_frequency_range_Hz[1])})`)],
+      ["Peak torque in the link / rigid model", num(`${fmt(e.peak_elastic_torque_Nm)} / ${fmt(e.peak_rigid_torque_Nm)} N·m`)],
+      ["Dynamic factor", num(fmt(e.dynamic_factor))],
+      ["Load harmonics near resonance", num(near.length ? near.map((x) => `${x.order} (${fmt(x.frequency_Hz)} Hz)`).join(", ") : "none")]], { id: "fly-elastic-table" }));
+    if (e.warnings.length) res.appendChild(h("ul", { id: "fly-elastic-warnings", class: "warnings" }, e.warnings.map((w) => h("li", {}, w.message))));
+    linePlot(box, "fly-elastic", { title: "Torque in the elastic link over the steady cycle", x: e.crank_angle_deg, xLabel: "crank angle φ [°]",
+      yLabel: "T at the crank [N·m]", unit: "N·m", series: [{ name: "rigid model", values: e.rigid_torque_Nm }, { name: "elastic link", values: e.elastic_torque_Nm }] });
+    if (e.start) {
+      linePlot(box, "fly-elastic-start", { title: "Run-up from rest through the link", x: e.start.time_s, xLabel: "time [s]", yLabel: "n [rev/min]", unit: "rev/min",
+        series: [{ name: "rotor (at the crank)", values: e.start.rotor_speed_rpm }, { name: "crank", values: e.start.crank_speed_rpm }] });
+    }
   }
   function drawBody(box, g) {
     const R = g.outer_diameter_m / 2, r = g.shape === "rim" ? R - g.rim_thickness_m : 0, b = g.width_m;
