@@ -15,7 +15,7 @@ from mechsynth_client.schemas.foundation import ElasticDriveIn
 
 EXAMPLES: list[dict[str, Any]] = FlywheelIn.model_config["json_schema_extra"]["examples"]  # type: ignore[index]
 # the schema's example with the elastic block, at fewer samples to keep the integrations short
-BODY: dict[str, Any] = {**EXAMPLES[2], "samples": 90}
+BODY: dict[str, Any] = {k: v for k, v in EXAMPLES[2].items() if k != "elastic_drive"} | {"samples": 90}
 MOTOR = BODY["motor"]
 
 
@@ -130,3 +130,15 @@ def test_the_block_needs_a_motor_and_a_linkage(client: SynthClient) -> None:
     with pytest.raises(InvalidInputError) as err:
         _flywheel(client, elements=[{"type": "shaft", "diameter_m": 0.03}])
     assert err.value.problem["field"] == "elastic_drive.elements.0.diameter_m"
+
+
+def test_the_work_estimate_counts_the_block() -> None:
+    from api.execution.work import estimate_s
+
+    with_block = FlywheelIn.model_validate({**BODY, "elastic_drive": {"stiffness_Nm_rad": 2000}})
+    without = FlywheelIn.model_validate(BODY)
+    standalone = ElasticDriveIn.model_validate({k: BODY[k] for k in ("mechanism", "motor", "samples")}
+                                               | {"speed_rpm": 298, "stiffness_Nm_rad": 2000})
+    # the block costs what the standalone endpoint's request of the same samples is estimated to cost
+    assert estimate_s("/v1/flywheel", with_block) == pytest.approx(
+        estimate_s("/v1/flywheel", without) + estimate_s("/v1/machines/elastic-drive", standalone), rel=1e-12)

@@ -68,10 +68,21 @@ def _optimise(b: Any) -> float:
     return 1.0 + int(b.scan_members) * _MEMBER_S * int(b.samples) / 120
 
 
+def _flywheel(b: Any) -> float:
+    """The sizing, and with an ``elastic_drive`` block the elastic drive's integrations too."""
+    samples = int(getattr(b, "samples", None) or 360)
+    fixed, per_sample = _PER_SAMPLE["/v1/flywheel"]
+    if getattr(b, "elastic_drive", None) is not None:
+        fixed, per_sample = fixed + _PER_SAMPLE["/v1/machines/elastic-drive"][0], (
+            per_sample + _PER_SAMPLE["/v1/machines/elastic-drive"][1])
+    return fixed + per_sample * samples
+
+
 _SPECIAL: dict[str, Callable[[Any], float]] = {
     "/v1/gears/teeth": _teeth,
     "/v1/synthesis/path": _path,
     "/v1/machines/optimise": _optimise,
+    "/v1/flywheel": _flywheel,
 }
 
 
