@@ -142,3 +142,14 @@ def test_the_work_estimate_counts_the_block() -> None:
     # the block costs what the standalone endpoint's request of the same samples is estimated to cost
     assert estimate_s("/v1/flywheel", with_block) == pytest.approx(
         estimate_s("/v1/flywheel", without) + estimate_s("/v1/machines/elastic-drive", standalone), rel=1e-12)
+
+
+def test_the_link_from_its_shaft_and_coupling(client: SynthClient) -> None:
+    shaft = {"type": "shaft", "speed_ratio": 5.0, "diameter_m": 0.02, "length_m": 0.3}
+    coupling = {"type": "coupling", "speed_ratio": 5.0, "stiffness_Nm_rad": 500.0}
+    out = _flywheel(client, elements=[shaft, coupling])
+    assert out.elastic_drive is not None
+    # G·pi·d⁴/(32 L) on the motor shaft, each element reduced to the crank by its speed ratio squared, in series
+    c_shaft = 81e9 * math.pi * 0.02**4 / (32 * 0.3) * 25
+    expected = 1 / (1 / c_shaft + 1 / (500.0 * 25))
+    assert out.elastic_drive.stiffness_Nm_rad == pytest.approx(expected, rel=1e-12)
