@@ -141,7 +141,7 @@ class AssurGroupOut(BaseModel):
         "(class III and above: Newton continuation on its loop equations); null without dimensions.")
 
 
-class GeometryOut(BaseModel):
+class MobilityGeometryOut(BaseModel):
     """Mobility from the geometry of a linkage whose pairs repeat constraints (passive links)."""
 
     mobility_geometric: int = Field(description="W = 3n - rank of the constraint Jacobian (its largest rank over "
@@ -183,7 +183,7 @@ class StructureOut(BaseModel):
                                              "for the decomposition.")
     note: str = Field(description="Why the mechanism was not decomposed into Assur groups; empty when it was "
                       "(with passive links: which pairs are redundant).")
-    geometry: GeometryOut | None = Field(None, description="With `mechanism` and passive links: the mobility from "
+    geometry: MobilityGeometryOut | None = Field(None, description="With `mechanism` and passive links: the mobility from "
                                          "the geometry and the redundant pairs; null otherwise.")
 
     @classmethod
@@ -206,7 +206,7 @@ class StructureOut(BaseModel):
                 for i, g in enumerate(s.groups)],
             mechanism_class=None if s.mechanism_class is None else roman[s.mechanism_class],
             replaced_higher_pairs=list(s.replaced_higher_pairs), note=s.note,
-            geometry=None if s.geometry is None else GeometryOut(
+            geometry=None if s.geometry is None else MobilityGeometryOut(
                 mobility_geometric=s.geometry.mobility_geometric, jacobian_rank=s.geometry.rank,
                 constraint_rows=s.geometry.rows, samples=s.geometry.samples,
                 passive_links=[p.link for p in s.geometry.passive],
