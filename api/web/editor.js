@@ -527,7 +527,7 @@ function drawCanvas() {
   for (const msg of ed.messages) {
     const p = msg.at && pt(msg.at);
     const x = p ? p.x + 10 * sw : v.x0 + 10 * sw, y = p ? Y(p.y) + 18 * sw : Y(v.y0 + v.h) + (16 + 15 * row++) * sw;
-    g.appendChild(s("text", { class: "draw-msg", x, y, "font-size": 8 * sw }, msg.text));
+    g.appendChild(s("text", { class: ["draw-msg", msg.soft && "soft"], x, y, "font-size": 8 * sw }, msg.text));
   }
   svg.replaceChildren(g);
 }
@@ -538,9 +538,9 @@ function renderSide() {
   const side = document.getElementById("draw-side");
   const m = ed.model, c = lastChecked || check(m), u = state.units.length;
   const focused = document.activeElement && side.contains(document.activeElement) ? document.activeElement.id : null;
-  const W = h("p", { id: "draw-mobility", class: ["mobility", c.W !== 1 && "bad"] }, `W = 3n − 2p = 3·${c.n} − 2·${c.p} = ${c.W}`);
+  const W = h("p", { id: "draw-mobility", class: ["mobility", c.W > 1 && "bad", c.W < 1 && "soft"] }, `W = 3n − 2p = 3·${c.n} − 2·${c.p} = ${c.W}`);
   const groups = ed.groups ? h("p", { class: "groups" }, ed.groups.length ? `Assur groups: ${ed.groups.map((g2) => `${g2.group_class} (${g2.links.join(", ")})`).join("; ")}` : "") : null;
-  const msgs = h("ul", { id: "draw-messages", class: "draw-messages", role: "alert" }, ed.messages.map((p) => h("li", {}, p.text)));
+  const msgs = h("ul", { id: "draw-messages", class: "draw-messages", role: "alert" }, ed.messages.map((p) => h("li", { class: p.soft ? "soft" : null }, p.text)));
   const pointRows = m.points.map((p) => h("tr", { class: ed.selected === `point:${p.name}` ? "selected" : null },
     h("td", {}, p.name), h("td", {}, p.ground ? "frame" : "joint"),
     h("td", {}, h("input", { id: `dp-${p.name}-x`, "aria-label": `${p.name} x [${u}]`, value: num(p.x), dataset: { point: p.name, axis: "x" }, inputmode: "decimal" })),
