@@ -70,7 +70,7 @@ def test_accept_header_chooses_npz(client: SynthClient) -> None:
         _same({key: archive[key] for key in archive.files}, client.http.post("/v1/analysis", json=payload).json())
 
 
-@pytest.mark.parametrize("example", FLYWHEEL_EXAMPLES, ids=["tables", "mechanism"])
+@pytest.mark.parametrize("example", FLYWHEEL_EXAMPLES, ids=["tables", "mechanism", "elastic-drive"])
 def test_flywheel_arrays_equal_the_json_answer(client: SynthClient, example: dict[str, Any]) -> None:
     body = FlywheelIn.model_validate(example)
     answer = client.http.post("/v1/flywheel", json=body.model_dump(mode="json", exclude_none=True)).json()
