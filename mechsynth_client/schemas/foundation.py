@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from pydantic.config import JsonDict
 
 from .analysis import AnalysisIn
-from .flywheel import MotorIn
+from .motor import MotorIn
 from ._engine import np
 from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, WarningOut, degree_array, ensure_finite
 
