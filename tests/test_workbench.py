@@ -50,21 +50,28 @@ def browser() -> Iterator[Browser]:
         b.close()
 
 
-@pytest.fixture
-def page(browser: Browser, base_url: str, request: pytest.FixtureRequest) -> Iterator[Page]:
-    # Playwright's wait_for_function evaluates its predicate with eval, which the service's Content-Security-Policy
-    # forbids: tests run with the policy bypassed, except the one about the policy (test_workbench_security.py
-    # checks the page under the service's own header).
+def open_page(browser: Browser, base_url: str, ready: str = "", *, bypass_csp: bool = True) -> Iterator[Page]:
+    """A fresh page of the workbench, once the page (and ``ready``, a further attribute selector of the body such as
+    ``[data-cam-ready='1']``) says it is ready; any script error on it fails the test that used it.
+
+    Playwright's wait_for_function evaluates its predicate with eval, which the service's Content-Security-Policy
+    forbids: tests run with the policy bypassed, except those about the policy (test_workbench_security.py checks
+    the page under the service's own header)."""
     context = browser.new_context(viewport={"width": 1400, "height": 1000}, accept_downloads=True,
-                                  bypass_csp="policy" not in request.node.name)
+                                  bypass_csp=bypass_csp)
     pg = context.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
     pg.goto(base_url + "/")
-    pg.wait_for_selector("body[data-ready='1']", timeout=20_000)
+    pg.wait_for_selector(f"body[data-ready='1']{ready}", timeout=30_000)
     yield pg
     context.close()
     assert not errors, errors
+
+
+@pytest.fixture
+def page(browser: Browser, base_url: str, request: pytest.FixtureRequest) -> Iterator[Page]:
+    yield from open_page(browser, base_url, bypass_csp="policy" not in request.node.name)
 
 
 def _shot(page: Page, name: str) -> None:

@@ -10,22 +10,12 @@ import httpx
 import pytest
 from playwright.sync_api import Browser, Page
 
-from test_workbench import SHOTS, base_url, browser  # noqa: F401  (the service and the browser, per module)
+from test_workbench import SHOTS, base_url, browser, open_page  # noqa: F401  (the service and the browser, per module)
 
 
 @pytest.fixture
 def page(browser: Browser, base_url: str) -> Iterator[Page]:
-    # Playwright's waiting conditions are evaluated strings, which the page's own policy forbids; the policy
-    # itself is tested in test_workbench and test_workbench_security.
-    context = browser.new_context(viewport={"width": 1400, "height": 1000}, bypass_csp=True)
-    pg = context.new_page()
-    errors: list[str] = []
-    pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.goto(base_url + "/")
-    pg.wait_for_selector("body[data-ready='1']", timeout=30_000)
-    yield pg
-    context.close()
-    assert not errors, errors
+    yield from open_page(browser, base_url)
 
 
 def test_the_flywheel_panel_shows_the_elastic_drive(page: Page, base_url: str) -> None:
