@@ -81,6 +81,18 @@ BINDING_STEPS = 2
 SHAKING_FLOOR = 1e-6
 
 
+def check_weights(weights: Mapping[str, float]) -> None:
+    """The objectives' weights of a request: known objectives, finite and not negative, one of them positive."""
+    for name, w in weights.items():
+        if name not in OBJECTIVES:
+            raise InvalidInput(f"unknown objective {name!r}; the objectives are {list(OBJECTIVES)}",
+                               field=f"weights.{name}")
+        if not (math.isfinite(w) and w >= 0):
+            raise InvalidInput("an objective's weight must be finite and not negative", field=f"weights.{name}")
+    if not any(w > 0 for w in weights.values()):
+        raise InvalidInput("give at least one objective a positive weight", field="weights")
+
+
 @dataclass(frozen=True, slots=True)
 class OptimiseSpec:
     """A machine to optimise: its function, and everything the chain needs besides the linkage.
@@ -136,14 +148,7 @@ class OptimiseSpec:
                 if m.mass is None:
                     raise InvalidInput(f"catalogue motor {m.name!r} has no mass: machine_mass and cost need the "
                                        "mass of every motor", field=f"drive.motor_catalogue.{k}.mass_kg")
-        for name, w in self.weights.items():
-            if name not in OBJECTIVES:
-                raise InvalidInput(f"unknown objective {name!r}; the objectives are {list(OBJECTIVES)}",
-                                   field=f"weights.{name}")
-            if not (math.isfinite(w) and w >= 0):
-                raise InvalidInput("an objective's weight must be finite and not negative", field=f"weights.{name}")
-        if not any(w > 0 for w in self.weights.values()):
-            raise InvalidInput("give at least one objective a positive weight", field="weights")
+        check_weights(self.weights)
         for k, name in enumerate(self.pareto):
             if name not in OBJECTIVES:
                 raise InvalidInput(f"unknown objective {name!r}; the objectives are {list(OBJECTIVES)}",

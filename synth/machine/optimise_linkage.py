@@ -35,7 +35,7 @@ from ..errors import Infeasible, InvalidInput, NotAssemblable, SolverFailed, Sol
 from ..kinematics import PlanarLinkage
 from ..kinematics.linkage import LinkSpec
 from .chain import MachineDesign, design_machine
-from .optimise import OBJECTIVE_UNITS, OBJECTIVES, WEIGHED_PARTS, objective_values
+from .optimise import OBJECTIVE_UNITS, OBJECTIVES, WEIGHED_PARTS, check_weights, objective_values
 from .optimise_light import steady_member
 from .optimise_parts import MachineParts, Prices
 from .spec import MachineSpec
@@ -111,14 +111,7 @@ class LinkageOptimiseSpec:
             current(self.machine.linkage.mechanism, d.path, f"free.{k}.path")
             if d.path.endswith("length_m") and d.lo <= 0:
                 raise InvalidInput("a link's length must stay positive", field=f"free.{k}.min")
-        for name, w in self.weights.items():
-            if name not in OBJECTIVES:
-                raise InvalidInput(f"unknown objective {name!r}; the objectives are {list(OBJECTIVES)}",
-                                   field=f"weights.{name}")
-            if not (math.isfinite(w) and w >= 0):
-                raise InvalidInput("an objective's weight must be finite and not negative", field=f"weights.{name}")
-        if not any(w > 0 for w in self.weights.values()):
-            raise InvalidInput("give at least one objective a positive weight", field="weights")
+        check_weights(self.weights)
         if not MIN_SAMPLES <= self.samples <= MAX_SAMPLES:
             raise InvalidInput(f"samples must lie in [{MIN_SAMPLES}, {MAX_SAMPLES}]", field="samples")
         if not 0 <= self.refined <= MAX_REFINED:
