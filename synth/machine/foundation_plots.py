@@ -17,7 +17,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from ..model import FloatArray  # noqa: E402
 
 from .foundation import Isolation  # noqa: E402
-from .elastic_drive import ElasticDrive  # noqa: E402
+from .elastic_drive import ElasticDrive, ElasticRun  # noqa: E402
 from .foundation_design import IsolationDesign  # noqa: E402
 from .regulation import Regulation  # noqa: E402
 
@@ -84,22 +84,29 @@ def elastic_drive_figure(d: ElasticDrive, fmt: str = "png") -> bytes:
     """Torque in the elastic link against the rigid model's over the steady cycle, and the run-up with the link."""
     fig, axes = plt.subplots(1, 2 if d.start is not None else 1, figsize=(13 if d.start else 7, 4.6),
                              layout="constrained", squeeze=False)
-    ax = axes[0][0]
-    deg = np.degrees(d.phi)
-    ax.plot(deg, d.rigid_torque, lw=1.2, label="rigid model, M_d - J1·alpha")
-    ax.plot(deg, d.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {d.dynamic_factor:.3g})")
-    ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]",
-           title=f"Steady cycle; link at {d.natural_frequency:.4g} Hz")
-    ax.legend(fontsize=8)
+    link_torque(axes[0][0], d, f"Steady cycle; link at {d.natural_frequency:.4g} Hz", 8)
     if d.start is not None:
-        ax = axes[0][1]
-        ax.plot(d.start.time, d.start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
-        ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
-        twin = ax.twinx()
-        twin.plot(d.start.time, d.start.crank_speed * 30 / np.pi, color="0.4", lw=1, label="crank speed")
-        twin.set_ylabel("crank speed [rpm]", color="0.4")
-        ax.legend(fontsize=8, loc="lower right")
+        run_up(axes[0][1], d.start, 8)
     return _bytes(fig, fmt)
+
+
+def link_torque(ax: Axes, d: ElasticDrive, title: str, fontsize: float) -> None:
+    """The torque in the elastic link over the steady cycle against the rigid model's."""
+    deg = np.degrees(d.phi)
+    ax.plot(deg, d.rigid_torque, lw=1.2, label="rigid model, M_d − J₁α")
+    ax.plot(deg, d.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {d.dynamic_factor:.3g})")
+    ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]", title=title)
+    ax.legend(fontsize=fontsize)
+
+
+def run_up(ax: Axes, start: ElasticRun, fontsize: float) -> None:
+    """The run-up from rest with the elastic link: the torque in it and the crank's speed."""
+    ax.plot(start.time, start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
+    ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
+    twin = ax.twinx()
+    twin.plot(start.time, start.crank_speed * 30 / np.pi, color="0.4", lw=1)
+    twin.set_ylabel("crank speed [rpm]", color="0.4")
+    ax.legend(fontsize=fontsize, loc="lower right")
 
 
 def regulation_figure(r: Regulation, fmt: str = "png") -> bytes:
@@ -295,21 +302,10 @@ def drive_record_page(drive: ElasticDrive | None, regulation: Regulation | None)
     fig.suptitle("The elastic drive and the speed after a load step", fontsize=13)
     grid = fig.add_gridspec(2, 2, hspace=0.4, wspace=0.25, left=0.07, right=0.95, bottom=0.12, top=0.9)
     if drive is not None:
-        ax = fig.add_subplot(grid[0, 0])
-        deg = np.degrees(drive.phi)
-        ax.plot(deg, drive.rigid_torque, lw=1.2, label="rigid model, M_d − J₁α")
-        ax.plot(deg, drive.steady.elastic_torque, lw=1.2, label=f"elastic link (factor {drive.dynamic_factor:.3g})")
-        ax.set(xlabel="crank angle [deg]", ylabel="torque at the crank [N·m]",
-               title=f"Torque in the link over the steady cycle; {drive.natural_frequency:.4g} Hz")
-        ax.legend(fontsize=7)
+        link_torque(fig.add_subplot(grid[0, 0]), drive,
+                    f"Torque in the link over the steady cycle; {drive.natural_frequency:.4g} Hz", 7)
         if drive.start is not None:
-            ax = fig.add_subplot(grid[0, 1])
-            ax.plot(drive.start.time, drive.start.elastic_torque, lw=0.8, color="C1", label="torque in the link")
-            ax.set(xlabel="time [s]", ylabel="torque at the crank [N·m]", title="Run-up from rest with the link")
-            twin = ax.twinx()
-            twin.plot(drive.start.time, drive.start.crank_speed * 30 / np.pi, color="0.4", lw=1)
-            twin.set_ylabel("crank speed [rpm]", color="0.4")
-            ax.legend(fontsize=7, loc="lower right")
+            run_up(fig.add_subplot(grid[0, 1]), drive.start, 7)
     if regulation is not None:
         g = regulation
         rpm = 30 / np.pi
