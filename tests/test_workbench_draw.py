@@ -420,3 +420,43 @@ def test_a_double_parallelogram_is_analysed_though_the_formula_says_it_cannot_mo
     f = answer["points"]["F"]["position_m"]
     assert max(abs(math.hypot(x - 0.15, y) - 0.1) for x, y in f) < 1e-9
     _shot(page, "draw-double-parallelogram")
+
+
+_RECTS = """sel => [...document.querySelectorAll(sel)].map((e) => {
+  const r = e.getBoundingClientRect();
+  return { of: e.dataset.label || e.dataset.point, left: r.left, top: r.top, right: r.right, bottom: r.bottom };
+})"""
+
+
+def _meet(a: dict[str, Any], b: dict[str, Any]) -> bool:
+    return bool(a["left"] < b["right"] and b["left"] < a["right"] and a["top"] < b["bottom"] and b["top"] < a["bottom"])
+
+
+@pytest.mark.parametrize("key", ["press", "stephenson"])
+def test_no_name_on_the_canvas_covers_another_or_a_joint(page: Page, key: str) -> None:
+    """Where links meet at a joint or lie close (the press's rocker plate, the Stephenson's coupler plate), each name
+    is drawn where it covers no other name and no joint's marker, inside the canvas. The boxes are the browser's
+    own boxes of the drawn text, not the editor's plan; the plan is checked to hold each drawn text (to 1 px)."""
+    page.evaluate("window.workbench.editor.ed.on || window.workbench.editor.setEditing(true)")
+    page.evaluate(f"window.workbench.editor.openTemplate({json.dumps(key)})")
+    _settled(page)
+    model = page.evaluate("window.workbench.editor.ed.model")
+    drawn = page.evaluate(_RECTS, "#draw-canvas text[data-label]")
+    # every joint's name, every link's and the output block's
+    want = {p["name"] for p in model["points"]} | {lk["name"] for lk in model["links"]} | {model["output"]}
+    assert sorted(r["of"] for r in drawn) == sorted(want), key
+    markers = page.evaluate(_RECTS, "#draw-canvas circle.draw-point")
+    assert len(markers) == len(model["points"])
+    canvas = page.evaluate("(() => { const r = document.getElementById('draw-canvas').getBoundingClientRect(); "
+                           "return { left: r.left, top: r.top, right: r.right, bottom: r.bottom }; })()")
+    for k, a in enumerate(drawn):
+        assert all(not _meet(a, b) for b in drawn[k + 1:]), (key, a["of"], [b["of"] for b in drawn[k + 1:] if _meet(a, b)])
+        assert not any(_meet(a, m) for m in markers), (key, a["of"], [m["of"] for m in markers if _meet(a, m)])
+        assert (canvas["left"] <= a["left"] and a["right"] <= canvas["right"] and canvas["top"] <= a["top"]
+                and a["bottom"] <= canvas["bottom"]), (key, a)
+    planned = {b["of"]: b for b in page.evaluate("window.workbench.editor.labelBoxes()")}
+    for a in drawn:
+        b = planned[a["of"]]
+        assert (b["left"] - 1 <= a["left"] and a["right"] <= b["right"] + 1 and b["top"] - 1 <= a["top"]
+                and a["bottom"] <= b["bottom"] + 1), (key, a, b)
+    _shot(page, f"draw-labels-{key}")

@@ -494,9 +494,6 @@ function drawCanvas() {
     const attrs = { class: ["draw-link", ed.selected === `link:${l.name}` && "selected"], dataset: { link: l.name }, stroke };
     if (ps.length === 2) g.appendChild(s("line", { ...attrs, x1: ps[0].x, y1: Y(ps[0].y), x2: ps[1].x, y2: Y(ps[1].y), "stroke-width": 6 * sw }, s("title", {}, l.name)));
     else g.appendChild(s("polygon", { ...attrs, points: ps.map((p) => `${p.x},${Y(p.y)}`).join(" "), "stroke-width": 5 * sw }, s("title", {}, l.name)));
-    const c = [ps.reduce((t, p) => t + p.x, 0) / ps.length, ps.reduce((t, p) => t + p.y, 0) / ps.length];
-    const role = l.name === (crank && crank.name) ? " (crank)" : l.name === outputOf(m, crank) ? " (output)" : "";
-    g.appendChild(s("text", { class: "draw-link-name", x: c[0] + 6 * sw, y: Y(c[1]) - 6 * sw, "font-size": 11 * sw }, l.name + role));
   }
   // counterweights where they sit on their links, the disc's area as their mass
   const mechLinks = Object.fromEntries(((state.design && state.design.mechanism.links) || []).map((l) => [l.name, l]));
@@ -511,16 +508,16 @@ function drawCanvas() {
     g.appendChild(s("circle", { class: "draw-cw", cx: x, cy: Y(y), r: (6 + 8 * Math.sqrt(cw.mass_kg / heaviest)) * sw, "stroke-width": sw },
       s("title", {}, `counterweight ${cw.mass_kg.toPrecision(3)} kg on the ${cw.link}`)));
   }
-  for (const b of m.blocks) {
-    const jp = pt(b.point);
-    if (jp && b.name === outputOf(m, crank)) g.appendChild(s("text", { class: "draw-link-name", x: jp.x + 18 * sw, y: Y(jp.y) + 4 * sw, "font-size": 11 * sw }, `${b.name} (output)`));
-  }
   for (const p of m.points) {
     if (p.ground) g.appendChild(s("path", { class: "ground", d: `M${p.x},${Y(p.y)} l${-7 * sw},${12 * sw} h${14 * sw} z` }));
     const sel = ed.selected === `point:${p.name}` || ed.pending.includes(p.name);
     g.appendChild(s("circle", { class: ["draw-point", p.ground && "frame", sel && "selected"], dataset: { point: p.name }, cx: p.x, cy: Y(p.y), r: 5 * sw, "stroke-width": 2 * sw },
       s("title", {}, p.name)));
-    g.appendChild(s("text", { class: "draw-point-name", x: p.x + 7 * sw, y: Y(p.y) - 7 * sw, "font-size": 13 * sw }, p.name));
+  }
+  ed.labels = placeLabels(m, crank, v, sw);
+  for (const l of ed.labels) {
+    g.appendChild(s("text", { class: l.cls, x: (l.box.x0 + l.box.x1) / 2, y: (l.box.y0 + l.box.y1) / 2, "text-anchor": "middle",
+      "dominant-baseline": "central", "font-size": l.px * sw, dataset: { label: l.of } }, l.text));
   }
   // what is wrong, said at its place
   let row = 0;
@@ -530,6 +527,171 @@ function drawCanvas() {
     g.appendChild(s("text", { class: ["draw-msg", msg.soft && "soft"], x, y, "font-size": 8 * sw }, msg.text));
   }
   svg.replaceChildren(g);
+}
+
+// --- labels ----------------------------------------------------------------------------------------------------------
+// Each name goes where it covers no other name, no joint and no block and stays on the canvas: a joint's name in one of
+// eight places round it, a link's off its middle on the side with room (or further along it), a plate's inside it or
+// off one of its edges; of the places that cover nothing, the one crossing fewest other links. All in the canvas's
+// own units (y down), the sizes in screen pixels times `sw`.
+const measure = { ctx: null, family: "", widths: new Map() };
+function textWidthPx(text, px, weight) {
+  if (!measure.ctx) {
+    measure.ctx = document.createElement("canvas").getContext("2d");
+    measure.family = getComputedStyle(document.getElementById("draw-canvas")).fontFamily;
+  }
+  const font = `${weight} ${px}px ${measure.family}`, key = `${font}|${text}`;
+  let w = measure.widths.get(key);
+  if (w === undefined) { measure.ctx.font = font; w = measure.ctx.measureText(text).width; measure.widths.set(key, w); }
+  return w;
+}
+
+const LINE_EM = 1.25;  // a text's box is about 1.2 em high (ascent and descent of the font)
+const meets = (a, b) => a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+const grow = (b, d) => ({ x0: b.x0 - d, y0: b.y0 - d, x1: b.x1 + d, y1: b.y1 + d });
+
+/** Whether the segment crosses the box (Liang–Barsky clipping). */
+function cuts(box, [x1, y1, x2, y2]) {
+  let t0 = 0, t1 = 1;
+  const dx = x2 - x1, dy = y2 - y1;
+  for (const [p, q] of [[-dx, x1 - box.x0], [dx, box.x1 - x1], [-dy, y1 - box.y0], [dy, box.y1 - y1]]) {
+    if (p === 0) { if (q < 0) return false; continue; }
+    const r = q / p;
+    if (p < 0) { if (r > t1) return false; if (r > t0) t0 = r; } else { if (r < t0) return false; if (r < t1) t1 = r; }
+  }
+  return true;
+}
+
+function segDist([px, py], [x1, y1, x2, y2]) {
+  const dx = x2 - x1, dy = y2 - y1, L2 = dx * dx + dy * dy;
+  const t = L2 ? Math.max(0, Math.min(1, ((px - x1) * dx + (py - y1) * dy) / L2)) : 0;
+  return Math.hypot(px - x1 - t * dx, py - y1 - t * dy);
+}
+
+/** Distance from a point to a link drawn through `ps`: zero inside a plate. */
+function linkDist(q, ps) {
+  if (ps.length > 2) {
+    let inside = false;
+    for (let i = 0, j = ps.length - 1; i < ps.length; j = i++) {
+      if ((ps[i][1] > q[1]) !== (ps[j][1] > q[1]) && q[0] < ps[i][0] + ((q[1] - ps[i][1]) * (ps[j][0] - ps[i][0])) / (ps[j][1] - ps[i][1])) inside = !inside;
+    }
+    if (inside) return 0;
+  }
+  const ring = ps.length > 2 ? [...ps, ps[0]] : ps;
+  let d = Infinity;
+  for (let k = 0; k + 1 < ring.length; k++) d = Math.min(d, segDist(q, [...ring[k], ...ring[k + 1]]));
+  return d;
+}
+
+function placeLabels(m, crank, v, sw) {
+  const P = Object.fromEntries(m.points.map((p) => [p.name, [p.x, -p.y]]));
+  const hard = [], segments = [];
+  for (const p of m.points) {
+    const [x, y] = P[p.name];
+    hard.push({ x0: x - 7 * sw, y0: y - 7 * sw, x1: x + 7 * sw, y1: y + 7 * sw });
+    if (p.ground) hard.push({ x0: x - 7 * sw, y0: y, x1: x + 7 * sw, y1: y + 12 * sw });
+  }
+  const blockBox = {};
+  for (const b of m.blocks) {
+    if (!P[b.point]) continue;
+    const [x, y] = P[b.point], a = (slideAngle(m, b) * Math.PI) / 180, c = Math.abs(Math.cos(a)), sn = Math.abs(Math.sin(a));
+    const hx = (16 * c + 9 * sn + 1) * sw, hy = (16 * sn + 9 * c + 1) * sw;
+    blockBox[b.name] = { x0: x - hx, y0: y - hy, x1: x + hx, y1: y + hy };
+    hard.push(blockBox[b.name]);
+    // a frame guide runs across the canvas: a name is better off it
+    const g = !b.slot && P[b.through];
+    if (g) segments.push({ link: b.name, xy: [g[0] - Math.cos(a) * v.w, g[1] + Math.sin(a) * v.w, g[0] + Math.cos(a) * v.w, g[1] - Math.sin(a) * v.w] });
+  }
+  for (const l of m.links) {
+    const ps = l.points.map((n) => P[n]).filter(Boolean);
+    const ring = ps.length > 2 ? [...ps, ps[0]] : ps;
+    for (let k = 0; k + 1 < ring.length; k++) segments.push({ link: l.name, xy: [...ring[k], ...ring[k + 1]] });
+  }
+  const inside = grow({ x0: v.x0, y0: -(v.y0 + v.h), x1: v.x0 + v.w, y1: -v.y0 }, -2 * sw);
+  const mid = m.points.length ? [m.points.reduce((t, p) => t + p.x, 0) / m.points.length, -m.points.reduce((t, p) => t + p.y, 0) / m.points.length] : [0, 0];
+  const placed = [];
+  // a name nearer another joint (or link) than its own would be read as that one's
+  const linkPts = m.links.map((l) => [l.name, l.points.map((n) => P[n]).filter(Boolean)]).filter(([, ps]) => ps.length > 1);
+  const misread = (of, q) => {
+    if (P[of] && m.points.some((p) => p.name === of)) {
+      const own = Math.hypot(q[0] - P[of][0], q[1] - P[of][1]);
+      return m.points.some((p) => p.name !== of && Math.hypot(q[0] - P[p.name][0], q[1] - P[p.name][1]) < own);
+    }
+    const mine = linkPts.find(([n]) => n === of);
+    if (!mine) return false;
+    const own = linkDist(q, mine[1]);
+    return linkPts.some(([n, ps]) => n !== of && linkDist(q, ps) < own);
+  };
+  // how far a name sits from what it names: of two free places, the nearer
+  const nearness = (of, q) => {
+    const mine = linkPts.find(([n]) => n === of);
+    return mine ? linkDist(q, mine[1]) : 0;
+  };
+  const put1 = (of, text, cls, px, weight, centres) => {
+    const w = textWidthPx(text, px, weight) * sw, hh = px * LINE_EM * sw;
+    let best = null;
+    centres(w, hh).forEach(([cx, cy], k) => {
+      const box = { x0: cx - w / 2, y0: cy - hh / 2, x1: cx + w / 2, y1: cy + hh / 2 };
+      const out = box.x0 < inside.x0 || box.x1 > inside.x1 || box.y0 < inside.y0 || box.y1 > inside.y1;
+      const covers = hard.reduce((t, o) => t + (meets(box, o) ? 1 : 0), 0);
+      // a link is drawn 6 units wide: the box grown by half of that meets its edge
+      const crossed = segments.reduce((t, sg) => t + (cuts(grow(box, 3 * sw), sg.xy) ? 1 : 0), 0);
+      const cost = (out ? 1e6 : 0) + covers * 1e4 + (misread(of, [cx, cy]) ? 30 : 0) + crossed * 10 + nearness(of, [cx, cy]) / sw / 20 + k * 1e-3;
+      if (!best || cost < best.cost) best = { cost, box };
+    });
+    if (!best) return;
+    hard.push(grow(best.box, 2 * sw));
+    placed.push({ of, text, cls, px, box: best.box });
+  };
+  // a joint's name: NE first (as it always was), then round the joint
+  const DIRS = [[1, -1], [-1, -1], [1, 1], [-1, 1], [1, 0], [-1, 0], [0, -1], [0, 1]];
+  for (const p of m.points) {
+    const [x, y] = P[p.name], r = 8 * sw;
+    put1(p.name, p.name, "draw-point-name", 13, 600, (w, hh) => DIRS.map(([dx, dy]) => [x + dx * (r + w / 2), y + dy * (r + hh / 2)]));
+  }
+  // a link's name off its middle, then a third and a fifth of the way from either end, first on the side away from
+  // the linkage's middle, then further off
+  const ALONG = [0.5, 0.35, 0.65, 0.2, 0.8];
+  const off = (a, b, away, w, hh) => {
+    const L = Math.hypot(b[0] - a[0], b[1] - a[1]) || 1, n = [-(b[1] - a[1]) / L, (b[0] - a[0]) / L];
+    const c = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+    const side = (c[0] - away[0]) * n[0] + (c[1] - away[1]) * n[1] >= 0 ? 1 : -1;
+    const ext = (w / 2) * Math.abs(n[0]) + (hh / 2) * Math.abs(n[1]) + 6 * sw;
+    const out = [];
+    for (const gap of [0, 10 * sw, 24 * sw, 44 * sw]) for (const t of ALONG) for (const sd of [side, -side]) {
+      out.push([a[0] + t * (b[0] - a[0]) + sd * n[0] * (ext + gap), a[1] + t * (b[1] - a[1]) + sd * n[1] * (ext + gap)]);
+    }
+    return out;
+  };
+  const output = outputOf(m, crank);
+  for (const l of m.links) {
+    const ps = l.points.map((n) => P[n]).filter(Boolean);
+    if (ps.length < 2) continue;
+    const role = l.name === (crank && crank.name) ? " (crank)" : l.name === output ? " (output)" : "";
+    const c = [ps.reduce((t, p) => t + p[0], 0) / ps.length, ps.reduce((t, p) => t + p[1], 0) / ps.length];
+    put1(l.name, l.name + role, "draw-link-name", 11, 400, (w, hh) => (ps.length === 2 ? off(ps[0], ps[1], mid, w, hh)
+      : [c, ...ps.map((p) => [(c[0] + p[0]) / 2, (c[1] + p[1]) / 2]),
+        ...ps.flatMap((p, k) => off(p, ps[(k + 1) % ps.length], c, w, hh).filter((_, j) => j % 2 === 0))]));
+  }
+  for (const b of m.blocks) {
+    const bb = blockBox[b.name];
+    if (!bb || b.name !== output) continue;
+    const cy = (bb.y0 + bb.y1) / 2, cx = (bb.x0 + bb.x1) / 2, gap = 4 * sw;
+    put1(b.name, `${b.name} (output)`, "draw-link-name", 11, 400, (w, hh) => [[bb.x1 + gap + w / 2, cy], [bb.x0 - gap - w / 2, cy],
+      [cx, bb.y0 - gap - hh / 2], [cx, bb.y1 + gap + hh / 2], [bb.x1 + gap + w / 2, bb.y0 - hh / 2], [bb.x1 + gap + w / 2, bb.y1 + hh / 2],
+      [bb.x0 - gap - w / 2, bb.y0 - hh / 2], [bb.x0 - gap - w / 2, bb.y1 + hh / 2]]);
+  }
+  return placed;
+}
+
+/** Where each name on the canvas was placed, in screen pixels: for tests that check no two cover each other. */
+export function labelBoxes() {
+  const svg = document.getElementById("draw-canvas"), M = svg.getScreenCTM();
+  const at = (x, y) => { const p = svg.createSVGPoint(); p.x = x; p.y = y; const q = p.matrixTransform(M); return [q.x, q.y]; };
+  return (ed.labels || []).map((l) => {
+    const [x0, y0] = at(l.box.x0, l.box.y0), [x1, y1] = at(l.box.x1, l.box.y1);
+    return { of: l.of, text: l.text, left: x0, top: y0, right: x1, bottom: y1 };
+  });
 }
 
 function num(v) { return String(Number((v / factor("length")).toPrecision(8))); }
@@ -841,7 +1003,7 @@ function install() {
     ed.messages = [...(lastChecked ? lastChecked.problems : []), { at: placeOf(body), text: ed.problem }];
     render();
   });
-  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
+  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, labelBoxes, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
   document.body.dataset.editorReady = "1";
 }
 
