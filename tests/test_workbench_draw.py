@@ -450,7 +450,8 @@ def test_no_name_on_the_canvas_covers_another_or_a_joint(page: Page, key: str) -
     canvas = page.evaluate("(() => { const r = document.getElementById('draw-canvas').getBoundingClientRect(); "
                            "return { left: r.left, top: r.top, right: r.right, bottom: r.bottom }; })()")
     for k, a in enumerate(drawn):
-        assert all(not _meet(a, b) for b in drawn[k + 1:]), (key, a["of"], [b["of"] for b in drawn[k + 1:] if _meet(a, b)])
+        assert all(not _meet(a, b) for b in drawn[k + 1:]), (key, a["of"],
+                                                               [b["of"] for b in drawn[k + 1:] if _meet(a, b)])
         assert not any(_meet(a, m) for m in markers), (key, a["of"], [m["of"] for m in markers if _meet(a, m)])
         assert (canvas["left"] <= a["left"] and a["right"] <= canvas["right"] and canvas["top"] <= a["top"]
                 and a["bottom"] <= canvas["bottom"]), (key, a)
@@ -460,3 +461,53 @@ def test_no_name_on_the_canvas_covers_another_or_a_joint(page: Page, key: str) -
         assert (b["left"] - 1 <= a["left"] and a["right"] <= b["right"] + 1 and b["top"] - 1 <= a["top"]
                 and a["bottom"] <= b["bottom"] + 1), (key, a, b)
     _shot(page, f"draw-labels-{key}")
+
+
+def test_a_long_problem_is_said_whole_and_the_canvas_stays_where_it_was(page: Page, base_url: str) -> None:
+    """A four-bar whose coupler is made too short to close: the service's problem (its crank angles) is shown in
+    full in the note above the canvas and on the canvas, wrapped, not cut off; the canvas does not move while the
+    note comes and goes (a click aimed before an answer lands where it was aimed)."""
+    page.evaluate("window.workbench.editor.ed.on || window.workbench.editor.setEditing(true)")
+    page.evaluate("window.workbench.editor.openTemplate('fourbar')")
+    _settled(page)
+    where = ("(() => { const r = document.getElementById('draw-canvas').getBoundingClientRect(); "
+             "return [r.left, r.top, r.width, r.height]; })()")
+    before = page.evaluate(where)
+    assert page.evaluate("document.getElementById('stale-note').hidden")
+    n = page.evaluate("window.workbench.state.seq")
+    page.fill("[id='dl-coupler']", "100")  # mm: A-B 100 mm cannot reach from A to the rocker's circle at every angle
+    page.press("[id='dl-coupler']", "Tab")  # the field's change: one edit
+    page.wait_for_function(f"document.body.dataset.problem === String(window.workbench.state.seq) && "
+                           f"window.workbench.state.seq > {n}", timeout=30_000)
+    design = page.evaluate("window.workbench.state.design")
+    problem = httpx.post(f"{base_url}/v1/analysis", json=design, timeout=60)
+    assert problem.status_code == 422, problem.text
+    detail = problem.json()["detail"]
+    assert page.evaluate(where) == before
+    note = page.evaluate("(() => { const e = document.getElementById('stale-note'), r = e.getBoundingClientRect(); "
+                         "return { text: e.textContent, sw: e.scrollWidth, cw: e.clientWidth, sh: e.scrollHeight, "
+                         "ch: e.clientHeight, left: r.left, right: r.right, top: r.top, bottom: r.bottom, "
+                         "vw: innerWidth, hidden: e.hidden, "
+                         "lines: Math.round(r.height / parseFloat(getComputedStyle(e).lineHeight)) }; })()")
+    assert not note["hidden"] and detail in note["text"], (detail, note["text"])
+    assert note["sw"] <= note["cw"] and note["sh"] <= note["ch"], note  # nothing scrolled out of sight
+    assert 0 <= note["left"] and note["right"] <= note["vw"], note
+    assert note["lines"] >= 2, note  # long enough to wrap in this window: the case the note was cut off in
+    # on the canvas: the same words, every line inside the canvas
+    said = page.evaluate("[...document.querySelectorAll('#draw-canvas text.draw-msg')].map((e) => { "
+                         "const r = e.getBoundingClientRect(); return { left: r.left, right: r.right, top: r.top, "
+                         "bottom: r.bottom, text: [...e.querySelectorAll('tspan')].map((t) => t.textContent)"
+                         ".join(' ') }; })")
+    mine = [m for m in said if detail in m["text"]]
+    assert mine, said
+    for m in said:
+        assert before[0] <= m["left"] and m["right"] <= before[0] + before[2], m
+        assert before[1] <= m["top"] and m["bottom"] <= before[1] + before[3], m
+    _shot(page, "draw-long-problem")
+
+    # the length put back: the note goes, the canvas stays
+    page.focus("#draw-canvas")
+    page.keyboard.press("Control+z")
+    _settled(page)
+    assert page.evaluate("document.getElementById('stale-note').hidden")
+    assert page.evaluate(where) == before

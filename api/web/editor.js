@@ -519,12 +519,19 @@ function drawCanvas() {
     g.appendChild(s("text", { class: l.cls, x: (l.box.x0 + l.box.x1) / 2, y: (l.box.y0 + l.box.y1) / 2, "text-anchor": "middle",
       "dominant-baseline": "central", "font-size": l.px * sw, dataset: { label: l.of } }, l.text));
   }
-  // what is wrong, said at its place
+  // what is wrong, said at its place, in lines that stay on the canvas
   let row = 0;
+  const right = v.x0 + v.w - 6 * sw, lineH = 10 * sw;
   for (const msg of ed.messages) {
     const p = msg.at && pt(msg.at);
-    const x = p ? p.x + 10 * sw : v.x0 + 10 * sw, y = p ? Y(p.y) + 18 * sw : Y(v.y0 + v.h) + (16 + 15 * row++) * sw;
-    g.appendChild(s("text", { class: ["draw-msg", msg.soft && "soft"], x, y, "font-size": 8 * sw }, msg.text));
+    let x = p ? p.x + 10 * sw : v.x0 + 10 * sw;
+    // beside its joint if a line of 40 characters or so fits there, else from the canvas's left edge
+    if (right - x < 220 * sw) x = v.x0 + 10 * sw;
+    const lines = wrapText(msg.text, 8, 600, (right - x) / sw);
+    const y = p ? Y(p.y) + 18 * sw : Y(v.y0 + v.h) + 16 * sw + row * lineH;
+    if (!p) row += lines.length + 0.5;
+    g.appendChild(s("text", { class: ["draw-msg", msg.soft && "soft"], x, y, "font-size": 8 * sw },
+      lines.map((ln, k) => s("tspan", { x, dy: k ? lineH : 0 }, ln))));
   }
   svg.replaceChildren(g);
 }
@@ -544,6 +551,18 @@ function textWidthPx(text, px, weight) {
   let w = measure.widths.get(key);
   if (w === undefined) { measure.ctx.font = font; w = measure.ctx.measureText(text).width; measure.widths.set(key, w); }
   return w;
+}
+
+/** A text broken at spaces into lines no wider than `maxPx` at `px` (a word wider than that on a line of its own). */
+function wrapText(text, px, weight, maxPx) {
+  const lines = [];
+  let line = "";
+  for (const word of String(text).split(" ")) {
+    const next = line ? `${line} ${word}` : word;
+    if (line && textWidthPx(next, px, weight) > maxPx) { lines.push(line); line = word; } else line = next;
+  }
+  if (line) lines.push(line);
+  return lines;
 }
 
 const LINE_EM = 1.25;  // a text's box is about 1.2 em high (ascent and descent of the font)
@@ -1001,6 +1020,8 @@ function install() {
       ? `${body.detail || "a dyad cannot close"}: no assembly for crank angles ${body.not_assemblable_ranges_deg.map(([a, b]) => `${Number(a).toFixed(1)}°–${Number(b).toFixed(1)}°`).join(", ")}`
       : body.detail || body.title;
     ed.messages = [...(lastChecked ? lastChecked.problems : []), { at: placeOf(body), text: ed.problem }];
+    // the note above the canvas says what the service said, not that the form holds an error
+    markStale(ed.problem);
     render();
   });
   window.workbench.editor = { ed, setEditing, openTemplate, toScreen, labelBoxes, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
