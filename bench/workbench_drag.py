@@ -6,11 +6,13 @@ pointer event to the last diagram and the canvas drawn; beside it, the part spen
 and the service's own time for the same request sent here with httpx. Goal: p95 ≤ 100 ms.
 
 Two hands: one at rest between moves (each move waits for its redraw), and one sweeping on without waiting, where the
-editor keeps one analysis in flight and sends the joint's latest position when it returns (its latency counted from
-the oldest move not yet analysed).
-
-Before the drag kept one request in flight and left the address bar alone while dragging (commit df46b96, this
-machine under the same shared load): at rest p50 62 ms, p95 82 ms, the request p50 55 ms, the service 11/15 ms.
+editor keeps one analysis in flight (its latency counted from the oldest move not yet analysed). The sweep runs the
+editor's drag as it was before (`early` off: the next position sent once the answer in flight is drawn, the canvas
+drawn before the request goes) and as it is (the next position sent as soon as an answer arrives, before it is
+drawn, and the canvas drawn after the request has gone), alternately in the same browser. The
+sweep's time is split with the page's Resource Timing entries: the wait for the analysis in flight (oldest move to
+the request sent), the request (sent to its last byte: the service, the network, the 0.7 MB answer), and the answer
+read and drawn.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import os
 import signal
 import statistics
 import time
+from typing import Any
 
 import httpx
 
@@ -26,6 +29,37 @@ from bench.workbench import CHROMIUM, CHROMIUM_ARGS, _p95, _serve
 
 MOVES = 40
 SWEEP = 120  # moves of one 5 mm grid step each, sent as fast as the browser takes them
+ROUNDS = 3  # sweeps of each kind, alternated, so both see the machine's load alike
+
+# each analysis drawn, split at its request's Resource Timing entry (the last answer to end before it was read)
+_PHASES = """() => {
+  const req = performance.getEntriesByType('resource')
+    .filter((e) => e.name.endsWith('/v1/analysis') && e.encodedBodySize > 0);
+  return window.workbench.state.timings.map((t) => {
+    const read = t.t0 + t.service, r = req.filter((e) => e.responseEnd <= read + 0.5).pop();
+    return { total: t.total, wait: r ? r.startTime - t.t0 : NaN, request: r ? r.responseEnd - r.startTime : NaN,
+             drawn: r ? t.t0 + t.total - r.responseEnd : NaN };
+  });
+}"""
+
+
+def _sweep(page: Any, at: list[list[float]], early: bool) -> tuple[list[dict[str, float]], float]:
+    page.evaluate(f"window.workbench.state.timings = []; window.workbench.editor.ed.early = {str(early).lower()}; "
+                  "performance.clearResourceTimings()")
+    t0 = time.perf_counter()
+    for k in range(SWEEP):
+        page.mouse.move(*at[k % 16 if (k // 16) % 2 == 0 else 16 - k % 16])
+    sweep_s = time.perf_counter() - t0
+    page.wait_for_function("window.workbench.state.pending === null && !window.workbench.editor.ed.dragging.queued",
+                           timeout=30_000)
+    return page.evaluate(_PHASES), sweep_s
+
+
+def _line(name: str, xs: list[float]) -> str:
+    xs = [x for x in xs if x == x]  # an analysis whose request has no timing entry is left out of its phases
+    if not xs:
+        return f"    {name:<28} (no timing entries)"
+    return f"    {name:<28} p50 {statistics.median(xs):6.1f} ms  p95 {_p95(xs):6.1f} ms"
 
 
 def main() -> None:
@@ -42,6 +76,7 @@ def main() -> None:
             page.evaluate("window.workbench.editor.openTemplate('press')")
             page.wait_for_function("window.workbench.state.pending === null && !window.workbench.editor.ed.fit",
                                    timeout=60_000)
+            page.evaluate("performance.setResourceTimingBufferSize(5000)")
             page.focus("#draw-canvas")
             page.keyboard.press("v")
             page.evaluate("window.workbench.state.timings = []")
@@ -58,15 +93,11 @@ def main() -> None:
                                        "window.workbench.state.pending === null", timeout=30_000)
             timings = page.evaluate("window.workbench.state.timings")
             design = page.evaluate("window.workbench.state.design")
-            page.evaluate("window.workbench.state.timings = []")
             at = page.evaluate("[...Array(17).keys()].map((k) => window.workbench.editor.toScreen(0.3 + 0.005 * k, 0.5))")
-            t_sweep = time.perf_counter()
-            for k in range(SWEEP):
-                page.mouse.move(*at[k % 16 if (k // 16) % 2 == 0 else 16 - k % 16])
-            sweep_s = time.perf_counter() - t_sweep
-            page.wait_for_function("window.workbench.state.pending === null && !window.workbench.editor.ed.dragging.queued",
-                                   timeout=30_000)
-            sweep = [t["total"] for t in page.evaluate("window.workbench.state.timings")]
+            sweeps: dict[bool, list[tuple[list[dict[str, float]], float]]] = {False: [], True: []}
+            for _ in range(ROUNDS):
+                for early in (False, True):
+                    sweeps[early].append(_sweep(page, at, early))
             page.mouse.up()
             browser.close()
         service = []
@@ -83,8 +114,17 @@ def main() -> None:
     print(f"  pointer move -> redrawn  p50 {statistics.median(total):6.1f} ms  p95 {_p95(total):6.1f} ms  (goal ≤ 100)")
     print(f"  of which the request     p50 {statistics.median(wait):6.1f} ms  p95 {_p95(wait):6.1f} ms")
     print(f"  service alone (httpx)    p50 {statistics.median(service):6.1f} ms  p95 {_p95(service):6.1f} ms")
-    print(f"sweeping on, {SWEEP} moves in {sweep_s:.1f} s, {len(sweep)} analyses drawn (one in flight at a time):")
-    print(f"  oldest move -> redrawn   p50 {statistics.median(sweep):6.1f} ms  p95 {_p95(sweep):6.1f} ms")
+    p95s = {}
+    for early, runs in sweeps.items():
+        drawn = [x for phases, _ in runs for x in phases]
+        p95s[early] = _p95([x["total"] for x in drawn])
+        print(f"sweeping on, {ROUNDS} x {SWEEP} moves in {sum(s for _, s in runs):.1f} s, {len(drawn)} analyses "
+              "drawn, " + ("now:" if early else "before (early off):"))
+        print(_line("oldest move -> redrawn", [x["total"] for x in drawn]))
+        print(_line("waiting for the one in flight", [x["wait"] for x in drawn]))
+        print(_line("request, sent to last byte", [x["request"] for x in drawn]))
+        print(_line("answer read and drawn", [x["drawn"] for x in drawn]))
+    print(f"sweep p95, now / before: {p95s[True] / p95s[False]:.2f}")
 
 
 if __name__ == "__main__":

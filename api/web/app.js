@@ -28,7 +28,7 @@ export const state = {
   design: null, units: { length: "mm", mass: "kg" }, answer: null, layout: null, index: 0, fields: [],
   timings: [], seq: 0, pending: null, plots: [], targets: [], openapi: null,
   // other modules' reactions to each answer and each refusal (the drawing editor)
-  hooks: { answer: [], problem: [] },
+  hooks: { answer: [], problem: [], received: [] },
 };
 
 // --- paths into the request --------------------------------------------------------------------------------------
@@ -332,6 +332,8 @@ export async function analyse(t0 = performance.now()) {
     const answer = await post("/v1/analysis", analysisRequest(), { signal: ctl.signal });
     if (seq !== state.seq) return;
     const tAnswer = performance.now();
+    // before this answer is drawn: a dragged joint's next position can be on its way meanwhile
+    for (const f of state.hooks.received) f(answer);
     clearMessages();
     markStale(null);
     state.answer = answer;
@@ -358,7 +360,7 @@ export async function analyse(t0 = performance.now()) {
     }
     const dt = performance.now() - t0;
     // edit-to-redraw time, and the part of it spent waiting for the service (bench/workbench.py reads these)
-    state.timings.push({ total: dt, service: tAnswer - t0 });
+    state.timings.push({ total: dt, service: tAnswer - t0, t0 });
     setStatus(`${answer.crank_angle_deg.length} samples · ${dt.toFixed(0)} ms`);
     document.body.dataset.analysed = String(seq);
   } catch (err) {

@@ -62,6 +62,34 @@ function polyline(xv, yv, X, Y) {
   return p;
 }
 
+/** Put `nodes` into `parent` reusing the elements already there: one of the same shape (tag, and its children's)
+ *  takes the new one's attributes and text in place, so a diagram redrawn at every step of a drag changes attributes
+ *  rather than its tree, which is less to style and lay out. The elements now in `parent`, in order. */
+function morph(parent, nodes) {
+  const old = [...parent.childNodes];
+  const live = nodes.map((n, i) => {
+    const o = old[i];
+    if (o && sameShape(o, n)) { syncNode(o, n); return o; }
+    if (o) parent.replaceChild(n, o); else parent.appendChild(n);
+    return n;
+  });
+  for (const o of old.slice(nodes.length)) o.remove();
+  return live;
+}
+
+function sameShape(a, b) {
+  if (a.nodeType !== b.nodeType || a.nodeName !== b.nodeName || a.childNodes.length !== b.childNodes.length) return false;
+  for (let i = 0; i < a.childNodes.length; i++) if (!sameShape(a.childNodes[i], b.childNodes[i])) return false;
+  return true;
+}
+
+function syncNode(a, b) {
+  if (a.nodeType !== Node.ELEMENT_NODE) { if (a.nodeValue !== b.nodeValue) a.nodeValue = b.nodeValue; return; }
+  for (const { name } of [...a.attributes]) if (!b.hasAttribute(name)) a.removeAttribute(name);
+  for (const { name, value } of b.attributes) if (a.getAttribute(name) !== value) a.setAttribute(name, value);
+  for (let i = 0; i < a.childNodes.length; i++) syncNode(a.childNodes[i], b.childNodes[i]);
+}
+
 function box(container, id, title) {
   let el = container.querySelector(`#${id}`);
   if (!el) {
@@ -112,10 +140,11 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
   }
   if (isZero) nodes.push(zeroNote(peak, unit, W - M.r - 4, M.t + 12));
   nodes.push(...legend(series));
-  const cursorLine = s("line", { class: "cursor", y1: M.t, y2: H - M.b, x1: M.l, x2: M.l });
-  const hoverLine = s("line", { class: "hover", y1: M.t, y2: H - M.b, x1: 0, x2: 0, visibility: "hidden" });
+  let cursorLine = s("line", { class: "cursor", y1: M.t, y2: H - M.b, x1: M.l, x2: M.l });
+  let hoverLine = s("line", { class: "hover", y1: M.t, y2: H - M.b, x1: 0, x2: 0, visibility: "hidden" });
   nodes.push(cursorLine, hoverLine);
-  svg.replaceChildren(...nodes);
+  const live = morph(svg, nodes);
+  [cursorLine, hoverLine] = live.slice(-2);
   const setCursor = (i) => {
     if (i === null || i === undefined || i >= x.length) { cursorLine.setAttribute("visibility", "hidden"); return; }
     cursorLine.setAttribute("visibility", "visible");
@@ -172,10 +201,8 @@ export function polarPlot(container, id, { title, series, unit, labels = ["Fx", 
       s("text", { x: 20, y: 4 }, c.name))));
   }
   if (isZero) nodes.push(zeroNote(peak, unit, M.l - 40, M.t + 4, "start"));
-  const ray = s("line", { class: "cursor", x1: cx, y1: cy, x2: cx, y2: cy });
-  const dot = s("circle", { class: "hover-dot", r: 3.5, cx: 0, cy: 0, fill: "#d0a000", visibility: "hidden" });
-  nodes.push(ray, dot);
-  svg.replaceChildren(...nodes);
+  const [ray, dot] = morph(svg, [...nodes, s("line", { class: "cursor", x1: cx, y1: cy, x2: cx, y2: cy }),
+    s("circle", { class: "hover-dot", r: 3.5, cx: 0, cy: 0, fill: "#d0a000", visibility: "hidden" })]).slice(-2);
   const first = series[0];
   const setCursor = (i) => {
     if (i === null || i === undefined || !first || i >= first.points.length) return;
