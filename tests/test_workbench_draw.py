@@ -162,6 +162,7 @@ def test_a_press_drawn_from_clicks_is_the_json_press_drags_and_undoes(page: Page
     _assert_same(drawn, ref)
     assert json.loads(page.input_value("[id='f-mechanism']")) == design["mechanism"]  # the JSON box is the drawing
     assert "II (L2, L3)" in (page.text_content("#draw-side .groups") or "")
+    _assert_names_apart(page, "press from clicks")  # a view with the crank near the canvas's left edge
     _shot(page, "draw-press")
 
     # drag B 40 mm to the right: the coupler and rocker lengths change and the torque with them
@@ -435,15 +436,22 @@ def _meet(a: dict[str, Any], b: dict[str, Any]) -> bool:
 @pytest.mark.parametrize("key", ["press", "stephenson"])
 def test_no_name_on_the_canvas_covers_another_or_a_joint(page: Page, key: str) -> None:
     """Where links meet at a joint or lie close (the press's rocker plate, the Stephenson's coupler plate), each name
-    is drawn where it covers no other name and no joint's marker, inside the canvas. The boxes are the browser's
-    own boxes of the drawn text, not the editor's plan; the plan is checked to hold each drawn text (to 1 px)."""
+    is drawn where it covers no other name and no joint's marker, inside the canvas."""
     page.evaluate("window.workbench.editor.ed.on || window.workbench.editor.setEditing(true)")
     page.evaluate(f"window.workbench.editor.openTemplate({json.dumps(key)})")
     _settled(page)
+    _assert_names_apart(page, key)
+    _shot(page, f"draw-labels-{key}")
+
+
+def _assert_names_apart(page: Page, key: str) -> None:
+    """The browser's own boxes of the drawn names (not the editor's plan) cover no other name and no joint's marker
+    and lie inside the canvas; the editor's plan holds each drawn name (to 1 px)."""
     model = page.evaluate("window.workbench.editor.ed.model")
     drawn = page.evaluate(_RECTS, "#draw-canvas text[data-label]")
     # every joint's name, every link's and the output block's
-    want = {p["name"] for p in model["points"]} | {lk["name"] for lk in model["links"]} | {model["output"]}
+    output = page.evaluate("window.workbench.state.design.mechanism.output")
+    want = {p["name"] for p in model["points"]} | {lk["name"] for lk in model["links"]} | {output}
     assert sorted(r["of"] for r in drawn) == sorted(want), key
     markers = page.evaluate(_RECTS, "#draw-canvas circle.draw-point")
     assert len(markers) == len(model["points"])
@@ -460,7 +468,6 @@ def test_no_name_on_the_canvas_covers_another_or_a_joint(page: Page, key: str) -
         b = planned[a["of"]]
         assert (b["left"] - 1 <= a["left"] and a["right"] <= b["right"] + 1 and b["top"] - 1 <= a["top"]
                 and a["bottom"] <= b["bottom"] + 1), (key, a, b)
-    _shot(page, f"draw-labels-{key}")
 
 
 def test_a_long_problem_is_said_whole_and_the_canvas_stays_where_it_was(page: Page, base_url: str) -> None:

@@ -710,9 +710,15 @@ function placeLabels(m, crank, v, sw) {
     if (ps.length < 2) continue;
     const role = l.name === (crank && crank.name) ? " (crank)" : l.name === output ? " (output)" : "";
     const c = [ps.reduce((t, p) => t + p[0], 0) / ps.length, ps.reduce((t, p) => t + p[1], 0) / ps.length];
-    put1(l.name, l.name + role, "draw-link-name", 11, 400, (w, hh) => (ps.length === 2 ? off(ps[0], ps[1], mid, w, hh)
+    // and if none of those is free (a short link hemmed in by its neighbours or the canvas's edge): anywhere round
+    // its middle, nearer first
+    const round = (w, hh) => [1, 1.6, 2.4, 3.4].flatMap((f) => [...Array(16).keys()].map((k) => {
+      const a = (k * Math.PI) / 8;
+      return [c[0] + Math.cos(a) * f * (w / 2 + 8 * sw), c[1] + Math.sin(a) * f * (hh / 2 + 8 * sw)];
+    }));
+    put1(l.name, l.name + role, "draw-link-name", 11, 400, (w, hh) => [...(ps.length === 2 ? off(ps[0], ps[1], mid, w, hh)
       : [c, ...ps.map((p) => [(c[0] + p[0]) / 2, (c[1] + p[1]) / 2]),
-        ...ps.flatMap((p, k) => off(p, ps[(k + 1) % ps.length], c, w, hh).filter((_, j) => j % 2 === 0))]));
+        ...ps.flatMap((p, k) => off(p, ps[(k + 1) % ps.length], c, w, hh).filter((_, j) => j % 2 === 0))]), ...round(w, hh)]);
   }
   for (const b of m.blocks) {
     const bb = blockBox[b.name];
