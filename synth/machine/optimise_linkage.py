@@ -518,7 +518,7 @@ def conclude_linkage(spec: LinkageOptimiseSpec, scan: BoxScan, members: Sequence
     Raises Infeasible when no member meets the function and every check, or the best three fail the whole
     chain."""
     rank = _rank(spec, members)
-    if not rank.starts:
+    if not np.isfinite(rank.scores).any():
         reasons = sorted({m.reason for m in members if m.reason})
         raise Infeasible("no member of the box meets the function and every check: " + "; ".join(reasons[:3]),
                          "function", field="function", members_sampled=len(members))
