@@ -1,15 +1,25 @@
 """Any linkage's free dimensions chosen with its machine: the six-bar press of the manual with the guide's place
-and the rocker's lever arm free, against a 16 × 16 grid of its own; the function met, bad input named."""
+and the rocker's lever arm free, against a 16 × 16 grid of its own; the function met, bad input named, work
+beyond the service's bound refused before it starts."""
 
 from __future__ import annotations
 
 import copy
 import math
+import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from fastapi.testclient import TestClient
 
+import synth
+from api.app import create_app
+from api.execution.optimise_linkage import price_linkage_optimisation
+from api.execution.plans import Limits
+from api.execution.work import estimate_s
+from api.settings import Settings
 from mechsynth_client import SynthClient
 from mechsynth_client.schemas.common import PlanarLinkageIn
 from mechsynth_client.schemas.optimise import (
@@ -19,6 +29,7 @@ from mechsynth_client.schemas.optimise import (
     LINKAGE_MAX_REFINED,
     LINKAGE_MAX_SAMPLES,
     LINKAGE_MIN_SAMPLES,
+    LINKAGE_QUICK,
     SIX_BAR_OPTIMISE_EXAMPLE,
     LinkageOptimiseIn,
     LinkageOptimiseOut,
@@ -110,3 +121,36 @@ def test_a_function_no_member_meets_is_infeasible(client: SynthClient) -> None:
     r = client.http.post("/v1/machines/optimise-linkage", json=body)
     assert r.status_code == 422, r.text
     assert r.json()["type"] == "/problems/infeasible"
+
+
+# The work is priced before it starts (api/execution/work.py): a chain run of the six-bar press costs 0.1 s and
+# 0.1 ms per crank angle, 0.1072 s at its 72; the optimum's whole design 1 s. On one worker the default request
+# (64 + 1 members, 4 starts of up to 60 runs) is 65 x 0.1072 + 240 x 0.1072 + 1 = 33.7 s, the refinement most of
+# it; 512 + 1 members with one start of 20 runs are 513 x 0.1072 + 20 x 0.1072 + 1 = 58.1 s, the sample most.
+@pytest.mark.parametrize(("change", "field", "got"), [({}, "refine_runs", 34),
+                                                      ({"samples": 512, "refined": 1, "refine_runs": 20},
+                                                       "samples", 59)])
+def test_work_beyond_the_bound_is_refused_before_it_starts(tmp_path: Path, change: dict[str, Any], field: str,
+                                                           got: int) -> None:
+    settings = Settings(executor="serial", max_request_work_s=20.0, studies_db=str(tmp_path / "s.sqlite"))
+    with TestClient(create_app(settings)) as c:
+        start = time.monotonic()
+        r = c.post("/v1/machines/optimise-linkage", json={**copy.deepcopy(SIX_BAR_OPTIMISE_EXAMPLE), **change})
+        assert r.status_code == 413, r.text
+        problem = r.json()
+        assert (problem["field"], problem["got"], problem["limit"]) == (field, got, 20)
+        assert time.monotonic() - start < 2.0  # refused at once, not after the work
+        # 16 + 1 members and one start of 20 runs: 37 x 0.1072 + 1 = 5.0 s, within the bound; it runs
+        quick = {**copy.deepcopy(SIX_BAR_OPTIMISE_EXAMPLE), **LINKAGE_QUICK, "refined": 0}
+        assert c.post("/v1/machines/optimise-linkage", json=quick).status_code == 200
+
+
+def test_the_price_is_the_time_on_the_workers_it_is_dealt_to() -> None:
+    body = LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE)
+    lim = Limits(3600, 6, 20.0, max_work_s=20.0)
+    # two workers share the 65 members (33 each) and take two starts each: 33 x 0.1072 + 120 x 0.1072 + 1 s
+    assert price_linkage_optimisation(body, lim, 2) == pytest.approx(153 * 0.1072 + 1, rel=1e-12)
+    with pytest.raises(synth.TooLarge):
+        price_linkage_optimisation(body, lim, 1)
+    # a study's variant runs on one worker: its estimate is the one-worker figure
+    assert estimate_s("/v1/machines/optimise-linkage", body) == pytest.approx(305 * 0.1072 + 1, rel=1e-12)

@@ -1,4 +1,4 @@
-"""POST /v1/machines/optimise-linkage on the executor's workers.
+"""POST /v1/machines/optimise-linkage on the executor's workers, priced before it starts.
 
 The engine's :func:`~synth.machine.optimise_linkage.optimise_linkage` runs its stages one after another in one
 process (a design study's variant does that). A request runs the same stages as separate tasks: the box's sample
@@ -11,19 +11,39 @@ answer.
 from __future__ import annotations
 
 import asyncio
+import math
 from collections.abc import Awaitable, Sequence
 from typing import TypeVar
 
 from fastapi import Request, Response
 
+import synth
 from mechsynth_client.schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut
 from synth.machine.optimise_linkage import conclude_linkage, design_sample, refine_start, scan_box
 
 from ..media import Render
 from .admission import RequestSolvers
-from .plans import Plan
+from .plans import Limits, Plan
+from .work import linkage_member_s, optimise_linkage_s
 
 T = TypeVar("T")
+
+
+def price_linkage_optimisation(b: LinkageOptimiseIn, lim: Limits, workers: int) -> float:
+    """The request's estimated time on ``workers`` workers [s]; TooLarge naming the field that drives most of
+    it (``samples`` or ``refine_runs``) when beyond the service's bound."""
+    parts = optimise_linkage_s(b, max(1, workers))
+    wall = sum(parts.values())
+    if wall > lim.max_work_s:
+        field = max(("samples", "refine_runs"), key=lambda k: parts[k])
+        raise synth.TooLarge(
+            "linkage optimisation estimated time [s]", int(lim.max_work_s), math.ceil(wall),
+            f"{b.samples} sampled members and {b.refined} refinements of up to {b.refine_runs} chain runs each "
+            f"(a chain run about {linkage_member_s(b):.2g} s for this machine) take about {wall:.3g} s on the {workers} workers, beyond the bound of "
+            f"{lim.max_work_s:g} s: ask for fewer {field.replace('_', ' ')}"
+            + (" or fewer refined" if field == "refine_runs" else "") + ", or fewer crank angles (machine.samples)",
+            field=field)
+    return wall
 
 
 async def _together(calls: Sequence[Awaitable[T]]) -> list[T]:
@@ -43,6 +63,7 @@ async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
     workers = solvers.solvers.workers
     spec = body.to_engine(lim.max_stages)
     spec.validate()
+    price_linkage_optimisation(body, lim, workers)
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_box, spec)
     feasible = scan.feasible

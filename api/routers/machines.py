@@ -68,5 +68,6 @@ async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: S
     shaking force, machine mass, cost or a weighted sum. A scrambled Sobol sample of the box is checked
     kinematically, the members that meet the function run through the chain to their steady machine (side by
     side on the workers), the best are refined by COBYLA (the function as its constraints; one start per task)
-    and the best member is designed whole; the certificate states the coverage and claims no gap."""
+    and the best member is designed whole; the certificate states the coverage and claims no gap. The work is
+    estimated before it starts: 413 naming `samples` or `refine_runs` beyond the service's bound."""
     return await answer_linkage_optimisation(body, request, solvers)
