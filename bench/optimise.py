@@ -89,7 +89,7 @@ def main() -> None:
     _line("six-bar", t_six_chain, t_six_engine, t_six_endpoint, before, f"{six_result.values[3]:.3f} kg "
           f"({six_result.certificate.sampled} sampled, {six_result.certificate.refine_runs} refinement runs)")
     same = (six_spread.values["machine_mass"] == six_result.values[3] == six_one_task.values[3]
-            and list(six_spread.free.values()) == list(six_result.x))
+            and [f.value_m for f in six_spread.free] == list(six_result.x))
     print(f"{'':13s} endpoint before: one task {t_six_one_task:6.2f} s; after: its stages spread over 2 workers "
           f"{t_six_endpoint:6.2f} s ({t_six_one_task / t_six_endpoint:.1f} x); "
           f"{'the same answer' if same else 'ANSWERS DIFFER'}")

@@ -1,21 +1,25 @@
 """Any linkage's free dimensions chosen with its machine: the six-bar press of the manual with the guide's place
 and the rocker's lever arm free, against a 16 × 16 grid of its own; the function met, bad input named, work
-beyond the service's bound refused before it starts."""
+beyond the service's bound refused before it starts; the stages spread over a pool's workers give the engine's
+own answer in one process (the same members in the same order, the same optimum, to 1e-12)."""
 
 from __future__ import annotations
 
 import copy
 import math
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import orjson
 import pytest
 from fastapi.testclient import TestClient
 
 import synth
 from api.app import create_app
+from api.media import Render
 from api.execution.optimise_linkage import price_linkage_optimisation
 from api.execution.plans import Limits
 from api.execution.work import estimate_s
@@ -35,13 +39,24 @@ from mechsynth_client.schemas.optimise import (
     LinkageOptimiseOut,
 )
 from synth.machine import optimise_linkage as engine
+from synth.machine.optimise_linkage import optimise_linkage
 
 GRID = 16
 
 
 @pytest.fixture(scope="module")
-def answer(client: SynthClient) -> LinkageOptimiseOut:
-    return client.optimise_linkage(LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE))
+def pool_client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[SynthClient]:
+    """The endpoint as the service runs it, its stages as tasks on two worker processes; a deadline that leaves
+    room for cores shared with other work."""
+    settings = Settings(executor="pool", workers=2, request_deadline_s=300.0,
+                        studies_db=str(tmp_path_factory.mktemp("linkage-pool") / "s.sqlite"))
+    with TestClient(create_app(settings), base_url="http://localhost") as http:
+        yield SynthClient(http=http)
+
+
+@pytest.fixture(scope="module")
+def answer(pool_client: SynthClient) -> LinkageOptimiseOut:
+    return pool_client.optimise_linkage(LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE))
 
 
 def test_bounds_match_the_engine() -> None:
@@ -55,12 +70,14 @@ def test_the_answer_meets_the_function(answer: LinkageOptimiseOut) -> None:
     a = answer
     assert a.design.passed
     body = SIX_BAR_OPTIMISE_EXAMPLE
+    chosen = {f.path: f.value_m for f in a.free}
+    assert list(chosen) == [d["path"] for d in body["free"]]  # type: ignore[union-attr]
     for d in body["free"]:  # type: ignore[union-attr]
-        assert d["min"] <= a.free[d["path"]] <= d["max"]
+        assert d["min"] <= chosen[d["path"]] <= d["max"]
     # the chosen press solved here over 3600 crank angles: the ram runs on the vertical guide through G, so its
     # stroke is the range of D's height, its time ratio the crank angles between the extremes
     mech = PlanarLinkageIn.model_validate(a.mechanism).to_mechanism()
-    assert dict(mech.frame_points)["G"][0] == a.free["frame_points_m.G.x"]
+    assert dict(mech.frame_points)["G"][0] == chosen["frame_points_m.G.x"]
     phi = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
     points, _ = mech.solve(phi)
     y = points["D"].pos[:, 1]
@@ -154,3 +171,41 @@ def test_the_price_is_the_time_on_the_workers_it_is_dealt_to() -> None:
         price_linkage_optimisation(body, lim, 1)
     # a study's variant runs on one worker: its estimate is the one-worker figure
     assert estimate_s("/v1/machines/optimise-linkage", body) == pytest.approx(305 * 0.1072 + 1, rel=1e-12)
+
+
+# three refinement starts on two workers: one worker takes two of them, so the starts' order is exercised
+BODY: dict[str, Any] = {**copy.deepcopy(SIX_BAR_OPTIMISE_EXAMPLE), "samples": 12, "refined": 3, "refine_runs": 10}
+
+# how long a solver or a search took: the figures of an answer that are no function of the request
+WALL_CLOCK = {"solve_time_s", "search_time_s", "elapsed_s"}
+
+
+def _same(a: Any, b: Any, where: str = "") -> None:
+    """Every number of ``a`` within 1e-12 relative of ``b``'s, everything else equal, member by member."""
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys(), where
+        for k in a.keys() - WALL_CLOCK:
+            _same(a[k], b[k], f"{where}.{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), where
+        for k, (x, y) in enumerate(zip(a, b, strict=True)):
+            _same(x, y, f"{where}.{k}")
+    elif isinstance(a, float) and not isinstance(b, bool):
+        assert isinstance(b, (int, float)) and math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-15), (where, a, b)
+    else:
+        assert a == b, (where, a, b)
+
+
+def test_the_pool_answer_is_the_engine_answer_in_one_process(pool_client: SynthClient) -> None:
+    body = LinkageOptimiseIn.model_validate(BODY)
+    alone = optimise_linkage(body.to_engine(6))
+    spread = pool_client.optimise_linkage(body)
+    # the endpoint on the pool ran the scan, two shares of the sample, three starts and the conclusion as tasks
+    assert spread.certificate.refined == alone.certificate.refined == 3
+    # the engine's optimum written as the endpoint writes its answer
+    mine = orjson.loads(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),))(alone)[0])
+    theirs = spread.model_dump(mode="json")
+    # every member (sample then each start's refinement, in order), the optimum's numbers, values and design
+    assert [m["x"] for m in theirs["members"]] == [m["x"] for m in mine["members"]]
+    _same(theirs, mine)
+    assert spread.values["machine_mass"] == pytest.approx(alone.values[3], rel=1e-12)
