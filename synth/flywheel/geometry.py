@@ -159,7 +159,7 @@ def _rim(rho: float, inertia: float, k1: tuple[float, float], k2: tuple[float, f
     c_lo, c_hi = (4 * inertia / (math.pi * rho * k) for k in k2)
 
     def diameter(t: float) -> float:
-        return min(outer_limit / (1 + t), (c_lo / (t * (1 + t * t))) ** 0.2)
+        return min(outer_limit / (1 + t), float((c_lo / (t * (1 + t * t))) ** 0.2))
 
     candidates = list(k1)
     if math.isfinite(outer_limit):
