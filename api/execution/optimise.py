@@ -9,6 +9,7 @@ worker. The members are put back in the order the engine's own loop makes them, 
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Sequence
 
 from fastapi import Request, Response
 
@@ -21,6 +22,24 @@ from .plans import SERVICE_VERSION, machine_optimise_conclusion
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
+#: The chain's own member has its wheels sized to the chain's precision: about as much work as this many other
+#: members of the scan (measured on the README's crank-rocker with two stages).
+SIZED_MEMBER_WEIGHT = 8.0
+
+
+def member_shares(candidates: Sequence[float], sized: float, n: int) -> list[list[float]]:
+    """The scan's members in ``n`` shares of about the same work: each member, in the family's order, to the
+    share with the least work so far, so every worker gets members from the whole family and the member
+    ``sized`` counts for :data:`SIZED_MEMBER_WEIGHT`."""
+    shares: list[list[float]] = [[] for _ in range(n)]
+    work = [0.0] * n
+    for u in candidates:
+        k = min(range(n), key=lambda i: (work[i], i))
+        shares[k].append(u)
+        work[k] += SIZED_MEMBER_WEIGHT if u == sized else 1.0
+    return [s for s in shares if s]
+
+
 async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers,
                               fmt: str | None = None) -> Response:
     """Answer the request with the optimised machine, its chains spread over the workers; ``fmt`` pdf: the
@@ -30,8 +49,7 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
-    # interleaved, so every worker gets members from the whole family and about the same work
-    shares = [scan.candidates[k::n] for k in range(n)]
+    shares = member_shares(scan.candidates, scan.chain_parameter, n)
     parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t,
                                                size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
