@@ -1,9 +1,10 @@
 """POST /v1/machines/optimise on the executor's workers: the candidates' chains run side by side.
 
-The engine's :func:`synth.optimise_machine` runs its four stages one after another in one process (a design
-study's variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's
-members in one task per worker, one task per cell searched, and the conclusion, which renders the answer in its
-worker. The members are put back in the order the engine's own loop makes them, so both give the same answer.
+The engine's :func:`synth.optimise_machine` runs its stages one after another in one process (a design study's
+variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's members in
+one task per worker, one task per cell searched to cut it into plateaus, one per plateau searched, and the
+conclusion, which renders the answer in its worker. The members are put back in the order the engine's own
+loop makes them, so both give the same answer.
 """
 
 from __future__ import annotations
@@ -13,7 +14,15 @@ from collections.abc import Sequence
 
 from fastapi import Request, Response
 
-from synth.machine.optimise import MAX_SEARCHED, MemberScore, conclude, design_members, scan_family, search_cell
+from synth.machine.optimise import (
+    MAX_SEARCHED,
+    MemberScore,
+    cell_plateaus,
+    conclude_search,
+    design_members,
+    scan_family,
+    search_plateau,
+)
 
 from .admission import RequestSolvers
 from synth.machine.record import DesignRecord
@@ -54,10 +63,12 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
                                                size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
-    searched = await asyncio.gather(*(solvers.run(search_cell, spec, scan, members, k, time_limit_s=t)
-                                      for k in range(MAX_SEARCHED)))
-    refinements = tuple(r for r, _ in searched if r is not None)
-    extra = tuple(m for _, seen in searched for m in seen)
+    walks = await asyncio.gather(*(solvers.run(cell_plateaus, spec, scan, members, k, time_limit_s=t)
+                                   for k in range(MAX_SEARCHED)))
+    # one task per plateau: a cell's plateaus are searched side by side, whatever cell they belong to
+    seen = await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
+                                  for _, plateaus in walks for p in plateaus))
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
-    plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t, record=record)
+    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, tuple(walks), tuple(seen), t,
+                                       record=record)
     return await solvers.answer_plan(plan, request, fmt)
