@@ -161,7 +161,8 @@ def _rim(rho: float, inertia: float, k1: tuple[float, float], k2: tuple[float, f
     def diameter(t: float) -> float:
         return min(outer_limit / (1 + t), float((c_lo / (t * (1 + t * t))) ** 0.2))
 
-    candidates = list(k1)
+    # the thickness of the greatest capacity is feasible whenever the caller's bound let the shaft through
+    candidates = [*k1, min(max(_RIM_PEAK, k1[0]), k1[1])]
     if math.isfinite(outer_limit):
         l5 = outer_limit**5
         for c in (c_lo, c_hi):
