@@ -326,8 +326,7 @@ def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
 
 
 def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any, record: DesignRecord | None = None) -> Plan:
-    """The last task of POST /v1/machines/optimise: ``fn(spec, scan, members, refinements, time_limit_s)``
-    concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
+    """The last task of POST /v1/machines/optimise: ``fn(*args[:-1], time_limit_s=args[-1])`` concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
     chosen machine with the certificate's page (pdf)."""
     *head, time_limit_s = args
     if record is None:
