@@ -146,7 +146,8 @@ def six_bar_critical_path(body: LinkageOptimiseIn) -> None:
     feasible = scan.feasible
     shares = [_cpu(lambda s=s: lo.design_sample(spec, scan, feasible[s::2])) for s in range(2)]  # type: ignore[misc]
     members = scan.members([pair for part, _ in shares for pair in part])
-    starts = [_cpu(lambda k=k: lo.refine_start(spec, scan, members, k)) for k in range(spec.refined)]  # type: ignore[misc]
+    starts = [_cpu(lambda k=k: lo.refine_start(spec, scan, members, k))  # type: ignore[misc]
+              for k in range(spec.refined)]
     _, t_end = _cpu(lambda: lo.conclude_linkage(spec, scan, members, [r for r, _ in starts]))
     total = t_scan + sum(t for _, t in shares) + sum(t for _, t in starts) + t_end
     path = t_scan + max(t for _, t in shares) + _two_workers([t for _, t in starts]) + t_end

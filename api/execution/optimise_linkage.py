@@ -39,9 +39,10 @@ def price_linkage_optimisation(b: LinkageOptimiseIn, lim: Limits, workers: int) 
         raise synth.TooLarge(
             "linkage optimisation estimated time [s]", int(lim.max_work_s), math.ceil(wall),
             f"{b.samples} sampled members and {b.refined} refinements of up to {b.refine_runs} chain runs each "
-            f"(a chain run about {linkage_member_s(b):.2g} s for this machine) take about {wall:.3g} s on the {workers} workers, beyond the bound of "
-            f"{lim.max_work_s:g} s: ask for fewer {field.replace('_', ' ')}"
-            + (" or fewer refined" if field == "refine_runs" else "") + ", or fewer crank angles (machine.samples)",
+            f"(a chain run about {linkage_member_s(b):.2g} s for this machine) take about {wall:.3g} s on the "
+            f"{workers} workers, beyond the bound of {lim.max_work_s:g} s: ask for fewer "
+            f"{field.replace('_', ' ')}{' or fewer refined' if field == 'refine_runs' else ''}, or fewer crank "
+            "angles (machine.samples)",
             field=field)
     return wall
 
@@ -71,10 +72,12 @@ async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
     # interleaved, so every worker gets members from the whole sample
     shares = [feasible[k::n] for k in range(n)]
     designed = await _together([solvers.run(design_sample, spec, scan, share, time_limit_s=t)
-                                         for share in shares])
+                                for share in shares])
     members = scan.members([pair for part in designed for pair in part])
+    # a start past the feasible members refines nothing: no task for it
+    starts = min(spec.refined, sum(m.feasible for m in members))
     refinements = await _together([solvers.run(refine_start, spec, scan, members, k, time_limit_s=t)
-                                            for k in range(spec.refined)])
+                                   for k in range(starts)])
     plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
                 conclude_linkage, (spec, scan, members, refinements), dict(time_limit_s=t))
     return await solvers.answer_plan(plan, request)

@@ -476,7 +476,7 @@ def refine_start(spec: LinkageOptimiseSpec, scan: BoxScan, members: Sequence[Lin
                  time_limit_s: float = 20.0) -> tuple[LinkageMember, ...]:
     """Third stage, one task per start: COBYLA from the ``k``-th best member of the sample (``members``, in the
     sample's order) on the score, the function's slacks and the box its constraints; every member it looked
-    at, in the order it did. None when there is no ``k``-th feasible member."""
+    at, in the order it did; none when the sample has no ``k``-th feasible member."""
     rank = _rank(spec, members)
     if k >= len(rank.starts):
         return ()
