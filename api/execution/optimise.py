@@ -17,6 +17,8 @@ from fastapi import Request, Response
 from synth.machine.optimise import (
     MAX_SEARCHED,
     MemberScore,
+    Plateau,
+    Refinement,
     cell_plateaus,
     conclude_search,
     design_members,
@@ -63,12 +65,18 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
                                                size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
-    walks = await asyncio.gather(*(solvers.run(cell_plateaus, spec, scan, members, k, time_limit_s=t)
-                                   for k in range(MAX_SEARCHED)))
-    # one task per plateau: a cell's plateaus are searched side by side, whatever cell they belong to
-    seen = await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
-                                  for _, plateaus in walks for p in plateaus))
+
+    async def search(k: int) -> tuple[tuple[Refinement | None, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
+        # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
+        # cell's walk
+        walk = await solvers.run(cell_plateaus, spec, scan, members, k, time_limit_s=t)
+        return walk, await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
+                                            for p in walk[1]))
+
+    searched = await asyncio.gather(*(search(k) for k in range(MAX_SEARCHED)))
+    walks = tuple(walk for walk, _ in searched)
+    seen = tuple(s for _, found in searched for s in found)
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
-    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, tuple(walks), tuple(seen), t,
+    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, walks, seen, t,
                                        record=record)
     return await solvers.answer_plan(plan, request, fmt)
