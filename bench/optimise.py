@@ -5,8 +5,11 @@ README (static balancing, least added mass), the slider-crank press (motor power
 and the six-bar press with two free dimensions (least machine mass, ``/v1/machines/optimise-linkage``). For each,
 the wall times [s] of one chain run (``/v1/machines/design`` on the chain's member, or on the six-bar as drawn),
 of the engine's optimisation in one process and of the endpoint on a two-worker pool, and the objective before
-and after; for the crank-rocker also the best member of the densest evenly spread scan. The cores are shared:
-the load average is printed beside the times. Completes in about a minute on a quiet machine.
+and after; for the crank-rocker also the best member of the densest evenly spread scan, and the endpoint's stages
+timed in CPU seconds with the longest path through them on two workers; for the six-bar also the engine's whole
+optimisation as one task on the same pool (as the endpoint ran before it spread its stages) and its stages in CPU
+seconds likewise. The cores are shared: the load average is printed beside the wall times. Completes in about a
+minute on a quiet machine.
 """
 
 from __future__ import annotations
@@ -26,7 +29,10 @@ from mechsynth_client.schemas.optimise import (
     LinkageOptimiseIn,
     MachineOptimiseIn,
 )
+from synth.machine import optimise as opt
 from synth.machine.optimise import OBJECTIVES, normalisers, score
+from api.execution.optimise import member_shares
+from synth.machine import optimise_linkage as lo
 from synth.machine.optimise_linkage import optimise_linkage
 
 
@@ -63,7 +69,10 @@ def main() -> None:
         client.optimise_machine(engine["crank-rocker"][3])  # workers start and import the engine once
         endpoint = {name: _once(lambda b=body: client.optimise_machine(b))[1]  # type: ignore[misc]
                     for name, (_, _, _, body) in engine.items()}
-        t_six_endpoint = _once(lambda: client.optimise_linkage(six))[1]
+        six_spread, t_six_endpoint = _once(lambda: client.optimise_linkage(six))
+        # as the endpoint ran before its stages were spread: the engine's whole optimisation as one task
+        executor = client.http.app.state.solvers.executor  # type: ignore[attr-defined]
+        six_one_task, t_six_one_task = _once(lambda: executor.submit(optimise_linkage, six_spec).result())
     for name, (result, t_chain, t_engine, body) in engine.items():
         spec = result.spec
         norm = normalisers(result.members, result.certificate.scan.chain_parameter)
@@ -83,6 +92,68 @@ def main() -> None:
               else "as drawn: infeasible")
     _line("six-bar", t_six_chain, t_six_engine, t_six_endpoint, before, f"{six_result.values[3]:.3f} kg "
           f"({six_result.certificate.sampled} sampled, {six_result.certificate.refine_runs} refinement runs)")
+    same = (six_spread.values["machine_mass"] == six_result.values[3] == six_one_task.values[3]
+            and [f.value_m for f in six_spread.free] == list(six_result.x))
+    print(f"{'':13s} endpoint before: one task {t_six_one_task:6.2f} s; after: its stages spread over 2 workers "
+          f"{t_six_endpoint:6.2f} s ({t_six_one_task / t_six_endpoint:.1f} x); "
+          f"{'the same answer' if same else 'ANSWERS DIFFER'}")
+
+    critical_path(engine["crank-rocker"][3])
+    six_bar_critical_path(six)
+
+
+def _cpu(fn: Callable[[], Any]) -> tuple[Any, float]:
+    t0 = time.process_time()
+    out = fn()
+    return out, time.process_time() - t0
+
+
+def _two_workers(times: list[float]) -> float:
+    """The time two workers take for tasks handed out in order, each to the first free worker."""
+    busy = [0.0, 0.0]
+    for t in times:
+        busy[busy.index(min(busy))] += t
+    return max(busy)
+
+
+def critical_path(body: MachineOptimiseIn) -> None:
+    """The endpoint's stages on the crank-rocker run in this process, each timed in CPU seconds (which a busy
+    machine stretches far less than wall time), and the longest path through them on two workers."""
+    spec = body.to_engine(max_stages=6)
+    scan, t_scan = _cpu(lambda: opt.scan_family(spec))
+    shares = [_cpu(lambda s=s: opt.design_members(spec, s, size_gears_at=(scan.chain_parameter,)))  # type: ignore[misc]
+              for s in member_shares(scan.candidates, scan.chain_parameter, 2)]
+    by = {m.parameter: m for part, _ in shares for m in part}
+    members = tuple(by[u] for u in scan.candidates)
+    walks = [_cpu(lambda k=k: opt.cell_plateaus(spec, scan, members, k)) for k in range(opt.MAX_SEARCHED)]  # type: ignore[misc]
+    plateaus = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p))  # type: ignore[misc]
+                for (_, ps), _ in walks for p in ps]
+    _, t_end = _cpu(lambda: opt.conclude_search(spec, scan, members, tuple(w for w, _ in walks),
+                                                tuple(s for s, _ in plateaus)))
+    path = (t_scan + max(t for _, t in shares) + _two_workers([t for _, t in walks])
+            + _two_workers([t for _, t in plateaus]) + t_end)
+    print(f"crank-rocker on 2 workers, CPU s: scan {t_scan:.3f} | members {' + '.join(f'{t:.2f}' for _, t in shares)} "
+          f"| cells cut {' + '.join(f'{t:.2f}' for _, t in walks)} | {len(plateaus)} plateaus "
+          f"{sum(t for _, t in plateaus):.2f} | conclusion {t_end:.2f} | critical path {path:.2f} s")
+
+
+def six_bar_critical_path(body: LinkageOptimiseIn) -> None:
+    """The linkage endpoint's stages on the six-bar run in this process, each timed in CPU seconds, and the
+    longest path through them on two workers (the sample's members in two interleaved shares, the starts handed
+    out in order), against their sum: the engine's time in one process."""
+    spec = body.to_engine(6)
+    scan, t_scan = _cpu(lambda: lo.scan_box(spec))
+    feasible = scan.feasible
+    shares = [_cpu(lambda s=s: lo.design_sample(spec, scan, feasible[s::2])) for s in range(2)]  # type: ignore[misc]
+    members = scan.members([pair for part, _ in shares for pair in part])
+    starts = [_cpu(lambda k=k: lo.refine_start(spec, scan, members, k))  # type: ignore[misc]
+              for k in range(spec.refined)]
+    _, t_end = _cpu(lambda: lo.conclude_linkage(spec, scan, members, [r for r, _ in starts]))
+    total = t_scan + sum(t for _, t in shares) + sum(t for _, t in starts) + t_end
+    path = t_scan + max(t for _, t in shares) + _two_workers([t for _, t in starts]) + t_end
+    print(f"six-bar on 2 workers, CPU s: scan {t_scan:.3f} | members {' + '.join(f'{t:.2f}' for _, t in shares)} "
+          f"| starts {' + '.join(f'{t:.2f}' for _, t in starts)} | conclusion {t_end:.2f} | one process "
+          f"{total:.2f} s, critical path {path:.2f} s ({total / path:.1f} x)")
 
 
 if __name__ == "__main__":

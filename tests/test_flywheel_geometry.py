@@ -87,3 +87,91 @@ def test_no_limit_at_all_is_invalid() -> None:
     with pytest.raises(synth.InvalidInput) as err:
         synth.design_flywheel(1.0, synth.GeometrySpec(max_rim_speed=None), 10.0)
     assert err.value.field == "geometry.max_diameter_m"
+
+
+def _least_mass_nlp(spec: synth.GeometrySpec, inertia: float, outer_limit: float) -> float:
+    """Independent: the least mass as a nonconvex NLP in (D, a, b) solved by IPOPT from the largest proportions."""
+    import casadi as ca
+
+    rho, rim = spec.density, spec.shape == "rim"
+    length = (inertia / rho) ** 0.2
+    opti = ca.Opti()
+    x = opti.variable(3)
+    d, a, b = x[0] * length, x[1] * length, x[2] * length
+    k1, k2 = spec.thickness_ratio, spec.width_ratio
+    if rim:
+        j, mass = rho * math.pi * b * d * a * (d**2 + a**2) / 4, rho * math.pi * d * a * b
+        opti.subject_to(opti.bounded(k1[0] * x[0], x[1], k1[1] * x[0]))
+        opti.subject_to(x[0] + x[1] <= outer_limit / length)
+    else:
+        j, mass = rho * math.pi * b * d**4 / 32, rho * math.pi * d**2 * b / 4
+        opti.subject_to(x[1] == 0)
+        opti.subject_to(x[0] <= outer_limit / length)
+    opti.subject_to(opti.bounded(k2[0] * x[0], x[2], k2[1] * x[0]))
+    opti.subject_to(j / inertia >= 1)
+    opti.subject_to(x[0] >= 1e-3)
+    opti.minimize(mass / (rho * length**3))
+    best = math.inf
+    # a nonconvex program: the lightest of several starts across the thickness range
+    for t in np.linspace(k1[0], k1[1], 5) if rim else [0.0]:
+        d0 = 0.9 * outer_limit / (1 + t) if math.isfinite(outer_limit) else 3 * length
+        opti.set_initial(x, [d0 / length, t * d0 / length, k2[1] * d0 / length])
+        opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "sb": "yes", "tol": 1e-12})
+        try:
+            sol = opti.solve()
+        except RuntimeError:
+            continue
+        best = min(best, float(sol.value(mass)))
+    return best
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_closed_form_least_mass_equals_the_nlp(seed: int) -> None:
+    # the closed form against IPOPT on the same program, over limits that bind each way: the outer diameter, the
+    # least width, thickness ranges on both sides of the rim's peak t ≈ 0.307
+    rng = np.random.default_rng(seed)
+    shape = "rim" if seed % 3 else "disc"
+    t_lo = float(rng.uniform(0.05, 0.5))
+    w_lo = float(rng.uniform(0.05, 0.3))
+    spec = synth.GeometrySpec(shape=shape, density=7200.0, max_rim_speed=None,
+                              max_diameter=float(rng.uniform(0.3, 1.5)),
+                              thickness_ratio=(t_lo, t_lo + float(rng.uniform(0.0, 0.6))),
+                              width_ratio=(w_lo, w_lo + float(rng.uniform(0.0, 0.4))))
+    assert spec.max_diameter is not None
+    largest = rng.uniform(0.05, 0.95)
+    j = _largest_inertia(spec) * largest
+    body = synth.design_flywheel(j, spec, 1.0).best
+    assert body.inertia_check == pytest.approx(j, rel=1e-9)
+    assert body.outer_diameter <= spec.max_diameter * (1 + 1e-12)
+    d = body.diameter
+    assert spec.width_ratio[0] * d * (1 - 1e-12) <= body.width <= spec.width_ratio[1] * d * (1 + 1e-12)
+    if shape == "rim":
+        assert body.thickness is not None
+        assert spec.thickness_ratio[0] * (1 - 1e-12) <= body.thickness / d <= spec.thickness_ratio[1] * (1 + 1e-12)
+    assert body.mass == pytest.approx(_least_mass_nlp(spec, j, spec.max_diameter), rel=1e-6)
+
+
+def _largest_inertia(spec: synth.GeometrySpec) -> float:
+    """Independent: the most inertia within the outer diameter, by a dense scan of the thickness ratio."""
+    assert spec.max_diameter is not None
+    k2 = spec.width_ratio[1]
+    if spec.shape == "disc":
+        return spec.density * math.pi * k2 * spec.max_diameter**5 / 32
+    t = np.linspace(*spec.thickness_ratio, 20001)
+    d = spec.max_diameter / (1 + t)
+    return float(np.max(spec.density * math.pi * k2 * d * t * d * d * d * d * (1 + t * t) / 4))
+
+
+def test_a_rim_thickness_range_past_the_peak_holds_what_fits() -> None:
+    # t(1 + t²)/(1 + t)⁵ peaks inside (0.1, 0.6): the rim at the largest thickness ratio holds 12 % less than the
+    # one at the peak, so a flywheel between the two fits and must be designed, not refused
+    spec = synth.GeometrySpec(max_rim_speed=None, max_diameter=1.0, thickness_ratio=(0.1, 0.6),
+                              width_ratio=(0.1, 0.2))
+    most = _largest_inertia(spec)
+    at_top = spec.density * math.pi * 0.2 * 0.6 * (1 + 0.36) / (1.6**5) / 4
+    assert at_top < 0.9 * most
+    body = synth.design_flywheel(0.99 * most, spec, 1.0).best
+    assert body.inertia_check == pytest.approx(0.99 * most, rel=1e-9)
+    assert body.mass == pytest.approx(_least_mass_nlp(spec, 0.99 * most, 1.0), rel=1e-6)
+    with pytest.raises(synth.Infeasible):
+        synth.design_flywheel(1.001 * most, spec, 1.0)

@@ -340,3 +340,17 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
     for v, w in zip(_objectives(d)[:3], (member.motor_power_W, member.added_mass_kg, member.rms_shaking_force_N),
                     strict=True):
         assert v == pytest.approx(w, rel=1e-9, abs=1e-9)
+
+
+def test_member_shares_give_each_worker_about_the_same_work() -> None:
+    # every member once; the shares' work (the sized member weighing SIZED_MEMBER_WEIGHT) within one member
+    # of each other; each share spread over the family, not a block of it
+    from api.execution.optimise import SIZED_MEMBER_WEIGHT, member_shares
+
+    members = [k / 64 for k in range(65)]
+    for n in (1, 2, 3):
+        shares = member_shares(members, members[20], n)
+        assert sorted(u for s in shares for u in s) == members
+        work = [sum(SIZED_MEMBER_WEIGHT if u == members[20] else 1.0 for u in s) for s in shares]
+        assert max(work) - min(work) <= 1.0
+        assert all(min(s) <= members[n - 1] and max(s) >= members[-n] for s in shares)

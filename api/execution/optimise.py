@@ -1,24 +1,54 @@
 """POST /v1/machines/optimise on the executor's workers: the candidates' chains run side by side.
 
-The engine's :func:`synth.optimise_machine` runs its four stages one after another in one process (a design
-study's variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's
-members in one task per worker, one task per cell searched, and the conclusion, which renders the answer in its
-worker. The members are put back in the order the engine's own loop makes them, so both give the same answer.
+The engine's :func:`synth.optimise_machine` runs its stages one after another in one process (a design study's
+variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's members in
+one task per worker, one task per cell searched to cut it into plateaus, one per plateau searched, and the
+conclusion, which renders the answer in its worker. The members are put back in the order the engine's own
+loop makes them, so both give the same answer.
 """
 
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Sequence
 
 from fastapi import Request, Response
 
-from synth.machine.optimise import MAX_SEARCHED, MemberScore, conclude, design_members, scan_family, search_cell
+from synth.machine.optimise import (
+    MAX_SEARCHED,
+    MemberScore,
+    Plateau,
+    Refinement,
+    cell_plateaus,
+    conclude_search,
+    design_members,
+    scan_family,
+    search_plateau,
+)
 
 from .admission import RequestSolvers
 from synth.machine.record import DesignRecord
 
 from .plans import SERVICE_VERSION, machine_optimise_conclusion
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
+
+
+#: The chain's own member has its wheels sized to the chain's precision: about as much work as this many other
+#: members of the scan (measured on the README's crank-rocker with two stages).
+SIZED_MEMBER_WEIGHT = 8.0
+
+
+def member_shares(candidates: Sequence[float], sized: float, n: int) -> list[list[float]]:
+    """The scan's members in ``n`` shares of about the same work: each member, in the family's order, to the
+    share with the least work so far, so every worker gets members from the whole family and the member
+    ``sized`` counts for :data:`SIZED_MEMBER_WEIGHT`."""
+    shares: list[list[float]] = [[] for _ in range(n)]
+    work = [0.0] * n
+    for u in candidates:
+        k = min(range(n), key=lambda i: (work[i], i))
+        shares[k].append(u)
+        work[k] += SIZED_MEMBER_WEIGHT if u == sized else 1.0
+    return [s for s in shares if s]
 
 
 async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers,
@@ -30,16 +60,23 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
-    # interleaved, so every worker gets members from the whole family and about the same work
-    shares = [scan.candidates[k::n] for k in range(n)]
+    shares = member_shares(scan.candidates, scan.chain_parameter, n)
     parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t,
                                                size_gears_at=(scan.chain_parameter,)) for share in shares))
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
-    searched = await asyncio.gather(*(solvers.run(search_cell, spec, scan, members, k, time_limit_s=t)
-                                      for k in range(MAX_SEARCHED)))
-    refinements = tuple(r for r, _ in searched if r is not None)
-    extra = tuple(m for _, seen in searched for m in seen)
+
+    async def search(k: int) -> tuple[tuple[Refinement | None, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
+        # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
+        # cell's walk
+        walk = await solvers.run(cell_plateaus, spec, scan, members, k, time_limit_s=t)
+        return walk, await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
+                                            for p in walk[1]))
+
+    searched = await asyncio.gather(*(search(k) for k in range(MAX_SEARCHED)))
+    walks = tuple(walk for walk, _ in searched)
+    seen = tuple(s for _, found in searched for s in found)
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
-    plan = machine_optimise_conclusion(conclude, spec, scan, members + extra, refinements, t, record=record)
+    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, walks, seen, t,
+                                       record=record)
     return await solvers.answer_plan(plan, request, fmt)

@@ -24,6 +24,7 @@ from synth.machine import foundation_design as fdd
 from synth.machine import regulation as rg
 from synth.machine.foundation_plots import design_figure, elastic_drive_figure, isolation_figure, regulation_figure
 from synth.machine.record import DesignRecord, input_rows
+from synth.machine.optimise_linkage import optimise_linkage
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
@@ -45,6 +46,7 @@ from mechsynth_client.schemas.gearing import DriveIn, DriveOut, SplitIn, SplitOu
 from mechsynth_client.schemas.rating import RatingIn, RatingOut
 from mechsynth_client.schemas.machine import MachineIn
 from mechsynth_client.schemas.optimise import MachineOptimiseIn, MachineOptimiseOut
+from mechsynth_client.schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut
 from mechsynth_client.schemas.structure import StructureIn, StructureOut
 from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
@@ -324,8 +326,7 @@ def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
 
 
 def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any, record: DesignRecord | None = None) -> Plan:
-    """The last task of POST /v1/machines/optimise: ``fn(spec, scan, members, refinements, time_limit_s)``
-    concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
+    """The last task of POST /v1/machines/optimise: ``fn(*args[:-1], time_limit_s=args[-1])`` concludes and its answer is rendered in the worker: the JSON, or with ``record`` the design record of the
     chosen machine with the certificate's page (pdf)."""
     *head, time_limit_s = args
     if record is None:
@@ -429,6 +430,13 @@ def cam_synthesis_plan(b: CamSynthesisIn, lim: Limits) -> Plan:
                 "least-cam")
 
 
+def machine_optimise_linkage(b: LinkageOptimiseIn, lim: Limits) -> Plan:
+    """POST /v1/machines/optimise-linkage as one task: every stage one after another (a study's variant, a kept
+    design); the endpoint itself runs the same stages as tasks side by side and gives the same answer."""
+    return Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(b.model_dump(mode="json"),)), optimise_linkage,
+                (b.to_engine(lim.max_stages),), dict(time_limit_s=lim.solver_time_limit_s))
+
+
 # The design endpoints by path: request schema and plan. A study may vary any of them.
 PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/analysis": (AnalysisIn, analysis),
@@ -456,4 +464,5 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/machines/regulation": (RegulationIn, regulation),
     "/v1/cams/analysis": (CamAnalysisIn, cam_analysis_plan),
     "/v1/cams/synthesis": (CamSynthesisIn, cam_synthesis_plan),
+    "/v1/machines/optimise-linkage": (LinkageOptimiseIn, machine_optimise_linkage),
 }

@@ -9,6 +9,7 @@ from fastapi.responses import Response
 
 from ..execution import plans
 from ..execution.optimise import answer_optimisation
+from ..execution.optimise_linkage import answer_linkage_optimisation
 from ..deps import SolverDep
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
 from mechsynth_client.schemas.optimise import (
@@ -17,9 +18,6 @@ from mechsynth_client.schemas.optimise import (
     MachineOptimiseIn,
     MachineOptimiseOut,
 )
-from synth.machine.optimise_linkage import optimise_linkage as _optimise_linkage
-from ..execution.plans import Plan
-from ..media import Render
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -68,10 +66,8 @@ async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: S
     the analysed linkage (the output's stroke or swing within a band, the time ratio within a band, the least
     transmission angle of every dyad, assembly over the whole turn), for the least motor power, added mass,
     shaking force, machine mass, cost or a weighted sum. A scrambled Sobol sample of the box is checked
-    kinematically, the members that meet the function run through the chain to their steady machine, the best
-    are refined by COBYLA (the function as its constraints) and the best member is designed whole; the
-    certificate states the coverage and claims no gap."""
-    spec = body.to_engine(solvers.limits.max_stages)
-    plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
-                _optimise_linkage, (spec,), dict(time_limit_s=solvers.limits.solver_time_limit_s))
-    return await solvers.answer_plan(plan, request)
+    kinematically, the members that meet the function run through the chain to their steady machine (side by
+    side on the workers), the best are refined by COBYLA (the function as its constraints; one start per task)
+    and the best member is designed whole; the certificate states the coverage and claims no gap. The work is
+    estimated before it starts: 413 naming `samples` or `refine_runs` beyond the service's bound."""
+    return await answer_linkage_optimisation(body, request, solvers)

@@ -17,6 +17,7 @@ from .common import (
     FrictionIn,
     Length,
     LoadIn,
+    PlanarLinkageIn,
     SliderCrankIn,
     StrictModel,
     exactly_one,
@@ -609,13 +610,20 @@ class LinkageCertificateOut(BaseModel):
     gap_bound: float | None = Field(description="null: no gap bound is claimed.")
 
 
+class FreeValueOut(BaseModel):
+    """A free number as chosen."""
+
+    path: str = Field(description="Its path, as the request's `free` names it.", examples=["frame_points_m.G.x"])
+    value_m: float = Field(description="Its value [m].", examples=[0.4624])
+
+
 class LinkageOptimiseOut(BaseModel):
     """The linkage's free numbers and its machine chosen together."""
 
     design: MachineDesignOut = Field(description="The optimised machine, as /v1/machines/design answers it.")
-    mechanism: dict[str, Any] = Field(description="The chosen linkage as the `mechanism` of a /v1/machines/design "
-                                      "request.")
-    free: dict[str, float] = Field(description="The free numbers chosen, by path [m].")
+    mechanism: PlanarLinkageIn = Field(description="The chosen linkage as the `mechanism` of a /v1/machines/design "
+                                       "request.")
+    free: list[FreeValueOut] = Field(description="The free numbers chosen, in the order of the request's `free`.")
     stroke_or_swing: float = Field(description="Its output's travel: stroke [m] or swing [deg].")
     time_ratio: float = Field(description="Its time ratio [-], from its highest and lowest positions.")
     time_ratio_range: list[float] = Field(description="The least and largest time ratio over every pair of its "
@@ -648,8 +656,9 @@ class LinkageOptimiseOut(BaseModel):
 
         c = r.certificate
         return cls(
-            design=MachineDesignOut.from_engine(r.design), mechanism=req.mechanism_with(r.x),
-            free={d.path: float(v) for d, v in zip(req.free, r.x, strict=True)},
+            design=MachineDesignOut.from_engine(r.design),
+            mechanism=PlanarLinkageIn.model_validate(req.mechanism_with(r.x)),
+            free=[FreeValueOut(path=d.path, value_m=float(v)) for d, v in zip(req.free, r.x, strict=True)],
             stroke_or_swing=r.kinematics.travel * k, time_ratio=r.kinematics.time_ratio,
             time_ratio_range=list(r.kinematics.time_ratio_span),
             min_transmission_angle_deg=math.degrees(r.kinematics.min_transmission_angle),

@@ -1,9 +1,10 @@
 """What the flywheel looks like and where it goes: rim or solid disc, on the crank shaft or a faster one.
 
 A flywheel of inertia J on the crank does the same on a shaft turning r times faster with J/r² (seed 002:201-204).
-For each shaft the least-mass body within the diameter, rim-speed (or stress) and proportion limits is a small
-nonconvex NLP (CasADi + IPOPT); a closed-form bound first tells whether the shaft can hold the flywheel at all and
-names the limit that binds when it cannot.
+For each shaft the least-mass body within the diameter, rim-speed (or stress) and proportion limits has a closed
+form: a disc is as wide as its limits allow; a rim's best thickness ratio lies at an end of its range or where the
+binding limit changes, the roots of a quintic. A bound first tells whether the shaft can hold the flywheel at all
+and names the limit that binds when it cannot.
 """
 
 from __future__ import annotations
@@ -12,9 +13,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
-import casadi as ca
+import numpy as np
 
-from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
+from ..errors import Infeasible, InvalidInput
 
 
 def rim_diameter(inertia: float, density: float, k1: float, k2: float) -> float:
@@ -128,54 +129,64 @@ def _inertia(shape: str, density: float, d: float, a: float, b: float) -> float:
     return density * math.pi * b * d**4 / 32
 
 
+_RIM_PEAK = float(next(r.real for r in np.roots([-2.0, 3.0, -4.0, 1.0]) if abs(r.imag) < 1e-12))
+
+
 def _largest(spec: GeometrySpec, outer_limit: float) -> float:
-    """Largest inertia [kg·m²] within an outer diameter, at the largest proportions."""
-    k1, k2 = spec.thickness_ratio[1], spec.width_ratio[1]
+    """Largest inertia [kg·m²] within an outer diameter: the greatest width ratio and, for a rim, the thickness
+    ratio in range that makes t(1 + t²)/(1 + t)⁵ largest (it peaks where 1 - 4t + 3t² - 2t³ = 0, t ≈ 0.307)."""
+    k2 = spec.width_ratio[1]
     if spec.shape == "rim":
-        d = outer_limit / (1 + k1)
-        return _inertia("rim", spec.density, d, k1 * d, k2 * d)
+        t = min(max(_RIM_PEAK, spec.thickness_ratio[0]), spec.thickness_ratio[1])
+        d = outer_limit / (1 + t)
+        return _inertia("rim", spec.density, d, t * d, k2 * d)
     return _inertia("disc", spec.density, outer_limit, 0.0, k2 * outer_limit)
 
 
-def _least_mass(spec: GeometrySpec, inertia: float, outer_limit: float, time_limit_s: float) -> tuple[float, float, float]:
-    """Mean (or outer) diameter, thickness and width [m] of the lightest body of ``inertia`` [kg·m²]."""
-    rho, rim = spec.density, spec.shape == "rim"
-    length = (inertia / rho) ** 0.2  # scales the unknowns to order one
-    opti = ca.Opti()
-    x = opti.variable(3)  # D, a, b over length
-    d, a, b = x[0] * length, x[1] * length, x[2] * length
-    k1, k2 = spec.thickness_ratio, spec.width_ratio
-    if rim:
-        j = rho * math.pi * b * d * a * (d**2 + a**2) / 4
-        mass = rho * math.pi * d * a * b
-        opti.subject_to(opti.bounded(k1[0] * x[0], x[1], k1[1] * x[0]))
-        opti.subject_to(x[0] + x[1] <= outer_limit / length)
-    else:
-        j = rho * math.pi * b * d**4 / 32
-        mass = rho * math.pi * d**2 * b / 4
-        opti.subject_to(x[1] == 0)
-        opti.subject_to(x[0] <= outer_limit / length)
-    opti.subject_to(opti.bounded(k2[0] * x[0], x[2], k2[1] * x[0]))
-    opti.subject_to(j / inertia >= 1)
-    opti.subject_to(x[0] >= 1e-3)
-    opti.minimize(mass / (rho * length**3))
-    d0 = min(rim_diameter(inertia, rho, k1[1], k2[1]) if rim else (32 * inertia / (math.pi * rho * k2[1])) ** 0.2,
-             0.9 * outer_limit / (1 + (k1[1] if rim else 0)))
-    opti.set_initial(x, [d0 / length, (k1[1] * d0 if rim else 0) / length, k2[1] * d0 / length])
-    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "sb": "yes", "max_wall_time": float(time_limit_s)})
-    try:
-        sol = opti.solve()
-    except RuntimeError as exc:
-        status = str(opti.stats().get("return_status", "unknown"))
-        if status == "Maximum_WallTime_Exceeded":
-            raise SolverTimeout(time_limit_s) from exc
-        raise SolverFailed(status) from exc
-    v = sol.value(x) * length
-    return float(v[0]), float(v[1]), float(v[2])
+def _disc(rho: float, inertia: float, k2: tuple[float, float], outer_limit: float) -> tuple[float, float, float]:
+    # m = 8J/D² falls as D grows: the widest disc the outer limit and the least width ratio allow
+    d = min(outer_limit, (32 * inertia / (math.pi * rho * k2[0])) ** 0.2)
+    return d, 0.0, min(32 * inertia / (math.pi * rho * d**4), k2[1] * d)
+
+
+def _rim(rho: float, inertia: float, k1: tuple[float, float], k2: tuple[float, float],
+         outer_limit: float) -> tuple[float, float, float]:
+    # With a = t·D the inertia holds at m = 4J/(D²(1 + t²)): the lightest rim makes D²(1 + t²) largest. At a
+    # given t, D is the least of L/(1 + t) and the diameter at the least width ratio, (C_lo/(t(1 + t²)))^(1/5);
+    # it exists when the width it leaves is within the greatest ratio. Both pieces of H(t) = D(t)²(1 + t²) are
+    # quasiconvex in t > 0, so on every stretch where the binding piece and the feasibility do not change the
+    # largest H lies at the stretch's ends: the range's ends and the roots of L⁵·t(1 + t²) = C·(1 + t)⁵.
+    c_lo, c_hi = (4 * inertia / (math.pi * rho * k) for k in k2)
+
+    def diameter(t: float) -> float:
+        return min(outer_limit / (1 + t), float((c_lo / (t * (1 + t * t))) ** 0.2))
+
+    # the thickness of the greatest capacity is feasible whenever the caller's bound let the shaft through
+    candidates = [*k1, min(max(_RIM_PEAK, k1[0]), k1[1])]
+    if math.isfinite(outer_limit):
+        l5 = outer_limit**5
+        for c in (c_lo, c_hi):
+            # L⁵(t + t³) - C(1 + t)⁵, highest power first
+            roots = np.roots([-c, -5 * c, l5 - 10 * c, -10 * c, l5 - 5 * c, -c])
+            candidates += [float(r.real) for r in roots
+                           if abs(r.imag) <= 1e-9 * (1 + abs(r)) and k1[0] < r.real < k1[1]]
+    feasible = [t for t in candidates if diameter(t) ** 5 * t * (1 + t * t) >= c_hi * (1 - 1e-9)]
+    t = max(feasible, key=lambda t: diameter(t) ** 2 * (1 + t * t))
+    d = diameter(t)
+    b = 4 * inertia / (math.pi * rho * d**4 * t * (1 + t * t))
+    return d, t * d, min(max(b, k2[0] * d), k2[1] * d)
+
+
+def _least_mass(spec: GeometrySpec, inertia: float, outer_limit: float) -> tuple[float, float, float]:
+    """Mean (or outer) diameter, thickness and width [m] of the lightest body of ``inertia`` [kg·m²] whose outer
+    diameter is at most ``outer_limit`` [m], in closed form; the caller has checked that one exists."""
+    if spec.shape == "rim":
+        return _rim(spec.density, inertia, spec.thickness_ratio, spec.width_ratio, outer_limit)
+    return _disc(spec.density, inertia, spec.width_ratio, outer_limit)
 
 
 def design_flywheel(
-    inertia: float, spec: GeometrySpec, crank_speed_max: float, *, time_limit_s: float = 20.0
+    inertia: float, spec: GeometrySpec, crank_speed_max: float
 ) -> FlywheelDesign:
     """The least-mass flywheel of crank-shaft inertia ``inertia`` [kg·m²] over the candidate shafts.
 
@@ -202,7 +213,7 @@ def design_flywheel(
         if math.isfinite(outer_limit) and _largest(spec, outer_limit) < j_shaft:
             misses.append(PlacementMiss(shaft.name, shaft.speed_ratio, binding, _largest(spec, outer_limit)))
             continue
-        d, a, b = _least_mass(spec, j_shaft, outer_limit, time_limit_s)
+        d, a, b = _least_mass(spec, j_shaft, outer_limit)
         outer = d + a
         mass = spec.density * math.pi * (d * a * b if spec.shape == "rim" else d * d * b / 4)
         bodies.append(

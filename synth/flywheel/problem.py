@@ -150,9 +150,7 @@ def size_flywheel(
     design = next(m for m in methods if m.method == design_method)
     shape = None
     if geometry is not None and design.flywheel_inertia > 0:
-        shape = design_flywheel(
-            design.flywheel_inertia, geometry, design.speed.omega_max, time_limit_s=time_limit_s
-        )
+        shape = design_flywheel(design.flywheel_inertia, geometry, design.speed.omega_max)
     return FlywheelResult(
         cycle=balanced,
         mean_speed=mean_speed,

@@ -409,7 +409,7 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     if method.flywheel_inertia > 0:
         try:
             shape = design_flywheel(method.flywheel_inertia, replace(choice.geometry, shafts=shafts),
-                                    float(motion.omega.max()), time_limit_s=time_limit_s)
+                                    float(motion.omega.max()))
         except Infeasible as exc:
             # the machine request holds the geometry under flywheel: name the field as the request spells it
             raise Infeasible(exc.reason, None if exc.constraint is None else f"flywheel.{exc.constraint}",

@@ -7,7 +7,7 @@ chain chooses for that member, for a stated objective: the motor's rated power, 
 normalised by its value on the chain's own machine (the synthesis endpoint's default member designed by
 :func:`design_machine`).
 
-How the family is covered, in four plain functions of plain data so that the candidates' chains run on worker
+How the family is covered, in plain functions of plain data so that the candidates' chains run on worker
 processes (:func:`optimise_machine` runs them one after another):
 
 1. :func:`scan_family`: the kinematic constraints of many members at once (vectorised), the feasible runs of the
@@ -15,12 +15,13 @@ processes (:func:`optimise_machine` runs them one after another):
 2. :func:`design_members`: the chain to its steady machine on the candidates (see :mod:`.optimise_light`), each
    scored on the simulated steady machine (its checks: delta, speed, motor heating and breakdown) and the
    optional shaking limits;
-3. :func:`cells` and :func:`search_cell`: the members sharing the chain's discrete choices (catalogue motor,
-   tooth numbers) form plateaus of the parameter on which the objective is continuous. Each cell between two
-   scanned members is bounded from below by the parts of the objective the choices and the balancing fix, and
-   pruned when that bound cannot beat the best scanned; the best cells are walked plateau by plateau, each
-   plateau's end located by bisection on the discrete choice and bounded Brent run between its ends;
-4. :func:`conclude`: the best member designed again as a whole machine (start and run-down simulations
+3. :func:`cells`, :func:`cell_plateaus` and :func:`search_plateau`: the members sharing the chain's discrete
+   choices (catalogue motor, tooth numbers) form plateaus of the parameter on which the objective is continuous.
+   Each cell between two scanned members is bounded from below by the parts of the objective the choices and the
+   balancing fix, and pruned when that bound cannot beat the best scanned; the best cells are cut into plateaus,
+   each plateau's end located by bisection on the discrete choice, and bounded Brent run between each plateau's
+   ends (the plateaus of all cells side by side);
+4. :func:`conclude_search`: the best member designed again as a whole machine (start and run-down simulations
    included; the next best when that fails a check), the gain over the chain in every
    objective, the Pareto set of two objectives over every member designed, the binding constraints and the
    certificate of how the family was covered.
@@ -575,15 +576,45 @@ def _plateau_end(spec: OptimiseSpec, inside: float, outside: float, choice: Choi
     return inside, outside, beyond
 
 
-def search_cell(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int, *,
-                time_limit_s: float = 20.0) -> tuple[Refinement | None, tuple[MemberScore, ...]]:
-    """The ``k``-th searched cell of :func:`cells` (None when there is none), walked plateau by plateau from its
-    lower end: each plateau's end located by bisection on the discrete choice, the steady machine at both its
-    ends, then bounded Brent between them. Returns the cell's record and every member it designed."""
+@dataclass(frozen=True, slots=True)
+class Plateau:
+    """A stretch [lo, hi] of a searched cell on which every member has the discrete ``choice``; ``width`` is the
+    cell's, which sets Brent's tolerance."""
+
+    lo: float
+    hi: float
+    choice: Choice | None
+    width: float
+
+
+def _searched(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int) -> Refinement | None:
     todo = [r for r in cells(spec, scan, members) if r.status == "searched"]
-    if k >= len(todo):
+    return todo[k] if k < len(todo) else None
+
+
+def cell_plateaus(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int, *,
+                  time_limit_s: float = 20.0) -> tuple[Refinement | None, tuple[Plateau, ...]]:
+    """The ``k``-th searched cell of :func:`cells` (None when there is none) cut into its plateaus from its lower
+    end, each one's end located by bisection on the chain's discrete choice, :data:`MAX_WALK` at most."""
+    r = _searched(spec, scan, members, k)
+    if r is None:
         return None, ()
-    r = todo[k]
+    known = {m.parameter: m for m in members}
+    x, choice = r.lo, known[r.lo].choice
+    out: list[Plateau] = []
+    while x < r.hi and len(out) < MAX_WALK:
+        inside, outside, beyond = _plateau_end(spec, x, r.hi, choice, time_limit_s)
+        out.append(Plateau(x, inside, choice, r.hi - r.lo))
+        if outside <= inside:
+            break
+        x, choice = outside, beyond
+    return r, tuple(out)
+
+
+def search_plateau(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], plateau: Plateau, *,
+                   time_limit_s: float = 20.0) -> tuple[MemberScore, ...]:
+    """The steady machine at both ends of ``plateau``, then bounded Brent between them; every member it designed
+    (the scanned ones are not designed again)."""
     norm = normalisers(members, scan.chain_parameter)
     s = _scores(spec, members, norm)
     # an infeasible member is worse than any feasible one: the penalty keeps Brent's steps finite
@@ -598,23 +629,23 @@ def search_cell(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberSc
             seen.append(m)
         return score(spec, m.values, norm) if m.feasible and m.values is not None else penalty
 
-    x, choice, walked = r.lo, known[r.lo].choice, 0
-    while x < r.hi and walked < MAX_WALK:
-        inside, outside, beyond = _plateau_end(spec, x, r.hi, choice, time_limit_s)
-        f(x)
-        f(inside)
-        if inside > x:
-            minimize_scalar(f, bounds=(x, inside), method="bounded",
-                            options={"maxiter": REFINE_EVALUATIONS, "xatol": 1e-5 * (r.hi - r.lo)})
-        walked += 1
-        if outside <= inside:
-            break
-        x, choice = outside, beyond
-    mine = [m for m in known.values() if r.lo <= m.parameter <= r.hi]
-    sm = _scores(spec, mine, norm)
-    i = int(np.argmin(sm))
-    return (replace(r, evaluations=len(seen), best_parameter=float(mine[i].parameter), choice=mine[i].choice,
-                    plateaus=walked), tuple(seen))
+    f(plateau.lo)
+    f(plateau.hi)
+    if plateau.hi > plateau.lo:
+        minimize_scalar(f, bounds=(plateau.lo, plateau.hi), method="bounded",
+                        options={"maxiter": REFINE_EVALUATIONS, "xatol": 1e-5 * plateau.width})
+    return tuple(seen)
+
+
+def cell_refinement(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], r: Refinement,
+                    plateaus: int, seen: Sequence[MemberScore]) -> Refinement:
+    """The searched cell's record: runs spent, plateaus walked and its best member among the scanned ones and
+    ``seen``, those its plateaus' searches designed."""
+    norm = normalisers(members, scan.chain_parameter)
+    mine = [m for m in (*members, *seen) if r.lo <= m.parameter <= r.hi]
+    i = int(np.argmin(_scores(spec, mine, norm)))
+    return replace(r, evaluations=len(seen), best_parameter=float(mine[i].parameter), choice=mine[i].choice,
+                   plateaus=plateaus)
 
 
 def _pareto(members: Sequence[MemberScore], a: int, b: int) -> tuple[MemberScore, ...]:
@@ -725,6 +756,25 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     )
 
 
+def conclude_search(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore],
+                    walks: Sequence[tuple[Refinement | None, Sequence[Plateau]]],
+                    seen: Sequence[Sequence[MemberScore]], *, time_limit_s: float = 20.0) -> MachineOptimum:
+    """:func:`conclude` after the cells' search: ``walks`` each searched cell's record and plateaus
+    (:func:`cell_plateaus`), ``seen`` what each plateau's search designed (:func:`search_plateau`), the plateaus
+    in the walks' order."""
+    refinements: list[Refinement] = []
+    extra: list[MemberScore] = []
+    i = 0
+    for r, plateaus in walks:
+        if r is None:
+            continue
+        mine = tuple(m for part in seen[i : i + len(plateaus)] for m in part)
+        i += len(plateaus)
+        refinements.append(cell_refinement(spec, scan, members, r, len(plateaus), mine))
+        extra.extend(mine)
+    return conclude(spec, scan, tuple(members) + tuple(extra), refinements, time_limit_s=time_limit_s)
+
+
 def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> MachineOptimum:
     """Optimise the machine as a whole over its linkage family; every stage in this process, one after another.
 
@@ -741,11 +791,6 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
     scan = scan_family(spec)
     members = design_members(spec, scan.candidates, time_limit_s=time_limit_s,
                              size_gears_at=(scan.chain_parameter,))
-    refinements = []
-    extra: list[MemberScore] = []
-    for k in range(MAX_SEARCHED):
-        r, seen = search_cell(spec, scan, members, k, time_limit_s=time_limit_s)
-        if r is not None:
-            refinements.append(r)
-            extra.extend(seen)
-    return conclude(spec, scan, members + tuple(extra), refinements, time_limit_s=time_limit_s)
+    walks = tuple(cell_plateaus(spec, scan, members, k, time_limit_s=time_limit_s) for k in range(MAX_SEARCHED))
+    seen = tuple(search_plateau(spec, scan, members, p, time_limit_s=time_limit_s) for _, ps in walks for p in ps)
+    return conclude_search(spec, scan, members, walks, seen, time_limit_s=time_limit_s)

@@ -17,6 +17,12 @@ turn. The machine around it (loads, speed, drive, balancing, flywheel) is the ch
    across a constraint's boundary; only members meeting everything count), then the best member designed through
    the whole chain.
 
+The stages are plain functions of plain data, so that the service can run them as separate tasks side by side:
+:func:`scan_box` (the sample and its kinematic check), :func:`design_sample` (the chain on some of the sample's
+feasible members), :func:`refine_start` (one refinement from the k-th best member) and :func:`conclude_linkage`
+(the answer and its certificate). :func:`optimise_linkage` runs them one after another in one process and gives
+the same answer.
+
 The objective steps where the catalogue motor or the teeth change and the feasible set need not be convex: the
 certificate states the coverage (members sampled, feasible, designed, refined, runs) and claims no gap.
 """
@@ -35,7 +41,7 @@ from ..errors import Infeasible, InvalidInput, NotAssemblable, SolverFailed, Sol
 from ..kinematics import PlanarLinkage
 from ..kinematics.linkage import LinkSpec
 from .chain import MachineDesign, design_machine
-from .optimise import OBJECTIVE_UNITS, OBJECTIVES, WEIGHED_PARTS, check_weights, objective_values
+from .optimise import OBJECTIVE_UNITS, OBJECTIVES, WEIGHED_PARTS, check_weights, design_parts, objective_values
 from .optimise_light import steady_member
 from .optimise_parts import MachineParts, Prices
 from .spec import MachineSpec
@@ -294,19 +300,29 @@ def sample_box(spec: LinkageOptimiseSpec) -> np.ndarray:
     return np.asarray(pts, dtype=float)
 
 
+def _checked(spec: LinkageOptimiseSpec, xs: tuple[float, ...]) -> tuple[PlanarLinkage | None, Kinematics]:
+    """The member's linkage (None when its numbers make none) and its kinematic check."""
+    mech = spec.machine.linkage.mechanism
+    assert isinstance(mech, PlanarLinkage)
+    try:
+        member = apply(mech, spec.free, xs)
+    except InvalidInput as exc:
+        return None, Kinematics(math.nan, math.nan, math.nan, str(exc))
+    return member, check_member(member, spec.function)
+
+
 def design_member(spec: LinkageOptimiseSpec, x: Sequence[float], stage: str,
                   time_limit_s: float = 20.0, always: bool = False) -> LinkageMember:
     """One member: its kinematic check, then (when feasible, or ``always`` when it assembles) the chain to its
     steady machine."""
-    mech = spec.machine.linkage.mechanism
-    assert isinstance(mech, PlanarLinkage)
     xs = tuple(float(v) for v in x)
-    try:
-        member = apply(mech, spec.free, xs)
-    except InvalidInput as exc:
-        return LinkageMember(xs, Kinematics(math.nan, math.nan, math.nan, str(exc)), None, False, str(exc), stage)
-    kin = check_member(member, spec.function)
-    if not kin.feasible and not (always and math.isfinite(kin.travel)):
+    member, kin = _checked(spec, xs)
+    return _through_chain(spec, xs, member, kin, stage, time_limit_s, always)
+
+
+def _through_chain(spec: LinkageOptimiseSpec, xs: tuple[float, ...], member: PlanarLinkage | None,
+                   kin: Kinematics, stage: str, time_limit_s: float, always: bool) -> LinkageMember:
+    if member is None or (not kin.feasible and not (always and math.isfinite(kin.travel))):
         return LinkageMember(xs, kin, None, False, kin.reason, stage)
     machine = replace(spec.machine, linkage=replace(spec.machine.linkage, mechanism=member))
     if not spec.weighs_parts:
@@ -390,61 +406,136 @@ class LinkageOptimum:
     units: tuple[str, ...] = OBJECTIVE_UNITS
 
 
-def optimise_linkage(spec: LinkageOptimiseSpec, *, time_limit_s: float = 20.0) -> LinkageOptimum:
-    """Choose the free dimensions and the machine together; every stage in this process.
+@dataclass(frozen=True, slots=True)
+class BoxScan:
+    """The sample of the box, the request's own numbers first when inside it, with each member's kinematic
+    check: ``points`` the free numbers of each member [m], ``kinematics`` its figures."""
 
-    Raises InvalidInput naming the field, Infeasible when no member meets the function and every check."""
+    points: tuple[tuple[float, ...], ...]
+    kinematics: tuple[Kinematics, ...]
+
+    @property
+    def feasible(self) -> tuple[int, ...]:
+        """The members meeting the function kinematically, by their place in the sample."""
+        return tuple(i for i, k in enumerate(self.kinematics) if k.feasible)
+
+    def members(self, designed: Sequence[tuple[int, LinkageMember]]) -> tuple[LinkageMember, ...]:
+        """The sample's members in its order: those ``designed`` (by their place) by the chain, the others as
+        the kinematic check left them."""
+        by_place = dict(designed)
+        return tuple(by_place.get(i) or LinkageMember(x, k, None, False, k.reason, "sample")
+                     for i, (x, k) in enumerate(zip(self.points, self.kinematics, strict=True)))
+
+
+def scan_box(spec: LinkageOptimiseSpec) -> BoxScan:
+    """First stage: the request checked, the box sampled and every member checked kinematically over the turn.
+
+    Raises InvalidInput naming the field."""
     spec.validate()
-    pts = sample_box(spec)
-    members = [design_member(spec, x, "sample", time_limit_s) for x in pts]
-    kin_ok = sum(m.kinematics.feasible for m in members)
+    points = tuple(tuple(float(v) for v in x) for x in sample_box(spec))
+    return BoxScan(points, tuple(_checked(spec, x)[1] for x in points))
+
+
+def design_sample(spec: LinkageOptimiseSpec, scan: BoxScan, places: Sequence[int], *,
+                  time_limit_s: float = 20.0) -> tuple[tuple[int, LinkageMember], ...]:
+    """Second stage: the members at ``places`` of the sample through the chain to their steady machine, each
+    with its place."""
+    mech = spec.machine.linkage.mechanism
+    assert isinstance(mech, PlanarLinkage)
+    out = []
+    for i in places:
+        x, kin = scan.points[i], scan.kinematics[i]
+        # a kinematically feasible member's numbers made a linkage in the scan already
+        member = apply(mech, spec.free, x) if kin.feasible else None
+        out.append((i, _through_chain(spec, x, member, kin, "sample", time_limit_s, False)))
+    return tuple(out)
+
+
+@dataclass(frozen=True, slots=True)
+class _Ranking:
+    """The sample's members scored: the objectives' ``norm``, each member's score (inf: infeasible), the score
+    given to a member the chain refuses during refinement and the places of the refinements' starts."""
+
+    norm: tuple[float, ...]
+    scores: np.ndarray
+    penalty: float
+    starts: tuple[int, ...]
+
+
+def _rank(spec: LinkageOptimiseSpec, members: Sequence[LinkageMember]) -> _Ranking:
     norm = _normalisers(members)
     scores = np.array([_score(spec, m.values, norm) if m.feasible and m.values is not None else np.inf
                        for m in members])
-    if not np.isfinite(scores).any():
+    finite = scores[np.isfinite(scores)]
+    penalty = 10.0 * (1.0 + float(np.max(finite))) if finite.size else math.inf
+    starts = tuple(int(i) for i in np.argsort(scores, kind="stable")[: spec.refined] if np.isfinite(scores[i]))
+    return _Ranking(norm, scores, penalty, starts)
+
+
+def refine_start(spec: LinkageOptimiseSpec, scan: BoxScan, members: Sequence[LinkageMember], k: int, *,
+                 time_limit_s: float = 20.0) -> tuple[LinkageMember, ...]:
+    """Third stage, one task per start: COBYLA from the ``k``-th best member of the sample (``members``, in the
+    sample's order) on the score, the function's slacks and the box its constraints; every member it looked
+    at, in the order it did; none when the sample has no ``k``-th feasible member."""
+    rank = _rank(spec, members)
+    if k >= len(rank.starts):
+        return ()
+    lo = np.array([d.lo for d in spec.free])
+    hi = np.array([d.hi for d in spec.free])
+    width = hi - lo
+    seen: dict[tuple[float, ...], LinkageMember] = {}
+    looked: list[LinkageMember] = []
+
+    def at(z: np.ndarray) -> LinkageMember:
+        # the search works in the unit box; a member off the function is still run through the chain (when it
+        # assembles) so that the objective stays continuous across the constraints' boundaries
+        x = tuple(float(v) for v in lo + np.clip(z, 0.0, 1.0) * width)
+        if x not in seen:
+            seen[x] = design_member(spec, x, "refine", time_limit_s, always=True)
+            looked.append(seen[x])
+        return seen[x]
+
+    def f(z: np.ndarray) -> float:
+        m = at(z)
+        return _score(spec, m.values, rank.norm) if m.values is not None else rank.penalty
+
+    def g(z: np.ndarray) -> np.ndarray:
+        return np.concatenate([slack(spec.function, at(z).kinematics), z, 1.0 - z])
+
+    # COBYLA follows an active constraint (the least stroke, say) where a penalty would stall
+    minimize(f, (np.array(scan.points[rank.starts[k]]) - lo) / width, method="COBYLA",
+             constraints=[{"type": "ineq", "fun": g}],
+             options={"maxiter": spec.refine_runs, "rhobeg": 0.1, "tol": 1e-5})
+    return tuple(looked)
+
+
+def conclude_linkage(spec: LinkageOptimiseSpec, scan: BoxScan, members: Sequence[LinkageMember],
+                     refinements: Sequence[Sequence[LinkageMember]], *, time_limit_s: float = 20.0
+                     ) -> LinkageOptimum:
+    """Last stage: the best member of the sample (``members``, in its order) and of the refinements (in the
+    order of their starts) designed through the whole chain, with the certificate.
+
+    Raises Infeasible when no member meets the function and every check, or the best three fail the whole
+    chain."""
+    rank = _rank(spec, members)
+    if not np.isfinite(rank.scores).any():
         reasons = sorted({m.reason for m in members if m.reason})
         raise Infeasible("no member of the box meets the function and every check: " + "; ".join(reasons[:3]),
                          "function", field="function", members_sampled=len(members))
-    penalty = 10.0 * (1.0 + float(np.max(scores[np.isfinite(scores)])))
-    lo = np.array([d.lo for d in spec.free])
-    hi = np.array([d.hi for d in spec.free])
-    refined_members: list[LinkageMember] = []
-    starts = [int(i) for i in np.argsort(scores, kind="stable")[: spec.refined] if np.isfinite(scores[i])]
-    width = hi - lo
-    for i in starts:
-        seen: dict[tuple[float, ...], LinkageMember] = {}
-
-        def at(z: np.ndarray) -> LinkageMember:
-            # the search works in the unit box; a member off the function is still run through the chain (when
-            # it assembles) so that the objective stays continuous across the constraints' boundaries
-            x = tuple(float(v) for v in lo + np.clip(z, 0.0, 1.0) * width)
-            if x not in seen:
-                seen[x] = design_member(spec, x, "refine", time_limit_s, always=True)
-                refined_members.append(seen[x])
-            return seen[x]
-
-        def f(z: np.ndarray) -> float:
-            m = at(z)
-            return _score(spec, m.values, norm) if m.values is not None else penalty
-
-        def g(z: np.ndarray) -> np.ndarray:
-            return np.concatenate([slack(spec.function, at(z).kinematics), z, 1.0 - z])
-
-        # COBYLA follows an active constraint (the least stroke, say) where a penalty would stall
-        minimize(f, (pts[i] - lo) / width, method="COBYLA", constraints=[{"type": "ineq", "fun": g}],
-                 options={"maxiter": spec.refine_runs, "rhobeg": 0.1, "tol": 1e-5})
-    everything = members + refined_members
+    refined_members = [m for r in refinements for m in r]
+    everything = list(members) + refined_members
+    norm = rank.norm
     s = np.array([_score(spec, m.values, norm) if m.feasible and m.values is not None else np.inf
                   for m in everything])
     design: MachineDesign | None = None
     best = everything[int(np.argmin(s))]
     reason = None
+    mech = spec.machine.linkage.mechanism
+    assert isinstance(mech, PlanarLinkage)
     for i in np.argsort(s, kind="stable")[:3]:
         if not np.isfinite(s[i]):
             break
         best = everything[int(i)]
-        mech = spec.machine.linkage.mechanism
-        assert isinstance(mech, PlanarLinkage)
         machine = replace(spec.machine, linkage=replace(spec.machine.linkage,
                                                         mechanism=apply(mech, spec.free, best.x)))
         try:
@@ -459,22 +550,33 @@ def optimise_linkage(spec: LinkageOptimiseSpec, *, time_limit_s: float = 20.0) -
     if design is None:
         raise Infeasible(f"the best members fail the whole chain: {reason}", "machine checks", field=None)
     values = objective_values(design, spec.prices)
-    from .optimise import design_parts
-
     parts = design_parts(design)
+    kin_ok = len(scan.feasible)
     feasible = int(np.isfinite(s).sum())
     runs = len(refined_members)
+    starts = len(rank.starts)
     statement = (
         f"{len(members)} members of the box of {len(spec.free)} free dimension(s) (the request's own numbers and "
         f"a scrambled Sobol sample) checked kinematically over the whole turn, each in one vectorised pass over "
         f"{CHECK_ANGLES} crank angles (assembly, travel, time ratio, least transmission angle): {kin_ok} met the "
-        f"function and ran through the chain to their steady machine. The best {len(starts)} were refined by "
+        f"function and ran through the chain to their steady machine. The best {starts} were refined by "
         f"COBYLA on the score with the function as its constraints ({runs} members looked at). {feasible} of "
         f"the {len(everything)} members (sample and refinement) meet every constraint and check; the answer was "
-        "designed again through the whole chain, start and run-down included. The objective steps where the catalogue motor or the teeth change and the "
-        "feasible set need not be convex or connected: no gap bound is claimed."
+        "designed again through the whole chain, start and run-down included. The objective steps where the "
+        "catalogue motor or the teeth change and the feasible set need not be convex or connected: no gap bound "
+        "is claimed."
     )
     cert = LinkageCertificate(len(members), kin_ok, sum(m.values is not None for m in everything), feasible,
-                              len(starts), runs, None, statement)
+                              starts, runs, None, statement)
     return LinkageOptimum(spec, design, best.x, best.kinematics, values, _score(spec, values, norm), norm,
                           tuple(everything), parts, cert)
+
+
+def optimise_linkage(spec: LinkageOptimiseSpec, *, time_limit_s: float = 20.0) -> LinkageOptimum:
+    """Choose the free dimensions and the machine together; every stage in this process, one after another.
+
+    Raises InvalidInput naming the field, Infeasible when no member meets the function and every check."""
+    scan = scan_box(spec)
+    members = scan.members(design_sample(spec, scan, scan.feasible, time_limit_s=time_limit_s))
+    refinements = [refine_start(spec, scan, members, k, time_limit_s=time_limit_s) for k in range(spec.refined)]
+    return conclude_linkage(spec, scan, members, refinements, time_limit_s=time_limit_s)
