@@ -125,16 +125,25 @@ def critical_path(body: MachineOptimiseIn) -> None:
               for s in member_shares(scan.candidates, scan.chain_parameter, 2)]
     by = {m.parameter: m for part, _ in shares for m in part}
     members = tuple(by[u] for u in scan.candidates)
-    walks = [_cpu(lambda k=k: opt.cell_plateaus(spec, scan, members, k)) for k in range(opt.MAX_SEARCHED)]  # type: ignore[misc]
-    plateaus = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p))  # type: ignore[misc]
-                for (_, ps), _ in walks for p in ps]
-    _, t_end = _cpu(lambda: opt.conclude_search(spec, scan, members, tuple(w for w, _ in walks),
-                                                tuple(s for s, _ in plateaus)))
-    path = (t_scan + max(t for _, t in shares) + _two_workers([t for _, t in walks])
-            + _two_workers([t for _, t in plateaus]) + t_end)
+    walks: list[Any] = []
+    seen: list[Any] = []
+    cut: list[float] = []
+    searched: list[float] = []
+    t_cells = 0.0
+    while todo := opt.next_cells(spec, scan, members + opt.designed(seen), [(r.lo, r.hi) for r, _ in walks]):
+        round_walks = [_cpu(lambda r=r: opt.cell_plateaus(spec, members, r)) for r in todo]  # type: ignore[misc]
+        round_seen = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p))  # type: ignore[misc]
+                      for (_, ps), _ in round_walks for p in ps]
+        walks += [w for w, _ in round_walks]
+        seen += [m for m, _ in round_seen]
+        cut += [t for _, t in round_walks]
+        searched += [t for _, t in round_seen]
+        t_cells += _two_workers([t for _, t in round_walks]) + _two_workers([t for _, t in round_seen])
+    _, t_end = _cpu(lambda: opt.conclude_search(spec, scan, members, walks, seen))
+    path = t_scan + max(t for _, t in shares) + t_cells + t_end
     print(f"crank-rocker on 2 workers, CPU s: scan {t_scan:.3f} | members {' + '.join(f'{t:.2f}' for _, t in shares)} "
-          f"| cells cut {' + '.join(f'{t:.2f}' for _, t in walks)} | {len(plateaus)} plateaus "
-          f"{sum(t for _, t in plateaus):.2f} | conclusion {t_end:.2f} | critical path {path:.2f} s")
+          f"| cells cut {' + '.join(f'{t:.2f}' for t in cut)} | {len(searched)} plateaus "
+          f"{sum(searched):.2f} | conclusion {t_end:.2f} | critical path {path:.2f} s")
 
 
 def six_bar_critical_path(body: LinkageOptimiseIn) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -16,6 +17,7 @@ from mechsynth_client.client import InfeasibleError, InvalidInputError
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
 from mechsynth_client.schemas.optimise import (
     CRANK_ROCKER_OPTIMISE_EXAMPLE,
+    DEFAULT_CELLS,
     DEFAULT_SCAN,
     MAX_SCAN,
     MIN_SCAN,
@@ -124,6 +126,7 @@ def _spread(runs: list[list[float]], n: int) -> list[float]:
 
 def test_scan_bounds_match_the_engine() -> None:
     assert (MIN_SCAN, MAX_SCAN, DEFAULT_SCAN) == (engine.MIN_SCAN, engine.MAX_SCAN, engine.DEFAULT_SCAN)
+    assert DEFAULT_CELLS == engine.MAX_SEARCHED
 
 
 def test_crank_rocker_optimum_is_resimulated_and_meets_every_check(crank_rocker_answer: MachineOptimiseOut) -> None:
@@ -354,3 +357,35 @@ def test_member_shares_give_each_worker_about_the_same_work() -> None:
         work = [sum(SIZED_MEMBER_WEIGHT if u == members[20] else 1.0 for u in s) for s in shares]
         assert max(work) - min(work) <= 1.0
         assert all(min(s) <= members[n - 1] and max(s) >= members[-n] for s in shares)
+
+
+def test_all_cells_leaves_none_unsearched_and_the_engine_agrees(client: SynthClient) -> None:
+    # search_cells "all": rounds of two cells, each chosen against the best found so far, until every cell is
+    # searched or pruned; a superset of the default search (its first round is the default's), so never worse
+    # on this scan three cells could beat the best: one more round than the default's two cells
+    quick = {"scan_members": 24, "samples": 48}
+    everything = client.optimise_machine(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, search_cells="all", **quick))
+    default = client.optimise_machine(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, **quick))
+    c = everything.certificate
+    assert c.cells_unsearched == 0 and c.cells_searched > default.certificate.cells_searched == 2
+    assert "every cell that could beat the best found was searched" in c.statement
+    assert everything.score <= default.score * (1 + 1e-9)
+    # every pruned cell's bound is no better than the best member found, here the answer's own
+    for r in c.refinements:
+        if r.status == "pruned":
+            assert r.bound >= everything.score * (1 - 1e-9)
+    result = synth.optimise_machine(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, search_cells="all", **quick).to_engine(6))
+    assert result.parameter == everything.parameter
+    assert result.score == pytest.approx(everything.score, rel=1e-12)
+    assert len(result.members) == len(everything.members)
+
+
+def test_a_budget_of_cells_is_kept() -> None:
+    spec = _body(CRANK_ROCKER_OPTIMISE_EXAMPLE, scan_members=24, samples=48, search_cells=1).to_engine(6)
+    result = synth.optimise_machine(spec)
+    statuses = [r.status for r in result.certificate.refinements]
+    assert statuses.count("searched") == 1 and "unsearched" in statuses
+    assert "beyond the budget (search_cells 1)" in result.certificate.statement
+    with pytest.raises(synth.InvalidInput) as err:
+        replace(spec, search_cells=-1).validate()
+    assert err.value.field == "search_cells"

@@ -1,10 +1,11 @@
 """POST /v1/machines/optimise on the executor's workers: the candidates' chains run side by side.
 
 The engine's :func:`synth.optimise_machine` runs its stages one after another in one process (a design study's
-variant does that). A request runs the same stages as separate tasks: the kinematic scan, the scan's members in
-one task per worker, one task per cell searched to cut it into plateaus, one per plateau searched, and the
-conclusion, which renders the answer in its worker. The members are put back in the order the engine's own
-loop makes them, so both give the same answer.
+variant does that). A request runs the same stages as separate tasks: the kinematic scan; the scan's members in
+one task per worker; rounds of cells (two at a time, each round's chosen against the best found before it), one
+task per cell to cut it into plateaus and one per plateau searched; and the conclusion, which renders the answer
+in its worker. The members are put back in the order the engine's own loop makes them, so both give the same
+answer.
 """
 
 from __future__ import annotations
@@ -15,13 +16,14 @@ from collections.abc import Sequence
 from fastapi import Request, Response
 
 from synth.machine.optimise import (
-    MAX_SEARCHED,
     MemberScore,
     Plateau,
     Refinement,
     cell_plateaus,
     conclude_search,
     design_members,
+    designed,
+    next_cells,
     scan_family,
     search_plateau,
 )
@@ -66,17 +68,23 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
 
-    async def search(k: int) -> tuple[tuple[Refinement | None, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
+
+    async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
-        # cell's walk
-        walk = await solvers.run(cell_plateaus, spec, scan, members, k, time_limit_s=t)
+        # cells' walks
+        walk = await solvers.run(cell_plateaus, spec, members, r, time_limit_s=t)
         return walk, await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
                                             for p in walk[1]))
 
-    searched = await asyncio.gather(*(search(k) for k in range(MAX_SEARCHED)))
-    walks = tuple(walk for walk, _ in searched)
-    seen = tuple(s for _, found in searched for s in found)
+    walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
+    seen: list[tuple[MemberScore, ...]] = []
+    # rounds of cells as the engine runs them, each chosen against the best of every member designed before it
+    while todo := await solvers.run(next_cells, spec, scan, members + designed(seen),
+                                    tuple((r.lo, r.hi) for r, _ in walks)):
+        for walk, found in await asyncio.gather(*(search(r) for r in todo)):
+            walks.append(walk)
+            seen.extend(found)
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
-    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, walks, seen, t,
+    plan = machine_optimise_conclusion(conclude_search, spec, scan, members, tuple(walks), tuple(seen), t,
                                        record=record)
     return await solvers.answer_plan(plan, request, fmt)

@@ -64,8 +64,13 @@ def _path(b: Any) -> float:
     return 0.02 + int(b.starts) * _PATH_START_S * max(1.0, len(b.points_m) / 10)
 
 
+#: A searched cell (its walk by bisection and its plateaus' searches) costs about this many members' chains.
+_CELL_MEMBERS = 12
+
+
 def _optimise(b: Any) -> float:
-    return 1.0 + int(b.scan_members) * _MEMBER_S * int(b.samples) / 120
+    cells = int(b.scan_members) - 1 if b.search_cells == "all" else min(int(b.search_cells), int(b.scan_members) - 1)
+    return 1.0 + (int(b.scan_members) + _CELL_MEMBERS * cells) * _MEMBER_S * int(b.samples) / 120
 
 
 def _flywheel(b: Any) -> float:

@@ -34,9 +34,10 @@ from .synthesis import (
 
 OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
-# The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN), spelled here so that the
-# schema loads without the engine; a test keeps them equal.
+# The engine's scan bounds (synth.machine.optimise.MIN_SCAN, MAX_SCAN, DEFAULT_SCAN) and cells searched by default
+# (MAX_SEARCHED), spelled here so that the schema loads without the engine; a test keeps them equal.
 MIN_SCAN, MAX_SCAN, DEFAULT_SCAN = 4, 64, 64
+DEFAULT_CELLS = 2
 
 #: A crank-rocker machine: 40° of rocker swing at a time ratio of 1.15 from a 0.25 m rocker, 40 N·m against the
 #: rocker over half the turn at 120 rpm, two helical stages, statically balanced, the least added mass.
@@ -206,6 +207,10 @@ class MachineOptimiseIn(StrictModel):
     scan_members: int = Field(DEFAULT_SCAN, ge=MIN_SCAN, le=MAX_SCAN, description="Members spread evenly over the "
                               "feasible family that the chain designs (to its steady machine) before the cells "
                               "between them are searched.")
+    search_cells: Annotated[int, Field(ge=0, le=MAX_SCAN)] | Literal["all"] = Field(
+        DEFAULT_CELLS, description="Cells between scanned members searched at most, those that could still beat the "
+        "best member found first, two at a time; \"all\": every cell until each is searched or pruned by the best "
+        "found (the family's optimum as far as the bounds hold, at the cost of more chain runs).")
     prices: PricesIn = Field(default_factory=PricesIn, description="Prices of the parts for the cost objective "
                              "(and the cost every answer reports).")
 
@@ -231,7 +236,8 @@ class MachineOptimiseIn(StrictModel):
             samples=self.samples, speed_tolerance=self.speed_tolerance,
             weights={str(k): v for k, v in weights.items()}, max_rms_shaking_force=self.max_rms_shaking_force_N,
             max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
-            scan=self.scan_members, friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
+            scan=self.scan_members, search_cells=MAX_SCAN if self.search_cells == "all" else self.search_cells,
+            friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
             start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
             max_rundown_time=self.max_rundown_time_s, prices=self.prices.to_engine(),
         )

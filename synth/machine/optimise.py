@@ -65,8 +65,8 @@ KINEMATIC_GRID = 4001
 MAX_SCAN, MIN_SCAN = 64, 4
 #: Members the chain designs in the scan unless the request says otherwise.
 DEFAULT_SCAN = 64
-#: Plateaus (members sharing a motor and a tooth pair) searched at most, and steady-machine runs each may spend
-#: on bounded Brent after its two ends.
+#: Cells searched at a time (and at most, unless the request asks for more), and steady-machine runs each plateau
+#: may spend on bounded Brent after its two ends.
 MAX_SEARCHED = 2
 REFINE_EVALUATIONS = 2
 #: Best members of the search designed through the whole chain, in turn, until one passes its start checks.
@@ -104,7 +104,8 @@ class OptimiseSpec:
     ``balancing``, ``flywheel``, ``samples``, ``speed_tolerance`` [-] as in :class:`MachineSpec`; ``weights``
     objective name -> weight [-] of its normalised value; ``max_rms_shaking_force`` [N] and
     ``max_rms_shaking_moment`` [N·m] optional limits after balancing; ``pareto`` the two objectives of the
-    Pareto set; ``scan`` members the chain designs in the scan; ``friction``, ``brake_torque`` [N·m],
+    Pareto set; ``scan`` members the chain designs in the scan; ``search_cells`` cells searched at most (those
+    that could still beat the best found, best first, :data:`MAX_SEARCHED` at a time); ``friction``, ``brake_torque`` [N·m],
     ``start_under_load``, ``max_startup_time`` and ``max_rundown_time`` [s] as in :class:`MachineSpec` (the start
     and run-down checks are constraints like the others).
     """
@@ -122,6 +123,7 @@ class OptimiseSpec:
     max_rms_shaking_moment: float | None = None
     pareto: tuple[str, str] = ("motor_power", "rms_shaking_force")
     scan: int = DEFAULT_SCAN
+    search_cells: int = MAX_SEARCHED
     friction: tuple[PairFriction, ...] = ()
     brake_torque: float = 0.0
     start_under_load: bool = False
@@ -162,6 +164,8 @@ class OptimiseSpec:
                 raise InvalidInput("a shaking limit must be positive", field=where)
         if not MIN_SCAN <= self.scan <= MAX_SCAN:
             raise InvalidInput(f"scan must lie in [{MIN_SCAN}, {MAX_SCAN}] members", field="scan_members")
+        if not 0 <= self.search_cells <= MAX_SCAN:
+            raise InvalidInput(f"cells searched must lie in [0, {MAX_SCAN}]", field="search_cells")
 
     def machine(self, linkage: Linkage) -> MachineSpec:
         """The chain's machine with ``linkage`` as its linkage."""
@@ -512,19 +516,23 @@ def _run_of(scan: FamilyScan, u: float) -> int:
     return next(k for k, r in enumerate(scan.runs) if r[0] - 1e-12 <= u <= r[1] + 1e-12)
 
 
-def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) -> list[Refinement]:
+def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore],
+          done: Iterable[tuple[float, float]] = ()) -> list[Refinement]:
     """The cells of the scan: the spans between neighbouring scanned members of one feasible run, each with its
-    bound and status, in the order they are searched (best scanned end first, up to :data:`MAX_SEARCHED`).
+    bound and status, in the order they are searched (best scanned end first).
 
     Within a cell the chain's discrete choices (catalogue motor, tooth numbers) may change: the members sharing
     one form a plateau on which the objective is continuous. A cell's bound is the least score of the
     objectives' parts the discrete choice and the balancing fix (motor power, balancing masses, shaking force;
     the flywheel body, never negative, left out) at its two ends: a bound as far as those parts are monotone
-    across the cell. A cell whose bound is no better than the best score scanned is pruned."""
+    across the cell. The cells whose (lo, hi) are in ``done`` are searched; of the others, a cell whose bound is
+    no better than the best score of every member designed is pruned, and the rest are open."""
     norm = normalisers(members, scan.chain_parameter)
     scanned = sorted((m for m in members if m.stage == "scan"), key=lambda m: m.parameter)
     s = _scores(spec, scanned, norm)
-    best = float(np.min(s)) if s.size else math.inf
+    every = _scores(spec, members, norm)
+    best = float(np.min(every)) if every.size else math.inf
+    searched = set(done)
     found = []
     for i in range(len(scanned) - 1):
         a, b = scanned[i], scanned[i + 1]
@@ -534,20 +542,28 @@ def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) 
         bound = min(floors) if len(floors) == 2 else -math.inf
         ends = (float(s[i]), float(s[i + 1]))
         start = a if ends[0] <= ends[1] else b
-        found.append(((min(ends), max(ends)), Refinement(a.parameter, b.parameter, start.parameter, 0, start.parameter,
-                                            start.choice, float(bound), "pruned")))
-    out: list[Refinement] = []
-    searched = 0
-    # best scanned end first; of two cells sharing that end, the one whose other end is better
-    for _, r in sorted(found, key=lambda x: (x[0], x[1].bound)):
-        if math.isfinite(best) and r.bound >= best * (1 - 1e-12):
-            out.append(r)
-        elif searched < MAX_SEARCHED:
-            out.append(replace(r, status="searched"))
-            searched += 1
+        if (a.parameter, b.parameter) in searched:
+            status = "searched"
+        elif math.isfinite(best) and bound >= best * (1 - 1e-12):
+            status = "pruned"
         else:
-            out.append(replace(r, status="unsearched"))
-    return out
+            status = "open"
+        found.append(((min(ends), max(ends)), Refinement(a.parameter, b.parameter, start.parameter, 0,
+                                                         start.parameter, start.choice, float(bound), status)))
+    # best scanned end first; of two cells sharing that end, the one whose other end is better
+    return [r for _, r in sorted(found, key=lambda x: (x[0], x[1].bound))]
+
+
+def next_cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore],
+               done: Iterable[tuple[float, float]]) -> tuple[Refinement, ...]:
+    """The cells to search next: the first :data:`MAX_SEARCHED` open ones of :func:`cells` (every member designed
+    so far sets the best they must beat), within the request's budget of ``search_cells``."""
+    done = tuple(done)
+    room = min(MAX_SEARCHED, spec.search_cells - len(done))
+    if room <= 0:
+        return ()
+    return tuple(replace(r, status="searched") for r in cells(spec, scan, members, done)
+                 if r.status == "open")[:room]
 
 
 def _choice_at(spec: OptimiseSpec, u: float, time_limit_s: float) -> Choice | None:
@@ -587,18 +603,10 @@ class Plateau:
     width: float
 
 
-def _searched(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int) -> Refinement | None:
-    todo = [r for r in cells(spec, scan, members) if r.status == "searched"]
-    return todo[k] if k < len(todo) else None
-
-
-def cell_plateaus(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore], k: int, *,
-                  time_limit_s: float = 20.0) -> tuple[Refinement | None, tuple[Plateau, ...]]:
-    """The ``k``-th searched cell of :func:`cells` (None when there is none) cut into its plateaus from its lower
-    end, each one's end located by bisection on the chain's discrete choice, :data:`MAX_WALK` at most."""
-    r = _searched(spec, scan, members, k)
-    if r is None:
-        return None, ()
+def cell_plateaus(spec: OptimiseSpec, members: Sequence[MemberScore], r: Refinement, *,
+                  time_limit_s: float = 20.0) -> tuple[Refinement, tuple[Plateau, ...]]:
+    """The cell ``r`` (of :func:`next_cells`) cut into its plateaus from its lower end, each one's end located by
+    bisection on the chain's discrete choice, :data:`MAX_WALK` at most."""
     known = {m.parameter: m for m in members}
     x, choice = r.lo, known[r.lo].choice
     out: list[Plateau] = []
@@ -720,7 +728,9 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     designed = len(members)
     feasible = int(np.isfinite(s).sum())
     searched = {(r.lo, r.hi): r for r in refinements}
-    found = [searched.get((r.lo, r.hi), r) if r.status == "searched" else r for r in cells(spec, scan, members)]
+    # what is still open once the search has stopped was left by the budget
+    found = [searched[(r.lo, r.hi)] if r.status == "searched" else replace(r, status="unsearched")
+             if r.status == "open" else r for r in cells(spec, scan, members, searched)]
     counts = {k: sum(r.status == k for r in found) for k in ("searched", "pruned", "unsearched")}
     statement = (
         f"{scan.grid_points} members of the family checked kinematically at once ({scan.feasible_points} within "
@@ -730,11 +740,14 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
         f"plateaus of the parameter on which the objective is continuous. Of the {len(found)} cells between "
         f"neighbouring scanned members, {counts['pruned']} were pruned: their least score from the motor, the "
         f"balancing masses and the shaking force at their ends (the flywheel body, never negative, left out) is "
-        f"no better than the best scanned; {counts['searched']} were searched, "
+        f"no better than the best member found; {counts['searched']} were searched, {MAX_SEARCHED} at a time, "
+        f"those that could still beat the best found first, "
         f"{sum(r.plateaus for r in found if r.status == 'searched')} plateaus walked, each one's end located by "
         f"{BISECT_STEPS} bisection steps on the discrete choice, then bounded Brent between its ends "
-        f"({sum(r.evaluations for r in refinements)} runs); {counts['unsearched']} were left beyond the budget "
-        f"of {MAX_SEARCHED}. {designed} members designed, {feasible} meeting every check and limit; the answer "
+        f"({sum(r.evaluations for r in refinements)} runs); "
+        + (f"{counts['unsearched']} were left beyond the budget (search_cells {spec.search_cells}). "
+           if counts["unsearched"] else "none was left: every cell that could beat the best found was searched. ")
+        + f"{designed} members designed, {feasible} meeting every check and limit; the answer "
         "was designed again through the whole chain, start and run-down included. A plateau narrower than a "
         "bisection step is not seen, and the bound assumes the fixed parts monotone across a cell: no gap bound "
         "is claimed."
@@ -757,22 +770,24 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
 
 
 def conclude_search(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore],
-                    walks: Sequence[tuple[Refinement | None, Sequence[Plateau]]],
+                    walks: Sequence[tuple[Refinement, Sequence[Plateau]]],
                     seen: Sequence[Sequence[MemberScore]], *, time_limit_s: float = 20.0) -> MachineOptimum:
-    """:func:`conclude` after the cells' search: ``walks`` each searched cell's record and plateaus
-    (:func:`cell_plateaus`), ``seen`` what each plateau's search designed (:func:`search_plateau`), the plateaus
-    in the walks' order."""
+    """:func:`conclude` after the cells' search: ``walks`` each searched cell and its plateaus
+    (:func:`cell_plateaus`) in the order they were searched, ``seen`` what each plateau's search designed
+    (:func:`search_plateau`), the plateaus in the walks' order."""
     refinements: list[Refinement] = []
-    extra: list[MemberScore] = []
+    extra = designed(seen)
     i = 0
     for r, plateaus in walks:
-        if r is None:
-            continue
         mine = tuple(m for part in seen[i : i + len(plateaus)] for m in part)
         i += len(plateaus)
         refinements.append(cell_refinement(spec, scan, members, r, len(plateaus), mine))
-        extra.extend(mine)
-    return conclude(spec, scan, tuple(members) + tuple(extra), refinements, time_limit_s=time_limit_s)
+    return conclude(spec, scan, tuple(members) + extra, refinements, time_limit_s=time_limit_s)
+
+
+def designed(seen: Sequence[Sequence[MemberScore]]) -> tuple[MemberScore, ...]:
+    """Every member the plateaus' searches designed, in their order."""
+    return tuple(m for part in seen for m in part)
 
 
 def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> MachineOptimum:
@@ -791,6 +806,12 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
     scan = scan_family(spec)
     members = design_members(spec, scan.candidates, time_limit_s=time_limit_s,
                              size_gears_at=(scan.chain_parameter,))
-    walks = tuple(cell_plateaus(spec, scan, members, k, time_limit_s=time_limit_s) for k in range(MAX_SEARCHED))
-    seen = tuple(search_plateau(spec, scan, members, p, time_limit_s=time_limit_s) for _, ps in walks for p in ps)
+    walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
+    seen: list[tuple[MemberScore, ...]] = []
+    # rounds of cells, each round's cells chosen against the best of every member designed before it
+    while todo := next_cells(spec, scan, members + designed(seen), ((r.lo, r.hi) for r, _ in walks)):
+        for r in todo:
+            walk = cell_plateaus(spec, members, r, time_limit_s=time_limit_s)
+            walks.append(walk)
+            seen.extend(search_plateau(spec, scan, members, p, time_limit_s=time_limit_s) for p in walk[1])
     return conclude_search(spec, scan, members, walks, seen, time_limit_s=time_limit_s)
