@@ -3,7 +3,8 @@
 The chosen machine's record is :func:`design_report_pdf` of its design (title block, inputs of the optimisation,
 every stage, the drawings and diagrams). A page follows it with what the optimisation claims and how it covered
 the family: the gains over the chain's machine in every objective, the certificate's statement and counts, the
-cells and the Pareto set.
+cells and the Pareto set; and a figure of the coverage: every member designed with its score along the family's
+parameter, each cell as a band of its status at its bound.
 """
 
 from __future__ import annotations
@@ -12,13 +13,18 @@ import io
 import math
 from xml.sax.saxutils import escape
 
+import matplotlib
+
+matplotlib.use("Agg")
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
 from pypdf import PdfReader, PdfWriter
 from reportlab.lib.pagesizes import A4, landscape
 from reportlab.lib.styles import getSampleStyleSheet
 from reportlab.lib.units import mm
 from reportlab.platypus import Paragraph, SimpleDocTemplate, Spacer, Table, TableStyle
 
-from .optimise import OBJECTIVES, OBJECTIVE_UNITS, MachineOptimum
+from .optimise import OBJECTIVES, OBJECTIVE_UNITS, MachineOptimum, _scores
 from .record import DesignRecord
 from .report import design_report_pdf
 
@@ -69,10 +75,59 @@ def certificate_page(opt: MachineOptimum, record: DesignRecord) -> bytes:
     return buf.getvalue()
 
 
+#: Colours of the cells by status.
+CELL_COLOURS = {"searched": "#2e7d32", "pruned": "#9e9e9e", "unsearched": "#ef6c00"}
+
+
+def coverage_figure(opt: MachineOptimum) -> Figure:
+    """The family as the optimisation covered it: each member designed at its parameter u with its score (scanned,
+    searched, refused or failing a check), the cells between scanned members as bands coloured by status with their
+    bound drawn across them, the chain's member and the optimum."""
+    fig = Figure(figsize=(11.69, 8.27))
+    ax = fig.add_axes((0.08, 0.12, 0.88, 0.76))
+    c = opt.certificate
+    members = list(opt.members)
+    s = _scores(opt.spec, members, opt.normalisers)
+    ok = np.isfinite(s)
+    u = np.array([m.parameter for m in members])
+    scanned = np.array([m.stage == "scan" for m in members])
+    shown = [float(v) for v in s[ok]] + [r.bound for r in c.refinements if math.isfinite(r.bound)]
+    lo, hi = (min(shown), max(shown)) if shown else (0.0, 1.0)
+    pad = 0.05 * (hi - lo or abs(hi) or 1.0)
+    top = hi + 3 * pad
+    for r in c.refinements:
+        colour = CELL_COLOURS.get(r.status, "#9e9e9e")
+        ax.axvspan(r.lo, r.hi, color=colour, alpha=0.12 if r.status == "pruned" else 0.25, lw=0)
+        if math.isfinite(r.bound):
+            ax.plot([r.lo, r.hi], [r.bound, r.bound], color=colour, lw=1.5)
+    ax.plot(u[ok & scanned], s[ok & scanned], "o", ms=4, color="#1565c0", label="scanned member")
+    ax.plot(u[ok & ~scanned], s[ok & ~scanned], "x", ms=4, color="#6a1b9a", label="member of a searched cell")
+    if (~ok).any():
+        ax.plot(u[~ok], np.full(int((~ok).sum()), top), "v", ms=5, color="#c62828",
+                label="refused or failing a check (drawn at the top)")
+    if opt.chain_score is not None:
+        ax.plot([opt.chain.parameter], [opt.chain_score], "D", ms=8, mfc="none", mec="black", label="chain's member")
+    ax.plot([opt.parameter], [opt.score], "*", ms=16, color="#f9a825", mec="black", label="optimum")
+    for status, colour in CELL_COLOURS.items():
+        n = sum(r.status == status for r in c.refinements)
+        ax.plot([], [], color=colour, lw=6, alpha=0.5, label=f"{status} cells ({n}), bound as a line")
+    ax.set_ylim(lo - pad, top + pad)
+    ax.set_xlabel("family parameter u [-]")
+    ax.set_ylabel("score (weighted objectives over the chain's) [-]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8, ncols=2)
+    fig.suptitle(f"How the family was covered: {len(members)} members designed, {len(c.refinements)} cells; "
+                 f"optimum u = {opt.parameter:.6g}, score {opt.score:.5g}", fontsize=11)
+    return fig
+
+
 def optimisation_record_pdf(opt: MachineOptimum, record: DesignRecord) -> bytes:
-    """The chosen machine's design record with the certificate's page after it [PDF]."""
+    """The chosen machine's design record with the certificate's page and the coverage figure after it [PDF]."""
     out = PdfWriter(clone_from=PdfReader(io.BytesIO(design_report_pdf(opt.design, record=record))))
     out.append(PdfReader(io.BytesIO(certificate_page(opt, record))))
+    figure = io.BytesIO()
+    coverage_figure(opt).savefig(figure, format="pdf")
+    out.append(PdfReader(figure))
     buf = io.BytesIO()
     out.write(buf)
     return buf.getvalue()
