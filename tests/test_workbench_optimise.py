@@ -47,6 +47,9 @@ def test_the_optimised_machine_is_the_services_and_a_point_opens_its_design(page
     assert points.count() == len(feasible)
     assert page.locator(f"#opt-scatter circle[data-parameter='{direct['parameter']}']").count() == 1
     assert "no gap bound" in (page.text_content("#opt-certificate") or "")
+    c = direct["certificate"]
+    assert (f"{c['cells_found']} cells between scanned members: {c['cells_searched']} searched, "
+            f"{c['cells_pruned']} pruned") in (page.text_content("#opt-cells") or "")
     # a point other than the optimum opens its own design
     other = next(m for m in feasible if m["parameter"] != direct["parameter"])
     page.locator(f"#opt-scatter circle[data-parameter='{other['parameter']}']").dispatch_event("click")

@@ -66,6 +66,13 @@ function designSummary(d, member) {
       `${fmt(d.summary_after_balancing.rms_shaking_force_N, 4)} N`]]));
 }
 
+function cells(c) {
+  const left = c.cells_unsearched
+    ? `; to search every cell that could still beat the best, give "search_cells": "all"` : "";
+  return h("p", { id: "opt-cells" }, `${c.cells_found} cells between scanned members: ${c.cells_searched} searched, `
+    + `${c.cells_pruned} pruned (they cannot beat the best found), ${c.cells_unsearched} left unsearched${left}.`);
+}
+
 function build() {
   const machine = document.getElementById("panel-machine");
   // not a .panel: the tabs show one .panel at a time, and this box shows with the Machine panel
@@ -131,6 +138,7 @@ function build() {
         h("h3", {}, `Every member designed: ${a.pareto_objectives[0]} against ${a.pareto_objectives[1]}`),
         h("p", { class: "note" }, "Blue: the Pareto set; ringed red: the optimum; grey: the other feasible members."),
         scatter(a, openMember),
+        cells(a.certificate),
         h("details", { id: "opt-certificate" }, h("summary", {}, "How the family was covered (the certificate)"),
           h("p", {}, a.certificate.statement)));
       put(status, "");
