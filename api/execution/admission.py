@@ -16,7 +16,7 @@ import os
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Awaitable, Callable, Iterable, Iterator
 from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
@@ -226,6 +226,18 @@ class Solvers:
         finally:
             self.in_flight -= 1
             self.completed += 1
+
+
+async def together(calls: Iterable[Awaitable[T]]) -> list[T]:
+    """Await engine calls side by side and return their results in order; when one fails (a timeout, a lost
+    worker) the others' work is moot: they are cancelled and the failure raised."""
+    tasks = [asyncio.ensure_future(c) for c in calls]
+    try:
+        return list(await asyncio.gather(*tasks))
+    except BaseException:
+        for task in tasks:
+            task.cancel()
+        raise
 
 
 @dataclass(frozen=True, slots=True)

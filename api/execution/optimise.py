@@ -10,7 +10,6 @@ answer.
 
 from __future__ import annotations
 
-import asyncio
 from collections.abc import Sequence
 
 from fastapi import Request, Response
@@ -28,7 +27,7 @@ from synth.machine.optimise import (
     search_plateau,
 )
 
-from .admission import RequestSolvers
+from .admission import RequestSolvers, together
 from synth.machine.record import DesignRecord
 
 from .plans import SERVICE_VERSION, machine_optimise_conclusion
@@ -63,8 +62,8 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     scan = await solvers.run(scan_family, spec)
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
     shares = member_shares(scan.candidates, scan.chain_parameter, n)
-    parts = await asyncio.gather(*(solvers.run(design_members, spec, share, time_limit_s=t,
-                                               size_gears_at=(scan.chain_parameter,)) for share in shares))
+    parts = await together(solvers.run(design_members, spec, share, time_limit_s=t,
+                                       size_gears_at=(scan.chain_parameter,)) for share in shares)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
 
@@ -72,15 +71,15 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
         # cells' walks
         walk = await solvers.run(cell_plateaus, spec, members, r, time_limit_s=t)
-        return walk, await asyncio.gather(*(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
-                                            for p in walk[1]))
+        return walk, await together(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
+                                    for p in walk[1])
 
     walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
     seen: list[tuple[MemberScore, ...]] = []
     # rounds of cells as the engine runs them, each chosen against the best of every member designed before it
     while todo := await solvers.run(next_cells, spec, scan, members + designed(seen),
                                     tuple((r.lo, r.hi) for r, _ in walks)):
-        for walk, found in await asyncio.gather(*(search(r) for r in todo)):
+        for walk, found in await together(search(r) for r in todo):
             walks.append(walk)
             seen.extend(found)
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)

@@ -10,10 +10,7 @@ answer.
 
 from __future__ import annotations
 
-import asyncio
 import math
-from collections.abc import Awaitable, Sequence
-from typing import TypeVar
 
 from fastapi import Request, Response
 
@@ -22,11 +19,9 @@ from mechsynth_client.schemas.optimise import LinkageOptimiseIn, LinkageOptimise
 from synth.machine.optimise_linkage import conclude_linkage, design_sample, refine_start, scan_box
 
 from ..media import Render
-from .admission import RequestSolvers
+from .admission import RequestSolvers, together
 from .plans import Limits, Plan
 from .work import linkage_member_s, optimise_linkage_s
-
-T = TypeVar("T")
 
 
 def price_linkage_optimisation(b: LinkageOptimiseIn, lim: Limits, workers: int) -> float:
@@ -47,16 +42,6 @@ def price_linkage_optimisation(b: LinkageOptimiseIn, lim: Limits, workers: int) 
     return wall
 
 
-async def _together(calls: Sequence[Awaitable[T]]) -> list[T]:
-    tasks = [asyncio.ensure_future(c) for c in calls]
-    try:
-        return list(await asyncio.gather(*tasks))
-    except BaseException:
-        for task in tasks:  # one task failed (a timeout, a lost worker): the others' work is moot
-            task.cancel()
-        raise
-
-
 async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
                                       solvers: RequestSolvers) -> Response:
     """Answer the request with the optimised linkage and its machine, the chains spread over the workers."""
@@ -71,12 +56,12 @@ async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
     n = max(1, min(workers, len(feasible)))
     # interleaved, so every worker gets members from the whole sample
     shares = [feasible[k::n] for k in range(n)]
-    designed = await _together([solvers.run(design_sample, spec, scan, share, time_limit_s=t)
+    designed = await together([solvers.run(design_sample, spec, scan, share, time_limit_s=t)
                                 for share in shares])
     members = scan.members([pair for part in designed for pair in part])
     # a start past the feasible members refines nothing: no task for it
     starts = min(spec.refined, sum(m.feasible for m in members))
-    refinements = await _together([solvers.run(refine_start, spec, scan, members, k, time_limit_s=t)
+    refinements = await together([solvers.run(refine_start, spec, scan, members, k, time_limit_s=t)
                                    for k in range(starts)])
     plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
                 conclude_linkage, (spec, scan, members, refinements), dict(time_limit_s=t))

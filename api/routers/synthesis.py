@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
@@ -11,6 +10,7 @@ from fastapi.responses import Response
 from synth.synthesis.path import path_starts
 
 from ..execution import plans
+from ..execution.admission import together
 from ..deps import SolverDep
 from ..media import PNG_RESPONSES, FormatQuery
 from mechsynth_client.schemas.synthesis import (
@@ -53,11 +53,5 @@ async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, fo
     The starts are independent: they run as one task per worker, side by side, and the best of all is the answer
     (the same as one run of every start in order)."""
     spec, chunks = plans.synthesis_path_chunks(body, solvers.limits, solvers.solvers.workers)
-    tasks = [asyncio.ensure_future(solvers.run(path_starts, spec, chunk)) for chunk in chunks]
-    try:
-        parts = await asyncio.gather(*tasks)
-    except BaseException:
-        for task in tasks:  # one chunk failed (a timeout, a lost worker): the others' work is moot
-            task.cancel()
-        raise
+    parts = await together(solvers.run(path_starts, spec, chunk) for chunk in chunks)
     return await solvers.answer_plan(plans.synthesis_path_best(spec, parts), request, format)
