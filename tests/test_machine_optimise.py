@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -389,3 +390,25 @@ def test_a_budget_of_cells_is_kept() -> None:
     with pytest.raises(synth.InvalidInput) as err:
         replace(spec, search_cells=-1).validate()
     assert err.value.field == "search_cells"
+
+
+# The work is priced before it starts (api/execution/work.py): a chain run costs 0.05 s at 120 crank angles, a
+# searched cell twelve runs, the optimum's design 1 s. "all" at 720 angles on one worker: 64 x 0.3 s for the scan
+# and 12 x 63 x 0.3 s for the cells, 19.2 + 226.8 + 1 = 247 s, the cells most of it.
+def test_work_beyond_the_bound_is_refused_before_it_starts(tmp_path: Path) -> None:
+    import time
+
+    from fastapi.testclient import TestClient
+
+    from api.app import create_app
+    from api.settings import Settings
+
+    settings = Settings(executor="serial", max_request_work_s=120.0, studies_db=str(tmp_path / "s.sqlite"))
+    with TestClient(create_app(settings), base_url="http://localhost") as c:
+        start = time.monotonic()
+        body = {**copy.deepcopy(CRANK_ROCKER_OPTIMISE_EXAMPLE), "search_cells": "all", "samples": 720}
+        r = c.post("/v1/machines/optimise", json=body)
+        assert r.status_code == 413, r.text
+        problem = r.json()
+        assert (problem["field"], problem["got"], problem["limit"]) == ("search_cells", 247, 120)
+        assert time.monotonic() - start < 2.0  # refused at once, not after the work

@@ -10,10 +10,12 @@ answer.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from fastapi import Request, Response
 
+import synth
 from synth.machine.optimise import (
     MemberScore,
     Plateau,
@@ -30,7 +32,8 @@ from synth.machine.optimise import (
 from .admission import RequestSolvers, together
 from synth.machine.record import DesignRecord
 
-from .plans import SERVICE_VERSION, machine_optimise_conclusion
+from .plans import SERVICE_VERSION, Limits, machine_optimise_conclusion
+from .work import optimise_s
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
@@ -52,11 +55,27 @@ def member_shares(candidates: Sequence[float], sized: float, n: int) -> list[lis
     return [s for s in shares if s]
 
 
+def price_optimisation(b: MachineOptimiseIn, lim: Limits, workers: int) -> float:
+    """The request's estimated time on ``workers`` workers [s]; TooLarge naming the field that drives most of it
+    (``scan_members`` or ``search_cells``) when beyond the service's bound."""
+    parts = optimise_s(b, max(1, workers))
+    wall = sum(parts.values())
+    if wall > lim.max_work_s:
+        field = max(("scan_members", "search_cells"), key=lambda k: parts[k])
+        raise synth.TooLarge(
+            "machine optimisation estimated time [s]", int(lim.max_work_s), math.ceil(wall),
+            f"{b.scan_members} scanned members and {b.search_cells} cells searched at {b.samples} crank angles "
+            f"take about {wall:.3g} s on the {workers} workers, beyond the bound of {lim.max_work_s:g} s: ask for "
+            f"fewer {field.replace('_', ' ')} or fewer crank angles (samples)", field=field)
+    return wall
+
+
 async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers: RequestSolvers,
                               fmt: str | None = None) -> Response:
     """Answer the request with the optimised machine, its chains spread over the workers; ``fmt`` pdf: the
     chosen machine's design record with the certificate's page."""
     lim = solvers.limits
+    price_optimisation(body, lim, solvers.solvers.workers)
     spec = body.to_engine(lim.max_stages)
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)

@@ -68,9 +68,17 @@ def _path(b: Any) -> float:
 _CELL_MEMBERS = 12
 
 
-def _optimise(b: Any) -> float:
+def optimise_s(b: Any, workers: int = 1) -> dict[str, float]:
+    """POST /v1/machines/optimise's work on ``workers`` workers [s], by what drives it: the scan's members
+    (shared by the workers), the cells searched (two at a time, their plateaus shared) and the optimum's design."""
+    run = _MEMBER_S * int(b.samples) / 120
     cells = int(b.scan_members) - 1 if b.search_cells == "all" else min(int(b.search_cells), int(b.scan_members) - 1)
-    return 1.0 + (int(b.scan_members) + _CELL_MEMBERS * cells) * _MEMBER_S * int(b.samples) / 120
+    return {"scan_members": math.ceil(int(b.scan_members) / workers) * run,
+            "search_cells": _CELL_MEMBERS * cells * run / workers, "design": 1.0}
+
+
+def _optimise(b: Any) -> float:
+    return sum(optimise_s(b).values())
 
 
 def _flywheel(b: Any) -> float:
