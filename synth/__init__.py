@@ -208,7 +208,7 @@ from .topology import Joint, Topology
 from .gearing.planetary import PlanetaryMesh, planetary_tooth_numbers
 from .gearing.train import GearMesh, PlanetaryStage, TrainResult, TrainShaft, TrainWheel, gear_train
 from .structure import AssurGroup, Pair, PairReport, Structure, analyse_structure
-from .warnings import DesignWarning, check_analysis, check_counterweights, check_linkage, link_lengths
+from .warnings import DesignWarning, ValidityCheck, check_analysis, check_counterweights, check_linkage, link_lengths
 from .balancing.warnings import check_balance, check_rotor
 from .flywheel.warnings import check_flywheel
 
@@ -412,6 +412,7 @@ __all__ = [
     "fixed_point_counterweights",
     # warnings
     "DesignWarning",
+    "ValidityCheck",
     "check_analysis",
     "check_balance",
     "check_counterweights",

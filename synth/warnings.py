@@ -91,6 +91,24 @@ class DesignWarning:
     stage: str | None = None
 
 
+@dataclass(frozen=True, slots=True)
+class ValidityCheck:
+    """A condition the answer's model needs, held against its limit: where the physics stops.
+
+    ``name`` the condition (``motor_stalls``, ``follower_contact``, ...), ``value`` what the answer gives and
+    ``limit`` what the model needs, both in ``unit`` ("" for a ratio); ``passed`` the condition holds; ``detail``
+    what is compared, in words. A failed check always comes with a warning of the same code, or the answer is
+    refused instead.
+    """
+
+    name: str
+    value: float
+    limit: float
+    passed: bool
+    detail: str
+    unit: str = ""
+
+
 def link_lengths(mechanism: Mechanism) -> dict[str, float]:
     """Length of every bar link between its two joints [m]; blocks and rams have none."""
     if isinstance(mechanism, FourBar):

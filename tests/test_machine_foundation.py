@@ -110,7 +110,7 @@ def test_regulation_block_answers_as_the_regulation_endpoint(client: SynthClient
     assert g.constant_inertia_kgm2 == pytest.approx(constant, rel=1e-12)
     alone = client.regulation(RegulationIn.model_validate(
         {**_linkage_fields(), "motor": _motor(design), "constant_inertia_kgm2": g.constant_inertia_kgm2,
-         "load_step_Nm": 40, "delta": design.simulation.target_delta}))
+         "load_step_Nm": 40}))
     assert g.drop_rpm == pytest.approx(alone.drop_rpm, rel=SAME)
     assert g.time_constant_s == pytest.approx(alone.time_constant_s, rel=SAME)
     assert g.settling_time_s is not None and alone.settling_time_s is not None

@@ -387,7 +387,8 @@ def regulation(b: RegulationIn, lim: Limits) -> Plan:
     controller, tuning = (None, None) if b.regulator is None else b.regulator.to_engine()
     return Plan(Render(RegulationOut.from_engine, regulation_figure), rg.regulate_linkage,
                 (b.to_linkage(), b.omega_rad_s, b.motor.to_engine(), b.load_step_Nm),
-                dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, controller=controller, tuning=tuning,
+                dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, band_fraction=b.settling_band,
+                     controller=controller, tuning=tuning,
                      samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
                      friction=b.frictions()),
                 FIGURES, "regulation")

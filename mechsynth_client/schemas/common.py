@@ -573,6 +573,31 @@ def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
     return [WarningOut.from_engine(w) for w in warnings]
 
 
+class ValidityCheckOut(BaseModel):
+    """A condition the answer's model needs, held against its limit; a failed one comes with a warning of the
+    same code."""
+
+    name: str = Field(description="The condition, e.g. `motor_stalls`, `follower_contact`, `pressure_angle`.")
+    value: float = Field(description="What the answer gives, in `unit`.")
+    limit: float = Field(description="What the model needs, in the same unit.")
+    passed: bool = Field(description="The condition holds: the answer is inside its model.")
+    detail: str = Field(description="What is compared, in words.")
+    unit: str = Field("", description="Unit of `value` and `limit` (angles in degrees); empty for a ratio.")
+
+    @classmethod
+    def from_engine(cls, c: synth.ValidityCheck) -> ValidityCheckOut:
+        """Schema from an engine check; radians become degrees."""
+        value, limit, unit = c.value, c.limit, c.unit
+        if unit == "rad":
+            value, limit, unit = math.degrees(value), math.degrees(limit), "deg"
+        return cls(name=c.name, value=value, limit=limit, passed=c.passed, detail=c.detail, unit=unit)
+
+
+def validity_out(checks: Iterable[synth.ValidityCheck]) -> list[ValidityCheckOut]:
+    """Schemas of engine validity checks."""
+    return [ValidityCheckOut.from_engine(c) for c in checks]
+
+
 def degree_list(radians: np.ndarray) -> list[float]:
     """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
     # Adding 0.0 turns -0.0 into 0.0.

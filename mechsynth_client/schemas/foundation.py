@@ -12,7 +12,18 @@ from pydantic.config import JsonDict
 from .analysis import AnalysisIn
 from .motor import MotorIn
 from ._engine import np
-from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, Vec2, WarningOut, degree_array, ensure_finite
+from .common import (
+    MAX_INERTIA_KGM2,
+    MAX_MASS_KG,
+    StrictModel,
+    ValidityCheckOut,
+    Vec2,
+    WarningOut,
+    degree_array,
+    ensure_finite,
+    validity_out,
+    warnings_out,
+)
 
 #: Stiffness beyond any isolator or foundation bolt [N/m]; a larger value is a typo.
 MAX_STIFFNESS_N_M = 1e13
@@ -528,18 +539,22 @@ class RegulationIn(AnalysisIn):
                                          "reduced to the crank [kg·m²].")
     load_step_Nm: float = Field(ge=-1e9, le=1e9, description="Step in the load torque at the crank [N·m], "
                                 "positive resists (more load).", examples=[40])
-    delta: float = Field(0.02, gt=0, lt=1, description="The band the settling is judged in: delta·w/2 [-].")
+    delta: float | None = Field(None, gt=0, lt=1, description="A settling band delta·w/2 [-] instead of "
+                                "settling_band; one as wide as the step's dip is replaced by settling_band (with "
+                                "the warning settling_band_wide).")
+    settling_band: float = Field(0.02, gt=0, lt=1, description="The band the settling is judged in, as a "
+                                 "fraction of the step's dip (the largest deviation of the smoothed speed) [-].")
     regulator: RegulatorIn | None = Field(None, description="A PI controller on a frequency converter; null: "
                                           "self-regulation through the characteristic.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 180,
          "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
-         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 40, "delta": 0.02},
+         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 40},
         {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 180,
          "loads": [{"type": "window", "force_N": 2500, "start_deg": 0, "end_deg": 180}],
-         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 40, "delta": 0.02,
-         "regulator": {"settling_time_s": 0.05, "overshoot": 0.05}},
+         "motor": MOTOR_EXAMPLE, "constant_inertia_kgm2": 0.5, "load_step_Nm": 20,
+         "regulator": {"settling_time_s": 0.2, "overshoot": 0.05}},
     ]})
 
 
@@ -562,7 +577,7 @@ class RegulationOut(BaseModel):
     drop_rpm: float = Field(description="Speed drop of self-regulation, simulated [rev/min].")
     drop_closed_form_rpm: float = Field(description="dM/s, s the characteristic's slope at the crank [rev/min].")
     time_constant_s: float = Field(description="J_mean/s [s].")
-    band_rpm: float = Field(description="delta·w/2 [rev/min].")
+    band_rpm: float = Field(description="The settling band: settling_band of the dip, or delta·w/2 [rev/min].")
     settling_time_s: float | None = Field(description="After the step until the smoothed speed stays in the band "
                                           "[s]; null: not within the run.")
     settling_closed_form_s: float | None = Field(description="tau·ln(dw/band) for self-regulation [s].")
@@ -574,6 +589,14 @@ class RegulationOut(BaseModel):
     reference_speed_rpm: float | None = Field(None, description="The speed it holds [rev/min].")
     poles_real_1_s: list[float] | None = Field(None, description="Closed-loop poles, real parts [1/s].")
     poles_imag_1_s: list[float] | None = Field(None, description="Closed-loop poles, imaginary parts [1/s].")
+    breakdown_torque_Nm: float | None = Field(None, description="The motor's breakdown torque at the crank "
+                                              "[N·m]; null without one.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Where the model stops: the motor "
+                                       "pulling out (motor_breakdown), a lightly damped loop, a tuned loop "
+                                       "missing its targets, a band wider than the dip.")
+    validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the model "
+                                             "needs against its limit: motor_stalls, motor_breakdown, "
+                                             "regulator_damping, regulator_settling_time, regulator_overshoot.")
 
     @classmethod
     def from_engine(cls, r: Any) -> RegulationOut:
@@ -592,7 +615,9 @@ class RegulationOut(BaseModel):
             filter_time_s=None if c is None else c.filter_time,
             reference_speed_rpm=None if c is None or c.reference is None else c.reference * rpm,
             poles_real_1_s=None if r.poles is None else [float(p.real) for p in r.poles],
-            poles_imag_1_s=None if r.poles is None else [float(p.imag) for p in r.poles])
+            poles_imag_1_s=None if r.poles is None else [float(p.imag) for p in r.poles],
+            breakdown_torque_Nm=r.breakdown_torque if math.isfinite(r.breakdown_torque) else None,
+            warnings=warnings_out(r.warnings), validity=validity_out(r.checks))
         return cls.model_construct(**values)
 
 
@@ -664,8 +689,8 @@ class MachineRegulationIn(StrictModel):
 
     load_step_Nm: float = Field(ge=-1e9, le=1e9, description="Step in the load torque at the crank [N·m], "
                                 "positive resists (more load).", examples=[40])
-    delta: float | None = Field(None, gt=0, lt=1, description="The band the settling is judged in: delta·w/2 "
-                                "[-]; default the design's target delta.")
+    delta: float | None = Field(None, gt=0, lt=1, description="A settling band delta·w/2 [-]; default 2 % of "
+                                "the step's dip.")
     regulator: RegulatorIn | None = Field(None, description="A PI controller on a frequency converter; null: "
                                           "self-regulation through the characteristic.")
     max_settling_time_s: float | None = Field(None, gt=0, le=1e4, description="Limit of the time to settle in "

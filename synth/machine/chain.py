@@ -702,10 +702,11 @@ def _around(machine: MachineSpec, d: MachineDesign) -> MachineDesign:
         warnings += notes + elastic_warnings(elastic.drive)
     if machine.regulation is not None:
         with stage("regulation"):
-            regulation = regulation_of_design(machine.regulation, cycle, d.motor, constant, machine.delta)
+            regulation = regulation_of_design(machine.regulation, cycle, d.motor, constant)
         more, notes = _limit_checks(regulation_limits(machine.regulation, regulation.regulation), "regulation")
         checks += more
-        warnings += notes
+        warnings += notes + [replace(w, stage="regulation", field=f"regulation.{w.field}" if w.field else None)
+                             for w in regulation.regulation.warnings]
     return replace(d, checks=tuple(checks), warnings=tuple(warnings), gears=gears, foundation=foundation,
                    elastic=elastic, regulation=regulation)
 

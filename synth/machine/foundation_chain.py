@@ -57,8 +57,8 @@ class ElasticDriveChoice:
 
 @dataclass(frozen=True, slots=True)
 class RegulationChoice:
-    """A step ``load_step`` in the process load [N·m at the crank, positive resists]; ``delta`` the band the
-    settling is judged in [-] (None: the design's target); a PI ``controller`` with given gains or ``tuning``
+    """A step ``load_step`` in the process load [N·m at the crank, positive resists]; ``delta`` a band delta·w/2
+    the settling is judged in [-] (None: 2 % of the step's dip); a PI ``controller`` with given gains or ``tuning``
     (settling time [s], overshoot [-], filter time [s]), neither: self-regulation; limits ``max_settling_time``
     [s] and ``max_speed_drop`` of the mean crank speed [rad/s] (None: not checked)."""
 
@@ -158,10 +158,10 @@ def elastic_of_design(choice: ElasticDriveChoice, cycle: MachineCycle, motor: Mo
     return ElasticInDesign(drive, motor_side, machine_side)
 
 
-def regulation_of_design(choice: RegulationChoice, cycle: MachineCycle, motor: Motor, constant_inertia: float,
-                         delta: float) -> RegulationInDesign:
-    """The designed machine after the load step, with its target ``delta`` [-] as the band unless the block
-    gives its own; a tuned controller is tuned for the machine's mean inertia and the characteristic's slope at
+def regulation_of_design(choice: RegulationChoice, cycle: MachineCycle, motor: Motor,
+                         constant_inertia: float) -> RegulationInDesign:
+    """The designed machine after the load step, settling judged in 2 % of the dip unless the block gives its
+    own delta; a tuned controller is tuned for the machine's mean inertia and the characteristic's slope at
     the crank, as POST /v1/machines/regulation tunes it."""
     _positive(choice.max_settling_time, "regulation.max_settling_time_s")
     _positive(choice.max_speed_drop, "regulation.max_speed_drop_rad_s")
@@ -170,8 +170,9 @@ def regulation_of_design(choice: RegulationChoice, cycle: MachineCycle, motor: M
         if choice.tuning is not None:
             j_mean = float(np.mean(cycle.inertia)) + constant_inertia
             controller = tune_pi(j_mean, motor.reduced().slope, *choice.tuning)
-        result = regulate(cycle, constant_inertia, motor, choice.load_step,
-                          delta=delta if choice.delta is None else choice.delta, controller=controller)
+        target = None if choice.tuning is None else (choice.tuning[0], choice.tuning[1])
+        result = regulate(cycle, constant_inertia, motor, choice.load_step, delta=choice.delta,
+                          controller=controller, target=target)
     except InvalidInput as exc:
         raise InvalidInput(str(exc), field=_under("regulation", exc.field)) from exc
     except Infeasible as exc:
@@ -238,7 +239,7 @@ def regulation_limits(choice: RegulationChoice, g: Regulation) -> list[Limit]:
         out.append(Limit("regulation_settling_time", value, choice.max_settling_time,
                          g.settling_time is not None and value <= choice.max_settling_time,
                          "time after the load step until the speed, its cycle's fluctuation taken off, stays in "
-                         "the delta band [s]", "s", "settling after the load step"))
+                         "the settling band [s]", "s", "settling after the load step"))
     if choice.max_speed_drop is not None:
         drop = g.drop if g.controller is None else g.max_deviation
         out.append(Limit("regulation_speed_drop", abs(drop), choice.max_speed_drop,

@@ -116,7 +116,7 @@ def regulation_figure(r: Regulation, fmt: str = "png") -> bytes:
     final = r.controller.reference if r.controller is not None and r.controller.reference else r.speed_after
     top.plot(r.time, r.omega * rpm, lw=0.7, color="0.6", label="crank speed")
     top.plot(r.time, r.smoothed * rpm, lw=1.4, color="C0", label="without the cycle's fluctuation")
-    top.axhspan((final - r.band) * rpm, (final + r.band) * rpm, color="C2", alpha=0.15, label="delta band")
+    top.axhspan((final - r.band) * rpm, (final + r.band) * rpm, color="C2", alpha=0.15, label="settling band")
     top.axvline(r.step_time, color="k", lw=0.8, ls=":")
     if r.settling_time is not None:
         top.axvline(r.step_time + r.settling_time, color="C3", lw=0.8, ls="--",
@@ -166,7 +166,7 @@ def foundation_record_page(isolation: Isolation | None = None, drive: ElasticDri
         rows += [["regulation", "load step, mode", f"{g.load_step:.4g} N·m, {mode}"],
                  ["", "speed drop (closed form)",
                   f"{g.drop * 30 / np.pi:.4g} rpm ({g.drop_closed_form * 30 / np.pi:.4g})"],
-                 ["", "settling in the delta band", settle]]
+                 ["", "settling in the band", settle]]
     table_ax = fig.add_subplot(grid[0, :])
     table_ax.axis("off")
     if rows:
@@ -313,7 +313,7 @@ def drive_record_page(drive: ElasticDrive | None, regulation: Regulation | None)
         ax = fig.add_subplot(grid[1, 0])
         ax.plot(g.time, g.omega * rpm, lw=0.6, color="0.6", label="crank speed")
         ax.plot(g.time, g.smoothed * rpm, lw=1.3, color="C0", label="without the cycle's fluctuation")
-        ax.axhspan((final - g.band) * rpm, (final + g.band) * rpm, color="C2", alpha=0.15, label="delta band")
+        ax.axhspan((final - g.band) * rpm, (final + g.band) * rpm, color="C2", alpha=0.15, label="settling band")
         ax.axvline(g.step_time, color="k", lw=0.8, ls=":")
         if g.settling_time is not None:
             ax.axvline(g.step_time + g.settling_time, color="C3", lw=0.8, ls="--",
