@@ -25,8 +25,9 @@ Models
 
 Where it stops: below a swing of about 5 degrees (the manufacturers' bound; Houpert's critical angle depends on
 the number of rolling elements) the elements no longer roll over fresh track and the basic life does not hold:
-the life is given with the warning ``bearing_small_oscillation`` (false brinelling, fretting). Above P = C/2 the life equation is outside its
-validated range (``bearing_heavy_load``). No lubrication or contamination factor (a_ISO = 1): the basic life only.
+the life is given with the warning ``bearing_small_oscillation`` (false brinelling, fretting). Above P = C/2 the
+life equation is outside its validated range (``bearing_heavy_load``). No lubrication or contamination factor
+(a_ISO = 1): the basic life only.
 """
 
 from __future__ import annotations
