@@ -62,6 +62,7 @@ from .schemas.foundation import (
 from .schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut, MachineOptimiseIn, MachineOptimiseOut
 from .schemas.structure import StructureIn, StructureOut
 from .schemas.train import TrainIn, TrainOut
+from .schemas.strength import StrengthSizingIn, StrengthSizingOut
 from .schemas.cams import CamAnalysisIn, CamAnalysisOut, CamSynthesisIn, CamSynthesisOut, MotionLawOut
 from .schemas.synthesis import (
     CrankRockerIn,
@@ -568,6 +569,10 @@ class SynthClient(_Policy):
         """POST /v1/cams/analysis: a disc cam over one turn with its checks."""
         return self._post("/v1/cams/analysis", body, CamAnalysisOut)
 
+    def strength(self, body: StrengthSizingIn) -> StrengthSizingOut:
+        """POST /v1/strength: the linkage's bars sized for the cycle's forces, to the fixed point."""
+        return self._post("/v1/strength", body, StrengthSizingOut)
+
     def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
         """POST /v1/cams/synthesis: the least cam for pressure-angle and curvature limits."""
         return self._post("/v1/cams/synthesis", body, CamSynthesisOut)
@@ -906,6 +911,10 @@ class AsyncSynthClient(_Policy):
     async def cam_analysis(self, body: CamAnalysisIn) -> CamAnalysisOut:
         """POST /v1/cams/analysis."""
         return await self._post("/v1/cams/analysis", body, CamAnalysisOut)
+
+    async def strength(self, body: StrengthSizingIn) -> StrengthSizingOut:
+        """POST /v1/strength."""
+        return await self._post("/v1/strength", body, StrengthSizingOut)
 
     async def cam_synthesis(self, body: CamSynthesisIn) -> CamSynthesisOut:
         """POST /v1/cams/synthesis."""

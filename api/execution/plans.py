@@ -17,6 +17,7 @@ from pydantic import BaseModel
 
 import synth
 import synth.cams
+import synth.strength
 from synth.exports import balance_export, slider_crank_balance_export
 from synth.machine import elastic_drive as ed
 from synth.machine import foundation as fd
@@ -28,6 +29,8 @@ from synth.machine.optimise_linkage import optimise_linkage
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
+from ..translate.strength import sizing_call, sizing_out
+from mechsynth_client.schemas.strength import StrengthSizingIn
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (
     BalanceIn,
@@ -467,3 +470,11 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/cams/synthesis": (CamSynthesisIn, cam_synthesis_plan),
     "/v1/machines/optimise-linkage": (LinkageOptimiseIn, machine_optimise_linkage),
 }
+
+
+def strength_plan(b: StrengthSizingIn, lim: Limits) -> Plan:
+    """POST /v1/strength."""
+    linkage, speed, specs, limits = sizing_call(b)
+    return Plan(Render(sizing_out), synth.strength.size_links, (linkage, speed, specs, limits),
+                dict(samples=b.samples, crank_acceleration=b.crank_acceleration_rad_s2,
+                     max_samples=lim.max_samples), (), "strength")

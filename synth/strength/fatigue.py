@@ -41,7 +41,7 @@ def surface_factor(ultimate_strength: float, surface: str) -> float:
     try:
         a, b = SURFACE_FACTORS[surface]
     except KeyError:
-        raise InvalidInput(f"unknown surface {surface!r}; one of {list(SURFACE_FACTORS)}", field="surface") from None
+        raise InvalidInput(f"unknown surface {surface!r}; one of {list(SURFACE_FACTORS)}", field="limits.surface") from None
     return min(1.0, float(a * (ultimate_strength / MPA) ** b))
 
 
@@ -64,7 +64,7 @@ def reliability_factor(reliability: float) -> float:
         return RELIABILITY_FACTORS[reliability]
     except KeyError:
         raise InvalidInput(f"reliability must be one of {sorted(RELIABILITY_FACTORS)}, got {reliability!r}",
-                           field="reliability") from None
+                           field="limits.reliability") from None
 
 
 def endurance_limit(fatigue_limit: float, ultimate_strength: float, surface: str, equivalent_diameter: float,

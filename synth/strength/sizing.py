@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from ..analysis import Analysis, analyse
 from ..counter_rotors import CounterRotor
 from ..errors import InvalidInput, SolverFailed
+from ..kinematics import MAX_SAMPLES
 from ..model import Linkage, MassProps
 from .links import LinkSizing, LinkSpec, StrengthLimits, beam_forces, beam_links, size_link
 
@@ -69,8 +70,8 @@ def _with_links(linkage: Linkage, props: Mapping[str, MassProps]) -> Linkage:
 
 
 def size_links(linkage: Linkage, speed: float, specs: Mapping[str, LinkSpec], limits: StrengthLimits, *,
-               samples: int = 360, counter_rotors: Sequence[CounterRotor] = (),
-               max_iterations: int = MAX_ITERATIONS) -> LinkStrength:
+               samples: int = 360, crank_acceleration: float = 0.0, counter_rotors: Sequence[CounterRotor] = (),
+               max_samples: int = MAX_SAMPLES, max_iterations: int = MAX_ITERATIONS) -> LinkStrength:
     """Size every link of ``specs`` (each must be a bar) at crank speed ``speed`` [rad/s] to the fixed point.
 
     Raises InvalidInput for a link that is not a bar, Infeasible (naming the link, check and crank angle) when a
@@ -79,7 +80,12 @@ def size_links(linkage: Linkage, speed: float, specs: Mapping[str, LinkSpec], li
     limits.validate()
     for name, spec in specs.items():
         spec.material.validate(f"links.{name}.material")
-    current = analyse(linkage, speed, samples=samples, counter_rotors=counter_rotors)
+    def again(props: Mapping[str, MassProps]) -> Analysis:
+        return analyse(_with_links(linkage, props), speed, samples=samples, crank_acceleration=crank_acceleration,
+                       counter_rotors=counter_rotors, max_samples=max_samples, base_motion=base)
+
+    current = analyse(linkage, speed, samples=samples, crank_acceleration=crank_acceleration,
+                      counter_rotors=counter_rotors, max_samples=max_samples)
     bars = set(beam_links(current))
     if missing := [name for name in specs if name not in bars]:
         raise InvalidInput(f"links {missing} are not bars (a block, or an unknown link); the bars are "
@@ -101,15 +107,13 @@ def size_links(linkage: Linkage, speed: float, specs: Mapping[str, LinkSpec], li
             prev = {n: s for n, s in zip(specs, _resize_previous(current, specs, limits, chosen[-1]))}
             sized = {n: (prev[n] if prev[n].section.area > sized[n].section.area else sized[n]) for n in specs}
             chosen.append({n: s.section.label for n, s in sized.items()})
-            current = analyse(_with_links(linkage, {n: s.mass_props for n, s in sized.items()}), speed,
-                              samples=samples, counter_rotors=counter_rotors, base_motion=base)
+            current = again({n: s.mass_props for n, s in sized.items()})
             sized = {name: _check_as_built(current, name, specs[name], sized[name], limits) for name in specs}
             history.append(SizingIteration({n: current.linkage.links[n].mass for n in specs},
                                            {n: s.section.label for n, s in sized.items()}, 0.0))
             break
         chosen.append(labels)
-        current = analyse(_with_links(linkage, {n: s.mass_props for n, s in sized.items()}), speed,
-                          samples=samples, counter_rotors=counter_rotors, base_motion=base)
+        current = again({n: s.mass_props for n, s in sized.items()})
     else:
         raise SolverFailed("not_converged", f"the links' sections still changed after {max_iterations} analyses")
     residual = max((abs(current.linkage.links[n].mass - s.mass) for n, s in sized.items()), default=0.0)
