@@ -367,6 +367,18 @@ def size_bushing(
     return BushingResult(part, material, diameter, length, p, v, pv, checks)
 
 
+def bushing_min_diameter(load: ArrayLike, relative_speed: ArrayLike, material: BushingMaterial,
+                         max_length_ratio: float = 1.5) -> float:
+    """The least bore [m] at which a bushing no longer than ``max_length_ratio`` bores keeps the peak pressure
+    and the mean p·v within the material's limits: F_max/(r d²) <= p and mean(F |w|)/(2 r d) <= p·v."""
+    f = _load_magnitude(load, "bushing")
+    w = np.abs(_speed(relative_speed, f.size, "bushing"))
+    _validate_material("bushing", material)
+    by_p = math.sqrt(float(f.max()) / (max_length_ratio * material.pressure_limit))
+    by_pv = float(np.mean(f * w)) / (2.0 * max_length_ratio * material.pv_limit)
+    return max(by_p, by_pv)
+
+
 def _validate_material(part: str, m: BushingMaterial) -> None:
     for name in ("pressure_limit", "speed_limit", "pv_limit"):
         v = getattr(m, name)

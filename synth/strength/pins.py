@@ -223,6 +223,7 @@ def size_pin(
     *,
     member_angle: ArrayLike | None = None,
     max_diameter: float = 0.2,
+    diameter: float | None = None,
 ) -> PinResult:
     """Size the pin of ``joint_name`` from its reaction over the cycle.
 
@@ -234,6 +235,8 @@ def size_pin(
     limits : Allowable stresses [Pa] (see :func:`roloff_limits`).
     member_angle : Angle of the member the pin is fixed in, shape (N,) [rad], to tell the kind of load (reported).
     max_diameter : Largest pin accepted [m]; beyond it :class:`Infeasible` names the joint and the check.
+    diameter : A given diameter [m] (a rolling bearing's bore, say): checked at it, not chosen; the least
+        diameter is still reported.
     """
     r = np.asarray(reaction, dtype=float)
     if r.ndim != 2 or r.shape[1] != 2 or r.shape[0] == 0 or not np.all(np.isfinite(r)):
@@ -246,8 +249,11 @@ def size_pin(
     except Infeasible as exc:
         raise Infeasible(f"joint {joint_name}: {exc.reason}", constraint=exc.constraint, joint=joint_name) from exc
     required = max(required, 1e-4)
-    chosen = standard_pin_diameter(required)
-    if chosen is None or chosen > max_diameter * (1.0 + 1e-12):
+    if diameter is not None and not (math.isfinite(diameter) and diameter > 0.0):
+        raise InvalidInput(f"joint {joint_name}: the pin diameter must be positive, got {diameter!r}",
+                           field=f"{joint_name}.diameter")
+    chosen = standard_pin_diameter(required) if diameter is None else diameter
+    if chosen is None or (diameter is None and chosen > max_diameter * (1.0 + 1e-12)):
         raise Infeasible(f"joint {joint_name}: the pin needs {required * 1e3:.1f} mm for {governing}, beyond the "
                          f"largest pin of {max_diameter * 1e3:.0f} mm", constraint=governing, joint=joint_name,
                          diameter_required_m=required)
