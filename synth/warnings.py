@@ -97,7 +97,7 @@ class ValidityCheck:
 
     ``name`` the condition (``motor_stalls``, ``follower_contact``, ...), ``value`` what the answer gives and
     ``limit`` what the model needs, both in ``unit`` ("" for a ratio); ``passed`` the condition holds; ``detail``
-    what is compared, in words. A failed check always comes with a warning of the same code, or the answer is
+    what is compared, in words. A failed check always comes with a warning that names it, or the answer is
     refused instead.
     """
 
@@ -283,6 +283,11 @@ def _ranges(phi: FloatArray, mask: NDArray[np.bool_]) -> tuple[tuple[float, floa
         first = runs.pop(0)
         runs[-1] = (runs[-1][0], first[1])
     return tuple(runs)
+
+
+def angle_ranges(phi: FloatArray, mask: NDArray[np.bool_]) -> tuple[tuple[float, float], ...]:
+    """Runs of consecutive samples where ``mask`` holds, as (first, last) angles [rad], joined over 2π."""
+    return _ranges(phi, mask)
 
 
 def _full_uniform_cycle(phi: FloatArray) -> bool:

@@ -9,7 +9,18 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, model_validator
 
 from ._engine import _OnFirstUse, np
-from .common import MAX_LENGTH_M, MAX_MASS_KG, MAX_INERTIA_KGM2, Coordinate, Length, StrictModel
+from .common import (
+    MAX_INERTIA_KGM2,
+    MAX_LENGTH_M,
+    MAX_MASS_KG,
+    Coordinate,
+    Length,
+    StrictModel,
+    ValidityCheckOut,
+    WarningOut,
+    validity_out,
+    warnings_out,
+)
 
 if TYPE_CHECKING:
     import synth.cams as cams
@@ -113,6 +124,12 @@ class CamLoadsIn(StrictModel):
     rolling_resistance_m: float = Field(0.0, ge=0.0, le=0.1, description="Roller followers: the coefficient of "
                                         "rolling friction k [m] of the roller on the cam (a couple k·N against its "
                                         "rolling); smaller than the roller radius.", examples=[0.0005])
+    max_initial_compression_m: float | None = Field(None, gt=0.0, le=MAX_LENGTH_M, description="A designed "
+                                                    "spring's largest initial compression F0/k [m]; default the "
+                                                    "follower's total lift.")
+    spring_wire: SpringWire = Field("music_wire", description="The designed spring's wire (translating "
+                                    "followers): its strength, shear modulus and density.")
+    spring_index: float = Field(8.0, ge=4.0, le=12.0, description="The designed spring's index D/d [-].")
 
 
 class LawOptionsIn(StrictModel):
@@ -128,7 +145,15 @@ class LawOptionsIn(StrictModel):
                                                 "(2 pi: no worse than cycloidal).")
 
 
+SpringWire = Literal["music_wire", "oil_tempered", "hard_drawn", "chrome_vanadium", "chrome_silicon",
+                     "stainless_302"]
+
+
 class _CamFields(StrictModel):
+    max_pressure_angle_rise_deg: float = Field(30.0, gt=0.0, lt=90.0,
+                                               description="Largest pressure angle in the rises [deg].")
+    max_pressure_angle_return_deg: float = Field(45.0, gt=0.0, lt=90.0,
+                                                 description="Largest pressure angle in the returns [deg].")
     segments: list[CamSegmentIn] = Field(min_length=1, max_length=MAX_SEGMENTS,
                                       description="The follower's program, in order from cam angle 0.")
     follower: CamFollowerIn = Field(default_factory=CamFollowerIn, description="The follower.")
@@ -183,15 +208,18 @@ class _CamFields(StrictModel):
                                         field=f"loads.process.{i}.{want}")
             process.append(cams.ProcessLoad(math.radians(p.from_deg), math.radians(p.to_deg), value))
         return cams.PairLoads(inertia or 0.0, self.omega_rad_s, stiffness, preload, tuple(process),
-                              ld.contact_margin, ld.rolling_resistance_m)
+                              ld.contact_margin, ld.rolling_resistance_m, ld.max_initial_compression_m,
+                              ld.spring_wire, ld.spring_index)
 
-    def to_spec(self, base_radius: float = 0.0) -> cams.CamSpec:
+    def to_spec(self, base_radius: float = 0.0, min_curvature_radius: float = 0.002) -> cams.CamSpec:
         """Engine spec; degrees and rev/min become radians and rad/s here."""
         o = self.law_options
         options = cams.LawOptions(o.objective, o.knot_intervals, 2.0 * math.pi * (o.natural_frequency_hz or 0.0),
                                   o.max_acceleration_coefficient)
         return cams.CamSpec(self._segments(), self.follower.to_engine(), self.omega_rad_s, base_radius,
-                            self.samples, self._loads(), options)
+                            self.samples, self._loads(), options, math.radians(self.max_pressure_angle_rise_deg),
+                            math.radians(self.max_pressure_angle_return_deg),
+                            min_curvature_radius)
 
 
 _EXAMPLE_SEGMENTS: list[JsonValue] = [
@@ -207,6 +235,9 @@ class CamAnalysisIn(_CamFields):
 
     base_radius_m: Length = Field(description="Base circle radius: the profile's least distance from the cam "
                                   "centre [m].", examples=[0.04])
+    min_curvature_radius_m: float = Field(0.002, gt=0.0, le=MAX_LENGTH_M, description="Least radius of "
+                                          "curvature of the convex profile [m] the answer is held to (a roller's "
+                                          "profile also to the roller's radius).")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"segments": _EXAMPLE_SEGMENTS, "follower": {"contact": "roller", "roller_radius_m": 0.01,
@@ -224,17 +255,13 @@ class CamAnalysisIn(_CamFields):
 
     def spec(self) -> cams.CamSpec:
         """Engine spec of the cam."""
-        return self.to_spec(self.base_radius_m)
+        return self.to_spec(self.base_radius_m, self.min_curvature_radius_m)
 
 
 class CamSynthesisIn(_CamFields):
     """The least disc cam (base circle, and offset when its range is given) for pressure-angle and curvature
     limits."""
 
-    max_pressure_angle_rise_deg: float = Field(30.0, gt=0.0, lt=90.0,
-                                               description="Largest pressure angle in the rises [deg].")
-    max_pressure_angle_return_deg: float = Field(45.0, gt=0.0, lt=90.0,
-                                                 description="Largest pressure angle in the returns [deg].")
     min_curvature_radius_m: float = Field(0.0, ge=0.0, le=MAX_LENGTH_M, description="Least radius of curvature "
                                           "of the convex profile [m] (a roller's profile also keeps clear of "
                                           "undercut; a flat face needs a positive value).")
@@ -244,6 +271,9 @@ class CamSynthesisIn(_CamFields):
     offset_bounds_m: list[Coordinate] | None = Field(
         None, min_length=2, max_length=2, description="Range of a free offset [m]: [min, max]; without it the "
                                                       "follower's offset_m is kept.")
+    hub_radius_m: float = Field(0.0, ge=0.0, le=MAX_LENGTH_M, description="Radius of the shaft or hub the "
+                                "cam is made on [m]: no base circle below it is searched; 0: not given (the answer "
+                                "then warns hub_radius_missing).")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"segments": _EXAMPLE_SEGMENTS, "follower": {"contact": "roller", "roller_radius_m": 0.01},
@@ -260,7 +290,7 @@ class CamSynthesisIn(_CamFields):
         offsets = None if self.offset_bounds_m is None else (self.offset_bounds_m[0], self.offset_bounds_m[1])
         return cams.CamLimits(math.radians(self.max_pressure_angle_rise_deg),
                               math.radians(self.max_pressure_angle_return_deg), self.min_curvature_radius_m,
-                              (lo, hi), offsets)
+                              (lo, hi), offsets, self.hub_radius_m)
 
 
 # ---------------------------------------------------------------- answers
@@ -478,6 +508,38 @@ def optimised_out(o: cams.OptimisedLaw) -> OptimisedLawOut:
                            coefficients=_l(o.law.coefficients))
 
 
+class CoilSpringOut(BaseModel):
+    """The designed spring as a helical compression spring of round wire (squared and ground ends)."""
+
+    wire: str = Field(description="The wire material.")
+    wire_diameter_m: float = Field(description="Wire diameter d [m] (continuous: round up to a stock size).")
+    mean_coil_diameter_m: float = Field(description="Mean coil diameter D [m].")
+    spring_index: float = Field(description="D/d [-].")
+    active_coils: float = Field(description="Active coils [-]; two more in the solid length.")
+    free_length_m: float = Field(description="Free length [m].")
+    installed_length_m: float = Field(description="Length at the follower's lowest position [m].")
+    solid_length_m: float = Field(description="Solid length [m].")
+    initial_compression_m: float = Field(description="Preload over rate [m].")
+    max_force_N: float = Field(description="Force at full lift [N].")
+    max_shear_stress_MPa: float = Field(description="Largest shear stress, Bergsträsser factor [MPa].")
+    allowable_shear_stress_MPa: float = Field(description="The wire's allowable static shear stress [MPa].")
+    fatigue_factor: float = Field(description="Goodman factor of safety, Zimmerli's unpeened data [-].")
+    surge_frequency_Hz: float = Field(description="First surge frequency between flat plates [Hz].")
+    surge_order: float = Field(description="Surge frequency over the cam's frequency [-] (at least 13).")
+
+
+def coil_out(c: Any) -> CoilSpringOut | None:
+    """The coil block of an analysis, or None."""
+    if c is None:
+        return None
+    return CoilSpringOut(
+        wire=c.wire, wire_diameter_m=c.diameter, mean_coil_diameter_m=c.mean_diameter, spring_index=c.index,
+        active_coils=c.active_coils, free_length_m=c.free_length, installed_length_m=c.installed_length,
+        solid_length_m=c.solid_length, initial_compression_m=c.initial_compression, max_force_N=c.max_force,
+        max_shear_stress_MPa=c.max_stress / 1e6, allowable_shear_stress_MPa=c.allowable_stress / 1e6,
+        fatigue_factor=c.fatigue_factor, surge_frequency_Hz=c.surge_frequency, surge_order=c.surge_order)
+
+
 class CamAnalysisOut(BaseModel):
     """A disc cam over one turn: motion, profile, forces, and the checks."""
 
@@ -488,6 +550,13 @@ class CamAnalysisOut(BaseModel):
     forces: CamForcesOut | None = Field(description="Contact force, spring, driving torque; null without loads.")
     optimised_laws: list[OptimisedLawOut] = Field(description="The laws the service optimised, in segment order.")
     checks: CamChecksOut = Field(description="Independent check figures.")
+    spring: CoilSpringOut | None = Field(None, description="A designed spring of a translating follower as a "
+                                         "coil; null otherwise.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Where the model stops: follower_jump, "
+                                       "pressure_angle_high, profile_radius_small, jerk_infinite, spring_surge, "
+                                       "spring_fatigue, spring_buckling, hub_radius_missing.")
+    validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the model needs "
+                                             "against its limit.")
 
     @classmethod
     def from_engine(cls, an: cams.CamAnalysis) -> CamAnalysisOut:
@@ -506,7 +575,8 @@ class CamAnalysisOut(BaseModel):
                            reduced_model_error=None if f is None else f.reduced_check, laws=laws)
         return cls(cam_angle_deg=_deg(an.motion.theta), speed_rpm=an.spec.speed * 30.0 / math.pi,
                    motion=motion_out(an), profile=profile_out(an), forces=forces_out(an),
-                   optimised_laws=[optimised_out(o) for o in an.optimised], checks=checks)
+                   optimised_laws=[optimised_out(o) for o in an.optimised], checks=checks,
+                   spring=coil_out(an.coil), warnings=warnings_out(an.warnings), validity=validity_out(an.checks))
 
 
 class CamConstraintOut(BaseModel):

@@ -20,7 +20,10 @@ from .forces import PairForces, PairLoads, pair_forces
 from .laws import FollowerMotion, Segment, follower_motion, check_segments
 from .optimal_law import Objective, OptimisedLaw, optimise_law
 from .profile import CamGeometry, Follower, TableCheck, cam_geometry, table_check
+from .spring import CoilSpring, coil_spring
 from .synthesis import CamLimits, LeastCam, least_cam
+from .validity import MIN_PROFILE_RADIUS, contact_validity, geometry_validity, joint_validity
+from ..warnings import DesignWarning, ValidityCheck
 
 #: Peak acceleration coefficients C_a (peak = C_a h/beta²) as the textbooks print them (Norton, Cam Design and
 #: Manufacturing Handbook, table of standard laws; Rothbart, Cam Design Handbook): independent of the closed forms
@@ -53,7 +56,8 @@ class LawOptions:
 class CamSpec:
     """A cam to analyse: the follower's program, the follower, the cam ``speed`` [rad/s, counter-clockwise], the
     base circle radius [m] (the profile's least radius; ignored by the least-cam search), samples per turn, the
-    pair's loads (None: kinematics only) and the optimised laws' options."""
+    pair's loads (None: kinematics only), the optimised laws' options, and the limits the answer is held to:
+    pressure angles in rises and returns [rad], the profile's least radius of curvature [m]."""
 
     segments: tuple[Segment, ...]
     follower: Follower
@@ -62,6 +66,9 @@ class CamSpec:
     samples: int = 720
     loads: PairLoads | None = None
     law_options: LawOptions = field(default_factory=LawOptions)
+    max_pressure_rise: float = math.radians(30.0)
+    max_pressure_return: float = math.radians(45.0)
+    min_curvature_radius: float = MIN_PROFILE_RADIUS
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,7 +94,9 @@ class LawCheck:
 class CamAnalysis:
     """A cam over one turn: the resolved program (optimised laws in place), motion, geometry and forces, with
     the checks. ``derivative_check`` is the largest relative difference between the law's v, a, jerk and the
-    fourth-order finite differences of s, v, a over the samples (segment joints left out)."""
+    fourth-order finite differences of s, v, a over the samples (segment joints left out); ``coil`` the designed
+    spring as a coil (translating followers); ``warnings`` and ``checks`` where the model stops
+    (:mod:`synth.cams.validity`)."""
 
     spec: CamSpec
     motion: FollowerMotion
@@ -97,6 +106,9 @@ class CamAnalysis:
     optimised: tuple[OptimisedLaw, ...]
     forces: PairForces | None
     derivative_check: float
+    coil: CoilSpring | None = None
+    warnings: tuple[DesignWarning, ...] = ()
+    checks: tuple[ValidityCheck, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -202,8 +214,21 @@ def analyse_cam(spec: CamSpec, max_samples: int = 20_000) -> CamAnalysis:
     if forces is not None and not all(np.all(np.isfinite(a)) for a in (forces.contact, forces.torque)):
         raise InvalidInput("the contact force has no finite value at some cam angle: the follower locks there",
                            field="follower", code="locks")
+    unit = "m" if spec.follower.motion == "translating" else "rad"
+    notes, checks = geometry_validity(segments, geometry, spec.max_pressure_rise, spec.max_pressure_return,
+                                      spec.min_curvature_radius)
+    more, joints = joint_validity(segments, motion, spec.speed, unit)
+    notes, checks = notes + more, checks + joints
+    coil = None
+    if forces is not None and spec.loads is not None:
+        more, contact = contact_validity(motion.theta, forces)
+        notes, checks = notes + more, checks + contact
+        if forces.spring_designed and spec.follower.motion == "translating" and forces.stiffness > 0:
+            coil, more, coil_checks = coil_spring(forces.stiffness, forces.preload, float(np.ptp(motion.s)),
+                                                  spec.speed, motion.a, spec.loads.wire, spec.loads.spring_index)
+            notes, checks = notes + more, checks + coil_checks
     return CamAnalysis(spec, motion, geometry, table_check(geometry), _law_checks(segments, motion), optimised,
-                       forces, _derivative_check(motion))
+                       forces, _derivative_check(motion), coil, tuple(notes), tuple(checks))
 
 
 def synthesise_cam(spec: CamSpec, limits: CamLimits, max_samples: int = 20_000) -> CamSynthesis:
@@ -212,5 +237,14 @@ def synthesise_cam(spec: CamSpec, limits: CamLimits, max_samples: int = 20_000) 
     segments, _ = resolve_laws(spec)
     least = least_cam(segments, spec.follower, limits, spec.samples)
     follower = replace(spec.follower, offset=least.offset)
-    return CamSynthesis(least, limits, analyse_cam(replace(spec, follower=follower, base_radius=least.base_radius),
-                                                   max_samples))
+    spec = replace(spec, follower=follower, base_radius=least.base_radius, max_pressure_rise=limits.max_pressure_rise,
+                   max_pressure_return=limits.max_pressure_return,
+                   min_curvature_radius=limits.min_curvature_radius or spec.min_curvature_radius)
+    an = analyse_cam(spec, max_samples)
+    if limits.hub_radius == 0.0:
+        note = DesignWarning(
+            "hub_radius_missing", "hub_radius_m", least.base_radius,
+            f"the least cam was searched without the shaft or hub it is made on: its base circle of "
+            f"{least.base_radius:.4g} m may not enclose them; give hub_radius_m", "m")
+        an = replace(an, warnings=(*an.warnings, note))
+    return CamSynthesis(least, limits, an)

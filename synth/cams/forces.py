@@ -20,7 +20,8 @@ the couple times the roller's rotation relative to the cam (it rolls on the cont
 
 The least spring is a linear program in (k, F0): the spring force must exceed, at every angle, 1 + margin times
 the force that would lift the follower off the cam, -(m q_tt + F_p); minimise the largest spring force, reached at
-full lift.
+full lift, with the initial compression F0/k at most a bound (default the total lift): without it the least
+largest force is a preload without rate, a spring of infinite free length.
 """
 
 from __future__ import annotations
@@ -56,7 +57,8 @@ class PairLoads:
     """What the follower asks of the cam: ``inertia`` (mass or moment of inertia), spring ``stiffness`` and
     ``preload`` (None: the least spring is found), process loads, the contact ``margin`` the spring must keep
     (spring force at least 1 + margin times the separating force), the cam ``speed`` [rad/s] and a roller's
-    ``rolling_resistance`` k [m] on the cam (its couple k·N)."""
+    ``rolling_resistance`` k [m] on the cam (its couple k·N); a designed spring's largest initial compression
+    F0/k [m] (None: the follower's total lift), and the ``wire`` and ``spring_index`` of its coil."""
 
     inertia: float
     speed: float
@@ -65,6 +67,9 @@ class PairLoads:
     process: tuple[ProcessLoad, ...] = ()
     margin: float = 0.2
     rolling_resistance: float = 0.0
+    max_initial_compression: float | None = None
+    wire: str = "music_wire"
+    spring_index: float = 8.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,11 +95,15 @@ class PairForces:
 
 
 def _least_spring(q: FloatArray, need: FloatArray, margin: float, stiffness: float | None,
-                  preload: float | None) -> tuple[float, float]:
+                  preload: float | None, max_compression: float) -> tuple[float, float]:
     k = cp.Variable(nonneg=True)
     f0 = cp.Variable(nonneg=True)
     fixed = [k == stiffness] if stiffness is not None else []
     fixed += [f0 == preload] if preload is not None else []
+    if stiffness is None and preload is None:
+        # a preload without rate is a constant force, a spring of infinite free length: the initial compression
+        # F0/k is bounded, so the least largest force comes with a rate
+        fixed.append(f0 <= max_compression * k)
     problem = cp.Problem(cp.Minimize(k * float(q.max()) + f0), [k * q + f0 >= (1.0 + margin) * need, *fixed])
     try:
         problem.solve(solver=cp.CLARABEL)  # type: ignore[no-untyped-call]
@@ -118,7 +127,13 @@ def pair_forces(g: CamGeometry, loads: PairLoads) -> PairForces:
     need = np.maximum(-(inertia + process), 0.0)
     designed = loads.stiffness is None or loads.preload is None
     if designed:
-        k, f0 = _least_spring(m.s, need, loads.margin, loads.stiffness, loads.preload)
+        compression = loads.max_initial_compression
+        if compression is None:
+            compression = float(np.ptp(m.s))
+        if not compression > 0:
+            raise InvalidInput("the spring's initial compression must be positive",
+                               field="loads.max_initial_compression_m")
+        k, f0 = _least_spring(m.s, need, loads.margin, loads.stiffness, loads.preload, compression)
     else:
         assert loads.stiffness is not None and loads.preload is not None
         k, f0 = loads.stiffness, loads.preload

@@ -49,14 +49,16 @@ BISECT_RTOL = 1e-10
 @dataclass(frozen=True, slots=True)
 class CamLimits:
     """Limits of the least-cam search: largest pressure angles in rise and return [rad], least radius of
-    curvature of the profile [m], the base radius range [m], and the offset range [m] (None: the follower's
-    offset is kept)."""
+    curvature of the profile [m], the base radius range [m], the offset range [m] (None: the follower's
+    offset is kept), and the radius of the shaft or hub the cam is made on [m] (0: not given), below which no
+    base circle is searched."""
 
     max_pressure_rise: float
     max_pressure_return: float
     min_curvature_radius: float
     base_radius_bounds: tuple[float, float]
     offset_bounds: tuple[float, float] | None = None
+    hub_radius: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -224,6 +226,9 @@ def least_cam(segments: Sequence[Segment], follower: Follower, limits: CamLimits
     lo, hi = limits.base_radius_bounds
     if not 0.0 < lo < hi:
         raise InvalidInput("the base radius range needs 0 < min < max", field="base_radius_bounds_m")
+    if limits.hub_radius >= hi:
+        raise InvalidInput("the hub is as large as the largest base circle searched", field="hub_radius_m")
+    lo = max(lo, limits.hub_radius)
     if follower.contact == "flat_faced" and not limits.min_curvature_radius > 0.0:
         raise InvalidInput("a flat-faced follower's cam is limited by its radius of curvature: give a positive "
                            "least radius", field="min_curvature_radius_m")
