@@ -30,6 +30,7 @@ from synth.errors import (
 
 from store import StoreUnavailable
 from store.library import (
+    FailedChecks,
     InvalidDocument,
     LibraryError,
     NotFound,
@@ -257,6 +258,7 @@ _LIBRARY: dict[type[LibraryError], tuple[int, str, str]] = {
     NotFound: (404, "not-found", "Not found"),
     StaleParent: (409, "stale-parent", "Stale parent revision"),
     WrongState: (409, "wrong-state", "Revision in the wrong state"),
+    FailedChecks: (409, "failed-checks", "The revision did not pass"),
     ProjectExists: (409, "project-exists", "Project exists"),
     SignOffRefused: (403, "sign-off-refused", "Sign-off refused"),
     InvalidDocument: (422, "invalid-input", "Invalid input"),
@@ -271,6 +273,8 @@ async def _library_handler(_: Request, exc: Exception) -> JSONResponse:
         extras["head_revision"] = exc.head
     if isinstance(exc, InvalidDocument):
         extras["field"] = exc.field
+    if isinstance(exc, FailedChecks):
+        extras["failed_checks"] = exc.failed
     return problem(status, slug, title, str(exc), **extras)
 
 

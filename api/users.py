@@ -89,6 +89,7 @@ def main(argv: list[str] | None = None) -> int:
             accounts.set_roles(user.id, set(args.role))
         elif args.command == "passwd":
             accounts.set_password_hash(user.id, passwords.hash_password(_password(args)))
+            accounts.end_credentials(user.id)
         elif args.command == "remove":
             accounts.remove(user)
         return 0

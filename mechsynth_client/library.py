@@ -37,14 +37,19 @@ def _body(request: BaseModel | dict[str, Any]) -> dict[str, Any]:
     return request
 
 
+def _sign_body(name: str | None, deviation: str | None, comment: str | None) -> dict[str, Any]:
+    return {k: v for k, v in {"name": name, "deviation": deviation, "comment": comment}.items() if v is not None}
+
+
 def _search_params(project: str | None, name: str | None, endpoint: str | None, author: str | None,
                    since: datetime | None, until: datetime | None, passed: bool | None, state: str | None,
-                   latest: bool, offset: int, limit: int) -> dict[str, Any]:
+                   latest: bool, offset: int, limit: int, deviation: bool | None = None) -> dict[str, Any]:
     params: dict[str, Any] = {"project": project, "name": name, "endpoint": endpoint, "author": author,
                               "since": since.isoformat() if since else None,
                               "until": until.isoformat() if until else None,
                               "passed": None if passed is None else str(passed).lower(), "state": state,
-                              "latest": str(latest).lower(), "offset": offset, "limit": limit}
+                              "latest": str(latest).lower(), "offset": offset, "limit": limit,
+                              "deviation": None if deviation is None else str(deviation).lower()}
     return {k: v for k, v in params.items() if v is not None}
 
 
@@ -75,10 +80,12 @@ class LibraryClient:
     def search(self, *, project: str | None = None, name: str | None = None, endpoint: str | None = None,
                author: str | None = None, since: datetime | None = None, until: datetime | None = None,
                passed: bool | None = None, state: str | None = None, latest: bool = True, offset: int = 0,
+               deviation: bool | None = None,
                limit: int = 100) -> list[RevisionOut]:
         """Revisions matching every filter given, newest first (each design's latest only, unless ``latest`` is
         false)."""
-        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit)
+        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit,
+                                deviation)
         response = self.client._send("GET", "/v1/library/revisions", params=params)
         return [RevisionOut.model_validate(r) for r in response.json()]
 
@@ -109,18 +116,36 @@ class LibraryClient:
         return RevisionOut.model_validate_json(response.content)
 
     def _sign(self, action: Literal["check", "approve"], project: str, design: str, number: int,
-              name: str | None) -> RevisionOut:
+              name: str | None, deviation: str | None, comment: str | None) -> RevisionOut:
         response = self.client._send("POST", f"{self._design(project, design)}/revisions/{number}/{action}",
-                                     json={"name": name})
+                                     json=_sign_body(name, deviation, comment))
         return RevisionOut.model_validate_json(response.content)
 
-    def check(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
-        """Sign a draft revision as its checker (never its author)."""
-        return self._sign("check", project, design, number, name)
+    def check(self, project: str, design: str, number: int, *, name: str | None = None,
+              deviation: str | None = None, comment: str | None = None) -> RevisionOut:
+        """Sign a draft revision as its checker (never its author); one that failed a check needs
+        ``deviation``, the reason it is passed on anyway."""
+        return self._sign("check", project, design, number, name, deviation, comment)
 
-    def approve(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
-        """Approve a checked revision (never its author); it is frozen from then on."""
-        return self._sign("approve", project, design, number, name)
+    def approve(self, project: str, design: str, number: int, *, name: str | None = None,
+                deviation: str | None = None, comment: str | None = None) -> RevisionOut:
+        """Approve a checked revision (neither its author nor its checker); it is frozen from then on and the
+        design's approved revision before it is superseded. One that failed a check needs ``deviation``."""
+        return self._sign("approve", project, design, number, name, deviation, comment)
+
+    def return_revision(self, project: str, design: str, number: int, comment: str, *,
+                        name: str | None = None) -> RevisionOut:
+        """Return a draft or checked revision to its author with ``comment``."""
+        response = self.client._send("POST", f"{self._design(project, design)}/revisions/{number}/return",
+                                     json={"comment": comment, "name": name})
+        return RevisionOut.model_validate_json(response.content)
+
+    def comment(self, project: str, design: str, number: int, text: str, *, name: str | None = None
+                ) -> RevisionOut:
+        """Keep a comment on a revision."""
+        response = self.client._send("POST", f"{self._design(project, design)}/revisions/{number}/comments",
+                                     json={"text": text, "name": name})
+        return RevisionOut.model_validate_json(response.content)
 
     def export(self, project: str) -> LibraryExport:
         """The whole project as one document (every revision with its answer and record)."""
@@ -128,7 +153,7 @@ class LibraryClient:
         return LibraryExport.model_validate_json(response.content)
 
     def import_project(self, document: LibraryExport) -> ProjectOut:
-        """Import an exported project, hashes checked, as it was."""
+        """Import an exported project, hashes checked: every revision arrives ``imported``, unsigned."""
         response = self.client._send("POST", "/v1/library/import", json=document.model_dump(mode="json"))
         return ProjectOut.model_validate_json(response.content)
 
@@ -162,9 +187,11 @@ class AsyncLibraryClient:
     async def search(self, *, project: str | None = None, name: str | None = None, endpoint: str | None = None,
                      author: str | None = None, since: datetime | None = None, until: datetime | None = None,
                      passed: bool | None = None, state: str | None = None, latest: bool = True, offset: int = 0,
+               deviation: bool | None = None,
                      limit: int = 100) -> list[RevisionOut]:
         """See :meth:`LibraryClient.search`."""
-        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit)
+        params = _search_params(project, name, endpoint, author, since, until, passed, state, latest, offset, limit,
+                                deviation)
         response = await self.client._send("GET", "/v1/library/revisions", params=params)
         return [RevisionOut.model_validate(r) for r in response.json()]
 
@@ -197,16 +224,36 @@ class AsyncLibraryClient:
                                            params={"from": before, "to": after})
         return DiffOut.model_validate_json(response.content)
 
-    async def check(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
+    async def check(self, project: str, design: str, number: int, *, name: str | None = None,
+                    deviation: str | None = None, comment: str | None = None) -> RevisionOut:
         """See :meth:`LibraryClient.check`."""
         response = await self.client._send(
-            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/check", json={"name": name})
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/check",
+            json=_sign_body(name, deviation, comment))
         return RevisionOut.model_validate_json(response.content)
 
-    async def approve(self, project: str, design: str, number: int, *, name: str | None = None) -> RevisionOut:
+    async def approve(self, project: str, design: str, number: int, *, name: str | None = None,
+                      deviation: str | None = None, comment: str | None = None) -> RevisionOut:
         """See :meth:`LibraryClient.approve`."""
         response = await self.client._send(
-            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/approve", json={"name": name})
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/approve",
+            json=_sign_body(name, deviation, comment))
+        return RevisionOut.model_validate_json(response.content)
+
+    async def return_revision(self, project: str, design: str, number: int, comment: str, *,
+                              name: str | None = None) -> RevisionOut:
+        """See :meth:`LibraryClient.return_revision`."""
+        response = await self.client._send(
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/return",
+            json={"comment": comment, "name": name})
+        return RevisionOut.model_validate_json(response.content)
+
+    async def comment(self, project: str, design: str, number: int, text: str, *, name: str | None = None
+                      ) -> RevisionOut:
+        """See :meth:`LibraryClient.comment`."""
+        response = await self.client._send(
+            "POST", f"{LibraryClient._design(project, design)}/revisions/{number}/comments",
+            json={"text": text, "name": name})
         return RevisionOut.model_validate_json(response.content)
 
     async def export(self, project: str) -> LibraryExport:

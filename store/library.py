@@ -3,9 +3,16 @@
 A revision keeps the request (canonical JSON: keys sorted, no spaces), its content hash (sha256 of that text),
 author, time and message, and the answer and design record made from exactly that request. Saving names the
 revision it starts from (its parent); a save whose parent is no longer the design's latest revision would
-silently overwrite someone's work, so it is refused (:class:`StaleParent`) unless it asks to branch. A revision
-is checked and then approved by people other than its author; approving one supersedes the revisions of the
-design approved before it. Nothing here knows who may sign: the service checks roles before it asks.
+silently overwrite someone's work, so it is refused (:class:`StaleParent`) unless it asks to branch.
+
+The sign-off rules hold here, in one transaction each, on both engines, whatever two servers do at once:
+a revision is checked and then approved by two different people, neither its author; only a revision whose
+answer passed is signed, unless the signer states a deviation (its reason is kept and printed); a design has at
+most one approved revision (approving supersedes the one before; approving an older revision than the approved
+one is refused; a partial unique index backs this up); a checker or approver may return a revision with a
+comment. An imported revision arrives ``imported``: its signatures were made elsewhere, so they are kept only as
+a note, and its answer as one computed elsewhere. Nothing here knows who holds which role: the service checks
+roles before it asks.
 """
 
 from __future__ import annotations
@@ -22,10 +29,11 @@ from typing import Any
 import sqlalchemy as sa
 
 from .db import Store
-from .schema import designs, projects, revisions
+from .schema import designs, projects, revision_comments, revisions
 
-#: The states of a revision, in the order it passes through them.
-STATES = ("draft", "checked", "approved", "superseded")
+#: The states of a revision: a draft is checked, then approved, then superseded by a later approval; a checker or
+#: approver may return a draft or a checked one to its author; an import arrives unsigned as ``imported``.
+STATES = ("draft", "checked", "approved", "superseded", "returned", "imported")
 #: What an export document says it is; an import refuses any other.
 EXPORT_FORMAT = "mechsynth-library/1"
 
@@ -47,11 +55,21 @@ class StaleParent(LibraryError):
 
 
 class SignOffRefused(LibraryError):
-    """The signer may not sign this revision (they wrote it)."""
+    """The signer may not sign this revision (they wrote it, or signed it already in another role)."""
 
 
 class WrongState(LibraryError):
-    """The revision is not in the state the sign-off needs (a draft is checked, a checked one approved)."""
+    """The revision is not in the state the sign-off needs (a draft is checked, a checked one approved), or a
+    later revision of the design is approved."""
+
+
+class FailedChecks(LibraryError):
+    """The revision's answer did not pass (``failed`` names the checks or the problem) and no deviation was
+    given."""
+
+    def __init__(self, detail: str, failed: list[str]) -> None:
+        super().__init__(detail)
+        self.failed = failed
 
 
 class InvalidDocument(LibraryError):
@@ -78,6 +96,17 @@ def content_hash(request: Mapping[str, Any]) -> str:
 
 
 @dataclass(frozen=True, slots=True)
+class Comment:
+    """A comment on a revision: who [-], when [s since the epoch], what kind (``returned``, ``check``,
+    ``approve``, ``deviation``, ``comment``) and its text [-]."""
+
+    author: str
+    created_at: float
+    kind: str
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
 class RevisionInfo:
     """A revision without its request and answer (for lists).
 
@@ -94,15 +123,22 @@ class RevisionInfo:
     author, created_at, message
         Who saved it, when (seconds since the epoch) [s], and why [-].
     passed
-        Every check of its answer passed; None without an answer (a study) [-].
+        Every check of its answer passed; None without an answer (a study) or with an imported one [-].
     state
-        ``draft``, ``checked``, ``approved`` or ``superseded`` [-].
+        ``draft``, ``checked``, ``approved``, ``superseded``, ``returned`` or ``imported`` [-].
     checked_by, checked_at, approved_by, approved_at
         The sign-offs, names and times [s].
     superseded_by
         The approved revision that superseded it [-].
     has_record
         A design record (PDF) is kept with it [-].
+    deviation
+        Why it was signed although its answer failed a check; None when it passed [-].
+    imported_note
+        For an imported revision: where it came from and what it claimed (state, signers, answer), none of it
+        verified here; None for a revision saved here [-].
+    comments
+        Comments on it, oldest first (returns, sign-offs with a remark, deviations) [-].
     """
 
     project: str
@@ -122,6 +158,9 @@ class RevisionInfo:
     approved_at: float | None
     superseded_by: int | None
     has_record: bool
+    deviation: str | None = None
+    imported_note: str | None = None
+    comments: tuple[Comment, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,22 +196,60 @@ def title_block(info: RevisionInfo) -> dict[str, Any]:
     return {"project": info.project, "record_number": f"{info.project}/{info.design}", "revision": info.number,
             "title": info.design, "designed_by": info.author, "designed_on": _iso(info.created_at),
             "checked_by": info.checked_by, "checked_on": _iso(info.checked_at), "approved_by": info.approved_by,
-            "approved_on": _iso(info.approved_at), "state": info.state, "content_hash": info.content_hash}
+            "approved_on": _iso(info.approved_at), "state": info.state, "content_hash": info.content_hash,
+            "deviation": info.deviation}
 
 
 _INFO = (projects.c.name, designs.c.name, designs.c.endpoint, revisions.c.number, revisions.c.parent,
          revisions.c.content_hash, revisions.c.author, revisions.c.created_at, revisions.c.message,
          revisions.c.passed, revisions.c.state, revisions.c.checked_by, revisions.c.checked_at,
          revisions.c.approved_by, revisions.c.approved_at, revisions.c.superseded_by,
-         revisions.c.record_pdf.is_not(None))
+         revisions.c.record_pdf.is_not(None), revisions.c.deviation, revisions.c.imported_note, revisions.c.id)
 _JOINED = revisions.join(designs, designs.c.id == revisions.c.design_id).join(
     projects, projects.c.id == designs.c.project_id)
 
 
-def _info(row: Sequence[Any]) -> RevisionInfo:
+def _info(row: Sequence[Any], comments: Mapping[int, list[Comment]] | None = None) -> RevisionInfo:
     return RevisionInfo(row[0], row[1], row[2], int(row[3]), row[4], row[5], row[6], float(row[7]), row[8],
                         None if row[9] is None else bool(row[9]), row[10], row[11], row[12], row[13], row[14],
-                        row[15], bool(row[16]))
+                        row[15], bool(row[16]), row[17], row[18], tuple((comments or {}).get(int(row[19]), ())))
+
+
+def _infos(db: sa.Connection, rows: Sequence[Sequence[Any]]) -> list[RevisionInfo]:
+    """The revisions of ``rows`` (selected with ``_INFO`` first) with their comments."""
+    ids = [int(r[19]) for r in rows]
+    found: dict[int, list[Comment]] = {}
+    for k in range(0, len(ids), 500):
+        for c in db.execute(sa.select(revision_comments.c.revision_id, revision_comments.c.author,
+                                      revision_comments.c.created_at, revision_comments.c.kind,
+                                      revision_comments.c.text)
+                            .where(revision_comments.c.revision_id.in_(ids[k:k + 500]))
+                            .order_by(revision_comments.c.created_at, revision_comments.c.id)):
+            found.setdefault(int(c[0]), []).append(Comment(c[1], float(c[2]), c[3], c[4]))
+    return [_info(r, found) for r in rows]
+
+
+def failed_checks(answer: Mapping[str, Any] | None) -> list[str]:
+    """What did not pass in a stored answer: the engine's problem, or the names of its failed checks."""
+    if not answer:
+        return []
+    problem = answer.get("problem")
+    if isinstance(problem, Mapping):
+        return [f"{problem.get('title', 'refused')}: {problem.get('detail', '')}".strip()]
+    checks = answer.get("checks")
+    names = [str(c.get("label") or c.get("name") or "check") + (f" ({c['detail']})" if c.get("detail") else "")
+             for c in checks
+             if isinstance(c, Mapping) and c.get("passed") is False] if isinstance(checks, list) else []
+    return names or (["the answer says it did not pass"] if answer.get("passed") is False else [])
+
+
+def _wrong_state(where: str, number: int, state: str, role: str, needed: str) -> str:
+    why = {"approved": " (an approved revision is frozen: save a new revision to change it)",
+           "superseded": " (an approved revision is frozen: save a new revision to change it)",
+           "returned": " (it was returned to its author: the author saves a new revision from it)",
+           "imported": " (it was signed, if at all, on another service: restore it to make a revision of this "
+                       "library, computed here, and sign that)"}
+    return f"revision {number} of {where} is {state}; the {role} signs a {needed} revision{why.get(state, '')}"
 
 
 class Library:
@@ -216,8 +293,10 @@ class Library:
 
     def save(self, project: str, design: str, endpoint: str, request: Mapping[str, Any], *, author: str,
              message: str, parent: int | None, branch: bool = False, answer: Mapping[str, Any] | None = None,
-             passed: bool | None = None, record_pdf: bytes | None = None) -> RevisionInfo:
-        """Store a new revision of ``project``/``design`` (both made on their first save) from ``parent``.
+             passed: bool | None = None, record_pdf: bytes | None = None,
+             created_at: float | None = None) -> RevisionInfo:
+        """Store a new revision of ``project``/``design`` (both made on their first save) from ``parent``, dated
+        ``created_at`` [s since the epoch] (default now: the date its design record was written with).
 
         :class:`StaleParent` when ``parent`` is not the latest revision and ``branch`` is false,
         :class:`InvalidDocument` when the design holds requests of another endpoint.
@@ -226,7 +305,8 @@ class Library:
         for attempt in range(2):
             try:
                 number = self._insert(project, design, endpoint, text, author=author, message=message, parent=parent,
-                                      branch=branch, answer=answer, passed=passed, record_pdf=record_pdf)
+                                      branch=branch, answer=answer, passed=passed, record_pdf=record_pdf,
+                                      created_at=created_at)
                 break
             except sa.exc.IntegrityError:
                 head = self.head(project, design)
@@ -239,8 +319,8 @@ class Library:
 
     def _insert(self, project: str, design: str, endpoint: str, text: str, *, author: str, message: str,
                 parent: int | None, branch: bool, answer: Mapping[str, Any] | None, passed: bool | None,
-                record_pdf: bytes | None) -> int:
-        now = time.time()
+                record_pdf: bytes | None, created_at: float | None) -> int:
+        now = time.time() if created_at is None else created_at
         with self.store.write() as db:
             project_id = db.scalar(sa.select(projects.c.id).where(projects.c.name == project))
             if project_id is None:
@@ -279,18 +359,19 @@ class Library:
         with self.store.read() as db:
             row = db.execute(sa.select(*_INFO).select_from(_JOINED).where(
                 projects.c.name == project, designs.c.name == design, revisions.c.number == number)).one_or_none()
-        if row is None:
-            raise NotFound(f"{project}/{design} has no revision {number}")
-        return _info(row)
+            if row is None:
+                raise NotFound(f"{project}/{design} has no revision {number}")
+            return _infos(db, [row])[0]
 
     def revision(self, project: str, design: str, number: int) -> Revision:
         """A revision with its request and answer; :class:`NotFound` when there is none."""
         with self.store.read() as db:
             row = db.execute(sa.select(*_INFO, revisions.c.request, revisions.c.answer).select_from(_JOINED).where(
                 projects.c.name == project, designs.c.name == design, revisions.c.number == number)).one_or_none()
-        if row is None:
-            raise NotFound(f"{project}/{design} has no revision {number}")
-        return Revision(_info(row), json.loads(row[-2]), None if row[-1] is None else json.loads(row[-1]))
+            if row is None:
+                raise NotFound(f"{project}/{design} has no revision {number}")
+            info = _infos(db, [row])[0]
+        return Revision(info, json.loads(row[-2]), None if row[-1] is None else json.loads(row[-1]))
 
     def record_pdf(self, project: str, design: str, number: int) -> bytes:
         """The design record kept with a revision; :class:`NotFound` when the revision or its record is missing."""
@@ -318,9 +399,9 @@ class Library:
         with self.store.read() as db:
             rows = db.execute(sa.select(*_INFO).select_from(_JOINED).where(
                 projects.c.name == project, designs.c.name == design).order_by(revisions.c.number)).all()
-        if not rows:
-            raise NotFound(f"no design {design!r} in project {project!r}")
-        return [_info(r) for r in rows]
+            if not rows:
+                raise NotFound(f"no design {design!r} in project {project!r}")
+            return _infos(db, rows)
 
     def projects(self) -> list[Project]:
         """Every project by name, with its counts of designs and revisions."""
@@ -335,10 +416,11 @@ class Library:
 
     def search(self, *, project: str | None = None, name: str | None = None, endpoint: str | None = None,
                author: str | None = None, since: float | None = None, until: float | None = None,
-               passed: bool | None = None, state: str | None = None, latest: bool = True, limit: int = 100,
-               offset: int = 0) -> list[RevisionInfo]:
+               passed: bool | None = None, state: str | None = None, deviation: bool | None = None,
+               latest: bool = True, limit: int = 100, offset: int = 0) -> list[RevisionInfo]:
         """Revisions matching every filter given, newest first: ``name`` a part of the design's name (any case),
-        ``since``/``until`` bounds on the save time [s]; ``latest`` only each design's latest revision."""
+        ``since``/``until`` bounds on the save time [s]; ``deviation`` signed with (true) or without (false) a
+        deviation; ``latest`` only each design's latest revision."""
         query = sa.select(*_INFO).select_from(_JOINED)
         if project is not None:
             query = query.where(projects.c.name == project)
@@ -356,47 +438,121 @@ class Library:
             query = query.where(revisions.c.passed.is_(passed))
         if state is not None:
             query = query.where(revisions.c.state == state)
+        if deviation is not None:
+            query = query.where(revisions.c.deviation.is_not(None) if deviation else revisions.c.deviation.is_(None))
         if latest:
             later = revisions.alias("later")
             query = query.where(~sa.exists().where(later.c.design_id == revisions.c.design_id,
                                                    later.c.number > revisions.c.number))
         query = query.order_by(revisions.c.created_at.desc(), revisions.c.id.desc()).limit(limit).offset(offset)
         with self.store.read() as db:
-            return [_info(r) for r in db.execute(query)]
+            return _infos(db, db.execute(query).all())
 
     # --- signing ---------------------------------------------------------------------------------------------
 
-    def sign(self, project: str, design: str, number: int, *, role: str, name: str) -> RevisionInfo:
+    def sign(self, project: str, design: str, number: int, *, role: str, name: str, deviation: str | None = None,
+             comment: str | None = None) -> RevisionInfo:
         """Sign a revision as ``checker`` (a draft becomes checked) or ``approver`` (a checked one becomes approved
-        and supersedes the design's earlier approved revisions). Its author never signs it."""
+        and supersedes the design's approved revision), in one transaction that holds the design.
+
+        Refused when the signer wrote it or signed it in the other role (:class:`SignOffRefused`), when it is not
+        in the state the role signs or a later revision is approved (:class:`WrongState`), and when its answer
+        did not pass and no ``deviation`` (the reason it is signed anyway) is given (:class:`FailedChecks`).
+        ``comment`` is kept with the revision."""
         if role not in ("checker", "approver"):
             raise ValueError(f"unknown sign-off role {role!r}")
-        info = self.info(project, design, number)
-        if name == info.author:
-            raise SignOffRefused(f"{name} wrote revision {number} of {project}/{design}: another person signs it "
-                                 f"as {role}")
         needed, becomes = ("draft", "checked") if role == "checker" else ("checked", "approved")
+        reason = (deviation or "").strip() or None
+        where = f"{project}/{design}"
+        now = time.time()
+        try:
+            with self.store.write() as db:
+                design_id, row = self._locked(db, project, design, number)
+                if name == row["author"]:
+                    raise SignOffRefused(f"{name} wrote revision {number} of {where}: another person signs it as "
+                                         f"{role}")
+                if role == "approver" and name == row["checked_by"]:
+                    raise SignOffRefused(f"{name} checked revision {number} of {where}: a third person approves it "
+                                         "(author, checker and approver are three different people)")
+                if row["state"] != needed:
+                    raise WrongState(_wrong_state(where, number, row["state"], role, needed))
+                if row["passed"] is False and reason is None:
+                    failed = failed_checks(None if row["answer"] is None else json.loads(row["answer"]))
+                    raise FailedChecks(f"revision {number} of {where} did not pass ({'; '.join(failed)}): it is not "
+                                       f"signed unless the {role} states a deviation, the reason it is released "
+                                       "anyway", failed=failed)
+                later = db.scalar(sa.select(sa.func.max(revisions.c.number)).where(
+                    revisions.c.design_id == design_id, revisions.c.state == "approved"))
+                if role == "approver" and later is not None and later > number:
+                    raise WrongState(f"revision {later} of {where} is approved, a later one than {number}: an older "
+                                     f"revision is not approved over it. Restore revision {number} (a new revision "
+                                     "with its request) and sign that")
+                who, when = ((revisions.c.checked_by, revisions.c.checked_at) if role == "checker"
+                             else (revisions.c.approved_by, revisions.c.approved_at))
+                if becomes == "approved":
+                    db.execute(revisions.update().where(revisions.c.design_id == design_id,
+                                                        revisions.c.state == "approved")
+                               .values(state="superseded", superseded_by=number))
+                values: dict[Any, Any] = {revisions.c.state: becomes, who: name, when: now}
+                if reason is not None and row["passed"] is False:
+                    values[revisions.c.deviation] = reason
+                    self._comment(db, row["id"], name, now, "deviation", reason)
+                db.execute(revisions.update().where(revisions.c.id == row["id"]).values(values))
+                if comment and comment.strip():
+                    self._comment(db, row["id"], name, now, "check" if role == "checker" else "approve", comment)
+        except sa.exc.IntegrityError:
+            # the unique index on approved revisions: another server approved one of this design meanwhile
+            raise WrongState(f"another revision of {where} was approved at the same moment; look at its history "
+                             "and sign again") from None
+        return self.info(project, design, number)
+
+    def return_revision(self, project: str, design: str, number: int, *, name: str, comment: str) -> RevisionInfo:
+        """Return a draft or checked revision to its author with ``comment`` (kept): it becomes ``returned`` and
+        is signed no more; the author saves a new revision from it."""
+        text = comment.strip()
+        if not text:
+            raise InvalidDocument("say why the revision is returned: a comment is required", field="comment")
+        where = f"{project}/{design}"
         now = time.time()
         with self.store.write() as db:
-            design_id = db.scalar(sa.select(designs.c.id).join(projects, projects.c.id == designs.c.project_id)
-                                  .where(projects.c.name == project, designs.c.name == design))
-            who, when = ((revisions.c.checked_by, revisions.c.checked_at) if role == "checker"
-                         else (revisions.c.approved_by, revisions.c.approved_at))
-            signed = db.execute(revisions.update().where(revisions.c.design_id == design_id,
-                                                         revisions.c.number == number, revisions.c.state == needed)
-                                .values({revisions.c.state: becomes, who: name, when: now}))
-            if signed.rowcount != 1:
-                state = db.scalar(sa.select(revisions.c.state).where(revisions.c.design_id == design_id,
-                                                                     revisions.c.number == number))
-                frozen = " (an approved revision is frozen: save a new revision to change it)" \
-                    if state in ("approved", "superseded") else ""
-                raise WrongState(f"revision {number} of {project}/{design} is {state}; the {role} signs a "
-                                 f"{needed} revision{frozen}")
-            if becomes == "approved":
-                db.execute(revisions.update().where(revisions.c.design_id == design_id,
-                                                    revisions.c.number < number, revisions.c.state == "approved")
-                           .values(state="superseded", superseded_by=number))
+            _, row = self._locked(db, project, design, number)
+            if name == row["author"]:
+                raise SignOffRefused(f"{name} wrote revision {number} of {where}: its checker or approver returns "
+                                     "it (the author saves a new revision instead)")
+            if row["state"] not in ("draft", "checked"):
+                raise WrongState(_wrong_state(where, number, row["state"], "returner", "draft or checked"))
+            db.execute(revisions.update().where(revisions.c.id == row["id"]).values(state="returned"))
+            self._comment(db, row["id"], name, now, "returned", text)
         return self.info(project, design, number)
+
+    def comment(self, project: str, design: str, number: int, *, name: str, text: str) -> RevisionInfo:
+        """Keep a comment on a revision (any state; a comment signs nothing)."""
+        if not text.strip():
+            raise InvalidDocument("a comment has text", field="text")
+        with self.store.write() as db:
+            _, row = self._locked(db, project, design, number)
+            self._comment(db, row["id"], name, time.time(), "comment", text.strip())
+        return self.info(project, design, number)
+
+    @staticmethod
+    def _comment(db: sa.Connection, revision_id: int, author: str, when: float, kind: str, text: str) -> None:
+        db.execute(revision_comments.insert().values(revision_id=revision_id, author=author, created_at=when,
+                                                     kind=kind, text=text.strip()))
+
+    @staticmethod
+    def _locked(db: sa.Connection, project: str, design: str, number: int) -> tuple[int, Mapping[str, Any]]:
+        """The design's id, held until the transaction ends (PostgreSQL: a row lock; SQLite's writer holds the
+        whole file), and the revision's row; :class:`NotFound` when either is missing."""
+        design_id = db.scalar(sa.select(designs.c.id).join(projects, projects.c.id == designs.c.project_id)
+                              .where(projects.c.name == project, designs.c.name == design)
+                              .with_for_update(of=designs))
+        row = None if design_id is None else db.execute(
+            sa.select(revisions.c.id, revisions.c.author, revisions.c.state, revisions.c.passed,
+                      revisions.c.answer, revisions.c.checked_by)
+            .where(revisions.c.design_id == design_id, revisions.c.number == number)).mappings().one_or_none()
+        if design_id is None or row is None:
+            raise NotFound(f"{project}/{design} has no revision {number}")
+        return int(design_id), dict(row)
 
     # --- export and import -----------------------------------------------------------------------------------
 
@@ -415,6 +571,13 @@ class Library:
                                 .order_by(designs.c.name)).all():
                 rows = db.execute(sa.select(revisions).where(revisions.c.design_id == d[0])
                                   .order_by(revisions.c.number)).mappings().all()
+                comments: dict[int, list[Comment]] = {}
+                for c in db.execute(sa.select(revision_comments).join(
+                        revisions, revisions.c.id == revision_comments.c.revision_id)
+                        .where(revisions.c.design_id == d[0])
+                        .order_by(revision_comments.c.created_at, revision_comments.c.id)).mappings():
+                    comments.setdefault(int(c["revision_id"]), []).append(
+                        Comment(c["author"], float(c["created_at"]), c["kind"], c["text"]))
                 out_designs.append({
                     "name": d[1], "endpoint": d[2], "created_at": d[3], "created_by": d[4],
                     "revisions": [{
@@ -424,16 +587,26 @@ class Library:
                         "passed": r["passed"], "state": r["state"], "checked_by": r["checked_by"],
                         "checked_at": r["checked_at"], "approved_by": r["approved_by"],
                         "approved_at": r["approved_at"], "superseded_by": r["superseded_by"],
+                        "deviation": r["deviation"], "imported_note": r["imported_note"],
+                        "comments": [{"author": c.author, "created_at": c.created_at, "kind": c.kind,
+                                      "text": c.text} for c in comments.get(int(r["id"]), [])],
                         "record_pdf_base64": None if r["record_pdf"] is None
                         else base64.b64encode(r["record_pdf"]).decode("ascii"),
                     } for r in rows]})
         return {"format": EXPORT_FORMAT, "project": project, "created_at": created_at, "created_by": created_by,
                 "exported_at": time.time(), "designs": out_designs}
 
-    def import_project(self, document: Mapping[str, Any]) -> Project:
-        """Store an exported project as it was (numbers, authors, times, sign-offs, records): every revision's
-        hash is checked against its request first (:class:`InvalidDocument` names one that does not match);
-        :class:`ProjectExists` when the project is here already."""
+    def import_project(self, document: Mapping[str, Any], *, importer: str) -> Project:
+        """Store an exported project's history: numbers, authors, times, messages, requests and their hashes
+        (every hash checked against its request first: :class:`InvalidDocument` names one that does not match);
+        :class:`ProjectExists` when the project is here already.
+
+        Nothing in a file can sign here: every revision arrives ``imported``, unsigned, with what it claimed (its
+        state, who checked and approved it, whether it passed, its deviation and comments) kept only as a note
+        saying nobody here verified it; its answer is kept as one computed elsewhere (``passed`` unknown), and its
+        design record, whose title block carries those claims, is left behind. Restoring an imported revision
+        makes a revision of this library, its answer and record computed here, to be signed here.
+        """
         if document.get("format") != EXPORT_FORMAT:
             raise InvalidDocument(f"not a library export: format must be {EXPORT_FORMAT!r}", field="format")
         name = document["project"]
@@ -443,6 +616,7 @@ class Library:
                     raise InvalidDocument(f"revision {r['number']} of {name}/{design['name']}: its request does not "
                                           "hash to its content_hash; the document was changed after export",
                                           field=f"designs.{d}.revisions.{k}.content_hash")
+        now = time.time()
         try:
             with self.store.write() as db:
                 project_id = db.execute(projects.insert().values(
@@ -459,13 +633,31 @@ class Library:
                             "request": canonical_json(r["request"]), "content_hash": r["content_hash"],
                             "author": r["author"], "created_at": r["created_at"], "message": r["message"],
                             "answer": None if r["answer"] is None else canonical_json(r["answer"]),
-                            "passed": r["passed"], "state": r["state"], "checked_by": r["checked_by"],
-                            "checked_at": r["checked_at"], "approved_by": r["approved_by"],
-                            "approved_at": r["approved_at"], "superseded_by": r["superseded_by"],
-                            "record_pdf": None if r["record_pdf_base64"] is None
-                            else base64.b64decode(r["record_pdf_base64"]),
+                            "passed": None, "state": "imported", "record_pdf": None,
+                            "imported_note": imported_note(document, r, importer, now),
                         } for r in design["revisions"]])
         except sa.exc.IntegrityError:
             raise ProjectExists(f"project {name!r} exists in this library already; import it under another "
                                 "name or remove it first") from None
         return next(p for p in self.projects() if p.name == name)
+
+
+def imported_note(document: Mapping[str, Any], r: Mapping[str, Any], importer: str, now: float) -> str:
+    """What an imported revision claimed, as text that says nobody here verified it."""
+    def on(seconds: Any) -> str:
+        return f" on {_iso(float(seconds))}" if isinstance(seconds, (int, float)) else ""
+
+    claims = [f"exported from project {document['project']!r} as {r.get('state') or 'unknown'}"]
+    if r.get("checked_by"):
+        claims.append(f"checked by {r['checked_by']}{on(r.get('checked_at'))}")
+    if r.get("approved_by"):
+        claims.append(f"approved by {r['approved_by']}{on(r.get('approved_at'))}")
+    if r.get("passed") is not None:
+        claims.append("its answer said it " + ("passed" if r["passed"] else "failed"))
+    if r.get("deviation"):
+        claims.append(f"deviation: {r['deviation']}")
+    for c in r.get("comments") or ():
+        claims.append(f"{c.get('kind', 'comment')} by {c.get('author', '?')}{on(c.get('created_at'))}: "
+                      f"{c.get('text', '')}")
+    return (f"Imported by {importer} on {_iso(now)}; claims not verified by this service (signatures and answer "
+            f"made elsewhere): " + "; ".join(claims))[:4000]

@@ -19,6 +19,7 @@ from sqlalchemy import (
     Table,
     Text,
     UniqueConstraint,
+    text,
 )
 
 metadata = MetaData()
@@ -59,6 +60,8 @@ users = Table(
     # Space-separated role names (viewer, engineer, admin, checker, approver).
     Column("roles", String(500), nullable=False, server_default=""),
     Column("created_at", Float, nullable=False),
+    # Raised when a password is reset or a role removed: sessions and tokens of an older epoch end at once.
+    Column("credential_epoch", Integer, nullable=False, server_default="0"),
 )
 
 api_tokens = Table(
@@ -69,6 +72,8 @@ api_tokens = Table(
     Column("label", String(200)),
     Column("created_at", Float, nullable=False),
     Column("last_used_at", Float),
+    # The user's credential epoch when the token was made: a token of an older epoch is refused.
+    Column("epoch", Integer, nullable=False, server_default="0"),
     Index("ix_api_tokens_user_id", "user_id"),
 )
 
@@ -112,7 +117,26 @@ revisions = Table(
     Column("approved_by", String(100)),
     Column("approved_at", Float),
     Column("superseded_by", Integer),
+    # Why a revision whose answer failed a check is signed anyway (the deviation the approver released).
+    Column("deviation", Text),
+    # Set on an imported revision: where it came from and what it claimed (state, signers), verified by nobody here.
+    Column("imported_note", Text),
     UniqueConstraint("design_id", "number", name="uq_revisions_design_number"),
     Index("ix_revisions_content_hash", "content_hash"),
     Index("ix_revisions_created_at", "created_at"),
+    # One approved revision per design, whatever two servers do at once.
+    Index("uq_revisions_one_approved", "design_id", unique=True, sqlite_where=text("state = 'approved'"),
+          postgresql_where=text("state = 'approved'")),
+)
+
+revision_comments = Table(
+    "revision_comments", metadata,
+    Column("id", Integer, primary_key=True),
+    Column("revision_id", Integer, ForeignKey("revisions.id"), nullable=False),
+    Column("author", String(100), nullable=False),
+    Column("created_at", Float, nullable=False),
+    # returned, check, approve, deviation or comment
+    Column("kind", String(16), nullable=False),
+    Column("text", Text, nullable=False),
+    Index("ix_revision_comments_revision_id", "revision_id"),
 )

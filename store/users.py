@@ -4,6 +4,7 @@ token's (sha256 of the token, which is shown once when it is made)."""
 from __future__ import annotations
 
 import hashlib
+import secrets
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,12 +33,17 @@ class User:
         The roles held, from :data:`ROLES` [-].
     created_at
         When the user was made, seconds since the epoch [s].
+    epoch
+        The user's credential epoch: sessions and tokens carry it and end when it moves (a password reset, a
+        role removed); a new user starts at a random one, so a name or a number used again is not the same
+        credential [-].
     """
 
     id: int
     name: str
     roles: frozenset[str]
     created_at: float
+    epoch: int = 0
 
     def has(self, role: str) -> bool:
         """True when the user holds ``role``."""
@@ -50,10 +56,10 @@ def token_hash(token: str) -> str:
 
 
 def _user(row: Sequence[Any]) -> User:
-    return User(int(row[0]), str(row[1]), frozenset(str(row[2]).split()), float(row[3]))
+    return User(int(row[0]), str(row[1]), frozenset(str(row[2]).split()), float(row[3]), int(row[4]))
 
 
-_USER_COLUMNS = (users.c.id, users.c.name, users.c.roles, users.c.created_at)
+_USER_COLUMNS = (users.c.id, users.c.name, users.c.roles, users.c.created_at, users.c.credential_epoch)
 
 
 class Users:
@@ -67,11 +73,13 @@ class Users:
         if unknown := set(roles) - set(ROLES):
             raise ValueError(f"unknown roles {sorted(unknown)}; the roles are {list(ROLES)}")
         now = time.time()
+        epoch = secrets.randbelow(2**30)
         with self.store.write() as db:
             user_id = db.execute(users.insert().values(name=name, password_hash=password_hash,
-                                                       roles=" ".join(sorted(roles)), created_at=now)
+                                                       roles=" ".join(sorted(roles)), created_at=now,
+                                                       credential_epoch=epoch)
                                  .returning(users.c.id)).scalar_one()
-        return User(user_id, name, frozenset(roles), now)
+        return User(user_id, name, frozenset(roles), now, epoch)
 
     def get(self, user_id: int) -> User | None:
         """The user with this number, or None."""
@@ -101,17 +109,29 @@ class Users:
             db.execute(users.update().where(users.c.id == user_id).values(password_hash=password_hash))
 
     def set_roles(self, user_id: int, roles: set[str] | frozenset[str]) -> None:
-        """Replace a user's roles; ``ValueError`` for an unknown role."""
+        """Replace a user's roles; ``ValueError`` for an unknown role. Removing a role ends the user's sessions
+        and tokens (:meth:`end_credentials`): nothing signed in keeps acting with what was taken away."""
         if unknown := set(roles) - set(ROLES):
             raise ValueError(f"unknown roles {sorted(unknown)}; the roles are {list(ROLES)}")
         with self.store.write() as db:
-            db.execute(users.update().where(users.c.id == user_id).values(roles=" ".join(sorted(roles))))
+            held = db.scalar(sa.select(users.c.roles).where(users.c.id == user_id))
+            values: dict[str, Any] = {"roles": " ".join(sorted(roles))}
+            if held is not None and set(str(held).split()) - set(roles):
+                values["credential_epoch"] = users.c.credential_epoch + 1
+            db.execute(users.update().where(users.c.id == user_id).values(**values))
+
+    def end_credentials(self, user_id: int) -> None:
+        """End every session and API token of a user at once (a password reset): its credential epoch moves."""
+        with self.store.write() as db:
+            db.execute(users.update().where(users.c.id == user_id)
+                       .values(credential_epoch=users.c.credential_epoch + 1))
 
     def add_token(self, user_id: int, token: str, label: str | None = None) -> int:
         """Keep the hash of a new API token of a user; the token's number (to revoke it by)."""
         with self.store.write() as db:
+            epoch = sa.select(users.c.credential_epoch).where(users.c.id == user_id).scalar_subquery()
             return int(db.execute(api_tokens.insert().values(token_hash=token_hash(token), user_id=user_id,
-                                                             label=label, created_at=time.time())
+                                                             label=label, created_at=time.time(), epoch=epoch)
                                   .returning(api_tokens.c.id)).scalar_one())
 
     def by_token(self, token: str) -> User | None:
@@ -119,7 +139,8 @@ class Users:
         digest = token_hash(token)
         with self.store.write() as db:
             row = db.execute(sa.select(*_USER_COLUMNS).join(api_tokens, api_tokens.c.user_id == users.c.id)
-                             .where(api_tokens.c.token_hash == digest)).one_or_none()
+                             .where(api_tokens.c.token_hash == digest,
+                                    api_tokens.c.epoch == users.c.credential_epoch)).one_or_none()
             if row is None:
                 return None
             db.execute(api_tokens.update().where(api_tokens.c.token_hash == digest)

@@ -85,7 +85,8 @@ LIBRARY_METHODS = {
     "import_project": "import_project", "list_projects": "projects", "design_history": "history",
     "diff_revisions": "diff", "save_revision": "save", "get_revision": "revision", "approve_revision": "approve",
     "check_revision": "check", "get_record": "record_pdf", "restore_revision": "restore",
-    "export_project": "export", "search_revisions": "search",
+    "export_project": "export", "search_revisions": "search", "return_revision": "return_revision",
+    "comment_revision": "comment",
 }
 
 

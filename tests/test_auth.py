@@ -118,9 +118,14 @@ def test_roles_decide_reads_runs_and_management(http: TestClient) -> None:
     for who in (viewer, engineer, admin, checker):
         assert http.get("/v1/studies", headers=who).status_code == 200
     r = http.post("/v1/gears/split", json=SPLIT, headers=viewer)
-    assert r.status_code == 403 and r.json()["needed_roles"] == ["admin", "engineer"]
+    assert r.status_code == 403 and r.json()["needed_roles"] == ["admin", "approver", "checker", "engineer"]
     assert r.json()["roles"] == ["viewer"]
-    assert http.post("/v1/gears/split", json=SPLIT, headers=checker).status_code == 403
+    # in words a person understands: what they hold, what the request does, which role it needs
+    assert r.json()["detail"] == ("vera holds the viewer role; computing a design needs the approver, checker or "
+                                  "engineer role.")
+    # a checker re-runs the design it checks, but saves nothing and runs no study
+    assert http.post("/v1/gears/split", json=SPLIT, headers=checker).status_code == 200
+    assert http.post("/v1/studies", json={}, headers=checker).status_code == 403
     assert http.post("/v1/gears/split", json=SPLIT, headers=engineer).status_code == 200
     assert http.post("/v1/gears/split", json=SPLIT, headers=admin).status_code == 200
     assert http.get("/v1/users", headers=engineer).status_code == 403
@@ -147,14 +152,19 @@ def test_tokens_are_kept_as_hashes_and_act_with_their_users_current_roles(http: 
     bearer = {"authorization": f"Bearer {token}"}
     assert http.post("/v1/gears/split", json=SPLIT, headers=bearer).status_code == 200
     assert http.get("/v1/users/tess/tokens", headers=admin).json()[0]["last_used_at"] is not None
-    # demoted: the token acts with the roles its user has now
-    assert http.patch("/v1/users/tess", json={"roles": ["viewer"]}, headers=admin).json()["roles"] == ["viewer"]
-    assert http.post("/v1/gears/split", json=SPLIT, headers=bearer).status_code == 403
-    assert http.get("/v1/studies", headers=bearer).status_code == 200
+    # promoted: the token acts with the roles its user has now
+    assert http.patch("/v1/users/tess", json={"roles": ["engineer", "viewer", "checker"]},
+                      headers=admin).json()["roles"] == ["checker", "engineer", "viewer"]
+    assert http.get("/v1/auth/session", headers=bearer).json()["roles"] == ["checker", "engineer", "viewer"]
     # revoked: refused at once
     assert http.delete(f"/v1/tokens/{made['id']}", headers=admin).status_code == 204
     assert http.get("/v1/studies", headers=bearer).status_code == 401
     assert http.delete(f"/v1/tokens/{made['id']}", headers=admin).status_code == 404
+    # demoted: a role taken away ends the user's tokens at once (test_signoff.py: its sessions too)
+    demoted = http.post("/v1/users/tess/tokens", json={"label": "z"}, headers=admin).json()["token"]
+    assert http.get("/v1/studies", headers={"authorization": f"Bearer {demoted}"}).status_code == 200
+    assert http.patch("/v1/users/tess", json={"roles": ["viewer"]}, headers=admin).json()["roles"] == ["viewer"]
+    assert http.get("/v1/studies", headers={"authorization": f"Bearer {demoted}"}).status_code == 401
     # a removed user's tokens go with it
     other = http.post("/v1/users/tess/tokens", json={"label": "y"}, headers=admin).json()["token"]
     assert http.delete("/v1/users/tess", headers=admin).status_code == 204
@@ -380,12 +390,17 @@ def test_a_bad_secret_setting_stops_the_service_without_echoing_it(monkeypatch: 
 
 @pytest.mark.parametrize("method, path, roles", [
     ("GET", "/v1/studies", {"viewer", "engineer", "admin", "checker", "approver"}),
-    ("POST", "/v1/analysis", {"engineer", "admin"}),
+    ("POST", "/v1/analysis", {"engineer", "admin", "checker", "approver"}),
+    ("POST", "/v1/studies", {"engineer", "admin"}),
     ("DELETE", "/v1/studies/abc", {"engineer", "admin"}),
     ("GET", "/v1/users", {"admin"}),
     ("POST", "/v1/tokens/3", {"admin"}),
-    ("POST", "/v1/library/projects/p/designs/d/revisions/2/check", {"checker", "admin"}),
-    ("POST", "/v1/library/projects/p/designs/d/revisions/2/approve", {"approver", "admin"}),
+    # an admin manages users but signs only with the role itself
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/check", {"checker"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/approve", {"approver"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/return", {"checker", "approver"}),
+    ("POST", "/v1/library/projects/p/designs/d/revisions/2/comments", {"engineer", "checker", "approver", "admin"}),
+    ("POST", "/v1/library/import", {"engineer", "admin"}),
     ("POST", "/v1/library/projects/p/designs/d/revisions", {"engineer", "admin"}),
     ("POST", "/v1/auth/signout", {"viewer", "engineer", "admin", "checker", "approver"}),
 ])

@@ -90,12 +90,14 @@ class Access:
 
     def from_cookie(self, cookie: str) -> Principal | None:
         """The caller of a sign-in cookie, or None when it is not valid (expired, signed out, forged, its user
-        removed)."""
+        removed, or the user's credential epoch moved since: a password reset, a role removed)."""
         session = self.sessions.check(cookie)
         if session is None:
             return None
-        user = self.accounts.by_name(session.name)
-        return None if user is None else Principal(user, user.roles, "session", session=session)
+        user = self.accounts.get(session.user_id)
+        if user is None or user.name != session.name or user.epoch != session.epoch:
+            return None
+        return Principal(user, user.roles, "session", session=session)
 
     def identify(self, headers: Headers) -> Principal:
         """The caller of a request's headers: a bearer token first, else the sign-in cookie, else nobody."""
@@ -157,9 +159,8 @@ class Guard:
                                f"browser", headers={"WWW-Authenticate": REALM})
         elif not roles.allows(caller.roles, needed):
             response = problem(403, "forbidden", "Not allowed",
-                               f"{caller.name} acts with the roles {sorted(caller.roles) or 'none'}; {method} {path} "
-                               f"needs one of {sorted(needed)}", roles=sorted(caller.roles),
-                               needed_roles=sorted(needed))
+                               roles.refusal(caller.name, caller.roles, method, path, needed),
+                               roles=sorted(caller.roles), needed_roles=sorted(needed))
         elif (caller.session is not None and method not in roles.SAFE_METHODS
               and not self.access.sessions.csrf_ok(caller.session, Headers(scope=scope).get(CSRF_HEADER))):
             response = problem(403, "csrf-token-missing", "CSRF token missing",

@@ -138,7 +138,7 @@ async def sign_in(body: SignInIn, request: Request, response: Response, access: 
         failures.failed(body.name, now)
         return problem(401, "invalid-credentials", "Sign-in refused", "the name or the password is wrong")
     failures.cleared(body.name)
-    cookie, session = access.sessions.issue(user.name)
+    cookie, session = access.sessions.issue(user.name, user_id=user.id, epoch=user.epoch)
     max_age = int(access.sessions.lifetime_s)
     secure = access.sessions.secure
     response.set_cookie(access.sessions.cookie_name, cookie, max_age=max_age, path="/", secure=secure,
@@ -195,13 +195,15 @@ async def user(name: UserName, access: AccessDep) -> Any:
 
 @router.patch("/users/{name}", response_model=UserOut, responses=NO_USER)
 async def update_user(name: UserName, body: UserPatchIn, access: AccessDep) -> Any:
-    """Set a user's password, roles, or both (admins only); its tokens act with the new roles at once."""
+    """Set a user's password, roles, or both (admins only). A new password, or a role taken away, ends the
+    user's browser sessions and API tokens at once; added roles apply to them at once."""
     found = await asyncio.to_thread(access.accounts.by_name, name)
     if found is None:
         return _no_user(name)
     if body.password is not None:
         hashed = await asyncio.to_thread(passwords.hash_password, body.password)
         await asyncio.to_thread(access.accounts.set_password_hash, found.id, hashed)
+        await asyncio.to_thread(access.accounts.end_credentials, found.id)
     if body.roles is not None:
         await asyncio.to_thread(access.accounts.set_roles, found.id, frozenset(body.roles))
     changed = await asyncio.to_thread(access.accounts.by_name, name)
@@ -210,7 +212,8 @@ async def update_user(name: UserName, body: UserPatchIn, access: AccessDep) -> A
 
 @router.delete("/users/{name}", status_code=204, response_model=None, responses=NO_USER)
 async def remove_user(name: UserName, access: AccessDep) -> Response:
-    """Remove a user and revoke its tokens (admins only); its browser sessions end at their next request."""
+    """Remove a user and revoke its tokens (admins only); its browser sessions end at once (a user made again
+    with the same name is another user)."""
     found = await asyncio.to_thread(access.accounts.by_name, name)
     if found is None:
         return _no_user(name)

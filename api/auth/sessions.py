@@ -1,4 +1,6 @@
-"""Browser sign-in: a cookie carrying the user's name, an expiry and a session id, signed with HMAC-SHA256.
+"""Browser sign-in: a cookie carrying the user's number, name and credential epoch, an expiry and a session id,
+signed with HMAC-SHA256. The session belongs to that user, not to the name: a user removed and made again, or
+whose password is reset or a role removed (the epoch moves), is signed out at once.
 
 The cookie is HttpOnly and SameSite=Strict (and Secure behind TLS), so page scripts cannot read it and no other
 site's page can make the browser send it. State-changing requests signed in this way must also carry the
@@ -35,11 +37,14 @@ def _unb64(text: str) -> bytes:
 
 @dataclass(frozen=True, slots=True)
 class Session:
-    """A valid sign-in: who, until when [s since the epoch], and its id."""
+    """A valid sign-in: who (name, user number and credential epoch), until when [s since the epoch], and its
+    id."""
 
     name: str
     expires: float
     sid: str
+    user_id: int = 0
+    epoch: int = 0
 
 
 class Sessions:
@@ -65,11 +70,14 @@ class Sessions:
     def _sign(self, payload: bytes) -> str:
         return _b64(hmac.new(self._key, payload, hashlib.sha256).digest())
 
-    def issue(self, name: str, now: float | None = None) -> tuple[str, Session]:
-        """A new session for ``name``: the cookie value and the session."""
-        session = Session(name, (time.time() if now is None else now) + self.lifetime_s, secrets.token_urlsafe(16))
-        payload = json.dumps({"u": session.name, "e": session.expires, "s": session.sid},
-                             separators=(",", ":")).encode()
+    def issue(self, name: str, now: float | None = None, *, user_id: int = 0, epoch: int = 0
+              ) -> tuple[str, Session]:
+        """A new session for the user ``name`` (number ``user_id``, credential epoch ``epoch``): the cookie value
+        and the session."""
+        session = Session(name, (time.time() if now is None else now) + self.lifetime_s, secrets.token_urlsafe(16),
+                          user_id, epoch)
+        payload = json.dumps({"u": session.name, "e": session.expires, "s": session.sid, "i": user_id,
+                              "p": epoch}, separators=(",", ":")).encode()
         return f"{_b64(payload)}.{self._sign(payload)}", session
 
     def check(self, cookie: str, now: float | None = None) -> Session | None:
@@ -82,7 +90,8 @@ class Sessions:
             if not hmac.compare_digest(signature.encode(), self._sign(payload).encode()):
                 return None
             data = json.loads(payload)
-            session = Session(str(data["u"]), float(data["e"]), str(data["s"]))
+            session = Session(str(data["u"]), float(data["e"]), str(data["s"]), int(data.get("i", 0)),
+                              int(data.get("p", 0)))
         except (ValueError, KeyError, TypeError):
             return None
         if session.expires <= (time.time() if now is None else now):

@@ -1,7 +1,8 @@
 """The users and API tokens of the service's store, with what sign-in and the admins need beyond it: a token's
 user found by the token's hash and confirmed by a constant-time comparison, a user's tokens, removing a user.
 
-A token acts with its user's roles at the time of the request, so changing a user's roles changes its tokens.
+A token acts with its user's roles at the time of the request, so changing a user's roles changes its tokens; a
+token made before the user's credential epoch last moved (a password reset, a role removed) is refused.
 """
 
 from __future__ import annotations
@@ -39,13 +40,14 @@ class Accounts(store.Users):
         digest = store.token_hash(token)
         with self.store.write() as db:
             row = db.execute(sa.select(api_tokens.c.id, api_tokens.c.token_hash, users.c.id, users.c.name,
-                                       users.c.roles, users.c.created_at)
+                                       users.c.roles, users.c.created_at, users.c.credential_epoch)
                              .join(users, api_tokens.c.user_id == users.c.id)
-                             .where(api_tokens.c.token_hash == digest)).one_or_none()
+                             .where(api_tokens.c.token_hash == digest,
+                                    api_tokens.c.epoch == users.c.credential_epoch)).one_or_none()
             if row is None or not hmac.compare_digest(str(row[1]).encode(), digest.encode()):
                 return None
             db.execute(api_tokens.update().where(api_tokens.c.id == row[0]).values(last_used_at=time.time()))
-        user = store.User(int(row[2]), str(row[3]), frozenset(str(row[4]).split()), float(row[5]))
+        user = store.User(int(row[2]), str(row[3]), frozenset(str(row[4]).split()), float(row[5]), int(row[6]))
         return user, int(row[0])
 
     def tokens(self, user: store.User) -> list[TokenInfo]:

@@ -5,7 +5,8 @@ revision; history, search, diff, restore, sign-off, and a project's export and i
 from __future__ import annotations
 
 import asyncio
-from datetime import datetime, timezone
+import time
+from datetime import datetime
 from functools import partial
 from typing import Annotated, Any, Literal
 
@@ -17,8 +18,10 @@ from mechsynth_client.schemas.library import (
     DesignOut,
     DiffOut,
     LibraryExport,
+    CommentIn,
     ProjectOut,
     RestoreIn,
+    ReturnIn,
     RevisionDetailOut,
     RevisionOut,
     RevisionState,
@@ -26,7 +29,7 @@ from mechsynth_client.schemas.library import (
     SignIn,
 )
 from store import User
-from store.library import Library, title_block
+from store.library import Library
 
 from ..deps import SettingsDep, SolverDep
 from ..execution.plans import Limits
@@ -35,7 +38,8 @@ from ..media import json_bytes, json_response
 from ..storage import StoreDep
 from .access import Forbidden, actor
 from .diff import answer_changes, request_changes
-from .tasks import MACHINE, answer_revision, canonical_request, kept_title_block, machine_record, record_title_block
+from .sheet import draft_sheet, revision_sheet
+from .tasks import MACHINE, answer_revision, canonical_request, kept_sheet, machine_record, sheet_of
 
 router = APIRouter(prefix="/library", tags=["library"])
 
@@ -54,12 +58,14 @@ UserHeader = Annotated[str | None, Header(alias="X-Synth-User", max_length=100,
 
 
 def _problems(*statuses: int) -> dict[int | str, dict[str, Any]]:
-    text = {403: "The acting user may not do this: the author signs nothing of their own; checking needs the "
-                 "checker role, approving the approver role, saving the engineer role.",
+    text = {403: "The acting user may not do this: the author signs nothing of their own and the checker does not "
+                 "approve what they checked; checking needs the checker role, approving the approver role, "
+                 "returning either, saving the engineer role.",
             404: "No such project, design or revision (or record).",
             409: "The save starts from a revision that is no longer the design's latest (the answer names the one "
-                 "it would overwrite: `head_revision`), the revision is not in the state the sign-off needs, or "
-                 "the imported project exists.",
+                 "it would overwrite: `head_revision`), the revision is not in the state the sign-off needs (or a "
+                 "later revision is approved), its answer did not pass and no deviation was given "
+                 "(`failed_checks` names them), or the imported project exists.",
             503: "The store cannot be reached; `reason` says why."}
     ref = {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}}
     return {s: {"description": text[s], "content": ref} for s in (*statuses, 503)}
@@ -70,19 +76,19 @@ async def _save(library: Library, solvers: SolverDep, settings: Any, project: st
                 ) -> RevisionOut:
     canonical = canonical_request(endpoint, request)
     await asyncio.to_thread(library.check_parent, project, design, parent, branch)
-    block = None
+    # the revision's date, which its design record carries: the record is a document of the revision
+    created_at = time.time()
+    sheet = None
     if endpoint == MACHINE:
         # the record is written once with the title block of the revision this save becomes (a draft)
         head = await asyncio.to_thread(library.head, project, design)
-        block = record_title_block({"project": project, "record_number": f"{project}/{design}",
-                                    "revision": (head or 0) + 1, "title": design, "designed_by": author,
-                                    "designed_on": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
-                                    "state": "draft"})
+        sheet = await asyncio.to_thread(draft_sheet, library, project, design, (head or 0) + 1, author, message,
+                                        created_at, canonical)
     answer, passed, record = await solvers.run(answer_revision, endpoint, Limits.from_settings(settings), canonical,
-                                               block)
+                                               sheet)
     info = await asyncio.to_thread(partial(library.save, project, design, endpoint, canonical, author=author,
                                            message=message, parent=parent, branch=branch, answer=answer,
-                                           passed=passed, record_pdf=record))
+                                           passed=passed, record_pdf=record, created_at=created_at))
     return RevisionOut.from_info(info)
 
 
@@ -96,7 +102,7 @@ async def save_revision(project: ProjectName, design: DesignName, body: SaveIn, 
     computed and kept with it, and for a machine design its design record (PDF) too. `parent` is the revision it
     was made from: when that is no longer the design's latest the save is refused (409, naming the revision it
     would overwrite) unless `branch` is true."""
-    author = actor(user, body.author or x_synth_user, "author", role="engineer")
+    author = actor(user, body.author or x_synth_user, "author", "engineer")
     out = await _save(library, solvers, settings, project, design, body.endpoint, body.request, author=author,
                       message=body.message, parent=body.parent, branch=body.branch)
     response.headers["Location"] = out.links.self
@@ -121,6 +127,8 @@ async def search_revisions(
     until: Annotated[datetime | None, Query(description="Saved at or before (ISO 8601).")] = None,
     passed: Annotated[bool | None, Query(description="true: every check passed; false: failed or refused.")] = None,
     state: Annotated[RevisionState | None, Query(description="Only revisions in this state.")] = None,
+    deviation: Annotated[bool | None, Query(description="true: only revisions signed with a deviation (released "
+                                                        "although they fail a check); false: only without.")] = None,
     latest: Annotated[bool, Query(description="Only each design's latest revision (false: every revision).")] = True,
     offset: Annotated[int, Query(ge=0, le=100_000_000)] = 0,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
@@ -129,7 +137,7 @@ async def search_revisions(
     found = await asyncio.to_thread(partial(
         library.search, project=project, name=name, endpoint=endpoint, author=author,
         since=None if since is None else since.timestamp(), until=None if until is None else until.timestamp(),
-        passed=passed, state=state, latest=latest, limit=limit, offset=offset))
+        passed=passed, state=state, deviation=deviation, latest=latest, limit=limit, offset=offset))
     return [RevisionOut.from_info(i) for i in found]
 
 
@@ -158,16 +166,19 @@ async def get_revision(project: ProjectName, design: DesignName, number: Number,
                        **_problems(404)})
 async def get_record(project: ProjectName, design: DesignName, number: Number, library: LibraryDep,
                      solvers: SolverDep, settings: SettingsDep) -> Response:
-    """The design record (PDF) kept with a machine design's revision, its title block as the revision stands:
-    project, record number, revision, state, who designed, checked and approved it and when. A record kept from
-    before a sign-off is written again once with the signed title block (the same request, so the same figures
-    and the same request SHA-256, which is the revision's content hash) and kept in its place."""
+    """The design record (PDF) kept with a machine design's revision, as the revision stands: its title block
+    (project, record number, revision, state, who designed, checked and approved it and when, a deviation), dated
+    when the revision was saved, with the revision table and the change note against the previous approved
+    revision on its first pages. A record kept from before a sign-off (or a comment) is written again once (the
+    same request, so the same figures and the same request SHA-256, which is the revision's content hash) and
+    kept in its place: two downloads of a revision that did not move are the same bytes."""
     pdf = await asyncio.to_thread(library.record_pdf, project, design, number)
     revision = await asyncio.to_thread(library.revision, project, design, number)
-    block = record_title_block(title_block(revision.info))
-    if revision.info.endpoint == MACHINE and await asyncio.to_thread(kept_title_block, pdf) != block:
-        pdf = await solvers.run(machine_record, Limits.from_settings(settings), dict(revision.request), block)
-        await asyncio.to_thread(library.sign_record, project, design, number, pdf)
+    if revision.info.endpoint == MACHINE:
+        sheet = await asyncio.to_thread(revision_sheet, library, project, design, number)
+        if await asyncio.to_thread(kept_sheet, pdf) != sheet_of(sheet):
+            pdf = await solvers.run(machine_record, Limits.from_settings(settings), dict(revision.request), sheet)
+            await asyncio.to_thread(library.sign_record, project, design, number, pdf)
     return Response(pdf, media_type="application/pdf", headers={
         "content-disposition": f'attachment; filename="{project}-{design}-r{number}.pdf"'})
 
@@ -193,7 +204,7 @@ async def restore_revision(project: ProjectName, design: DesignName, number: Num
                            library: LibraryDep, solvers: SolverDep, settings: SettingsDep, user: CurrentUserDep,
                            response: Response, x_synth_user: UserHeader = None) -> RevisionOut:
     """Make an old revision's request the design's newest revision (a new number; the old one is unchanged)."""
-    author = actor(user, body.author or x_synth_user, "author", role="engineer")
+    author = actor(user, body.author or x_synth_user, "author", "engineer")
     old = await asyncio.to_thread(library.revision, project, design, number)
     head = await asyncio.to_thread(library.head, project, design)
     out = await _save(library, solvers, settings, project, design, old.info.endpoint, dict(old.request),
@@ -204,18 +215,21 @@ async def restore_revision(project: ProjectName, design: DesignName, number: Num
 
 
 async def _sign(library: Library, project: str, design: str, number: int, role: Literal["checker", "approver"],
-                user: User | None, name: str | None) -> RevisionOut:
-    signer = actor(user, name, "name", role=role)
-    return RevisionOut.from_info(await asyncio.to_thread(partial(library.sign, project, design, number, role=role,
-                                                                 name=signer)))
+                user: User | None, body: SignIn, header: str | None) -> RevisionOut:
+    signer = actor(user, body.name or header, "name", role)
+    return RevisionOut.from_info(await asyncio.to_thread(partial(
+        library.sign, project, design, number, role=role, name=signer, deviation=body.deviation,
+        comment=body.comment)))
 
 
 @router.post("/projects/{project}/designs/{design}/revisions/{number}/check", response_model=RevisionOut,
              responses=_problems(403, 404, 409))
 async def check_revision(project: ProjectName, design: DesignName, number: Number, body: SignIn,
                          library: LibraryDep, user: CurrentUserDep, x_synth_user: UserHeader = None) -> RevisionOut:
-    """Sign a draft revision as its checker (the checker role; never its author): it becomes checked."""
-    return await _sign(library, project, design, number, "checker", user, body.name or x_synth_user)
+    """Sign a draft revision as its checker (the checker role; never its author): it becomes checked. A revision
+    whose answer did not pass is refused (409 naming the failed checks) unless `deviation` says why it is
+    passed on anyway."""
+    return await _sign(library, project, design, number, "checker", user, body, x_synth_user)
 
 
 @router.post("/projects/{project}/designs/{design}/revisions/{number}/approve", response_model=RevisionOut,
@@ -223,9 +237,35 @@ async def check_revision(project: ProjectName, design: DesignName, number: Numbe
 async def approve_revision(project: ProjectName, design: DesignName, number: Number, body: SignIn,
                            library: LibraryDep, user: CurrentUserDep, x_synth_user: UserHeader = None
                            ) -> RevisionOut:
-    """Approve a checked revision (the approver role; never its author): it becomes approved and frozen, and the
-    design's earlier approved revision becomes superseded."""
-    return await _sign(library, project, design, number, "approver", user, body.name or x_synth_user)
+    """Approve a checked revision (the approver role; neither its author nor its checker): it becomes approved
+    and frozen, and the design's approved revision becomes superseded (one approved revision per design; an
+    older revision than the approved one is refused, 409). A revision whose answer did not pass needs
+    `deviation`, the reason it is released anyway: kept, printed in the record and found by search."""
+    return await _sign(library, project, design, number, "approver", user, body, x_synth_user)
+
+
+@router.post("/projects/{project}/designs/{design}/revisions/{number}/return", response_model=RevisionOut,
+             responses=_problems(403, 404, 409))
+async def return_revision(project: ProjectName, design: DesignName, number: Number, body: ReturnIn,
+                          library: LibraryDep, user: CurrentUserDep, x_synth_user: UserHeader = None
+                          ) -> RevisionOut:
+    """Return a draft or checked revision to its author with a comment (the checker or approver role; not its
+    author): it becomes returned and is signed no more; the comment is kept, listed in its history and printed
+    in its record. The author saves a new revision from it."""
+    name = actor(user, body.name or x_synth_user, "name", "checker", "approver")
+    return RevisionOut.from_info(await asyncio.to_thread(partial(
+        library.return_revision, project, design, number, name=name, comment=body.comment)))
+
+
+@router.post("/projects/{project}/designs/{design}/revisions/{number}/comments", response_model=RevisionOut,
+             responses=_problems(403, 404))
+async def comment_revision(project: ProjectName, design: DesignName, number: Number, body: CommentIn,
+                           library: LibraryDep, user: CurrentUserDep, x_synth_user: UserHeader = None
+                           ) -> RevisionOut:
+    """Keep a comment on a revision in any state (the engineer, checker or approver role); it signs nothing."""
+    name = actor(user, body.name or x_synth_user, "name", "engineer", "checker", "approver")
+    return RevisionOut.from_info(await asyncio.to_thread(partial(
+        library.comment, project, design, number, name=name, text=body.text)))
 
 
 @router.get("/projects/{project}/export", response_model=LibraryExport, responses=_problems(404))
@@ -239,9 +279,14 @@ async def export_project(project: ProjectName, library: LibraryDep) -> Response:
 
 @router.post("/import", status_code=201, response_model=ProjectOut, responses=_problems(403, 409))
 async def import_project(body: LibraryExport, library: LibraryDep, user: CurrentUserDep) -> ProjectOut:
-    """Import an exported project as it was: numbers, authors, times, sign-offs, answers, records; every revision's
-    content hash is checked against its request first (422 names one that does not match)."""
+    """Import an exported project's history: numbers, authors, times, messages, requests (every content hash
+    checked against its request first: 422 names one that does not match). A file cannot sign: every revision
+    arrives `imported` and unsigned, what it claimed (state, signers, pass, deviation, comments) kept only in its
+    `imported_note`, its answer marked as computed elsewhere, its record left behind. Restore a revision to
+    compute it here and sign it here."""
     if user is not None and not (user.has("admin") or user.has("engineer")):
-        raise Forbidden(f"{user.name} may not import projects: that needs the engineer or admin role")
-    return ProjectOut.from_project(await asyncio.to_thread(library.import_project, body.model_dump(mode="json")))
+        raise Forbidden(f"{user.name} may not import projects: importing needs the engineer role")
+    importer = user.name if user is not None else "a caller of an open service"
+    return ProjectOut.from_project(await asyncio.to_thread(partial(
+        library.import_project, body.model_dump(mode="json"), importer=importer)))
 

@@ -15,7 +15,15 @@ from pypdf import PdfReader
 
 from mechsynth_client.schemas.studies import StudyIn
 from synth.errors import InvalidInput, SynthError
-from synth.machine.record import TITLE_BLOCK, TITLE_BLOCK_KEY
+from synth.machine.record import (
+    SHEET_KEY,
+    TITLE_BLOCK,
+    ChangeNote,
+    DesignRecord,
+    RevisionRow,
+    TitleBlock,
+    sheet_metadata,
+)
 
 from ..execution.plans import PLANS, Limits
 from ..studies.tasks import validate_request
@@ -57,42 +65,62 @@ def record_title_block(block: Mapping[str, Any]) -> dict[str, str]:
     return {**text, "number": str(block["record_number"])}
 
 
-def kept_title_block(pdf: bytes) -> dict[str, str] | None:
-    """The title block a kept design record was written with (its PDF's metadata), None when it does not say."""
+def sheet_record(record: DesignRecord, sheet: Mapping[str, Any]) -> DesignRecord:
+    """``record`` with a library's sheet (:mod:`api.library.sheet`): its title block, date, revision table and
+    change note."""
+    note = sheet.get("change_note")
+    return replace(record, created=str(sheet["created"]), title_block=TitleBlock.of(sheet["title_block"]),
+                   revisions=tuple(RevisionRow(**r) for r in sheet.get("revisions", ())),
+                   change_note=None if note is None else ChangeNote(
+                       str(note["against"]), tuple((str(a), str(b), str(c), str(d)) for a, b, c, d in note["rows"])))
+
+
+def sheet_of(sheet: Mapping[str, Any]) -> str:
+    """What a record written with ``sheet`` keeps in its metadata (compared with :func:`kept_sheet`)."""
+    return sheet_metadata(sheet_record(DesignRecord("", "", ""), sheet))
+
+
+def kept_sheet(pdf: bytes) -> str | None:
+    """The sheet a kept design record was written with (its PDF's metadata), None when it does not say."""
     info = PdfReader(io.BytesIO(pdf)).metadata
-    written = None if info is None else info.get(TITLE_BLOCK_KEY)
-    if not isinstance(written, str):
-        return None
-    try:
-        found = json.loads(written)
-    except ValueError:
-        return None
-    return {str(k): str(v) for k, v in found.items()} if isinstance(found, dict) else None
+    written = None if info is None else info.get(SHEET_KEY)
+    return written if isinstance(written, str) else None
 
 
-def machine_record(limits: Limits, request: dict[str, Any], block: dict[str, str]) -> bytes:
-    """The design record of a machine design's canonical request, its title block ``block``
-    (:func:`record_title_block`): the same design, signed as the library has it now."""
-    plan = PLANS[MACHINE][1](validate_request(MACHINE, {**request, TITLE_BLOCK: block}), limits)
-    pdf: bytes = replace(plan.render, fmt="pdf")(plan.fn(*plan.args, **plan.kwargs))[0]
+def _plan(limits: Limits, request: dict[str, Any], sheet: Mapping[str, Any]) -> Any:
+    # the wire's title block is the request's; the deviation, date and tables are the library's own
+    wire = {k: v for k, v in sheet["title_block"].items() if k != "deviation"}
+    plan = PLANS[MACHINE][1](validate_request(MACHINE, {**request, TITLE_BLOCK: wire}), limits)
+    record = sheet_record(plan.render.export_extra[0], sheet)
+    return plan, replace(plan.render, model_extra=(record,), export_extra=(record,))
+
+
+def machine_record(limits: Limits, request: dict[str, Any], sheet: dict[str, Any]) -> bytes:
+    """The design record of a machine design's canonical request with a library's ``sheet`` (title block,
+    date, revision table, change note): the same design, as the revision stands now."""
+    plan, render = _plan(limits, request, sheet)
+    pdf: bytes = replace(render, fmt="pdf")(plan.fn(*plan.args, **plan.kwargs))[0]
     return pdf
 
 
-def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any], block: dict[str, str] | None = None
+def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any], sheet: dict[str, Any] | None = None
                     ) -> tuple[dict[str, Any] | None, bool | None, bytes | None]:
     """The answer to a canonical request, whether it passed, and its design record (PDF) for a machine design,
-    with the title block ``block`` (:func:`record_title_block`); an engine problem is the answer
-    (``{"problem": ...}``, not passed). A study has no answer here."""
+    with the library's ``sheet``; an engine problem is the answer (``{"problem": ...}``, not passed). A study
+    has no answer here."""
     if endpoint == STUDIES:
         return None, None, None
-    signed = {**request, TITLE_BLOCK: block} if endpoint == MACHINE and block else request
-    plan = PLANS[endpoint][1](validate_request(endpoint, signed), limits)
+    if endpoint == MACHINE and sheet:
+        plan, render = _plan(limits, request, sheet)
+    else:
+        plan = PLANS[endpoint][1](validate_request(endpoint, request), limits)
+        render = plan.render
     try:
         result = plan.fn(*plan.args, **plan.kwargs)
-        content, _ = plan.render(result)
+        content, _ = render(result)
     except SynthError as exc:
         return {"problem": {"type": f"/problems/{exc.slug}", "title": exc.title, "detail": str(exc)}}, False, None
     answer: dict[str, Any] = orjson.loads(content)
-    record = replace(plan.render, fmt="pdf")(result)[0] if endpoint == MACHINE else None
+    record = replace(render, fmt="pdf")(result)[0] if endpoint == MACHINE else None
     passed = answer.get("passed")
     return answer, passed if isinstance(passed, bool) else True, record

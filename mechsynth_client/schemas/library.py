@@ -14,7 +14,7 @@ from .common import FOURBAR_EXAMPLE, StrictModel
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$"
 Name = Annotated[str, Field(pattern=NAME_PATTERN, description="Letters, digits, '.', '-', '_'; at most 100.")]
 Person = Annotated[str, Field(min_length=1, max_length=100, pattern=r"\S")]
-RevisionState = Literal["draft", "checked", "approved", "superseded"]
+RevisionState = Literal["draft", "checked", "approved", "superseded", "returned", "imported"]
 
 SAVE_EXAMPLE: dict[str, Any] = {
     "endpoint": "/v1/balancing/static",
@@ -68,7 +68,43 @@ class SignIn(StrictModel):
     model_config = ConfigDict(json_schema_extra={"examples": [{"name": "bob"}]})
 
     name: Person | None = Field(None, description="The signer when the service has no sign-in (or "
-                                                  "X-Synth-User); never the revision's author.")
+                                                  "X-Synth-User); never the revision's author, nor its checker "
+                                                  "when approving.")
+    deviation: str | None = Field(None, max_length=2000,
+                                  description="Why a revision whose answer failed a check is signed anyway: kept "
+                                              "with it, printed in the record's title block and checks page. "
+                                              "Without it such a revision is refused (409 naming the failed "
+                                              "checks).")
+    comment: str | None = Field(None, max_length=2000, description="A remark kept with the revision.")
+
+
+class ReturnIn(StrictModel):
+    """A revision returned to its author by its checker or approver, with why."""
+
+    model_config = ConfigDict(json_schema_extra={"examples": [{"comment": "the flywheel sits on the wrong shaft"}]})
+
+    comment: str = Field(min_length=1, max_length=2000, pattern=r"\S", description="Why it is returned.")
+    name: Person | None = Field(None, description="Who returns it when the service has no sign-in.")
+
+
+class CommentIn(StrictModel):
+    """A comment on a revision."""
+
+    model_config = ConfigDict(json_schema_extra={"examples": [{"text": "checked against the 2019 drawing"}]})
+
+    text: str = Field(min_length=1, max_length=2000, pattern=r"\S", description="The comment.")
+    name: Person | None = Field(None, description="Who writes it when the service has no sign-in.")
+
+
+class CommentOut(BaseModel):
+    """A comment on a revision."""
+
+    author: str = Field(description="Who wrote it.")
+    created_at: datetime = Field(description="When (UTC).")
+    kind: Literal["returned", "check", "approve", "deviation", "comment"] = Field(
+        description="returned: why it was returned; check/approve: a signer's remark; deviation: the reason a "
+                    "failing revision was signed; comment: anything else.")
+    text: str = Field(description="What it says.")
 
 
 class Links(BaseModel):
@@ -94,12 +130,22 @@ class RevisionOut(BaseModel):
     passed: bool | None = Field(description="Every check of the answer passed (false: the engine refused it or a "
                                             "check failed); null without an answer (a study).")
     state: RevisionState = Field(description="draft -> checked -> approved; an approved revision is frozen and "
-                                             "becomes superseded when a later one is approved.")
+                                             "becomes superseded when a later one is approved; returned: sent "
+                                             "back to its author with a comment; imported: from another "
+                                             "service's export, unsigned here.")
     checked_by: str | None = Field(description="Who checked it; null while unchecked.")
     checked_at: datetime | None = Field(description="When it was checked (UTC).")
     approved_by: str | None = Field(description="Who approved it; null while unapproved.")
     approved_at: datetime | None = Field(description="When it was approved (UTC).")
     superseded_by: int | None = Field(description="The approved revision that replaced it, when one did.")
+    deviation: str | None = Field(None, description="Why it was signed although its answer failed a check.")
+    imported_note: str | None = Field(None, description="For an imported revision: where it came from and what "
+                                                        "it claimed (state, signers, answer), not verified here.")
+    answer_origin: Literal["computed", "imported", "none"] = Field(
+        "computed", description="computed: its answer was computed by this service from its request; imported: "
+                                "the answer came in a file (restore the revision to compute it here); none: no "
+                                "answer (a study).")
+    comments: list[CommentOut] = Field(default_factory=list, description="Comments, oldest first.")
     links: Links = Field(description="Addresses of the revision, its design and its record.")
 
     @classmethod
@@ -110,7 +156,11 @@ class RevisionOut(BaseModel):
                    content_hash=i.content_hash, author=i.author, created_at=_when(i.created_at),
                    message=i.message, passed=i.passed, state=i.state, checked_by=i.checked_by,
                    checked_at=_time(i.checked_at), approved_by=i.approved_by, approved_at=_time(i.approved_at),
-                   superseded_by=i.superseded_by,
+                   superseded_by=i.superseded_by, deviation=i.deviation, imported_note=i.imported_note,
+                   answer_origin="imported" if i.imported_note else "none" if i.passed is None and
+                   i.endpoint == "/v1/studies" else "computed",
+                   comments=[CommentOut(author=c.author, created_at=_when(c.created_at), kind=c.kind, text=c.text)
+                             for c in i.comments],
                    links=Links(self=f"{base}/revisions/{i.number}", design=base,
                                record=f"{base}/revisions/{i.number}/record" if i.has_record else None))
 
@@ -182,6 +232,15 @@ class DiffOut(BaseModel):
     unchanged_figures: int = Field(description="Figures of the answer equal in both.")
 
 
+class ExportComment(StrictModel):
+    """A comment as exported."""
+
+    author: str = Field(max_length=100, description="Who wrote it.")
+    created_at: float = Field(ge=0, examples=[1.7e9], description="When [s since 1970, UTC].")
+    kind: str = Field(max_length=16, description="returned, check, approve, deviation or comment.")
+    text: str = Field(max_length=2000, description="What it says.")
+
+
 class ExportRevision(StrictModel):
     """A revision as exported: everything the library keeps, the record in base64."""
 
@@ -200,6 +259,9 @@ class ExportRevision(StrictModel):
     approved_by: str | None = Field(max_length=100, description="Who approved it.")
     approved_at: float | None = Field(ge=0, examples=[1.7e9], description="When it was approved [s since 1970, UTC].")
     superseded_by: int | None = Field(ge=1, le=1_000_000, examples=[None], description="The approved revision that replaced it.")
+    deviation: str | None = Field(None, max_length=2000, description="Why it was signed although it failed a check.")
+    imported_note: str | None = Field(None, max_length=4000, description="Set when it was imported here before.")
+    comments: list[ExportComment] = Field(default_factory=list, max_length=1000, description="Its comments.")
     record_pdf_base64: str | None = Field(description="The design record kept with it (PDF, base64), when there is one.")
 
 
@@ -214,8 +276,9 @@ class ExportDesign(StrictModel):
 
 
 class LibraryExport(StrictModel):
-    """A project as one file: every design and revision with its answer and record; importing it on another
-    service keeps every number, name, time, sign-off and content hash."""
+    """A project as one file: every design and revision with its answer and record. Importing it on another
+    service keeps every number, name, time, message and content hash; its states, signatures and answers arrive
+    as claims (each revision `imported`, unsigned, with a note of what it said), never as sign-offs."""
 
     format: Literal["mechsynth-library/1"] = Field(description="The export format and its version.")
     project: Name = Field(description="The project exported.")

@@ -14,7 +14,7 @@ import datetime as _dt
 import hashlib
 import json
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 #: Unit suffixes of the request's field names, longest first so that ``_m_s`` is not read as ``_s``.
@@ -56,6 +56,8 @@ class TitleBlock:
     approved_by: str = ""
     approved_on: str = ""
     state: str = "draft"
+    #: Why a design that fails a check is released anyway (blank: it passed, or it is not signed).
+    deviation: str = ""
 
     @staticmethod
     def of(data: Mapping[str, Any] | None) -> TitleBlock:
@@ -67,11 +69,38 @@ class TitleBlock:
 
 
 @dataclass(frozen=True, slots=True)
+class RevisionRow:
+    """One line of a record's revision table: the revision's number, date (UTC), author, message, state,
+    checker and approver with their dates, deviation and comments (``who: text``, one a line)."""
+
+    number: str
+    date: str
+    author: str
+    message: str
+    state: str
+    checked: str = ""
+    approved: str = ""
+    deviation: str = ""
+    comments: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class ChangeNote:
+    """What changed in the design since the previous approved revision: ``against`` says which (blank: there is
+    none, this is the first release) and ``rows`` each input that differs as (field, unit, before, after)."""
+
+    against: str = ""
+    rows: tuple[tuple[str, str, str, str], ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
 class DesignRecord:
     """The title block of a design report and the request it answers.
 
-    ``name`` a label for people; ``created`` UTC time, ISO 8601; ``version`` of the service; ``request`` the
-    request as JSON-compatible data; ``request_sha256`` the hash of its canonical JSON.
+    ``name`` a label for people; ``created`` UTC time, ISO 8601 (a library's revision: when it was saved, so
+    the record is a document of the revision, not of the download); ``version`` of the service; ``request`` the
+    request as JSON-compatible data; ``request_sha256`` the hash of its canonical JSON; ``revisions`` the
+    revision table and ``change_note`` the change note a design library adds (none for a plain request).
     """
 
     name: str
@@ -80,6 +109,8 @@ class DesignRecord:
     request: Mapping[str, Any] = field(default_factory=dict)
     request_sha256: str = ""
     title_block: TitleBlock = field(default_factory=TitleBlock)
+    revisions: tuple[RevisionRow, ...] = ()
+    change_note: ChangeNote | None = None
 
     @staticmethod
     def of(request: Mapping[str, Any], *, name: str | None, version: str,
@@ -89,6 +120,19 @@ class DesignRecord:
         design = {k: v for k, v in request.items() if k != TITLE_BLOCK}
         return DesignRecord(name or "machine design", when.strftime("%Y-%m-%d %H:%M:%S UTC"), version,
                             design, request_sha256(design), TitleBlock.of(request.get(TITLE_BLOCK)))
+
+
+#: The PDF metadata key a record's whole sheet (title block, date, revision table, change note) is written under.
+SHEET_KEY = "/MechsynthSheet"
+
+
+def sheet_metadata(record: DesignRecord) -> str:
+    """The part of a record a library may rewrite (title block, date, revision table, change note) as canonical
+    JSON: kept in the PDF so that a record already written as the revision stands is given again unchanged."""
+    note = None if record.change_note is None else asdict(record.change_note)
+    return json.dumps({"title_block": asdict(record.title_block), "created": record.created,
+                       "revisions": [asdict(r) for r in record.revisions], "change_note": note},
+                      sort_keys=True, separators=(",", ":"), ensure_ascii=False)
 
 
 def request_sha256(request: Mapping[str, Any]) -> str:

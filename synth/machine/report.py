@@ -53,7 +53,7 @@ from ..model import Counterweight  # noqa: E402
 from ..kinematics import motion as solve_motion  # noqa: E402
 from ..plots import draw_linkage, draw_mechanism, figure_png, literal_text, shaking_polar  # noqa: E402
 from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
-from .record import TITLE_BLOCK_KEY, DesignRecord, input_rows  # noqa: E402
+from .record import SHEET_KEY, TITLE_BLOCK_KEY, DesignRecord, input_rows, sheet_metadata  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
 from .foundation_plots import foundation_record_pages  # noqa: E402
 
@@ -217,20 +217,47 @@ def _title_block(record: DesignRecord, d: MachineDesign, st: dict[str, Paragraph
     rows = [
         [box("project", tb.project or "—"), box("title", tb.title or record.name), "", box("state", tb.state)],
         [box("record number", tb.number or "—"), box("revision", tb.revision or "—"),
-         box("date of this answer", record.created), box("service", f"mechsynth {record.version}")],
+         box("date of this revision" if record.revisions else "date of this answer", record.created),
+         box("service", f"mechsynth {record.version}")],
         [signed("designed", tb.designed_by, tb.designed_on), signed("checked", tb.checked_by, tb.checked_on),
          signed("approved", tb.approved_by, tb.approved_on), box("result", _verdict(d))],
         [box("request SHA-256 (the design's identity; the title block is not part of it)", record.request_sha256,
              "mono"), "", "", ""],
     ]
+    spans = [("SPAN", (1, 0), (2, 0)), ("SPAN", (0, 3), (-1, 3))]
+    if tb.deviation:
+        rows.append([box("DEVIATION: released although it fails a check, for this reason", tb.deviation), "", "", ""])
+        spans.append(("SPAN", (0, 4), (-1, 4)))
     widths = [_FRAME_W * w for w in (0.25, 0.3, 0.25, 0.2)]
     t = Table(rows, colWidths=widths, hAlign="LEFT")
     t.setStyle(TableStyle([("BOX", (0, 0), (-1, -1), 1.0, colors.black),
-                           ("INNERGRID", (0, 0), (-1, -1), 0.4, colors.grey),
-                           ("SPAN", (1, 0), (2, 0)), ("SPAN", (0, 3), (-1, 3)),
+                           ("INNERGRID", (0, 0), (-1, -1), 0.4, colors.grey), *spans,
                            ("VALIGN", (0, 0), (-1, -1), "TOP"),
                            ("BACKGROUND", (3, 2), (3, 2), colors.HexColor("#eaf5ec" if d.passed else "#fbe9e7"))]))
     return [_para("Machine design record", st["title"]), Spacer(1, 4 * mm), t, Spacer(1, 3 * mm)]
+
+
+def _revision_pages(record: DesignRecord, st: dict[str, ParagraphStyle]) -> list[Flowable]:
+    """The revision table (every revision of the design up to this one) and the change note (each input that
+    differs from the previous approved revision, with its unit): what a design library adds to its records."""
+    out: list[Flowable] = []
+    if record.revisions:
+        out += _section("Revisions", [_table(
+            ["rev.", "date (UTC)", "author", "message", "state", "checked", "approved", "deviation", "comments"],
+            [[r.number, r.date, r.author, r.message, r.state, r.checked, r.approved, r.deviation, r.comments]
+             for r in record.revisions], st, [4, 9, 7, 16, 7, 10, 10, 14, 23])], st)
+    note = record.change_note
+    if note is not None:
+        if not note.against:
+            body: list[Flowable] = [_para("No earlier revision of this design was approved: this is its first "
+                                          "release, every input is as listed under Inputs.", st["p"])]
+        elif not note.rows:
+            body = [_para(f"The inputs are those of {note.against}.", st["p"])]
+        else:
+            body = [_para(f"Inputs that differ from {note.against}:", st["p"]),
+                    _table(["field", "unit", "before", "after"], [list(r) for r in note.rows], st, [40, 10, 25, 25])]
+        out += _section("Change note", body, st)
+    return out
 
 
 def _key_figures(d: MachineDesign) -> list[list[str]]:
@@ -477,10 +504,13 @@ def _record_flowables(record: DesignRecord, d: MachineDesign, alternatives: Sequ
                       st: dict[str, ParagraphStyle]) -> list[Flowable]:
     """The text of the record: key figures, checks, warnings, inputs, stages, counterweights, gears, flywheel,
     motor, shafts and the alternatives."""
-    out: list[Flowable] = [*_title_block(record, d, st)]
+    out: list[Flowable] = [*_title_block(record, d, st), *_revision_pages(record, st)]
     out += _section("Design", [_table(["quantity", "value"], _key_figures(d), st)], st)
+    deviation = ([_para(f"Deviation: this revision is released although it fails a check, for this reason: "
+                        f"{record.title_block.deviation}", st["p"])] if record.title_block.deviation else [])
     out += _section("Checks against the simulated machine",
-                    [_table(["check", "value", "limit", "met", "what it compares"], _check_rows(d), st)], st)
+                    [*deviation, _table(["check", "value", "limit", "met", "what it compares"], _check_rows(d), st)],
+                    st)
     warn = [_para(f"[{w.stage or '-'}] {w.code}" + (f" ({w.field})" if w.field else "") + f": {w.message}", st["p"])
             for w in d.warnings] or [_para("none", st["p"])]
     out += _section(f"Warnings ({len(d.warnings)})", warn, st)
@@ -836,8 +866,9 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
     record = record or DesignRecord("machine design", "-", "-", {}, "not given")
     st = _styles()
     text = io.BytesIO()
+    # invariant: no creation time or random document id, so one record written twice is the same bytes
     doc = BaseDocTemplate(text, pagesize=_PAGE, leftMargin=_MARGIN, rightMargin=_MARGIN, topMargin=_MARGIN,
-                          bottomMargin=_MARGIN + 4 * mm)
+                          bottomMargin=_MARGIN + 4 * mm, invariant=1)
     frame = Frame(doc.leftMargin, doc.bottomMargin, doc.width, doc.height, id="body", leftPadding=0,
                   rightPadding=0, topPadding=0, bottomPadding=0)
     doc.addPageTemplates([PageTemplate(id="page", frames=[frame], onPage=lambda c, _: _footer(c, record))])
@@ -846,7 +877,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
     out = PdfWriter(clone_from=PdfReader(io.BytesIO(text.getvalue())))
     pages = len(out.pages)
     drawn = io.BytesIO()
-    with plt.rc_context(_STYLE), PdfPages(drawn) as pdf:
+    with plt.rc_context(_STYLE), PdfPages(drawn, metadata={"CreationDate": None}) as pdf:
         for title, fig in _figures(d):
             if title is not None:
                 fig.set_size_inches(_PAGE[0] / 72, _PAGE[1] / 72)
@@ -861,7 +892,8 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
     out.add_metadata({"/Title": f"Machine design record: {record.name}",
                       "/Subject": f"request SHA-256 {record.request_sha256}",
                       "/Creator": f"mechsynth {record.version}", "/Author": record.title_block.designed_by,
-                      TITLE_BLOCK_KEY: json.dumps(asdict(record.title_block), sort_keys=True)})
+                      TITLE_BLOCK_KEY: json.dumps(asdict(record.title_block), sort_keys=True),
+                      SHEET_KEY: sheet_metadata(record)})
     buf = io.BytesIO()
     out.write(buf)
     return buf.getvalue()
