@@ -11,6 +11,7 @@ sizing takes the first that passes every check.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Literal
@@ -130,23 +131,29 @@ class SectionFamily:
 
     def candidates(self) -> tuple[Section, ...]:
         """Every admissible section of the family, lightest first."""
-        if self.kind == "ipe":
-            return tuple(ipe(n) for n in IPE_TABLE)
-        if not (math.isfinite(self.ratio) and self.ratio > 0):
-            raise InvalidInput(f"section ratio must be positive, got {self.ratio!r}", field="section.ratio")
-        if self.kind == "tube" and self.ratio >= 0.5:
-            raise InvalidInput("a tube's wall/diameter ratio must be below 0.5", field="section.ratio")
-        sizes = [s * MM for s in SIZE_SERIES_MM if self.min_size - 1e-12 <= s * MM <= self.max_size + 1e-12]
-        if not sizes:
-            raise InvalidInput(f"no preferred size between {self.min_size / MM:g} and {self.max_size / MM:g} mm",
-                               field="section.min_size_mm")
-        if self.kind == "round":
-            out = [round_bar(s) for s in sizes]
-        elif self.kind == "tube":
-            out = [tube(s, self.ratio * s) for s in sizes]
-        else:
-            out = [rectangle(s, self.ratio * s) for s in sizes]
-        return tuple(sorted(out, key=lambda sec: sec.area))
+        return _candidates(self)
+
+
+@functools.lru_cache(maxsize=256)
+def _candidates(family: SectionFamily) -> tuple[Section, ...]:
+    """The family's sections, lightest first (computed once per family: every pass of the sizing asks)."""
+    if family.kind == "ipe":
+        return tuple(ipe(n) for n in IPE_TABLE)
+    if not (math.isfinite(family.ratio) and family.ratio > 0):
+        raise InvalidInput(f"section ratio must be positive, got {family.ratio!r}", field="section.ratio")
+    if family.kind == "tube" and family.ratio >= 0.5:
+        raise InvalidInput("a tube's wall/diameter ratio must be below 0.5", field="section.ratio")
+    sizes = [s * MM for s in SIZE_SERIES_MM if family.min_size - 1e-12 <= s * MM <= family.max_size + 1e-12]
+    if not sizes:
+        raise InvalidInput(f"no preferred size between {family.min_size / MM:g} and {family.max_size / MM:g} mm",
+                           field="section.min_size_mm")
+    if family.kind == "round":
+        out = [round_bar(s) for s in sizes]
+    elif family.kind == "tube":
+        out = [tube(s, family.ratio * s) for s in sizes]
+    else:
+        out = [rectangle(s, family.ratio * s) for s in sizes]
+    return tuple(sorted(out, key=lambda sec: sec.area))
 
 
 def _positive(value: float, name: str) -> float:
