@@ -229,3 +229,81 @@ def test_path_starts_in_chunks_give_the_serial_answer(chunks: int) -> None:
     assert (combined.crank_pivot, combined.coupler_point, combined.ground_angle, combined.starts_at_best,
             combined.status) == (serial.crank_pivot, serial.coupler_point, serial.ground_angle,
                                  serial.starts_at_best, serial.status)
+
+
+def test_coupler_jacobian_matches_central_differences() -> None:
+    # The screening's hand-derived Jacobian against central differences of the coupler point's closed form
+    # (step 1e-6: truncation about 1e-12, round-off about 1e-10 on values of order one).
+    from synth.synthesis.path import _coupler_points
+    from synth.synthesis.path_screening import coupler_jacobian
+
+    rng = np.random.default_rng(7)
+    z = np.array([0.1, -0.2, 0.3, 0.3, 1.1, 0.9, 1.0, 0.5, 0.27]) + 0.02 * rng.random((4, 9))
+    phi = rng.random((4, 6)) * 2 * math.pi
+    branch = np.array([1.0, -1.0, 1.0, -1.0])
+    point, jac, jac_phi = coupler_jacobian(z, phi, branch)
+
+    def at(zz: np.ndarray, pp: np.ndarray) -> np.ndarray:
+        x, y = _coupler_points(zz.T[:, :, None], pp, branch[:, None])
+        return np.asarray(x + 1j * y)
+
+    assert point == pytest.approx(at(z, phi), abs=1e-14)
+    h = 1e-6
+    for i in range(9):
+        dz = np.zeros(9)
+        dz[i] = h
+        assert jac[:, :, i] == pytest.approx((at(z + dz, phi) - at(z - dz, phi)) / (2 * h), abs=1e-8)
+    assert jac_phi == pytest.approx((at(z, phi + h) - at(z, phi - h)) / (2 * h), abs=1e-8)
+
+
+def test_cognates_follow_roberts_law_and_trace_the_same_points() -> None:
+    # Roberts' law: with w = (coupler point)/(coupler length) as a complex number, the crank-driven cognate's
+    # crank, coupler, rocker and ground are |1 - w| times the original's crank, rocker, coupler and ground, and the
+    # coupler-driven one's are |w| times its coupler, crank, rocker and ground (Hartenberg and Denavit, 1964, 6.7).
+    fb = synth.FourBar(0.30, 0.10, 0.35, 0.25, 1)
+    point = (0.15, 0.08)
+    phi = np.radians(np.linspace(0.0, 324.0, 10))
+    targets = _coupler_targets(fb, point, phi, (0.0, 0.0), 0.0)
+    w = complex(*point) / fb.coupler
+    crank_driven, coupler_driven = synth.cognates(fb, (0.0, 0.0), 0.0, point, phi)
+    k = abs(1 - w)
+    c = crank_driven.fourbar
+    assert (c.crank, c.coupler, c.rocker, c.ground) == pytest.approx((k * 0.10, k * 0.25, k * 0.35, k * 0.30),
+                                                                     rel=1e-12)
+    assert c.grashof == "crank-rocker"
+    # It turns in step with the original's crank: its angles are the original's shifted by one constant.
+    assert np.diff(np.unwrap(crank_driven.crank_angles)) == pytest.approx(np.diff(phi), abs=1e-12)
+    traced = _coupler_targets(c, crank_driven.coupler_point, crank_driven.crank_angles, crank_driven.crank_pivot,
+                              crank_driven.ground_angle)
+    assert np.abs(traced - targets).max() < 1e-12
+    k = abs(w)
+    d = coupler_driven.fourbar
+    assert (d.crank, d.coupler, d.rocker, d.ground) == pytest.approx((k * 0.35, k * 0.10, k * 0.25, k * 0.30),
+                                                                     rel=1e-12)
+    assert d.grashof == "double-rocker"
+    first = _coupler_targets(d, coupler_driven.coupler_point, coupler_driven.crank_angles[:1],
+                             coupler_driven.crank_pivot, coupler_driven.ground_angle)
+    assert np.abs(first - targets[:1]).max() < 1e-12
+
+
+@pytest.mark.parametrize("rank_by", ["residual", "link_ratio"])
+def test_path_answers_its_cognate_and_ranks_its_fits(rank_by: str) -> None:
+    # Ten points on the coupler curve of a crank-rocker: the answer passes through them, and so does its
+    # crank-driven cognate (Roberts' law), checked by the engine's own residuals; fits are distinct designs.
+    fb = synth.FourBar(0.30, 0.10, 0.35, 0.25, 1)
+    targets = _coupler_targets(fb, (0.15, 0.08), np.radians(np.linspace(0.0, 324.0, 10)), (0.0, 0.0), 0.0)
+    bounds, box, cp = synth.default_path_limits(targets)
+    result = synth.synthesise_path(synth.PathSpec(targets, None, bounds, box, cp, starts=32, rank_by=rank_by))
+    assert result.residuals.max() < 1e-9
+    assert result.fits[0].linkage == result.linkage and result.fits[0].starts == result.starts_at_best >= 1
+    exact = [f for f in (*result.fits, *result.cognates) if f.residuals.max() < 1e-9]
+    lengths = {tuple(round(getattr(f.fourbar, n), 6) for n in ("crank", "coupler", "rocker", "ground"))
+               for f in exact}
+    assert len(lengths) >= 2
+    assert result.cognates[0].status == "cognate" and result.cognates[0].fourbar.grashof == "crank-rocker"
+    assert sum(f.starts for f in result.fits) <= 32
+    if rank_by == "link_ratio":
+        level = [f for f in result.fits if f.residuals.max() < 1e-9]
+        ratios = [max(v) / min(v) for v in ((f.fourbar.crank, f.fourbar.coupler, f.fourbar.rocker, f.fourbar.ground)
+                                            for f in level)]
+        assert ratios == sorted(ratios)

@@ -292,9 +292,13 @@ def synthesis_path(b: PathIn, lim: Limits) -> Plan:
                 (spec,), offered=("png",))
 
 
+PATH_CHUNK_STARTS = 64
+
+
 def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpec, list[tuple[int, ...]]]:
-    """POST /v1/synthesis/path, first step: the starts dealt into one chunk per worker, each a task of
-    :func:`synth.synthesis.path.path_starts`."""
+    """POST /v1/synthesis/path, first step: the starts dealt into chunks of at least :data:`PATH_CHUNK_STARTS`,
+    at most one per worker, each a task of :func:`synth.synthesis.path.path_starts` (the screening steps all of a
+    chunk's starts at once, so a smaller chunk saves little and costs a round trip)."""
     wall = estimate_s("/v1/synthesis/path", b) / max(1, workers)
     if wall > lim.max_work_s:
         raise synth.TooLarge("path synthesis estimated time [s]", int(lim.max_work_s), int(wall),
@@ -302,7 +306,7 @@ def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpe
                              f"{workers} workers, beyond the bound of {lim.max_work_s:g} s: ask for "
                              "fewer starts or points", field="starts")
     spec = b.to_spec(lim.solver_time_limit_s)
-    return spec, start_chunks(spec, workers)
+    return spec, start_chunks(spec, min(workers, max(1, b.starts // PATH_CHUNK_STARTS)))
 
 
 def synthesis_path_best(spec: PathSpec, parts: Sequence[PathStarts]) -> Plan:

@@ -42,8 +42,9 @@ _FIXED: dict[str, float] = {
     "/v1/structure": 0.005,
     "/v1/machines/design": 1.0,
 }
-# A path-synthesis start is an IPOPT solve of about 55 iterations at 0.25 ms each for 10 points.
-_PATH_START_S = 0.03
+# Path synthesis screens every start at once (about 40 stacked Levenberg-Marquardt steps, 1 ms a start for 10
+# points) and polishes a few designs with IPOPT (about 20 iterations at 0.25 ms each).
+_PATH_START_S = 0.001
 _MEMBER_S = 0.05
 _STREAMED_PRODUCT_S = 1e-9
 
@@ -61,7 +62,7 @@ def _teeth(b: Any) -> float:
 
 
 def _path(b: Any) -> float:
-    return 0.02 + int(b.starts) * _PATH_START_S * max(1.0, len(b.points_m) / 10)
+    return 0.05 + int(b.starts) * _PATH_START_S * max(1.0, len(b.points_m) / 10)
 
 
 #: A searched cell (its walk by bisection and its plateaus' searches) costs about this many members' chains.

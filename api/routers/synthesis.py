@@ -46,12 +46,15 @@ async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request
 
 @router.post("/path", response_model=PathOut, responses=PNG_RESPONSES)
 async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
-    """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: multistart
-    IPOPT from seeded Sobol starts, the best of all starts with the residual at every point recomputed by the
-    analysis engine. `?format=png` draws the coupler curve through the targets.
+    """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: every
+    seeded Sobol start screened at once by Levenberg-Marquardt, the best distinct designs polished by IPOPT, each
+    fit with the starts that reached it and the residual at every point recomputed by the analysis engine, and the
+    answer's Roberts-Chebyshev cognates. `?format=png` draws the coupler curve through the targets.
 
-    The starts are independent: they run as one task per worker, side by side, and the best of all is the answer
-    (the same as one run of every start in order)."""
+    The starts are independent: many of them are screened as one task per worker, side by side, and the answer is
+    the same as one run of every start in order."""
     spec, chunks = plans.synthesis_path_chunks(body, solvers.limits, solvers.solvers.workers)
+    if len(chunks) == 1:
+        return await solvers.answer_plan(plans.synthesis_path(body, solvers.limits), request, format)
     parts = await together(solvers.run(path_starts, spec, chunk) for chunk in chunks)
     return await solvers.answer_plan(plans.synthesis_path_best(spec, parts), request, format)

@@ -428,6 +428,10 @@ class PathIn(StrictModel):
     starts: int = Field(32, ge=1, le=MAX_PATH_STARTS, description="Multistart points (scrambled Sobol).")
     seed: int = Field(0, ge=0, le=2**31 - 1, description="Seed of the Sobol scrambling: same seed, same answer.")
     min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission angle.")
+    rank_by: Literal["residual", "transmission_angle", "link_ratio", "starts"] = Field(
+        "residual", description="How fits equally near the points are ordered (the first is the answer): least "
+        "residual, largest least transmission angle (its deviation from 90° taken both ways), least ratio of the "
+        "longest link to the shortest, or most starts reaching it.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"points_m": [[0.1512, 0.1621], [0.1698, 0.2037], [0.1319, 0.2318], [0.0685, 0.2331], [0.0075, 0.204],
@@ -448,6 +452,45 @@ class PathIn(StrictModel):
             coupler_point_max=min(MAX_LENGTH_M, cp_max if self.coupler_point_max_m is None else self.coupler_point_max_m),
             branch=0 if self.branch is None else self.branch, starts=self.starts, seed=self.seed,
             time_limit=time_limit_s, min_transmission_angle=math.radians(self.min_transmission_angle_deg),
+            rank_by=self.rank_by,
+        )
+
+
+class PathFitOut(BaseModel):
+    """One four-bar through (or near) the points: a distinct design the starts reached, or a cognate of the
+    answer built in closed form."""
+
+    mechanism: FourBarIn = Field(description="The four-bar in its own frame (crank pivot at the origin, rocker "
+                                 "pivot on +x), massless: send it to any mechanism endpoint.")
+    trace_point: TracePointIn = Field(description="The coupler point as a trace point for /v1/analysis.")
+    crank_pivot_m: list[float] = Field(description="Its driving pivot in the targets' frame [m].")
+    ground_angle_deg: float = Field(description="Direction of its ground line in the targets' frame [deg].")
+    crank_angle_deg: list[float] = Field(description="Its driver's angle at each target, in its own frame [deg].")
+    rms_residual_m: float = Field(description="RMS distance from the targets, recomputed by the analysis engine [m].")
+    max_residual_m: float = Field(description="Largest distance from a target, recomputed by the analysis engine [m].")
+    grashof: str = Field(description="Grashof class.")
+    link_ratio: float = Field(description="Longest link over the shortest, the ground included [-].")
+    transmission_angle: TransmissionOut | None = Field(description="Extremes of the angle between coupler and "
+                                                       "rocker over the cycle, for a crank-rocker.")
+    starts: int = Field(description="Starts whose screening ended in this design's basin (0: a cognate no start "
+                        "reached).")
+    source: Literal["starts", "cognate"] = Field(description="Reached by the starts and polished by IPOPT, or a "
+                                                 "Roberts-Chebyshev cognate of the answer in closed form.")
+
+    @classmethod
+    def from_engine(cls, f: synth.PathFit) -> PathFitOut:
+        """Schema from an engine fit."""
+        fb = f.fourbar
+        lengths = (fb.ground, fb.crank, fb.coupler, fb.rocker)
+        return cls(
+            mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
+                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch)),
+            trace_point=TracePointIn(name="P", link="coupler", position_m=list(f.coupler_point)),
+            crank_pivot_m=list(f.crank_pivot), ground_angle_deg=math.degrees(f.ground_angle),
+            crank_angle_deg=np.degrees(f.crank_angles).tolist(), rms_residual_m=f.rms_residual,
+            max_residual_m=float(f.residuals.max()), grashof=fb.grashof, link_ratio=max(lengths) / min(lengths),
+            transmission_angle=None if f.check is None else TransmissionOut.from_engine(f.check),
+            starts=f.starts, source="cognate" if f.status == "cognate" else "starts",
         )
 
 
@@ -475,11 +518,17 @@ class PathOut(BaseModel):
     max_residual_m: float = Field(description="Largest of residuals_m [m].")
     rms_residual_m: float = Field(description="RMS of residuals_m [m].")
     starts: int = Field(description="Multistart points run.")
-    starts_converged: int = Field(description="Starts from which IPOPT converged.")
-    starts_at_best: int = Field(description="Starts that reached the best sum of squared residuals, to 1e-6 of it "
-                                "(relative) plus a small absolute tolerance.")
-    start_rms_residuals_m: list[float | None] = Field(description="RMS residual each start reached; null: no convergence.")
-    solver_status: str = Field(description="IPOPT's status for the best start.")
+    starts_converged: int = Field(description="Starts whose screening ended at a finite residual.")
+    starts_at_best: int = Field(description="Starts whose screening ended in the answer's basin.")
+    start_rms_residuals_m: list[float | None] = Field(description="RMS residual where each start's screening "
+                                                      "ended; null: it broke down.")
+    solver_status: str = Field(description="IPOPT's status for the answer's polish.")
+    fits: list[PathFitOut] = Field(description="Every distinct design polished from the starts, the answer first: "
+                                   "those as near the points as the best ordered by rank_by, then the rest by "
+                                   "residual.")
+    cognates: list[PathFitOut] = Field(description="The answer's Roberts-Chebyshev cognates that pass every point "
+                                       "on one assembly (the crank-driven one always does), with the engine's "
+                                       "residuals.")
     check: PathCheckOut = Field(description="Swing, time ratio and transmission angles of the answer, from the "
                                 "analysis engine.")
     warnings: list[WarningOut] = Field(description="The analysis' own notes on the answer: a transmission angle "
@@ -504,6 +553,8 @@ class PathOut(BaseModel):
             starts_at_best=r.starts_at_best,
             start_rms_residuals_m=[float(v) if math.isfinite(v) else None for v in rms_starts],
             solver_status=r.status,
+            fits=[PathFitOut.from_engine(f) for f in r.fits],
+            cognates=[PathFitOut.from_engine(f) for f in r.cognates],
             check=PathCheckOut(grashof=fb.grashof, swing_deg=math.degrees(c.travel), time_ratio=c.time_ratio,
                                transmission_angle=TransmissionOut.from_engine(c)),
             warnings=warnings_out(c.warnings),

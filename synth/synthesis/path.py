@@ -1,14 +1,21 @@
 """Path generation: a crank-rocker four-bar whose coupler point passes through (or nearest to) target points.
 
-A nonconvex least-squares NLP in CasADi/IPOPT over the crank pivot (x, y), the ground angle, the four lengths, the
-coupler point in the coupler frame and the crank angle at each target (or one starting angle when the angles are
+A nonconvex least-squares problem over the crank pivot (x, y), the ground angle, the four lengths, the coupler
+point in the coupler frame and the crank angle at each target (or one starting angle when the angles are
 prescribed up to a common shift). The coupler position is the closed-form assembly of the requested branch; the
-Grashof crank-rocker conditions (crank shortest, shortest + longest <= sum of the other two) are constraints, so
-the linkage assembles at every crank angle and never changes branch. The residuals are lifted into variables
-(r = P - T as equality constraints) so IPOPT meets a Gauss-Newton-like Hessian near a fit. IPOPT works in units of
-the targets' extent about their centre, where every length and angle is of order one. The problem has many local
-minima, so it is solved from scrambled-Sobol starts (scipy.stats.qmc, seeded) and the best is kept; how many starts
-reached it is part of the answer. The residual at every target is then recomputed by the kinematics engine.
+Grashof crank-rocker conditions (crank shortest, shortest + longest <= sum of the other two) hold at the answer,
+so the linkage assembles at every crank angle and never changes branch. Everything is worked in units of the
+targets' extent about their centre, where every length and angle is of order one.
+
+The problem has many local minima, so it is started from scrambled-Sobol points (scipy.stats.qmc, seeded), and
+every start is screened at once: a Levenberg-Marquardt iteration over the stacked residuals of all starts with
+the coupler point's analytic Jacobian, each start with its own damping, the constraints (Grashof margins,
+transmission angle, crank angles in order within one turn, the bounds) as penalty rows of the same least squares.
+The best distinct designs it reaches are then polished by IPOPT on the exact constrained problem (residuals
+lifted into variables, r = P - T as equalities, so IPOPT meets a Gauss-Newton-like Hessian near a fit), warm
+started at the screened point; IPOPT's status is the certificate of each. Every distinct fit is answered with how
+many starts reached it, and the residual at every target is recomputed by the kinematics engine. The
+Roberts-Chebyshev cognates of the answer trace the same curve and are given in closed form.
 """
 
 from __future__ import annotations
@@ -29,12 +36,23 @@ from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout, TooL
 from ..kinematics import FourBar, Mechanism
 from ..model import FloatArray, Linkage
 from .checks import LinkageCheck, check_fourbar
+from .cognates import cognates
+from .path_screening import screen
 
 MAX_POINTS = 40
 MAX_STARTS = 256
 GRASHOF_MARGIN = 1e-3  # least slack of each Grashof inequality, in units of the targets' extent
 _LENGTHS = ("crank", "coupler", "rocker", "ground")
 _DESIGN = 9  # crank pivot x, y, ground angle, crank, coupler, rocker, ground, coupler point x, y
+# How fits equally near the targets are ordered: least residual, largest least transmission angle (its least
+# deviation from 90° taken both ways), least ratio of the longest link to the shortest, most starts reaching it.
+RANKINGS = ("residual", "transmission_angle", "link_ratio", "starts")
+SCREEN_ITERATIONS = 40
+MAX_POLISHED = 4
+# Screened starts within this distance of each other (design coordinates in units of the targets' extent, the
+# ground angle in radians) are taken for one design; polished designs closer than _SAME_FIT are one fit.
+_SAME_BASIN = 0.05
+_SAME_FIT = 1e-6
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,7 +65,8 @@ class PathSpec:
     rocker, ground; pivot_box: (x_min, x_max, y_min, y_max) for both ground pivots [m]; coupler_point_max: bound on
     each coordinate of the coupler point in the coupler frame [m]; branch: +1, -1, or 0 to try both (half the
     starts each); starts: number of multistart points; seed: Sobol scrambling seed; time_limit: wall-clock budget
-    for all starts [s]; min_transmission_angle: lowest admissible transmission angle over the cycle [rad].
+    for all starts [s]; min_transmission_angle: lowest admissible transmission angle over the cycle [rad];
+    rank_by: how fits equally near the targets are ordered, one of :data:`RANKINGS`.
     """
 
     targets: FloatArray
@@ -60,6 +79,7 @@ class PathSpec:
     seed: int = 0
     time_limit: float = 20.0
     min_transmission_angle: float = 0.0
+    rank_by: str = "residual"
 
     def validate(self) -> None:
         """Raise InvalidInput or TooLarge naming the field that cannot be used."""
@@ -90,18 +110,55 @@ class PathSpec:
             raise InvalidInput("the time limit must be positive", field="time_limit_s")
         if not 0.0 <= self.min_transmission_angle < 0.5 * math.pi:
             raise InvalidInput("the least transmission angle must lie in [0°, 90°)", field="min_transmission_angle_deg")
+        if self.rank_by not in RANKINGS:
+            raise InvalidInput(f"rank_by must be one of {', '.join(RANKINGS)}", field="rank_by")
+
+
+@dataclass(frozen=True, slots=True)
+class PathFit:
+    """One four-bar through (or near) the targets, placed in the targets' frame, with the engine's residuals.
+
+    ``linkage``: the four-bar in its own frame (crank pivot at the origin, rocker pivot on +x);
+    ``coupler_point``: in the coupler frame [m]; ``crank_pivot`` [m] and ``ground_angle`` [rad]: where that frame
+    sits among the targets; ``crank_angles``: its driver's angle at each target [rad]; ``residuals``: distance
+    from each target to the coupler point recomputed by the analysis engine [m]; ``starts``: starts whose
+    screening ended in this design's basin (0 for a cognate no start reached); ``status``: IPOPT's status of its
+    polish (``cognate`` for one built in closed form); ``check``: swing, time ratio and transmission angles from
+    the engine, for a crank-rocker (None otherwise: a cognate driven by a rocker).
+    """
+
+    linkage: Linkage
+    coupler_point: tuple[float, float]
+    crank_pivot: tuple[float, float]
+    ground_angle: float
+    crank_angles: FloatArray
+    residuals: FloatArray
+    starts: int
+    status: str
+    check: LinkageCheck | None
+
+    @property
+    def fourbar(self) -> FourBar:
+        """The four-bar."""
+        mech = self.linkage.mechanism
+        assert isinstance(mech, FourBar)
+        return mech
+
+    @property
+    def rms_residual(self) -> float:
+        """RMS of the residuals [m]."""
+        return float(np.sqrt(np.mean(self.residuals**2)))
 
 
 @dataclass(frozen=True, slots=True)
 class PathResult:
-    """The best four-bar of all starts, placed in the targets' frame, with the engine's residuals.
+    """The best four-bar, every distinct fit the starts reached and the answer's cognates.
 
-    ``linkage``: the four-bar in its own frame (crank pivot at the origin, rocker pivot on +x);
-    ``coupler_point``: in the coupler frame [m]; ``crank_pivot`` [m] and ``ground_angle`` [rad]: where that frame
-    sits among the targets; ``crank_angles``: at each target [rad]; ``residuals``: distance from each target
-    to the coupler point recomputed by the analysis engine [m]; ``start_objectives``: sum of squared residuals
-    [m²] reached from each start (NaN where IPOPT failed); ``starts_at_best``: starts within 1e-9 m² plus 1e-6
-    of the best; ``status``: IPOPT's status of the best start.
+    The answer's fields are those of :class:`PathFit` (it is ``fits[0]``); ``start_objectives``: sum of squared
+    residuals [m²] where each start's screening ended (NaN where it broke down); ``starts_at_best``: starts whose
+    screening ended in the answer's basin; ``fits``: the distinct designs polished, ranked by ``spec.rank_by``
+    among those as near the targets as the best, then by residual; ``cognates``: the answer's two
+    Roberts-Chebyshev cognates, which trace the same curve.
     """
 
     linkage: Linkage
@@ -114,6 +171,8 @@ class PathResult:
     starts_at_best: int
     status: str
     check: LinkageCheck
+    fits: tuple[PathFit, ...] = ()
+    cognates: tuple[PathFit, ...] = ()
 
     @property
     def fourbar(self) -> FourBar:
@@ -184,10 +243,14 @@ def _program(n: int, timed: bool, branch: int) -> Any:
     nlp = {"x": ca.vertcat(z, phi, r), "p": ca.vertcat(ca.vec(targets), offsets, cos_mu), "f": f, "g": ca.vertcat(*g)}
     # IPOPT backs off from a trial point where the assembly is undefined; that is routine, not worth a log line.
     # A KKT system of about a hundred rows is solved to round-off by one factorisation, so IPOPT's residual check
-    # and iterative refinement of each step (fast_step_computation off) only cost time.
+    # and iterative refinement of each step (fast_step_computation off) only cost time. It starts at the screened
+    # point, near a minimum: a small barrier parameter and bound push keep it there instead of pushing it back
+    # into the interior and walking the way again.
     opts: dict[str, Any] = {"print_time": False, "show_eval_warnings": False, "ipopt.print_level": 0, "ipopt.sb": "yes",
                             "ipopt.tol": 1e-12, "ipopt.acceptable_tol": 1e-9, "ipopt.max_iter": 120,
-                            "ipopt.fast_step_computation": "yes"}
+                            "ipopt.fast_step_computation": "yes", "ipopt.mu_init": 1e-9,
+                            "ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-12,
+                            "ipopt.warm_start_mult_bound_push": 1e-12, "ipopt.warm_start_slack_bound_push": 1e-12}
     return ca.nlpsol("path", "ipopt", nlp, opts)
 
 
@@ -262,15 +325,15 @@ def _box(spec: PathSpec) -> tuple[FloatArray, FloatArray]:
 
 @dataclass(frozen=True, slots=True)
 class PathStarts:
-    """What one chunk of the multistart reached: the objective of each start it ran [sum of squared residuals over
-    the targets' extent squared], NaN where IPOPT failed, its best start (the first of the lowest objective) as
-    (index, objective, solution in the working frame, branch, IPOPT status), None when none of its starts
-    converged, and the IPOPT iterations each start took."""
+    """Where one chunk of the multistart's screening ended, start by start: the indices run, the sum of squared
+    residuals of each [over the targets' extent squared] (NaN where the screening broke down), its unknowns in
+    the working frame (design, crank angles) and branch, and the screening's iterations."""
 
     indices: tuple[int, ...]
     objectives: FloatArray
-    best: tuple[int, float, FloatArray, int, str] | None
-    iterations: tuple[int, ...] = ()
+    unknowns: FloatArray
+    branches: FloatArray
+    iterations: int = 0
 
 
 def start_chunks(spec: PathSpec, chunks: int) -> list[tuple[int, ...]]:
@@ -327,74 +390,162 @@ def _initial_points(spec: PathSpec, indices: Sequence[int], frame: _Frame, targe
 
 
 def path_starts(spec: PathSpec, indices: Sequence[int]) -> PathStarts:
-    """Run the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), each from its own Sobol
-    point: a plain function of plain data, so chunks run in separate workers. SolverTimeout past
-    ``spec.time_limit`` counted from this call."""
+    """Screen the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), all at once, each from
+    its own Sobol point and on its own path: a plain function of plain data, so chunks run in separate workers
+    and give what one run of all starts gives. SolverTimeout past ``spec.time_limit`` counted from this call."""
     targets, offsets, timed, frame, params, bounds = _problem(spec)
     n = targets.shape[0]
     deadline = time.monotonic() + spec.time_limit
     x0, branches = _initial_points(spec, indices, frame, targets, offsets, timed)
-    # Converted once for all the chunk's solves rather than on every call.
-    data = {"p": ca.DM(params), **{key: ca.DM(value) for key, value in bounds.items()}}
-    objectives = np.full(len(indices), np.nan)
-    iterations = []
-    best: tuple[int, float, FloatArray, int, str] | None = None
-    for done, k in enumerate(indices):
-        remaining = deadline - time.monotonic()
-        if remaining <= 0:
-            raise SolverTimeout(spec.time_limit, starts_completed=done, best_rms_residual_m=None if best is None
-                                else math.sqrt(best[1] * frame.scale**2 / n))
-        branch = int(branches[done])
-        solver = _program(n, timed, branch)
-        sol = solver(x0=x0[done], **data)
-        stats = solver.stats()
-        status = str(stats["return_status"])
-        iterations.append(int(stats["iter_count"]))
-        if status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
-            objectives[done] = float(sol["f"])
-            if best is None or objectives[done] < best[1]:
-                best = (k, objectives[done], np.asarray(sol["x"]).reshape(-1), branch, status)
-    return PathStarts(tuple(indices), objectives, best, tuple(iterations))
+    m = x0.shape[1] - 2 * n
+    unit_targets = (targets - frame.centre) / frame.scale
+    out = screen(x0[:, :m], branches, unit_targets, offsets, timed, bounds["lbx"][:m], bounds["ubx"][:m],
+                 math.cos(spec.min_transmission_angle), GRASHOF_MARGIN, SCREEN_ITERATIONS, deadline, spec.time_limit)
+    return PathStarts(tuple(indices), out.objectives, out.unknowns, branches, out.iterations)
+
+
+def _gap(u: FloatArray, v: FloatArray) -> FloatArray:
+    """Largest difference between designs (..., 9) in the working frame, the ground angle taken modulo a turn."""
+    d = np.abs(u[..., :_DESIGN] - v[..., :_DESIGN])
+    d[..., 2] = np.abs(np.remainder(d[..., 2] + math.pi, 2 * math.pi) - math.pi)
+    return np.asarray(d.max(axis=-1))
+
+
+def _polish(spec: PathSpec, u: FloatArray, branch: int) -> tuple[float, FloatArray, str] | None:
+    """IPOPT on the exact problem from the screened unknowns ``u``: objective, solution and status, None when it
+    does not converge."""
+    targets, offsets, timed, frame, params, bounds = _problem(spec)
+    n = targets.shape[0]
+    unit_targets = (targets - frame.centre) / frame.scale
+    with np.errstate(all="ignore"):
+        px, py = _coupler_points(u[:_DESIGN], u[_DESIGN] + offsets if timed else u[_DESIGN:], float(branch))
+    x0 = np.concatenate([u, np.nan_to_num(px - unit_targets[:, 0]), np.nan_to_num(py - unit_targets[:, 1])])
+    solver = _program(n, timed, branch)
+    sol = solver(x0=x0, p=params, **bounds)
+    status = str(solver.stats()["return_status"])
+    if status not in ("Solve_Succeeded", "Solved_To_Acceptable_Level"):
+        return None
+    return float(sol["f"]), np.asarray(sol["x"]).reshape(-1), status
+
+
+def _fit(spec: PathSpec, x: FloatArray, branch: int, starts: int, status: str) -> PathFit:
+    """A polished solution (working frame) placed in the targets' frame with the engine's residuals."""
+    targets, offsets, timed, frame, _, _ = _problem(spec)
+    n = targets.shape[0]
+    z = frame.to_metres(x[:_DESIGN])
+    phi = x[_DESIGN] + offsets if timed else x[_DESIGN:_DESIGN + n]
+    fb = FourBar(float(z[6]), float(z[3]), float(z[4]), float(z[5]), branch)
+    return PathFit(Linkage(cast(Mechanism, fb)), (float(z[7]), float(z[8])), (float(z[0]), float(z[1])),
+                   float(math.remainder(z[2], 2 * math.pi)), np.mod(phi, 2 * math.pi),
+                   _engine_residuals(fb, z, phi, targets), starts, status, check_fourbar(fb))
+
+
+def _cognate_fits(answer: PathFit, targets: FloatArray, tolerance: float) -> tuple[PathFit, ...]:
+    """The answer's cognates that pass every target on one assembly, with the engine's residuals (their
+    independent check). The crank-driven cognate of a crank-rocker is a crank-rocker and always does; the
+    coupler-driven one is a double-rocker whose driver reverses and whose assembly flips between the targets, so
+    it is kept only where the engine finds it within ``tolerance`` [m] of them all."""
+    out = []
+    for cog in cognates(answer.fourbar, answer.crank_pivot, answer.ground_angle, answer.coupler_point,
+                        answer.crank_angles):
+        z = np.array([*cog.crank_pivot, cog.ground_angle, 0.0, 0.0, 0.0, 0.0, *cog.coupler_point])
+        fb = cog.fourbar
+        residuals = _engine_residuals(fb, z, cog.crank_angles, targets)
+        if residuals.max() > tolerance:
+            continue
+        check = check_fourbar(fb) if fb.grashof == "crank-rocker" else None
+        out.append(PathFit(Linkage(cast(Mechanism, fb)), cog.coupler_point, cog.crank_pivot,
+                           float(math.remainder(cog.ground_angle, 2 * math.pi)), cog.crank_angles, residuals, 0,
+                           "cognate", check))
+    return tuple(out)
+
+
+def _rank_key(rank_by: str) -> Any:
+    def key(fit: PathFit) -> float:
+        if rank_by == "transmission_angle" and fit.check is not None:
+            return -min(fit.check.min_transmission_angle, math.pi - fit.check.max_transmission_angle)
+        if rank_by == "link_ratio":
+            lengths = [fit.fourbar.ground, fit.fourbar.crank, fit.fourbar.coupler, fit.fourbar.rocker]
+            return max(lengths) / min(lengths)
+        if rank_by == "starts":
+            return -fit.starts
+        return fit.rms_residual
+    return key
 
 
 def best_path(spec: PathSpec, parts: Sequence[PathStarts]) -> PathResult:
-    """The answer from every chunk's starts: the lowest objective, the earliest start among equals (as one run
-    of all starts in order keeps it), placed in the targets' frame with the engine's residuals."""
-    targets, offsets, timed, frame, _, _ = _problem(spec)
-    n = targets.shape[0]
+    """The answer from every chunk's screened starts: the distinct designs nearest the targets (at most
+    :data:`MAX_POLISHED`, the best and those within ten times its objective) polished by IPOPT, each counted with
+    the starts that ended in its basin, ranked, placed in the targets' frame with the engine's residuals, and the
+    best one's cognates. The same whichever way the starts were dealt into chunks."""
+    targets, _, _, frame, _, _ = _problem(spec)
     scale = frame.scale
+    m = parts[0].unknowns.shape[1] if parts else 0
     objectives = np.full(spec.starts, np.nan)
+    unknowns = np.full((spec.starts, m), np.nan)
+    branches = np.zeros(spec.starts)
     for part in parts:
-        objectives[list(part.indices)] = part.objectives
-    found = [part.best for part in parts if part.best is not None]
-    if not found:
+        rows = list(part.indices)
+        objectives[rows], unknowns[rows], branches[rows] = part.objectives, part.unknowns, part.branches
+    finite = np.flatnonzero(np.isfinite(objectives))
+    if finite.size == 0:
         raise SolverFailed("no_start_converged", f"none of the {spec.starts} starts converged")
-    _, f_best, x, branch, status = min(found, key=lambda b: (b[1], b[0]))
-    z = frame.to_metres(x[:_DESIGN])
-    phi = x[_DESIGN] + offsets if timed else x[_DESIGN:_DESIGN + n]
-    near = objectives[np.isfinite(objectives)] <= f_best + 1e-9 / scale**2 + 1e-6 * f_best
-    fb = FourBar(float(z[6]), float(z[3]), float(z[4]), float(z[5]), branch)
-    residuals = _engine_residuals(fb, z, phi, targets)
+    order = finite[np.lexsort((finite, objectives[finite]))]
+    f_best = objectives[order[0]]
+    picked: list[int] = []
+    for k in order:
+        if len(picked) == MAX_POLISHED or objectives[k] > 10.0 * f_best + 1e-12:
+            break
+        if all(branches[j] != branches[k] or _gap(unknowns[j], unknowns[k]) > _SAME_BASIN for j in picked):
+            picked.append(int(k))
+    solved: list[tuple[float, FloatArray, int, str]] = []
+    seeds: list[list[int]] = []
+    for k in picked:
+        polished = _polish(spec, unknowns[k], int(branches[k]))
+        if polished is None:
+            continue
+        same = [i for i, (_, x, b, _) in enumerate(solved) if b == branches[k] and _gap(x, polished[1]) <= _SAME_FIT]
+        if same:
+            seeds[same[0]].append(k)
+        else:
+            solved.append((polished[0], polished[1], int(branches[k]), polished[2]))
+            seeds.append([k])
+    if not solved:
+        raise SolverFailed("no_start_converged", f"IPOPT converged from none of the {len(picked)} best screened "
+                           "starts")
+    # A start counts for the fit nearest where its screening ended (the fit itself or a start polished into it),
+    # when that is within one basin.
+    counts = [0] * len(solved)
+    for k in finite:
+        gaps = [min([float(_gap(x, unknowns[k]))] + [float(_gap(unknowns[j], unknowns[k])) for j in seeds[i]])
+                if b == branches[k] else math.inf for i, (_, x, b, _) in enumerate(solved)]
+        i = int(np.argmin(gaps))
+        if gaps[i] <= _SAME_BASIN:
+            counts[i] += 1
+    fits = [_fit(spec, x, b, counts[i], status) for i, (_, x, b, status) in enumerate(solved)]
+    f_min = min(f for f, _, _, _ in solved)
+    level = f_min + 1e-9 / scale**2 + 1e-6 * f_min
+    at_best = [fit for fit, (f, _, _, _) in zip(fits, solved) if f <= level]
+    rest = sorted((fit for fit, (f, _, _, _) in zip(fits, solved) if f > level), key=_rank_key("residual"))
+    ranked = sorted(at_best, key=_rank_key(spec.rank_by)) + rest
+    best = ranked[0]
+    assert best.check is not None
     return PathResult(
-        linkage=Linkage(cast(Mechanism, fb)),
-        coupler_point=(float(z[7]), float(z[8])),
-        crank_pivot=(float(z[0]), float(z[1])),
-        ground_angle=float(math.remainder(z[2], 2 * math.pi)),
-        crank_angles=np.mod(phi, 2 * math.pi),
-        residuals=residuals,
-        start_objectives=objectives * scale**2,
-        starts_at_best=int(near.sum()),
-        status=status,
-        check=check_fourbar(fb),
+        linkage=best.linkage, coupler_point=best.coupler_point, crank_pivot=best.crank_pivot,
+        ground_angle=best.ground_angle, crank_angles=best.crank_angles, residuals=best.residuals,
+        start_objectives=objectives * scale**2, starts_at_best=best.starts, status=best.status, check=best.check,
+        fits=tuple(ranked),
+        cognates=_cognate_fits(best, targets, 10.0 * float(best.residuals.max()) + 1e-9 * scale),
     )
 
 
 def synthesise_path(spec: PathSpec) -> PathResult:
-    """The crank-rocker whose coupler point passes nearest to ``spec.targets``: best of all multistart solves.
+    """The crank-rocker whose coupler point passes nearest to ``spec.targets``, every distinct fit the starts
+    reached and the answer's cognates.
 
     Raises InvalidInput/TooLarge for unusable requests, SolverFailed when no start converges and SolverTimeout
-    (with the best residual reached) when the starts outrun ``spec.time_limit``. The same as :func:`best_path`
-    of :func:`path_starts` over the chunks of :func:`start_chunks`, whichever the number of chunks.
+    when the screening outruns ``spec.time_limit``. The same as :func:`best_path` of :func:`path_starts` over the
+    chunks of :func:`start_chunks`, whichever the number of chunks.
     """
     return best_path(spec, [path_starts(spec, range(spec.starts))])
 
