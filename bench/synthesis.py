@@ -1,13 +1,14 @@
-"""Dimensional synthesis: the crank-rocker family search against differential evolution, path generation with
-CasADi/IPOPT against SLSQP with finite differences on the same starts.
+"""Dimensional synthesis: the crank-rocker family search against differential evolution, path generation's
+batched screening and IPOPT polish against the former multistart and SLSQP with finite differences.
 
 Run: ``.venv/bin/python -m bench.synthesis``. Prints medians. Crank-rocker: one request of the seed's fish-tail
 variant (psi = 40°, Q = 1.1) through the engine and through the in-process HTTP client, and
 ``scipy.optimize.differential_evolution`` (the kind of meta-heuristic other synthesis tools use) maximising the
 same objective over the same one-parameter family. Path: 10 points on a known coupler curve, 32 Sobol starts,
-IPOPT with exact derivatives (program built once, as in a worker) against SLSQP from the same starts; the
-engine's per-start solve against its former one (:mod:`bench.path_reference`), alternated in one process; and the
-32 starts on one and two pool workers against the goal of 300 ms.
+the engine (every start screened at once, the best distinct designs polished by IPOPT) against the former
+multistart of one IPOPT solve per start (:mod:`bench.path_reference`), alternated in one process, both with the
+same best residual; the request through the in-process service, in units of the machine's compute unit (goal:
+at most 2); and SLSQP with finite differences from the same starts.
 """
 
 from __future__ import annotations
@@ -26,8 +27,9 @@ from mechsynth_client.schemas.synthesis import CrankRockerIn
 from synth.synthesis.crank_rocker import _Evaluate
 from synth.synthesis.family import feasible
 from synth.synthesis.path import _DESIGN, _coupler_points, _program, _starts
+from mechsynth_client.schemas.synthesis import PathIn
 from bench.path_reference import reference_starts
-from bench._timing import interleaved
+from bench._timing import compute_unit, interleaved
 
 SPEC = synth.CrankRockerSpec(math.radians(40.0), 1.1, "rocker", 0.15)
 SLSQP_STARTS = 8
@@ -116,93 +118,40 @@ def main() -> None:
           f"{math.degrees(answer.optimality.gap_bound):.2e}°")
     spec = _path_spec()
     _program(10, False, 1), _program(10, False, -1)
-    result = synth.synthesise_path(spec)
-    ipopt = _median(lambda: synth.synthesise_path(spec), 3)
-    ipopt_cpu = _median_cpu(lambda: synth.synthesise_path(spec), 3)
+    path_generation(spec)
     t0 = time.perf_counter()
     slsqp_best = _slsqp(spec, SLSQP_STARTS)
     slsqp = (time.perf_counter() - t0) / SLSQP_STARTS
-    print(f"path generation (10 points, 32 starts): IPOPT {ipopt:.2f} s wall, {ipopt_cpu:.2f} s CPU (medians of 3), "
-          f"{ipopt / 32 * 1e3:.0f} ms "
-          f"per start, largest residual {result.residuals.max():.2e} m, {result.starts_at_best}/32 starts at the "
-          f"best")
     print(f"  SLSQP, finite differences, plain sum of squares, first {SLSQP_STARTS} starts: {slsqp * 1e3:.0f} ms per "
-          f"start, best RMS residual {math.sqrt(slsqp_best / 10):.2e} m -> IPOPT {slsqp / (ipopt / 32):.1f}x "
-          f"faster per start")
-    per_start(spec, result)
-    parallel_starts(spec, result)
+          f"start, best RMS residual {math.sqrt(slsqp_best / 10):.2e} m")
 
 
-def _design(result: synth.PathResult) -> np.ndarray:
-    """Pivot x, y [m], ground angle [rad], crank, coupler, rocker, ground [m], coupler point [m]."""
-    fb = result.fourbar
-    return np.array([*result.crank_pivot, result.ground_angle, fb.crank, fb.coupler, fb.rocker, fb.ground,
-                     *result.coupler_point])
-
-
-def per_start(spec: synth.PathSpec, result: synth.PathResult) -> None:
-    """The engine's starts against the former per-start solve (metres, IPOPT's default step computation,
-    arguments converted on every call), all 32 in this process, alternated; the best design must agree."""
-    from synth.synthesis.path import path_starts
-
+def path_generation(spec: synth.PathSpec) -> None:
+    """The engine against the former multistart (one IPOPT solve per start), alternated in one process, and the
+    request through the in-process service, in compute units; both must reach the same best residual."""
+    result = synth.synthesise_path(spec)
     everything = range(spec.starts)
     old = reference_starts(spec, everything)
-    new = path_starts(spec, everything)
-    t = interleaved({"old": lambda: reference_starts(spec, everything), "new": lambda: path_starts(spec, everything)},
-                    7)
-    design = _design(result)
-    gap = np.abs(design - old.best_design)
-    gap[2] = abs(math.remainder(design[2] - old.best_design[2], 2 * math.pi))
+    t = interleaved({"former": lambda: reference_starts(spec, everything),
+                     "now": lambda: synth.synthesise_path(spec)}, 5)
+    body = PathIn(points_m=spec.targets.tolist(), starts=spec.starts, seed=spec.seed)
+    with SynthClient.in_process() as client:
+        answer = client.synthesise_path(body)
+        request = _median(lambda: client.synthesise_path(body), 5)
+    unit = compute_unit()
     scale = float(np.ptp(spec.targets, axis=0).max())
     n = spec.targets.shape[0]
-    f_old, f_new = np.nanmin(old.objectives), np.nanmin(new.objectives)
-    it_old, it_new = sum(old.iterations), sum(new.iterations)
-    print(f"  per start, 32 starts in one process (alternated, min / median): former solve "
-          f"{t['old'][0] / 32 * 1e3:.1f} / {t['old'][1] / 32 * 1e3:.1f} ms, {it_old / 32:.1f} IPOPT iterations "
-          f"({t['old'][1] / it_old * 1e6:.0f} us each); now {t['new'][0] / 32 * 1e3:.1f} / "
-          f"{t['new'][1] / 32 * 1e3:.1f} ms, {it_new / 32:.1f} iterations ({t['new'][1] / it_new * 1e6:.0f} us "
-          f"each) -> {t['old'][1] / t['new'][1]:.2f}x")
-    assert np.max(gap) < 1e-6, "the former solve found another best design"
-    assert math.isclose(f_old, f_new, rel_tol=1e-6, abs_tol=1e-9 / scale**2), "the best objectives differ"
-    print(f"  best design the same to {np.max(gap):.1e} (m, rad): best RMS residual former "
-          f"{math.sqrt(f_old * scale**2 / n):.2e} m, now {math.sqrt(f_new * scale**2 / n):.2e} m; starts at the "
-          f"best {int(np.sum(old.objectives <= f_old + 1e-9 / scale**2 + 1e-6 * f_old))}/32 former, "
-          f"{result.starts_at_best}/32 now")
-
-
-def parallel_starts(spec: synth.PathSpec, serial: synth.PathResult, workers: int = 2) -> None:
-    """The same 32 starts dealt to ``workers`` pool workers (as the service runs them), to one worker, and the
-    former solve dealt alike, alternated; the best design must be the one of a run of all starts in order."""
-    from synth.execution import LocalPoolExecutor, limit_threads
-    from synth.synthesis.path import best_path, path_starts, start_chunks
-
-    limit_threads()
-    chunks = start_chunks(spec, workers)
-    pool = LocalPoolExecutor(workers, preload=["synth.synthesis.path", "bench.path_reference"])
-    try:
-        def spread() -> synth.PathResult:
-            futures = [pool.submit(path_starts, spec, chunk) for chunk in chunks]
-            return best_path(spec, [f.result() for f in futures])
-
-        def one() -> synth.PathResult:
-            return best_path(spec, [pool.submit(path_starts, spec, tuple(range(spec.starts))).result()])
-
-        def former() -> None:
-            for future in [pool.submit(reference_starts, spec, chunk) for chunk in chunks]:
-                future.result()
-
-        for _ in range(2):   # every worker builds its IPOPT programs once
-            spread(), former()
-        t = interleaved({"former": former, "one": one, "spread": spread}, 7)
-        same = spread()
-    finally:
-        pool.shutdown()
-    assert np.array_equal(same.residuals, serial.residuals), "the spread starts found another design"
-    print(f"  the 32 starts on {workers} workers, {len(chunks)} chunks (alternated, min / median): "
-          f"{t['spread'][0] * 1e3:.0f} / {t['spread'][1] * 1e3:.0f} ms (goal <= 300 ms); on 1 worker "
-          f"{t['one'][0] * 1e3:.0f} / {t['one'][1] * 1e3:.0f} ms ({t['one'][1] / t['spread'][1]:.2f}x); former "
-          f"solve on {workers} workers {t['former'][0] * 1e3:.0f} / {t['former'][1] * 1e3:.0f} ms; same best "
-          f"design as one run of all starts in order")
+    f_old = float(np.nanmin(old.objectives)) * scale**2
+    f_new = float(np.sum(result.residuals**2))
+    assert math.isclose(f_old, f_new, rel_tol=1e-3, abs_tol=1e-18), "the best residuals differ"
+    exact = [f for f in (*answer.fits, *answer.cognates) if f.max_residual_m < 1e-9]
+    print(f"path generation (10 points, 32 starts; unit {unit * 1e3:.1f} ms): engine {t['now'][1] * 1e3:.1f} ms "
+          f"({t['now'][1] / unit:.2f} units), former multistart {t['former'][1] * 1e3:.0f} ms "
+          f"({t['former'][1] / unit:.1f} units) -> {t['former'][1] / t['now'][1]:.1f}x (medians, alternated); "
+          f"request {request / unit:.2f} units (goal <= 2)")
+    print(f"  best RMS residual former {math.sqrt(f_old / n):.2e} m, now {math.sqrt(f_new / n):.2e} m; "
+          f"{len(answer.fits)} fits polished, {len(exact)} distinct exact fits answered with the cognates "
+          f"(goal >= 2), {answer.starts_at_best}/32 starts in the answer's basin")
 
 
 if __name__ == "__main__":

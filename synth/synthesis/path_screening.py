@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..errors import SolverTimeout
 from ..model import FloatArray
@@ -117,7 +118,7 @@ class _Residuals:
         self.lin0 = np.concatenate([np.full(6, -margin), turn])
         self.rows = 2 * n + 4 + len(lin)
 
-    def __call__(self, u: FloatArray, rows: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def __call__(self, u: FloatArray, rows: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
         """Residuals (k, rows) and Jacobian (k, rows, m) at unknowns ``u`` (k, m) of the starts ``rows``."""
         n, m, k = self.n, self.m, len(u)
         z = u[:, :_DESIGN]
