@@ -54,6 +54,12 @@ def test_two_helical_stages_at_62_rpm_design_and_pass(client: SynthClient) -> No
     at_limit = [w for w in design.warnings if w.code == "stage_ratio_at_teeth_limit"]
     assert at_limit and all(w.value == pytest.approx(LARGEST_PAIR_RATIO, rel=1e-9) for w in at_limit)
     assert {w.field for w in at_limit} <= {"drive.stages[0]", "drive.stages[1]"}
+    # the message names the stage its field points at: stages[0] is "the first stage", stages[1] "the second"
+    for w in at_limit:
+        named = {"drive.stages[0]": "the first stage", "drive.stages[1]": "the second stage"}[w.field]
+        assert w.message.startswith(named), (w.field, w.message)
+        # and the ratio it sits at is that stage's share of the split
+        assert w.value == pytest.approx(split[int(w.field[-2])], rel=1e-9)
 
 
 @settings(max_examples=12)

@@ -425,7 +425,7 @@ def test_flywheel_and_drive_panels_answer_from_the_service(page: Page, base_url:
 
     # The gears sized for strength in the Drive panel: the same stages as the API sizes them, and a life the
     # schema refuses is named beside its field.
-    page.click("#drv-strength summary")
+    page.click("#drv-more-strength summary")
     page.select_option("[id='drv-size_gears']", "true")
     page.fill("[id='drv-strength.life_h']", "-5")
     page.click("#drv-run")
@@ -439,11 +439,22 @@ def test_flywheel_and_drive_panels_answer_from_the_service(page: Page, base_url:
                                                           "strength": {"life_h": 40000}}, timeout=60).json()
     rows = page.locator("#drv-result table").nth(2).locator("tr").all_inner_texts()[1:]
     assert len(rows) == len(sized["gears"]) == 2
-    for row, gear in zip(rows, sized["gears"]):
+    names = ("First", "Second")
+    for row, gear, name in zip(rows, sized["gears"], names):
         cells = row.split("\t")
+        assert cells[0] == f"{name} ({gear['pinion_teeth']}/{gear['gear_teeth']})"
         assert float(cells[1].split()[0]) == pytest.approx(gear["module_mm"], rel=1e-3)
-        assert cells[2] == f"{gear['pinion_teeth']} / {gear['gear_teeth']}"
-        assert float(cells[3].split()[0]) == pytest.approx(gear["face_width_mm"], rel=1e-3)
+        assert float(cells[2].split()[0]) == pytest.approx(gear["face_width_mm"], rel=1e-3)
+    # One drive per answer: the table of the drive to build holds the sized teeth (not a second tooth search), and
+    # says how far each built ratio lies from the split's (the API's own ratios, compared here).
+    built = page.locator("#drv-result table.drive-built tr").all_inner_texts()[1:]
+    assert len(built) == 2
+    for row, gear, u, name in zip(built, sized["gears"], sized["stage_ratios"], names):
+        cells = row.split("\t")
+        assert cells[0].startswith(name) and cells[2] == f"{gear['pinion_teeth']} / {gear['gear_teeth']}"
+        assert float(cells[4].rstrip(" %")) == pytest.approx(100 * (gear["ratio"] / u - 1), abs=5e-3)
+    pairs = set(re.findall(r"\b(\d+) ?/ ?(\d+)\b", page.inner_text("#drv-result table.drive-built")))
+    assert pairs == {(str(g["pinion_teeth"]), str(g["gear_teeth"])) for g in sized["gears"]}
 
 
 def test_page_assets_are_light_and_local() -> None:

@@ -30,7 +30,8 @@ def test_the_flywheel_panel_shows_the_elastic_drive(page: Page, base_url: str) -
     plain = json.loads(sent.value.post_data or "{}")
     load = httpx.post(f"{base_url}/v1/flywheel", json=plain, timeout=60).json()["constant_driving_torque_Nm"]
     n = plain["mean_speed_rpm"]
-    page.click("#fly-elastic-more summary")
+    page.click("#fly-more-motor summary")
+    page.click("#fly-more-elastic_drive summary")
     for path, value in (("motor.synchronous_speed_rpm", 5 * n + 50), ("motor.rated_speed_rpm", 5 * n - 50),
                         ("motor.rated_torque_Nm", 0.4 * load), ("motor.gear_ratio", 5),
                         ("motor.rotor_inertia_kgm2", 0.002), ("elastic_drive.stiffness_Nm_rad", 3000)):

@@ -77,7 +77,8 @@ def test_a_negative_isolator_stiffness_is_named_beside_its_field(page: Page) -> 
 
 def test_the_machine_panel_draws_the_elastic_drive_and_the_load_step(page: Page) -> None:
     page.click("button[data-panel=machine]")
-    page.click("text=Elastic drive and load step")
+    page.click("#mac-more-elastic_drive summary")
+    page.click("#mac-more-regulation summary")
     page.fill("[id='mac-elastic_drive.stiffness_Nm_rad']", "2e4")
     page.fill("[id='mac-regulation.load_step_Nm']", "10")
     page.select_option("#mac-alternatives", "false")

@@ -90,9 +90,18 @@ def test_signing_in_working_and_signing_out_under_the_policy_with_auth_on(browse
         header = httpx.get(url + "/").headers["content-security-policy"]
         assert "unsafe-inline" not in header and "script-src 'self';" in header
         page, refused = _page(browser)
+        asked: list[str] = []
+        page.on("request", lambda r: asked.append(f"{r.method} {r.url[len(url):]}"))
         page.goto(url + "/")
         page.wait_for_selector("#signin-form", timeout=20_000)
         assert page.evaluate("document.body.dataset.auth") == "signed-out"
+        # Signed out, the page asks the service nothing but who is signed in: its own files and the session; no
+        # analysis refused with a 401 shown as a form error, and the header stays in view.
+        page.wait_for_timeout(500)
+        api = [a for a in asked if a != "GET /" and not a.startswith("GET /workbench/")]
+        assert api == ["GET /v1/auth/session"], asked
+        assert page.evaluate("window.scrollY") == 0 and page.locator("#form-problem").is_hidden()
+        assert page.locator("header h1").is_visible()
         page.fill("#signin-name", ADMIN)
         page.fill("#signin-password", "not the password")
         page.click("#signin-form button[type=submit]")

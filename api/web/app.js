@@ -5,6 +5,7 @@ import { layout, drawLinkage, toModel } from "./draw.js";
 import { installPanels } from "./panels.js";
 import { h } from "./dom.js";
 import { installExports, vectorsAt } from "./exports.js";
+import { admitted } from "./signin.js";
 
 const UNITS = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
 const LINK_LABELS = {
@@ -569,6 +570,8 @@ function selectTab(name) {
 }
 
 async function main() {
+  // an office server that asks who you are: nothing is asked of it before the sign-in
+  if (!(await admitted)) return;
   state.openapi = await loadOpenApi();
   const familySelect = document.getElementById("family");
   const mapping = state.openapi.components.schemas.AnalysisIn.properties.mechanism.discriminator?.mapping || {};

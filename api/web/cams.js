@@ -4,6 +4,7 @@
 
 import { post, postFile, get, Problem } from "./api.js";
 import { h, put } from "./dom.js";
+import { admitted } from "./signin.js";
 
 const panel = document.getElementById("panel-cams");
 let seq = 0;
@@ -143,4 +144,4 @@ async function build() {
   document.body.dataset.camReady = "1";
 }
 
-if (panel) build();
+admitted.then((ok) => { if (ok && panel) build(); });

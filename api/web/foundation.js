@@ -7,6 +7,7 @@ import { post, get, Problem } from "./api.js";
 import { h, s, put, table } from "./dom.js";
 import { linePlot, fmt } from "./plot.js";
 import { state } from "./app.js";
+import { admitted } from "./signin.js";
 
 const panel = document.getElementById("panel-foundation");
 const LINKAGE = ["mechanism", "speed_rpm", "gravity", "loads", "torques", "counterweights"];
@@ -340,4 +341,4 @@ function machineBlocks(res, m) {
 
 document.addEventListener("machine-answer", (evt) => machineBlocks(evt.target, evt.detail));
 
-if (panel) build();
+admitted.then((ok) => { if (ok && panel) build(); });

@@ -5,6 +5,7 @@
 
 import { post, get, Problem } from "./api.js";
 import { h, s, put, table } from "./dom.js";
+import { admitted } from "./signin.js";
 
 const MACHINE_FIELDS = ["loads", "speed_rpm", "samples", "delta", "machine_type", "drive", "balancing", "flywheel",
   "speed_tolerance", "friction", "brake_torque_Nm", "start_under_load", "max_startup_time_s", "max_rundown_time_s"];
@@ -160,4 +161,4 @@ function build() {
   }).catch(() => {}).finally(() => { document.body.dataset.optimiseReady = "1"; });
 }
 
-build();
+admitted.then((ok) => { if (ok) build(); });

@@ -1,6 +1,6 @@
 // The capability panels: each builds a request from the current design and its own fields, posts it to the
 // public API and draws the answer. Nothing here computes what the service answers.
-import { post, get, del, postFile, describe, fieldSchema } from "./api.js";
+import { post, get, del, postFile, describe, leaves } from "./api.js";
 import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
 import { toModel } from "./draw.js";
 import { h, s, put, table } from "./dom.js";
@@ -18,6 +18,14 @@ function linkage() {
 }
 
 const FAMILY = { fourbar: "four-bar", slider_crank: "slider-crank", slotted_lever: "shaper (slotted lever)", linkage: "linkage" };
+
+const ORDINALS = ["first", "second", "third", "fourth", "fifth", "sixth"];
+
+/** A gear stage as every table and message of the page names it: "First", "Second", … (motor side first). */
+export function stageName(k, { capital = true } = {}) {
+  const w = ORDINALS[k] || `stage ${k + 1}`;
+  return capital ? w.replace(/^./, (c) => c.toUpperCase()) : w;
+}
 
 /** What is left of a quantity below a billionth of its unbalanced size is rounding, read as zero. */
 export const ZERO_FRACTION = 1e-9;
@@ -39,11 +47,15 @@ function field(prefix, { name, label, model, path, kind = "plain", value = "", o
   if (options) {
     input = h("select", { id, name, title: d.text }, options.map(([v, l]) => h("option", { value: v, selected: String(value) === String(v) }, l)));
   } else {
-    input = h("input", { id, name, type: "text", inputmode: "decimal", autocomplete: "off", title: d.text, dataset: { kind } });
+    // the schema's default as the placeholder: what an emptied field stands for
+    const placeholder = typeof d.default === "number" ? (kind === "plain" ? String(d.default) : ctx.toDisplay(d.default, kind)) : "";
+    input = h("input", { id, name, type: "text", inputmode: "decimal", autocomplete: "off", title: d.text, placeholder, dataset: { kind } });
     input.value = shown;
   }
-  return h("div", { class: "row", dataset: { field: name } }, h("label", { for: id, title: d.text }, label), input,
-    h("span", { class: "unit" }, options ? "" : unit), h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
+  // a choice among numbers (a motor speed class) keeps its unit; a choice among names has none
+  const numbers = options && model && ["number", "integer"].includes(d.type) && d.unit !== "–";
+  return h("div", { class: "row", dataset: { field: name, range: model ? rangeText(d, kind) : "" } }, h("label", { for: id, title: d.text }, label), input,
+    h("span", { class: "unit" }, options && !numbers ? "" : unit), h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
 }
 
 /** A panel input's value in SI: null when empty, NaN when not a number. */
@@ -235,12 +247,14 @@ function balancingPanel() {
 }
 
 // --- flywheel ----------------------------------------------------------------------------------------------------
-// The flywheel request's motor and elastic link, folded away: path in FlywheelIn, label.
-const FLYWHEEL_ELASTIC = [["motor.synchronous_speed_rpm", "Motor synchronous speed"], ["motor.rated_speed_rpm", "Motor rated speed"],
-  ["motor.rated_torque_Nm", "Motor rated torque"], ["motor.gear_ratio", "Gear ratio (motor over crank)"], ["motor.rotor_inertia_kgm2", "Rotor inertia"],
-  ["elastic_drive.stiffness_Nm_rad", "Elastic link stiffness at the crank"], ["elastic_drive.damping_ratio", "Elastic link damping ratio"],
-  ["elastic_drive.flywheel_on", "Flywheel on"], ["elastic_drive.start", "Simulate the run-up"]]
-  .map(([path, label]) => ({ path, label, schema: ["FlywheelIn", path] }));
+// The flywheel request's fields the panel's first rows hold, and the linkage (the editor's: its speed is the mean
+// speed, its tables the alternative to a linkage).
+const FLYWHEEL_OWN = [...LINKAGE_FIELDS, "tables", "cycle_deg", "mean_speed_rpm", "mean_speed_rad_s", "delta", "machine_type",
+  "geometry.shape", "geometry.density_kg_m3", "geometry.max_rim_speed_m_s"];
+const FLYWHEEL_LABELS = { "motor.synchronous_speed_rpm": "Motor synchronous speed", "motor.rated_speed_rpm": "Motor rated speed",
+  "motor.rated_torque_Nm": "Motor rated torque", "motor.gear_ratio": "Gear ratio (motor over crank)", "motor.rotor_inertia_kgm2": "Rotor inertia",
+  "elastic_drive.stiffness_Nm_rad": "Elastic link stiffness at the crank", "elastic_drive.damping_ratio": "Elastic link damping ratio",
+  "elastic_drive.flywheel_on": "Flywheel on", "elastic_drive.start": "Simulate the run-up" };
 
 function flywheelPanel() {
   const el = document.getElementById("panel-flywheel");
@@ -253,8 +267,8 @@ function flywheelPanel() {
       field("fly", { name: "geometry.shape", label: "Shape", options: [["rim", "rim on spokes"], ["disc", "solid disc"]], value: "rim" }),
       field("fly", { name: "geometry.density_kg_m3", label: "Density", model: "GeometryIn", path: "density_kg_m3", value: 7200 }),
       field("fly", { name: "geometry.max_rim_speed_m_s", label: "Largest rim speed", model: "GeometryIn", path: "max_rim_speed_m_s", value: 30 })),
-    h("details", { class: "more", id: "fly-elastic-more" }, h("summary", {}, "Motor and elastic drive"),
-      h("div", { class: "controls" }, FLYWHEEL_ELASTIC.map((f) => schemaField("fly", f)))),
+    schemaFields("fly", "FlywheelIn", { skip: FLYWHEEL_OWN, labels: FLYWHEEL_LABELS, folds: { "": "Cycle and inertia on the crank",
+      motor: "Motor", geometry: "Flywheel body", elastic_drive: "Elastic drive", friction: "Friction" } }),
     actions(h("button", { class: "run", id: "fly-run", onclick: run }, "Size the flywheel"), h("span", { id: "fly-status", class: "note" })),
     h("p", { id: "fly-problem", class: "problem", hidden: true }), h("div", { id: "fly-result" }), h("div", { id: "fly-plots", class: "plots" }));
   };
@@ -269,11 +283,8 @@ function flywheelPanel() {
     if (type) body.machine_type = type;
     body.geometry = { shape: read("fly", "geometry.shape"), density_kg_m3: read("fly", "geometry.density_kg_m3"),
       max_rim_speed_m_s: read("fly", "geometry.max_rim_speed_m_s") };
-    // the folded motor and elastic-link fields: sent when filled, else the API's default (no motor, no link)
-    document.querySelectorAll("#panel-flywheel [data-path]").forEach((input) => {
-      const v = readSchemaField(input);
-      if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
-    });
+    // the folded fields: sent when filled, else the API's default (no motor, no link)
+    collectSchemaFields("flywheel", body);
     busy("fly", "sizing…");
     try {
       const a = await post("/v1/flywheel", body);
@@ -353,22 +364,37 @@ function flywheelPanel() {
 }
 
 // --- drive -------------------------------------------------------------------------------------------------------
-// The strength block of the drive request (StrengthIn), folded away in the Drive panel.
-const DRIVE_STRENGTH = [["life_h", "Required life"], ["application_factor", "Application factor K_A"],
-  ["min_safety_contact", "Least S_H"], ["min_safety_root", "Least S_F"], ["pinion_material", "Pinion material"],
-  ["gear_material", "Gear material"], ["helix_angle_deg", "Helix angle"], ["pinion_teeth", "Pinion teeth"],
-  ["accuracy_grade", "Accuracy grade (ISO 1328)"], ["oil_viscosity_40C_mm2_s", "Oil viscosity at 40 °C"],
-  ["module_series", "Module series"], ["objective", "Sized for"]]
-  .map(([name, label]) => ({ path: `strength.${name}`, label, schema: ["StrengthIn", name] }));
+// The drive request's fields the panel's first rows hold.
+const DRIVE_OWN = ["output_power_W", "output_speed_rpm", "stages"];
+const DRIVE_LABELS = { "strength.life_h": "Required life", "strength.application_factor": "Application factor K_A",
+  "strength.min_safety_contact": "Least S_H", "strength.min_safety_root": "Least S_F", "strength.pinion_material": "Pinion material",
+  "strength.gear_material": "Gear material", "strength.helix_angle_deg": "Helix angle", "strength.pinion_teeth": "Pinion teeth",
+  "strength.accuracy_grade": "Accuracy grade (ISO 1328)", "strength.oil_viscosity_40C_mm2_s": "Oil viscosity at 40 °C",
+  "strength.module_series": "Module series", "strength.objective": "Sized for", "output_speed_rad_s": "Or the crank speed in rad/s" };
 
-/** The stages of a drive answer sized for strength: module, teeth, width, safety factors, mass. */
+/** A stage as the tables name it: "First (21/95)", its tooth pair built. */
+function stageLabel(k, teeth) { return teeth ? `${stageName(k)} (${teeth[0]}/${teeth[1]})` : stageName(k); }
+
+/** The drive to build, one row per stage: the split's ratio, the teeth built (the sized pair's when the gears are
+ *  sized for strength, else the pair nearest the split) and how far the built ratio lies from the split's. */
+function driveTable(split, built, efficiencies) {
+  const num = (t) => [t, { class: "num" }];
+  return table(["stage", "ratio (split)", "teeth built", "ratio built", "from the split", "efficiency"], split.map((u, k) => {
+    const b = built[k];
+    return [stageLabel(k, b && b.teeth), num(fmt(u)), num(b ? `${b.teeth[0]} / ${b.teeth[1]}` : "–"), num(b ? fmt(b.ratio, 5) : "–"),
+      num(b ? `${b.ratio >= u ? "+" : ""}${fmt(100 * (b.ratio / u - 1), 3)} %` : "–"), num(efficiencies ? fmt(efficiencies[k]) : "–")];
+  }), { class: "drive-built" });
+}
+
+/** The stages of a drive answer sized for strength: module, width, safety factors, mass (their teeth are the drive
+ *  table's). */
 function sizedGears(d) {
   const num = (t) => [t, { class: "num" }];
   const pair = (xs) => xs.map((x) => fmt(x, 3)).join(" / ");
   return [h("h3", {}, "Gears sized for strength (ISO 6336)"),
-    table(["stage", "module", "teeth", "face width", "centre distance", "S_H pinion / gear", "S_F pinion / gear", "width set by", "mass"],
-      d.gears.map((g, n) => (g === null ? [String(n + 1), "not a cylindrical pair", "", "", "", "", "", "", ""] : [String(g.stage + 1),
-        num(`${fmt(g.module_mm)} mm`), num(`${g.pinion_teeth} / ${g.gear_teeth}`), num(`${fmt(g.face_width_mm, 4)} mm`),
+    table(["stage", "module", "face width", "centre distance", "S_H pinion / gear", "S_F pinion / gear", "width set by", "mass"],
+      d.gears.map((g, n) => (g === null ? [stageName(n), "not a cylindrical pair", "", "", "", "", "", ""] : [stageLabel(g.stage, [g.pinion_teeth, g.gear_teeth]),
+        num(`${fmt(g.module_mm)} mm`), num(`${fmt(g.face_width_mm, 4)} mm`),
         num(`${fmt(g.centre_distance_mm, 5)} mm`), num(pair(g.safety_contact)), num(pair(g.safety_root)),
         g.binding.replace(/_/g, " "), num(`${fmt(g.mass_kg, 4)} kg`)]))),
     h("p", {}, `Wheels' mass ${fmt(d.gear_mass_kg, 4)} kg (solid discs of the reference diameters).`)];
@@ -381,47 +407,55 @@ function drivePanel() {
     // The mean power the crank takes, read off the analysis answer as a starting value the user may change.
     const w = (ctx.state.design.speed_rpm * Math.PI) / 30;
     const mean = a ? a.driving_torque_Nm.reduce((s, v) => s + v, 0) / a.driving_torque_Nm.length * w : 1000;
+    const folds = schemaFields("drv", "DriveIn", { skip: DRIVE_OWN, labels: DRIVE_LABELS, folds: { "": "Motor, split and inertias", strength: "Gear strength (ISO 6336)" } });
+    folds.find((d) => d.id === "drv-more-strength")?.querySelector(".controls")
+      .prepend(field("drv", { name: "size_gears", label: "Size the gears for strength", options: [["false", "no"], ["true", "yes"]], value: "false" }));
     put(el, h("h2", {}, "Drive: motor, ratio split, teeth"), h("div", { class: "controls" },
       field("drv", { name: "output_power_W", label: "Power at the crank", model: "DriveIn", path: "output_power_W", value: Math.max(1, Number(mean.toPrecision(4))) }),
       field("drv", { name: "output_speed_rpm", label: "Crank speed", model: "DriveIn", path: "output_speed_rpm", value: ctx.state.design.speed_rpm }),
       field("drv", { name: "stages", label: "Gear stages", options: [["1", "1 helical"], ["2", "2 helical"], ["3", "3 helical"]], value: "2" })),
-    h("details", { class: "more", id: "drv-strength" }, h("summary", {}, "Gear strength (ISO 6336)"), h("div", { class: "controls" },
-      field("drv", { name: "size_gears", label: "Size the gears for strength", options: [["false", "no"], ["true", "yes"]], value: "false" }),
-      DRIVE_STRENGTH.map((f) => schemaField("drv", f)))),
+    folds,
     actions(h("button", { class: "run", id: "drv-run", onclick: run }, "Design the drive"), h("span", { id: "drv-status", class: "note" })),
     h("p", { id: "drv-problem", class: "problem", hidden: true }), h("div", { id: "drv-result" }));
   };
   async function run() {
     clearPanel("drv");
-    if (!checkNumbers("drv", ["output_power_W", "output_speed_rpm"]) || !checkSchemaFields("drive")) return;
+    const sized = read("drv", "size_gears") === "true";
+    // the strength block is sent only when the gears are sized: its fields when filled (else the API's defaults)
+    const unsized = (path) => !sized && path.startsWith("strength.");
+    if (!checkNumbers("drv", ["output_power_W", "output_speed_rpm"]) || !checkSchemaFields("drive", unsized)) return;
     const stages = Array(Number(read("drv", "stages"))).fill("helical");
-    const body = { output_power_W: read("drv", "output_power_W"), output_speed_rpm: read("drv", "output_speed_rpm"), stages };
-    if (read("drv", "size_gears") === "true") {
-      // the strength block: sent whole, its fields when filled (else the API's defaults)
-      body.strength = {};
-      document.querySelectorAll("#panel-drive [data-path]").forEach((input) => {
-        const v = readSchemaField(input);
-        if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
-      });
-    }
+    const body = { output_power_W: read("drv", "output_power_W"), stages };
+    if (read("drv", "output_speed_rpm") !== null) body.output_speed_rpm = read("drv", "output_speed_rpm");
+    if (sized) body.strength = {};
+    collectSchemaFields("drive", body, unsized);
     busy("drv", "designing…");
     try {
       const d = await post("/v1/gears/drive", body);
-      // tooth numbers for each stage of the split, one search per stage
-      const teeth = await Promise.all(d.stage_ratios.map((r) => post("/v1/gears/teeth", { total_ratio: r, stages: 1 })));
+      // the teeth built: the sized pairs when the gears are sized for strength; else the pair nearest each stage's
+      // share of the split, one search per stage
+      let built;
+      if (d.gears) {
+        built = d.gears.map((g) => (g ? { teeth: [g.pinion_teeth, g.gear_teeth], ratio: g.ratio } : null));
+      } else {
+        const teeth = await Promise.all(d.stage_ratios.map((r) => post("/v1/gears/teeth", { total_ratio: r, stages: 1 })));
+        built = teeth.map((t) => ({ teeth: [t.stages[0].pinion_teeth, t.stages[0].gear_teeth], ratio: t.stages[0].ratio }));
+      }
       busy("drv", "");
       answered("drive");
       const res = document.getElementById("drv-result");
       const num = (t) => [t, { class: "num" }];
+      const total = built.reduce((p, b, k) => p * (b ? b.ratio : d.stage_ratios[k]), 1);
       put(res, h("h3", {}, `Motor ${d.motor.name}: ${fmt(d.motor.rated_power_W / 1000)} kW at ${fmt(d.motor.rated_rpm)} rev/min; required ${fmt(d.required_power_W / 1000)} kW`),
-        table(["stage", "ratio (split)", "teeth", "ratio (teeth)", "efficiency"], d.stage_ratios.map((r, n) => [String(n + 1), num(fmt(r)),
-          num(`${teeth[n].stages[0].pinion_teeth} / ${teeth[n].stages[0].gear_teeth}`),
-          num(`${fmt(teeth[n].stages[0].ratio)} (${fmt(100 * teeth[n].ratio_error, 3)} % from the split)`), num(fmt(d.stage_efficiencies[n]))])),
-        h("p", {}, `Total ratio ${fmt(d.total_ratio)}.`),
+        h("h3", {}, d.gears ? "The drive to build: the teeth sized for strength" : "The drive to build: the teeth nearest the split"),
+        driveTable(d.stage_ratios, built, d.stage_efficiencies),
+        h("p", { id: "drv-total" }, `Total ratio built ${fmt(total, 5)}; the split's ${fmt(d.total_ratio, 5)} ` +
+          `(${total >= d.total_ratio ? "+" : ""}${fmt(100 * (total / d.total_ratio - 1), 3)} %): the crank turns at ${fmt(d.output_speed_rpm * d.total_ratio / total)} rev/min.`),
         h("h3", {}, "Shafts"),
-        table(["shaft", "speed", "torque", "power"], d.shafts.map((sh, n) => [n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `shaft ${n}`,
+        table(["shaft", "speed", "torque", "power"], d.shafts.map((sh, n) => [n === 0 ? "motor" : n === d.shafts.length - 1 ? "crank" : `after the ${stageName(n - 1, { capital: false })} stage`,
           num(`${fmt(sh.speed_rpm)} rev/min`), num(`${fmt(sh.torque_Nm)} N·m`), num(`${fmt(sh.power_W)} W`)])),
-        h("p", { class: "note" }, `Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J.`),
+        h("p", { class: "note" }, `Check: power balance error ${fmt(d.checks.power_balance_error)}; kinetic energy ${fmt(d.checks.kinetic_energy_J)} J = reduced ${fmt(d.checks.reduced_kinetic_energy_J)} J. ` +
+          "Shafts at the split's ratios."),
         d.gears ? sizedGears(d) : null,
         (d.warnings || []).map((w) => h("p", { class: "note" }, `⚠ ${w.message}`)));
     } catch (err) { busy("drv", ""); panelProblem("drv", err); }
@@ -431,6 +465,7 @@ function drivePanel() {
 
 // --- the whole machine -------------------------------------------------------------------------------------------
 const STAGE_COUNTS = [1, 2, 3, 4, 5, 6];
+const STAGE_LABELS = { type: "type", ratio_min: "ratio from", ratio_max: "ratio to", efficiency: "efficiency", ratio: "fixed ratio" };
 // The machine request's less common fields, by where they are folded away: path in MachineIn, label.
 const MACHINE_MORE = {
   drive: [["drive.motor", "Motor (catalogue name)"], ["drive.reserve_factor", "Power reserve factor"], ["drive.objective", "Ratio split"],
@@ -450,58 +485,155 @@ const MACHINE_MORE = {
     ["elastic_drive.max_dynamic_factor", "Largest dynamic factor"], ["regulation.load_step_Nm", "Load step at the crank"],
     ["regulation.max_settling_time_s", "Longest settling after the step"]],
 };
-for (const k of Object.keys(MACHINE_MORE)) MACHINE_MORE[k] = MACHINE_MORE[k].map(([path, label]) => ({ path, label }));
+// Labels the office reads better than the manual's first clause; every other field of the request is labelled
+// from its description.
+const MACHINE_LABELS = Object.fromEntries(Object.values(MACHINE_MORE).flat());
+const MACHINE_FOLDS = { "": "Machine type, speed, start-up and run-down, name", drive: "Drive: motor, split and teeth",
+  balancing: "Balancing", flywheel: "Flywheel", title_block: "Title block of the record", foundation: "Foundation",
+  elastic_drive: "Elastic drive", regulation: "Load step and speed regulation", friction: "Friction" };
+// The fields the panel's first rows hold, and the linkage (the editor's).
+const MACHINE_OWN = [...LINKAGE_FIELDS, "delta", "balancing.mode", "drive.synchronous_rpm", "drive.stages", "alternatives"];
 
-/** A field of a request described by the manual: a choice for an enumeration or a yes/no, else a number (a text for
- *  a name); left empty, the API's default stands (shown as the placeholder). */
-function schemaField(prefix, { path, label, schema = null, value = "" }) {
-  const [model, sp] = schema || ["MachineIn", path];
-  const raw = fieldSchema(model, sp) || {};
-  const deref = (x) => (x && x.$ref ? ctx.state.openapi.components.schemas[x.$ref.split("/").pop()] || x : x);
-  const alts = [deref(raw), ...(raw.anyOf || []).map(deref)];
-  const en = alts.flatMap((x) => x.enum || (x.const !== undefined ? [x.const] : []));
-  const type = alts.map((x) => x.type).find((t) => t && t !== "null");
-  const d = describe(model, sp);
-  const kind = /_m$/.test(path) ? "length" : /_kg$/.test(path) ? "mass" : "plain";
-  const id = `${prefix}-${path}`;
-  const dflt = raw.default;
-  let input;
-  if (en.length || type === "boolean") {
-    const opts = en.length ? en.map((v) => [String(v), String(v).replace(/_/g, " ")]) : [["true", "yes"], ["false", "no"]];
-    input = h("select", { id, name: path, title: d.text, dataset: { path, type: type || "string" } },
-      h("option", { value: "" }, dflt === undefined || dflt === null ? "default" : `default (${String(dflt).replace(/_/g, " ")})`),
-      opts.map(([v, l]) => h("option", { value: v, selected: String(value) === v }, l)));
-  } else {
-    input = h("input", { id, name: path, type: "text", autocomplete: "off", title: d.text, inputmode: type === "string" ? "text" : "decimal",
-      placeholder: typeof dflt === "number" ? ctx.toDisplay(dflt, kind) : typeof dflt === "string" ? dflt : "", dataset: { path, type: type || "number", kind } });
-    if (value !== "") input.value = String(value);
-  }
-  return h("div", { class: "row", dataset: { field: path } }, h("label", { for: id, title: d.text }, label), input,
-    h("span", { class: "unit" }, en.length || type === "boolean" || type === "string" ? "" : ctx.unitLabel(kind, d.unit)),
-    h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
+// Lists the service keeps, offered as choices for fields that name one of their entries.
+const CATALOGUES = [[/_material$/, "/v1/gears/materials", (m) => [m.name, `${m.name.replace(/_/g, " ")}: ${m.description}`]],
+  [/(^|\.)motor(\.name)?$/, "/v1/gears/motors", (m) => [m.name, `${m.name}: ${fmt(m.rated_power_W / 1000)} kW, ${fmt(m.rated_rpm)} rev/min`]],
+  [/(^|\.)machine_type$/, "/v1/machine-types", (t) => [t.machine_type, `${t.label} (δ ≤ ${fmt(t.default_delta, 3)})`]]];
+const catalogues = {};
+
+/** Fetch the service's catalogues the panels offer as choices, once. */
+async function loadCatalogues() {
+  await Promise.all(CATALOGUES.map(async ([, url]) => {
+    if (catalogues[url]) return;
+    try { catalogues[url] = await get(url); } catch { catalogues[url] = []; }
+  }));
 }
 
-/** A schema field's value for the request: undefined when left empty, NaN when not a number. */
+/** A field's label when the panel gives none: its description's first clause. */
+function labelOf(d, path) {
+  const first = (d.text || "").split(/(?:\. |; |: | \[|\.$)/)[0].trim();
+  const name = path.split(".").pop().replace(/_/g, " ");
+  return first && first.length <= 60 ? first : name;
+}
+
+/** "at least 1e-06, less than 1" in the field's unit, for the field's tooltip. */
+function rangeText(d, kind) {
+  const b = d.bounds, show = (v) => (kind === "plain" ? fmt(v) : ctx.toDisplay(v, kind));
+  const lo = b.minimum !== undefined ? `≥ ${show(b.minimum)}` : b.exclusiveMinimum !== undefined ? `> ${show(b.exclusiveMinimum)}` : "";
+  const hi = b.maximum !== undefined ? `≤ ${show(b.maximum)}` : b.exclusiveMaximum !== undefined ? `< ${show(b.exclusiveMaximum)}` : "";
+  return [lo, hi].filter(Boolean).join(", ");
+}
+
+/** A field of a request described by the manual, whatever the schema's shape: a choice for an enumeration, a yes/no
+ *  or an entry of one of the service's catalogues; a number with its unit (a length or a mass in the form's unit)
+ *  and its range; a list of numbers; JSON for a table of objects. Left empty, the API's default stands (shown as
+ *  the placeholder). */
+function schemaField(prefix, { path, label = null, schema = null, value = "" }) {
+  const [model, sp] = schema || ["MachineIn", path];
+  const d = describe(model, sp);
+  const baseUnit = d.unit.replace(/, list$/, "");
+  const kind = baseUnit === "m" ? "length" : baseUnit === "kg" ? "mass" : "plain";
+  const id = `${prefix}-${path}`;
+  const dflt = d.default;
+  const range = rangeText(d, kind);
+  const shownDefault = dflt === undefined || dflt === null ? "" : typeof dflt === "number" ? (kind === "plain" ? fmt(dflt) : ctx.toDisplay(dflt, kind))
+    : typeof dflt === "object" ? JSON.stringify(dflt) : String(dflt);
+  const title = [d.text, range && `Range: ${range}.`, shownDefault && `Default: ${shownDefault}.`].filter(Boolean).join(" ");
+  const catalogue = d.type === "string" && !d.choices.length ? CATALOGUES.find(([re]) => re.test(sp)) : null;
+  const choices = d.choices.length ? d.choices.map((v) => [String(v), typeof v === "boolean" ? (v ? "yes" : "no") : String(v).replace(/_/g, " ")])
+    : catalogue ? (catalogues[catalogue[1]] || []).map(catalogue[2]) : [];
+  const type = d.type === "array" || d.type === "object" ? (d.unit === "JSON" ? "json" : "list") : d.type;
+  let input;
+  const data = { path, type, kind, unit: d.unit };
+  if (choices.length) {
+    input = h("select", { id, name: path, title, dataset: data },
+      h("option", { value: "" }, shownDefault ? `default (${shownDefault.replace(/_/g, " ")})` : "default"),
+      choices.map(([v, l]) => h("option", { value: v, selected: String(value) === v }, l)));
+  } else if (type === "json") {
+    input = h("textarea", { id, name: path, title, rows: 2, spellcheck: "false", placeholder: shownDefault, dataset: data });
+    if (value !== "") input.value = JSON.stringify(value);
+  } else {
+    const list = type === "list";
+    input = h("input", { id, name: path, type: "text", autocomplete: "off", title, inputmode: type === "string" || list ? "text" : "decimal",
+      placeholder: list && Array.isArray(dflt) ? dflt.map((v) => (kind === "plain" ? fmt(v) : ctx.toDisplay(v, kind))).join(", ") : shownDefault,
+      dataset: data });
+    if (value !== "") input.value = String(value);
+  }
+  const unit = choices.length ? "" : type === "string" ? "" : type === "json" ? "JSON" : ctx.unitLabel(kind, baseUnit) + (type === "list" ? " (list)" : "");
+  return h("div", { class: "row", dataset: { field: path, range } }, h("label", { for: id, title }, label || labelOf(d, sp)), input,
+    h("span", { class: "unit" }, unit), h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
+}
+
+/** Every field of a request model the panel does not fill another way, folded by the object it belongs to:
+ *  `labels` names some, `folds` titles the groups ("" the model's own top-level fields). */
+function schemaFields(prefix, model, { skip = [], labels = {}, folds = {}, open = false } = {}) {
+  const groups = new Map();
+  for (const { path, group } of leaves(model, skip)) {
+    if (!groups.has(group)) groups.set(group, []);
+    groups.get(group).push(schemaField(prefix, { path, label: labels[path] || null, schema: [model, path] }));
+  }
+  return [...groups.entries()].map(([group, rows]) => h("details", { class: "more", id: `${prefix}-more-${group || "other"}`, dataset: { group }, open },
+    h("summary", {}, folds[group] || (group ? group.replace(/_/g, " ").replace(/^./, (c) => c.toUpperCase()) : "More")),
+    h("div", { class: "controls" }, rows)));
+}
+
+/** A schema field's value for the request: undefined when left empty, NaN when it cannot be read. */
 function readSchemaField(input) {
   const raw = input.value.trim();
   if (raw === "") return undefined;
   const t = input.dataset.type;
+  const f = ctx.factor(input.dataset.kind || "plain");
   if (t === "boolean") return raw === "true";
   if (t === "string") return raw;
+  if (t === "json") { try { return JSON.parse(raw); } catch { return NaN; } }
+  if (t === "list") {
+    if (raw.startsWith("[")) { try { return JSON.parse(raw).map((v) => v * f); } catch { return NaN; } }
+    const vs = raw.split(/[;,\s]+/).filter(Boolean).map((v) => Number(v.replace(",", ".")));
+    return vs.every(Number.isFinite) ? vs.map((v) => v * f) : NaN;
+  }
   const v = Number(raw.replace(",", "."));
   if (!Number.isFinite(v)) return NaN;
-  return t === "integer" ? Math.round(v) : v * ctx.factor(input.dataset.kind || "plain");
+  return t === "integer" ? Math.round(v) : v * f;
 }
 
-function checkSchemaFields(panel) {
+function checkSchemaFields(panel, skip = () => false) {
   let ok = true;
   document.querySelectorAll(`#panel-${panel} [data-path]`).forEach((input) => {
-    if (!Number.isNaN(readSchemaField(input))) return;
+    if (skip(input.dataset.path)) return;
+    const v = readSchemaField(input);
+    if (!(typeof v === "number" && Number.isNaN(v))) return;
     const m = document.getElementById(`${input.id}-msg`);
-    m.textContent = "enter a number"; m.hidden = false; input.setAttribute("aria-invalid", "true");
+    const t = input.dataset.type;
+    m.textContent = t === "json" ? "enter JSON" : t === "list" ? "enter numbers separated by commas" : "enter a number"; m.hidden = false;
+    input.setAttribute("aria-invalid", "true");
+    const folded = input.closest("details");
+    if (folded) folded.open = true;
     ok = false;
   });
   return ok;
+}
+
+/** The panel's schema fields into a request body (`skip` a path to leave out). */
+function collectSchemaFields(panel, body, skip = () => false) {
+  document.querySelectorAll(`#panel-${panel} [data-path]`).forEach((input) => {
+    if (skip(input.dataset.path)) return;
+    const v = readSchemaField(input);
+    if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
+  });
+  return body;
+}
+
+/** The machine's drive as built, stage by stage: the teeth (the sized pair's module when sized for strength) and
+ *  how far the built ratio lies from the split's. */
+function machineGears(m) {
+  const split = m.drive.stage_ratios;
+  const meshes = m.teeth ? m.teeth.stages : [];
+  return m.stage_ratios.map((u, k) => {
+    const mesh = meshes[k], g = m.gears && m.gears[k];
+    const off = 100 * (u / split[k] - 1);
+    return `${stageLabel(k, mesh && [mesh.pinion_teeth, mesh.gear_teeth])}: ratio ${fmt(u, 5)}` +
+      (Math.abs(off) > 1e-9 ? ` (split ${fmt(split[k], 5)}, ${off > 0 ? "+" : ""}${fmt(off, 3)} %)` : " (the split's)") +
+      (g ? `, module ${fmt(g.module_mm)} mm, face ${fmt(g.face_width_mm, 4)} mm` : "");
+  }).join("; ");
 }
 
 function machinePanel() {
@@ -512,30 +644,24 @@ function machinePanel() {
     // the modes the chain takes per family (docs/machine.md)
     const modes = { fourbar: ["none", "static", "full", "optimal"], slider_crank: ["none", "static", "full", "optimal"],
       slotted_lever: ["none", "optimal"] }[fam] || ["none"];
-    const more = (title, ...rows) => h("details", { class: "more" }, h("summary", {}, title), h("div", { class: "controls" }, rows));
     put(el, h("h2", {}, "The whole machine: linkage, balance, drive, flywheel, simulation"), h("div", { class: "controls" },
       field("mac", { name: "delta", label: "Target δ", model: "MachineIn", path: "delta", value: 0.02 }),
       field("mac", { name: "balancing.mode", label: "Balancing", options: modes.map((m) => [m, m]), value: "static" }),
-      field("mac", { name: "drive.synchronous_rpm", label: "Motor speed class", options: [["", "any"], ["750", "750 rev/min"],
+      field("mac", { name: "drive.synchronous_rpm", label: "Motor speed class", model: "MachineIn", path: "drive.synchronous_rpm", options: [["", "any"], ["750", "750 rev/min"],
         ["1000", "1000 rev/min"], ["1500", "1500 rev/min"], ["3000", "3000 rev/min"]], value: "1500" }),
       field("mac", { name: "stage-count", label: "Gear stages", options: STAGE_COUNTS.map((n) => [String(n), String(n)]), value: "1" }),
       field("mac", { name: "alternatives", label: "Alternatives side by side", options: [["true", "yes"], ["false", "no"]], value: "true" })),
     h("div", { class: "controls", id: "mac-stages" }),
-    more("Drive: motor, split and teeth", ...MACHINE_MORE.drive.map((f) => schemaField("mac", f))),
-    more("Balancing, flywheel, speed", ...MACHINE_MORE.other.map((f) => schemaField("mac", f))),
-    more("Start-up and run-down", ...MACHINE_MORE.running.map((f) => schemaField("mac", f))),
-    more("Gear strength (ISO 6336)", ...MACHINE_MORE.strength.map((f) => schemaField("mac", f))),
-    more("Elastic drive and load step", ...MACHINE_MORE.around.map((f) => schemaField("mac", f))),
+    schemaFields("mac", "MachineIn", { skip: MACHINE_OWN, labels: MACHINE_LABELS, folds: MACHINE_FOLDS }),
     actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
       h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
       h("span", { id: "mac-status", class: "note" })),
     h("p", { id: "mac-problem", class: "problem", hidden: true }), h("div", { id: "mac-result" }));
     const stageRows = () => {
       const n = Number(read("mac", "stage-count"));
-      put(document.getElementById("mac-stages"), Array.from({ length: n }, (_, k) => [
-        schemaField("mac", { path: `drive.stages.${k}.type`, label: `Stage ${k + 1} type`, schema: ["StageIn", "type"], value: "helical" }),
-        schemaField("mac", { path: `drive.stages.${k}.ratio_min`, label: `Stage ${k + 1} ratio from`, schema: ["StageIn", "ratio_min"] }),
-        schemaField("mac", { path: `drive.stages.${k}.ratio_max`, label: `Stage ${k + 1} ratio to`, schema: ["StageIn", "ratio_max"] })]));
+      put(document.getElementById("mac-stages"), Array.from({ length: n }, (_, k) => leaves("StageIn").map(({ path }) =>
+        schemaField("mac", { path: `drive.stages.${k}.${path}`, label: `${stageName(k)} stage: ${STAGE_LABELS[path] || path.replace(/_/g, " ")}`,
+          schema: ["StageIn", path], value: path === "type" ? "helical" : "" }))));
     };
     document.getElementById("mac-stage-count").addEventListener("change", stageRows);
     stageRows();
@@ -550,11 +676,7 @@ function machinePanel() {
     if (sync) body.drive.synchronous_rpm = Number(sync);
     body.alternatives = read("mac", "alternatives") === "true";
     // every other field: sent when filled, else the API's default
-    document.querySelectorAll("#panel-machine [data-path]").forEach((input) => {
-      const v = readSchemaField(input);
-      if (v !== undefined) ctx.setPath(body, input.dataset.path, v);
-    });
-    return body;
+    return collectSchemaFields("machine", body);
   };
   /** The answer shown and the PDF button go together: no answer, no record to download. */
   function forget(note) {
@@ -602,7 +724,7 @@ function machinePanel() {
       ["2 balance", `${m.balancing_mode}: RMS shaking force ${fmtZero(m.summary_after_balancing.rms_shaking_force_N, m.analysis.summary.rms_shaking_force_N)} N, ` +
         `moment ${fmtZero(m.summary_after_balancing.rms_shaking_moment_Nm, m.analysis.summary.rms_shaking_moment_Nm)} N·m`],
       ["3 motor", `${m.motor.motor.name}, ${fmt(m.motor.motor.rated_power_W / 1000)} kW; required ${fmt(m.motor.required_power_W / 1000)} kW`],
-      ["4 gears", `ratios ${m.stage_ratios.map((r) => fmt(r)).join(" × ")}` + (m.teeth ? `, teeth ${m.teeth.stages.map((st) => `${st.pinion_teeth}/${st.gear_teeth}`).join(", ")}` : "")],
+      ["4 gears", machineGears(m)],
       ["5 flywheel", fw ? `${fmt(fw.mass_kg)} kg ${fw.shape} on the ${m.flywheel_shaft} shaft, D = ${L(fw.outer_diameter_m)}` : "none needed"],
       ["6 simulation", `δ = ${fmt(m.simulation.achieved_delta)}, mean speed ${fmt(m.simulation.mean_crank_speed_rpm)} rev/min, motor peak ${fmt(m.simulation.motor_peak_torque_Nm)} N·m`],
     ];
@@ -924,9 +1046,10 @@ export function installPanels(c) {
     synthesis: synthesisPanel(), studies: studiesPanel() };
   const rendered = { designs: {} };
   // A panel's form is built when first opened, from the design as it is then; opening it again keeps its answer.
-  document.querySelectorAll("#tabs [role=tab]").forEach((t) => t.addEventListener("click", () => {
+  document.querySelectorAll("#tabs [role=tab]").forEach((t) => t.addEventListener("click", async () => {
     const name = t.dataset.panel;
     if (!renders[name]) return;
+    await loadCatalogues();
     const el = document.getElementById(`panel-${name}`);
     const design = JSON.stringify(ctx.state.design);
     // A new family, or a changed design with no answer shown yet: the panel's fields start again from the design.

@@ -54,16 +54,19 @@ function signedIn(session) {
     h("span", { title: `roles: ${session.roles.join(", ")}` }, session.name), " ", out);
 }
 
+/** Whether the page may call the API: with authentication off, or once signed in. Signed out, the sign-in form is
+ *  shown and nothing else asks the service anything (the page reloads once the sign-in succeeds). */
 async function start() {
   const r = await send("GET", "/v1/auth/session");
-  if (!r.ok || !r.body || r.body.auth !== "on") return;
+  if (!r.ok || !r.body || r.body.auth !== "on") return true;
+  document.body.dataset.auth = r.body.signed_in ? "signed-in" : "signed-out";
   if (r.body.signed_in) {
     (document.querySelector("header .file") || document.body).append(signedIn(r.body));
-  } else {
-    document.body.append(signInForm());
-    document.getElementById("signin-name").focus();
+    return true;
   }
-  document.body.dataset.auth = r.body.signed_in ? "signed-in" : "signed-out";
+  document.body.append(signInForm());
+  document.getElementById("signin-name").focus();
+  return false;
 }
 
-start();
+export const admitted = start();

@@ -20,7 +20,7 @@ from ..warnings import DesignWarning
 from .motors import CatalogueMotor, find_motor, select_motor
 from .sizing import SIZED_TYPES, SizingRules, StageLoad, TrainSizing, size_train, split_for_strength
 from .split import InertiaModel, SplitResult, split_ratio
-from .stages import Stage, chain_efficiency
+from .stages import Stage, chain_efficiency, stage_name
 
 TorqueBasis = Literal["load", "rated"]
 
@@ -211,7 +211,7 @@ def design_drive(
                                                 zip(torques[:-1], speeds[:-1], strict=True)], stages, strength)
     if gears is not None:
         warnings += [DesignWarning("stage_not_sized", f"stages[{k}]", None,
-                                   f"stage {k} ({stages[k].type}) is not a cylindrical pair; it is not sized")
+                                   f"{stage_name(k)} ({stages[k].type}) is not a cylindrical pair; it is not sized")
                      for k, g in enumerate(gears.stages) if g is None]
     return DriveResult(chosen, required, eta, eta_chain, total, split, tuple(map(float, etas)), shafts,
                        split.reduced_inertia, float(speeds[-1]), torque_basis, checks,

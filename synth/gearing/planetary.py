@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import Infeasible, InvalidInput, TooLarge
-from .stages import Stage, stage_types
+from .stages import Stage, stage_name, stage_types
 from .train import PlanetaryStage
 from .teeth import (
     ENUMERATION_CHECK_LIMIT,
@@ -236,7 +236,7 @@ def planetary_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
             what = ("no sun, planet and ring meet coaxiality, equal spacing, neighbour clearance and the tooth "
                     "limits within its ratio range" if stages[i].type == "planetary" else
                     "no pinion and gear meet the tooth limits within its ratio range")
-            raise Infeasible(f"stage {i} ({stages[i].type}): {what}", constraint=f"stages[{i}]")
+            raise Infeasible(f"{stage_name(i)} ({stages[i].type}): {what}", constraint=f"stages[{i}]")
     found = _search(sets, target, tolerance)
     elapsed = time.perf_counter() - t0
     if found is None:

@@ -30,7 +30,7 @@ from .life import spectrum_feasible, spectrum_safety
 from .materials import gear_material
 from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, rate_pair
 from .split import InertiaModel, SplitResult, gear_volume, split_ratio
-from .stages import Stage
+from .stages import Stage, stage_name
 
 ISO54_FIRST = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 20.0, 25.0, 32.0, 40.0, 50.0)
 ISO54_SECOND = (1.125, 1.375, 1.75, 2.25, 2.75, 3.5, 4.5, 5.5, 7.0, 9.0, 11.0, 14.0, 18.0, 22.0, 28.0, 36.0, 45.0)
@@ -190,7 +190,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     z2 = max(int(round(ratio * z1)), z1)
     torque_peak = float(np.max(np.abs(load.torque))) if isinstance(load.torque, np.ndarray) else float(load.torque)
     if not (math.isfinite(torque_peak) and torque_peak > 0):
-        raise InvalidInput(f"stage {stage} carries no torque", field=f"stages[{stage}]")
+        raise InvalidInput(f"{stage_name(stage)} carries no torque", field=f"stages[{stage}]")
     best: tuple[float, float, float, FloatArray, str] | None = None
     examined = 0
     modules = module_series(rules.series)
@@ -231,7 +231,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
             break                        # larger modules only add mass and centre distance from here
     if best is None:
         raise Infeasible(
-            f"stage {stage}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
+            f"{stage_name(stage)}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
             f"up to {rules.max_face_width_ratio:g} pinion diameters",
             constraint="strength", stage_index=stage, pinion_torque_Nm=torque_peak)
     _, m, b, s, binding = best

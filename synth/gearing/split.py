@@ -37,7 +37,7 @@ import scipy.sparse as sp
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
 from ..warnings import DesignWarning
-from .stages import Stage
+from .stages import Stage, stage_name
 from .teeth import ToothRules, pairs_admissible
 
 Objective = Literal["min_inertia", "min_volume", "handbook"]
@@ -442,7 +442,7 @@ def _handbook(total: float, stages: Sequence[Stage], factor: float) -> tuple[Flo
         u = np.array([total / slow, slow])
     warnings = [
         DesignWarning("stage_ratio_out_of_range", f"stages[{k}]", float(u[k]),
-                      f"stage {k} ratio {u[k]:.4g} lies outside the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]")
+                      f"{stage_name(k)}: ratio {u[k]:.4g} lies outside the {s.type} range [{s.ratio_min:g}, {s.ratio_max:g}]")
         for k, s in enumerate(stages) if not s.ratio_min * (1 - 1e-9) <= u[k] <= s.ratio_max * (1 + 1e-9)
     ]
     return u, warnings
@@ -459,7 +459,7 @@ def _at_limit(ratios: FloatArray, stages: Sequence[Stage], objective: str) -> li
             if abs(u / bound - 1) <= 1e-7:
                 out.append(DesignWarning(
                     "stage_ratio_at_limit", f"stages[{k}]", float(u),
-                    f"stage {k} ({s.type}) ratio {u:.5g} sits at its {side} limit {bound:g}: the {objective} "
+                    f"{stage_name(k)} ({s.type}): ratio {u:.5g} sits at its {side} limit {bound:g}: the {objective} "
                     "split is held there by the range, not by its objective; widen the range, change the stage "
                     "count or the stage type"))
                 break

@@ -87,6 +87,15 @@ def stage_types() -> dict[str, StageType]:
     return out
 
 
+_ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth", "eleventh",
+             "twelfth")
+
+
+def stage_name(k: int) -> str:
+    """A stage as every message names it, motor side first: 0 -> "the first stage" (the field says ``stages[0]``)."""
+    return f"the {_ORDINALS[k]} stage" if 0 <= k < len(_ORDINALS) else f"stage {k + 1}"
+
+
 def _positive(value: float | None, field: str) -> None:
     if value is not None and not (math.isfinite(value) and value > 0):
         raise InvalidInput(f"{field} must be a positive number, got {value}", field=field)

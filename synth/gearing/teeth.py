@@ -39,7 +39,7 @@ from numpy.typing import NDArray
 
 from ..errors import Infeasible, InvalidInput, TooLarge
 from ..warnings import DesignWarning
-from .stages import Stage, stage_types
+from .stages import Stage, stage_name, stage_types
 
 IntArray = NDArray[np.int64]
 FloatArray = NDArray[np.float64]
@@ -817,6 +817,6 @@ def _warnings(rules: ToothRules, chosen: Sequence[tuple[int, int]]) -> list[Desi
             if small < limit:
                 out.append(DesignWarning(
                     "undercut", f"stages[{i}]", float(small),
-                    f"stage {i}: the {small}-tooth wheel is undercut (limit {limit:.1f}); a profile shift "
+                    f"{stage_name(i)}: the {small}-tooth wheel is undercut (limit {limit:.1f}); a profile shift "
                     f"of at least {rules.addendum - small * math.sin(rules.pressure_angle) ** 2 / 2:.3f} avoids it"))
     return out

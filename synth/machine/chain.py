@@ -56,7 +56,7 @@ from ..gearing import (
 )
 from ..gearing.sizing import HELICAL_TYPES, SIZED_TYPES
 from ..gearing.split import TeethLimit, teeth_limited
-from ..gearing.stages import Stage
+from ..gearing.stages import Stage, stage_name
 from ..gearing.teeth import ToothRules
 from ..kinematics import FourBar, PlanarLinkage, SliderCrank
 from ..model import FloatArray, Linkage
@@ -316,7 +316,7 @@ def _teeth(spec: MachineSpec, drive: DriveResult,
                if abs(mesh.ratio / ratios[k] - 1) > TOOTH_RATIO_ROOM]
         warnings += [DesignWarning(
             "teeth_far_from_split", f"stages[{k}]", mesh.ratio,
-            f"stage {k} ({stages[k].type}): no tooth pair lies within {TOOTH_RATIO_ROOM:.0%} of the split's ratio "
+            f"{stage_name(k)} ({stages[k].type}): no tooth pair lies within {TOOTH_RATIO_ROOM:.0%} of the split's ratio "
             f"{ratios[k]:.5g}; the teeth {mesh.pinion_teeth}:{mesh.gear_teeth} give {mesh.ratio:.5g}, the split's "
             "objective no longer holds for this stage")
             for k, mesh in zip(toothed, result.stages, strict=True) if k in far]
@@ -336,7 +336,7 @@ def _teeth_limit_warnings(drive: DriveResult, stages: Sequence[Stage],
             if abs(u / bound - 1) <= 1e-6:
                 out.append(DesignWarning(
                     "stage_ratio_at_teeth_limit", f"stages[{lim.stage}]", u,
-                    f"stage {lim.stage} ({stages[lim.stage].type}): the split sits at {bound:.5g}, the {side} ratio "
+                    f"{stage_name(lim.stage)} ({stages[lim.stage].type}): the split sits at {bound:.5g}, the {side} ratio "
                     f"a tooth pair within the tooth bounds makes ({pair[0]}:{pair[1]}); raise max_teeth, add a "
                     "stage or choose another stage type to move it off"))
     return out
@@ -489,7 +489,7 @@ def _gears(machine: MachineSpec, teeth: ToothResult | None, ratios: Sequence[flo
         except (InvalidInput, Infeasible) as exc:
             out.append(None)
             warnings.append(DesignWarning("stage_not_sized", f"drive.stages[{k}]", None,
-                                          f"stage {k + 1} could not be sized for strength: {exc}", stage="drive"))
+                                          f"{stage_name(k)} could not be sized for strength: {exc}", stage="drive"))
     sized = [g for g in out if g is not None]
     return (TrainSizing(tuple(out), sum(g.mass for g in sized), sum(g.volume for g in sized),
                         sum(g.centre_distance for g in sized)), warnings)
