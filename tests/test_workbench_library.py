@@ -122,6 +122,15 @@ def test_save_edit_save_compare_check_approve_and_download_the_signed_record(pag
     row = page.locator(f"#lib-diff-figures tr[data-path='{torque['path']}'] td").all_text_contents()
     assert float(row[2]) == pytest.approx(torque["before"], rel=1e-5)
     assert float(row[3]) == pytest.approx(torque["after"], rel=1e-5)
+    # ranked: the page's rows in the service's order, the largest relative change first; the joint reactions in N;
+    # the figures that moved within the answers' own tolerance left out, counted, and listed when asked for
+    shown = page.eval_on_selector_all("#lib-diff-figures tr[data-path]", "rs => rs.map(r => r.dataset.path)")
+    assert shown == [c["path"] for c in single]
+    rels = [abs(c["change_rel"]) for c in diff["answer"] if c["change_rel"] is not None and c["before"] is not None]
+    assert rels == sorted(rels, reverse=True)
+    assert {c["unit"] for c in diff["answer"] if "joint_reactions_N" in c["path"]} <= {"N"}
+    every = httpx.get(f"{base_url}{DESIGN}/diff", params={"from": 1, "to": 2, "noise": "true"}, timeout=30).json()
+    assert len(every["answer"]) == len(diff["answer"]) + diff["noise_figures"]
     _shot(page, "3-compared")
 
     # the author may not check their own revision; bob checks it, cid approves it

@@ -188,14 +188,23 @@ async def diff_revisions(
     project: ProjectName, design: DesignName, library: LibraryDep,
     before: Annotated[int, Query(alias="from", ge=1, le=1_000_000, description="The older revision.")],
     after: Annotated[int, Query(alias="to", ge=1, le=1_000_000, description="The newer revision.")],
+    order: Annotated[Literal["relative", "path"], Query(
+        description="relative: the figures that appeared or vanished first, then the largest relative change; "
+                    "path: in the answer's own order.")] = "relative",
+    noise: Annotated[bool, Query(
+        description="Also list the figures that moved by less than the answers' own tolerance (the largest "
+                    "disagreement their checks report in the figure's unit, at least a billionth of the largest "
+                    "figure in it); left out by default and counted in noise_figures.")] = False,
 ) -> DiffOut:
     """What changed between two revisions: every input field that differs, with the unit its name carries, and
-    every figure of the answer that moved, with its change (after - before) and relative change."""
+    every figure of the answer that moved beyond the answers' own tolerance, with its change (after - before) and
+    relative change, the largest relative change first."""
     old = await asyncio.to_thread(library.revision, project, design, before)
     new = await asyncio.to_thread(library.revision, project, design, after)
-    figures, same = answer_changes(old.answer, new.answer)
+    figures, same, quiet = answer_changes(old.answer, new.answer, order=order, noise=noise)
     return DiffOut(project=project, design=design, before=before, after=after,
-                   request=request_changes(old.request, new.request), answer=figures, unchanged_figures=same)
+                   request=request_changes(old.request, new.request), answer=figures, unchanged_figures=same,
+                   noise_figures=quiet)
 
 
 @router.post("/projects/{project}/designs/{design}/revisions/{number}/restore", status_code=201,

@@ -182,7 +182,8 @@ async function compare(project, design) {
     put(el("lib-diff"), h("h3", {}, `Revision ${d.before} → ${d.after}`),
       d.request.length ? table(["input", "unit", "old", "new"], d.request.map((c) => [c.path, c.unit, [fmt(c.before), { class: "num" }], [fmt(c.after), { class: "num" }]]), { class: "lib-diff", id: "lib-diff-inputs" })
         : h("p", { class: "note" }, "The inputs are the same."),
-      h("h3", {}, `Figures of the answer that moved (${d.answer.length}; ${d.unchanged_figures} unchanged)`),
+      h("h3", {}, `Figures of the answer that moved, the largest relative change first (${d.answer.length}; ${d.unchanged_figures} unchanged` +
+        `${d.noise_figures ? `; ${d.noise_figures} within the answers' own tolerance left out` : ""})`),
       figures(d.answer, rel));
     done("compared");
   } catch (err) { say(problemText(err), true); }

@@ -230,6 +230,8 @@ class DiffOut(BaseModel):
     request: list[FieldChange] = Field(description="Fields of the request that differ, with their units.")
     answer: list[FigureChange] = Field(description="Figures of the answer that differ, with the change.")
     unchanged_figures: int = Field(description="Figures of the answer equal in both.")
+    noise_figures: int = Field(0, description="Figures that moved by less than the answers' own tolerance: left out "
+                                              "of `answer` unless asked for with noise=true.")
 
 
 class ExportComment(StrictModel):
