@@ -259,6 +259,11 @@ class IsolationOut(BaseModel):
                                         "mode's decay) [s]; null without damping.")
     checks: IsolationChecksOut = Field(description="The harmonic answer against an independent time integration.")
     run_up: RunUpOut | None = Field(None, description="The run-up, when the request asks for it.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Where the model stops: "
+                                       "transmissibility_high, frequency_ratio_low, resonance_damping_low, "
+                                       "isolator_in_tension, isolator_lift_off.")
+    validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the model needs "
+                                             "against its limit.")
 
     @classmethod
     def from_engine(cls, r: Any) -> IsolationOut:
@@ -290,6 +295,7 @@ class IsolationOut(BaseModel):
                                       max_rotation_diff_rad=c.rotation_diff,
                                       max_force_diff_N=c.force_diff, relative_diff=c.relative_diff,
                                       series_residual=c.series_residual, method=c.method),
+            warnings=warnings_out(r.warnings), validity=validity_out(r.checks),
         )
         ru = r.run_up
         values["run_up"] = None if ru is None else RunUpOut.model_construct(

@@ -29,6 +29,7 @@ from ..counter_rotors import CounterRotor
 from ..errors import Infeasible, InvalidInput
 from ..flywheel import Motor
 from ..model import FloatArray, Linkage
+from ..warnings import DesignWarning, ValidityCheck, angle_ranges
 from .simulate import MachineCycle
 from .startup import StartUp, simulate_startup
 
@@ -39,6 +40,14 @@ G = 9.80665
 HARMONIC_CUT = 1e-7
 #: A rigid-body mode counts as free when its stiffness is below this fraction of the largest [-].
 FREE_MODE = 1e-10
+#: A harmonic carries energy when its shaking force or moment is at least this fraction of the largest [-].
+ENERGY_SHARE = 0.01
+#: Isolation needs every harmonic with energy at least sqrt(2) times above every natural frequency.
+ISOLATION_RATIO = math.sqrt(2.0)
+#: A harmonic within this fraction of a natural frequency drives that mode near resonance [-] ...
+NEAR_MODE = 0.25
+#: ... where its damping ratio should be at least this (amplification 1/(2·zeta) at most 5) [-].
+MIN_MODE_DAMPING = 0.1
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,7 +146,8 @@ class Isolation:
     each isolator under the machine's weight (y down) [m] (I, 2) and ``static_load`` on it [N] (I, 2),
     compression positive;
     ``settle_time`` for a start's transient to fall to 1 % (slowest mode's decay) [s]; ``run_up`` the frame
-    while the machine runs up (None: not asked for).
+    while the machine runs up (None: not asked for); ``warnings`` and ``checks`` where the model stops
+    (:func:`isolation_validity`).
     """
 
     frame: Frame
@@ -165,6 +175,8 @@ class Isolation:
     settle_time: float
     check: IsolationCheck
     run_up: RunUpPassage | None = None
+    warnings: tuple[DesignWarning, ...] = ()
+    checks: tuple[ValidityCheck, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -453,9 +465,12 @@ def isolate(frame: Frame, isolators: tuple[Isolator, ...] | list[Isolator], forc
         chk = IsolationCheck(dd, dr, df, rel, s.residual, method)
     else:
         chk = IsolationCheck(math.nan, math.nan, math.nan, math.nan, s.residual, "not run")
+    found = modes(model)
+    notes, checks = isolation_validity(found, tuple(harmonics), np.asarray(forcing.phi, dtype=float),
+                                       -(model.k * static_u), iso_force)
     return Isolation(
         frame, isolators, t, np.asarray(forcing.phi, dtype=float), disp[:, :2], disp[:, 2], iso_force, force,
-        moment, np.asarray(forcing.force, dtype=float), np.asarray(forcing.moment, dtype=float), modes(model),
+        moment, np.asarray(forcing.force, dtype=float), np.asarray(forcing.moment, dtype=float), found,
         tuple(harmonics),
         peak_displacement=float(np.max(np.linalg.norm(disp[:, :2], axis=1))),
         peak_rotation=float(np.max(np.abs(disp[:, 2]))),
@@ -468,7 +483,88 @@ def isolate(frame: Frame, isolators: tuple[Isolator, ...] | list[Isolator], forc
         static_load=-(model.k * static_u),
         settle_time=settle,
         check=chk,
+        warnings=tuple(notes),
+        checks=tuple(checks),
     )
+
+
+def isolation_validity(found: tuple[Mode, ...], harmonics: tuple[Harmonic, ...], phi: FloatArray,
+                       static_load: FloatArray, isolator_force: FloatArray) -> tuple[list[DesignWarning],
+                                                                                     list[ValidityCheck]]:
+    """Where the isolation model stops: a harmonic with energy passed on undiminished (transmissibility at least
+    1), below sqrt(2) times the highest natural frequency, or near a mode with little damping; an isolator in
+    tension under the weight or during the cycle (it lifts off: the linear model needs it in compression).
+    ``static_load`` (I, 2) compression positive [N]; ``isolator_force`` (I, N, 2) the cycle's force on the
+    foundation [N]."""
+    notes: list[DesignWarning] = []
+    checks: list[ValidityCheck] = []
+    top_f = max((h.shaking_force for h in harmonics), default=0.0)
+    top_m = max((h.shaking_moment for h in harmonics), default=0.0)
+    strong = [h for h in harmonics
+              if (top_f > 0 and h.shaking_force >= ENERGY_SHARE * top_f)
+              or (top_m > 0 and h.shaking_moment >= ENERGY_SHARE * top_m)]
+    if strong:
+        ratios = [(max(t for t in (h.force_transmissibility, h.moment_transmissibility) if t is not None), h)
+                  for h in strong if h.force_transmissibility is not None or h.moment_transmissibility is not None]
+        if ratios:
+            worst, h = max(ratios, key=lambda x: x[0])
+            checks.append(ValidityCheck("transmissibility", worst, 1.0, worst < 1.0,
+                                        "largest transmissibility (force or moment passed on over shaking) over "
+                                        "the harmonics with energy"))
+            if worst >= 1.0:
+                notes.append(DesignWarning(
+                    "transmissibility_high", "isolators", worst,
+                    f"harmonic {h.order} ({h.frequency:.4g} Hz) is passed to the foundation {worst:.3g} times as "
+                    "large as the linkage shakes the frame: the isolators amplify it instead of isolating; softer "
+                    "isolators or a heavier frame", "1"))
+        highest = max(m.frequency for m in found)
+        lowest = min(h.frequency for h in strong)
+        ratio = lowest / highest if highest > 0 else math.inf
+        checks.append(ValidityCheck("frequency_ratio", ratio, ISOLATION_RATIO, ratio >= ISOLATION_RATIO,
+                                    "lowest harmonic with energy over the highest natural frequency, against "
+                                    "sqrt(2)"))
+        if ratio < ISOLATION_RATIO:
+            notes.append(DesignWarning(
+                "frequency_ratio_low", "isolators", ratio,
+                f"the lowest harmonic with energy ({lowest:.4g} Hz) is only {ratio:.3g} times the highest natural "
+                f"frequency ({highest:.4g} Hz), below sqrt(2): below it the isolators pass on more than they "
+                "take", "1"))
+        near = [(abs(h.frequency / m.frequency - 1), m, h) for m in found for h in strong
+                if m.frequency > 0 and abs(h.frequency / m.frequency - 1) <= NEAR_MODE]
+        if near:
+            least = min(m.damping_ratio for _, m, _ in near)
+            checks.append(ValidityCheck("resonance_damping", least, MIN_MODE_DAMPING, least >= MIN_MODE_DAMPING,
+                                        "least damping ratio of a mode that a harmonic with energy comes within "
+                                        "25 % of"))
+            for gap, m, h in near:
+                if m.damping_ratio < MIN_MODE_DAMPING:
+                    notes.append(DesignWarning(
+                        "resonance_damping_low", "isolators", m.damping_ratio,
+                        f"harmonic {h.order} ({h.frequency:.4g} Hz) lies {gap:.1%} from the natural frequency "
+                        f"{m.frequency:.4g} Hz, whose damping ratio is {m.damping_ratio:.3g} (below "
+                        f"{MIN_MODE_DAMPING:g}): the frame's motion there is set by the damping alone, which is "
+                        "known only roughly; move the mode or damp it", "1"))
+    compression = static_load[:, None, 1] - isolator_force[..., 1]
+    least = float(compression.min())
+    checks.append(ValidityCheck("isolator_compression", least, 0.0, least > 0.0,
+                                "least compression of any isolator over the cycle, its share of the weight "
+                                "included [N]", "N"))
+    for i in range(compression.shape[0]):
+        if static_load[i, 1] <= 0:
+            notes.append(DesignWarning(
+                "isolator_in_tension", f"isolators.{i}", float(static_load[i, 1]),
+                f"isolator {i} is pulled ({-static_load[i, 1]:.4g} N of tension) by the machine's weight alone: the "
+                "frame's centre lies outside its isolators, and a mount that is not bolted lifts off; move the "
+                "isolators under the centre", "N"))
+        elif compression[i].min() <= 0:
+            lifted = compression[i] <= 0
+            notes.append(DesignWarning(
+                "isolator_lift_off", f"isolators.{i}", float(compression[i].min()),
+                f"isolator {i} goes into tension ({-compression[i].min():.4g} N) at crank angles "
+                + ", ".join(f"{math.degrees(a):.4g}–{math.degrees(b):.4g}°" for a, b in angle_ranges(phi, lifted))
+                + ": its dynamic movement exceeds its static deflection and the frame lifts off it; the linear "
+                "answer no longer holds there", "N", angle_ranges(phi, lifted)))
+    return notes, checks
 
 
 @dataclass(frozen=True, slots=True)
