@@ -119,8 +119,10 @@ def size_joints(
     specs: Mapping[str, JointPartSpec] | None = None,
     *,
     catalogue: tuple[RollingBearing, ...] | None = None,
+    exclude: tuple[str, ...] = (),
 ) -> dict[str, JointParts]:
-    """Pin and bearing of every revolute joint of ``analysis``; ``specs`` by joint name override ``default``.
+    """Pin and bearing of every revolute joint of ``analysis`` but those in ``exclude`` (the crank's pivot when
+    the crank shaft is sized: its journal is the shaft); ``specs`` by joint name override ``default``.
 
     InvalidInput names an unknown joint, a material without its limits or a sampling that is not one uniform
     cycle; Infeasible names the joint and the check no part can meet (see :mod:`.pins` and :mod:`.bearings`).
@@ -134,6 +136,8 @@ def size_joints(
     period = cycle_time(analysis)
     out: dict[str, JointParts] = {}
     for name, joint in revolute.items():
+        if name in exclude:
+            continue
         spec = specs.get(name, default)
         out[name] = _size_joint(analysis, name, joint.bodies, spec, period, catalogue)
     return out
