@@ -32,6 +32,9 @@ size: not a cylindrical pair, or no module carries it), ``stage_ratio_at_limit``
 its ``stage``, and adds ``motor_replaced`` (a motor the cycle overloads, stepped up) and ``check_failed`` (a target
 the simulated machine misses), and ``motor_cannot_start`` (its starting torque through the train below
 the torque holding the crank at rest); friction adds ``friction_coefficient_large`` (a coefficient above 1); ``length_likely_mm`` and ``mass_likely_grams`` refuse a machine before its chain.
+The parts' strength adds ``bearing_small_oscillation`` (a rolling bearing swinging through less than 5°: its
+rating life does not hold), ``bearing_heavy_load`` (a mean load above C/2) and ``shaft_axial_load`` (a helical
+mesh's thrust, left out of the shaft's stresses and the bearings' radial lives).
 """
 
 from __future__ import annotations

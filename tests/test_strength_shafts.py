@@ -19,6 +19,7 @@ from synth.strength.shafts import (
     de_goodman_diameter,
     de_goodman_safety,
     gear_mesh_forces,
+    gear_shaft_loads,
     size_shaft,
 )
 
@@ -124,3 +125,21 @@ def test_bad_shaft_input_names_the_shaft() -> None:
     with pytest.raises(Infeasible, match="shaft s1") as exc:
         size_shaft("s1", [ShaftLoad("gear", 0.1, load[0].force * 1e6)], ShaftSpec(span=0.2), mat)
     assert exc.value.constraint == "shaft_fatigue"
+
+
+def test_intermediate_gear_shaft_carries_both_meshes_and_no_net_torque() -> None:
+    # Identities: the gear takes the torque the pinion hands on (no net torque on the shaft), each tangential force
+    # is T/r, and with one hand on both the thrusts oppose: W_a,g + W_a,p = T tan(beta) (1/r_g - 1/r_p).
+    torque = 200.0 + 80.0 * np.cos(PHI)
+    loads = gear_shaft_loads(torque, (0.05, 0.15, 0.0), (0.15, 0.04, math.pi),
+                             helix_angle=math.radians(15.0))
+    gear, pinion = loads
+    assert gear.torque is not None and pinion.torque is not None and gear.axial is not None
+    np.testing.assert_allclose(gear.torque + pinion.torque, 0.0, atol=1e-12)
+    np.testing.assert_allclose(gear.force[:, 1], torque / 0.15, rtol=1e-12)     # mesh along +x: tangent +y
+    np.testing.assert_allclose(pinion.force[:, 1], torque / 0.04, rtol=1e-12)   # mesh along -x: tangent -y, -T
+    assert pinion.axial is not None
+    expected = torque * math.tan(math.radians(15.0)) * (1 / 0.15 - 1 / 0.04)
+    np.testing.assert_allclose(gear.axial + pinion.axial, expected, rtol=1e-12)
+    r = size_shaft("intermediate", loads, ShaftSpec(span=0.2, turns_per_cycle=4.3), material("C45E+QT"))
+    assert r.fatigue_safety >= 2.0

@@ -161,6 +161,27 @@ def gear_mesh_forces(
     return force, moment, wa
 
 
+def gear_shaft_loads(
+    torque: ArrayLike,
+    gear: tuple[float, float, float],
+    pinion: tuple[float, float, float],
+    *,
+    pressure_angle: float = math.radians(20.0),
+    helix_angle: float = 0.0,
+) -> list[ShaftLoad]:
+    """The loads on an intermediate shaft of a gear train: its ``gear`` takes ``torque`` (N,) [N·m] from the
+    stage before and its ``pinion`` hands it on; each given as (axial position [m], pitch radius [m], mesh
+    direction to its mate [rad]). The same helix angle and hand on both, as a countershaft is built so that the
+    driven gear's and the driving pinion's thrusts oppose (Shigley §13-16)."""
+    t = np.asarray(torque, dtype=float)
+    loads = []
+    for name, (z, r, angle), sign in (("gear", gear, 1.0), ("pinion", pinion, -1.0)):
+        force, moment, axial = gear_mesh_forces(sign * t, r, angle, pressure_angle=pressure_angle,
+                                                helix_angle=helix_angle)
+        loads.append(ShaftLoad(name, z, force, moment=moment, axial=axial, torque=sign * t))
+    return loads
+
+
 def _notch(name: str, where: str) -> tuple[float, float]:
     try:
         return NOTCHES[name]
