@@ -33,6 +33,15 @@ def test_key_lengths_match_shigley_example_7_6() -> None:
     assert l_shear == pytest.approx(1.16, abs=0.005)
 
 
+def test_key_stresses_match_a_published_calculation_sheet() -> None:
+    # "Shaft Key Calculations" (D. Martin, studylib.net): T = 150 N·m times a service factor 3.333, key
+    # 12.5 x 10 x 50 mm on a 50 mm shaft taken at the reduced diameter d - h/2 = 45 mm: shear 35.556 MPa,
+    # compressive 88.889 MPa on half the key's height.
+    torque = np.array([150.0 * (1.0 / 0.3)])
+    assert float(key_shear(torque, 0.045, 0.0125, 0.050)[0]) == pytest.approx(35.556e6, rel=1e-4)
+    assert float(key_pressure(torque, 0.045, 0.005, 0.050)[0]) == pytest.approx(88.889e6, rel=1e-4)
+
+
 def test_key_is_the_least_standard_length_that_holds_the_pressure() -> None:
     phi = np.linspace(0.0, 2.0 * np.pi, 90, endpoint=False)
     torque = 200.0 + 100.0 * np.sin(phi)

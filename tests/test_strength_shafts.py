@@ -53,6 +53,17 @@ def test_helical_gear_forces_match_shigley_example_13_8() -> None:
     assert float(np.hypot(*moment[0])) == pytest.approx(radius * axial[0], rel=1e-12)
 
 
+def test_helical_gear_forces_match_shigley_problem_13_35() -> None:
+    # Budynas & Nisbett, Shigley's Mechanical Engineering Design, 8th ed., solutions manual, problem 13-35:
+    # P_n = 4 teeth/in, alpha_n = 20 deg, psi = 30 deg, 18-tooth pinion (d = 5.196 in), W_t = 800 lbf:
+    # W_r = 336 lbf, W_a = 462 lbf, W = 983 lbf.
+    radius = 18.0 / (4.0 * math.cos(math.radians(30.0))) / 2.0
+    force, _, axial = gear_mesh_forces(np.array([800.0 * radius]), radius, 0.0, helix_angle=math.radians(30.0))
+    assert -force[0, 0] == pytest.approx(336.0, abs=0.5)
+    assert axial[0] == pytest.approx(462.0, abs=0.5)
+    assert math.sqrt(float(force[0] @ force[0]) + axial[0] ** 2) == pytest.approx(983.0, abs=0.5)
+
+
 def test_bearing_reactions_balance_forces_and_moments() -> None:
     # Identity: the shaft with its bearing reactions is in equilibrium at every angle, overhung loads included.
     f1 = np.stack([800 * np.cos(PHI), 300 + 500 * np.sin(PHI)], axis=1)
