@@ -291,3 +291,20 @@ def test_rim_thickness_factor_scales_the_root_stress() -> None:
     with pytest.raises(synth.InvalidInput) as err:
         synth.rate_pair(dataclasses.replace(TR_SPEC, rim_thickness=(0.4 * h, None)), TR_TORQUE, TR_SPEED, TR_DUTY)
     assert err.value.field == "pinion_rim_thickness_mm"
+
+
+def test_the_resonance_ranges_of_iso_6336_1_are_named() -> None:
+    from synth.gearing.rating import subcritical_limit
+
+    nominal = _rating()
+    n_360 = nominal.factor("N").pinion
+    # N = n1/nE1 grows with the speed alone: the report's 360 rpm runs subcritical, without a warning
+    assert n_360 < 0.85 and not nominal.warnings and all(c.passed for c in nominal.validity)
+    line = TR_DUTY.application_factor * nominal.tangential_force / 100.0   # K_A F_t / b [N/mm], b = 100 mm
+    assert subcritical_limit(line) == 0.85                                  # line load above 100 N/mm
+    for rpm, code in ((0.99 / n_360 * 360, "gear_main_resonance"), (1.3 / n_360 * 360, "gear_intermediate_resonance"),
+                      (0.5 / n_360 * 360, "gear_subcritical_resonance"), (2.0 / n_360 * 360, None)):
+        r = synth.rate_pair(TR_SPEC, TR_TORQUE, rpm * RPM, TR_DUTY)
+        assert r.factor("N").pinion == pytest.approx(n_360 * rpm / 360, rel=1e-12)
+        assert [w.code for w in r.warnings] == ([code] if code else [])
+        assert all(c.passed for c in r.validity) == (code is None)

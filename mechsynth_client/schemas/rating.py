@@ -9,7 +9,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ._engine import np, synth
-from .common import StrictModel, exactly_one
+from .common import StrictModel, ValidityCheckOut, WarningOut, exactly_one, validity_out, warnings_out
 
 MM = 1e-3
 UM = 1e-6
@@ -238,6 +238,11 @@ class RatingOut(BaseModel):
     factors: list[FactorOut] = Field(description="Every factor of the rating with its value, name and method.")
     spectrum: SpectrumOut | None = Field(None, description="Life on the load spectrum; null for a nominal torque.")
     checks: RatingChecksOut = Field(description="Independent checks.")
+    warnings: list[WarningOut] = Field(default_factory=list, description="Where the rating stops: the resonance "
+                                       "ranges of ISO 6336-1 (gear_main_resonance, gear_intermediate_resonance, "
+                                       "gear_subcritical_resonance).")
+    validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the rating needs "
+                                             "against its limit.")
 
     @classmethod
     def from_engine(cls, r: synth.RatingResult | synth.SpectrumRating) -> RatingOut:
@@ -271,7 +276,8 @@ class RatingOut(BaseModel):
                      for f in rating.factors],
             spectrum=spectrum,
             checks=RatingChecksOut(hertz_contact_stress_MPa=rating.checks.hertz_contact_stress / MPA,
-                                   power_balance=rating.checks.power_balance))
+                                   power_balance=rating.checks.power_balance),
+            warnings=warnings_out(rating.warnings), validity=validity_out(rating.validity))
 
 
 class GearMaterialOut(BaseModel):

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import InvalidInput
 from ..model import FloatArray
+from ..warnings import DesignWarning, ValidityCheck
 from .involute import BasicRack, PairGeometry, pair_geometry
 from .materials import (
     MPA,
@@ -140,6 +141,8 @@ class RatingResult:
     safety_root: tuple[float, float]
     factors: tuple[RatingFactor, ...]
     checks: RatingChecks
+    warnings: tuple[DesignWarning, ...] = ()
+    validity: tuple[ValidityCheck, ...] = ()
 
     def factor(self, symbol: str) -> RatingFactor:
         """The factor named ``symbol`` (``K_V``, ``Z_H``, ``Y_F``...)."""
@@ -213,6 +216,56 @@ def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], li
     mid = sup + (main - sup) * (1.5 - n_ratio) / 0.35
     kv = np.where(n_ratio <= n_s, sub, np.where(n_ratio <= 1.15, main, np.where(n_ratio < 1.5, mid, sup)))
     return np.asarray(kv, dtype=float), n_ratio
+
+
+def subcritical_limit(line_load: float) -> float:
+    """N_S, the upper end of the subcritical range (ISO 6336-1 §6.5.4): 0.85, or 0.5 + 0.35·sqrt(K_A F_t/b/100)
+    below 100 N/mm of line load ``line_load`` [N/mm]."""
+    return 0.5 + 0.35 * math.sqrt(line_load / 100) if line_load < 100 else 0.85
+
+
+#: Subcritical resonances: where N is near 1/2 or 1/3 the mesh frequency's second or third harmonic meets the
+#: pair's natural frequency (ISO 6336-1 §6.5.4); within this fraction of those ratios a warning is given.
+SUBCRITICAL_BAND = 0.1
+
+
+def resonance_validity(n_ratio: float, line_load: float) -> tuple[list[DesignWarning], list[ValidityCheck]]:
+    """The ranges of the resonance ratio N = n1/nE1 of ISO 6336-1 §6.5.4: the main resonance range
+    N_S < N <= 1.15 (to be avoided; method B's K_V does not hold there), the intermediate range 1.15 < N < 1.5
+    (K_V interpolated; the standard asks method A), and the subcritical range's resonances near N = 1/2, 1/3;
+    the supercritical range N >= 1.5 and the rest of the subcritical one pass."""
+    n_s = subcritical_limit(line_load)
+    notes: list[DesignWarning] = []
+    main = n_s < n_ratio <= 1.15
+    checks = [ValidityCheck("main_resonance", n_ratio, n_s, not main,
+                            f"resonance ratio N = n1/nE1 outside the main resonance range {n_s:.3g} < N <= 1.15 "
+                            "(ISO 6336-1)")]
+    if main:
+        notes.append(DesignWarning(
+            "gear_main_resonance", "pinion_speed_rpm", n_ratio,
+            f"the pair runs at N = {n_ratio:.3g} of its mesh resonance, in the main resonance range {n_s:.3g} < N "
+            "<= 1.15, which ISO 6336-1 says to avoid: the dynamic factor by method B does not hold there; change "
+            "the speed, the teeth or the masses", "1"))
+    elif 1.15 < n_ratio < 1.5:
+        checks.append(ValidityCheck("intermediate_resonance", n_ratio, 1.5, False,
+                                    "resonance ratio N in the intermediate range 1.15 < N < 1.5 (ISO 6336-1)"))
+        notes.append(DesignWarning(
+            "gear_intermediate_resonance", "pinion_speed_rpm", n_ratio,
+            f"the pair runs at N = {n_ratio:.3g}, in the intermediate range 1.15 < N < 1.5 between the main "
+            "resonance and the supercritical range: K_V is interpolated, and ISO 6336-1 asks a closer analysis "
+            "(method A)", "1"))
+    elif n_ratio <= n_s:
+        for order in (2, 3):
+            if abs(n_ratio * order - 1) <= SUBCRITICAL_BAND:
+                checks.append(ValidityCheck("subcritical_resonance", n_ratio, 1 / order, False,
+                                            f"resonance ratio N near 1/{order}: the mesh frequency's harmonic "
+                                            f"{order} at the pair's natural frequency"))
+                notes.append(DesignWarning(
+                    "gear_subcritical_resonance", "pinion_speed_rpm", n_ratio,
+                    f"the pair runs at N = {n_ratio:.3g}, near 1/{order}: harmonic {order} of the mesh frequency "
+                    "excites the pair's natural frequency, a resonance of the subcritical range (ISO 6336-1) that "
+                    "K_V by method B does not include for gears of low accuracy", "1"))
+    return notes, checks
 
 
 def _face_load_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], fm_per_b: FloatArray,
@@ -498,6 +551,7 @@ def _result(model: PairModel, pinion_torque: float) -> RatingResult:
     hertz = math.sqrt(line * e_star / (math.pi * (rho[0] * rho[1] / (rho[0] + rho[1]))))
     hertz *= model.z_eps * model.z_beta * math.sqrt(ka * lf.kv[0] * lf.khb[0] * lf.kha[0])
     power = float(lf.ft[0] * model.v / (pinion_torque * model.speed))
+    notes, validity = resonance_validity(lf.n_ratio, float(ka * lf.ft[0] / b))
 
     def s(sym: str, name: str, v: object, unit: str = "") -> RatingFactor:
         return RatingFactor(sym, name, *_pair(np.broadcast_to(np.asarray(v, dtype=float), (2,))), unit)
@@ -551,4 +605,5 @@ def _result(model: PairModel, pinion_torque: float) -> RatingResult:
         g, model.mats, duty, pinion_torque, model.speed, float(lf.ft[0]), model.v,
         _pair(model.cycles), float(sh0[0]), _pair(sh), _pair(sigma_hg), _pair(sigma_hg / duty.min_safety_contact),
         _pair(sf0), _pair(sf), _pair(sigma_fg), _pair(sigma_fg / duty.min_safety_root),
-        _pair(sigma_hg / sh), _pair(sigma_fg / sf), factors, RatingChecks(hertz, power))
+        _pair(sigma_hg / sh), _pair(sigma_fg / sf), factors, RatingChecks(hertz, power),
+        tuple(notes), tuple(validity))
