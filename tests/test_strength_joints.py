@@ -7,12 +7,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 import synth
 from synth.strength.bearings import joint_rotation, mean_load, rating_life
 from synth.strength.joints import JointPartSpec, cycle_time, size_joints
 from synth.strength.materials import MATERIALS
-from synth.strength.pins import pin_stresses
+from synth.strength.pins import STANDARD_PIN_DIAMETERS, PinJoint, PinLimits, pin_stresses, size_pin
+from helpers import crank_fourbars
 from test_strength_links import fourbar, press
 
 RPM = 2 * math.pi / 60
@@ -70,3 +72,21 @@ def test_joint_specs_are_checked() -> None:
     short = synth.analyse(fourbar(), 60 * RPM, phi=np.linspace(0.0, math.pi, 30))
     with pytest.raises(synth.InvalidInput, match="one whole crank revolution"):
         size_joints(short, JointPartSpec(MATERIALS["C45E+QT"]))
+
+
+@settings(max_examples=10, deadline=None)
+@given(crank_fourbars())
+def test_every_pin_is_the_least_standard_one_on_random_fourbars(linkage: synth.Linkage) -> None:
+    # Property: on any assemblable four-bar's reactions, each chosen pin meets every check and the standard
+    # diameter one step smaller fails one (unless the smallest of the series already does).
+    analysis = synth.analyse(linkage, 300 * RPM, samples=72)
+    limits = PinLimits(100e6, 60e6, 40e6)
+    for j in linkage.mechanism.topology.joints:
+        reaction = analysis.kinetostatics.reactions[j.name]
+        pin = size_pin(j.name, reaction, PinJoint(), limits)
+        assert all(c.passed for c in pin.checks)
+        smaller = [d for d in STANDARD_PIN_DIAMETERS if d < pin.diameter]
+        if smaller:
+            s = pin_stresses(reaction, PinJoint(), smaller[-1])
+            assert (s["shear"].max() > 60e6 or s["bending"].max() > 100e6
+                    or max(s["rod_pressure"].max(), s["fork_pressure"].max()) > 40e6)
