@@ -456,9 +456,19 @@ __all__ = [
     "study_from_dict",
 ]
 
-from .balancing.engines import Cylinder, EngineShaking, EngineSpec, OrderShaking, engine_layout, engine_shaking
+from .balancing.engines import (
+    Cylinder,
+    EngineShaking,
+    EngineSpec,
+    OrderShaking,
+    engine_layout,
+    engine_shaking,
+    firing_throws,
+    inline_from_firing_order,
+)
 
-__all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_layout", "engine_shaking"]
+__all__ += ["Cylinder", "EngineShaking", "EngineSpec", "OrderShaking", "engine_layout", "engine_shaking",
+            "firing_throws", "inline_from_firing_order"]
 
 from .kinematics.centres import Centres, instant_centres, path_curvature
 

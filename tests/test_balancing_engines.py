@@ -11,6 +11,7 @@ import pytest
 from scipy.integrate import quad
 
 from mechsynth_client.client import InvalidInputError, SynthClient
+import synth
 from mechsynth_client.schemas.engines import EngineIn
 
 R, L, M_REC, RPM = 0.045, 0.15, 0.5, 3000.0
@@ -89,3 +90,29 @@ def test_bad_engines_name_the_field(client: SynthClient) -> None:
     with pytest.raises(InvalidInputError) as err:
         _engine(client, arrangement="inline4", cylinders=[{"crank_angle_deg": 0}])
     assert "cylinders" in str(err.value)
+
+
+def test_every_inline_arrangement_is_its_firing_order() -> None:
+    from synth.balancing.engines import FIRING_ORDERS
+
+    for name, order in FIRING_ORDERS.items():
+        built = [c.crank_phase for c in synth.engine_layout(name)]
+        assert built == pytest.approx(list(synth.firing_throws(order)), abs=1e-12), name
+    with pytest.raises(synth.InvalidInput):
+        synth.firing_throws([1, 2, 2, 4])
+
+
+def test_the_inline_five_as_built_and_by_its_firing_order() -> None:
+    base = {"crank_radius_m": 0.045, "rod_length_m": 0.15, "reciprocating_mass_kg": 0.5, "speed_rpm": 3000,
+            "pitch_m": 0.09, "orders": 2}
+    built = synth.engine_shaking(EngineIn.model_validate({**base, "arrangement": "inline5"}).to_engine())
+    fired = synth.engine_shaking(EngineIn.model_validate({**base, "firing_order": [1, 2, 4, 5, 3]}).to_engine())
+    # the primary couple of throws gamma_j at z_j = (j - 3)·a about the middle: m r w² a |sum (j - 3) e^(i gamma_j)|
+    # (the reciprocating primary force m r w² cos(phi - gamma) as two counter-rotating halves, each half of it)
+    throws = np.radians([0, 144, 216, 288, 72])
+    couple = abs(np.sum((np.arange(5) - 2) * np.exp(1j * throws)))
+    assert couple == pytest.approx(0.449, abs=5e-4)       # the production engine's figure, 0.449 m r w² a
+    m_r_w2_a = 0.5 * 0.045 * (3000 * math.pi / 30) ** 2 * 0.09
+    for e in (built, fired):
+        assert e.moment_orders[0].largest == pytest.approx(couple * m_r_w2_a, rel=1e-9)
+        assert e.force_orders[0].largest < 1e-9 * m_r_w2_a  # no primary force: the throws are even

@@ -41,13 +41,19 @@ class EngineIn(StrictModel):
     pitch_m: Length = Field(0.1, description="With `arrangement`: distance between cylinder planes [m].")
     cylinders: list[CylinderIn] | None = Field(None, min_length=1, max_length=64,
                                                description="The cylinders, the first one's throw the reference.")
+    firing_order: list[int] | None = Field(None, min_length=1, max_length=64, description="An in-line engine by "
+                                           "its even firing order instead (cylinders 1..n from the first, "
+                                           "`pitch_m` apart): each fires 720/n (four-stroke) or 360/n "
+                                           "(two-stroke) degrees after the one before it.",
+                                           examples=[[1, 2, 4, 5, 3]])
+    strokes: Literal[2, 4] = Field(4, description="With `firing_order`: a four- or two-stroke cycle.")
     orders: int = Field(4, ge=1, le=24, description="Crank orders reported (FFT of the exact acceleration).")
     reference_z_m: Coordinate | None = Field(None, description="Axial position the moments are taken about [m]; "
                                              "left out: the cylinders' mean position.")
 
     model_config = ConfigDict(json_schema_extra={
-        "allOf": [{"oneOf": [{"required": ["arrangement"], "not": {"required": ["cylinders"]}},
-                             {"required": ["cylinders"], "not": {"required": ["arrangement"]}}]}],
+        "allOf": [{"oneOf": [{"required": ["arrangement"]}, {"required": ["cylinders"]},
+                             {"required": ["firing_order"]}]}],
         "examples": [
             {"crank_radius_m": 0.045, "rod_length_m": 0.15, "reciprocating_mass_kg": 0.5, "speed_rpm": 3000,
              "arrangement": "inline4", "pitch_m": 0.09},
@@ -58,10 +64,13 @@ class EngineIn(StrictModel):
 
     def to_engine(self) -> synth.EngineSpec:
         """Engine spec; degrees become radians, rev/min rad/s."""
-        if (self.arrangement is None) == (self.cylinders is None):
-            raise synth.InvalidInput("give either arrangement or cylinders", field="cylinders")
+        given = [x is not None for x in (self.arrangement, self.cylinders, self.firing_order)]
+        if sum(given) != 1:
+            raise synth.InvalidInput("give one of arrangement, cylinders or firing_order", field="cylinders")
         if self.arrangement is not None:
             cylinders = synth.engine_layout(self.arrangement, self.pitch_m)
+        elif self.firing_order is not None:
+            cylinders = synth.inline_from_firing_order(self.firing_order, self.pitch_m, self.strokes)
         else:
             cylinders = tuple(synth.Cylinder(math.radians(c.crank_angle_deg), math.radians(c.bank_angle_deg),
                                              c.axial_position_m) for c in self.cylinders or [])

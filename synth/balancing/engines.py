@@ -222,16 +222,50 @@ def _inline(phases_deg: Sequence[float], pitch: float) -> tuple[Cylinder, ...]:
     return tuple(Cylinder(math.radians(p), 0.0, i * pitch) for i, p in enumerate(phases_deg))
 
 
+#: The even firing order of each in-line arrangement as built (four-stroke), cylinders numbered from the first
+#: along the shaft: cylinder k fires 720/n degrees of crank after the one before it, so its throw stands that
+#: time (mod 360) behind the first's (:func:`firing_throws`).
+FIRING_ORDERS: dict[str, tuple[int, ...]] = {
+    "inline2_360": (1, 2),
+    "inline3": (1, 2, 3),
+    "inline4": (1, 3, 4, 2),
+    "inline5": (1, 2, 4, 5, 3),
+    "inline6": (1, 5, 3, 6, 2, 4),
+}
+
+
+def firing_throws(order: Sequence[int], strokes: int = 4) -> tuple[float, ...]:
+    """The throws [rad] behind the first of the cylinders 1..n fired in ``order`` at even intervals of 720/n
+    (four-stroke) or 360/n (two-stroke) degrees of crank; InvalidInput unless ``order`` is a permutation of
+    1..n."""
+    n = len(order)
+    if sorted(order) != list(range(1, n + 1)):
+        raise InvalidInput(f"a firing order names every cylinder 1..{n} once", field="firing_order")
+    if strokes not in (2, 4):
+        raise InvalidInput("an engine has two or four strokes", field="strokes")
+    interval = (360.0 if strokes == 4 else 180.0) * 2 / n
+    start = {cyl: k * interval for k, cyl in enumerate(order)}
+    return tuple(math.radians(start[c] % 360.0) for c in range(1, n + 1))
+
+
+def inline_from_firing_order(order: Sequence[int], pitch: float, strokes: int = 4) -> tuple[Cylinder, ...]:
+    """An in-line engine of cylinders ``pitch`` [m] apart with the throws of its even firing ``order``."""
+    return tuple(Cylinder(t, 0.0, i * pitch) for i, t in enumerate(firing_throws(order, strokes)))
+
+
 def engine_layout(name: str, pitch: float = 0.1) -> tuple[Cylinder, ...]:
-    """The classic arrangements, cylinders ``pitch`` [m] apart along the crankshaft (a V's pair shares a throw
-    and a plane): inline2_360, inline2_180, inline3, inline4, inline5, inline6, v2_90, v8_crossplane,
-    boxer2, flat4."""
+    """The classic arrangements as built, cylinders ``pitch`` [m] apart along the crankshaft (a V's pair shares
+    a throw and a plane), the throws in degrees behind the first (the in-line engines' even firing orders in
+    :data:`FIRING_ORDERS`): inline2_360 (0-0, 1-2), inline2_180 (0-180, uneven firing), inline3 (0-240-120,
+    1-2-3), inline4 (0-180-180-0, 1-3-4-2), inline5 (0-144-216-288-72, 1-2-4-5-3), inline6 (0-120-240-240-120-0,
+    1-5-3-6-2-4), v2_90 (one throw, banks ∓45), v8_crossplane (throws 0-90-270-180, banks ∓45), boxer2 (0-180,
+    banks ∓90), flat4 (0-180-180-0, banks alternating ∓90)."""
     layouts: dict[str, tuple[Cylinder, ...]] = {
         "inline2_360": _inline([0, 0], pitch),
         "inline2_180": _inline([0, 180], pitch),
         "inline3": _inline([0, 240, 120], pitch),
         "inline4": _inline([0, 180, 180, 0], pitch),
-        "inline5": _inline([0, 144, 288, 72, 216], pitch),
+        "inline5": _inline([0, 144, 216, 288, 72], pitch),
         "inline6": _inline([0, 120, 240, 240, 120, 0], pitch),
         "v2_90": (Cylinder(0.0, math.radians(-45), 0.0), Cylinder(0.0, math.radians(45), 0.0)),
         "v8_crossplane": tuple(
