@@ -7,6 +7,7 @@ import logging
 import secrets
 from typing import Any
 
+import sqlalchemy as sa
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
 from starlette.middleware.cors import CORSMiddleware
@@ -35,8 +36,12 @@ def bootstrap(accounts: Accounts, settings: Settings) -> None:
                         "`python -m api.users add NAME --role admin` or SYNTH_ADMIN_NAME and SYNTH_ADMIN_PASSWORD")
         return
     if accounts.by_name(settings.admin_name) is None:
-        accounts.create(settings.admin_name, {"admin"},
-                        passwords.hash_password(settings.admin_password.get_secret_value()))
+        try:
+            accounts.create(settings.admin_name, {"admin"},
+                            passwords.hash_password(settings.admin_password.get_secret_value()))
+        except sa.exc.IntegrityError:
+            # another service process on the same store made it first
+            return
         log.info("made the first admin, %s", settings.admin_name)
 
 
