@@ -25,7 +25,8 @@ class ReadyOut(BaseModel):
 
     status: Literal["ok", "busy", "degraded", "store-unavailable"] = Field(
         description="busy: every request slot is taken; new requests get 503. degraded: a worker is being "
-                    "replaced (requests wait for it or for the others). store-unavailable: the store cannot "
+                    "replaced (requests wait for it or for the others), or the store takes no writes (`degraded` "
+                    "says which). store-unavailable: the store cannot "
                     "be reached (store_problem says why); requests needing it get 503, and so does /ready.")
     executor: Literal["pool", "serial"] = Field(description="Where requests run: worker processes, or one thread.")
     started: bool = Field(description="The workers have been started.")
@@ -55,7 +56,13 @@ class ReadyOut(BaseModel):
                     "cluster of SYNTH_DASK_SCHEDULER (requests unaffected).")
     store: str = Field(description="The store's engine: sqlite (embedded file) or postgresql.")
     store_ok: bool = Field(description="The store answered just now.")
-    store_problem: str | None = Field(description="Why the store cannot be reached, when it cannot.")
+    store_writable: bool = Field(True, description="The store takes writes now (false while it is locked by "
+                                                   "another writer, read-only, or cannot be reached).")
+    store_problem: str | None = Field(description="Why the store cannot be reached or cannot take writes, when so.")
+    degraded: list[Literal["store", "workers"]] = Field(
+        default_factory=list, description="What works in part now: store (it answers reads but takes no writes: "
+                                          "saving, starting studies and signing in answer 503 with Retry-After), "
+                                          "workers (a worker is being replaced).")
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -72,6 +79,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         await asyncio.to_thread(solvers.start)
         await asyncio.to_thread(studies.open)
         yield
+        await asyncio.to_thread(auth.stop, app)
         studies.shutdown()
         solvers.shutdown()
         store.dispose()
@@ -112,12 +120,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         stored = await asyncio.to_thread(store_status, request.app.state.store)
         state: Literal["ok", "busy", "degraded", "store-unavailable"] = (
             "ok" if status["queued"] < status["capacity"] else "busy")
+        degraded: list[Literal["store", "workers"]] = []
         if status["started"] and status["workers_alive"] < status["workers"]:
             state = "degraded"
+            degraded.append("workers")
+        if not stored["store_writable"]:
+            state = "degraded"
+            degraded.append("store")
         if not stored["store_ok"]:
             state = "store-unavailable"
             response.status_code = 503
-        return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored)
+        return ReadyOut(status=state, **status, **request.app.state.studies.status(), **stored, degraded=degraded)
 
     for router in (*all_routers(), studies_router, library_router, auth.router):
         app.include_router(router, prefix=PREFIX)

@@ -35,14 +35,17 @@ def migrate_at_start(store: Store) -> None:
 
 
 def store_status(store: Store) -> dict[str, Any]:
-    """The store's engine and whether it answers, with the reason when it does not; never raises."""
+    """The store's engine, whether it answers and whether it takes writes, with the reason when it does not;
+    never raises."""
     try:
         store.ping()
     except StoreUnavailable as exc:
-        return {"store": store.dialect, "store_ok": False, "store_problem": exc.reason}
+        return {"store": store.dialect, "store_ok": False, "store_writable": False, "store_problem": exc.reason}
     except MigrationFailed as exc:
-        return {"store": store.dialect, "store_ok": False, "store_problem": str(exc)}
-    return {"store": store.dialect, "store_ok": True, "store_problem": None}
+        return {"store": store.dialect, "store_ok": False, "store_writable": False, "store_problem": str(exc)}
+    cannot_write = store.write_problem()
+    return {"store": store.dialect, "store_ok": True, "store_writable": cannot_write is None,
+            "store_problem": cannot_write}
 
 
 def get_store(request: Request) -> Store:

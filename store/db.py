@@ -4,6 +4,8 @@ processes), reached through one SQLAlchemy engine and brought to the latest sche
 from __future__ import annotations
 
 import logging
+import os
+import sqlite3
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -20,10 +22,19 @@ from sqlalchemy.engine import Connection, Engine
 
 log = logging.getLogger("store")
 
-# Seconds a SQLite writer waits for another process's write to end before giving up.
-SQLITE_BUSY_S = 30.0
+# Seconds a SQLite writer waits for another process's write to end before the store counts as locked (a request
+# then answers 503 at once instead of waiting for its deadline; the store's own writes take milliseconds).
+SQLITE_BUSY_S = 5.0
 # Seconds to reach a PostgreSQL server before the store counts as unreachable.
 CONNECT_TIMEOUT_S = 5
+# Milliseconds a PostgreSQL statement waits for another transaction's lock before the store counts as locked.
+LOCK_TIMEOUT_MS = 5000
+# What the drivers say when the store cannot take a write, or cannot be reached at all: a fault of the store, not
+# of the request (SQLite: locked past its busy wait, a read-only file or disk; PostgreSQL: a read-only database,
+# a lock wait past its bound, a connection lost).
+_FAULTS = ("connection", "server closed", "terminating", "unable to open database", "database is locked",
+           "readonly database", "read-only", "disk i/o error", "lock timeout", "database or disk is full",
+           "could not receive data", "no connection to the server")
 
 
 # Alembic's command context (alembic.op, alembic.context) is one per process, not per thread: two stores
@@ -73,8 +84,9 @@ class Store:
             self.engine: Engine = sa.create_engine(url, connect_args={"timeout": SQLITE_BUSY_S})
             _sqlite_setup(self.engine)
         else:
-            self.engine = sa.create_engine(url, pool_pre_ping=True, pool_size=5, max_overflow=10,
-                                           connect_args={"connect_timeout": CONNECT_TIMEOUT_S})
+            self.engine = sa.create_engine(url, pool_pre_ping=True, pool_size=5, max_overflow=10, pool_timeout=5,
+                                           connect_args={"connect_timeout": CONNECT_TIMEOUT_S,
+                                                         "options": f"-c lock_timeout={LOCK_TIMEOUT_MS}"})
 
         self._migrated = False
 
@@ -100,14 +112,14 @@ class Store:
             self.migrate()
         try:
             conn = self.engine.connect()
-        except (sa.exc.OperationalError, sa.exc.InterfaceError) as exc:
+        except (sa.exc.DBAPIError, sa.exc.TimeoutError) as exc:
             raise _unavailable(exc) from exc
         try:
             conn.execution_options(store_write=write)
             with conn.begin():
                 yield conn
-        except (sa.exc.OperationalError, sa.exc.InterfaceError) as exc:
-            if exc.connection_invalidated or _connection_lost(exc):
+        except sa.exc.DBAPIError as exc:
+            if exc.connection_invalidated or _store_fault(exc):
                 raise _unavailable(exc) from exc
             raise
         finally:
@@ -117,6 +129,30 @@ class Store:
         """Reach the store; :class:`StoreUnavailable` with the reason when it cannot be reached."""
         with self.read() as conn:
             conn.execute(sa.text("SELECT 1"))
+
+    def write_problem(self) -> str | None:
+        """Why the store cannot take a write now (locked by another writer, a read-only file or database), or
+        None when it can; asked without writing and without waiting for a lock."""
+        try:
+            if self.dialect == "sqlite":
+                path = self.engine.url.database
+                if path and path != ":memory:" and os.path.exists(path) and not os.access(path, os.W_OK):
+                    return "attempt to write a readonly database (the file is read-only)"
+                raw = sqlite3.connect(path or ":memory:", timeout=0.05, isolation_level=None)
+                try:
+                    raw.execute("BEGIN IMMEDIATE")
+                    raw.execute("ROLLBACK")
+                finally:
+                    raw.close()
+                return None
+            with self.read() as conn:
+                if conn.execute(sa.text("SELECT current_setting('transaction_read_only')")).scalar() == "on":
+                    return "the database is read-only (transaction_read_only is on)"
+            return None
+        except sqlite3.Error as exc:
+            return str(exc) or type(exc).__name__
+        except StoreUnavailable as exc:
+            return exc.reason
 
     def migrate(self) -> list[str]:
         """Bring the schema to the latest revision; the revisions applied, oldest first.
@@ -155,6 +191,11 @@ class Store:
                     conn.commit()
         except StoreUnavailable:
             raise
+        except sa.exc.DBAPIError as exc:
+            if exc.connection_invalidated or _store_fault(exc):
+                raise _unavailable(exc) from exc   # tried again at the next use, once the store takes writes
+            raise MigrationFailed(f"migrating the store {self!r} failed: {type(exc).__name__}: "
+                                  f"{str(exc).strip().splitlines()[0] if str(exc).strip() else ''}") from exc
         except Exception as exc:
             raise MigrationFailed(f"migrating the store {self!r} failed: {type(exc).__name__}: "
                                   f"{str(exc).strip().splitlines()[0] if str(exc).strip() else ''}") from exc
@@ -175,9 +216,9 @@ class Store:
         self.engine.dispose()
 
 
-def _connection_lost(exc: sa.exc.DBAPIError) -> bool:
+def _store_fault(exc: sa.exc.DBAPIError) -> bool:
     text = str(exc.orig).lower()
-    return any(s in text for s in ("connection", "server closed", "terminating", "unable to open database"))
+    return any(s in text for s in _FAULTS)
 
 
 def _sqlite_setup(engine: Engine) -> None:

@@ -13,7 +13,7 @@ import os
 import socket
 import time
 import uuid
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Collection, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -108,13 +108,21 @@ class SqlStudyStore:
                         lease_owner=self.owner, lease_expires=now + self.lease_s))
             return taken.rowcount == 1
 
-    def renew(self) -> set[str]:
-        """Extend this process's leases on its queued and running studies; the ids still held."""
+    def renew(self, ids: Collection[str] | None = None) -> set[str]:
+        """Extend this process's leases on its queued and running studies (only those of ``ids`` when given: a run
+        that died without recording its end is not kept alive, so its lease lapses and it is swept as
+        interrupted); the ids still held."""
         s = studies.c
         mine = sa.and_(s.lease_owner == self.owner, s.state.in_(("queued", "running")))
+        wanted = None if ids is None else sorted(ids)
+        chunks = [mine] if wanted is None else [sa.and_(mine, s.id.in_(wanted[k:k + _IN_CHUNK]))
+                                                for k in range(0, len(wanted), _IN_CHUNK)]
+        held: set[str] = set()
         with self.store.write() as db:
-            db.execute(studies.update().where(mine).values(lease_expires=time.time() + self.lease_s))
-            return set(db.scalars(sa.select(s.id).where(mine)).all())
+            for where in chunks:
+                db.execute(studies.update().where(where).values(lease_expires=time.time() + self.lease_s))
+                held |= set(db.scalars(sa.select(s.id).where(where)).all())
+        return held
 
     def stopped(self, study_id: str, state: str, message: str | None = None) -> None:
         """End a run in ``state``, adding its running time to the study's and releasing the lease.

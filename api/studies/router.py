@@ -13,7 +13,8 @@ from ..auth.guard import NotOwner, Principal, principal
 from ..deps import SolverDep
 from ..media import FormatQuery, json_response, png, wants_png
 from mechsynth_client.schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
-from .runs import StudyRuns, scatter_png
+from ..problems import problem
+from .runs import StudyFinished, StudyRuns, scatter_png
 
 router = APIRouter(prefix="/studies", tags=["studies"])
 
@@ -84,10 +85,16 @@ async def study_cancel(study_id: str, studies: StudiesDep, _: OwnerOnly) -> Stud
     return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 
-@router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses=NOT_FOUND)
-async def study_resume(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
-    """Run the variants of a cancelled or interrupted study that have no result yet."""
-    record = await asyncio.to_thread(studies.resume, study_id)
+@router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses={**NOT_FOUND, 409: {
+    "description": "The study is done: every variant has its result, nothing is left to run.",
+    "content": {"application/problem+json": {"schema": {"$ref": "#/components/schemas/Problem"}}}}})
+async def study_resume(study_id: str, studies: StudiesDep, _: OwnerOnly) -> Any:
+    """Run the variants of a cancelled, interrupted or failed study that have no result yet (a running or queued
+    study is left as it is; a finished one answers 409)."""
+    try:
+        record = await asyncio.to_thread(studies.resume, study_id)
+    except StudyFinished as exc:
+        return problem(409, "study-finished", "Study finished", str(exc), study_id=study_id)
     return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
 
 

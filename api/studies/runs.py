@@ -31,6 +31,7 @@ from functools import partial
 from typing import Any, TypeVar
 
 import numpy as np
+import sqlalchemy as sa
 from numpy.typing import NDArray
 from starlette.exceptions import HTTPException
 
@@ -52,6 +53,14 @@ from .tasks import batch_function, validate_request, variant_function
 log = logging.getLogger("api.studies")
 
 T = TypeVar("T")
+
+
+class StudyFinished(Exception):
+    """A finished study has nothing left to run: a 409 problem response."""
+
+    def __init__(self, study_id: str) -> None:
+        super().__init__(f"study {study_id} is done: every variant has its row, there is nothing to resume")
+        self.study_id = study_id
 
 
 class StudyNotFound(HTTPException):
@@ -162,6 +171,8 @@ class StudyRuns:
         self._work: dict[str, tuple[str, float]] = {}  # queued or running study -> (owner, estimated work [s])
         self._closing = False
         self._tasks = _InFlight()
+        # runs that ended while the store could not record their end: recorded when it answers again
+        self._unrecorded: dict[str, tuple[str, str | None]] = {}
         self._lock = threading.RLock()
         # Connecting to a scheduler can take its whole timeout; the store stays reachable meanwhile.
         self._dask_lock = threading.Lock()
@@ -172,7 +183,13 @@ class StudyRuns:
         with self._lock:
             if self._store is None:
                 store = SqlStudyStore(self._db, lease_s=self.settings.study_lease_s)
-                self._sweep(store)
+                try:
+                    self._sweep(store)
+                except StoreUnavailable as exc:
+                    # a store that answers reads but takes no writes (read-only, locked) still shows its studies;
+                    # the heartbeat sweeps once it takes writes again
+                    log.error("studies left running by a stopped service are not swept yet: %s", exc)
+                    self._db.ping()
                 self._store = store
             return self._store
 
@@ -197,8 +214,11 @@ class StudyRuns:
         and mark studies whose process stopped as interrupted."""
         while not self._stopping.wait(self.settings.study_lease_s / 3):
             try:
+                self._record_ends()
                 asked = time.monotonic()
-                held = self.store.renew()
+                with self._lock:
+                    ours = set(self._runs) | {w.study_id for w in self._waiting}
+                held = self.store.renew(ours)
                 with self._lock:
                     lost = [run for study_id, run in self._runs.items() if study_id not in held
                             and run.claimed_at is not None and run.claimed_at < asked]
@@ -208,10 +228,22 @@ class StudyRuns:
                     run.reason = "cancelled"
                     run.cancel.set()
                 self._sweep(self.store)
-            except StoreUnavailable as exc:
+                with self._lock:
+                    self._dispatch()
+            except (StoreUnavailable, sa.exc.DBAPIError) as exc:
                 log.warning("the study leases were not renewed: %s", exc)
             except Exception:
                 log.exception("the study leases were not renewed")
+
+    def _record_ends(self) -> None:
+        """Record the ends of runs that stopped while the store could not take them (the oldest first)."""
+        with self._lock:
+            pending = list(self._unrecorded.items())
+        for study_id, (state, message) in pending:
+            self.store.stopped(study_id, state, message)
+            with self._lock:
+                self._unrecorded.pop(study_id, None)
+            log.warning("design study %s: its end (%s) is recorded now that the store answers", study_id, state)
 
     def executor(self, owner: str = "anonymous") -> Executor:
         """Where study tasks run: the Dask cluster when one is configured, else the service's study lane."""
@@ -315,9 +347,15 @@ class StudyRuns:
         while not self._closing and self._waiting and len(self._runs) < self.settings.max_running_studies:
             nxt = self._order()[0]
             self._waiting.remove(nxt)
+            try:
+                self._start(nxt.study_id, nxt.study, nxt.indices, nxt.owner)
+            except (StoreUnavailable, sa.exc.DBAPIError) as exc:
+                # the claim could not be written: the study keeps its place, the heartbeat tries again
+                self._waiting.insert(0, nxt)
+                log.warning("design study %s waits for the store to start: %s", nxt.study_id, exc)
+                return
             self._turn += 1
             self._served[nxt.owner] = self._turn
-            self._start(nxt.study_id, nxt.study, nxt.indices, nxt.owner)
 
     def get(self, study_id: str) -> synth.StudyRecord:
         """The stored study with its progress; :class:`StudyNotFound` when there is none."""
@@ -359,9 +397,13 @@ class StudyRuns:
         return self.get(study_id)
 
     def resume(self, study_id: str) -> synth.StudyRecord:
-        """Run the variants of a stopped study that have no row yet; a running or finished study is left as is."""
+        """Run the variants of a stopped study that have no row yet; a running study is left as is,
+        :class:`StudyFinished` for a finished one."""
+        self._record_ends()
         self._sweep(self.store)
         record = self.get(study_id)
+        if record.state == "done":
+            raise StudyFinished(study_id)
         if record.state in ("cancelled", "interrupted", "failed"):
             study = synth.study_from_dict(record.spec)
             owner = str(record.spec.get("owner") or "anonymous")
@@ -481,9 +523,9 @@ class StudyRuns:
     def _drive(self, study_id: str, study: synth.Study, indices: list[int] | None, owner: str) -> None:
         with self._lock:
             run = self._runs[study_id]
-        endpoint = self.store.get(study_id).spec["endpoint"]  # type: ignore[union-attr]
         state, message = "failed", None
         try:
+            endpoint = self.store.get(study_id).spec["endpoint"]  # type: ignore[union-attr]
             report = synth.run_study(
                 study, variant_function(endpoint, Limits.from_settings(self.settings)),
                 _Counted(self.executor(owner), self._tasks),
@@ -504,13 +546,25 @@ class StudyRuns:
             # cancelled through another process, or taken by one after this process stalled past its lease
             log.warning("design study %s was cancelled or taken over elsewhere; this run stops", study_id)
             state, message = "cancelled", "cancelled; finished variants are kept"
+        except (StoreUnavailable, sa.exc.DBAPIError) as exc:
+            # the store failed under the run (locked, read-only, unreachable): its rows so far are kept and
+            # resuming runs the rest
+            log.warning("design study %s stopped: the store failed while it ran: %s", study_id, exc)
+            state, message = "interrupted", "the store failed while it ran; resume it to run the rest"
         except Exception as exc:
             # A study-wide failure (the Dask scheduler unreachable, the store's disk full) ends this study only.
             log.exception("design study %s failed", study_id)
             message = f"the study stopped on an unexpected error ({type(exc).__name__}); the error was logged"
         finally:
-            # a no-op when another process holds the study now
-            self.store.stopped(study_id, state, message)
+            try:
+                # a no-op when another process holds the study now
+                self.store.stopped(study_id, state, message)
+            except Exception as exc:
+                # recorded by the heartbeat once the store answers; until then its lease is no longer renewed,
+                # so it is swept as interrupted if this process stops first
+                log.warning("design study %s: its end (%s) waits for the store: %s", study_id, state, exc)
+                with self._lock:
+                    self._unrecorded[study_id] = (state, message)
             with self._lock:
                 self._runs.pop(study_id, None)
                 self._work.pop(study_id, None)
