@@ -6,6 +6,11 @@ requests, a new request is answered 503 at once) and the idle time of a kept-ali
 bound on the time a client may take to send that head, so a client that sends a header line every few seconds
 would hold its connection for ever: :class:`HeaderTimeout` adds one. A connection whose request head is not
 complete ``SYNTH_HEADER_TIMEOUT_S`` after it opened (or after its previous answer) is answered 408 and closed.
+
+One client could still take every one of the ``SYNTH_MAX_CONNECTIONS`` by holding slow sockets open (each closed
+after the head timeout and opened again at once): the protocol also counts open connections per client address,
+and a connection beyond ``SYNTH_MAX_CONNECTIONS_PER_CLIENT`` from one address is answered 503 and closed at once,
+before it costs a request, so the other clients (and ``/health``) keep their places.
 """
 
 from __future__ import annotations
@@ -20,6 +25,8 @@ from uvicorn.protocols.http.h11_impl import H11Protocol
 
 from .settings import Settings
 
+_CROWDED = (b"HTTP/1.1 503 Service Unavailable\r\ncontent-type: text/plain\r\nconnection: close\r\n"
+            b"retry-after: 5\r\ncontent-length: 46\r\n\r\ntoo many open connections from this address\r\n\r\n")
 _TIMED_OUT = (b"HTTP/1.1 408 Request Timeout\r\ncontent-type: text/plain\r\nconnection: close\r\n"
               b"content-length: 41\r\n\r\nthe request's headers came too slowly\r\n\r\n")
 
@@ -28,9 +35,24 @@ class HeaderTimeout(H11Protocol):
     """uvicorn's h11 protocol with a bound on the time to receive a request's head."""
 
     header_timeout_s = 10.0
+    per_client = 1_000_000
+    # open connections per client address, over every connection of this process (one event loop)
+    open_from: dict[str, int] = {}
 
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
         self._header_timer: asyncio.TimerHandle | None = None
+        peer = transport.get_extra_info("peername")
+        self._address: str | None = str(peer[0]) if isinstance(peer, tuple) and peer else None
+        self._refused = False
+        if self._address is not None:
+            count = self.open_from.get(self._address, 0)
+            if count >= self.per_client:
+                # uvicorn's protocol is never set up for it: no request, no slot of SYNTH_MAX_CONNECTIONS
+                self._refused = True
+                transport.write(_CROWDED)
+                transport.close()
+                return
+            self.open_from[self._address] = count + 1
         super().connection_made(transport)
         self._arm()
 
@@ -54,6 +76,14 @@ class HeaderTimeout(H11Protocol):
             self._arm()  # the next request's head on a kept-alive connection
 
     def connection_lost(self, exc: Exception | None) -> None:
+        if self._refused:
+            return
+        if self._address is not None:
+            left = self.open_from.get(self._address, 1) - 1
+            if left > 0:
+                self.open_from[self._address] = left
+            else:
+                self.open_from.pop(self._address, None)
         self._disarm()
         super().connection_lost(exc)
 
@@ -64,14 +94,16 @@ class HeaderTimeout(H11Protocol):
             self.transport.close()
 
 
-def protocol(header_timeout_s: float) -> type[HeaderTimeout]:
-    """The protocol class with the given head timeout [s]."""
-    return type("HeaderTimeoutProtocol", (HeaderTimeout,), {"header_timeout_s": header_timeout_s})
+def protocol(header_timeout_s: float, per_client: int = 1_000_000) -> type[HeaderTimeout]:
+    """The protocol class with the given head timeout [s] and bound on one client address's open connections."""
+    return type("HeaderTimeoutProtocol", (HeaderTimeout,), {"header_timeout_s": header_timeout_s,
+                                                             "per_client": per_client, "open_from": {}})
 
 
 def config(host: str, port: int, settings: Settings, **extra: Any) -> uvicorn.Config:
     """uvicorn's configuration of the service under ``settings``' connection limits."""
-    return uvicorn.Config("api.app:app", host=host, port=port, http=protocol(settings.header_timeout_s),
+    return uvicorn.Config("api.app:app", host=host, port=port, http=protocol(settings.header_timeout_s,
+                                                                     settings.max_connections_per_client),
                           limit_concurrency=settings.max_connections,
                           timeout_keep_alive=settings.keep_alive_s,  # type: ignore[arg-type]
                           **extra)

@@ -87,6 +87,11 @@ class Settings(BaseSettings):
     session_key: SecretStr | None = Field(None, min_length=32, max_length=1024, description="Key signing the sign-in cookies (32+ characters); "
                                                             "unset: a random key, so restarts sign everyone out.")
     session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
+    sign_ins_per_minute: int = Field(10, ge=1, le=100_000, description="Sign-in attempts one client address may "
+                                     "make per minute, right or wrong; 429 with Retry-After beyond.")
+    max_connections_per_client: int = Field(100, ge=1, le=1_000_000, description="Open connections from one "
+                                            "client address at once; beyond, its new connections are answered "
+                                            "503 and closed (the others' are not).")
     admin_name: str | None = Field(None, min_length=1, max_length=64,
                                    description="A first admin created at start when no user of that name exists.")
     admin_password: SecretStr | None = Field(None, description="The first admin's password (with admin_name).")

@@ -16,7 +16,7 @@ protections stay on.
 
 from __future__ import annotations
 
-from .install import install, start
+from .install import install, start, stop
 from .router import router
 
-__all__ = ["install", "router", "start"]
+__all__ = ["install", "router", "start", "stop"]

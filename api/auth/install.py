@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import logging
 import secrets
+import threading
 from typing import Any
 
 import sqlalchemy as sa
@@ -21,7 +22,7 @@ from .guard import Access, Guard, NotOwner
 from .headers import SecurityHeaders
 from .hosts import AllowedHosts
 from .origin import SameOrigin
-from .router import Failures
+from .router import AddressAttempts, Failures, Hashing
 from .sessions import CSRF_HEADER, Sessions
 from .users import Accounts
 
@@ -45,13 +46,42 @@ def bootstrap(accounts: Accounts, settings: Settings) -> None:
         log.info("made the first admin, %s", settings.admin_name)
 
 
+# Seconds between writes of the API tokens' last uses (noted in memory as callers are recognised).
+TOKEN_USES_EVERY_S = 15.0
+
+
 def start(app: FastAPI) -> None:
-    """At start, once the store is migrated: the first admin; a store that cannot be reached is reported by
-    /ready, and the admin is made at the next start."""
+    """At start, once the store is migrated: the first admin, and the thread writing the tokens' last uses; a
+    store that cannot be reached is reported by /ready, and the admin is made at the next start."""
     try:
         bootstrap(app.state.access.accounts, app.state.settings)
     except store.StoreUnavailable as exc:
         log.error("the first admin was not made: %s", exc)
+    stopping = threading.Event()
+    app.state.token_uses_stop = stopping
+    threading.Thread(target=_record_uses, args=(app.state.access.accounts, stopping), daemon=True,
+                     name="token-uses").start()
+
+
+def stop(app: FastAPI) -> None:
+    """At shutdown: write the tokens' last uses noted since the last write."""
+    stopping: threading.Event | None = getattr(app.state, "token_uses_stop", None)
+    if stopping is not None:
+        stopping.set()
+    try:
+        app.state.access.accounts.record_uses()
+    except store.StoreUnavailable as exc:
+        log.warning("the API tokens' last uses were not written: %s", exc)
+
+
+def _record_uses(accounts: Accounts, stopping: threading.Event) -> None:
+    while not stopping.wait(TOKEN_USES_EVERY_S):
+        try:
+            accounts.record_uses()
+        except store.StoreUnavailable as exc:
+            log.warning("the API tokens' last uses wait for the store: %s", exc)
+        except Exception:
+            log.exception("the API tokens' last uses were not written")
 
 
 def install(app: FastAPI, settings: Settings) -> Access:
@@ -64,6 +94,8 @@ def install(app: FastAPI, settings: Settings) -> Access:
     access = Access(settings.auth == "on", Accounts(app.state.store), sessions)
     app.state.access = access
     app.state.sign_in_failures = Failures()
+    app.state.sign_in_addresses = AddressAttempts(settings.sign_ins_per_minute, 60.0)
+    app.state.hashing = Hashing()
     app.add_middleware(Guard, access=access)
     app.add_middleware(SameOrigin, trusted_origins=settings.origin_list(), behind_tls=settings.behind_tls)
     if settings.origin_list():

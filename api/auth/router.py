@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import asyncio
+import collections
+import math
 import threading
 import time
-from typing import Annotated, Any
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from functools import partial
+from typing import Annotated, Any, Literal, TypeVar
 
 import sqlalchemy as sa
 from fastapi import APIRouter, Depends, Path, Request, Response
@@ -27,6 +32,7 @@ from . import passwords, tokens
 from .guard import Access, Principal, principal
 from .users import Accounts, TokenInfo
 
+T = TypeVar("T")
 router = APIRouter(tags=["users"])
 UserName = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9][A-Za-z0-9_.@\-]*$",
                                description="The user's name.")]
@@ -44,11 +50,21 @@ NO_USER: dict[int | str, dict[str, Any]] = {404: _ref("No user has this name.")}
 SIGN_IN_PROBLEMS: dict[int | str, dict[str, Any]] = {
     401: _ref("The name or the password is wrong."),
     409: _ref("Authentication is off on this service: there is nothing to sign in to."),
-    429: _ref("Too many wrong passwords for this name lately; retry after Retry-After seconds."),
+    429: _ref("Too many wrong passwords for this name lately, too many sign-ins from this address, or too many "
+              "sign-ins being checked at once; retry after Retry-After seconds."),
 }
 
 MAX_FAILURES = 5
 FAILURE_WINDOW_S = 900.0
+# Sign-in attempts one client address may make per window, right or wrong (SYNTH_SIGN_INS_PER_MINUTE): a spray
+# of fresh names meets this bound, which the per-name one never does.
+MAX_ADDRESS_ATTEMPTS = 10
+ADDRESS_WINDOW_S = 60.0
+# Password hashes (argon2: about half a second of a core and 64 MiB each) are computed on threads of their own,
+# never on the pool that recognises callers or serves the routes; beyond this many waiting, sign-in answers 429.
+HASH_THREADS = 1
+MAX_HASHES_WAITING = 4
+_HASHING = ThreadPoolExecutor(max_workers=HASH_THREADS, thread_name_prefix="password-hash")
 
 
 class Failures:
@@ -76,6 +92,56 @@ class Failures:
         """``name`` signed in: its count starts again."""
         with self._lock:
             self._seen.pop(name, None)
+
+
+class AddressAttempts:
+    """Sign-in attempts per client address over the last window; past the limit that address waits."""
+
+    def __init__(self, limit: int = MAX_ADDRESS_ATTEMPTS, window_s: float = ADDRESS_WINDOW_S) -> None:
+        self.limit = limit
+        self.window_s = window_s
+        self._seen: dict[str, collections.deque[float]] = {}
+        self._lock = threading.Lock()
+
+    def attempt(self, address: str, now: float) -> float:
+        """Count an attempt from ``address`` now; 0 when it may go on, else the seconds before it may."""
+        with self._lock:
+            seen = self._seen.setdefault(address, collections.deque())
+            while seen and seen[0] <= now - self.window_s:
+                seen.popleft()
+            if len(seen) >= self.limit:
+                return seen[0] + self.window_s - now
+            seen.append(now)
+            if len(self._seen) > 10_000:        # bounded memory whatever addresses call
+                self._seen = {k: v for k, v in self._seen.items() if v and v[-1] > now - self.window_s}
+            return 0.0
+
+
+class Hashing:
+    """The password-hashing threads with a bound on the work waiting for them."""
+
+    def __init__(self, limit: int = MAX_HASHES_WAITING) -> None:
+        self.limit = limit
+        self.waiting = 0
+        self._lock = threading.Lock()
+
+    async def run(self, fn: Callable[..., T], *args: Any) -> T | None:
+        """``fn(*args)`` on the hashing threads; None at once when ``limit`` calls are waiting already."""
+        with self._lock:
+            if self.waiting >= self.limit:
+                return None
+            self.waiting += 1
+        try:
+            return await asyncio.get_running_loop().run_in_executor(_HASHING, partial(fn, *args))
+        finally:
+            with self._lock:
+                self.waiting -= 1
+
+
+def _too_many(detail: str, wait_s: float) -> JSONResponse:
+    retry = max(1, math.ceil(wait_s))
+    return problem(429, "too-many-sign-ins", "Too many sign-ins", detail, headers={"Retry-After": str(retry)},
+                   retry_after_s=retry)
 
 
 def get_access(request: Request) -> Access:
@@ -108,15 +174,20 @@ def _no_user(name: str) -> JSONResponse:
     return problem(404, "user-not-found", "No such user", f"no user is named {name!r}", name=name)
 
 
-def _check_in(accounts: Accounts, name: str, password: str) -> store.User | None:
-    """The user when the password is right (its hash renewed when made with weaker parameters), else None."""
+def _check_in(accounts: Accounts, name: str, password: str) -> store.User | Literal[False]:
+    """The user when the password is right (its hash renewed when made with weaker parameters), else False."""
     stored = accounts.password_hash(name)
     if not passwords.verify_password(stored, password) or stored is None:
-        return None
+        return False
     user = accounts.by_name(name)
     if user is not None and passwords.needs_rehash(stored):
         accounts.set_password_hash(user.id, passwords.hash_password(password))
-    return user
+    return user or False
+
+
+async def _hash(password: str) -> str:
+    """A new password's hash on the hashing threads (an admin's change waits its turn, it is never refused)."""
+    return await asyncio.get_running_loop().run_in_executor(_HASHING, passwords.hash_password, password)
 
 
 @router.post("/auth/signin", response_model=SessionOut, responses=SIGN_IN_PROBLEMS)
@@ -129,11 +200,16 @@ async def sign_in(body: SignInIn, request: Request, response: Response, access: 
                        "this service is open (SYNTH_AUTH=off): every request is allowed without signing in")
     failures: Failures = request.app.state.sign_in_failures
     now = time.time()
+    address = request.client.host if request.client is not None else "unknown"
+    if (wait := request.app.state.sign_in_addresses.attempt(address, now)) > 0:
+        return _too_many(f"too many sign-ins from {address}; retry in {math.ceil(wait)} s", wait)
     if (wait := failures.wait_s(body.name, now)) > 0:
-        return problem(429, "too-many-sign-ins", "Too many wrong passwords",
-                       f"too many wrong passwords for {body.name!r}; retry in {wait:.0f} s",
-                       headers={"Retry-After": str(int(wait) + 1)}, retry_after_s=int(wait) + 1)
-    user = await asyncio.to_thread(_check_in, access.accounts, body.name, body.password)
+        return _too_many(f"too many wrong passwords for {body.name!r}; retry in {math.ceil(wait)} s", wait)
+    hashing: Hashing = request.app.state.hashing
+    checked = await hashing.run(_check_in, access.accounts, body.name, body.password)
+    if checked is None:
+        return _too_many("too many sign-ins are being checked at once; retry in a second", 1.0)
+    user = checked or None
     if user is None:
         failures.failed(body.name, now)
         return problem(401, "invalid-credentials", "Sign-in refused", "the name or the password is wrong")
@@ -177,7 +253,7 @@ async def users(access: AccessDep) -> list[UserOut]:
              responses={409: _ref("A user of this name exists already.")})
 async def add_user(body: UserIn, access: AccessDep) -> Any:
     """Make a user with a password and roles (admins only)."""
-    hashed = await asyncio.to_thread(passwords.hash_password, body.password)
+    hashed = await _hash(body.password)
     try:
         user = await asyncio.to_thread(access.accounts.create, body.name, frozenset(body.roles), hashed)
     except sa.exc.IntegrityError:
@@ -201,7 +277,7 @@ async def update_user(name: UserName, body: UserPatchIn, access: AccessDep) -> A
     if found is None:
         return _no_user(name)
     if body.password is not None:
-        hashed = await asyncio.to_thread(passwords.hash_password, body.password)
+        hashed = await _hash(body.password)
         await asyncio.to_thread(access.accounts.set_password_hash, found.id, hashed)
         await asyncio.to_thread(access.accounts.end_credentials, found.id)
     if body.roles is not None:
