@@ -6,6 +6,7 @@ import asyncio
 import logging
 import math
 import sys
+import uuid
 from collections.abc import Mapping
 from typing import Any
 
@@ -282,9 +283,15 @@ async def _forbidden_handler(_: Request, exc: Exception) -> JSONResponse:
     return problem(403, "forbidden", "Forbidden", str(exc))
 
 
-async def _unexpected_handler(_: Request, exc: Exception) -> JSONResponse:
-    log.exception("unexpected error", exc_info=exc)
-    return problem(500, "internal-error", "Internal error", "the service failed unexpectedly; the error was logged")
+async def _unexpected_handler(request: Request, exc: Exception) -> JSONResponse:
+    request_id = uuid.uuid4().hex[:16]
+    # a worker's error carries the worker's traceback as text (the one here ends where the web process got it)
+    remote = getattr(exc, "worker_traceback", None)
+    log.error("unexpected error, request %s: %s %s%s", request_id, request.method, request.url.path,
+              f"\nin the worker:\n{remote}" if remote else "", exc_info=exc)
+    return problem(500, "internal-error", "Internal error",
+                   f"the service failed unexpectedly; the error was logged with the request id {request_id}",
+                   request_id=request_id)
 
 
 class BodyLimit:

@@ -29,12 +29,13 @@ import os
 import resource
 import threading
 import time
+import traceback
 import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
-from .errors import SolverTimeout, TooLarge, WorkerLost
+from .errors import SolverTimeout, SynthError, TooLarge, WorkerLost
 
 T = TypeVar("T")
 log = logging.getLogger("synth.execution")
@@ -269,7 +270,7 @@ def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
         try:
             outcome: tuple[bool, Any] = (True, run_task(fn, args, kwargs))
         except BaseException as exc:  # every outcome goes back; the worker lives on
-            outcome = (False, exc.with_traceback(None))
+            outcome = (False, _with_worker_traceback(exc))
         del fn, args, kwargs
         try:
             conn.send(outcome)
@@ -279,6 +280,18 @@ def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
             conn.send((False, RuntimeError(f"the task's outcome could not be sent back "
                                            f"({type(exc).__name__}: {exc})")))
         del outcome
+
+
+def _with_worker_traceback(exc: BaseException) -> BaseException:
+    """``exc`` ready to go back to the web process: an unexpected one (not the engine's own, typed errors) carries
+    the worker's traceback as text in ``worker_traceback`` (a traceback object does not pickle), so the web
+    process's log shows where in the engine it arose."""
+    if not isinstance(exc, SynthError):
+        try:
+            exc.worker_traceback = traceback.format_exc()  # type: ignore[attr-defined]
+        except AttributeError:
+            pass   # an exception type without a __dict__: it goes back without it
+    return exc.with_traceback(None)
 
 
 class _Slot:

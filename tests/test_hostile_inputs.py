@@ -152,3 +152,116 @@ def test_extreme_floats_answer_finite_numbers_or_a_problem(client: SynthClient, 
     path, body = case
     r = client.http.post(path, content=json.dumps(body), headers={"content-type": "application/json"})
     checker(client.http)(r, path)
+
+
+#: Positive numbers a careless caller sends where a size, a speed or a ratio goes: subnormals (their squares and
+#: products underflow to zero) and near-zero normals (a speed band or a step lost in rounding).
+TINY_POSITIVES = [5e-324, 1e-310, 2.2250738585072014e-308, 1e-200, 1e-20, 1e-16]
+
+
+def _documented_examples() -> list[tuple[str, Any]]:
+    """Every POST operation's documented request examples, from the service's own OpenAPI document, but those of
+    the operations that take seconds per request (machine design and optimisation, path synthesis) and of the
+    library and studies (their bodies hold requests, which the operations' own examples cover)."""
+    from api.app import app
+
+    doc = app.openapi()
+    slow = ("/v1/machines/", "/v1/synthesis/path", "/v1/studies", "/v1/library", "/v1/auth", "/v1/users")
+    out: list[tuple[str, Any]] = []
+    for path, item in doc["paths"].items():
+        content = item.get("post", {}).get("requestBody", {}).get("content", {}).get("application/json", {})
+        if not content or "{" in path or path.startswith(slow):
+            continue
+        examples = [e["value"] for e in content.get("examples", {}).values()]
+        if not examples and "$ref" in content.get("schema", {}):
+            examples = doc["components"]["schemas"][content["schema"]["$ref"].split("/")[-1]].get("examples", [])
+        out += [(path, e) for e in examples if _numbers(e)]
+    return out
+
+
+DOCUMENTED = _documented_examples()
+
+
+@st.composite
+def tiny(draw: st.DrawFn) -> tuple[str, Any]:
+    """A documented example with one of its positive numbers set to a tiny positive."""
+    path, example = draw(st.sampled_from(DOCUMENTED))
+    body = copy.deepcopy(example)
+    leaves = [p for p in _numbers(body) if _at(body, p) > 0]
+    assume(leaves)
+    where = draw(st.sampled_from(leaves))
+    target = body
+    for key in where[:-1]:
+        target = target[key]
+    target[where[-1]] = draw(st.sampled_from(TINY_POSITIVES))
+    return path, body
+
+
+def _at(node: Any, where: tuple[Any, ...]) -> Any:
+    for key in where:
+        node = node[key]
+    return node
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=FIXTURE)
+@given(case=tiny())
+def test_tiny_positive_numbers_answer_finite_numbers_or_a_problem(client: SynthClient, case: tuple[str, Any]) -> None:
+    path, body = case
+    r = client.http.post(path, content=json.dumps(body), headers={"content-type": "application/json"})
+    checker(client.http)(r, path)
+
+
+def _example(path: str, where: str | None = None) -> dict[str, Any]:
+    """The first documented example of ``path`` (the first holding the dotted path ``where``)."""
+    for p, example in DOCUMENTED:
+        if p == path:
+            try:
+                _ = _at(example, tuple(int(k) if k.isdigit() else k for k in where.split("."))) if where else None
+            except (KeyError, IndexError, TypeError):
+                continue
+            return copy.deepcopy(example)
+    raise LookupError(path)
+
+
+def _set(body: dict[str, Any], where: str, value: Any) -> dict[str, Any]:
+    keys = [int(k) if k.isdigit() else k for k in where.split(".")]
+    _at(body, tuple(keys[:-1]))[keys[-1]] = value
+    return body
+
+
+FOURBAR = {"type": "fourbar", "coupler_length_m": 0.25, "crank_length_m": 0.1, "ground_length_m": 0.3,
+           "rocker_length_m": 0.25}
+
+
+# Each case once answered 500 (a division by zero or a NaN deep in the engine); each now answers 422 naming the
+# field the tiny number was sent in.
+@pytest.mark.parametrize(("path", "where", "value", "field"), [
+    ("/v1/flywheel", "delta", 1e-20, "delta"),
+    ("/v1/flywheel", "delta", 1e-16, "delta"),
+    ("/v1/balancing/engine", "speed_rpm", 1e-310, "speed_rpm"),
+    ("/v1/flywheel", "tables.crank_angle_deg.1", 1e-310, "tables.crank_angle_deg[1]"),
+    ("/v1/flywheel", "elastic_drive.stiffness_Nm_rad", 5e-324, "elastic_drive.stiffness_Nm_rad"),
+    ("/v1/flywheel", "motor.rotor_inertia_kgm2", 5e-324, "motor.rotor_inertia_kgm2"),
+    ("/v1/cams/analysis", "follower.arm_length_m", 5e-324, "follower.arm_length_m"),
+])
+def test_a_tiny_number_that_broke_the_engine_is_refused_naming_its_field(
+        client: SynthClient, path: str, where: str, value: float, field: str) -> None:
+    body = _set(_example(path, where), where, value)
+    if path == "/v1/flywheel" and where == "delta":
+        body = {"delta": value, "mean_speed_rpm": 300, "mechanism": FOURBAR}
+    r = client.http.post(path, json=body)
+    problem = checker(client.http)(r, path)
+    assert r.status_code == 422 and field.split("[")[0].split(".")[-1] in problem["field"], problem
+
+
+@pytest.mark.parametrize("query", ["since=0001-01-01T00:00:00", "until=0001-01-01T00:00:00",
+                                   "since=9999-12-31T23:59:59-14:00", "until=1969-12-31T23:59:59Z",
+                                   "since=0001-01-01T00:00:00%2B14:00"])
+def test_a_date_at_the_calendar_s_edge_is_refused_naming_the_query(client: SynthClient, query: str) -> None:
+    r = client.http.get(f"/v1/library/revisions?{query}")
+    assert r.status_code == 422 and r.json()["field"] == query.split("=")[0], r.text
+
+
+@pytest.mark.parametrize("query", ["since=1970-01-01T00:00:00Z", "until=9999-12-31T23:59:59"])
+def test_a_date_within_the_library_s_times_is_searched(client: SynthClient, query: str) -> None:
+    assert client.http.get(f"/v1/library/revisions?{query}").status_code == 200

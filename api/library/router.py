@@ -29,6 +29,7 @@ from mechsynth_client.schemas.library import (
     SignIn,
 )
 from store import User
+from synth.errors import InvalidInput
 from store.library import Library
 
 from ..deps import SettingsDep, SolverDep
@@ -115,6 +116,28 @@ async def list_projects(library: LibraryDep) -> list[ProjectOut]:
     return [ProjectOut.from_project(p) for p in await asyncio.to_thread(library.projects)]
 
 
+# The library keeps times as seconds since 1970 (UTC); a query's date outside 1970..9999 is refused, never turned
+# into a local time the platform cannot represent.
+_EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
+
+
+def _seconds(when: datetime | None, field: str) -> float | None:
+    """A query's date as seconds since 1970 (a date without a zone is UTC); 422 naming ``field`` outside
+    1970-01-01..9999-12-31."""
+    if when is None:
+        return None
+    aware = when if when.tzinfo is not None else when.replace(tzinfo=timezone.utc)
+    try:
+        seconds = (aware - _EPOCH).total_seconds()
+    except (OverflowError, ValueError) as exc:
+        raise InvalidInput(f"{field}={when.isoformat()} cannot be compared with the library's times",
+                           field=field) from exc
+    if not 0.0 <= seconds <= 253402300799.0:
+        raise InvalidInput(f"{field}={when.isoformat()} is outside 1970-01-01..9999-12-31, the library's times",
+                           field=field)
+    return seconds
+
+
 @router.get("/revisions", response_model=list[RevisionOut], responses=_problems())
 async def search_revisions(
     library: LibraryDep,
@@ -136,7 +159,7 @@ async def search_revisions(
     """Search the library: revisions matching every filter given, newest first."""
     found = await asyncio.to_thread(partial(
         library.search, project=project, name=name, endpoint=endpoint, author=author,
-        since=None if since is None else since.timestamp(), until=None if until is None else until.timestamp(),
+        since=_seconds(since, "since"), until=_seconds(until, "until"),
         passed=passed, state=state, deviation=deviation, latest=latest, limit=limit, offset=offset))
     return [RevisionOut.from_info(i) for i in found]
 

@@ -21,6 +21,7 @@ shaft) for the moment.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -69,6 +70,10 @@ class EngineSpec:
             raise InvalidInput("masses must not be negative", field="reciprocating_mass_kg")
         if not self.speed > 0:
             raise InvalidInput("the crank speed must be positive", field="speed_rpm")
+        if not self.speed**2 >= sys.float_info.min:
+            # the inertia forces go as speed²: below this they underflow and the orders' mass·radius is 0/0
+            raise InvalidInput(f"the crank speed {self.speed:g} rad/s is too small to compute with (its square "
+                               "underflows): give it in rpm as turning", field="speed_rpm")
         if not self.cylinders:
             raise InvalidInput("an engine needs at least one cylinder", field="cylinders")
         if len(self.cylinders) > MAX_CYLINDERS:

@@ -116,6 +116,11 @@ def to_follower_frame(points: FloatArray, theta: FloatArray) -> FloatArray:
 def oscillating_start(follower: Follower, prime_radius: float) -> float:
     """The arm angle gamma0 [rad] at which the roller centre (or knife edge) lies on the prime circle."""
     d, arm = follower.pivot_distance, follower.arm_length
+    if not 2.0 * d * arm > 0:
+        # lengths so small their product underflows (subnormal doubles): no angle can be computed from them
+        short = "follower.arm_length_m" if arm <= d else "follower.pivot_distance_m"
+        raise InvalidInput(f"an arm of {arm:g} m pivoted {d:g} m from the cam centre is too small to compute "
+                           "with: give both in metres (their product underflows)", field=short)
     cos_g = (d * d + arm * arm - prime_radius**2) / (2.0 * d * arm)
     if not -1.0 < cos_g < 1.0:
         raise InvalidInput(f"an arm of {arm:g} m pivoted {d:g} m from the cam centre cannot reach the prime "

@@ -20,6 +20,10 @@ from ..kinematics import MAX_SAMPLES
 from ..model import FloatArray
 
 
+# The closest two crank angles of a table may be, as a fraction of the cycle: closer, the energy's slopes
+# between them are dominated by rounding (and a subnormal step divides to infinity).
+MIN_STEP = 1e-12
+
 @dataclass(frozen=True, slots=True)
 class ReducedCycle:
     """Reduced inertia and reduced torque of one machine cycle at ``N`` samples, periodic in ``period``.
@@ -50,6 +54,9 @@ class ReducedCycle:
                 raise InvalidInput(f"{name} must have one value per crank angle ({n})", field=name)
         if not np.all(np.diff(self.phi) > 0) or self.phi[-1] - self.phi[0] >= self.period:
             raise InvalidInput("crank angles must increase strictly within one cycle", field="crank_angle_deg")
+        if not np.all(np.diff(self.phi) >= MIN_STEP * self.period):
+            raise InvalidInput(f"crank angles closer than {MIN_STEP:g} of the cycle: the slopes between them are "
+                               "lost in rounding", field="crank_angle_deg")
         if np.any(self.inertia < 0):
             raise InvalidInput("reduced inertia must not be negative", field="reduced_inertia_kgm2")
 
@@ -168,6 +175,10 @@ def cycle_from_tables(
         raise InvalidInput("crank_angle_deg needs at least three angles", field=field)
     if not np.all(np.isfinite(phi)) or not np.all(np.diff(phi) > 0):
         raise InvalidInput("crank_angle_deg must increase strictly", field=field)
+    if not np.all(np.diff(phi) >= MIN_STEP * 360.0):
+        at = int(np.argmin(np.diff(phi))) + 1
+        raise InvalidInput(f"crank_angle_deg[{at}] is within {MIN_STEP * 360.0:g}° of the angle before it: the "
+                           "slopes between them are lost in rounding", field=f"{field}[{at}]")
     n = phi.size
     inertia = _table(reduced_inertia, "reduced_inertia_kgm2", n)
     total = _table(reduced_torque, "reduced_torque_Nm", n)

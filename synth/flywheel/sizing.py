@@ -15,12 +15,21 @@ from ..errors import InvalidInput
 from .cycle import ReducedCycle
 
 
+# The narrowest speed band the sizing resolves: w_m(1 ± delta/2) keeps about four digits of delta here.
+MIN_DELTA = 1e-12
+
+
 def speed_band(mean_speed: float, delta: float) -> tuple[float, float]:
     """Extreme speeds w_min, w_max = w_m (1 ∓ delta/2) [rad/s] whose mean is w_m and whose spread is delta·w_m."""
     if not mean_speed > 0:
         raise InvalidInput("mean speed must be positive", field="mean_speed_rad_s")
     if not 0 < delta < 2:
         raise InvalidInput("delta must lie in (0, 2)", field="delta")
+    if delta < MIN_DELTA:
+        # w_max² - w_min² = 2·delta·w_m²: below this it is lost in the rounding of w_m² (16 digits), and the
+        # sizing's tangents would coincide
+        raise InvalidInput(f"delta {delta:g} is below {MIN_DELTA:g}: a speed band this narrow cannot be told from "
+                           "rounding in double precision", field="delta")
     return mean_speed * (1 - delta / 2), mean_speed * (1 + delta / 2)
 
 

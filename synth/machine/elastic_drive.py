@@ -22,6 +22,7 @@ states, so every run reports its energy balance.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -98,7 +99,14 @@ def link_stiffness(elements: tuple[ElasticElement, ...]) -> float:
                     raise InvalidInput(f"a shaft's {name} must be positive", field=f"elements.{k}.{name}")
         elif not (math.isfinite(e.stiffness) and e.stiffness > 0):
             raise InvalidInput("a coupling's stiffness must be positive", field=f"elements.{k}.stiffness_Nm_rad")
-        inverse += 1.0 / e.reduced_stiffness()
+        reduced = e.reduced_stiffness()
+        if not (reduced >= sys.float_info.min and math.isfinite(1.0 / reduced)):
+            # subnormal or overflowing: 1/c_k would be infinite or lost, and the link's stiffness with it
+            culprit = "speed_ratio" if e.speed_ratio < 1 else (
+                "stiffness_Nm_rad" if e.kind != "shaft" else "diameter_m")
+            raise InvalidInput(f"element {k} reduced to the crank has a stiffness of {reduced:g} N·m/rad, beyond "
+                               "what the model computes with", field=f"elements.{k}.{culprit}")
+        inverse += 1.0 / reduced
     return 1.0 / inverse
 
 
@@ -297,6 +305,14 @@ def elastic_drive(cycle: MachineCycle, motor: Motor, stiffness: float, *, machin
     if not np.all(j2_all > 0):
         raise InvalidInput("the machine has no inertia at some crank angles", field="machine_inertia_kgm2")
     j2 = float(np.mean(j2_all))
+    if not (math.isfinite(stiffness / j1) and stiffness / j1 >= sys.float_info.min):
+        raise InvalidInput(f"the motor's side (inertia {j1:g} kg·m² at the crank) and the link's stiffness "
+                           f"({stiffness:g} N·m/rad) give no natural frequency the model computes with",
+                           field="motor.rotor_inertia_kgm2" if j1 < 1e-100 else "stiffness_Nm_rad")
+    if not (math.isfinite(stiffness / j2) and stiffness / j2 >= sys.float_info.min
+            and math.isfinite(float(np.max(cycle.load_torque, initial=0.0)) / stiffness)):
+        raise InvalidInput(f"the link's stiffness {stiffness:g} N·m/rad is beyond what the model computes with "
+                           f"against the machine's inertia ({j2:g} kg·m²)", field="stiffness_Nm_rad")
     wn = two_mass_frequency(stiffness, j1, j2)
     b = 2 * damping_ratio * math.sqrt(stiffness * j1 * j2 / (j1 + j2))
     # the same frequency from the two-mass matrix's eigenvalues: one zero (rigid rotation), one w²
