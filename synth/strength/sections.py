@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -134,6 +135,10 @@ class SectionFamily:
         return _candidates(self)
 
 
+# The thinnest wall (of the diameter) or flattest bar (height over width, and its inverse) a family may ask for.
+MIN_RATIO = 1e-3
+
+
 @functools.lru_cache(maxsize=256)
 def _candidates(family: SectionFamily) -> tuple[Section, ...]:
     """The family's sections, lightest first (computed once per family: every pass of the sizing asks)."""
@@ -141,6 +146,11 @@ def _candidates(family: SectionFamily) -> tuple[Section, ...]:
         return tuple(ipe(n) for n in IPE_TABLE)
     if not (math.isfinite(family.ratio) and family.ratio > 0):
         raise InvalidInput(f"section ratio must be positive, got {family.ratio!r}", field="section.ratio")
+    if not MIN_RATIO <= family.ratio <= 1 / MIN_RATIO:
+        # a wall a thousandth of the tube, a bar a thousand times wider than high: a sheet, not a link (and its
+        # second moments underflow for subnormal ratios)
+        raise InvalidInput(f"section ratio {family.ratio:g} is outside {MIN_RATIO:g}..{1 / MIN_RATIO:g}",
+                           field="section.ratio")
     if family.kind == "tube" and family.ratio >= 0.5:
         raise InvalidInput("a tube's wall/diameter ratio must be below 0.5", field="section.ratio")
     sizes = [s * MM for s in SIZE_SERIES_MM if family.min_size - 1e-12 <= s * MM <= family.max_size + 1e-12]
@@ -159,4 +169,7 @@ def _candidates(family: SectionFamily) -> tuple[Section, ...]:
 def _positive(value: float, name: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise InvalidInput(f"section {name} must be a positive finite number, got {value!r}", field=f"section.{name}")
+    if not value**4 >= sys.float_info.min:
+        # a second moment goes as size⁴: below this it underflows and every stress divides by zero
+        raise InvalidInput(f"section {name} {value:g} m is too small to compute with", field=f"section.{name}")
     return float(value)
