@@ -29,6 +29,7 @@ LAYERS: dict[str, float] = {
     "mechsynth_client": 6,
     "api": 7,
     "synth.cams": 3,
+    "synth.strength": 3.6,
 }
 
 

@@ -29,7 +29,7 @@ from synth.machine.optimise_linkage import optimise_linkage
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
-from ..translate.strength import sizing_call, sizing_out
+from ..translate.strength import sizing_call, sizing_out, with_strength
 from mechsynth_client.schemas.strength import StrengthSizingIn
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (
@@ -319,8 +319,9 @@ def machine_design(b: MachineIn, lim: Limits) -> Plan:
     """POST /v1/machines/design: the design and, when asked, its alternatives; a summary PNG or the PDF design
     record, titled and identified by the request's hash."""
     record = DesignRecord.of(b.model_dump(mode="json"), name=b.name, version=SERVICE_VERSION)
+    spec = with_strength(b.to_engine(lim.max_stages), b.strength)
     return Plan(Render(design_out, design_file, model_extra=(record,), export_extra=(record,)), design_machine,
-                (b.to_engine(lim.max_stages), b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
+                (spec, b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
                 stem="machine-design")
 
 

@@ -20,6 +20,7 @@ from synth.synthesis.plots import extremes_png, path_png
 from mechsynth_client.schemas.balancing import RotorOut
 from mechsynth_client.schemas.flywheel import FlywheelOut
 from mechsynth_client.schemas.machine import MachineDesignOut
+from ..translate.strength import machine_design_out
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
 #: A flywheel with its warnings and, when asked, the elastic drive with that flywheel.
@@ -126,7 +127,7 @@ def design_machine(spec: synth.MachineSpec, alternatives: bool, time_limit_s: fl
 
 def design_out(pair: DesignAndAlternatives, record: DesignRecord) -> MachineDesignOut:
     """The design's JSON answer, identified by its request's hash."""
-    return MachineDesignOut.from_engine(*pair, request_sha256=record.request_sha256)
+    return machine_design_out(pair[0], MachineDesignOut.from_engine(*pair, request_sha256=record.request_sha256))
 
 
 def design_file(pair: DesignAndAlternatives, fmt: str, record: DesignRecord) -> bytes:

@@ -29,6 +29,7 @@ from .common import (
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
 from .rating import SizedStageOut, StrengthIn, sized_stages_out
+from .strength import MachineStrengthIn, MachineStrengthOut
 from .foundation import (
     IsolationOut,
     MachineElasticDriveIn,
@@ -248,6 +249,11 @@ class MachineIn(LinkageRequest):
 
     model_config = ConfigDict(json_schema_extra={"examples": [PRESS_EXAMPLE, FOURBAR_MACHINE_EXAMPLE, SHAPER_EXAMPLE],
                                                  **exactly_one("delta", "machine_type")})
+
+    strength: MachineStrengthIn | None = Field(
+        None, description="Size the machine's parts for strength: every bar of the linkage (to the fixed point of "
+        "its own masses, before balancing, so that balancing, the flywheel and the drive see the real links), "
+        "every revolute joint's pin and bearing, the crank shaft and its keys; their checks join `checks`.")
 
     def to_engine(self, max_stages: int) -> synth.MachineSpec:
         """Engine machine (degrees and rpm become radians and rad/s here)."""
@@ -615,6 +621,8 @@ class MachineDesignOut(BaseModel):
                                                          "with its elastic link, as /v1/machines/elastic-drive "
                                                          "answers (its checks included), and whether the gears "
                                                          "were sized for its torque; null otherwise.")
+    strength: MachineStrengthOut | None = Field(None, description="With `strength`: the links, pins, bearings, "
+                                                "crank shaft and keys as built, each with its checks.")
     regulation: MachineRegulationOut | None = Field(None, description="With `regulation`: the speed after the "
                                                     "load step, as /v1/machines/regulation answers; null "
                                                     "otherwise.")

@@ -85,6 +85,7 @@ from .simulate import MachineCycle, MachineMotion, simulate_machine
 from .spec import BALANCING_MODES, BalancingMode, MachineSpec
 from .stages import Stage as DesignStage
 from .stages import gathered, refuse_likely_mistakes, stage, staged
+from .strength import MachineStrength, parts_of_machine, size_machine_links
 
 #: Least mean power [W] worth choosing a motor for: below it the linkage does no work to speak of.
 MIN_POWER = 1e-3
@@ -166,7 +167,9 @@ class MachineDesign:
     for the torque its pinion shaft passes on over the simulated cycle (Miner's rule; None when the drive asks
     for no sizing), the elastic link's where it is larger; ``running`` the stages' efficiencies, the start-up
     and the run-down; ``foundation`` the frame on its isolators, ``elastic`` the drive with its elastic link and
-    ``regulation`` the load step, each when the machine asks for it (their limits are among ``checks``).
+    ``regulation`` the load step, each when the machine asks for it (their limits are among ``checks``);
+    ``strength`` the parts as built (links sized before balancing, re-checked with everything else on
+    ``balanced``; their checks among ``checks``).
     """
 
     spec: MachineSpec
@@ -191,6 +194,7 @@ class MachineDesign:
     foundation: Isolation | None = None
     elastic: ElasticInDesign | None = None
     regulation: RegulationInDesign | None = None
+    strength: MachineStrength | None = None
 
     @property
     def running_checks(self) -> tuple[MachineCheck, ...]:
@@ -603,6 +607,12 @@ def design_machine(machine: MachineSpec, *, time_limit_s: float = 20.0) -> Machi
 
 
 def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
+    sizing = None
+    if machine.strength is not None:
+        # the links sized first, so that balancing, the flywheel and the drive see the links as built
+        with stage("strength"):
+            sizing = size_machine_links(machine.strength, machine.linkage, machine.speed, machine.samples)
+        machine = replace(machine, linkage=sizing.linkage)
     with stage("analysis"):
         before = analyse(machine.linkage, machine.speed, samples=machine.samples, friction=machine.friction)
     with stage("balancing"):
@@ -634,7 +644,15 @@ def _design(machine: MachineSpec, time_limit_s: float) -> MachineDesign:
             f"motor {design.drive.motor.name} chosen from the mean power fails {', '.join(heavy)} on the simulated "
             f"cycle; replaced by {bigger.name}", "W", stage="motor"))
         motor_name = bigger.name
-    return _around(machine, replace(design, warnings=tuple(replaced) + design.warnings))
+    design = _around(machine, replace(design, warnings=tuple(replaced) + design.warnings))
+    if machine.strength is None or sizing is None:
+        return design
+    with stage("strength"):
+        parts = parts_of_machine(machine.strength, sizing, design.balanced)
+    checks = [MachineCheck(f"{c.name}:{c.part}", c.value, c.limit, c.passed, c.meaning, c.unit,
+                           f"{c.part}: {c.name.replace('_', ' ')}") for c in parts.checks]
+    return replace(design, checks=design.checks + tuple(checks), warnings=design.warnings + parts.warnings,
+                   strength=parts)
 
 
 #: The request's field each block's limit is given in.

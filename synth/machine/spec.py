@@ -13,6 +13,7 @@ from ..friction import PairFriction
 from ..gearing import CatalogueMotor, InertiaModel, SizingRules, Stage, ToothRules
 from ..model import Linkage
 from .foundation_chain import ElasticDriveChoice, FoundationChoice, RegulationChoice
+from .strength import StrengthChoice
 
 BalancingMode = Literal["none", "static", "full", "optimal"]
 Placement = Literal["crank", "motor", "lightest"]
@@ -92,6 +93,7 @@ class MachineSpec:
     max_rundown_time: float | None = None
     foundation: FoundationChoice | None = None
     elastic_drive: ElasticDriveChoice | None = None
+    strength: StrengthChoice | None = None
     regulation: RegulationChoice | None = None
 
     def validate(self) -> None:

@@ -19,9 +19,9 @@ from ..model import Linkage
 from ..warnings import DesignWarning, check_linkage
 
 Stage = Literal["analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation", "foundation",
-                "elastic_drive", "regulation"]
+                "elastic_drive", "regulation", "strength"]
 STAGES: tuple[Stage, ...] = ("analysis", "balancing", "drive", "teeth", "flywheel", "motor", "simulation",
-                             "foundation", "elastic_drive", "regulation")
+                             "foundation", "elastic_drive", "regulation", "strength")
 
 #: Likely-mistake codes that refuse a machine before its chain: the numbers are in other units, and the chain
 #: would otherwise fail deep inside a solver instead of saying so.
@@ -47,6 +47,8 @@ _SOLVER_ADVICE: dict[str, str] = {
                   "damping",
     "elastic_drive": "the drive with its elastic link finds no steady motion; check the link's stiffness and the "
                      "motor-side inertia",
+    "strength": "the links' sections did not settle: the sized masses keep changing the loads that size them; "
+                "give the links fixed sections or another shape",
     "regulation": "the speed after the load step could not be followed; a smaller step, a larger motor or other "
                   "regulator gains make it possible",
 }
