@@ -29,7 +29,8 @@ from synth.machine.optimise_linkage import optimise_linkage
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
-from ..translate.strength import sizing_call, sizing_out, with_strength
+from ..translate.machine_strength import with_strength
+from ..translate.strength import sizing_call, sizing_out
 from mechsynth_client.schemas.strength import StrengthSizingIn
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (

@@ -20,7 +20,7 @@ from synth.synthesis.plots import extremes_png, path_png
 from mechsynth_client.schemas.balancing import RotorOut
 from mechsynth_client.schemas.flywheel import FlywheelOut
 from mechsynth_client.schemas.machine import MachineDesignOut
-from ..translate.strength import machine_design_out
+from ..translate.machine_strength import machine_design_out
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
 #: A flywheel with its warnings and, when asked, the elastic drive with that flywheel.

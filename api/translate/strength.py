@@ -2,30 +2,16 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any
 
 import synth
 from synth import strength
 from synth.strength.links import CHECKS
-from synth.machine.strength import MachineStrength, StrengthChoice
-from synth.strength.checks import PartCheck
-from synth.strength.crank_shaft import CrankShaftLayout
-from synth.strength.joints import JointPartSpec, JointParts
-from synth.strength.pins import PinJoint
 from synth.strength.sections import MM
-from synth.strength.shafts import ShaftSpec
 
 from mechsynth_client.schemas.common import SummaryOut
-from mechsynth_client.schemas.machine import MachineDesignOut
 from mechsynth_client.schemas.strength import (
-    CrankShaftOut,
-    JointPartOut,
-    KeyOut,
-    MachineStrengthIn,
-    MachineStrengthOut,
-    PartCheckOut,
     LinkCheckOut,
     LinkSectionOut,
     MaterialIn,
@@ -108,11 +94,11 @@ def sizing_call(body: StrengthSizingIn) -> tuple[Any, ...]:
         raise synth.InvalidInput("the fatigue check needs the whole cycle: give samples, not crank angles",
                                  field="crank_angle_deg")
     linkage = body.to_linkage()
-    bars = tuple(n for n in linkage.mechanism.topology.links if _is_bar(linkage, n))
+    bars = tuple(n for n in linkage.mechanism.topology.links if is_bar(linkage, n))
     return linkage, body.omega_rad_s, specs_from(body, bars), limits_from(body.limits)
 
 
-def _is_bar(linkage: synth.Linkage, link: str) -> bool:
+def is_bar(linkage: synth.Linkage, link: str) -> bool:
     """A link with two or more joints (a block has one point)."""
     points = {j.point for j in linkage.mechanism.topology.joints if link in j.bodies}
     return len(points) >= 2
@@ -147,71 +133,3 @@ def sizing_out(r: strength.LinkStrength) -> StrengthSizingOut:
         summary=SummaryOut.from_engine(r.analysis.summary()), notes=list(r.warnings))
 
 
-def machine_strength_from(m: MachineStrengthIn, linkage: synth.Linkage) -> StrengthChoice:
-    """Engine strength choice of a machine's ``strength`` block."""
-    bars = tuple(n for n in linkage.mechanism.topology.links if _is_bar(linkage, n))
-    specs = specs_from(m, bars, "strength.")
-    j = m.joints
-    joint = JointPartSpec(material_from(j.pin_material, "strength.joints.pin_material"),
-                          PinJoint(shear_planes=j.shear_planes), bearing=j.bearing,
-                          bushing_material=j.bushing_material, life_hours=j.life_hours)
-    s = m.crank_shaft
-    r = linkage.mechanism.crank
-    span = s.span_m if s.span_m is not None else r
-    layout = CrankShaftLayout(span=span,
-                              crank_position=s.crank_position_m if s.crank_position_m is not None else span + 0.5 * r,
-                              drive_position=s.drive_position_m if s.drive_position_m is not None else 0.5 * span)
-    return StrengthChoice(
-        default_link=next(iter(specs.values())) if specs else StrengthChoice().default_link, links=specs,
-        limits=limits_from(m.limits), joint=joint, shaft=ShaftSpec(span=span, design_factor=s.design_factor),
-        shaft_material=material_from(s.material, "strength.crank_shaft.material"), layout=layout,
-        key_pressure=None if m.key_pressure_MPa is None else m.key_pressure_MPa * MPA)
-
-
-def with_strength(spec: synth.MachineSpec, m: MachineStrengthIn | None) -> synth.MachineSpec:
-    """The machine with its strength block, when the request has one."""
-    if m is None:
-        return spec
-    return dataclasses.replace(spec, strength=machine_strength_from(m, spec.linkage))
-
-
-def _part_check(c: PartCheck) -> PartCheckOut:
-    return PartCheckOut(part=c.part, name=c.name, value=c.value, limit=c.limit, unit=c.unit, passed=c.passed,
-                        meaning=c.meaning)
-
-
-def _joint_out(j: JointParts) -> JointPartOut:
-    if j.rolling is not None:
-        bearing, life = j.rolling.bearing.designation, j.rolling.life_hours
-    else:
-        assert j.bushing is not None
-        bearing = f"{j.bushing.material.name} bushing {j.bushing.diameter / MM:g}x{j.bushing.length / MM:g} mm"
-        life = None
-    return JointPartOut(joint=j.joint, pin_diameter_mm=j.pin.diameter / MM, pin_governing=j.pin.governing,
-                        load_kind=j.pin.load_kind, max_force_N=j.pin.force_max, bearing=bearing,
-                        life_hours=_finite(life) if life is not None else None, passed=j.passed)
-
-
-def machine_strength_out(s: MachineStrength) -> MachineStrengthOut:
-    """Wire form of the machine's parts."""
-    shaft, layout = s.crank_shaft, s.layout
-    return MachineStrengthOut(
-        links=[link_out(x) for x in s.links.values()],
-        iterations=[SizingIterationOut(masses_kg=i.masses, sections=i.sections, largest_change_kg=i.largest_change)
-                    for i in s.sizing.iterations],
-        link_mass_kg=s.link_mass, joints=[_joint_out(j) for j in s.joints.values()],
-        crank_shaft=CrankShaftOut(diameter_mm=shaft.diameter / MM, diameter_required_mm=shaft.diameter_required / MM,
-                                  fatigue_safety=min(shaft.fatigue_safety, 1e300),
-                                  yield_safety=min(shaft.yield_safety, 1e300), span_m=layout.span,
-                                  crank_position_m=layout.crank_position),
-        keys=[KeyOut(hub=k.hub, width_mm=k.section.b / MM, height_mm=k.section.h / MM, length_mm=k.length / MM,
-                     max_pressure_MPa=float(k.pressure.max()) / MPA, passed=all(c.passed for c in k.checks))
-              for k in s.keys.values()],
-        checks=[_part_check(c) for c in s.checks])
-
-
-def machine_design_out(design: synth.MachineDesign, out: MachineDesignOut) -> MachineDesignOut:
-    """A machine design's answer with its ``strength`` block filled in."""
-    if design.strength is None:
-        return out
-    return out.model_copy(update={"strength": machine_strength_out(design.strength)})

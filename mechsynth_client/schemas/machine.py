@@ -29,7 +29,7 @@ from .common import (
 from .flywheel import FlywheelOut, Ratio
 from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
 from .rating import SizedStageOut, StrengthIn, sized_stages_out
-from .strength import MachineStrengthIn, MachineStrengthOut
+from .machine_strength import MachineStrengthIn, MachineStrengthOut
 from .foundation import (
     IsolationOut,
     MachineElasticDriveIn,
@@ -253,7 +253,8 @@ class MachineIn(LinkageRequest):
     strength: MachineStrengthIn | None = Field(
         None, description="Size the machine's parts for strength: every bar of the linkage (to the fixed point of "
         "its own masses, before balancing, so that balancing, the flywheel and the drive see the real links), "
-        "every revolute joint's pin and bearing, the crank shaft and its keys; their checks join `checks`.")
+        "every revolute joint's pin and bearing, the crank shaft with its bearings and keys; their checks join "
+        "`checks`.")
 
     def to_engine(self, max_stages: int) -> synth.MachineSpec:
         """Engine machine (degrees and rpm become radians and rad/s here)."""

@@ -10,7 +10,6 @@ from pydantic.config import JsonDict
 from .common import FOURBAR_EXAMPLE, SIX_BAR_PRESS_EXAMPLE, LinkageRequest, StrictModel, SummaryOut
 
 MaterialName = Literal["S235JR", "S355J2", "C45E+N", "C45E+QT", "42CrMo4+QT", "EN AW-6082-T6"]
-BushingName = Literal["sintered_bronze_oil", "cast_bronze_greased", "ptfe_composite_dry", "acetal_dry"]
 _LIMITS = ("yield_strength_MPa", "ultimate_strength_MPa", "fatigue_limit_MPa", "elastic_modulus_GPa", "density_kg_m3")
 
 
@@ -178,100 +177,3 @@ class StrengthSizingOut(BaseModel):
     notes: list[str] = Field(default_factory=list, description="Where the model is stretched (e.g. a plate taken "
                              "as a bar with brackets).")
 
-
-class MachineJointsIn(StrictModel):
-    """How every revolute joint is built: its pin's material and its bearing."""
-
-    pin_material: MaterialIn = Field(default_factory=lambda: MaterialIn(grade="C45E+QT"),
-                                     description="The pins' material (its ultimate strength sets the allowable "
-                                     "stresses by Roloff/Matek's fractions for the cycle's kind of load).")
-    shear_planes: Literal[1, 2] = Field(2, description="1: an overhung pin (single shear); 2: a clevis.")
-    bearing: Literal["bushing", "rolling"] = Field("bushing", description="A plain bushing (p, v, p·v) or a "
-                                                   "rolling bearing from the catalogue (ISO 281 life).")
-    bushing_material: BushingName = Field("sintered_bronze_oil",
-                                          description="The bushings' material (indicative limits).")
-    life_hours: float = Field(20000.0, gt=0, le=1e7, description="Required basic rating life L10h of a rolling "
-                              "bearing [h].")
-
-
-class CrankShaftIn(StrictModel):
-    """The crank shaft between its two bearings A and B; positions from bearing A [m]."""
-
-    material: MaterialIn = Field(default_factory=lambda: MaterialIn(grade="C45E+QT"), description="Its material.")
-    span_m: float | None = Field(None, gt=0, le=10, description="Bearing A to bearing B [m]; default a crank "
-                                 "length.")
-    crank_position_m: float | None = Field(None, ge=0, le=10, description="Where the crank sits [m]; default "
-                                           "overhung half a crank length beyond B.")
-    drive_position_m: float | None = Field(None, ge=0, le=10, description="Where the drive's coupling sits [m]; "
-                                           "default midway between the bearings.")
-    design_factor: float = Field(2.0, ge=1, le=10, description="DE-Goodman design factor n [-].")
-
-
-class MachineStrengthIn(StrengthFields):
-    """The machine's parts sized for strength: its links (to the fixed point, before balancing), every revolute
-    joint's pin and bearing, the crank shaft and its hubs' keys, on the machine as built."""
-
-    joints: MachineJointsIn = Field(default_factory=MachineJointsIn, description="Pins and bearings.")
-    crank_shaft: CrankShaftIn = Field(default_factory=CrankShaftIn, description="The crank shaft and its keys.")
-    key_pressure_MPa: float | None = Field(None, gt=0, le=2000, description="Allowed bearing pressure of the keys "
-                                           "[MPa]; default the shaft material's yield strength over 2.")
-
-
-class PartCheckOut(BaseModel):
-    """One check of a pin, bearing, shaft or key: its value against its limit."""
-
-    part: str = Field(description="The joint, bearing, shaft or hub.")
-    name: str = Field(description="What is checked (e.g. pin_shear, bearing_life, shaft_fatigue, key_pressure).")
-    value: float = Field(description="What the cycle gives, in `unit`.")
-    limit: float = Field(description="Its limit, in `unit`.")
-    unit: str = Field(description="SI unit of value and limit (Pa, m/s, Pa·m/s, h, 1).")
-    passed: bool = Field(description="Within its limit.")
-    meaning: str = Field(description="The check in words.")
-
-
-class JointPartOut(BaseModel):
-    """A revolute joint's pin and bearing."""
-
-    joint: str = Field(description="The joint, by name.")
-    pin_diameter_mm: float = Field(description="The pin's standard diameter [mm].")
-    pin_governing: str = Field(description="The check that set the least pin diameter.")
-    load_kind: str = Field(description="static, pulsating or alternating, from the reaction over the cycle.")
-    max_force_N: float = Field(description="Largest reaction (times K_A) [N].")
-    bearing: str = Field(description="The bushing (material, bore x length) or the rolling bearing's designation.")
-    life_hours: float | None = Field(None, description="A rolling bearing's L10h [h].")
-    passed: bool = Field(description="Every check of the joint met.")
-
-
-class CrankShaftOut(BaseModel):
-    """The crank shaft as sized by DE-Goodman with Marin factors."""
-
-    diameter_mm: float = Field(description="Standard diameter chosen [mm].")
-    diameter_required_mm: float = Field(description="Least diameter any section needs [mm].")
-    fatigue_safety: float = Field(description="Least DE-Goodman factor of safety over its sections [-].")
-    yield_safety: float = Field(description="Least first-cycle yield factor of safety [-].")
-    span_m: float = Field(description="Bearing A to bearing B [m].")
-    crank_position_m: float = Field(description="Where the crank sits from bearing A [m].")
-
-
-class KeyOut(BaseModel):
-    """A hub's DIN 6885-1 key."""
-
-    hub: str = Field(description="The hub on the crank shaft.")
-    width_mm: float = Field(description="Key width b [mm].")
-    height_mm: float = Field(description="Key height h [mm].")
-    length_mm: float = Field(description="Standard key length [mm].")
-    max_pressure_MPa: float = Field(description="Largest flank pressure over the cycle [MPa].")
-    passed: bool = Field(description="Every check of the key met.")
-
-
-class MachineStrengthOut(BaseModel):
-    """The machine's parts as built."""
-
-    links: list[LinkSectionOut] = Field(description="Each bar as sized, checked on the machine as built.")
-    iterations: list[SizingIterationOut] = Field(description="The links' fixed point, on the linkage before "
-                                                 "balancing.")
-    link_mass_kg: float = Field(description="All sized bars [kg].")
-    joints: list[JointPartOut] = Field(description="Every revolute joint's pin and bearing.")
-    crank_shaft: CrankShaftOut = Field(description="The crank shaft.")
-    keys: list[KeyOut] = Field(description="The keys of the crank shaft's hubs.")
-    checks: list[PartCheckOut] = Field(description="Every part's check (they join the machine's checks too).")

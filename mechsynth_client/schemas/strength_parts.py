@@ -38,10 +38,10 @@ class PinIn(StrictModel):
 class BushingLimitsIn(StrictModel):
     """A bushing material of your own, with every limit."""
 
-    name: str = Field("user", min_length=1, max_length=80)
-    pressure_limit_MPa: float = Field(gt=0, le=1000, description="Largest mean pressure F/(d·b) [MPa].")
-    speed_limit_m_s: float = Field(gt=0, le=100, description="Largest sliding speed [m/s].")
-    pv_limit_MPa_m_s: float = Field(gt=0, le=1000, description="Largest cycle-mean p·v [MPa·m/s].")
+    name: str = Field("user", min_length=1, max_length=80, description="Your bushing material's name.")
+    pressure_limit_MPa: float = Field(gt=0, examples=[10], le=1000, description="Largest mean pressure F/(d·b) [MPa].")
+    speed_limit_m_s: float = Field(gt=0, examples=[6], le=100, description="Largest sliding speed [m/s].")
+    pv_limit_MPa_m_s: float = Field(gt=0, examples=[1.75], le=1000, description="Largest cycle-mean p·v [MPa·m/s].")
 
 
 class JointBearingIn(StrictModel):
@@ -72,13 +72,13 @@ class JointPartsIn(StrictModel):
 class RollingBearingIn(StrictModel):
     """One entry of your bearing catalogue."""
 
-    designation: str = Field(min_length=1, max_length=40)
-    type: BearingTypeName
-    bore_mm: float = Field(gt=0, le=2000)
-    outer_mm: float = Field(gt=0, le=3000)
-    width_mm: float = Field(gt=0, le=1000)
-    dynamic_rating_kN: float = Field(gt=0, le=1e5, description="Basic dynamic load rating C [kN].")
-    static_rating_kN: float = Field(gt=0, le=1e5, description="Basic static load rating C0 [kN].")
+    designation: str = Field(min_length=1, max_length=40, description="The catalogue designation.")
+    type: BearingTypeName = Field(description="Bearing type.")
+    bore_mm: float = Field(gt=0, le=2000, examples=[20], description="Bore [mm].")
+    outer_mm: float = Field(gt=0, le=3000, examples=[47], description="Outer diameter [mm].")
+    width_mm: float = Field(gt=0, le=1000, examples=[14], description="Width [mm].")
+    dynamic_rating_kN: float = Field(gt=0, examples=[13.5], le=1e5, description="Basic dynamic load rating C [kN].")
+    static_rating_kN: float = Field(gt=0, examples=[6.55], le=1e5, description="Basic static load rating C0 [kN].")
 
 
 class HubKeyIn(StrictModel):
@@ -87,8 +87,8 @@ class HubKeyIn(StrictModel):
     hub: Literal["crank", "drive", "coupling", "flywheel", "counterweight"] = Field(
         description="The hub: its torque is the driving torque (crank, drive, coupling), the flywheel's swing "
         "about the mean, or none (a counterweight).")
-    hub_length_mm: float = Field(gt=0, le=2000, description="The hub's length, which bounds the key [mm].")
-    allowed_pressure_MPa: float = Field(gt=0, le=2000, description="Allowed pressure on the weaker of hub, key "
+    hub_length_mm: float = Field(gt=0, examples=[60], le=2000, description="The hub's length, which bounds the key [mm].")
+    allowed_pressure_MPa: float = Field(gt=0, examples=[120], le=2000, description="Allowed pressure on the weaker of hub, key "
                                         "and shaft [MPa].")
     form: Literal["A", "B"] = Field("A", description="A: round ends (bearing length l - b); B: square ends.")
     count: Literal[1, 2] = Field(1, description="One key, or two at 180° carrying 1.5 times one.")
@@ -98,10 +98,10 @@ class HubKeyIn(StrictModel):
 class CrankShaftIn(StrictModel):
     """The crank shaft between its bearings A (at 0) and B, sized by DE-Goodman (Shigley)."""
 
-    span_mm: float = Field(gt=0, le=5000, description="Bearing A to bearing B [mm].")
-    crank_position_mm: float = Field(ge=-5000, le=5000, description="The crank along the shaft from A [mm] "
+    span_mm: float = Field(gt=0, examples=[100], le=5000, description="Bearing A to bearing B [mm].")
+    crank_position_mm: float = Field(ge=-5000, examples=[150], le=5000, description="The crank along the shaft from A [mm] "
                                      "(negative: overhung beyond A).")
-    drive_position_mm: float = Field(ge=-5000, le=5000, description="The coupling or drive gear from A [mm].")
+    drive_position_mm: float = Field(ge=-5000, examples=[50], le=5000, description="The coupling or drive gear from A [mm].")
     drive: Literal["coupling", "gear"] = Field("coupling", description="How the torque comes in.")
     pitch_radius_mm: float | None = Field(None, gt=0, le=5000, description="The drive gear's pitch radius [mm].")
     mesh_angle_deg: float = Field(0.0, ge=-360, le=360, description="Direction from the shaft to the mating "
@@ -166,37 +166,37 @@ class PinOut(BaseModel):
     governing: str = Field(description="The check that set the least diameter.")
     force_max_N: float = Field(description="Largest reaction times K_A [N].")
     load_kind: Literal["static", "pulsating", "alternating"] = Field(description="Sets the allowable stresses.")
-    max_shear_MPa: float
-    max_bending_MPa: float
-    max_rod_pressure_MPa: float
-    max_fork_pressure_MPa: float
+    max_shear_MPa: float = Field(description="Largest stress over the cycle [MPa].")
+    max_bending_MPa: float = Field(description="Largest bending stress over the cycle [MPa].")
+    max_rod_pressure_MPa: float = Field(description="Largest bearing pressure in the rod over the cycle [MPa].")
+    max_fork_pressure_MPa: float = Field(description="Largest bearing pressure in each fork cheek over the cycle [MPa].")
 
 
 class BushingOut(BaseModel):
     """A plain bushing on the pin."""
 
-    material: str
-    bore_mm: float
-    length_mm: float
-    max_pressure_MPa: float
-    max_sliding_speed_m_s: float
-    mean_pv_MPa_m_s: float
+    material: str = Field(description="The bushing's material.")
+    bore_mm: float = Field(description="Bore [mm].")
+    length_mm: float = Field(description="Length [mm].")
+    max_pressure_MPa: float = Field(description="Largest pressure over the cycle [MPa].")
+    max_sliding_speed_m_s: float = Field(description="Largest sliding speed [m/s].")
+    mean_pv_MPa_m_s: float = Field(description="The cycle's mean p·v [MPa·m/s].")
 
 
 class RollingBearingOut(BaseModel):
     """A catalogue rolling bearing and its basic rating life over the cycle."""
 
-    designation: str
-    type: str
-    bore_mm: float
-    outer_mm: float
-    width_mm: float
-    dynamic_rating_kN: float
-    static_rating_kN: float
+    designation: str = Field(description="The catalogue designation.")
+    type: str = Field(description="Bearing type.")
+    bore_mm: float = Field(description="Bore [mm].")
+    outer_mm: float = Field(description="Outer diameter [mm].")
+    width_mm: float = Field(description="Width [mm].")
+    dynamic_rating_kN: float = Field(description="Basic dynamic load rating C [kN].")
+    static_rating_kN: float = Field(description="Basic static load rating C0 [kN].")
     mean_load_N: float = Field(description="The cycle's mean load P, weighted by revolutions [N].")
-    peak_load_N: float
+    peak_load_N: float = Field(description="Largest radial load over the cycle [N].")
     revolutions_per_cycle: float = Field(description="Revolutions the rings sweep per cycle [-].")
-    oscillating: bool
+    oscillating: bool = Field(description="The joint only swings (does not turn).")
     swing_deg: float = Field(description="Full swing of an oscillating joint [deg] (360 or more when it turns).")
     life_million_revolutions: float | None = Field(description="L10 [million revolutions]; null: unloaded.")
     life_hours: float | None = Field(description="L10h [h]; null: unloaded or not turning.")
@@ -206,62 +206,62 @@ class RollingBearingOut(BaseModel):
 class JointPartsOut(BaseModel):
     """One revolute joint with its pin and its bearing."""
 
-    joint: str
+    joint: str = Field(description="The joint, by name.")
     links: list[str] = Field(description="The two links it joins (`frame` for the frame).")
-    pin: PinOut
-    bushing: BushingOut | None
-    rolling: RollingBearingOut | None
-    max_relative_speed_rad_s: float
-    passed: bool
+    pin: PinOut = Field(description="The pin.")
+    bushing: BushingOut | None = Field(description="Its plain bushing; null with a rolling bearing.")
+    rolling: RollingBearingOut | None = Field(description="Its rolling bearing; null with a bushing.")
+    max_relative_speed_rad_s: float = Field(description="Largest relative angular speed of its links [rad/s].")
+    passed: bool = Field(description="Every check met.")
 
 
 class ShaftSectionOut(BaseModel):
     """One checked section of the shaft."""
 
-    name: str
-    position_mm: float
-    kf: float
-    kfs: float
-    max_moment_Nm: float
-    max_torque_Nm: float
-    diameter_required_mm: float
+    name: str = Field(description="Name.")
+    position_mm: float = Field(description="From bearing A [mm].")
+    kf: float = Field(description="Fatigue notch factor in bending [-].")
+    kfs: float = Field(description="Fatigue notch factor in torsion [-].")
+    max_moment_Nm: float = Field(description="Largest bending moment over the cycle [N·m].")
+    max_torque_Nm: float = Field(description="Largest torque over the cycle [N·m].")
+    diameter_required_mm: float = Field(description="Least diameter it needs [mm].")
     fatigue_safety: float | None = Field(description="DE-Goodman at the chosen diameter; null when unloaded.")
-    yield_safety: float | None
+    yield_safety: float | None = Field(description="First-cycle yield factor of safety [-]; null when unloaded.")
 
 
 class KeyOut(BaseModel):
     """A hub's DIN 6885-1 key."""
 
-    hub: str
+    hub: str = Field(description="The hub.")
     designation: str = Field(description="e.g. `DIN 6885 A 14x9x56`.")
-    b_mm: float
-    h_mm: float
-    t1_mm: float
-    t2_mm: float
-    length_mm: float
-    max_pressure_MPa: float
-    max_shear_MPa: float
+    b_mm: float = Field(description="Key width b [mm].")
+    h_mm: float = Field(description="Key height h [mm].")
+    t1_mm: float = Field(description="Keyway depth in the shaft t1 [mm].")
+    t2_mm: float = Field(description="Keyway depth in the hub t2 [mm].")
+    length_mm: float = Field(description="Length [mm].")
+    max_pressure_MPa: float = Field(description="Largest pressure over the cycle [MPa].")
+    max_shear_MPa: float = Field(description="Largest stress over the cycle [MPa].")
 
 
 class CrankShaftOut(BaseModel):
     """The crank shaft, its bearings and its keys."""
 
-    diameter_mm: float
-    diameter_required_mm: float
-    endurance_limit_MPa: float
-    fatigue_safety: float | None
-    yield_safety: float | None
-    method: str
-    sections: list[ShaftSectionOut]
+    diameter_mm: float = Field(description="Chosen standard diameter [mm].")
+    diameter_required_mm: float = Field(description="Least diameter it needs [mm].")
+    endurance_limit_MPa: float = Field(description="Marin's endurance limit Se at the chosen diameter [MPa].")
+    fatigue_safety: float | None = Field(description="Least DE-Goodman factor of safety [-]; null when unloaded.")
+    yield_safety: float | None = Field(description="First-cycle yield factor of safety [-]; null when unloaded.")
+    method: str = Field(description="The method and its source.")
+    sections: list[ShaftSectionOut] = Field(description="Every checked section.")
     bearings: list[RollingBearingOut] = Field(description="Bearing A, then B.")
-    keys: list[KeyOut]
+    keys: list[KeyOut] = Field(description="Its hubs' keys.")
 
 
 class PartsOut(BaseModel):
     """The joints' and the crank shaft's parts, every check and every warning."""
 
-    joints: list[JointPartsOut]
-    crank_shaft: CrankShaftOut | None
-    passed: bool
-    checks: list[PartCheckOut]
-    warnings: list[WarningOut]
+    joints: list[JointPartsOut] = Field(description="Every revolute joint's parts.")
+    crank_shaft: CrankShaftOut | None = Field(description="The crank shaft; null when not sized.")
+    passed: bool = Field(description="Every check met.")
+    checks: list[PartCheckOut] = Field(description="Every check of every part.")
+    warnings: list[WarningOut] = Field(description="Named notes on where the models stretch.")

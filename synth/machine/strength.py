@@ -1,6 +1,6 @@
 """The machine's parts sized for strength: its links (to the fixed point, before balancing, so that balancing,
 the flywheel and the drive see the real links), then on the machine as built (balanced, driven) every link's
-checks again, every revolute joint's pin and bearing, the crank shaft and the key of each of its hubs.
+checks again, every revolute joint's pin and bearing, and the crank shaft with its bearings and hub keys.
 
 Each part's checks join the machine's one list of checks; a part that fails one there (a link re-checked with the
 counterweights balancing added, say) is a failed check and a warning, never a silent pass.
@@ -13,38 +13,29 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from ..analysis import Analysis
-from ..strength.checks import PartCheck
-from ..strength.crank_shaft import CrankShaftLayout, crank_shaft_loads, hub_torques
-from ..strength.joints import JointPartSpec, JointParts, size_joints
-from ..strength.keys import KeyResult, size_key
-from ..strength.links import LinkSizing, LinkSpec, StrengthLimits, beam_forces, beam_links, size_link
-from ..strength.materials import MATERIALS, Material
-from ..strength.shafts import ShaftResult, ShaftSpec, size_shaft
-from ..strength.sizing import LinkStrength, size_links
+from ..analysis import Analysis, analyse
 from ..model import Linkage
+from ..strength.checks import PartCheck
+from ..strength.crank_shaft import CrankShaftLayout
+from ..strength.joints import JointPartSpec
+from ..strength.links import LinkSizing, LinkSpec, StrengthLimits, beam_forces, beam_links, size_link
+from ..strength.materials import MATERIALS
+from ..strength.parts import CrankShaftSpec, HubKeySpec, Parts, PartsSpec, size_parts
+from ..strength.shafts import ShaftSpec
+from ..strength.sizing import LinkStrength, size_links
 from ..warnings import DesignWarning
 
 
 @dataclass(frozen=True, slots=True)
 class StrengthChoice:
     """How the machine's parts are made: each bar's ``links`` spec (a bar not listed takes ``default_link``),
-    the ``limits`` of the links, the joints' ``joint`` spec (overridden per joint by ``joints``), the crank shaft's
-    ``shaft`` spec, ``shaft_material`` and ``layout`` (None: spans scaled from the crank), and the keys' allowed
-    ``key_pressure`` [Pa] (None: the shaft material's yield over 2) and ``hub_length`` [m] (None: 1.5 d)."""
+    the links' ``limits``, and the joints' and crank shaft's ``parts`` (None: every joint by
+    :func:`default_parts`' rules)."""
 
     default_link: LinkSpec = field(default_factory=lambda: LinkSpec(MATERIALS["S355J2"]))
     links: Mapping[str, LinkSpec] = field(default_factory=dict)
     limits: StrengthLimits = field(default_factory=StrengthLimits)
-    joint: JointPartSpec = field(default_factory=lambda: JointPartSpec(MATERIALS["C45E+QT"]))
-    joints: Mapping[str, JointPartSpec] = field(default_factory=dict)
-    shaft: ShaftSpec | None = None
-    shaft_material: Material = field(default_factory=lambda: MATERIALS["C45E+QT"])
-    layout: CrankShaftLayout | None = None
-    key_pressure: float | None = None
-    hub_length: float | None = None
+    parts: PartsSpec | None = None
 
     def specs(self, bars: tuple[str, ...]) -> dict[str, LinkSpec]:
         """Every bar's spec."""
@@ -54,15 +45,12 @@ class StrengthChoice:
 @dataclass(frozen=True, slots=True)
 class MachineStrength:
     """The parts of the machine as built: ``sizing`` the links' fixed point (on the linkage before balancing),
-    ``links`` each bar checked on the machine as built, ``joints`` each revolute joint's pin and bearing,
-    ``crank_shaft`` and its hubs' ``keys``; ``checks`` every part's."""
+    ``links`` each bar checked on the machine as built, ``parts`` the joints' and the crank shaft's; ``checks``
+    every part's, links first."""
 
     sizing: LinkStrength
     links: dict[str, LinkSizing]
-    joints: dict[str, JointParts]
-    crank_shaft: ShaftResult
-    keys: dict[str, KeyResult]
-    layout: CrankShaftLayout
+    parts: Parts
     checks: tuple[PartCheck, ...]
     warnings: tuple[DesignWarning, ...] = ()
 
@@ -74,10 +62,24 @@ class MachineStrength:
 
 def size_machine_links(choice: StrengthChoice, linkage: Linkage, speed: float, samples: int) -> LinkStrength:
     """The links of the machine's linkage sized to the fixed point (every bar)."""
-    from ..analysis import analyse
-
     probe = analyse(linkage, speed, samples=min(samples, 8))
     return size_links(linkage, speed, choice.specs(beam_links(probe)), choice.limits, samples=samples)
+
+
+def default_crank_shaft(analysis: Analysis) -> CrankShaftSpec:
+    """The crank shaft laid out from the crank length r: bearings r apart, the crank overhung r/2 beyond bearing
+    B, the coupling midway; 42CrMo4 quenched and tempered; crank and coupling hubs r long, keyed at half the
+    shaft's yield strength."""
+    r = analysis.linkage.mechanism.crank
+    material = MATERIALS["42CrMo4+QT"]
+    layout = CrankShaftLayout(span=r, crank_position=1.5 * r, drive_position=0.5 * r)
+    keys = tuple(HubKeySpec(hub, r, material.yield_strength / 2.0) for hub in ("crank", "coupling"))
+    return CrankShaftSpec(layout, material, ShaftSpec(span=r), keys=keys)
+
+
+def default_parts(analysis: Analysis) -> PartsSpec:
+    """Every joint a C45 pin in a clevis on an oil-impregnated bronze bushing, and the default crank shaft."""
+    return PartsSpec(JointPartSpec(MATERIALS["C45E+QT"]), crank_shaft=default_crank_shaft(analysis))
 
 
 def _link_checks(s: LinkSizing) -> list[PartCheck]:
@@ -91,13 +93,6 @@ def _link_checks(s: LinkSizing) -> list[PartCheck]:
     return out
 
 
-def default_layout(analysis: Analysis) -> CrankShaftLayout:
-    """A crank shaft between two bearings a crank length apart, the crank overhung half a crank length beyond
-    bearing B and the drive coupled in the middle."""
-    r = analysis.linkage.mechanism.crank
-    return CrankShaftLayout(span=r, crank_position=1.5 * r, drive_position=0.5 * r)
-
-
 def parts_of_machine(choice: StrengthChoice, sizing: LinkStrength, built: Analysis) -> MachineStrength:
     """Every part checked or sized on ``built``, the analysis of the machine as built (balanced)."""
     specs = choice.specs(tuple(sizing.links))
@@ -107,39 +102,14 @@ def parts_of_machine(choice: StrengthChoice, sizing: LinkStrength, built: Analys
                                                  dataclasses.replace(specs[name], section=s.section), choice.limits),
                                        sized=s.sized, mass_props=s.mass_props)
              for name, s in sizing.links.items()}
-    joints = size_joints(built, choice.joint, choice.joints)
-    layout = choice.layout or default_layout(built)
-    spec = choice.shaft or ShaftSpec(span=layout.span)
-    shaft = size_shaft("crank shaft", crank_shaft_loads(built, layout), spec, choice.shaft_material)
-    torques = hub_torques(built)
-    hubs = ["crank", "coupling" if layout.drive == "coupling" else "drive"]
-    if layout.flywheel_position is not None:
-        hubs.append("flywheel")
-    pressure = choice.key_pressure or choice.shaft_material.yield_strength / 2.0
-    hub_length = choice.hub_length or 1.5 * shaft.diameter
-    keys = {hub: size_key(f"{hub} hub", shaft.diameter, torques[hub], pressure, hub_length=hub_length)
-            for hub in hubs}
-    checks: list[PartCheck] = []
-    for s in links.values():
-        checks += _link_checks(s)
-    for j in joints.values():
-        checks += j.checks
-    checks += shaft.checks
-    for k in keys.values():
-        checks += k.checks
-    warnings = [w for j in joints.values() for w in j.warnings] + list(shaft.warnings)
+    spec = choice.parts if choice.parts is not None else default_parts(built)
+    if spec.crank_shaft is None:
+        spec = dataclasses.replace(spec, crank_shaft=default_crank_shaft(built))
+    parts = size_parts(built, spec)
+    checks = [c for s in links.values() for c in _link_checks(s)] + list(parts.checks)
+    warnings = list(parts.warnings)
     warnings += [DesignWarning("check_failed", "strength", c.value,
                                f"{c.part} fails its {c.name} check ({c.value:.4g} against {c.limit:.4g}): "
                                f"{c.meaning}", c.unit, stage="strength")
                  for c in checks if not c.passed]
-    return MachineStrength(sizing, links, joints, shaft, keys, layout, tuple(checks), tuple(warnings))
-
-
-def link_masses(strength: MachineStrength) -> dict[str, float]:
-    """Each sized bar's mass [kg]."""
-    return {name: s.mass for name, s in strength.links.items()}
-
-
-def peak(values: np.ndarray) -> float:
-    """Largest |value| [unit of the values]."""
-    return float(np.max(np.abs(values)))
+    return MachineStrength(sizing, links, parts, tuple(checks), tuple(warnings))
