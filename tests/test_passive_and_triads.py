@@ -56,7 +56,7 @@ EIGHT_BAR: dict[str, Any] = {
                joint("C", "plate", "rocker"), joint("P", "frame", "rocker"), joint("D", "plate", "link"),
                joint("R", "frame", "link")],
     "crank": "crank", "output": "rocker",
-    "assembly_m": {"B": [0.1, -0.1], "C": [0.2, -0.1]},
+    "assembly_m": {"B": [0.34, -0.26], "C": [0.2, -0.11]},
 }
 
 
@@ -248,3 +248,43 @@ def test_eight_bar_through_the_api(client: SynthClient) -> None:
     assert any("class-III" in a for a in eight.assumptions)
     st8 = client.structure(StructureIn.model_validate({"mechanism": EIGHT_BAR}))
     assert [(g.group_class, g.placement) for g in st8.assur_groups or []] == [("III", "numerical")]
+
+
+# The eight-bar's two assemblies at crank angle 0, each closed by the loops (found by the service's own search and
+# checked below by the links' lengths): B and C of the first, (0.3359, -0.2585) and (0.1984, -0.1133), and of the
+# second, (0.4433, -0.0681) and (0.3052, -0.2127) [m].
+SECOND = {"B": [0.4433, -0.0681], "C": [0.3052, -0.2127]}
+
+
+def test_the_drawn_assembly_is_the_one_analysed() -> None:
+    an = synth.analyse(engine({**EIGHT_BAR, "assembly_m": SECOND}), SPEED, samples=72)
+    b, c = an.motion.point_pos["B"][0], an.motion.point_pos["C"][0]
+    # the points drawn to four decimals: the placement lies within their rounding
+    assert np.hypot(*(c - SECOND["C"])) < 1e-4 and np.hypot(*(b - SECOND["B"])) < 1e-4
+    # and it is an assembly: rod A-B 0.35 from the crank pin A = (0.1, 0), rocker P-C 0.3 from P = (0.45, 0.05)
+    assert np.hypot(b[0] - 0.1, b[1]) == pytest.approx(0.35, abs=1e-9)
+    assert np.hypot(c[0] - 0.45, c[1] - 0.05) == pytest.approx(0.3, abs=1e-9)
+    first = synth.analyse(engine(EIGHT_BAR), SPEED, samples=72).motion.point_pos["C"][0]
+    assert np.hypot(*(c - first)) > 0.1
+
+
+def test_a_study_of_lengths_keeps_the_drawn_assembly() -> None:
+    # the R-D link from 0.30 to 0.37 m: C at crank angle 0 moves a few millimetres per step, never to the other
+    # assembly (0.1 m and more away)
+    previous = None
+    for length in (0.30, 0.32, 0.34, 0.36, 0.37):
+        mech = {**EIGHT_BAR, "links": [dict(link) for link in EIGHT_BAR["links"]]}
+        mech["links"][4] = bar("link", "R", "D", length)
+        c = synth.analyse(engine(mech), SPEED, samples=36).motion.point_pos["C"][0]
+        if previous is not None:
+            assert np.hypot(*(c - previous)) < 0.01
+        previous = c
+
+
+def test_a_drawing_between_two_assemblies_is_refused() -> None:
+    # B and C drawn halfway between the two assemblies: the drawing does not choose
+    between = {k: [(a + b) / 2 for a, b in zip(v, w)] for (k, v), w in
+               zip(SECOND.items(), ([0.3359, -0.2585], [0.1984, -0.1133]))}
+    with pytest.raises(synth.InvalidInput) as err:
+        synth.analyse(engine({**EIGHT_BAR, "assembly_m": between}), SPEED, samples=36)
+    assert err.value.field == "mechanism.assembly_m"

@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from ..errors import NotAssemblable
+from ..errors import InvalidInput, NotAssemblable
 from ..mechanism import FloatArray
 from ..structure import PassiveLink, Redundancy
 from .jets import Jet
@@ -89,6 +89,18 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
         q = _continue(group, sides, phi, q0, np.arange(n))
     residual = np.max(np.abs(_residuals(sides, q, np.arange(n))), axis=1)
     jac = _jacobians(sides, q, m)
+    # the determinant keeps its sign within one assembly; it changes where the path passes a position at which
+    # two assemblies meet, and beyond it the group may have gone over to the other one
+    sign = np.sign(np.linalg.det(jac))
+    flips = np.flatnonzero(sign[1:] != sign[:-1])
+    if flips.size:
+        k = int(flips[0])
+        a, b = (math.degrees(float(phi[i])) % 360 for i in (k, k + 1))
+        raise NotAssemblable(
+            f"the class-{group.group_class} group of links {list(group.links)} passes a position where two of its "
+            f"assemblies meet between crank angles {a:.3f}° and {b:.3f}°: beyond it the motion is not determined "
+            "by the drawing (the group may go over to the other assembly); change a length to keep it away",
+            phi=phi[k:k + 2], ranges_deg=[(a, b)])
     qd = np.asarray(np.linalg.solve(jac, _rhs1_all(sides, n)[..., None])[..., 0], dtype=float)
     qdd = np.asarray(np.linalg.solve(jac, _rhs2_all(sides, q, qd)[..., None])[..., 0], dtype=float)
     out = []
@@ -273,13 +285,52 @@ def _first(group: NumericGroup, sides: Sequence[tuple[Side, Side]], start: Mappi
     def jac(q: FloatArray) -> FloatArray:
         return _jacobian(sides, q, m)
 
+    drawn = [(i, link_points[link][p], complex(*start[p])) for i, link in enumerate(group.links)
+             for p in link_points[link] if p in start]
+    closed: list[FloatArray] = []
     for guess in guesses:
         sol = least_squares(fun, guess, jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400)
         if np.max(np.abs(fun(sol.x))) <= CLOSURE_TOLERANCE:
-            return np.asarray(sol.x, dtype=float)
+            if not drawn:
+                return np.asarray(sol.x, dtype=float)
+            closed.append(np.asarray(sol.x, dtype=float))
+    if closed:
+        return _nearest(group, closed, drawn)
     raise NotAssemblable(f"the class-{group.group_class} group of links {list(group.links)} cannot be assembled at "
                          "crank angle 0° from the drawn positions (assembly_m) or any start tried",
                          phi=[0.0], ranges_deg=[(0.0, 0.0)])
+
+
+#: The drawn points' distance from the assembly chosen must be at most this fraction of their distance from the
+#: next one, or the drawing does not choose [-].
+ASSEMBLY_MARGIN = 0.8
+
+
+def _nearest(group: NumericGroup, closed: Sequence[FloatArray], drawn: Sequence[tuple[int, complex, complex]]
+             ) -> FloatArray:
+    """Of the placements that close the loops at the first angle, the one whose points lie nearest those drawn
+    (root of the summed squared distances); InvalidInput when the drawing lies as near another assembly (its
+    distance over the next assembly's more than :data:`ASSEMBLY_MARGIN`), naming both."""
+    world = np.array([w for _, _, w in drawn])
+    gaps = [float(np.sqrt(np.sum(np.abs(_points(q, drawn) - world) ** 2))) for q in closed]
+    order = np.argsort(gaps)
+    best = closed[int(order[0])]
+    # another assembly: a placement whose points differ from the best's by more than rounding
+    others = [int(j) for j in order[1:] if np.max(np.abs(_points(closed[int(j)], drawn) - _points(best, drawn)))
+              > 1e-6 * max(1.0, float(np.max(np.abs(_points(best, drawn)))))]
+    if others:
+        near, far = gaps[int(order[0])], gaps[others[0]]
+        if near > ASSEMBLY_MARGIN * far:
+            raise InvalidInput(
+                f"the points drawn in assembly_m do not tell the class-{group.group_class} group's assemblies "
+                f"apart: the nearest lies {near:.4g} m from the drawing, another {far:.4g} m; draw the points of "
+                "the assembly meant closer to it", field="mechanism.assembly_m")
+    return best
+
+
+def _points(q: FloatArray, drawn: Sequence[tuple[int, complex, complex]]) -> NDArray[np.complex128]:
+    return np.array([complex(q[3 * i], q[3 * i + 1]) + complex(math.cos(q[3 * i + 2]), math.sin(q[3 * i + 2]))
+                     * local for i, local, _ in drawn])
 
 
 def _fit(points: Mapping[str, complex], start: Mapping[str, tuple[float, float]]) -> FloatArray | None:
