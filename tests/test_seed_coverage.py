@@ -73,3 +73,59 @@ def test_cases_beyond_the_table_name_a_test_that_exists() -> None:
         path, name = where.split("::")
         text = (HERE.parent.parent / path).read_text(encoding="utf-8")
         assert f"def {name}(client: SynthClient)" in text, where
+
+
+# Where each model stops: every edge of validity the service refuses or warns about, with the test that holds it
+# (each reproduces the case and checks what the answer now says against an independent figure).
+EDGES = {
+    "a load beyond the motor's breakdown torque at the crank: 422 motor_stalls with the torque lacking":
+        "tests/test_regulation.py::test_a_load_beyond_the_breakdown_torque_is_refused_with_the_torque_it_lacks",
+    "peaks of the cycle beyond the breakdown torque: the whole characteristic, motor_breakdown":
+        "tests/test_regulation.py::test_the_motor_never_gives_more_than_its_breakdown_torque",
+    "a PI loop tuned with its filter (third order) at the asked damping":
+        "tests/test_regulation.py::test_tuning_places_the_real_loop_with_its_filter",
+    "the tuned loop's simulated overshoot and settling held against what was asked":
+        "tests/test_regulation.py::test_the_filtered_example_reports_what_it_achieves_against_what_was_asked",
+    "settling judged in 2 % of the dip, a wide band not allowed to say settled at once":
+        "tests/test_regulation.py::test_settling_is_judged_in_two_percent_of_the_dip",
+    "a PI loop without a filter takes time to settle":
+        "tests/test_regulation.py::test_a_pi_loop_without_a_filter_settles_after_a_time",
+    "a barely damped loop refused at once with its poles":
+        "tests/test_regulation.py::test_a_barely_damped_loop_is_refused_at_once_with_its_poles",
+    "the cam follower leaving the cam (follower_jump)":
+        "tests/test_cam_validity.py::test_the_follower_leaving_the_cam_is_named_with_its_angles",
+    "a cam's pressure angle and profile radius beyond their limits":
+        "tests/test_cam_validity.py::test_pressure_angle_and_profile_radius_of_a_tiny_knife_edge_cam",
+    "infinite jerk where simple harmonic motion meets a dwell":
+        "tests/test_cam_validity.py::test_simple_harmonic_motion_beside_a_dwell_steps_its_acceleration",
+    "the cam spring designed as a coil, not a zero-rate preload":
+        "tests/test_cam_validity.py::test_the_designed_spring_is_a_spring_and_its_coil_holds_together",
+    "the least cam on its hub": "tests/test_cam_validity.py::test_the_least_cam_encloses_its_hub",
+    "a frame driven at resonance: transmissibility, frequency ratio, damping near a mode":
+        "tests/test_foundation_validity.py::test_a_frame_at_resonance_is_named_with_its_transmissibility",
+    "an undamped frame a hair off resonance":
+        "tests/test_foundation_validity.py::test_an_undamped_frame_a_hair_off_resonance_is_not_calm",
+    "an isolator lifting off over the cycle":
+        "tests/test_foundation_validity.py::test_an_isolator_lifting_off_is_named_with_its_crank_angles",
+    "a frame centre outside its isolators (an isolator in tension)":
+        "tests/test_foundation_validity.py::test_a_centre_outside_its_isolators_is_named",
+    "the drawn assembly of a class-III group is the one analysed":
+        "tests/test_passive_and_triads.py::test_the_drawn_assembly_is_the_one_analysed",
+    "a study of lengths keeps the drawn assembly":
+        "tests/test_passive_and_triads.py::test_a_study_of_lengths_keeps_the_drawn_assembly",
+    "a drawing between two assemblies refused":
+        "tests/test_passive_and_triads.py::test_a_drawing_between_two_assemblies_is_refused",
+    "the in-line five as built (1-2-4-5-3) and any even firing order":
+        "tests/test_balancing_engines.py::test_the_inline_five_as_built_and_by_its_firing_order",
+    "every in-line arrangement's throws from its firing order":
+        "tests/test_balancing_engines.py::test_every_inline_arrangement_is_its_firing_order",
+    "a gear pair in the resonance ranges of ISO 6336-1":
+        "tests/test_gearing_rating.py::test_the_resonance_ranges_of_iso_6336_1_are_named",
+}
+
+
+def test_every_edge_names_a_test_that_exists() -> None:
+    for where in EDGES.values():
+        path, name = where.split("::")
+        text = (HERE.parent.parent / path).read_text(encoding="utf-8")
+        assert f"def {name}(" in text, where
