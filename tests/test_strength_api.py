@@ -68,3 +68,38 @@ def test_a_section_too_small_for_the_load_is_infeasible_naming_link_check_and_an
     assert problem["check"] in ("static", "fatigue", "buckling_in_plane", "buckling_out_of_plane")
     assert math.isfinite(problem["crank_angle_deg"])
     assert problem["constraint"] == f"links.rod.{problem['check']}"
+
+
+def test_a_study_varies_the_strength_request_and_its_rows_are_the_answers() -> None:
+    # The rod's load grows with the press force: its sized section's mass cannot shrink as the force grows, and
+    # each row's metrics are what POST /v1/strength answers for that variant (a row is the endpoint's answer).
+    import json
+
+    import synth
+    from api.execution.plans import PLANS, Limits
+    from api.studies.paths import check_metrics
+    from api.studies.tasks import variant_function
+    from api.translate.strength import sizing_call
+    from synth.execution import SerialExecutor
+
+    assert PLANS["/v1/strength"][0] is StrengthSizingIn
+    check_metrics("/v1/strength", ["mass_kg", "links.3.mass_kg", "links.0.checks.1.safety"])
+    check_metrics("/v1/machines/design", ["strength.link_mass_kg", "strength.parts.crank_shaft.diameter_mm"])
+    base = json.loads(json.dumps({**EXAMPLES[1], "samples": 72}))
+    forces = [1000.0, 8000.0, 64000.0]
+    spec = {"endpoint": "/v1/strength", "base": base, "metrics": ["mass_kg"],
+            "parameters": [{"path": "loads.0.force_N", "values": forces}], "sampling": "grid"}
+    rows: list[synth.VariantRow] = []
+    executor = SerialExecutor()
+    try:
+        synth.run_study(synth.study_from_dict(spec), variant_function("/v1/strength", Limits(20_000, 6, 20.0)),
+                        executor, rows.extend)
+    finally:
+        executor.shutdown()
+    rows.sort(key=lambda r: r.index)
+    assert all(r.ok for r in rows)
+    masses = [r.metrics[0] for r in rows]  # type: ignore[index]
+    assert masses[0] <= masses[1] <= masses[2] and masses[0] < masses[2]
+    body = StrengthSizingIn.model_validate({**base, "loads": [{**base["loads"][0], "force_N": forces[1]}]})
+    direct = synth.strength.size_links(*sizing_call(body), samples=72)
+    assert masses[1] == pytest.approx(direct.mass, rel=1e-12)

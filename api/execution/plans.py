@@ -447,6 +447,14 @@ def machine_optimise_linkage(b: LinkageOptimiseIn, lim: Limits) -> Plan:
                 (b.to_engine(lim.max_stages),), dict(time_limit_s=lim.solver_time_limit_s))
 
 
+def strength_plan(b: StrengthSizingIn, lim: Limits) -> Plan:
+    """POST /v1/strength."""
+    linkage, speed, specs, limits = sizing_call(b)
+    return Plan(Render(sizing_out), synth.strength.size_links, (linkage, speed, specs, limits),
+                dict(samples=b.samples, crank_acceleration=b.crank_acceleration_rad_s2,
+                     max_samples=lim.max_samples), (), "strength")
+
+
 # The design endpoints by path: request schema and plan. A study may vary any of them.
 PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/analysis": (AnalysisIn, analysis),
@@ -475,12 +483,6 @@ PLANS: dict[str, tuple[type[BaseModel], Callable[[Any, Limits], Plan]]] = {
     "/v1/cams/analysis": (CamAnalysisIn, cam_analysis_plan),
     "/v1/cams/synthesis": (CamSynthesisIn, cam_synthesis_plan),
     "/v1/machines/optimise-linkage": (LinkageOptimiseIn, machine_optimise_linkage),
+    "/v1/strength": (StrengthSizingIn, strength_plan),
 }
 
-
-def strength_plan(b: StrengthSizingIn, lim: Limits) -> Plan:
-    """POST /v1/strength."""
-    linkage, speed, specs, limits = sizing_call(b)
-    return Plan(Render(sizing_out), synth.strength.size_links, (linkage, speed, specs, limits),
-                dict(samples=b.samples, crank_acceleration=b.crank_acceleration_rad_s2,
-                     max_samples=lim.max_samples), (), "strength")
