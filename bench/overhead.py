@@ -62,7 +62,7 @@ def over_asgi() -> dict[str, list[float]]:
         app = create_app(Settings(executor="pool", workers=1))
         out: dict[str, list[float]] = {"analysis": [], "health": []}
         try:
-            async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://bench") as client:
+            async with httpx.AsyncClient(transport=httpx.ASGITransport(app=app), base_url="http://localhost") as client:
                 (await client.post("/v1/analysis", json=BODY)).raise_for_status()
                 for _ in range(REPEAT):
                     t0 = time.perf_counter()
