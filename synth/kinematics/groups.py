@@ -8,7 +8,9 @@ known point) has no closed form. Its loop equations, one complex equation per re
 
 are solved by Newton's method in the links' coordinates q = (x_o, y_o, theta) per link, from the solution at
 the previous crank angle moved on by its velocity (continuation keeps the assembly branch), starting at crank
-angle 0 from the positions as drawn. Differentiating the loop once and twice in the crank angle gives the
+angle 0 from the positions as drawn. On a path of many samples the continuation runs on samples about 30° apart
+and every sample is then solved at once from the nearer of them; the result is kept when neighbouring samples
+join up as their velocities say, else the continuation runs again on every sample. Differentiating the loop once and twice in the crank angle gives the
 analogues from linear systems with the same Jacobian: J·q' = -sum sign·K', J·q'' = -sum sign·K'' + sum over
 the group's sides sign·theta_l'²·exp(i·theta_l)·p_l (seed 001:1160-1190 on groups of higher class; the digest's
 section 1).
@@ -45,6 +47,15 @@ CLOSURE_TOLERANCE = 1e-9
 #: Beyond this many samples on the path the group is continued on samples about MAX_STEP/2 apart and the rest
 #: solved all at once from them.
 DENSE = 400
+#: Spacing [rad] of a first, coarse continuation on paths of more than COARSE_MIN samples: the samples between
+#: are solved all at once from it and kept when they join up sample to sample as their velocities say (a change
+#: of assembly would not); otherwise the group is continued again at MAX_STEP.
+COARSE_STEP = math.radians(30.0)
+COARSE_MIN = 24
+#: Largest miss [m or rad] of the trapezoidal rule between two neighbouring samples' positions and velocities
+#: that still counts as one assembly: the rule's own error is far smaller at a few degrees a sample, and a
+#: change of assembly moves a link by a finite distance.
+JOIN_TOLERANCE = 1e-3
 #: Newton iterations per crank angle before the group is declared not assemblable there.
 MAX_NEWTON = 25
 #: Singular values below this fraction of the largest count as zero in the rank of the constraint Jacobian.
@@ -84,7 +95,9 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
     """
     m, n = len(group.links), len(phi)
     q0 = _first(group, sides, start, link_points)
-    q = _dense(group, sides, phi, q0) if n > DENSE else None
+    q = _coarse(group, sides, phi, q0) if n > COARSE_MIN else None
+    if q is None and n > DENSE:
+        q = _dense(group, sides, phi, q0)
     if q is None:
         q = _continue(group, sides, phi, q0, np.arange(n))
     residual = np.max(np.abs(_residuals(sides, q, np.arange(n))), axis=1)
@@ -140,18 +153,38 @@ def _continue(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Floa
     return q
 
 
-def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray
-           ) -> FloatArray | None:
-    """A long path: continuation on every sample about MAX_STEP/2 apart, then every sample at once by batched
+def _coarse(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray
+            ) -> FloatArray | None:
+    """Every sample at once from a continuation on samples about COARSE_STEP apart, or None when that
+    continuation does not close or the samples do not join up into one assembly (see JOIN_TOLERANCE)."""
+    try:
+        q = _dense(group, sides, phi, q0, COARSE_STEP)
+    except NotAssemblable:
+        return None
+    if q is None:
+        return None
+    m = len(group.links)
+    qd = np.linalg.solve(_jacobians(sides, q, m), _rhs1_all(sides, len(phi))[..., None])[..., 0]
+    step = np.diff(phi)[:, None]
+    miss = q[1:] - q[:-1] - 0.5 * (qd[1:] + qd[:-1]) * step
+    return q if np.max(np.abs(miss)) <= JOIN_TOLERANCE else None
+
+
+def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray,
+           spacing: float = MAX_STEP / 2) -> FloatArray | None:
+    """A long path: continuation on samples about ``spacing`` [rad] apart, then every sample at once by batched
     Newton steps from the nearest earlier one moved on by its velocity. None when a sample does not close that way
     (the caller then continues sample by sample, which names the first angle that fails)."""
     travel = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(phi)))])
-    coarse = np.unique(np.concatenate([[0], np.searchsorted(travel, np.arange(0.0, travel[-1], MAX_STEP / 2)),
+    coarse = np.unique(np.concatenate([[0], np.searchsorted(travel, np.arange(0.0, travel[-1], spacing)),
                                        [len(phi) - 1]]))
     m = len(group.links)
     qc = _continue(group, sides, phi, q0, coarse)
     rates = np.linalg.solve(_jacobians(sides, qc, m), _rhs1_all(sides, len(phi))[coarse][..., None])[..., 0]
-    near = np.searchsorted(coarse, np.arange(len(phi)), side="right") - 1
+    # Each sample starts from the nearer of the coarse samples on either side, moved on by its velocity.
+    before = np.searchsorted(coarse, np.arange(len(phi)), side="right") - 1
+    after = np.minimum(before + 1, len(coarse) - 1)
+    near = np.where(travel[coarse[after]] - travel < travel - travel[coarse[before]], after, before)
     q = qc[near] + rates[near] * (phi - phi[coarse[near]])[:, None]
     every = np.arange(len(phi))
     for _ in range(MAX_NEWTON):
@@ -352,16 +385,15 @@ def _fit(points: Mapping[str, complex], start: Mapping[str, tuple[float, float]]
 def continuation_path(phi: FloatArray) -> tuple[FloatArray, FloatArray]:
     """A path of crank angles from 0 through ``phi`` in order, in steps of at most MAX_STEP [rad], and the
     indices of ``phi`` on it."""
-    stops = np.concatenate([[0.0], phi])
-    pieces = [np.array([0.0])]
-    idx = np.empty(len(phi), dtype=int)
-    count = 1
-    for k in range(1, len(stops)):
-        steps = max(1, math.ceil(abs(stops[k] - stops[k - 1]) / MAX_STEP))
-        pieces.append(np.linspace(stops[k - 1], stops[k], steps + 1)[1:])
-        count += steps
-        idx[k - 1] = count - 1
-    return np.concatenate(pieces), idx
+    stops = np.concatenate([[0.0], np.asarray(phi, dtype=float)])
+    steps = np.maximum(1, np.ceil(np.abs(np.diff(stops)) / MAX_STEP).astype(int))
+    idx = np.cumsum(steps)
+    segment = np.repeat(np.arange(len(steps)), steps)
+    within = np.arange(len(segment)) + 1 - np.repeat(idx - steps, steps)
+    path = stops[segment] + (stops[segment + 1] - stops[segment]) * (within / steps[segment])
+    # Each requested angle lands on the path exactly, as given.
+    path[idx - 1] = stops[1:]
+    return np.concatenate([[0.0], path]), idx
 
 
 def constraint_jacobian(link_names: Sequence[str], origin: Mapping[str, FloatArray], angle: Mapping[str, FloatArray],
