@@ -75,3 +75,24 @@ def test_machine_links_are_the_sized_ones_in_its_analysis() -> None:
         assert sizing.mass == pytest.approx(sizing.material.density * sizing.section.area * bar.length, rel=1e-12)
     assert design.strength.parts.crank_shaft is not None
     assert math.isfinite(design.strength.parts.crank_shaft.shaft.fatigue_safety)
+
+
+def test_the_design_record_has_the_parts_table_and_page() -> None:
+    import io
+
+    from pypdf import PdfReader
+
+    from api.translate.machine_strength import with_strength
+    from synth.machine.report import design_report_pdf
+
+    body = MachineIn.model_validate(PRESS)
+    design = synth.design_machine(with_strength(body.to_engine(6), body.strength))
+    assert design.strength is not None
+    pages = [p.extract_text() for p in PdfReader(io.BytesIO(design_report_pdf(design))).pages]
+    table = next(t for t in pages if "Parts sized for strength" in t)
+    drawn = next(t for t in pages if "where its checks are least" in t)
+    for name, link in design.strength.links.items():
+        assert link.section.label in table and name in drawn and link.section.label in drawn
+    for joint in design.strength.parts.joints:
+        assert f"{joint}" in table
+    assert "crank shaft" in table and "key, crank hub" in table

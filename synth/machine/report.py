@@ -56,6 +56,7 @@ from .chain import Alternative, MachineCheck, MachineDesign  # noqa: E402
 from .record import SHEET_KEY, TITLE_BLOCK_KEY, DesignRecord, input_rows, sheet_metadata  # noqa: E402
 from .running_plots import running_figure  # noqa: E402
 from .foundation_plots import foundation_record_pages  # noqa: E402
+from .strength_plots import joint_rows, link_rows, shaft_rows, strength_record_page  # noqa: E402
 
 #: A4 landscape [in]: every page of the report.
 A4 = (11.69, 8.27)
@@ -545,6 +546,17 @@ def _record_flowables(record: DesignRecord, d: MachineDesign, alternatives: Sequ
         [[s.name, num(s.mean_speed / RPM), num(s.mean_power, d.output_power), num(s.mean_torque, peak),
           num(s.peak_torque, peak), num(s.rms_torque, peak), num(s.inertia), "yes" if s.carries_flywheel else ""]
          for s in d.shafts], st)], st)
+    if d.strength is not None:
+        s = d.strength
+        out += _section("Parts sized for strength", [
+            _para(f"Links sized to the fixed point of their own masses in {len(s.sizing.iterations)} passes before "
+                  "balancing, then checked on the machine as built: static (von Mises vs yield), fatigue (modified "
+                  "Goodman, Marin factors), buckling in and out of the plane (Euler/Johnson); least factors of "
+                  "safety over the cycle (drawn on the parts page).", st["p"]),
+            _table(["link", "material", "section", "length [mm]", "mass [kg]", "static", "fatigue",
+                    "buckling in plane", "buckling out of plane", "passed"], link_rows(s), st),
+            _table(["joint", "pin [mm]", "pin governed by", "load", "bearing", "passed"], joint_rows(s), st),
+            _table(["part", "size", "figure", "passed"], shaft_rows(s), st)], st)
     if alternatives:
         rows = []
         for a in [Alternative(d.balancing.mode + " (this design)", d, None), *alternatives]:
@@ -846,6 +858,9 @@ def _figures(d: MachineDesign) -> list[tuple[str | None, Figure]]:
     out.append(("Flywheel and motor", fig))
     if (running := running_figure(d)) is not None:
         out.append((None, running))
+    if d.strength is not None:
+        out.append(("Parts: each link along its length, its section to scale, where its checks are least",
+                    strength_record_page(d.strength)))
     out += [(None, page) for page in foundation_record_pages(
         d.foundation, None if d.elastic is None else d.elastic.drive,
         None if d.regulation is None else d.regulation.regulation)]
