@@ -11,8 +11,10 @@ figure compared is the service's own answer to the same request, asked again."""
 from __future__ import annotations
 
 import copy
+import io
 import threading
 from collections.abc import Iterator
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +26,7 @@ from signoff_office import PASSWORD, Office, office, ok
 from store_engines import Cluster, pg_cluster  # noqa: F401  (fixture)
 
 BALANCE = "/v1/balancing/static"
+MACHINE = "/v1/machines/design"
 REQUEST: dict[str, Any] = SAVE_EXAMPLE["request"]
 FAILING = {**REQUEST, "mass_budget_kg": 0.01}
 
@@ -262,3 +265,58 @@ def test_the_migration_keeps_the_later_of_two_approved_revisions(tmp_path: Path)
         rows = db.execute(sa.text("SELECT number, state, superseded_by FROM revisions ORDER BY number")).all()
     store.dispose()
     assert [tuple(r) for r in rows] == [(1, "draft", None), (2, "superseded", 3), (3, "approved", None)]
+
+
+def _pages(pdf: bytes, first: int = 3) -> str:
+    """The text of a PDF's first pages, spaces and line breaks removed."""
+    from pypdf import PdfReader
+
+    return "".join("".join(p.extract_text().split()) for p in PdfReader(io.BytesIO(pdf)).pages[:first])
+
+
+def test_the_record_is_a_document_of_its_revision(the_office: Office) -> None:
+    from mechsynth_client.schemas.machine import PRESS_EXAMPLE
+
+    o = the_office
+    design = _design("rec", "press")
+
+    def save(request: dict[str, Any], parent: int | None, message: str) -> dict[str, Any]:
+        body = {"endpoint": MACHINE, "request": request, "message": message, "parent": parent}
+        return ok(o.as_("ann").post(f"{design}/revisions", json=body), 201)  # type: ignore[no-any-return]
+
+    # the issue's own failing machine: at 250 rpm the drive cannot reach the ratio; stored as refused, and the
+    # refusal is what the sign-off names
+    slow = save({**PRESS_EXAMPLE, "speed_rpm": 250}, None, "slower")
+    assert slow["passed"] is False and slow["links"]["record"] is None
+    refused = _sign(o, "bob", "rec", "press", 1, "check").json()
+    assert "exceeds the largest the stages reach" in refused["failed_checks"][0]
+
+    first = save(PRESS_EXAMPLE, 1, "the press as drawn")
+    ok(_sign(o, "bob", "rec", "press", 2, "check"))
+    ok(_sign(o, "cid", "rec", "press", 2, "approve"))
+    # a target the machine cannot meet: a speed fluctuation of 0.05 % fails the start-up check, and is released
+    # as a deviation
+    tight = save({**PRESS_EXAMPLE, "delta": 0.0005}, 2, "tighter speed")
+    assert tight["passed"] is False
+    ok(_sign(o, "bob", "rec", "press", 3, "check", deviation="start-up on the test bench only",
+             comment="flywheel checked against drawing 7"))
+    ok(_sign(o, "cid", "rec", "press", 3, "approve", deviation="trial run, start-up supervised"))
+    pdf = o.as_("vic").get(f"{design}/revisions/3/record")
+    assert pdf.status_code == 200, pdf.text
+    again = o.as_("vic").get(f"{design}/revisions/3/record")
+    assert again.content == pdf.content                     # two downloads: the same bytes
+    text = _pages(pdf.content)
+    saved_at = datetime.fromisoformat(tight["created_at"]).strftime("%Y-%m-%d%H:%M:%SUTC")
+    assert "dateofthisrevision" + saved_at in text            # the revision's date, not the download's
+    for words in ("DEVIATION", "trialrun,start-upsupervised", "Revisions", "Changenote",
+                  "checker'sremarkbybob", "flywheelcheckedagainstdrawing7", "approved", "superseded"):
+        assert words in text, words
+    # the change note: the inputs against the previous approved revision (2), with their units
+    assert "revision2(approvedbycid" in text and "delta-0.020.0005" in text
+    # the revision table: every revision up to this one, with its author, message and state
+    for row in ("1" + slow["created_at"][:10] + "annslowerdraft",
+                "2" + first["created_at"][:10] + "annthepressasdrawnsuperseded"):
+        assert row in text, row
+    # the checks page says it too
+    checks = text[text.index("Checksagainstthesimulatedmachine"):]
+    assert checks.startswith("Checksagainstthesimulatedmachine" + "Deviation:")

@@ -246,7 +246,7 @@ def _revision_pages(record: DesignRecord, st: dict[str, ParagraphStyle]) -> list
         out += _section("Revisions", [_table(
             ["rev.", "date (UTC)", "author", "message", "state", "checked", "approved", "deviation", "comments"],
             [[r.number, r.date, r.author, r.message, r.state, r.checked, r.approved, r.deviation, r.comments]
-             for r in record.revisions], st, [4, 9, 7, 16, 7, 10, 10, 14, 23])], st)
+             for r in record.revisions], st, [4, 9, 7, 14, 9, 10, 10, 14, 23])], st)
     note = record.change_note
     if note is not None:
         if not note.against:
