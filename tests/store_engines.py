@@ -1,7 +1,7 @@
 """The store's two engines for the tests: a SQLite file in the test's directory, and a throwaway PostgreSQL
-cluster (Debian's server binaries, initdb + pg_ctl) in a temporary directory on a free loopback port, one
-database per test. The cluster runs as the ``postgres`` user when the tests run as root (the server refuses
-root)."""
+cluster in a temporary directory on a free loopback port, one database per test. The cluster is made and started
+by ``deploy/postgres.sh``, the script docs/deployment.md's recipe follows (as the ``postgres`` user when the tests
+run as root: the server refuses root)."""
 
 from __future__ import annotations
 
@@ -30,30 +30,31 @@ def _bin(name: str) -> str:
     return path
 
 
-class Cluster:
-    """A PostgreSQL server on 127.0.0.1:``port`` for user ``synth`` (trust authentication)."""
+SETUP = Path(__file__).resolve().parents[1] / "deploy" / "postgres.sh"
 
-    def __init__(self) -> None:
+
+class Cluster:
+    """A PostgreSQL server on 127.0.0.1:``port`` for user ``synth`` (trust authentication on loopback), made by
+    ``deploy/postgres.sh`` (``password``: the role needs it over TCP); ``url`` is the URL the script prints."""
+
+    def __init__(self, password: str | None = None) -> None:
         self.root = Path(tempfile.mkdtemp(prefix="synth-pg-"))
         self.port = free_port()
         self.as_user: list[str] = []
+        _bin("initdb")
         if os.geteuid() == 0:
             account = pwd.getpwnam("postgres")
             os.chown(self.root, account.pw_uid, account.pw_gid)
             self.as_user = ["runuser", "-u", "postgres", "--"]
-        data = self.root / "data"
-        self._run(_bin("initdb"), "-D", str(data), "-U", "synth", "--auth=trust", "-E", "UTF8", "--no-locale",
-                  "--no-sync")
-        options = (f"-p {self.port} -k {self.root} -c listen_addresses=127.0.0.1 -c fsync=off "
-                   "-c synchronous_commit=off -c full_page_writes=off -c max_connections=200")
-        self._run(_bin("pg_ctl"), "-D", str(data), "-o", options, "-l", str(self.root / "log"), "-w", "start")
-
-    def _run(self, *command: str) -> None:
-        done = subprocess.run([*self.as_user, *command], capture_output=True, text=True)
+        # a throwaway server: no waiting on the disk
+        env = {**os.environ, "SYNTH_INITDB_OPTIONS": "--no-sync", "SYNTH_DB_PASSWORD": password or ""}
+        done = subprocess.run(["sh", str(SETUP), str(self.root), str(self.port), "-c", "fsync=off", "-c",
+                               "synchronous_commit=off", "-c", "full_page_writes=off", "-c", "max_connections=200"],
+                              capture_output=True, text=True, env=env)
         if done.returncode:
             log = self.root / "log"
-            pytest.fail(f"{' '.join(command)} failed: {done.stderr[-2000:]}"
-                        f"{log.read_text()[-2000:] if log.exists() else ''}")
+            pytest.fail(f"{SETUP} failed: {done.stderr[-2000:]}{log.read_text()[-2000:] if log.exists() else ''}")
+        self.url = done.stdout.strip().splitlines()[-1].partition("=")[2]
 
     def database(self) -> str:
         """A new empty database; its SQLAlchemy URL."""

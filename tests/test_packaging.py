@@ -41,3 +41,18 @@ def test_docker_image_installs_no_test_tools() -> None:
     # a developer's checkout still gets them
     plain = dry_run({k: v for k, v in os.environ.items() if k != "EXTRAS"})
     assert "pip install --quiet -e '.[test]'" in plain
+
+
+def test_the_image_keeps_its_store_on_a_volume_the_service_user_owns() -> None:
+    docker = (REPO / "Dockerfile").read_text()
+    user = re.search(r"^USER (\w+)$", docker, flags=re.M)
+    assert user is not None
+    # /app and the store's directory belong to the user the service runs as, made before it takes over
+    assert re.search(rf"chown {user[1]}:{user[1]} /app /data", docker)
+    assert f"COPY --chown={user[1]}:{user[1]} . /app" in docker
+    store = re.search(r"SYNTH_STUDIES_DB=(\S+)", docker)
+    volume = re.search(r'^VOLUME \["(\S+)"\]$', docker, flags=re.M)
+    assert store is not None and volume is not None and store[1].startswith(volume[1] + "/")
+    # the run command the deployment page gives mounts a named volume there
+    deployment = (REPO / "docs" / "deployment.md").read_text()
+    assert f"-v mechsynth-data:{volume[1]} mechsynth" in deployment

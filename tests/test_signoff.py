@@ -320,3 +320,26 @@ def test_the_record_is_a_document_of_its_revision(the_office: Office) -> None:
     # the checks page says it too
     checks = text[text.index("Checksagainstthesimulatedmachine"):]
     assert checks.startswith("Checksagainstthesimulatedmachine" + "Deviation:")
+
+
+def test_the_postgres_recipe_with_a_password_gives_a_store_the_service_migrates() -> None:
+    # docs/deployment.md's recipe is deploy/postgres.sh, the script every PostgreSQL test's server is made with;
+    # here its password path: the role needs the password over TCP
+    import sqlalchemy as sa
+
+    from store import Store, StoreUnavailable
+
+    cluster = Cluster(password="s3cret horse")
+    try:
+        assert cluster.url == f"postgresql://synth:PASSWORD@127.0.0.1:{cluster.port}/synth"
+        wrong = Store(cluster.url.replace("PASSWORD", "wrong"))
+        with pytest.raises(StoreUnavailable, match="password authentication failed"):
+            wrong.ping()
+        wrong.dispose()
+        store = Store(cluster.url.replace("PASSWORD", "s3cret%20horse"))
+        assert store.migrate()[-1] == "0003"
+        with store.read() as db:
+            assert db.execute(sa.text("SELECT current_user, current_database()")).one() == ("synth", "synth")
+        store.dispose()
+    finally:
+        cluster.stop()
