@@ -5,7 +5,9 @@ from __future__ import annotations
 import asyncio
 import logging
 import math
+import os
 import sys
+import tempfile
 import uuid
 from collections.abc import Mapping
 from typing import Any
@@ -303,7 +305,7 @@ class BodyLimit:
         self.app = app
         self.max_bytes = max_bytes
         self.timeout_s = timeout_s
-        # paths whose bodies are whole files (a library export), with their own bound
+        # paths whose bodies are whole files (a library export), with their own bound, spooled to a file
         self.larger = dict(larger or {})
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
@@ -314,6 +316,9 @@ class BodyLimit:
         declared = dict(scope.get("headers", [])).get(b"content-length")
         if declared is not None and declared.isdigit() and int(declared) > limit:
             await self._too_large(scope, receive, send, int(declared), limit)
+            return
+        if scope.get("path", "") in self.larger and scope.get("method") == "POST":
+            await self._spooled(scope, receive, send, limit)
             return
         loop = asyncio.get_running_loop()
         deadline = loop.time() + self.timeout_s
@@ -349,6 +354,50 @@ class BodyLimit:
             return await receive()
 
         await self.app(scope, replay, send)
+
+    async def _spooled(self, scope: Scope, receive: Receive, send: Send, limit: int) -> None:
+        """A whole file as the body (a library export): written to a temporary file as it arrives, never held in
+        memory; the app finds the file's path in the request's state (``body_file``) and the file is removed
+        once the app has answered."""
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + self.timeout_s
+        handle, path = tempfile.mkstemp(prefix="synth-body-", suffix=".json")
+        size = 0
+        try:
+            with os.fdopen(handle, "wb") as spool:
+                while True:
+                    try:
+                        message = await asyncio.wait_for(receive(), timeout=max(0.0, deadline - loop.time()))
+                    except asyncio.TimeoutError:
+                        response = problem(408, "body-timeout", "Request body too slow",
+                                           f"the body was not received within {self.timeout_s:g} s",
+                                           headers={"Connection": "close"}, limit_s=self.timeout_s,
+                                           received_bytes=size)
+                        await response(scope, receive, send)
+                        return
+                    if message["type"] == "http.disconnect":
+                        return
+                    chunk = message.get("body", b"")
+                    size += len(chunk)
+                    if size > limit:
+                        await self._too_large(scope, receive, send, size, limit)
+                        return
+                    spool.write(chunk)
+                    if not message.get("more_body", False):
+                        break
+            scope.setdefault("state", {})["body_file"] = path
+            done = False
+
+            async def empty() -> Message:
+                nonlocal done
+                if not done:
+                    done = True
+                    return {"type": "http.request", "body": b"", "more_body": False}
+                return await receive()
+
+            await self.app(scope, empty, send)
+        finally:
+            os.unlink(path)
 
     async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int, limit: int) -> None:
         response = problem_response(TooLarge("request body bytes", limit, got))

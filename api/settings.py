@@ -67,7 +67,7 @@ class Settings(BaseSettings):
     database_url: str | None = Field(None, description="The store on a PostgreSQL server "
                                      "(postgresql://user:password@host:5432/db), shared by several service "
                                      "processes; unset: the SQLite file SYNTH_STUDIES_DB.")
-    max_import_bytes: int = Field(200_000_000, ge=1_000, le=10_000_000_000,
+    max_import_bytes: int = Field(50_000_000, ge=1_000, le=10_000_000_000,
                                   description="Body size of a library import (a project's export: answers and "
                                               "design records of every revision); 413 beyond it.")
     study_lease_s: float = Field(30.0, ge=0.5, le=3600,

@@ -12,6 +12,14 @@ scenario bounded in count and time:
 - large answers: 16 clients each asking for a 20 000-sample analysis (about 22 MB of JSON) and reading it
   slowly (64 kB every 20 ms); it prints the web process's own peak RSS (VmHWM, the workers not counted).
 
+- abuse (a third server, authentication on): 120 sign-ins with fresh names from one address, 30 at once, while a
+  viewer's token reads ``GET /v1/studies?limit=1`` every 50 ms from another (goal: its p95 <= 100 ms); a 100 MB
+  library import (one revision holding 50 million zeros) while ``/health`` is asked every 20 ms (goals: the web
+  process's peak RSS grows <= 100 MB, ``/health`` p99 <= 50 ms); one address holding as many slow-header sockets
+  as it may (up to 1 050, each reopened as the server closes it) for 20 s while another asks ``/health`` every
+  50 ms (goal: p99 <= 50 ms, no 503). Every client is on loopback (127.0.0.x), each bounded in count and time.
+  ``--abuse-only`` runs these alone.
+
 ``--baseline DIR`` runs the same scenarios on another checkout of the service (say ``git archive main`` unpacked
 in a temporary directory) in the same run and prints both side by side; ``--shared`` adds this checkout with
 ``SYNTH_STUDY_LANE=shared`` (studies on the request workers, requests first at task boundaries). ``--classic`` runs the former
@@ -274,15 +282,158 @@ async def _large_answers(url: str, pid: int, clients: int) -> dict[str, float]:
             "large_s": max(tally.latencies), "large_ok": tally.statuses.get(200, 0)}
 
 
-def measure(repo: Path, args: argparse.Namespace, extra_env: dict[str, str] | None = None) -> dict[str, float]:
-    """The fairness and large-answer figures of the service in ``repo`` (with ``extra_env`` set)."""
+ADMIN = ("root", "bench admin password")
+
+
+def _viewer_token(url: str) -> str:
+    """A viewer's API token, made by the admin signed in from its own loopback address."""
+    with httpx.Client(base_url=url, transport=httpx.HTTPTransport(local_address="127.0.0.9"), timeout=60) as c:
+        signed = c.post("/v1/auth/signin", json={"name": ADMIN[0], "password": ADMIN[1]})
+        signed.raise_for_status()
+        csrf = {"x-csrf-token": signed.json()["csrf_token"]}
+        c.post("/v1/users", json={"name": "vera", "password": "a viewer password", "roles": ["viewer"]},
+               headers=csrf).raise_for_status()
+        made = c.post("/v1/users/vera/tokens", json={"label": "bench"}, headers=csrf)
+        made.raise_for_status()
+        return str(made.json()["token"])
+
+
+async def _spray(url: str, token: str, attempts: int = 120, at_once: int = 30) -> dict[str, float]:
+    """``attempts`` sign-ins with fresh names, ``at_once`` at a time, from 127.0.0.1, while a viewer reads."""
+    reads, signs = Tally(), Tally()
+    stop = asyncio.Event()
+    viewer = httpx.AsyncClient(base_url=url, timeout=120, headers={"authorization": f"Bearer {token}"},
+                               transport=httpx.AsyncHTTPTransport(local_address="127.0.0.2"))
+    sprayer = httpx.AsyncClient(base_url=url, timeout=120, limits=httpx.Limits(max_connections=at_once))
+    queue = list(range(attempts))
+
+    async def one_client() -> None:
+        while queue:
+            k = queue.pop()
+            start = time.perf_counter()
+            try:
+                status = (await sprayer.post("/v1/auth/signin", json={"name": f"fresh{k}",
+                                                                      "password": "a guess"})).status_code
+            except httpx.HTTPError:
+                status = 0
+            signs.latencies.append(time.perf_counter() - start)
+            signs.statuses[status] = signs.statuses.get(status, 0) + 1
+
+    async with viewer, sprayer:
+        probe = asyncio.create_task(_probe(viewer, "GET", "/v1/studies?limit=1", None, 0.05, stop, reads))
+        await asyncio.sleep(0.5)
+        start = time.perf_counter()
+        await asyncio.wait_for(asyncio.gather(*(one_client() for _ in range(at_once))), 240)
+        spray_s = time.perf_counter() - start
+        stop.set()
+        await probe
+    return {"spray_viewer_p95_ms": float(np.percentile(np.array(reads.latencies) * 1e3, 95)),
+            "spray_viewer_errors": reads.errors, "spray_s": spray_s,
+            "spray_401": signs.statuses.get(401, 0), "spray_429": signs.statuses.get(429, 0)}
+
+
+def _export_of_zeros(megabytes: int) -> bytes:
+    """A library export of one revision whose request holds ``megabytes`` MB of zeros (about half a million zeros
+    per MB): what a careless or hostile import sends."""
+    head = (b'{"format":"mechsynth-library/1","project":"bulk","created_at":1.7e9,"created_by":"ann",'
+            b'"exported_at":1.7e9,"designs":[{"name":"d","endpoint":"/v1/analysis","created_at":1.7e9,'
+            b'"created_by":"ann","revisions":[{"number":1,"parent":null,"request":{"zeros":[')
+    tail = (b'0]},"content_hash":"' + b"0" * 64 + b'","author":"ann","created_at":1.7e9,"message":"m",'
+            b'"answer":null,"passed":null,"state":"draft","checked_by":null,"checked_at":null,"approved_by":null,'
+            b'"approved_at":null,"superseded_by":null,"record_pdf_base64":null}]}]}')
+    return head + b"0," * (megabytes * 500_000) + tail
+
+
+async def _large_import(url: str, pid: int, token: str, megabytes: int = 100) -> dict[str, float]:
+    """A ``megabytes`` MB import while /health is asked every 20 ms: the web process's peak RSS and /health."""
+    body = _export_of_zeros(megabytes)
+    health = Tally()
+    stop = asyncio.Event()
+    before = _hwm_mb(pid)
+    async with httpx.AsyncClient(base_url=url, timeout=600) as http:
+        probe = asyncio.create_task(_probe(http, "GET", "/health", None, 0.02, stop, health))
+        await asyncio.sleep(0.5)
+        start = time.perf_counter()
+        r = await http.post("/v1/library/import", content=body, headers={
+            "content-type": "application/json", "authorization": f"Bearer {token}"})
+        took = time.perf_counter() - start
+        stop.set()
+        await probe
+    return {"import_status": r.status_code, "import_s": took, "import_rss_growth_mb": _hwm_mb(pid) - before,
+            "import_health_p99_ms": float(np.percentile(np.array(health.latencies) * 1e3, 99)),
+            "import_health_errors": health.errors}
+
+
+async def _slow_crowd(url: str, sockets: int = 1050, hold_s: float = 20.0) -> dict[str, float]:
+    """One address (127.0.0.4) holding up to ``sockets`` connections that never finish their headers, each opened
+    again as the server closes it, while another asks /health every 50 ms."""
+    host, port = url.removeprefix("http://").split(":")
+    stop = asyncio.Event()
+    opened = refused = 0
+
+    async def hold() -> None:
+        nonlocal opened, refused
+        while not stop.is_set():
+            try:
+                reader, writer = await asyncio.open_connection(host, int(port), local_addr=("127.0.0.4", 0))
+            except OSError:
+                await asyncio.sleep(0.1)
+                continue
+            opened += 1
+            writer.write(b"GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+            try:
+                while not stop.is_set():
+                    try:
+                        head = await asyncio.wait_for(reader.read(100), 1.0)
+                    except asyncio.TimeoutError:
+                        writer.write(b"X-Slow: 1\r\n")    # one header line now and then: never a whole head
+                        continue
+                    refused += head.startswith(b"HTTP/1.1 503")
+                    break
+            except OSError:
+                pass
+            writer.close()
+
+    health = Tally()
+    async with httpx.AsyncClient(base_url=url, timeout=60) as http:
+        crowd = [asyncio.create_task(hold()) for _ in range(sockets)]
+        await asyncio.sleep(2.0)
+        probe = asyncio.create_task(_probe(http, "GET", "/health", None, 0.05, stop, health))
+        await asyncio.sleep(hold_s)
+        stop.set()
+        await probe
+        await asyncio.gather(*crowd, return_exceptions=True)
+    return {"crowd_health_p99_ms": float(np.percentile(np.array(health.latencies) * 1e3, 99)),
+            "crowd_health_not_200": health.errors, "crowd_health_n": len(health.latencies),
+            "crowd_opened": opened, "crowd_refused_503": refused}
+
+
+def abuse(repo: Path, extra_env: dict[str, str] | None = None) -> dict[str, float]:
+    """The sign-in spray, the large import and the slow-socket crowd on a server with authentication on."""
     with tempfile.TemporaryDirectory() as tmp:
-        env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite"), **(extra_env or {})}
+        env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite"), "SYNTH_AUTH": "on",
+               "SYNTH_ADMIN_NAME": ADMIN[0], "SYNTH_ADMIN_PASSWORD": ADMIN[1],
+               # the 100 MB import is parsed, not refused for its size (the default bound is 50 MB)
+               "SYNTH_MAX_IMPORT_BYTES": "150000000", **(extra_env or {})}
         with server(2, repo=repo, extra_env=env) as (url, pid):
-            figures = asyncio.run(_fairness(url, args))
-        with server(2, repo=repo, extra_env=env) as (url, pid):
-            figures |= asyncio.run(_large_answers(url, pid, args.large_clients))
+            token = _viewer_token(url)
+            figures = asyncio.run(_spray(url, token))
+            figures |= asyncio.run(_slow_crowd(url))
+            figures |= asyncio.run(_large_import(url, pid, token))
     return figures
+
+
+def measure(repo: Path, args: argparse.Namespace, extra_env: dict[str, str] | None = None) -> dict[str, float]:
+    """The fairness, large-answer and abuse figures of the service in ``repo`` (with ``extra_env`` set)."""
+    figures: dict[str, float] = {}
+    if not args.abuse_only:
+        with tempfile.TemporaryDirectory() as tmp:
+            env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "studies.sqlite"), **(extra_env or {})}
+            with server(2, repo=repo, extra_env=env) as (url, pid):
+                figures = asyncio.run(_fairness(url, args))
+            with server(2, repo=repo, extra_env=env) as (url, pid):
+                figures |= asyncio.run(_large_answers(url, pid, args.large_clients))
+    return figures | abuse(repo, extra_env)
 
 
 ROWS = [
@@ -300,6 +451,19 @@ ROWS = [
     ("large_s", "slowest large answer read [s]"),
     ("rss_peak_before_mb", "web process peak RSS before them [MiB]"),
     ("rss_peak_mb", "web process peak RSS, 16 large answers, slow readers [MiB]"),
+    ("spray_viewer_p95_ms", "viewer p95 during 120 sign-ins, 30 at once [ms] (goal <= 100)"),
+    ("spray_viewer_errors", "viewer errors during the sign-ins"),
+    ("spray_401", "sign-ins answered 401"),
+    ("spray_429", "sign-ins answered 429"),
+    ("spray_s", "the 120 sign-ins took [s]"),
+    ("crowd_health_p99_ms", "/health p99, one address holding slow sockets [ms] (goal <= 50)"),
+    ("crowd_health_not_200", "/health not 200 meanwhile"),
+    ("crowd_health_n", "/health answers meanwhile"),
+    ("crowd_refused_503", "slow sockets refused 503 at once"),
+    ("import_status", "100 MB import: status"),
+    ("import_s", "100 MB import: time [s]"),
+    ("import_rss_growth_mb", "web process peak RSS growth [MiB] (goal <= 100)"),
+    ("import_health_p99_ms", "/health p99 during the import [ms] (goal <= 50)"),
 ]
 
 
@@ -314,7 +478,8 @@ def fairness_main(args: argparse.Namespace) -> None:
     for name, repo, env in trees:
         print(f"== {name}: {repo} {env or ''}", flush=True)
         figures = measure(repo, args, env)
-        figures["studies_ratio"] = figures["studies_beside_s"] / figures["studies_alone_s"]
+        if "studies_alone_s" in figures:
+            figures["studies_ratio"] = figures["studies_beside_s"] / figures["studies_alone_s"]
         results[name] = figures
         for key, label in ROWS:
             print(f"  {label:62s} {figures.get(key, math.nan):10.2f}", flush=True)
@@ -339,6 +504,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--variants", type=int, default=2000, help="variants per study")
     parser.add_argument("--idle-s", type=float, default=8.0, help="time of the idle measurement [s]")
     parser.add_argument("--large-clients", type=int, default=16, help="slow readers of large answers")
+    parser.add_argument("--abuse-only", action="store_true",
+                        help="only the sign-in spray, the slow-socket crowd and the large import")
     args = parser.parse_args(argv)
     if not args.classic:
         fairness_main(args)

@@ -49,6 +49,9 @@ class StoreUnavailable(Exception):
         super().__init__(f"the store cannot be reached: {reason}")
         self.reason = reason
 
+    def __reduce__(self) -> tuple[type[StoreUnavailable], tuple[str]]:
+        return type(self), (self.reason,)
+
 
 class MigrationFailed(Exception):
     """The store was reached but its schema could not be brought up to date; the service must not start."""

@@ -53,6 +53,9 @@ class StaleParent(LibraryError):
         super().__init__(detail)
         self.head = head
 
+    def __reduce__(self) -> tuple[type[StaleParent], tuple[str, int]]:
+        return type(self), (str(self), self.head)
+
 
 class SignOffRefused(LibraryError):
     """The signer may not sign this revision (they wrote it, or signed it already in another role)."""
@@ -79,6 +82,10 @@ class InvalidDocument(LibraryError):
     def __init__(self, detail: str, field: str) -> None:
         super().__init__(detail)
         self.field = field
+
+    def __reduce__(self) -> tuple[type[InvalidDocument], tuple[str, str]]:
+        # raised in a worker process (an import) and sent back to the web process whole
+        return type(self), (str(self), self.field)
 
 
 class ProjectExists(LibraryError):

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import collections
 import os
 import signal
 import socket
 import subprocess
+import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -41,6 +43,12 @@ def running_process(command: Callable[[int], list[str]], studies_dir: Path, star
     env = {**os.environ, "SYNTH_STUDIES_DB": str(studies_dir / "studies.sqlite"), **(env or {})}
     proc = subprocess.Popen(command(port), cwd=REPO, env=env, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    # the server's log is read as it comes (a full pipe would stop a server that logs much, as one whose store
+    # fails does), its last 64 kB kept to show when it does not start
+    tail: collections.deque[bytes] = collections.deque(maxlen=256)
+    reader = threading.Thread(target=lambda: tail.extend(iter(lambda: proc.stderr.read(256) if proc.stderr
+                                                               else b"", b"")), daemon=True)
+    reader.start()
     url = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + start_timeout_s
@@ -51,7 +59,8 @@ def running_process(command: Callable[[int], list[str]], studies_dir: Path, star
             except httpx.TransportError:
                 pass
             if proc.poll() is not None or time.monotonic() > deadline:
-                err = proc.stderr.read().decode() if proc.stderr else ""
+                reader.join(timeout=5)
+                err = b"".join(tail).decode(errors="replace")
                 pytest.fail(f"the service did not start with {' '.join(command(port))}: {err[-2000:]}")
             time.sleep(0.2)
         yield url, proc
@@ -59,5 +68,6 @@ def running_process(command: Callable[[int], list[str]], studies_dir: Path, star
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGTERM)
         proc.wait(timeout=30)
+        reader.join(timeout=5)
         if proc.stderr:
             proc.stderr.close()

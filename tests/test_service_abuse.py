@@ -114,3 +114,38 @@ def test_one_address_holding_sockets_leaves_health_to_the_others(service: tuple[
     finally:
         for s in held:
             s.close()
+
+
+def _peak_rss_mb(pid: int) -> float:
+    """A process's own peak resident memory since it started (VmHWM) [MiB]."""
+    line = next(x for x in Path(f"/proc/{pid}/status").read_text().splitlines() if x.startswith("VmHWM:"))
+    return int(line.split()[1]) / 1024
+
+
+def test_a_large_import_is_parsed_off_the_web_process(tmp_path: Path) -> None:
+    from bench.load import _export_of_zeros
+
+    body = _export_of_zeros(30)   # 30 MB: 15 million zeros, about 0.5 GB once parsed into Python objects
+    env = {"SYNTH_WORKERS": "1", "SYNTH_MAX_IMPORT_BYTES": str(64_000_000)}
+    with running_process(lambda port: [sys.executable, "-m", "api.serve", "--host", "127.0.0.1", "--port",
+                                       str(port), "--log-level", "warning"], tmp_path, env=env) as (url, proc):
+        with httpx.Client(base_url=url, timeout=120) as c:
+            assert c.get("/ready").status_code == 200
+            before = _peak_rss_mb(proc.pid)
+            answer: list[httpx.Response] = []
+            sender = threading.Thread(target=lambda: answer.append(c.post(
+                "/v1/library/import", content=body, headers={"content-type": "application/json"})))
+            sender.start()
+            health = 0
+            while sender.is_alive():
+                assert httpx.get(f"{url}/health", timeout=30).status_code == 200
+                health += 1
+                time.sleep(0.05)
+            sender.join()
+        # the export is refused for its content hash (zeros hash to something else) only once a worker parsed it
+        assert answer[0].status_code == 422, answer[0].text[:300]
+        assert "content_hash" in answer[0].json()["field"], answer[0].text[:300]
+        # the web process holds the body's chunks on their way to a file, not the document: a few MB, where
+        # parsing it there took hundreds
+        assert _peak_rss_mb(proc.pid) - before < 60, (before, _peak_rss_mb(proc.pid))
+        assert health > 0     # /health answered meanwhile (its times are bench.load's to measure)

@@ -136,7 +136,7 @@ def _run_through(store_url: str, env: dict[str, str], tmp_path: Path, fault: Cal
             resumed = httpx.post(f"{base}{study}/resume", timeout=30)
             assert resumed.status_code == 202, resumed.text
             record = _wait(lambda: (r := httpx.get(f"{base}{study}").json())["state"] in ("done", "failed")
-                           and r, 120, "the resumed study to finish")
+                           and r, 300, "the resumed study to finish")
         assert record["state"] == "done" and record["done"] == TOTAL, record
         again = httpx.post(f"{base}{study}/resume", timeout=30)
         assert again.status_code == 409 and again.json()["type"] == "/problems/study-finished", again.text

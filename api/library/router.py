@@ -5,6 +5,7 @@ revision; history, search, diff, restore, sign-off, and a project's export and i
 from __future__ import annotations
 
 import asyncio
+import tempfile
 import time
 from datetime import datetime, timezone
 from functools import partial
@@ -40,7 +41,8 @@ from ..storage import StoreDep
 from .access import Forbidden, actor
 from .diff import answer_changes, request_changes
 from .sheet import draft_sheet, revision_sheet
-from .tasks import MACHINE, answer_revision, canonical_request, kept_sheet, machine_record, sheet_of
+from .tasks import (MACHINE, answer_revision, canonical_request, import_file, kept_sheet, machine_record,
+                    sheet_of)
 
 router = APIRouter(prefix="/library", tags=["library"])
 
@@ -309,8 +311,11 @@ async def export_project(project: ProjectName, library: LibraryDep) -> Response:
         "content-disposition": f'attachment; filename="{project}.library.json"'})
 
 
-@router.post("/import", status_code=201, response_model=ProjectOut, responses=_problems(403, 409))
-async def import_project(body: LibraryExport, library: LibraryDep, user: CurrentUserDep) -> ProjectOut:
+@router.post("/import", status_code=201, response_model=ProjectOut, responses=_problems(403, 409),
+             openapi_extra={"requestBody": {"required": True, "content": {"application/json": {
+                 "schema": {"$ref": "#/components/schemas/LibraryExport"}}}}})
+async def import_project(request: Request, library: LibraryDep, solvers: SolverDep,
+                         user: CurrentUserDep) -> ProjectOut:
     """Import an exported project's history: numbers, authors, times, messages, requests (every content hash
     checked against its request first: 422 names one that does not match). A file cannot sign: every revision
     arrives `imported` and unsigned, what it claimed (state, signers, pass, deviation, comments) kept only in its
@@ -319,6 +324,13 @@ async def import_project(body: LibraryExport, library: LibraryDep, user: Current
     if user is not None and not (user.has("admin") or user.has("engineer")):
         raise Forbidden(f"{user.name} may not import projects: importing needs the engineer role")
     importer = user.name if user is not None else "a caller of an open service"
-    return ProjectOut.from_project(await asyncio.to_thread(partial(
-        library.import_project, body.model_dump(mode="json"), importer=importer)))
+    # the body arrives spooled to a file (the service's body limit streams it there, bounded by
+    # SYNTH_MAX_IMPORT_BYTES): a worker parses, checks and stores it, and the web process stays small
+    spooled: str | None = request.scope.get("state", {}).get("body_file")
+    if spooled is not None:
+        return ProjectOut.from_project(await solvers.run(import_file, spooled, library.store.url, importer))
+    with tempfile.NamedTemporaryFile(prefix="synth-body-", suffix=".json") as copy:
+        copy.write(await request.body())
+        copy.flush()
+        return ProjectOut.from_project(await solvers.run(import_file, copy.name, library.store.url, importer))
 

@@ -13,7 +13,10 @@ import orjson
 from pydantic import ValidationError
 from pypdf import PdfReader
 
+from mechsynth_client.schemas.library import LibraryExport
 from mechsynth_client.schemas.studies import StudyIn
+from store import Store
+from store.library import Library, Project
 from synth.errors import InvalidInput, SynthError
 from synth.machine.record import (
     SHEET_KEY,
@@ -124,3 +127,28 @@ def answer_revision(endpoint: str, limits: Limits, request: dict[str, Any], shee
     record = replace(render, fmt="pdf")(result)[0] if endpoint == MACHINE else None
     passed = answer.get("passed")
     return answer, passed if isinstance(passed, bool) else True, record
+
+
+def import_file(path: str, store_url: str, importer: str) -> Project:
+    """Worker side of an import: the export read from the file its body was spooled to, checked against the
+    export's schema (422 naming the first field that fails) and stored, so the web process never holds the
+    document (a 100 MB export parses to far more than 100 MB of objects)."""
+    with open(path, "rb") as spooled:
+        raw = spooled.read()
+    try:
+        document = orjson.loads(raw)
+    except orjson.JSONDecodeError as exc:
+        raise InvalidInput(f"the body is not JSON: {exc}", field="body") from None
+    del raw
+    try:
+        export = LibraryExport.model_validate(document)
+    except ValidationError as exc:
+        first = exc.errors(include_url=False)[0]
+        where = ".".join(str(p) for p in first["loc"]) or "body"
+        raise InvalidInput(f"{where}: {first['msg']}", field=where) from None
+    del document
+    store = Store(store_url)
+    try:
+        return Library(store).import_project(export.model_dump(mode="json"), importer=importer)
+    finally:
+        store.dispose()
