@@ -135,6 +135,17 @@ def test_three_people_sign_a_design_through_and_the_record_shows_it(the_office: 
     assert cid.inner_text(f"{row} td.state") == "approved"
     _shot(cid, "3-approver")
 
+    # a viewer opens it read only: its stored answer, and not one button that signs or saves
+    vic = _person(browser, url, "vic")
+    assert "open any revision and its stored answer, read only" in vic.inner_text("#lib-who")
+    _find(vic)
+    _act(vic, f"{row} button:has-text('Open')", "opened")
+    assert "Stored answer of revision 1" in vic.inner_text("#lib-answer")
+    for button in ("Check", "Approve", "Return", "Restore"):
+        assert vic.locator(f"{row} button:has-text('{button}')").count() == 0, button
+    assert vic.locator("#lib-save").count() == 0 and vic.locator("#lib-name").count() == 0
+    _shot(vic, "4-viewer")
+
     with cid.expect_download(timeout=SLOW_MS) as download:
         cid.click(f"{row} button:has-text('Record (PDF)')")
     pdf = Path(download.value.path()).read_bytes()

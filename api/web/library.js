@@ -153,7 +153,9 @@ async function open(project, design, number) {
     current = { project, design, number, endpoint: r.endpoint };
     el("lib-project").value = project; el("lib-design").value = design; el("lib-kind").value = r.endpoint;
     say(`Opened revision ${number} of ${project}/${design} (${r.state})` +
-      (may(r).save ? ": the next save starts from it." : ": read only; its stored answer is below, and the linkage moves as it was saved."));
+      (may(r).save ? ": the next save starts from it." : holds("checker", "approver")
+        ? ": read only; its stored answer is below, and the linkage is analysed again as it was saved."
+        : ": read only; its stored answer is below (analysing the linkage again needs the engineer, checker or approver role)."));
     showAnswer(r);
     await wb().setDesign(designOf(r.request));
     done("opened");
