@@ -19,6 +19,8 @@ from collections.abc import Callable
 import numpy as np
 
 import synth
+from api.translate.analysis import analysis_out
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import SynthClient
 from api.media import json_bytes
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
@@ -47,7 +49,7 @@ FAMILIES: dict[str, tuple[dict[str, object], Callable[[synth.Linkage, np.ndarray
 
 def _linkage(mechanism: dict[str, object] = FOURBAR_EXAMPLE) -> synth.Linkage:
     """The mechanism with gravity on, so that every term of the closed forms is exercised."""
-    return AnalysisIn.model_validate({"mechanism": mechanism, "gravity": {"g_m_s2": 9.81}}).to_linkage()
+    return linkage_from(AnalysisIn.model_validate({"mechanism": mechanism, "gravity": {"g_m_s2": 9.81}}))
 
 
 def compare_families(sizes: tuple[int, ...] = SIZES) -> list[tuple[str, int, float, float, float, float]]:
@@ -141,7 +143,7 @@ def main() -> None:
     """Every family against its closed form at every size, the per-angle loop, then the request and its JSON."""
     keep_freed_memory()  # the allocator as the service's workers set it, for both sides of every ratio
     print_families(compare_families())
-    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()  # the loop has no gravity
+    linkage = linkage_from(AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}))  # the loop has no gravity
     phi = synth.cycle_angles(SAMPLES)
     engine = synth.analyse(linkage, OMEGA, samples=SAMPLES)
     loop_torque = per_angle_torque(linkage, phi, OMEGA)
@@ -158,9 +160,9 @@ def main() -> None:
     # The raw POST: the server's whole work and the transport, not the client's own parsing of the answer.
     t_req = median_of(lambda: client.http.post("/v1/analysis", json=payload).raise_for_status(), 15)
     t_health = median_of(client.health, 15)
-    out = AnalysisOut.from_engine(engine)
-    t_orjson = median_of(lambda: json_bytes(AnalysisOut.from_engine(engine)), 15)
-    t_pydantic = median_of(lambda: AnalysisOut.from_engine(engine).to_lists().model_dump_json(), 5)
+    out = analysis_out(engine)
+    t_orjson = median_of(lambda: json_bytes(analysis_out(engine)), 15)
+    t_pydantic = median_of(lambda: analysis_out(engine).to_lists().model_dump_json(), 5)
     assert json.loads(json_bytes(out)) == json.loads(out.to_lists().model_dump_json())
     asgi = asgi_medians({"analysis": ("POST", "/v1/analysis", payload), "health": ("GET", "/health", None)}, 15)
     print(f"POST /v1/analysis, {SAMPLES} samples, in-process (raw POST, the client does not parse the answer):")

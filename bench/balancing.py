@@ -9,6 +9,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.balancing import BalanceIn, OptimalBalanceIn
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
@@ -25,7 +26,7 @@ BUDGET = 4.0
 
 
 def _setup() -> tuple[synth.Linkage, synth.LinearMap, list[int], np.ndarray]:
-    linkage = BalanceIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()
+    linkage = linkage_from(BalanceIn.model_validate({"mechanism": FOURBAR_EXAMPLE}))
     an = synth.analyse(linkage, SPEED, samples=SAMPLES)
     lm = synth.linear_map(an.motion, linkage)
     cols = [c for link in LINKS for c in range(lm.columns(link).start, lm.columns(link).stop)]

@@ -21,6 +21,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.flywheel import FlywheelIn
 from bench._timing import asgi_medians, median_of
@@ -109,7 +110,7 @@ def bench_motor() -> None:
         "samples": 360, "mean_speed_rpm": 495, "delta": 0.04, "motor": MOTOR})
     motor = synth.Motor(synchronous_speed=1500 * math.pi / 30, rated_speed=1440 * math.pi / 30, rated_torque=60.0,
                         gear_ratio=3.0, efficiency=0.95, rotor_inertia=0.02).reduced()
-    linkage = body.to_linkage()
+    linkage = linkage_from(body)
     cycle = synth.cycle_from_reduced(synth.analyse(linkage, motor.mean_speed(synth.cycle_from_reduced(
         synth.analyse(linkage, 50.0, samples=360).reduced)), samples=360).reduced)
     inertia = 0.5 + motor.inertia

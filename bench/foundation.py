@@ -27,6 +27,9 @@ from scipy.integrate import solve_ivp
 
 import synth
 from bench._timing import median_of
+from api.translate.foundation import frame_and_isolators_from
+from api.translate.linkage import linkage_from
+from api.translate.machine import machine_from
 from mechsynth_client.schemas.foundation import IsolationIn
 from synth.machine import elastic_drive as ed
 from synth.machine import foundation as fd
@@ -37,8 +40,8 @@ from synth.machine.simulate import MachineCycle
 
 def _compressor() -> tuple[fd.Frame, tuple[fd.Isolator, ...], fd.Forcing, synth.Analysis]:
     body = IsolationIn.model_validate(IsolationIn.model_json_schema()["examples"][0])
-    frame, isolators = body.to_frame()
-    an = synth.analyse(body.to_linkage(), body.omega_rad_s, samples=360)
+    frame, isolators = frame_and_isolators_from(body)
+    an = synth.analyse(linkage_from(body), body.omega_rad_s, samples=360)
     return frame, isolators, fd.forcing_of(an), an
 
 
@@ -178,7 +181,7 @@ def blocks() -> None:
               "regulation": {"load_step_Nm": 40}}
 
     def spec(**blocks: object) -> synth.MachineSpec:
-        return MachineIn.model_validate({**PRESS_EXAMPLE, "samples": 180, **blocks}).to_engine(6)
+        return machine_from(MachineIn.model_validate({**PRESS_EXAMPLE, "samples": 180, **blocks}), 6)
 
     chain = median_of(lambda: synth.design_machine(spec()), 5)
     parts = {}

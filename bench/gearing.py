@@ -31,6 +31,7 @@ from scipy.optimize import minimize
 
 import synth
 from synth.gearing.teeth import TIE, pairs_admissible
+from api.translate.machine import machine_from
 
 
 def _best_of(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
@@ -208,8 +209,8 @@ def bench_machines() -> None:
     for name, body in (("press", PRESS_EXAMPLE), ("four-bar", FOURBAR_MACHINE_EXAMPLE)):
         m = MachineIn.model_validate(body)
         off = m.model_copy(update={"drive": m.drive.model_copy(update={"size_gears": False})})
-        t_on, d = _best_of(lambda: synth.design_machine(m.to_engine(12)), 3)
-        t_off, _ = _best_of(lambda: synth.design_machine(off.to_engine(12)), 3)
+        t_on, d = _best_of(lambda: synth.design_machine(machine_from(m, 12)), 3)
+        t_off, _ = _best_of(lambda: synth.design_machine(machine_from(off, 12)), 3)
         assert d.gears is not None
         stages = "; ".join(
             f"stage {g.stage + 1}: m {g.module * 1e3:g} mm, z {g.pinion_teeth}:{g.gear_teeth}, b "

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
 from bench._timing import best_of
@@ -27,7 +28,7 @@ def by_hand(phi: np.ndarray) -> Arrays:
 
 
 def main() -> None:
-    mech = AnalysisIn.model_validate({"mechanism": SIX_BAR_PRESS_EXAMPLE}).to_linkage().mechanism
+    mech = linkage_from(AnalysisIn.model_validate({"mechanism": SIX_BAR_PRESS_EXAMPLE})).mechanism
     phi = synth.cycle_angles(SAMPLES)
     points, angles = mech.solve(phi)
     hand = by_hand(phi)

@@ -15,6 +15,7 @@ import time
 from collections.abc import Callable
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
 
 REPEATS = 7
@@ -51,7 +52,7 @@ def _stage_by_stage(spec: synth.MachineSpec) -> float:
 
 def main() -> None:
     """Time the chain and the stage-by-stage baseline on the same machine; print medians and the ratio."""
-    spec = MachineIn.model_validate(PRESS_EXAMPLE).to_engine(max_stages=6)
+    spec = machine_from(MachineIn.model_validate(PRESS_EXAMPLE), max_stages=6)
     design = synth.design_machine(spec)
     t_chain = _median_ms(lambda: synth.design_machine(spec))
     t_base = _median_ms(lambda: _stage_by_stage(spec), repeats=3)

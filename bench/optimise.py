@@ -21,6 +21,7 @@ from typing import Any
 
 import synth
 from bench._timing import best_of
+from api.translate.optimise import linkage_optimise_from, machine_optimise_from
 from mechsynth_client import SynthClient
 from mechsynth_client.schemas.optimise import (
     CRANK_ROCKER_OPTIMISE_EXAMPLE,
@@ -55,13 +56,13 @@ def main() -> None:
     engine: dict[str, tuple[Any, float, float, MachineOptimiseIn]] = {}
     for name, (example, _) in family.items():
         body = MachineOptimiseIn.model_validate(example)
-        spec = body.to_engine(max_stages=6)
+        spec = machine_optimise_from(body, max_stages=6)
         result, t_engine = _once(lambda spec=spec: synth.optimise_machine(spec))  # type: ignore[misc]
         chain_machine = spec.machine(result.chain_linkage)
         t_chain = best_of(lambda m=chain_machine: synth.design_machine(m), 2)  # type: ignore[misc]
         engine[name] = (result, t_chain, t_engine, body)
     six = LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE)
-    six_spec = six.to_engine(6)
+    six_spec = linkage_optimise_from(six, 6)
     six_result, t_six_engine = _once(lambda: optimise_linkage(six_spec))
     t_six_chain = best_of(lambda: synth.design_machine(six_spec.machine), 2)
     os.environ["SYNTH_WORKERS"] = "2"
@@ -119,7 +120,7 @@ def _two_workers(times: list[float]) -> float:
 def critical_path(body: MachineOptimiseIn) -> None:
     """The endpoint's stages on the crank-rocker run in this process, each timed in CPU seconds (which a busy
     machine stretches far less than wall time), and the longest path through them on two workers."""
-    spec = body.to_engine(max_stages=6)
+    spec = machine_optimise_from(body, max_stages=6)
     scan, t_scan = _cpu(lambda: opt.scan_family(spec))
     shares = [_cpu(lambda s=s: opt.design_members(spec, s, size_gears_at=(scan.chain_parameter,)))  # type: ignore[misc]
               for s in member_shares(scan.candidates, scan.chain_parameter, 2)]
@@ -150,7 +151,7 @@ def six_bar_critical_path(body: LinkageOptimiseIn) -> None:
     """The linkage endpoint's stages on the six-bar run in this process, each timed in CPU seconds, and the
     longest path through them on two workers (the sample's members in two interleaved shares, the starts handed
     out in order), against their sum: the engine's time in one process."""
-    spec = body.to_engine(6)
+    spec = linkage_optimise_from(body, 6)
     scan, t_scan = _cpu(lambda: lo.scan_box(spec))
     feasible = scan.feasible
     shares = [_cpu(lambda s=s: lo.design_sample(spec, scan, feasible[s::2])) for s in range(2)]  # type: ignore[misc]

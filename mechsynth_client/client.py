@@ -13,18 +13,18 @@ the curves as CSV text (``*_csv``, one row per crank angle), the arrays of array
 (``analysis_arrays``, ``flywheel_arrays``: a NumPy ``.npz`` answer, the only methods that need numpy), the drawings as DXF or SVG (``analysis_drawing``,
 ``balance_dxf``) and the machine's design report as PDF (``design_report_pdf``).
 
-The client needs only httpx and pydantic (``pip install ./client``): the models import the engine only to convert
-to and from engine objects, which happens in the service.
+The client needs only httpx and pydantic (``pip install ./client``): its models are the wire (fields, validation,
+examples) and import nothing of the engine or the service. The in-process mode needs the service installed, which
+offers itself through the entry point group ``mechsynth_client.inprocess``.
 """
 
 from __future__ import annotations
 
 import asyncio
-import importlib
 import time
-import warnings
 from datetime import datetime, timezone
 from email.utils import parsedate_to_datetime
+from importlib.metadata import entry_points
 from typing import Any, Literal, TypeVar
 
 import httpx
@@ -170,15 +170,17 @@ def _unreachable(request: httpx.Request, exc: httpx.TransportError) -> ServiceUn
                                    type(exc).__name__)
 
 
-def _service_app(executor: InProcessExecutor) -> Any:
-    """The service's ASGI app built in this process; the service (distribution ``mechsynth``) must be installed."""
-    try:
-        app_module = importlib.import_module("api.app")
-        settings_module = importlib.import_module("api.settings")
-    except ImportError as exc:
-        raise RuntimeError("in-process mode runs the service itself: install the service (`pip install mechsynth`) "
-                           "or give the client a base_url") from exc
-    return app_module.create_app(settings_module.Settings(executor=executor))
+#: Entry-point group through which an installed service offers itself for the in-process mode.
+IN_PROCESS_GROUP = "mechsynth_client.inprocess"
+
+
+def _in_process_service() -> Any:
+    """The installed service's in-process adapter (a module with ``app(executor)`` and ``http_client(executor)``),
+    found by the entry point the service's distribution declares: this package imports nothing of the service."""
+    for entry in entry_points(group=IN_PROCESS_GROUP):
+        return entry.load()
+    raise RuntimeError("in-process mode runs the service itself: install the service (`pip install mechsynth`) "
+                       "or give the client a base_url")
 
 
 _BY_TYPE: dict[str, type[ProblemError]] = {
@@ -298,12 +300,7 @@ class SynthClient(_Policy):
         ``"pool"`` uses worker processes as the service does (a script then needs an ``if __name__ == "__main__"``
         guard, as every multiprocessing program does).
         """
-        with warnings.catch_warnings():
-            # starlette announces a future move of its test client to another HTTP library; ours speaks httpx.
-            warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
-            from fastapi.testclient import TestClient
-
-        return cls(http=TestClient(_service_app(executor), base_url="http://localhost"))
+        return cls(http=_in_process_service().http_client(executor, base_url="http://localhost"))
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -658,7 +655,7 @@ class AsyncSynthClient(_Policy):
     def in_process(cls, executor: InProcessExecutor = "serial") -> AsyncSynthClient:
         """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
         as in :meth:`SynthClient.in_process`."""
-        transport = httpx.ASGITransport(app=_service_app(executor))
+        transport = httpx.ASGITransport(app=_in_process_service().app(executor))
         return cls(http=httpx.AsyncClient(transport=transport, base_url="http://localhost"))
 
     async def aclose(self) -> None:

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import InvalidInputError, NotAssemblableError, ProblemError, SynthClient, TooLargeError
 from mechsynth_client.schemas.analysis import AnalysisIn
 from conftest import CASES
@@ -32,7 +33,7 @@ def test_documented_examples_answer(client: SynthClient, example: dict) -> None:
 def test_response_equals_engine(client: SynthClient) -> None:
     req = AnalysisIn.model_validate({"mechanism": FOURBAR, "speed_rpm": 300, "samples": 72})
     out = client.analysis(req)
-    an = synth.analyse(req.to_linkage(), 300 * np.pi / 30, samples=72)
+    an = synth.analyse(linkage_from(req), 300 * np.pi / 30, samples=72)
     assert out.driving_torque_Nm == pytest.approx(an.kinetostatics.driving_torque.tolist(), rel=1e-12)
     assert out.summary.rms_shaking_force_N == pytest.approx(an.summary().rms_shaking_force, rel=1e-12)
     assert out.grashof == "crank-rocker"

@@ -8,6 +8,8 @@ import numpy as np
 
 import synth
 from api.media import json_bytes
+from api.translate.analysis import analysis_out
+from api.translate.linkage import linkage_from
 from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
@@ -19,8 +21,8 @@ def _analysis(mechanism: dict[str, object]) -> AnalysisOut:
     body = AnalysisIn.model_validate({"mechanism": mechanism, "speed_rpm": 300, "samples": 180,
                                       "gravity": {"g_m_s2": 9.81},
                                       "trace_points": [{"name": "P", "link": "crank", "position_m": [0.02, 0.01]}]})
-    result = synth.analyse(body.to_linkage(), body.omega_rad_s, samples=body.samples, points=body.trace())
-    return AnalysisOut.from_engine(result)
+    result = synth.analyse(linkage_from(body), body.omega_rad_s, samples=body.samples, points=body.trace())
+    return analysis_out(result)
 
 
 def test_orjson_bytes_parse_to_the_pydantic_json() -> None:
@@ -45,5 +47,5 @@ def test_strided_arrays_are_written_in_order() -> None:
 def test_the_service_answer_validates_against_the_schema(client) -> None:  # type: ignore[no-untyped-def]
     body = AnalysisIn.model_validate({"mechanism": SLIDER, "speed_rpm": 300, "samples": 36})
     answer = client.analysis(body)
-    engine = synth.analyse(body.to_linkage(), body.omega_rad_s, samples=36)
+    engine = synth.analyse(linkage_from(body), body.omega_rad_s, samples=36)
     assert np.allclose(answer.driving_torque_Nm, engine.kinetostatics.driving_torque, rtol=0, atol=0)

@@ -12,6 +12,7 @@ import pytest
 import synth
 from api.execution.plans import Limits
 from api.studies.tasks import ENDPOINTS, batch_function, run_endpoint, run_endpoint_batch, validate_request
+from api.translate.linkage import linkage_from
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from synth.balancing import batch as batch_module
 from synth.errors import SynthError
@@ -171,7 +172,7 @@ def test_the_shaking_force_rows_from_their_definition_are_the_linear_maps(mechan
     request = {"mechanism": body[mechanism], "speed_rpm": 300, "gravity": {"g_m_s2": 9.81},
                "loads": [{"type": "window", "force_N" if mechanism != "fourbar" else "torque_Nm": 50.0}],
                "torques": [{"link": "crank", "torque_Nm": 3.0}]}
-    linkage = validate_request("/v1/analysis", request).to_linkage()  # type: ignore[attr-defined]
+    linkage = linkage_from(validate_request("/v1/analysis", request))  # type: ignore[arg-type]
     mot = motion(linkage.mechanism, cycle_angles(72, 2 * math.pi, 1000), 31.4, 12.0)
     lm = linear_map(mot, linkage)
     want = lm.y[:, lm.force_rows, :]
@@ -207,7 +208,7 @@ def test_link_arrays_per_sample_with_one_linkages_masses_are_link_arrays() -> No
     from synth.kinematics import cycle_angles, motion
     from synth.kinetostatics import link_arrays, link_arrays_per_sample
 
-    linkage = validate_request(ENDPOINT, _request(0.1, 0.3, 0.25, None)).to_linkage()  # type: ignore[attr-defined]
+    linkage = linkage_from(validate_request(ENDPOINT, _request(0.1, 0.3, 0.25, None)))  # type: ignore[arg-type]
     mot = motion(linkage.mechanism, cycle_angles(40, 2 * math.pi, 1000), 20.0)
     want = link_arrays(mot, linkage)
     params = np.repeat(linkage.params().reshape(-1, 1, 4), 40, axis=1)

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from api.translate.engines import engine_from
 from mechsynth_client.client import InvalidInputError, SynthClient
 import synth
 from mechsynth_client.schemas.engines import EngineIn
@@ -105,8 +106,8 @@ def test_every_inline_arrangement_is_its_firing_order() -> None:
 def test_the_inline_five_as_built_and_by_its_firing_order() -> None:
     base = {"crank_radius_m": 0.045, "rod_length_m": 0.15, "reciprocating_mass_kg": 0.5, "speed_rpm": 3000,
             "pitch_m": 0.09, "orders": 2}
-    built = synth.engine_shaking(EngineIn.model_validate({**base, "arrangement": "inline5"}).to_engine())
-    fired = synth.engine_shaking(EngineIn.model_validate({**base, "firing_order": [1, 2, 4, 5, 3]}).to_engine())
+    built = synth.engine_shaking(engine_from(EngineIn.model_validate({**base, "arrangement": "inline5"})))
+    fired = synth.engine_shaking(engine_from(EngineIn.model_validate({**base, "firing_order": [1, 2, 4, 5, 3]})))
     # the primary couple of throws gamma_j at z_j = (j - 3)·a about the middle: m r w² a |sum (j - 3) e^(i gamma_j)|
     # (the reciprocating primary force m r w² cos(phi - gamma) as two counter-rotating halves, each half of it)
     throws = np.radians([0, 144, 216, 288, 72])

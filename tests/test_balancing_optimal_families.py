@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.balancing import balance_spec
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.balancing import SLIDER_CRANK_EXAMPLE, OptimalBalanceIn
 from mechsynth_client.schemas.machine import PRESS_EXAMPLE, SHAPER_EXAMPLE, MachineIn
@@ -269,7 +271,7 @@ def test_optimal_endpoint_takes_slider_cranks_and_shapers(client: SynthClient, f
                                                                       rel=1e-12)
     # the engine's answer, to round-off (the endpoint converts rpm and calls it)
     req = OptimalBalanceIn.model_validate(body)
-    engine = synth.balance_optimal(req.to_linkage(), req.omega_rad_s, req.spec(), samples=120)
+    engine = synth.balance_optimal(linkage_from(req), req.omega_rad_s, balance_spec(req), samples=120)
     for got, want in zip(out["counterweights"], engine.counterweights, strict=True):
         assert got["mass_kg"] == pytest.approx(want.mass, rel=1e-9)
 

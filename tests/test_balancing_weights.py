@@ -7,6 +7,7 @@ import dataclasses
 import pytest
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.schemas.balancing import OptimalBalanceIn
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
@@ -14,7 +15,7 @@ from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 @pytest.fixture(scope="module")
 def fourbar() -> tuple[synth.Linkage, float]:
     body = OptimalBalanceIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300})
-    return body.to_linkage(), body.omega_rad_s
+    return linkage_from(body), body.omega_rad_s
 
 
 def test_relative_weights_improve_what_they_weight(fourbar: tuple[synth.Linkage, float]) -> None:

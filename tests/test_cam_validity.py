@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import synth.cams as cams
+from api.translate.cams import cam_analysis_spec, cam_spec, limits_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.cams import CamAnalysisIn, CamSynthesisIn
 from synth.cams.spring import WIRES
@@ -24,7 +25,7 @@ H, BETA = 0.02, 2 * math.pi / 3
 
 
 def _analyse(**changes: object) -> cams.CamAnalysis:
-    return cams.analyse_cam(CamAnalysisIn.model_validate({**BASE, **changes}).spec())
+    return cams.analyse_cam(cam_analysis_spec(CamAnalysisIn.model_validate({**BASE, **changes})))
 
 
 def _codes(an: cams.CamAnalysis) -> list[str]:
@@ -105,9 +106,9 @@ def test_the_designed_spring_is_a_spring_and_its_coil_holds_together() -> None:
 def test_the_least_cam_encloses_its_hub() -> None:
     example = CamSynthesisIn.model_json_schema()["examples"][1]
     free = CamSynthesisIn.model_validate(example)
-    r = cams.synthesise_cam(free.to_spec(), free.limits())
+    r = cams.synthesise_cam(cam_spec(free), limits_from(free))
     # without a hub the least cam with a free offset is smaller than its 10 mm roller, and says so
     assert r.least.base_radius < 0.01 and "hub_radius_missing" in _codes(r.analysis)
     hub = CamSynthesisIn.model_validate({**example, "hub_radius_m": 0.015})
-    r = cams.synthesise_cam(hub.to_spec(), hub.limits())
+    r = cams.synthesise_cam(cam_spec(hub), limits_from(hub))
     assert r.least.base_radius >= 0.015 and "hub_radius_missing" not in _codes(r.analysis)

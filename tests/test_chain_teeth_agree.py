@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.gearing import TeethIn
 from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, MachineIn
@@ -72,7 +73,7 @@ def test_where_the_teeth_find_a_train_the_chain_designs(speed_rpm: float) -> Non
         synth.tooth_numbers(1500 / speed_rpm, stages)
     except synth.Infeasible:
         return
-    design = synth.design_machine(_body(speed_rpm, samples=72).to_engine(max_stages=4))
+    design = synth.design_machine(machine_from(_body(speed_rpm, samples=72), max_stages=4))
     assert all(math.isfinite(u) for u in design.stage_ratios)
     assert design.teeth is not None
     assert math.prod(design.stage_ratios) == pytest.approx(design.teeth.total_ratio, rel=1e-12)

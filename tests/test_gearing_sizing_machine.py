@@ -12,6 +12,7 @@ import pytest
 from pypdf import PdfReader
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, MachineIn
 from synth.machine.chain import _shaft_torques, _time_weights
@@ -21,7 +22,7 @@ from synth.machine.chain import _shaft_torques, _time_weights
 def machine(request: pytest.FixtureRequest) -> tuple[MachineIn, synth.MachineDesign]:
     body: dict[str, Any] = {"press": PRESS_EXAMPLE, "fourbar": FOURBAR_MACHINE_EXAMPLE}[request.param]
     m = MachineIn.model_validate(body)
-    return m, synth.design_machine(m.to_engine(12))
+    return m, synth.design_machine(machine_from(m, 12))
 
 
 def test_every_cylindrical_stage_is_sized(machine: tuple[MachineIn, synth.MachineDesign]) -> None:

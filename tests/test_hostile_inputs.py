@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 import synth
 from hostile import EXTREME_FLOATS, HOSTILE_TEXT, checker
+from api.translate.machine import machine_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
@@ -84,7 +85,7 @@ def test_hostile_link_and_point_names_of_a_general_linkage_work(client: SynthCli
 def press_design() -> tuple[synth.MachineDesign, dict[str, Any]]:
     """The manual's press, designed once: the record's pages are what a name changes."""
     request = {**MachineIn.model_config["json_schema_extra"]["examples"][0], "samples": 72}  # type: ignore[index]
-    return synth.design_machine(MachineIn.model_validate(request).to_engine(6)), request
+    return synth.design_machine(machine_from(MachineIn.model_validate(request), 6)), request
 
 
 @settings(max_examples=4, deadline=None, suppress_health_check=FIXTURE)

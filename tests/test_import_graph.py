@@ -2,8 +2,10 @@
 
 Layers, lowest first: model → kinematics → kinetostatics → capabilities (balancing, flywheel, gearing, synthesis)
 → machine and studies → the engine's public surface (``synth``) → the shared models and client → the HTTP layer.
-Every import counts, at module level, inside functions and under ``TYPE_CHECKING`` alike: each one is a
-dependency a reader has to follow.
+The client's models are the wire: the client package imports nothing of the engine or the service. Every import
+counts, at module level, inside functions and under ``TYPE_CHECKING`` alike: each one is a dependency a reader has
+to follow. An import the code spells as a string (``importlib.import_module``, ``__import__``) counts too, and one
+that reaches into another room that way is refused: it hides a dependency from this test and from type-checkers.
 """
 
 from __future__ import annotations
@@ -14,6 +16,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 PACKAGES = ("synth", "mechsynth_client", "api")
+# The top-level rooms of the house, and what a module may not name in a dynamic import outside its own room.
+ROOMS = ("synth", "mechsynth_client", "api", "store")
 
 # Longest prefix wins. Within one layer, modules may import each other as long as no circle forms.
 LAYERS: dict[str, float] = {
@@ -136,3 +140,66 @@ def test_the_graph_is_read() -> None:
     assert "mechsynth_client.schemas.analysis" in graph["mechsynth_client.client"]
     assert not any(t.startswith(("api", "mechsynth_client")) for a, ts in graph.items() if a.startswith("synth")
                    for t in ts)
+
+
+def test_client_imports_nothing_of_the_engine_or_the_service() -> None:
+    reached = sorted(f"{a} -> {b}" for a, targets in _graph().items() if a.startswith("mechsynth_client")
+                     for b in targets if b.split(".")[0] in ("synth", "api"))
+    assert reached == []
+    # numpy only where the caller asks for an answer's arrays as numpy arrays (the ``.npz`` reader), nowhere else.
+    numpy_users = set()
+    for path in (REPO / "mechsynth_client").rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        for scope in ast.walk(tree):
+            for node in ast.iter_child_nodes(scope):
+                names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                         [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+                tops = {n.split(".")[0] for n in names}
+                assert not tops & {"synth", "api", "store"}, f"{path.relative_to(REPO)} imports {names}"
+                if "numpy" in tops:
+                    numpy_users.add(f"{path.relative_to(REPO)}:{getattr(scope, 'name', '<module>')}")
+    assert numpy_users == {"mechsynth_client/client.py:_arrays"}
+
+
+_DYNAMIC = {"import_module", "__import__", "find_spec", "spec_from_file_location", "_OnFirstUse"}
+
+
+def _dynamic_imports(path: Path) -> Iterator[tuple[int, str | None]]:
+    """Each call that imports a module named by a string: its line and the module's name, or None when the code
+    builds the name so that no reader can tell it (a name built from ``__name__`` is the module's own package)."""
+    for node in ast.walk(ast.parse(path.read_text())):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        called = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+        if called not in _DYNAMIC or not node.args:
+            continue
+        arg = node.args[0]
+        if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+            yield node.lineno, arg.value
+        elif (isinstance(arg, ast.JoinedStr) and arg.values and isinstance(arg.values[0], ast.FormattedValue)
+              and isinstance(arg.values[0].value, ast.Name) and arg.values[0].value.id == "__name__"):
+            continue
+        elif isinstance(arg, ast.JoinedStr) and arg.values and isinstance(arg.values[0], ast.Constant):
+            yield node.lineno, str(arg.values[0].value)
+        else:
+            yield node.lineno, None
+
+
+def test_no_room_imports_another_behind_a_string() -> None:
+    hidden = []
+    for room in ROOMS:
+        for path in (REPO / room).rglob("*.py"):
+            for line, name in _dynamic_imports(path):
+                target = None if name is None else name.split(".")[0]
+                if target is None or (target != room and target in {*ROOMS, "numpy"}):
+                    hidden.append(f"{path.relative_to(REPO)}:{line} imports {name or 'a module it builds'}")
+    assert hidden == []
+
+
+def test_a_hidden_import_is_seen(tmp_path: Path) -> None:
+    # The check above reads the tricks the client once used: an importlib call and a first-use stand-in.
+    trick = tmp_path / "trick.py"
+    trick.write_text('import importlib\nengine = importlib.import_module("synth.machine")\n'
+                     'np = _OnFirstUse("numpy")\napp = __import__(name)\n')
+    assert list(_dynamic_imports(trick)) == [(2, "synth.machine"), (3, "numpy"), (4, None)]

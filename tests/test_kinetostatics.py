@@ -13,6 +13,7 @@ import synth
 from conftest import CASES
 from helpers import crank_fourbars, lecture_angle, shaper_from_case, slider_cranks, spectral_derivative
 from synth.kinematics.motion import cross
+from api.translate.linkage import linkage_from
 
 EXACT = CASES["l10_shaper_drive_torque_exact"]
 
@@ -276,7 +277,7 @@ def test_a_reanalysis_on_the_shared_motion_equals_a_fresh_one() -> None:
     from mechsynth_client.schemas.analysis import AnalysisIn
     from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 
-    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "gravity": {"g_m_s2": 9.81}}).to_linkage()
+    linkage = linkage_from(AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE, "gravity": {"g_m_s2": 9.81}}))
     before = synth.analyse(linkage, 12.0, samples=90)
     heavier = linkage.with_counterweights([synth.Counterweight("crank", 0.8, (-0.04, 0.01))])
     shared = synth.analyse(heavier, 12.0, samples=90, base_motion=before.mechanism_motion)

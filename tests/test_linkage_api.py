@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import SynthClient
 from api.execution.plans import Limits
 from mechsynth_client.schemas.analysis import AnalysisIn
@@ -34,7 +35,7 @@ def test_press_analysis_over_http_agrees_with_loop_closure(client: SynthClient) 
     r = _post(client, "/v1/analysis", PRESS)
     assert r.status_code == 200, r.text
     answer = r.json()
-    phi, points, torque = independent(AnalysisIn.model_validate(PRESS).to_linkage(), 256)
+    phi, points, torque = independent(linkage_from(AnalysisIn.model_validate(PRESS)), 256)
     assert np.allclose(answer["crank_angle_deg"], np.degrees(phi), rtol=0, atol=1e-12)
     assert np.abs(np.array(answer["driving_torque_Nm"]) - torque).max() < 1e-9 * np.abs(torque).max()
     for name in ("B", "C", "D"):
@@ -100,14 +101,14 @@ def test_study_varies_a_link_length_by_a_dotted_path() -> None:
     for row in sorted(rows, key=lambda r: r.index):
         body = copy.deepcopy(spec["base"])
         body["mechanism"]["links"][3]["length_m"] = row.values[0]
-        an = synth.analyse(AnalysisIn.model_validate(body).to_linkage(), 2 * math.pi, samples=72)
+        an = synth.analyse(linkage_from(AnalysisIn.model_validate(body)), 2 * math.pi, samples=72)
         assert row.metrics is not None
         assert row.metrics[0] == pytest.approx(an.summary().rms_driving_torque, rel=1e-12)
     assert len({row.metrics[0] for row in rows if row.metrics}) == 3
 
 
 def _engine_args() -> tuple[Any, ...]:
-    mech = AnalysisIn.model_validate(PRESS).to_linkage().mechanism
+    mech = linkage_from(AnalysisIn.model_validate(PRESS)).mechanism
     assert isinstance(mech, synth.PlanarLinkage)
     return mech.frame_points, mech.links, mech.joints, mech.crank_link, mech.output
 

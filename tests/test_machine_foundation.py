@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import InvalidInputError, SynthClient
 from mechsynth_client.schemas.foundation import (
     FRAME_EXAMPLE,
@@ -129,7 +130,7 @@ def test_a_failing_limit_of_a_block_fails_the_machine() -> None:
     # fails, and the verdict with it
     body = {**copy.deepcopy(MACHINE), "elastic_drive": None, "regulation": None}
     body["foundation"]["max_force_N"] = 1.0
-    d = synth.design_machine(MachineIn.model_validate(body).to_engine(6))
+    d = synth.design_machine(machine_from(MachineIn.model_validate(body), 6))
     failed = [c.name for c in d.checks if not c.passed]
     assert failed == ["foundation_force"] and not d.passed
     assert d.foundation is not None and d.checks[-1].value == d.foundation.peak_force
@@ -171,7 +172,7 @@ def test_the_design_record_has_pages_for_the_blocks() -> None:
 
     from synth.machine.report import design_report_pdf
 
-    d = synth.design_machine(MachineIn.model_validate({**copy.deepcopy(MACHINE), "elastic_drive": None}).to_engine(6))
+    d = synth.design_machine(machine_from(MachineIn.model_validate({**copy.deepcopy(MACHINE), "elastic_drive": None}), 6))
     texts = [p.extract_text() for p in PdfReader(io.BytesIO(design_report_pdf(d))).pages]
     # the blocks' summary page, the frame's page and the load step's page, once each, after the text pages
     for title in ("The machine on its foundation, its elastic drive", "The frame on its isolators: the force",
@@ -187,7 +188,7 @@ def test_the_frame_feels_the_balanced_machine_lanchester_balancers_included() ->
     # the press fully balanced: a crank counterweight and Lanchester balancers, whose shafts act on the frame too;
     # the shaking force driving the frame is the balancing's own figure after balancing, not the linkage's alone
     body = {**copy.deepcopy(MACHINE), "balancing": {"mode": "full"}, "elastic_drive": None, "regulation": None}
-    d = synth.design_machine(MachineIn.model_validate(body).to_engine(6))
+    d = synth.design_machine(machine_from(MachineIn.model_validate(body), 6))
     assert d.foundation is not None and d.balancing.slider_crank is not None
     assert d.foundation.peak_shaking_force == pytest.approx(d.balancing.after.max_shaking_force, rel=1e-12)
     linkage_alone = float(np.max(np.linalg.norm(d.balanced.kinetostatics.shaking_force, axis=1)))
@@ -200,7 +201,7 @@ def test_a_link_tuned_near_a_load_harmonic_is_solved_and_warned_about() -> None:
     # named in a warning of the elastic-drive stage
     body = {**copy.deepcopy(MACHINE), "foundation": None, "regulation": None,
             "elastic_drive": {"stiffness_Nm_rad": 3e3, "damping_ratio": 0.05, "start": False}}
-    d = synth.design_machine(MachineIn.model_validate(body).to_engine(6))
+    d = synth.design_machine(machine_from(MachineIn.model_validate(body), 6))
     assert d.elastic is not None
     e = d.elastic.drive
     assert abs(e.steady.energy_residual) < 1e-6

@@ -13,6 +13,9 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.machine import machine_from
+from api.translate.optimise import machine_optimise_from, mechanism_json
+from api.translate.rating import strength_from
 from mechsynth_client import SynthClient
 from mechsynth_client.client import InfeasibleError, InvalidInputError
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
@@ -25,7 +28,6 @@ from mechsynth_client.schemas.optimise import (
     SLIDER_CRANK_OPTIMISE_EXAMPLE,
     MachineOptimiseIn,
     MachineOptimiseOut,
-    mechanism_json,
 )
 from synth.machine import optimise as engine
 from synth.synthesis import crank_rocker, slider_crank
@@ -93,7 +95,7 @@ def machine_parts(d: MachineDesignOut, density: float = 7200.0) -> dict[str, flo
             fly = density * math.pi * b.mean_diameter_m**2 * b.width_m / 4
     from mechsynth_client.schemas.machine import MachineDriveIn
 
-    rho = [gear_material(n).density for n in MachineDriveIn().strength.to_engine().materials]
+    rho = [gear_material(n).density for n in strength_from(MachineDriveIn().strength).materials]
     gears = sum(r * math.pi / 4 * g.face_width_mm * 1e-3 * (dia * 1e-3) ** 2
                 for g in d.gears or [] if g is not None
                 for r, dia in zip(rho, g.reference_diameters_mm, strict=True))
@@ -139,7 +141,7 @@ def test_crank_rocker_optimum_is_resimulated_and_meets_every_check(crank_rocker_
     assert d.simulation.target_delta * 0.95 <= d.simulation.achieved_delta <= d.simulation.target_delta * (1 + 1e-3)
     # the same machine simulated again here, apart from the chain: the balanced linkage's reduced tables, the
     # flywheel and train inertia on the crank, the chosen motor through the real ratio
-    spec = _machine_request(CRANK_ROCKER_OPTIMISE_EXAMPLE, a.mechanism).to_engine(6)
+    spec = machine_from(_machine_request(CRANK_ROCKER_OPTIMISE_EXAMPLE, a.mechanism), 6)
     red = d.reduced
     cycle = synth.MachineCycle(np.radians(red.crank_angle_deg), np.array(red.reduced_inertia_kgm2),
                                np.gradient(np.array(red.reduced_inertia_kgm2), np.radians(red.crank_angle_deg)),
@@ -185,7 +187,7 @@ def _synthesis_request(example: dict[str, Any]) -> Any:
 def test_crank_rocker_never_beaten_by_twenty_members(client: SynthClient,
                                                      crank_rocker_answer: MachineOptimiseOut) -> None:
     a = crank_rocker_answer
-    spec = _body(CRANK_ROCKER_OPTIMISE_EXAMPLE).to_engine(6).function
+    spec = machine_optimise_from(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE), 6).function
     assert isinstance(spec, synth.CrankRockerSpec)
     runs = a.certificate.feasible_runs
     # the runs are where every kinematic slack is positive: checked here at their middles and just outside
@@ -252,7 +254,7 @@ def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
 
 def test_engine_alone_gives_the_endpoint_answer(client: SynthClient) -> None:
     body = _body(CRANK_ROCKER_OPTIMISE_EXAMPLE, scan_members=8)
-    result = synth.optimise_machine(body.to_engine(6))
+    result = synth.optimise_machine(machine_optimise_from(body, 6))
     answer = client.optimise_machine(body)
     assert result.parameter == answer.parameter
     assert result.score == pytest.approx(answer.score, rel=1e-12)
@@ -330,14 +332,14 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
     example, a = ((CRANK_ROCKER_OPTIMISE_EXAMPLE, crank_rocker_answer) if which == "crank_rocker"
                   else (SLIDER_CRANK_OPTIMISE_EXAMPLE, slider_crank_answer))
     # the members of the service's densest scan (scan_members 64), from the cheap kinematic scan alone
-    densest = engine.scan_family(_body(example, scan_members=MAX_SCAN).to_engine(6)).candidates
+    densest = engine.scan_family(machine_optimise_from(_body(example, scan_members=MAX_SCAN), 6)).candidates
     scanned = {m.parameter for m in a.members if m.stage == "scan"}
     assert set(densest) <= scanned
     best, member = _scan_best(a)
     assert a.score <= best * (1 + 1e-4)
     # the scan scored each member on its steady machine: the whole chain (/v1/machines/design) on the best of
     # them gives the same figures
-    spec = _body(example).to_engine(6).function
+    spec = machine_optimise_from(_body(example), 6).function
     linkage = (crank_rocker.member(spec, member.parameter) if isinstance(spec, synth.CrankRockerSpec)
                else slider_crank.member(spec, member.parameter))
     d = client.design_machine(_machine_request(example, mechanism_json(linkage)))
@@ -375,14 +377,14 @@ def test_all_cells_leaves_none_unsearched_and_the_engine_agrees(client: SynthCli
     for r in c.refinements:
         if r.status == "pruned":
             assert r.bound >= everything.score * (1 - 1e-9)
-    result = synth.optimise_machine(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, search_cells="all", **quick).to_engine(6))
+    result = synth.optimise_machine(machine_optimise_from(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, search_cells="all", **quick), 6))
     assert result.parameter == everything.parameter
     assert result.score == pytest.approx(everything.score, rel=1e-12)
     assert len(result.members) == len(everything.members)
 
 
 def test_a_budget_of_cells_is_kept() -> None:
-    spec = _body(CRANK_ROCKER_OPTIMISE_EXAMPLE, scan_members=24, samples=48, search_cells=1).to_engine(6)
+    spec = machine_optimise_from(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE, scan_members=24, samples=48, search_cells=1), 6)
     result = synth.optimise_machine(spec)
     statuses = [r.status for r in result.certificate.refinements]
     assert statuses.count("searched") == 1 and "unsearched" in statuses

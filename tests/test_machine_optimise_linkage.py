@@ -24,6 +24,8 @@ from api.execution.optimise_linkage import price_linkage_optimisation
 from api.execution.plans import Limits
 from api.execution.work import estimate_s
 from api.settings import Settings
+from api.translate.linkage import planar_linkage_from
+from api.translate.optimise import linkage_optimise_from, linkage_optimise_out
 from mechsynth_client import SynthClient
 from mechsynth_client.schemas.common import PlanarLinkageIn
 from mechsynth_client.schemas.optimise import (
@@ -76,7 +78,7 @@ def test_the_answer_meets_the_function(answer: LinkageOptimiseOut) -> None:
         assert d["min"] <= chosen[d["path"]] <= d["max"]
     # the chosen press solved here over 3600 crank angles: the ram runs on the vertical guide through G, so its
     # stroke is the range of D's height, its time ratio the crank angles between the extremes
-    mech = PlanarLinkageIn.model_validate(a.mechanism).to_mechanism()
+    mech = planar_linkage_from(PlanarLinkageIn.model_validate(a.mechanism))
     assert dict(mech.frame_points)["G"][0] == chosen["frame_points_m.G.x"]
     phi = np.linspace(0, 2 * math.pi, 3600, endpoint=False)
     points, _ = mech.solve(phi)
@@ -102,7 +104,7 @@ def test_the_answer_meets_the_function(answer: LinkageOptimiseOut) -> None:
 
 
 def test_never_worse_than_a_grid_of_its_own(answer: LinkageOptimiseOut) -> None:
-    spec = LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE).to_engine(6)
+    spec = linkage_optimise_from(LinkageOptimiseIn.model_validate(SIX_BAR_OPTIMISE_EXAMPLE), 6)
     lo = [d.lo for d in spec.free]
     hi = [d.hi for d in spec.free]
     best = math.inf
@@ -198,12 +200,12 @@ def _same(a: Any, b: Any, where: str = "") -> None:
 
 def test_the_pool_answer_is_the_engine_answer_in_one_process(pool_client: SynthClient) -> None:
     body = LinkageOptimiseIn.model_validate(BODY)
-    alone = optimise_linkage(body.to_engine(6))
+    alone = optimise_linkage(linkage_optimise_from(body, 6))
     spread = pool_client.optimise_linkage(body)
     # the endpoint on the pool ran the scan, two shares of the sample, three starts and the conclusion as tasks
     assert spread.certificate.refined == alone.certificate.refined == 3
     # the engine's optimum written as the endpoint writes its answer
-    mine = orjson.loads(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),))(alone)[0])
+    mine = orjson.loads(Render(linkage_optimise_out, model_extra=(body.model_dump(mode="json"),))(alone)[0])
     theirs = spread.model_dump(mode="json")
     # every member (sample then each start's refinement, in order), the optimum's numbers, values and design
     assert [m["x"] for m in theirs["members"]] == [m["x"] for m in mine["members"]]

@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 
 import synth
+from api.translate.optimise import machine_optimise_from, mechanism_json
 from mechsynth_client import SynthClient
 from mechsynth_client.client import InvalidInputError
 from mechsynth_client.schemas.optimise import (
@@ -16,7 +17,6 @@ from mechsynth_client.schemas.optimise import (
     SLIDER_CRANK_OPTIMISE_EXAMPLE,
     MachineOptimiseIn,
     MachineOptimiseOut,
-    mechanism_json,
 )
 from synth.machine import optimise as engine
 from synth.machine.optimise_light import steady_member
@@ -68,7 +68,7 @@ def test_machine_mass_is_the_sum_of_its_parts(press: MachineOptimiseOut) -> None
 
 
 def test_the_searchs_wheels_weigh_as_the_chain_sizes_them(client: SynthClient, press: MachineOptimiseOut) -> None:
-    spec = MachineOptimiseIn.model_validate(PRESS).to_engine(6)
+    spec = machine_optimise_from(MachineOptimiseIn.model_validate(PRESS), 6)
     machine = spec.machine(slider_crank.member(spec.function, press.parameter))  # type: ignore[arg-type]
     steady = steady_member(machine, size_gears=True)
     assert press.parts is not None and steady.parts.gears is not None
@@ -83,7 +83,7 @@ def test_the_searchs_wheels_weigh_as_the_chain_sizes_them(client: SynthClient, p
 def test_machine_mass_never_worse_than_the_densest_scan(client: SynthClient, answer: MachineOptimiseOut) -> None:
     a = answer
     assert a.parts is not None
-    densest = engine.scan_family(MachineOptimiseIn.model_validate(BODY).to_engine(6)).candidates
+    densest = engine.scan_family(machine_optimise_from(MachineOptimiseIn.model_validate(BODY), 6)).candidates
     scanned = [m for m in a.members if m.stage == "scan"]
     assert {m.parameter for m in scanned} >= set(densest) and len(densest) == MAX_SCAN + 1
     feasible = [m for m in scanned if m.feasible]
@@ -105,7 +105,7 @@ def test_machine_mass_never_worse_than_the_densest_scan(client: SynthClient, ans
     # chain on the best sized of them, its parts recomputed here, weighs the same
     assert len(sized) == len(feasible)
     best = min(sized, key=lambda m: m.machine_mass_kg or 0.0)
-    f = MachineOptimiseIn.model_validate(BODY).to_engine(6).function
+    f = machine_optimise_from(MachineOptimiseIn.model_validate(BODY), 6).function
     member = slider_crank.member(f, best.parameter)  # type: ignore[arg-type]
     d = client.design_machine(_machine_request(BODY, mechanism_json(member)))
     parts = machine_parts(d)

@@ -12,6 +12,7 @@ import synth
 from synth.machine.optimise import score
 from synth.machine.optimise_record import coverage_figure
 
+from api.translate.optimise import machine_optimise_from
 from mechsynth_client import SynthClient
 from mechsynth_client.schemas.optimise import (
     CRANK_ROCKER_OPTIMISE_EXAMPLE,
@@ -41,7 +42,7 @@ def test_the_record_has_a_page_for_the_certificate(client: SynthClient) -> None:
 def test_the_coverage_figure_draws_the_answers_members_and_cells() -> None:
     # the figure's data are the optimisation's own: every feasible member at its parameter and score, the
     # optimum's star, one bound line per cell with a finite bound
-    spec = MachineOptimiseIn.model_validate({**CRANK_ROCKER_OPTIMISE_EXAMPLE, **QUICK_SCAN}).to_engine(6)
+    spec = machine_optimise_from(MachineOptimiseIn.model_validate({**CRANK_ROCKER_OPTIMISE_EXAMPLE, **QUICK_SCAN}), 6)
     opt = synth.optimise_machine(spec)
     ax = coverage_figure(opt).axes[0]
     lines = {str(line.get_label()): line for line in ax.get_lines()}

@@ -17,6 +17,7 @@ import pytest
 from pypdf import PdfReader
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import InfeasibleError, InvalidInputError, SynthClient
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
@@ -116,7 +117,7 @@ def test_stage_warnings_reach_the_top_level_and_the_report(client: SynthClient) 
     assert all(w.stage is not None for w in out.warnings)
     # the record as the endpoint writes it, made here past the request's deadline (a busy machine)
     record = DesignRecord.of(body.model_dump(mode="json"), name=body.name, version="0.0-test")
-    text = _pdf_text(design_report_pdf(synth.design_machine(body.to_engine(4)), record=record))
+    text = _pdf_text(design_report_pdf(synth.design_machine(machine_from(body, 4)), record=record))
     assert "transmission_angle_low" in text and "[analysis]" in text
 
 
@@ -146,7 +147,7 @@ def test_report_is_an_a4_design_record_with_its_inputs(client: SynthClient, four
     body = _body(FOURBAR_MACHINE, name="four-bar at 300 rpm", alternatives=True, title_block=title_block)
     # the record as the endpoint writes it (api.execution.tasks.design_file), made here without the request's
     # deadline: four designs and the record take longer than it on a busy machine
-    spec = body.to_engine(4)
+    spec = machine_from(body, 4)
     record = DesignRecord.of(body.model_dump(mode="json"), name=body.name, version="0.0-test")
     pdf = design_report_pdf(synth.design_machine(spec), synth.alternatives(spec), record=record)
     reader = PdfReader(io.BytesIO(pdf))

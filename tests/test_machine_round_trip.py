@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.linkage import linkage_from
 from mechsynth_client.client import InvalidInputError, SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.balancing import FullBalanceIn
@@ -47,7 +48,7 @@ def test_fields_one_by_one_equal_the_answer_as_is(client: SynthClient, full) -> 
 
 def test_rotor_reduced_inertia_reproduces_kinetic_energy() -> None:
     # identity: J_red·w²/2 of the linkage with rotors = the linkage's own + sum of 1/2·J·(k·w_i)² of the rotors
-    linkage = AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}).to_linkage()
+    linkage = linkage_from(AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}))
     rotors = (synth.CounterRotor("crank", 0.01, 1.0), synth.CounterRotor("rocker", 0.02, 2.0))
     w = 10.0
     plain = synth.analyse(linkage, w, samples=60)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
 
@@ -21,7 +22,7 @@ FRICTION = (synth.PairFriction("guide", 0.15, static_coefficient=0.6), synth.Pai
 
 
 def _spec(**changes: Any) -> synth.MachineSpec:
-    spec = MachineIn.model_validate({**PRESS_EXAMPLE, "samples": SAMPLES}).to_engine(6)
+    spec = machine_from(MachineIn.model_validate({**PRESS_EXAMPLE, "samples": SAMPLES}), 6)
     return dataclasses.replace(spec, **changes)
 
 

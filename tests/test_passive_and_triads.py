@@ -11,6 +11,7 @@ import pytest
 from scipy.optimize import fsolve
 
 import synth
+from api.translate.linkage import link_props, mechanism_from
 from mechsynth_client.client import InvalidInputError, SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.structure import StructureIn
@@ -62,7 +63,7 @@ EIGHT_BAR: dict[str, Any] = {
 
 def engine(mech: dict[str, Any]) -> synth.Linkage:
     body = AnalysisIn.model_validate({"mechanism": mech, "speed_rpm": 60})
-    return synth.Linkage(body.mechanism.to_mechanism(), body.mechanism.link_props())
+    return synth.Linkage(mechanism_from(body.mechanism), link_props(body.mechanism))  # type: ignore[arg-type]
 
 
 def test_double_parallelogram_moves_with_a_passive_crank() -> None:

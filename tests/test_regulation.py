@@ -8,6 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from api.translate.linkage import linkage_from
+from api.translate.foundation import regulator_from
+from api.translate.motor import motor_from
 from mechsynth_client.client import InfeasibleError, SynthClient
 from mechsynth_client.schemas.foundation import RegulationIn
 from synth.errors import Infeasible
@@ -105,7 +108,7 @@ def test_a_load_beyond_the_breakdown_torque_is_refused_with_the_torque_it_lacks(
     from synth.analysis import analyse
 
     body = _example(load_step_Nm=250)
-    cycle = analyse(body.to_linkage(), body.omega_rad_s, samples=body.samples).reduced
+    cycle = analyse(linkage_from(body), body.omega_rad_s, samples=body.samples).reduced
     # the mean load after the step, angle-averaged, against breakdown × ratio × efficiency = 70·3·0.95 at the crank
     mean_load = -float(np.mean(cycle.resisting_torque)) + 250
     top = 70 * 3 * 0.95
@@ -125,8 +128,8 @@ def test_the_motor_never_gives_more_than_its_breakdown_torque() -> None:
     from synth.machine.regulation import regulate_linkage
 
     assert body.regulator is not None
-    r = regulate_linkage(body.to_linkage(), body.omega_rad_s, body.motor.to_engine(), body.load_step_Nm,
-                         constant_inertia=body.constant_inertia_kgm2, tuning=body.regulator.to_engine()[1],
+    r = regulate_linkage(linkage_from(body), body.omega_rad_s, motor_from(body.motor), body.load_step_Nm,
+                         constant_inertia=body.constant_inertia_kgm2, tuning=regulator_from(body.regulator)[1],
                          samples=body.samples)
     top = 70 * 3 * 0.95
     assert r.breakdown_torque == pytest.approx(top, rel=1e-12)
@@ -162,8 +165,8 @@ def test_the_filtered_example_reports_what_it_achieves_against_what_was_asked() 
 
     body = _example(regulator={"settling_time_s": 0.05, "overshoot": 0.05, "filter_time_s": 0.02})
     assert body.regulator is not None
-    r = regulate_linkage(body.to_linkage(), body.omega_rad_s, body.motor.to_engine(), body.load_step_Nm,
-                         constant_inertia=body.constant_inertia_kgm2, tuning=body.regulator.to_engine()[1],
+    r = regulate_linkage(linkage_from(body), body.omega_rad_s, motor_from(body.motor), body.load_step_Nm,
+                         constant_inertia=body.constant_inertia_kgm2, tuning=regulator_from(body.regulator)[1],
                          samples=body.samples)
     assert r.poles is not None and damping_ratio(r.poles) > 0.6  # tuned without the filter: 0.11
     checks = {c.name: c for c in r.checks}

@@ -4,6 +4,8 @@ against it."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -37,6 +39,37 @@ def test_client_against_real_server(server_url: str) -> None:
         out = client.analysis(AnalysisIn.model_validate(example))
         assert out.checks.virtual_power_torque_max_diff_Nm < 1e-9 * (1 + out.summary.max_driving_torque_Nm)
         assert client.analysis_png(AnalysisIn.model_validate(example))[:4] == b"\x89PNG"
+
+
+# The installed client alone: the engine, numpy and the service cannot be imported, whoever asks.
+_WHEEL_ONLY = """
+import importlib.abc, sys
+class _Refuse(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in ("synth", "numpy", "api"):
+            raise ImportError(f"the client imported {name}")
+sys.meta_path.insert(0, _Refuse())
+import mechsynth_client
+assert mechsynth_client.__file__.startswith(sys.argv[1]), mechsynth_client.__file__
+"""
+
+
+def test_client_wheel_alone_runs_the_readme_example(server_url: str, tmp_path: Path) -> None:
+    # The client's distribution built and installed as a user would, on its own: the README's first example runs
+    # against the server and prints what the README says.
+    pip = [sys.executable, "-m", "pip", "--quiet"]
+    subprocess.run([*pip, "wheel", "--no-deps", "--no-build-isolation", "--wheel-dir", str(tmp_path / "dist"),
+                    str(REPO / "client")], check=True)
+    (wheel,) = (tmp_path / "dist").glob("mechsynth_client-*.whl")
+    site = tmp_path / "site"
+    subprocess.run([*pip, "install", "--no-deps", "--target", str(site), str(wheel)], check=True)
+    block = next(b for b in doc_blocks.blocks() if b.path.name == "README.md" and b.language == "python")
+    code = _WHEEL_ONLY + block.code.replace(doc_blocks.ADDRESS, server_url)
+    run = subprocess.run([sys.executable, "-c", code, str(site)], cwd=tmp_path, capture_output=True, text=True,
+                         env={"PYTHONPATH": str(site), "PATH": "/usr/bin:/bin"}, timeout=300)
+    assert run.returncode == 0, run.stderr[-3000:]
+    printed = [line.rstrip() for line in run.stdout.splitlines()]
+    assert block.expected() and doc_blocks.mismatch(block.expected(), printed) is None, printed
 
 
 @pytest.mark.parametrize("block", [b for b in doc_blocks.blocks() if b.runnable], ids=lambda b: b.name)

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, MachineIn
 from synth.flywheel import Motor
 from synth.machine.simulate import MachineCycle
@@ -56,7 +57,7 @@ def test_a_designed_machine_states_its_integrator_and_check() -> None:
     body = copy.deepcopy(FOURBAR_MACHINE_EXAMPLE)
     body.update(samples=72, alternatives=False)
     body["drive"]["size_gears"] = False
-    design = synth.design_machine(MachineIn.model_validate(body).to_engine(max_stages=4))
+    design = synth.design_machine(machine_from(MachineIn.model_validate(body), max_stages=4))
     up = design.running.startup
     assert up.run is not None and up.integrator is not None
     assert up.integrator.time_step == pytest.approx(float(up.run.time[1] - up.run.time[0]), rel=1e-12)

@@ -11,6 +11,7 @@ from typing import Any
 import pytest
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.common import SIX_BAR_PRESS_EXAMPLE
 from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, MachineIn
@@ -61,7 +62,7 @@ def test_machine_sized_end_to_end(client: SynthClient, body: dict[str, Any], bar
 
 
 def test_machine_links_are_the_sized_ones_in_its_analysis() -> None:
-    spec = MachineIn.model_validate(PRESS).to_engine(6)
+    spec = machine_from(MachineIn.model_validate(PRESS), 6)
     from api.translate.machine_strength import with_strength
 
     spec = with_strength(spec, MachineIn.model_validate(PRESS).strength)
@@ -86,7 +87,7 @@ def test_the_design_record_has_the_parts_table_and_page() -> None:
     from synth.machine.report import design_report_pdf
 
     body = MachineIn.model_validate(PRESS)
-    design = synth.design_machine(with_strength(body.to_engine(6), body.strength))
+    design = synth.design_machine(with_strength(machine_from(body, 6), body.strength))
     assert design.strength is not None
     pages = [p.extract_text() for p in PdfReader(io.BytesIO(design_report_pdf(design))).pages]
     table = next(t for t in pages if "Parts sized for strength" in t)

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 import synth
 
+from api.translate.synthesis import path_out, path_spec
 from mechsynth_client.client import InfeasibleError, InvalidInputError, SynthClient
 from mechsynth_client.schemas.analysis import AnalysisIn
 from mechsynth_client.schemas.synthesis import CrankRockerIn, PathIn, PathOut, SliderCrankSynthesisIn
@@ -151,7 +152,7 @@ def test_path_over_two_workers_answers_what_one_run_of_all_starts_does() -> None
 
     example = PathIn.model_config["json_schema_extra"]["examples"][0]
     body = PathIn.model_validate(example)
-    serial = PathOut.from_engine(synth.synthesise_path(body.to_spec(60.0)))
+    serial = path_out(synth.synthesise_path(path_spec(body, 60.0)))
     with TestClient(create_app(Settings(executor="pool", workers=2))) as http:
         assert http.get("/ready").json()["workers"] == 2
         answer = http.post("/v1/synthesis/path", json=example)

@@ -34,6 +34,7 @@ from synth.machine.record import DesignRecord
 
 from .plans import SERVICE_VERSION, Limits, machine_optimise_conclusion
 from .work import optimise_s
+from api.translate.optimise import machine_optimise_from
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
@@ -76,7 +77,7 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     chosen machine's design record with the certificate's page."""
     lim = solvers.limits
     price_optimisation(body, lim, solvers.solvers.workers)
-    spec = body.to_engine(lim.max_stages)
+    spec = machine_optimise_from(body, lim.max_stages)
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)
     n = max(1, min(solvers.solvers.workers, len(scan.candidates)))

@@ -15,6 +15,7 @@ import math
 from fastapi import Request, Response
 
 import synth
+from api.translate.optimise import linkage_optimise_from, linkage_optimise_out
 from mechsynth_client.schemas.optimise import LinkageOptimiseIn, LinkageOptimiseOut
 from synth.machine.optimise_linkage import conclude_linkage, design_sample, refine_start, scan_box
 
@@ -47,7 +48,7 @@ async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
     """Answer the request with the optimised linkage and its machine, the chains spread over the workers."""
     lim = solvers.limits
     workers = solvers.solvers.workers
-    spec = body.to_engine(lim.max_stages)
+    spec = linkage_optimise_from(body, lim.max_stages)
     spec.validate()
     price_linkage_optimisation(body, lim, workers)
     t = lim.solver_time_limit_s
@@ -63,6 +64,6 @@ async def answer_linkage_optimisation(body: LinkageOptimiseIn, request: Request,
     starts = min(spec.refined, sum(m.feasible for m in members))
     refinements = await together([solvers.run(refine_start, spec, scan, members, k, time_limit_s=t)
                                    for k in range(starts)])
-    plan = Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(body.model_dump(mode="json"),)),
+    plan = Plan(Render(linkage_optimise_out, model_extra=(body.model_dump(mode="json"),)),
                 conclude_linkage, (spec, scan, members, refinements), dict(time_limit_s=t))
     return await solvers.answer_plan(plan, request)

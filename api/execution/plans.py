@@ -29,10 +29,64 @@ from synth.machine.optimise_linkage import optimise_linkage
 from synth.synthesis.path import PathSpec, PathStarts, best_path, start_chunks
 
 from ..media import ARRAYS, FIGURES, Render
-from ..translate.machine_strength import with_strength
-from ..translate.strength import sizing_call, sizing_out
+from api.translate.analysis import analysis_out, plot_angle, rotors_from
+from api.translate.balancing import (
+    balance_out,
+    balance_spec,
+    optimal_balance_out,
+    rotor_from,
+    slider_crank_balance_out,
+    weights_from,
+)
+from api.translate.cams import cam_analysis_out, cam_analysis_spec, cam_spec, cam_synthesis_out, limits_from
+from api.translate.engines import engine_from, engine_out
+from api.translate.flywheel import cycle_from, geometry_from, link_stiffness, mean_speed_of, target_delta, uses_tables
+from api.translate.foundation import (
+    elastic_drive_out,
+    elements_from,
+    frame_and_isolators_from,
+    frame_from,
+    isolation_design_out,
+    isolation_design_spec,
+    isolation_out,
+    regulation_out,
+    regulator_from,
+    run_up_from,
+)
+from api.translate.gearing import (
+    drive_catalogue,
+    drive_out,
+    inertia_model,
+    split_out,
+    split_ratio,
+    stage_specs,
+    teeth_out,
+    teeth_rules,
+)
+from api.translate.linkage import crank_angles, linkage_from, pair_frictions, planar_linkage_from
+from api.translate.machine import machine_from
+from api.translate.machine_strength import with_strength
+from api.translate.motor import motor_from
+from api.translate.optimise import (
+    linkage_optimise_from,
+    linkage_optimise_out,
+    machine_optimise_from,
+    machine_optimise_out,
+)
+from api.translate.rating import duty_from, rating_from, rating_out, spectrum_from, strength_from
+from api.translate.strength import sizing_call, sizing_out
+from api.translate.structure import pair_from, structure_out
+from api.translate.synthesis import (
+    crank_rocker_out,
+    crank_rocker_spec,
+    path_out,
+    path_spec,
+    slider_crank_synthesis_out,
+    slider_crank_synthesis_spec,
+)
+from api.translate.train import train_from, train_out
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
 from mechsynth_client.schemas.strength import StrengthSizingIn
-from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
 from mechsynth_client.schemas.balancing import (
     BalanceIn,
     BalanceOut,
@@ -127,19 +181,19 @@ class Plan:
 
 def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan:
     """POST /v1/analysis."""
-    return Plan(Render(AnalysisOut.from_engine, analysis_file, model_extra=(b.geometry_request(),),
+    return Plan(Render(analysis_out, analysis_file, model_extra=(b.geometry_request(),),
                        export_extra=(plot_angle(b, angle_deg),)),
-                synth.analyse, (b.to_linkage(), b.omega_rad_s),
-                dict(samples=b.samples, phi=b.phi(), crank_acceleration=b.crank_acceleration_rad_s2,
-                     max_samples=lim.max_samples, points=b.trace(), counter_rotors=b.rotors(),
-                     friction=b.frictions()),
+                synth.analyse, (linkage_from(b), b.omega_rad_s),
+                dict(samples=b.samples, phi=crank_angles(b), crank_acceleration=b.crank_acceleration_rad_s2,
+                     max_samples=lim.max_samples, points=b.trace(), counter_rotors=rotors_from(b),
+                     friction=pair_frictions(b.friction)),
                 (*CURVES, *ARRAYS), "analysis")
 
 
 def balance_static(b: BalanceIn, lim: Limits) -> Plan:
     """POST /v1/balancing/static."""
-    return Plan(Render(BalanceOut.from_engine, balance_export), synth.balance_static,
-                (b.to_linkage(), b.omega_rad_s, b.spec()),
+    return Plan(Render(balance_out, balance_export), synth.balance_static,
+                (linkage_from(b), b.omega_rad_s, balance_spec(b)),
                 dict(samples=b.samples, objective=b.objective, mass_budget=b.mass_budget_kg,
                      time_limit_s=lim.solver_time_limit_s, method=b.method),
                 CURVES, "balance_static")
@@ -147,17 +201,17 @@ def balance_static(b: BalanceIn, lim: Limits) -> Plan:
 
 def balance_full(b: FullBalanceIn, lim: Limits) -> Plan:
     """POST /v1/balancing/full."""
-    return Plan(Render(BalanceOut.from_engine, balance_export), synth.balance_full,
-                (b.to_linkage(), b.omega_rad_s, b.spec()),
+    return Plan(Render(balance_out, balance_export), synth.balance_full,
+                (linkage_from(b), b.omega_rad_s, balance_spec(b)),
                 dict(samples=b.samples, ratios=b.rotor_ratios, time_limit_s=lim.solver_time_limit_s),
                 CURVES, "balance_full")
 
 
 def balance_optimal(b: OptimalBalanceIn, lim: Limits) -> Plan:
     """POST /v1/balancing/optimal: the request's weights first, then the sweep's."""
-    weight_sets = [w.to_engine() for w in [b.weights, *b.sweep]]
-    return Plan(Render(OptimalBalanceOut.from_results, optimal_file), synth.tradeoff,
-                (b.to_linkage(), b.omega_rad_s, b.spec(), weight_sets),
+    weight_sets = [weights_from(w) for w in [b.weights, *b.sweep]]
+    return Plan(Render(optimal_balance_out, optimal_file), synth.tradeoff,
+                (linkage_from(b), b.omega_rad_s, balance_spec(b), weight_sets),
                 dict(mass_budget=b.mass_budget_kg, samples=b.samples, time_limit_s=lim.solver_time_limit_s,
                      weight_scale=b.weight_scale),
                 CURVES, "balance_optimal")
@@ -165,7 +219,7 @@ def balance_optimal(b: OptimalBalanceIn, lim: Limits) -> Plan:
 
 def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
     """POST /v1/balancing/rotor."""
-    rotor = b.to_engine()
+    rotor = rotor_from(b)
     render = Render(rotor_out, model_extra=(rotor,))
     if b.mode == "static":
         return Plan(render, synth.balance_rotor_static, (rotor, b.correction_radius_m, b.correction_plane_m))
@@ -175,13 +229,13 @@ def balance_rotor(b: RotorIn, lim: Limits) -> Plan:
 
 def balance_engine(b: EngineIn, lim: Limits) -> Plan:
     """POST /v1/balancing/engine."""
-    return Plan(Render(EngineOut.from_engine), synth.engine_shaking, (b.to_engine(),))
+    return Plan(Render(engine_out), synth.engine_shaking, (engine_from(b),))
 
 
 def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
     """POST /v1/balancing/slider-crank."""
-    linkage = b.to_linkage()
-    return Plan(Render(SliderCrankBalanceOut.from_engine, slider_crank_balance_export,
+    linkage = linkage_from(b)
+    return Plan(Render(slider_crank_balance_out, slider_crank_balance_export,
                        model_extra=(synth.check_linkage(linkage),)),
                 synth.balance_slider_crank, (linkage, b.omega_rad_s),
                 dict(counterweight_radius=b.counterweight_radius_m,
@@ -192,10 +246,10 @@ def balance_slider_crank(b: SliderCrankBalanceIn, lim: Limits) -> Plan:
 
 def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
     """POST /v1/flywheel: from tables, or from a linkage analysed at its mean speed."""
-    mean_speed, delta = b.mean_speed(), b.target_delta()
-    geometry = None if b.geometry is None else b.geometry.to_engine()
+    mean_speed, delta = mean_speed_of(b), target_delta(b)
+    geometry = None if b.geometry is None else geometry_from(b.geometry)
     sizing: dict[str, Any] = dict(constant_inertia=b.constant_inertia_kgm2,
-                                  motor=None if b.motor is None else b.motor.to_engine(),
+                                  motor=None if b.motor is None else motor_from(b.motor),
                                   time_limit_s=lim.solver_time_limit_s)
     render = Render(flywheel_out, flywheel_file)
     offered = (*FIGURES, "csv", *ARRAYS)
@@ -207,89 +261,89 @@ def flywheel(b: FlywheelIn, lim: Limits) -> Plan:
             raise synth.InvalidInput("the elastic drive takes a linkage (its reduced inertia's slope comes from the "
                                      "analysis), not tables", field="elastic_drive")
         e = b.elastic_drive
-        sizing["elastic"] = ElasticLink(e.link_stiffness(), e.damping_ratio, e.flywheel_on == "motor_shaft",
+        sizing["elastic"] = ElasticLink(link_stiffness(e), e.damping_ratio, e.flywheel_on == "motor_shaft",
                                         e.motor_side_inertia_kgm2, e.start)
-    if b.uses_tables():
+    if uses_tables(b):
         assert b.tables is not None
         return Plan(render, flywheel_from_tables,
-                    (b.tables.to_cycle(b.cycle_deg, lim.max_samples), mean_speed, delta, geometry), sizing,
+                    (cycle_from(b.tables, b.cycle_deg, lim.max_samples), mean_speed, delta, geometry), sizing,
                     offered, "flywheel")
     return Plan(render, flywheel_for_linkage,
-                (b.to_linkage(), mean_speed, b.samples, lim.max_samples, delta, geometry),
-                dict(sizing, friction=b.frictions()), offered, "flywheel")
+                (linkage_from(b), mean_speed, b.samples, lim.max_samples, delta, geometry),
+                dict(sizing, friction=pair_frictions(b.friction)), offered, "flywheel")
 
 
 def gears_split(b: SplitIn, lim: Limits) -> Plan:
     """POST /v1/gears/split."""
-    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
-    return Plan(Render(SplitOut.from_engine, model_extra=(stages,)), synth.split_ratio,
-                (b.ratio(), stages, b.objective),
-                dict(inertia=b.inertia_model(b.motor_inertia_kgm2), input_torque=b.input_torque_Nm,
+    stages = synth.make_stages(stage_specs(b.stages), max_stages=lim.max_stages)
+    return Plan(Render(split_out, model_extra=(stages,)), synth.split_ratio,
+                (split_ratio(b), stages, b.objective),
+                dict(inertia=inertia_model(b, b.motor_inertia_kgm2), input_torque=b.input_torque_Nm,
                      handbook_factor=b.handbook_factor, snap_r20=b.snap_r20, snap_tolerance=b.snap_tolerance,
                      time_limit_s=lim.solver_time_limit_s))
 
 
 def gears_teeth(b: TeethIn, lim: Limits) -> Plan:
     """POST /v1/gears/teeth."""
-    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
-    return Plan(Render(TeethOut.from_engine), synth.tooth_numbers, (b.total_ratio, stages, b.rules(), b.tolerance),
+    stages = synth.make_stages(stage_specs(b.stages), max_stages=lim.max_stages)
+    return Plan(Render(teeth_out), synth.tooth_numbers, (b.total_ratio, stages, teeth_rules(b), b.tolerance),
                 dict(planets=b.planets))
 
 
 def gears_drive(b: DriveIn, lim: Limits) -> Plan:
     """POST /v1/gears/drive."""
-    stages = synth.make_stages(b.stage_specs(), max_stages=lim.max_stages)
-    return Plan(Render(DriveOut.from_engine, model_extra=(stages,)), synth.design_drive,
+    stages = synth.make_stages(stage_specs(b.stages), max_stages=lim.max_stages)
+    return Plan(Render(drive_out, model_extra=(stages,)), synth.design_drive,
                 (b.output_power_W, b.output_speed(), stages),
                 dict(reserve_factor=b.reserve_factor, drive_efficiency=b.drive_efficiency,
                      synchronous_speed=b.synchronous_speed(), motor=b.motor, objective=b.objective,
-                     torque_basis=b.torque_basis, inertia=b.inertia_model(), snap_r20=b.snap_r20,
+                     torque_basis=b.torque_basis, inertia=inertia_model(b), snap_r20=b.snap_r20,
                      snap_tolerance=b.snap_tolerance, time_limit_s=lim.solver_time_limit_s,
-                     catalogue=b.catalogue(), strength=None if b.strength is None else b.strength.to_engine()))
+                     catalogue=drive_catalogue(b), strength=None if b.strength is None else strength_from(b.strength)))
 
 
 def gears_rating(b: RatingIn, lim: Limits) -> Plan:
     """POST /v1/gears/rating: at a nominal torque, or on a load spectrum (Miner)."""
     if b.load_spectrum is not None:
-        return Plan(Render(RatingOut.from_engine), synth.rate_spectrum,
-                    (b.to_engine(), b.spectrum(), b.speed(), b.duty()))
+        return Plan(Render(rating_out), synth.rate_spectrum,
+                    (rating_from(b), spectrum_from(b), b.speed(), duty_from(b)))
     assert b.pinion_torque_Nm is not None
-    return Plan(Render(RatingOut.from_engine), synth.rate_pair,
-                (b.to_engine(), b.pinion_torque_Nm, b.speed(), b.duty()))
+    return Plan(Render(rating_out), synth.rate_pair,
+                (rating_from(b), b.pinion_torque_Nm, b.speed(), duty_from(b)))
 
 
 def gears_train(b: TrainIn, lim: Limits) -> Plan:
     """POST /v1/gears/train."""
-    return Plan(Render(TrainOut.from_engine), synth.gear_train, (b.to_engine(),),
+    return Plan(Render(train_out), synth.gear_train, (train_from(b),),
                 dict(module=b.module_m, input_speed=b.input_speed_rad_s, output_speed=b.output_speed_rad_s))
 
 
 def structure(b: StructureIn, lim: Limits) -> Plan:
     """POST /v1/structure."""
     if b.mechanism is not None:
-        return Plan(Render(StructureOut.from_engine), synth.linkage_structure, (b.mechanism.to_mechanism(),), {})
+        return Plan(Render(structure_out), synth.linkage_structure, (planar_linkage_from(b.mechanism),), {})
     assert b.links is not None and b.pairs is not None
-    return Plan(Render(StructureOut.from_engine), synth.analyse_structure,
-                (b.links, [p.to_engine() for p in b.pairs]),
+    return Plan(Render(structure_out), synth.analyse_structure,
+                (b.links, [pair_from(p) for p in b.pairs]),
                 dict(frame=b.frame, planar=b.planar, input_links=b.input_links, known_mobility=b.known_mobility))
 
 
 def synthesis_crank_rocker(b: CrankRockerIn, lim: Limits) -> Plan:
     """POST /v1/synthesis/crank-rocker."""
-    return Plan(Render(CrankRockerOut.from_engine, crank_rocker_png, model_extra=(b.omega_rad_s,)),
-                synth.synthesise_crank_rocker, (b.to_spec(),), offered=("png",))
+    return Plan(Render(crank_rocker_out, crank_rocker_png, model_extra=(b.omega_rad_s,)),
+                synth.synthesise_crank_rocker, (crank_rocker_spec(b),), offered=("png",))
 
 
 def synthesis_slider_crank(b: SliderCrankSynthesisIn, lim: Limits) -> Plan:
     """POST /v1/synthesis/slider-crank."""
-    return Plan(Render(SliderCrankSynthesisOut.from_engine, slider_crank_png, model_extra=(b.omega_rad_s,)),
-                synth.synthesise_slider_crank, (b.to_spec(),), offered=("png",))
+    return Plan(Render(slider_crank_synthesis_out, slider_crank_png, model_extra=(b.omega_rad_s,)),
+                synth.synthesise_slider_crank, (slider_crank_synthesis_spec(b),), offered=("png",))
 
 
 def synthesis_path(b: PathIn, lim: Limits) -> Plan:
     """POST /v1/synthesis/path, all starts in one task (a design study's variant)."""
-    spec = b.to_spec(lim.solver_time_limit_s)
-    return Plan(Render(PathOut.from_engine, path_file, export_extra=(spec.targets,)), synth.synthesise_path,
+    spec = path_spec(b, lim.solver_time_limit_s)
+    return Plan(Render(path_out, path_file, export_extra=(spec.targets,)), synth.synthesise_path,
                 (spec,), offered=("png",))
 
 
@@ -306,13 +360,13 @@ def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpe
                              f"{b.starts} starts through {len(b.points_m)} points take about {wall:.3g} s on the "
                              f"{workers} workers, beyond the bound of {lim.max_work_s:g} s: ask for "
                              "fewer starts or points", field="starts")
-    spec = b.to_spec(lim.solver_time_limit_s)
+    spec = path_spec(b, lim.solver_time_limit_s)
     return spec, start_chunks(spec, min(workers, max(1, b.starts // PATH_CHUNK_STARTS)))
 
 
 def synthesis_path_best(spec: PathSpec, parts: Sequence[PathStarts]) -> Plan:
     """POST /v1/synthesis/path, last step: the best of the chunks' starts, placed and checked, then rendered."""
-    return Plan(Render(PathOut.from_engine, path_file, export_extra=(spec.targets,)), best_path,
+    return Plan(Render(path_out, path_file, export_extra=(spec.targets,)), best_path,
                 (spec, tuple(parts)), offered=("png",))
 
 
@@ -320,7 +374,7 @@ def machine_design(b: MachineIn, lim: Limits) -> Plan:
     """POST /v1/machines/design: the design and, when asked, its alternatives; a summary PNG or the PDF design
     record, titled and identified by the request's hash."""
     record = DesignRecord.of(b.model_dump(mode="json"), name=b.name, version=SERVICE_VERSION)
-    spec = with_strength(b.to_engine(lim.max_stages), b.strength)
+    spec = with_strength(machine_from(b, lim.max_stages), b.strength)
     return Plan(Render(design_out, design_file, model_extra=(record,), export_extra=(record,)), design_machine,
                 (spec, b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
                 stem="machine-design")
@@ -330,7 +384,7 @@ def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:
     """POST /v1/machines/optimise as one task: every stage of the optimisation one after another (a study's
     variant); the endpoint itself spreads the candidates' chains over the workers and ends with
     :func:`machine_optimise_conclusion`, which gives the same answer."""
-    return Plan(Render(MachineOptimiseOut.from_engine), synth.optimise_machine, (b.to_engine(lim.max_stages),),
+    return Plan(Render(machine_optimise_out), synth.optimise_machine, (machine_optimise_from(b, lim.max_stages),),
                 dict(time_limit_s=lim.solver_time_limit_s))
 
 
@@ -339,8 +393,8 @@ def machine_optimise_conclusion(fn: Callable[..., Any], *args: Any, record: Desi
     chosen machine with the certificate's page (pdf)."""
     *head, time_limit_s = args
     if record is None:
-        return Plan(Render(MachineOptimiseOut.from_engine), fn, tuple(head), dict(time_limit_s=time_limit_s))
-    return Plan(Render(MachineOptimiseOut.from_engine, optimisation_file, export_extra=(record,)), fn, tuple(head),
+        return Plan(Render(machine_optimise_out), fn, tuple(head), dict(time_limit_s=time_limit_s))
+    return Plan(Render(machine_optimise_out, optimisation_file, export_extra=(record,)), fn, tuple(head),
                 dict(time_limit_s=time_limit_s), offered=("pdf",), stem="machine-optimisation")
 
 
@@ -361,30 +415,30 @@ def _uniform(b: IsolationIn | IsolationDesignIn | ElasticDriveIn | RegulationIn)
 def isolation(b: IsolationIn, lim: Limits) -> Plan:
     """POST /v1/machines/isolation."""
     _uniform(b)
-    frame, isolators = b.to_frame()
-    return Plan(Render(IsolationOut.from_engine, isolation_figure), fd.isolate_linkage,
-                (b.to_linkage(), b.omega_rad_s, frame, isolators),
-                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
-                     run_up=b.run_up_engine()),
+    frame, isolators = frame_and_isolators_from(b)
+    return Plan(Render(isolation_out, isolation_figure), fd.isolate_linkage,
+                (linkage_from(b), b.omega_rad_s, frame, isolators),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=rotors_from(b),
+                     run_up=run_up_from(b)),
                 FIGURES, "isolation")
 
 
 def isolation_design(b: IsolationDesignIn, lim: Limits) -> Plan:
     """POST /v1/machines/isolation/design."""
     _uniform(b)
-    return Plan(Render(IsolationDesignOut.from_engine, design_figure), fdd.design_linkage_isolation,
-                (b.to_linkage(), b.omega_rad_s, b.frame.to_engine(), b.to_spec()),
-                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors()),
+    return Plan(Render(isolation_design_out, design_figure), fdd.design_linkage_isolation,
+                (linkage_from(b), b.omega_rad_s, frame_from(b.frame), isolation_design_spec(b)),
+                dict(samples=b.samples, max_samples=lim.max_samples, counter_rotors=rotors_from(b)),
                 FIGURES, "isolation-design")
 
 
 def elastic_drive(b: ElasticDriveIn, lim: Limits) -> Plan:
     """POST /v1/machines/elastic-drive."""
     _uniform(b)
-    return Plan(Render(ElasticDriveOut.from_engine, elastic_drive_figure), ed.elastic_drive_for_linkage,
-                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine()),
-                dict(stiffness=b.stiffness_Nm_rad, elements=b.to_elements(), samples=b.samples,
-                     max_samples=lim.max_samples, counter_rotors=b.rotors(), friction=b.frictions(),
+    return Plan(Render(elastic_drive_out, elastic_drive_figure), ed.elastic_drive_for_linkage,
+                (linkage_from(b), b.omega_rad_s, motor_from(b.motor)),
+                dict(stiffness=b.stiffness_Nm_rad, elements=elements_from(b), samples=b.samples,
+                     max_samples=lim.max_samples, counter_rotors=rotors_from(b), friction=pair_frictions(b.friction),
                      machine_inertia=b.machine_inertia_kgm2, motor_side_inertia=b.motor_side_inertia_kgm2,
                      damping_ratio=b.damping_ratio, start=b.start),
                 FIGURES, "elastic-drive")
@@ -393,13 +447,13 @@ def elastic_drive(b: ElasticDriveIn, lim: Limits) -> Plan:
 def regulation(b: RegulationIn, lim: Limits) -> Plan:
     """POST /v1/machines/regulation."""
     _uniform(b)
-    controller, tuning = (None, None) if b.regulator is None else b.regulator.to_engine()
-    return Plan(Render(RegulationOut.from_engine, regulation_figure), rg.regulate_linkage,
-                (b.to_linkage(), b.omega_rad_s, b.motor.to_engine(), b.load_step_Nm),
+    controller, tuning = (None, None) if b.regulator is None else regulator_from(b.regulator)
+    return Plan(Render(regulation_out, regulation_figure), rg.regulate_linkage,
+                (linkage_from(b), b.omega_rad_s, motor_from(b.motor), b.load_step_Nm),
                 dict(constant_inertia=b.constant_inertia_kgm2, delta=b.delta, band_fraction=b.settling_band,
                      controller=controller, tuning=tuning,
-                     samples=b.samples, max_samples=lim.max_samples, counter_rotors=b.rotors(),
-                     friction=b.frictions()),
+                     samples=b.samples, max_samples=lim.max_samples, counter_rotors=rotors_from(b),
+                     friction=pair_frictions(b.friction)),
                 FIGURES, "regulation")
 
 
@@ -425,26 +479,26 @@ def cam_synthesis_export(result: synth.cams.CamSynthesis, fmt: str, at: float, t
 
 def cam_analysis_plan(b: CamAnalysisIn, lim: Limits) -> Plan:
     """POST /v1/cams/analysis."""
-    return Plan(Render(CamAnalysisOut.from_engine, synth.cams.cam_export,
+    return Plan(Render(cam_analysis_out, synth.cams.cam_export,
                        export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
                                      cam_record_title(b, "disc cam"))),
-                synth.cams.analyse_cam, (b.spec(),), dict(max_samples=lim.max_samples), CAM_FORMATS, "cam")
+                synth.cams.analyse_cam, (cam_analysis_spec(b),), dict(max_samples=lim.max_samples), CAM_FORMATS, "cam")
 
 
 def cam_synthesis_plan(b: CamSynthesisIn, lim: Limits) -> Plan:
     """POST /v1/cams/synthesis."""
-    return Plan(Render(CamSynthesisOut.from_engine, cam_synthesis_export,
+    return Plan(Render(cam_synthesis_out, cam_synthesis_export,
                        export_extra=(math.radians(b.drawing_angle_deg), b.chord_tolerance_m,
                                      cam_record_title(b, "least disc cam"))),
-                synth.cams.synthesise_cam, (b.to_spec(), b.limits()), dict(max_samples=lim.max_samples), CAM_FORMATS,
+                synth.cams.synthesise_cam, (cam_spec(b), limits_from(b)), dict(max_samples=lim.max_samples), CAM_FORMATS,
                 "least-cam")
 
 
 def machine_optimise_linkage(b: LinkageOptimiseIn, lim: Limits) -> Plan:
     """POST /v1/machines/optimise-linkage as one task: every stage one after another (a study's variant, a kept
     design); the endpoint itself runs the same stages as tasks side by side and gives the same answer."""
-    return Plan(Render(LinkageOptimiseOut.from_engine, model_extra=(b.model_dump(mode="json"),)), optimise_linkage,
-                (b.to_engine(lim.max_stages),), dict(time_limit_s=lim.solver_time_limit_s))
+    return Plan(Render(linkage_optimise_out, model_extra=(b.model_dump(mode="json"),)), optimise_linkage,
+                (linkage_optimise_from(b, lim.max_stages),), dict(time_limit_s=lim.solver_time_limit_s))
 
 
 def strength_plan(b: StrengthSizingIn, lim: Limits) -> Plan:

@@ -17,10 +17,13 @@ from synth.machine.record import DesignRecord
 from synth.machine.report import design_report_pdf, design_summary_png
 from synth.synthesis.plots import extremes_png, path_png
 
+from api.translate.balancing import rotor_out as rotor_answer
+from api.translate.flywheel import flywheel_out as flywheel_answer
+from api.translate.machine import machine_design_out
 from mechsynth_client.schemas.balancing import RotorOut
 from mechsynth_client.schemas.flywheel import FlywheelOut
 from mechsynth_client.schemas.machine import MachineDesignOut
-from ..translate.machine_strength import machine_design_out
+from ..translate.machine_strength import with_strength_out
 
 DesignAndAlternatives = tuple[synth.MachineDesign, tuple[synth.Alternative, ...]]
 #: A flywheel with its warnings and, when asked, the elastic drive with that flywheel.
@@ -61,7 +64,7 @@ def optimal_file(results: list[synth.BalanceResult], fmt: str) -> bytes:
 
 def rotor_out(result: synth.RotorBalance, rotor: Any) -> RotorOut:
     """A rotor's corrections with the check of the request against them."""
-    return RotorOut.from_engine(result, synth.check_rotor(rotor, result))
+    return rotor_answer(result, synth.check_rotor(rotor, result))
 
 
 def flywheel_from_tables(cycle: synth.ReducedCycle, mean_speed: float, delta: float,
@@ -110,7 +113,7 @@ def _elastic_drive(analysis: synth.Analysis, result: synth.FlywheelResult, link:
 
 def flywheel_out(pair: FlywheelAndWarnings) -> FlywheelOut:
     """The flywheel's JSON answer with its warnings."""
-    return FlywheelOut.from_engine(*pair)
+    return flywheel_answer(*pair)
 
 
 def flywheel_file(pair: FlywheelAndWarnings, fmt: str) -> bytes:
@@ -127,7 +130,7 @@ def design_machine(spec: synth.MachineSpec, alternatives: bool, time_limit_s: fl
 
 def design_out(pair: DesignAndAlternatives, record: DesignRecord) -> MachineDesignOut:
     """The design's JSON answer, identified by its request's hash."""
-    return machine_design_out(pair[0], MachineDesignOut.from_engine(*pair, request_sha256=record.request_sha256))
+    return with_strength_out(pair[0], machine_design_out(*pair, request_sha256=record.request_sha256))
 
 
 def design_file(pair: DesignAndAlternatives, fmt: str, record: DesignRecord) -> bytes:

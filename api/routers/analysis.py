@@ -11,7 +11,9 @@ from fastapi.responses import Response
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import ARRAYS, FIGURES, FormatQuery, format_responses, media
-from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut, plot_angle
+from api.translate.analysis import plot_angle
+from api.translate.linkage import crank_angles, linkage_from
+from mechsynth_client.schemas.analysis import AnalysisIn, AnalysisOut
 from ..execution.tasks import mechanism_drawing
 
 router = APIRouter(tags=["analysis"])
@@ -47,6 +49,6 @@ async def analysis_drawing(
     """The mechanism at ``angle_deg`` drawn to scale in millimetres, for CAD (DXF) or a browser (SVG): frame
     pivots and guides, links, blocks, the crank circle, counterweights with their mass, radius and angle, centres
     of mass and the paths of the trace points over the cycle."""
-    content = await solvers.run(mechanism_drawing, body.to_linkage(), body.omega_rad_s, body.samples, body.phi(),
+    content = await solvers.run(mechanism_drawing, linkage_from(body), body.omega_rad_s, body.samples, crank_angles(body),
                                 solvers.settings.max_samples, body.trace(), plot_angle(body, angle_deg), format)
     return media(content, format, "mechanism")

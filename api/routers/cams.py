@@ -14,6 +14,7 @@ from ..execution.plans import CAM_FORMATS as FORMATS
 from ..execution.plans import cam_analysis_plan as analysis_plan
 from ..execution.plans import cam_synthesis_plan as synthesis_plan
 from ..media import format_responses
+from api.translate.cams import motion_law_out
 from mechsynth_client.schemas.cams import (
     CamAnalysisIn,
     CamAnalysisOut,
@@ -61,4 +62,4 @@ async def cam_synthesis(body: CamSynthesisIn, request: Request, solvers: SolverD
 def cam_laws() -> list[MotionLawOut]:
     """The standard motion laws with their peak velocity, acceleration and jerk coefficients (peak = C h/beta^k),
     computed from the closed forms, beside the textbooks' acceleration coefficient."""
-    return [MotionLawOut.from_engine(c) for c in synth.cams.standard_laws()]
+    return [motion_law_out(c) for c in synth.cams.standard_laws()]

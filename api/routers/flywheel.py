@@ -12,6 +12,7 @@ import synth
 from ..execution import plans
 from ..deps import SolverDep
 from ..media import ARRAYS, FIGURES, format_responses
+from api.translate.flywheel import machine_type_out
 from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
 
 router = APIRouter(tags=["flywheel"])
@@ -30,7 +31,7 @@ FlywheelFormat = Annotated[
 @router.get("/machine-types", response_model=list[MachineTypeOut])
 def machine_types() -> list[MachineTypeOut]:
     """The seeds' table of admissible delta per machine type; a request naming one gets its tightest value."""
-    return [MachineTypeOut.from_engine(row) for row in synth.machine_types()]
+    return [machine_type_out(row) for row in synth.machine_types()]
 
 
 @router.post("/flywheel", response_model=FlywheelOut, responses=format_responses(FORMATS))

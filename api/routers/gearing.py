@@ -10,6 +10,8 @@ import synth
 
 from ..execution import plans
 from ..deps import SolverDep
+from api.translate.gearing import motor_out, stage_type_out
+from api.translate.rating import gear_material_out
 from mechsynth_client.schemas.gearing import (
     DriveIn,
     DriveOut,
@@ -57,16 +59,16 @@ async def gears_rating(body: RatingIn, request: Request, solvers: SolverDep) -> 
 @router.get("/materials", response_model=list[GearMaterialOut])
 def gears_materials() -> list[GearMaterialOut]:
     """The shipped gear material grades with their ISO 6336-5 allowable stress numbers."""
-    return [GearMaterialOut.from_engine(m) for m in synth.gear_materials().values()]
+    return [gear_material_out(m) for m in synth.gear_materials().values()]
 
 
 @router.get("/stage-types", response_model=list[StageTypeOut])
 def gears_stage_types() -> list[StageTypeOut]:
     """The shipped stage-type table: admissible ratio ranges, efficiencies, sizing constants."""
-    return [StageTypeOut.from_engine(t) for t in synth.stage_types().values()]
+    return [stage_type_out(t) for t in synth.stage_types().values()]
 
 
 @router.get("/motors", response_model=list[MotorOut])
 def gears_motors() -> list[MotorOut]:
     """The shipped motor catalogue, ascending in rated power."""
-    return [MotorOut.from_engine(m) for m in synth.motor_catalogue()]
+    return [motor_out(m) for m in synth.motor_catalogue()]

@@ -12,6 +12,7 @@ from fastapi.responses import Response, StreamingResponse
 from ..auth.guard import NotOwner, Principal, principal
 from ..deps import SolverDep
 from ..media import FormatQuery, json_response, png, wants_png
+from api.translate.studies import pareto_out, results_out, study_out
 from mechsynth_client.schemas.studies import ParetoOut, ResultsOut, StudyIn, StudyOut
 from ..problems import problem
 from .runs import StudyFinished, StudyRuns, scatter_png
@@ -54,7 +55,7 @@ async def study(body: StudyIn, studies: StudiesDep, response: Response, caller: 
     if caller.name is not None:
         spec["owner"] = caller.name
     record = await asyncio.to_thread(studies.create, spec)
-    out = StudyOut.from_record(record, await asyncio.to_thread(studies.position, record.id))
+    out = study_out(record, await asyncio.to_thread(studies.position, record.id))
     response.headers["Location"] = out.links.self
     return out
 
@@ -68,21 +69,21 @@ async def studies(
     """The latest studies first, with their state and progress."""
     records = await asyncio.to_thread(studies.recent, limit, offset)
     places = await asyncio.to_thread(studies.positions)
-    return [StudyOut.from_record(r, places.get(r.id)) for r in records]
+    return [study_out(r, places.get(r.id)) for r in records]
 
 
 @router.get("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def study_status(study_id: str, studies: StudiesDep) -> StudyOut:
     """State, variants done of the total, failed variants, running time and the estimated time to finish."""
     record = await asyncio.to_thread(studies.get, study_id)
-    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
+    return study_out(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.delete("/{study_id}", response_model=StudyOut, responses=NOT_FOUND)
 async def study_cancel(study_id: str, studies: StudiesDep, _: OwnerOnly) -> StudyOut:
     """Cancel a study: no new variant starts, running tasks are stopped, finished variants stay."""
     record = await asyncio.to_thread(studies.cancel, study_id)
-    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
+    return study_out(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.post("/{study_id}/resume", status_code=202, response_model=StudyOut, responses={**NOT_FOUND, 409: {
@@ -95,7 +96,7 @@ async def study_resume(study_id: str, studies: StudiesDep, _: OwnerOnly) -> Any:
         record = await asyncio.to_thread(studies.resume, study_id)
     except StudyFinished as exc:
         return problem(409, "study-finished", "Study finished", str(exc), study_id=study_id)
-    return StudyOut.from_record(record, await asyncio.to_thread(studies.position, study_id))
+    return study_out(record, await asyncio.to_thread(studies.position, study_id))
 
 
 @router.get("/{study_id}/results", response_model=ResultsOut,
@@ -113,7 +114,7 @@ async def study_results(
         return StreamingResponse(chunks, media_type="text/csv",
                                  headers={"Content-Disposition": f'attachment; filename="study-{study_id}.csv"'})
     record, rows = await asyncio.to_thread(studies.page, study_id, offset, limit)
-    return json_response(ResultsOut.from_page(record, rows, offset, limit))
+    return json_response(results_out(record, rows, offset, limit))
 
 
 @router.get("/{study_id}/pareto", response_model=ParetoOut,
@@ -131,4 +132,4 @@ async def study_pareto(
         scatter = await asyncio.to_thread(studies.scatter, study_id, x, y)
         return png(await solvers.run(scatter_png, scatter))
     front = await asyncio.to_thread(studies.pareto, study_id)
-    return json_response(ParetoOut.from_front(front.record, front.candidates, front.rows))
+    return json_response(pareto_out(front.record, front.candidates, front.rows))

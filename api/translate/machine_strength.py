@@ -38,7 +38,7 @@ def machine_strength_out(s: MachineStrength) -> MachineStrengthOut:
         link_mass_kg=s.link_mass, parts=parts_out(s.parts))
 
 
-def machine_design_out(design: synth.MachineDesign, out: MachineDesignOut) -> MachineDesignOut:
+def with_strength_out(design: synth.MachineDesign, out: MachineDesignOut) -> MachineDesignOut:
     """A machine design's answer with its ``strength`` block filled in."""
     if design.strength is None:
         return out

@@ -10,7 +10,7 @@ from synth import strength
 from synth.strength.links import CHECKS
 from synth.strength.sections import MM
 
-from mechsynth_client.schemas.common import SummaryOut
+from api.translate.linkage import linkage_from, summary_out
 from mechsynth_client.schemas.strength import (
     LinkCheckOut,
     LinkSectionOut,
@@ -93,7 +93,7 @@ def sizing_call(body: StrengthSizingIn) -> tuple[Any, ...]:
     if body.crank_angle_deg is not None:
         raise synth.InvalidInput("the fatigue check needs the whole cycle: give samples, not crank angles",
                                  field="crank_angle_deg")
-    linkage = body.to_linkage()
+    linkage = linkage_from(body)
     bars = tuple(n for n in linkage.mechanism.topology.links if is_bar(linkage, n))
     return linkage, body.omega_rad_s, specs_from(body, bars), limits_from(body.limits)
 
@@ -130,6 +130,6 @@ def sizing_out(r: strength.LinkStrength) -> StrengthSizingOut:
         iterations=[SizingIterationOut(masses_kg=i.masses, sections=i.sections, largest_change_kg=i.largest_change)
                     for i in r.iterations],
         analyses=len(r.iterations), mass_residual_kg=r.residual, closure_N=r.closure,
-        summary=SummaryOut.from_engine(r.analysis.summary()), notes=list(r.warnings))
+        summary=summary_out(r.analysis.summary()), notes=list(r.warnings))
 
 

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import math
-from typing import Any, Literal, TypeVar, get_args
+from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     SIX_BAR_PRESS_EXAMPLE,
@@ -19,11 +17,6 @@ from .common import (
     SummaryOut,
     Vec2,
     WarningOut,
-    degree_array,
-    ensure_finite,
-    one_of,
-    pair_frictions,
-    warnings_out,
 )
 
 
@@ -43,10 +36,6 @@ class CounterRotorIn(StrictModel):
     inertia_kgm2: float = Field(ge=0, le=MAX_INERTIA_KGM2, description="Rotor inertia about its axis [kg·m²].",
                                 examples=[0.03])
     ratio: float = Field(1.0, gt=0, le=1e3, description="Rotor speed over the link's speed, counter-rotating [-].")
-
-    def to_engine(self) -> synth.CounterRotor:
-        """Engine counter-rotor."""
-        return synth.CounterRotor(self.link, self.inertia_kgm2, self.ratio)
 
 
 class BalancingAnswerIn(BaseModel):
@@ -92,38 +81,6 @@ class AnalysisIn(LinkageRequest):
         None, description="Friction per pair: the answer's `friction` block then holds the reactions and the "
         "driving torque with friction, each pair's friction and power loss, and the efficiency.")
 
-    def to_linkage(self) -> synth.Linkage:
-        """Engine linkage with the coupler inertia and a balancing answer's counterweights applied."""
-        linkage = super().to_linkage()
-        coupler = self.coupler_inertia_kgm2
-        extra: list[synth.Counterweight] = []
-        if self.balancing is not None:
-            extra = [c.to_engine() for c in self.balancing.counterweights]
-            if self.balancing.coupler_inertia_kgm2 is not None:
-                if coupler is not None:
-                    raise synth.InvalidInput("give the coupler inertia once: here or in the balancing answer",
-                                             field="coupler_inertia_kgm2")
-                coupler = self.balancing.coupler_inertia_kgm2
-        if coupler is not None:
-            if "coupler" not in linkage.mechanism.topology.links:
-                raise synth.InvalidInput("this mechanism has no coupler", field="coupler_inertia_kgm2")
-            props = linkage.links.get("coupler", synth.MassProps())
-            links = {**linkage.links, "coupler": synth.MassProps(props.mass, props.com, coupler)}
-            linkage = synth.Linkage(linkage.mechanism, links, linkage.counterweights, linkage.gravity, linkage.loads,
-                                    linkage.torques)
-        return linkage.with_counterweights(extra)
-
-    def rotors(self) -> tuple[synth.CounterRotor, ...]:
-        """Engine counter-rotors, from this request and its balancing answer."""
-        given = [r.to_engine() for r in self.counter_rotors]
-        if self.balancing is not None and self.balancing.counter_rotors:
-            given += [r.to_engine() for r in self.balancing.counter_rotors]
-        return tuple(given)
-
-    def frictions(self) -> tuple[synth.PairFriction, ...]:
-        """Engine pair frictions of the ``friction`` block."""
-        return pair_frictions(self.friction)
-
     def trace(self) -> dict[str, tuple[str, tuple[float, float]]]:
         """Trace points as the engine takes them: name -> (link, position in the link frame)."""
         return {p.name: (p.link, (p.position_m[0], p.position_m[1])) for p in self.trace_points}
@@ -154,14 +111,6 @@ class AnalysisIn(LinkageRequest):
             ]
         }
     )
-
-
-M = TypeVar("M", bound=BaseModel)
-
-
-def _unchecked(model: type[M], **values: Any) -> M:
-    """``model`` holding the engine's arrays as they are (``api.media.json_bytes`` writes them), unvalidated."""
-    return model.model_construct(**values)
 
 
 Grashof = Literal["crank-rocker", "double-crank", "double-rocker", "rocker-crank", "change-point", "triple-rocker"]
@@ -250,26 +199,6 @@ class FrictionOut(BaseModel):
     mean_power_loss_W: float = Field(description="All pairs' power loss averaged over the samples [W].")
     checks: FrictionChecksOut = Field(description="Solve residual and the virtual-power check.")
 
-    @classmethod
-    def from_engine(cls, fr: synth.FrictionAnalysis, joints: dict[str, str]) -> FrictionOut:
-        """Schema from the engine's friction analysis; ``joints`` gives each pair's kind."""
-        ensure_finite(fr.unknowns, fr.driving_torque, fr.loss_torque)
-        pairs = {}
-        for name, value in fr.friction.items():
-            revolute = joints[name] == "revolute"
-            pairs[name] = _unchecked(
-                PairFrictionOut, kind=one_of(("revolute", "prismatic"), joints[name]),
-                friction_moment_Nm=value if revolute else None, friction_force_N=None if revolute else value,
-                power_loss_W=fr.power_loss[name], mean_power_loss_W=float(np.mean(fr.power_loss[name])))
-        total = sum(fr.power_loss.values(), np.zeros(fr.driving_torque.size))
-        return _unchecked(
-            cls, driving_torque_Nm=fr.driving_torque, loss_torque_Nm=fr.loss_torque,
-            joint_reactions_N=dict(fr.reactions), prismatic_couples_Nm=dict(fr.couples), pairs=pairs,
-            efficiency=[None if not math.isfinite(e) else float(e) for e in fr.efficiency],
-            cycle_efficiency=fr.cycle_efficiency, mean_power_loss_W=float(np.mean(total)),
-            checks=FrictionChecksOut(newton_residual=fr.residual, newton_iterations=fr.iterations,
-                                     virtual_power_max_diff_Nm=fr.power_check))
-
 
 class CentresOut(BaseModel):
     """Instant centres over the cycle as unit homogeneous coordinates [x·w, y·w, w]: the point is (x, y) where
@@ -354,65 +283,6 @@ class AnalysisOut(BaseModel):
     curvature: dict[str, CurvatureOut] | None = Field(None, description="With `path_curvature`: per point by "
                                                       "name, the curvature of its path.")
 
-    @classmethod
-    def from_engine(cls, an: synth.Analysis, geometry: tuple[bool, bool, bool] = (False, False, False)
-                    ) -> AnalysisOut:
-        """Schema from an engine analysis (radians become degrees here).
-
-        Built without re-validating the engine's arrays (they are float arrays by construction), after one
-        check that nothing non-finite would reach the response. The array fields hold the engine's numpy
-        arrays as they are: ``api.media.json_bytes`` writes them; ``to_lists`` gives the plain pydantic model.
-        """
-        m, k, r = an.motion, an.kinetostatics, an.reduced
-        ensure_finite(k.unknowns, k.shaking_force, k.shaking_moment, r.inertia, an.virtual_power_torque)
-        mech = an.linkage.mechanism
-        tau = an.transmission_angle
-        return _unchecked(
-            cls,
-            crank_angle_deg=degree_array(m.phi),
-            driving_torque_Nm=k.driving_torque,
-            virtual_power_torque_Nm=an.virtual_power_torque,
-            shaking_force_N=k.shaking_force,
-            shaking_moment_Nm=k.shaking_moment,
-            reduced_inertia_kgm2=r.inertia,
-            reduced_inertia_slope_kgm2_per_rad=r.inertia_slope,
-            reduced_load_torque_Nm=r.load_torque,
-            kinetic_energy_J=r.kinetic_energy,
-            joint_reactions_N={name: v for name, v in k.reactions.items()},
-            prismatic_couples_Nm={name: v for name, v in k.couples.items()},
-            links={
-                name: _unchecked(
-                    LinkMotionOut,
-                    angle_deg=degree_array(m.link_angle[name]),
-                    angular_velocity_rad_s=m.link_omega[name],
-                    angular_acceleration_rad_s2=m.link_alpha[name],
-                )
-                for name in mech.topology.links
-            },
-            points={
-                name: _unchecked(
-                    PointOut,
-                    position_m=m.point_pos[name],
-                    velocity_m_s=m.point_vel[name],
-                    acceleration_m_s2=m.point_acc[name],
-                )
-                for name in m.point_pos
-            },
-            transmission_angle_deg=None if tau is None else degree_array(tau),
-            grashof=one_of(GRASHOF_CLASSES, mech.grashof) if isinstance(mech, synth.FourBar) else None,
-            summary=SummaryOut.from_engine(an.summary()),
-            checks=ChecksOut.model_construct(
-                virtual_power_torque_max_diff_Nm=an.torque_check,
-                loop_closure_m=mech.closure_residual(m.point_pos, m.link_angle)
-                if isinstance(mech, synth.PlanarLinkage) else None),
-            friction=None if an.friction is None else FrictionOut.from_engine(
-                an.friction, {j.name: j.kind for j in mech.topology.joints}),
-            warnings=warnings_out(synth.check_analysis(an)),
-            assumptions=list(mech.assumptions()) if isinstance(mech, synth.PlanarLinkage) else [],
-            centres=_centres(an, geometry[1]) if geometry[0] else None,
-            curvature=_curvature(an) if geometry[2] else None,
-        )
-
     def to_lists(self) -> AnalysisOut:
         """The same answer validated as a plain pydantic model (numpy arrays turned into lists)."""
         return AnalysisOut.model_validate(_lists(self))
@@ -423,35 +293,6 @@ def _lists(value: object) -> object:
         return {name: _lists(getattr(value, name)) for name in type(value).model_fields}
     if isinstance(value, dict):
         return {key: _lists(item) for key, item in value.items()}
-    if isinstance(value, np.ndarray):
+    if hasattr(value, "tolist"):     # the engine's arrays, as the service builds the answer
         return value.tolist()
     return value
-
-
-def plot_angle(body: AnalysisIn, angle_deg: float | None) -> float:
-    """Crank angle [rad] at which to draw the mechanism: the requested one, or the first sample."""
-    if angle_deg is not None:
-        return math.radians(angle_deg)
-    phi = body.phi()
-    return 0.0 if phi is None else float(phi[0])
-
-
-def _centres(an: synth.Analysis, relative: bool) -> CentresOut:
-    links = list(an.motion.link_origin)
-    coupler = "coupler" if "coupler" in links else None
-    c = synth.instant_centres(an.motion, relative, coupler)
-    return CentresOut(
-        absolute={k: v.tolist() for k, v in c.absolute.items()},
-        relative={k: v.tolist() for k, v in c.relative.items()},
-        coupler=c.coupler,
-        fixed_centrode=None if c.fixed_centrode is None else c.fixed_centrode.tolist(),
-        moving_centrode=None if c.moving_centrode is None else c.moving_centrode.tolist(),
-        kennedy_check=c.kennedy,
-    )
-
-
-def _curvature(an: synth.Analysis) -> dict[str, CurvatureOut]:
-    curvature, stopped = synth.path_curvature(an.motion)
-    phi = np.degrees(an.motion.phi)
-    return {name: CurvatureOut(curvature_1_m=k.tolist(), stopped_deg=phi[stopped[name]].tolist())
-            for name, k in curvature.items()}

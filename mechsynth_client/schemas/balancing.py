@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import dataclasses
-import math
 from typing import Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
-from ._engine import np, synth
 from .common import (
     FOURBAR_EXAMPLE,
     MAX_MASS_KG,
@@ -20,8 +17,6 @@ from .common import (
     StrictModel,
     SummaryOut,
     WarningOut,
-    one_of,
-    warnings_out,
 )
 
 BalanceMode = Literal["static", "full", "optimal"]
@@ -70,14 +65,6 @@ class BalanceIn(LinkageRequest):
          "max_radius_m": {"crank": 0.1, "rocker": 0.25}},
     ]})
 
-    def spec(self) -> synth.CounterweightSpec:
-        """Engine counterweight spec (degrees become radians here)."""
-        return synth.CounterweightSpec(
-            tuple(self.counterweight_links or ()), dict(self.max_radius_m),
-            {k: math.radians(v) for k, v in self.angle_deg.items()} or None,
-            dict(self.radius_m) or None,
-        )
-
 
 class FullBalanceIn(BalanceIn):
     """Full balancing: also counter-rotors geared to crank and rocker."""
@@ -108,10 +95,6 @@ class WeightsIn(StrictModel):
     peak_shaking_moment: float = Field(0.0, ge=0, description="Per N·m of the largest shaking moment.")
     added_mass: float = Field(1e-6, ge=0, description="Per kg of added mass (and per kg·m² of added inertia over "
                               "its link's length²).")
-
-    def to_engine(self) -> synth.Weights:
-        """Engine weights."""
-        return synth.Weights(**self.model_dump())
 
 
 class OptimalBalanceIn(BalanceIn):
@@ -201,39 +184,6 @@ class BalanceOut(BaseModel):
     weight_scale: str | None = Field(None, description="Optimal mode: relative or absolute.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
 
-    @classmethod
-    def from_engine(cls, r: synth.BalanceResult) -> BalanceOut:
-        """Schema from an engine result."""
-        placements = []
-        for cw in r.counterweights:
-            props = r.analysis_after.linkage.mass_props(cw.link)
-            placements.append(CounterweightPlacementOut(
-                link=cw.link, radius_m=float(np.hypot(*cw.position)),
-                angle_deg=round(math.degrees(math.atan2(cw.position[1], cw.position[0])), 9) + 0.0,
-                link_com_m=list(props.com), link_mass_kg=props.mass,
-            ))
-        return cls(
-            mode=one_of(BALANCE_MODES, r.mode),
-            counterweights=[CounterweightIn.from_engine(c) for c in r.counterweights],
-            placements=placements,
-            total_added_mass_kg=r.total_added_mass,
-            added_inertia_kgm2=r.added_inertia,
-            summary_before=SummaryOut.from_engine(r.before),
-            summary_after=SummaryOut.from_engine(r.after),
-            checks=BalanceChecksOut(
-                residual_shaking_force_N=r.residual_force, residual_shaking_force_rel=r.residual_force_rel,
-                residual_shaking_moment_Nm=r.residual_moment, residual_shaking_moment_rel=r.residual_moment_rel,
-            ),
-            coupler_inertia_kgm2=r.coupler_inertia,
-            counter_rotors=None if r.mode != "full" else [
-                CounterRotorOut(link=c.link, inertia_kgm2=c.inertia, ratio=c.ratio) for c in r.counter_rotors
-            ],
-            objective=r.objective,
-            weights=None if r.weights is None else WeightsIn(**dataclasses.asdict(r.weights)),
-            weight_scale=r.weight_scale,
-            warnings=warnings_out(synth.check_balance(r)),
-        )
-
 
 class OptimalBalanceOut(BalanceOut):
     """The optimal design for `weights`, and the trade-off curve over `sweep`."""
@@ -241,12 +191,6 @@ class OptimalBalanceOut(BalanceOut):
     tradeoff: list[BalanceOut] = Field(default_factory=list, description="One design per weight set of `sweep`, "
                                        "in its order, each re-analysed and with its `weights`; empty without a "
                                        "sweep.")
-
-    @classmethod
-    def from_results(cls, results: list[synth.BalanceResult]) -> OptimalBalanceOut:
-        """The first result is the design for `weights`; the rest are the sweep's points."""
-        return cls(**BalanceOut.from_engine(results[0]).model_dump(),
-                   tradeoff=[BalanceOut.from_engine(r) for r in results[1:]])
 
 
 class RotorMassIn(StrictModel):
@@ -277,11 +221,6 @@ class RotorIn(StrictModel):
          "mode": "dynamic", "planes_m": [0.0, 1.0], "radii_m": [0.1, 0.1]},
     ]})
 
-    def to_engine(self) -> list[synth.RotorMass]:
-        """Engine masses (degrees become radians here)."""
-        return [synth.RotorMass(m.mass_kg, m.radius_m, math.radians(m.angle_deg), m.axial_position_m)
-                for m in self.masses]
-
 
 class CorrectionOut(BaseModel):
     """A correction mass and where it goes."""
@@ -308,18 +247,6 @@ class RotorOut(BaseModel):
                                                   "zero to rounding in dynamic mode, what a single plane leaves in "
                                                   "static mode.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
-
-    @classmethod
-    def from_engine(cls, r: synth.RotorBalance, warnings: list[synth.DesignWarning] | None = None) -> RotorOut:
-        """Schema from an engine result."""
-        return cls(
-            corrections=[CorrectionOut(mass_kg=c.mass, radius_m=c.radius,
-                                       angle_deg=round(math.degrees(c.angle), 9) + 0.0, axial_position_m=c.axial)
-                         for c in r.corrections],
-            unbalance_before_kgm=r.unbalance_before, moment_unbalance_before_kgm2=r.moment_before,
-            residual_unbalance_kgm=r.residual_unbalance, residual_moment_unbalance_kgm2=r.residual_moment,
-            warnings=warnings_out(warnings or []),
-        )
 
 
 class SliderCrankBalanceIn(LinkageRequest):
@@ -392,22 +319,3 @@ class SliderCrankBalanceOut(BaseModel):
                                       "[N·m]: offset_m times their force, since they act on the slide axis; 0 "
                                       "in-line.")
     warnings: list[WarningOut] = Field(default_factory=list, description="Likely mistakes in the request.")
-
-    @classmethod
-    def from_engine(cls, r: synth.SliderCrankBalance,
-                    warnings: list[synth.DesignWarning] | None = None) -> SliderCrankBalanceOut:
-        """Schema from an engine result."""
-        return cls(
-            rotating_mass_kg=r.rotating_mass, reciprocating_mass_kg=r.reciprocating_mass,
-            crank_counterweight=CounterweightIn.from_engine(r.crank_counterweight),
-            lanchester=[LanchesterOut(order=p.order, mass_kg=p.mass, radius_m=p.radius, amplitude_N=p.amplitude,
-                                      phase_deg=math.degrees(p.phase)) for p in r.pairs],
-            balancer_line_y_m=r.balancer_line_y, first_order_amplitude_N=r.first_order_amplitude,
-            second_order_amplitude_N=r.second_order_amplitude,
-            summary_before=SummaryOut.from_engine(r.before),
-            residual_shaking_force_N=r.residual, residual_shaking_force_rel=r.residual_rel,
-            residual_by_order_N=list(r.residual_by_order),
-            residual_shaking_moment_Nm=r.residual_moment, residual_shaking_moment_rel=r.residual_moment_rel,
-            balancer_moment_Nm=r.balancer_moment,
-            warnings=warnings_out(warnings or []),
-        )

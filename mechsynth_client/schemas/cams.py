@@ -4,11 +4,10 @@ limits, and the table of standard motion laws."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
+from typing import Annotated, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, model_validator
 
-from ._engine import _OnFirstUse, np
 from .common import (
     MAX_INERTIA_KGM2,
     MAX_LENGTH_M,
@@ -18,14 +17,7 @@ from .common import (
     StrictModel,
     ValidityCheckOut,
     WarningOut,
-    validity_out,
-    warnings_out,
 )
-
-if TYPE_CHECKING:
-    import synth.cams as cams
-else:
-    cams = _OnFirstUse("synth.cams")
 
 LawName = Literal["cycloidal", "simple_harmonic", "polynomial_345", "polynomial_4567", "modified_trapezoid",
                   "modified_sine", "optimised"]
@@ -86,12 +78,6 @@ class CamFollowerIn(StrictModel):
             if self.contact != "flat_faced" and self.arm_length_m is None:
                 raise ValueError("an oscillating follower needs arm_length_m")
         return self
-
-    def to_engine(self) -> cams.Follower:
-        """Engine follower."""
-        return cams.Follower(self.motion, self.contact, self.roller_radius_m if self.contact == "roller" else 0.0,
-                             self.offset_m, self.pivot_distance_m or 0.0, self.arm_length_m or 0.0,
-                             self.face_offset_m)
 
 
 class CamProcessLoadIn(StrictModel):
@@ -171,56 +157,6 @@ class _CamFields(StrictModel):
         """Cam speed [rad/s]."""
         return self.speed_rpm * math.pi / 30.0
 
-    def _segments(self) -> tuple[cams.Segment, ...]:
-        out = []
-        for i, s in enumerate(self.segments):
-            if s.kind != "dwell":
-                lift = s.lift_m if self.follower.motion == "translating" else s.lift_deg
-                if lift is None:
-                    want = "lift_m" if self.follower.motion == "translating" else "lift_deg"
-                    raise cams.InvalidInput(f"segment {i} ({s.kind}) of a {self.follower.motion} follower needs "
-                                            f"{want}", field=f"segments.{i}.{want}")
-                lift = lift if self.follower.motion == "translating" else math.radians(lift)
-            else:
-                lift = 0.0
-            out.append(cams.Segment(s.kind, math.radians(s.angle_deg), lift, s.law))
-        return tuple(out)
-
-    def _loads(self) -> cams.PairLoads | None:
-        ld = self.loads
-        if ld is None:
-            return None
-        translating = self.follower.motion == "translating"
-        inertia = ld.mass_kg if translating else ld.inertia_kgm2
-        stiffness = ld.spring_stiffness_N_m if translating else ld.spring_stiffness_Nm_rad
-        preload = ld.spring_preload_N if translating else ld.spring_preload_Nm
-        wrong = [n for n in (("inertia_kgm2", "spring_stiffness_Nm_rad", "spring_preload_Nm") if translating
-                             else ("mass_kg", "spring_stiffness_N_m", "spring_preload_N"))
-                 if getattr(ld, n) is not None]
-        if wrong:
-            raise cams.InvalidInput(f"{wrong[0]} is for the other kind of follower", field=f"loads.{wrong[0]}")
-        process = []
-        for i, p in enumerate(ld.process):
-            value = p.force_N if translating else p.moment_Nm
-            if value is None:
-                want = "force_N" if translating else "moment_Nm"
-                raise cams.InvalidInput(f"a {self.follower.motion} follower's process load needs {want}",
-                                        field=f"loads.process.{i}.{want}")
-            process.append(cams.ProcessLoad(math.radians(p.from_deg), math.radians(p.to_deg), value))
-        return cams.PairLoads(inertia or 0.0, self.omega_rad_s, stiffness, preload, tuple(process),
-                              ld.contact_margin, ld.rolling_resistance_m, ld.max_initial_compression_m,
-                              ld.spring_wire, ld.spring_index)
-
-    def to_spec(self, base_radius: float = 0.0, min_curvature_radius: float = 0.002) -> cams.CamSpec:
-        """Engine spec; degrees and rev/min become radians and rad/s here."""
-        o = self.law_options
-        options = cams.LawOptions(o.objective, o.knot_intervals, 2.0 * math.pi * (o.natural_frequency_hz or 0.0),
-                                  o.max_acceleration_coefficient)
-        return cams.CamSpec(self._segments(), self.follower.to_engine(), self.omega_rad_s, base_radius,
-                            self.samples, self._loads(), options, math.radians(self.max_pressure_angle_rise_deg),
-                            math.radians(self.max_pressure_angle_return_deg),
-                            min_curvature_radius)
-
 
 _EXAMPLE_SEGMENTS: list[JsonValue] = [
     {"kind": "rise", "angle_deg": 120, "lift_m": 0.02, "law": "cycloidal"},
@@ -253,10 +189,6 @@ class CamAnalysisIn(_CamFields):
          "base_radius_m": 0.035, "speed_rpm": 200, "law_options": {"objective": "peak_jerk"}},
     ]})
 
-    def spec(self) -> cams.CamSpec:
-        """Engine spec of the cam."""
-        return self.to_spec(self.base_radius_m, self.min_curvature_radius_m)
-
 
 class CamSynthesisIn(_CamFields):
     """The least disc cam (base circle, and offset when its range is given) for pressure-angle and curvature
@@ -284,24 +216,7 @@ class CamSynthesisIn(_CamFields):
          "min_curvature_radius_m": 0.003},
     ]})
 
-    def limits(self) -> cams.CamLimits:
-        """Engine limits; degrees become radians here."""
-        lo, hi = self.base_radius_bounds_m
-        offsets = None if self.offset_bounds_m is None else (self.offset_bounds_m[0], self.offset_bounds_m[1])
-        return cams.CamLimits(math.radians(self.max_pressure_angle_rise_deg),
-                              math.radians(self.max_pressure_angle_return_deg), self.min_curvature_radius_m,
-                              (lo, hi), offsets, self.hub_radius_m)
-
-
 # ---------------------------------------------------------------- answers
-
-def _deg(x: Any) -> Any:
-    return np.degrees(x).tolist()
-
-
-def _l(x: Any) -> Any:
-    """An engine array as the nested lists the answer's fields hold."""
-    return np.asarray(x, dtype=float).tolist()
 
 
 class TranslatingMotionOut(BaseModel):
@@ -335,18 +250,6 @@ class OscillatingMotionOut(BaseModel):
 MotionOut = Annotated[Union[TranslatingMotionOut, OscillatingMotionOut], Field(discriminator="follower_motion")]
 
 
-def motion_out(an: cams.CamAnalysis) -> TranslatingMotionOut | OscillatingMotionOut:
-    """The motion block of an analysis."""
-    m, w = an.motion, an.spec.speed
-    cols = [_l(c) for c in (m.s, m.v, m.a, m.j, m.v * w, m.a * w * w, m.j * w**3)]
-    if an.spec.follower.motion == "translating":
-        return TranslatingMotionOut(s_m=cols[0], v_m_per_rad=cols[1], a_m_per_rad2=cols[2], jerk_m_per_rad3=cols[3],
-                                    v_m_s=cols[4], a_m_s2=cols[5], jerk_m_s3=cols[6])
-    return OscillatingMotionOut(psi_rad=cols[0], v_rad_per_rad=cols[1], a_rad_per_rad2=cols[2],
-                                jerk_rad_per_rad3=cols[3], omega_rad_s=cols[4], alpha_rad_s2=cols[5],
-                                jerk_rad_s3=cols[6])
-
-
 class CamProfileOut(BaseModel):
     """The cam in its own frame (centre at the origin, at cam angle 0), with pressure angle and curvature."""
 
@@ -367,25 +270,6 @@ class CamProfileOut(BaseModel):
                                 "for other contacts.")
     face_extent_m: list[float] = Field(description="Flat face: the contact's nearest and farthest position along "
                                        "the face from its reference point [m].")
-
-
-def profile_out(an: cams.CamAnalysis) -> CamProfileOut:
-    """The profile block of an analysis."""
-    g, m = an.geometry, an.motion
-    kinds = np.array([s.kind for s in an.spec.segments])[m.segment]
-    alpha = np.abs(g.pressure_angle)
-    convex = np.where(g.kappa > 0, g.kappa, 0.0)
-    k = int(np.argmax(convex))
-    flat = an.spec.follower.contact == "flat_faced"
-    return CamProfileOut(
-        base_radius_m=g.base_radius, prime_radius_m=g.prime_radius, offset_m=an.spec.follower.offset,
-        pitch_m=_l(g.pitch), profile_m=_l(g.profile), pressure_angle_deg=_deg(g.pressure_angle),
-        curvature_1_m=_l(g.kappa),
-        max_pressure_angle_rise_deg=float(np.degrees(alpha[kinds == "rise"].max(initial=0.0))),
-        max_pressure_angle_return_deg=float(np.degrees(alpha[kinds == "return"].max(initial=0.0))),
-        min_curvature_radius_m=float(1.0 / convex[k]) if convex[k] > 0 else 0.0, min_curvature_radius_at_deg=float(np.degrees(m.theta[k])),
-        face_width_m=float(np.ptp(g.face)) if flat else 0.0,
-        face_extent_m=[float(g.face.min()), float(g.face.max())] if flat else [0.0, 0.0])
 
 
 class CamForcesOut(BaseModel):
@@ -422,25 +306,6 @@ class CamForcesOut(BaseModel):
                                         "(k q + F0 + F_p) dq/dtheta, per cam angle [N·m], positive resisting: the "
                                         "driving torque less the inertia's (omega²/2) dJ/dtheta. With "
                                         "reduced_inertia_kgm2 the tables /v1/flywheel takes.")
-
-
-def forces_out(an: cams.CamAnalysis) -> CamForcesOut | None:
-    """The forces block of an analysis."""
-    f = an.forces
-    if f is None:
-        return None
-    tr = an.spec.follower.motion == "translating"
-    return CamForcesOut(
-        spring_designed=f.spring_designed,
-        spring_stiffness_N_m=f.stiffness if tr else None, spring_preload_N=f.preload if tr else None,
-        spring_stiffness_Nm_rad=None if tr else f.stiffness, spring_preload_Nm=None if tr else f.preload,
-        least_contact_margin=f.least_margin if math.isfinite(f.least_margin) else None,
-        contact_force_N=_l(f.contact), min_contact_force_N=float(f.contact.min()),
-        max_contact_force_N=float(f.contact.max()), driving_torque_Nm=_l(f.torque),
-        driving_torque_virtual_power_Nm=_l(f.torque_virtual_power), rolling_loss_torque_Nm=_l(f.rolling_loss),
-        peak_driving_torque_Nm=float(np.max(np.abs(f.torque))), mean_driving_torque_Nm=float(np.mean(f.torque)),
-        rms_driving_torque_Nm=float(np.sqrt(np.mean(f.torque**2))), reduced_inertia_kgm2=_l(f.reduced_inertia),
-        load_torque_Nm=_l(f.load_torque))
 
 
 class LawCheckOut(BaseModel):
@@ -498,16 +363,6 @@ class OptimisedLawOut(BaseModel):
     coefficients: list[float] = Field(description="B-spline coefficients of f(u), degree 5, clamped uniform knots.")
 
 
-def optimised_out(o: cams.OptimisedLaw) -> OptimisedLawOut:
-    """Schema of an optimised law."""
-    return OptimisedLawOut(objective=o.objective, solver_status=o.status, objective_value=o.objective_value,
-                           velocity_coefficient=o.peak_velocity, acceleration_coefficient=o.peak_acceleration,
-                           jerk_coefficient=o.peak_jerk, lower_bound=o.lower_bound,
-                           residual_vibration=o.residual_vibration, frequency_ratio=o.frequency_ratio,
-                           end_condition_error=o.end_error, knot_intervals=o.law.intervals,
-                           coefficients=_l(o.law.coefficients))
-
-
 class CoilSpringOut(BaseModel):
     """The designed spring as a helical compression spring of round wire (squared and ground ends)."""
 
@@ -528,18 +383,6 @@ class CoilSpringOut(BaseModel):
     surge_order: float = Field(description="Surge frequency over the cam's frequency [-] (at least 13).")
 
 
-def coil_out(c: Any) -> CoilSpringOut | None:
-    """The coil block of an analysis, or None."""
-    if c is None:
-        return None
-    return CoilSpringOut(
-        wire=c.wire, wire_diameter_m=c.diameter, mean_coil_diameter_m=c.mean_diameter, spring_index=c.index,
-        active_coils=c.active_coils, free_length_m=c.free_length, installed_length_m=c.installed_length,
-        solid_length_m=c.solid_length, initial_compression_m=c.initial_compression, max_force_N=c.max_force,
-        max_shear_stress_MPa=c.max_stress / 1e6, allowable_shear_stress_MPa=c.allowable_stress / 1e6,
-        fatigue_factor=c.fatigue_factor, surge_frequency_Hz=c.surge_frequency, surge_order=c.surge_order)
-
-
 class CamAnalysisOut(BaseModel):
     """A disc cam over one turn: motion, profile, forces, and the checks."""
 
@@ -557,26 +400,6 @@ class CamAnalysisOut(BaseModel):
                                        "spring_fatigue, spring_buckling, hub_radius_missing.")
     validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the model needs "
                                              "against its limit.")
-
-    @classmethod
-    def from_engine(cls, an: cams.CamAnalysis) -> CamAnalysisOut:
-        """Schema from an engine analysis."""
-        f = an.forces
-        laws = [LawCheckOut(
-            segment=c.index, kind=c.kind, law=c.law, velocity_coefficient=c.coefficient_velocity,
-            acceleration_coefficient=c.coefficient_acceleration, jerk_coefficient=c.coefficient_jerk,
-            textbook_acceleration_coefficient=c.textbook_acceleration,
-            sampled_peak_acceleration_ratio=c.peak_acceleration / (c.coefficient_acceleration * c.lift / c.angle**2))
-            for c in an.laws]
-        checks = CamChecksOut(table_pressure_angle_error_deg=math.degrees(an.table.max_pressure_angle_error),
-                           table_curvature_error=an.table.max_curvature_error,
-                           table_samples_compared=an.table.samples_compared, derivative_error=an.derivative_check,
-                           torque_virtual_power_error=None if f is None else f.torque_check,
-                           reduced_model_error=None if f is None else f.reduced_check, laws=laws)
-        return cls(cam_angle_deg=_deg(an.motion.theta), speed_rpm=an.spec.speed * 30.0 / math.pi,
-                   motion=motion_out(an), profile=profile_out(an), forces=forces_out(an),
-                   optimised_laws=[optimised_out(o) for o in an.optimised], checks=checks,
-                   spring=coil_out(an.coil), warnings=warnings_out(an.warnings), validity=validity_out(an.checks))
 
 
 class CamConstraintOut(BaseModel):
@@ -611,24 +434,6 @@ class CamSynthesisOut(BaseModel):
     certificate: LeastCamCertificateOut = Field(description="How the answer was found and checked.")
     cam: CamAnalysisOut = Field(description="The least cam analysed, with its checks.")
 
-    @classmethod
-    def from_engine(cls, r: cams.CamSynthesis) -> CamSynthesisOut:
-        """Schema from an engine synthesis."""
-        lc, lim = r.least, r.limits
-        cons = [CamConstraintOut(name="max_pressure_angle_rise_deg", limit=math.degrees(lim.max_pressure_rise),
-                              value=math.degrees(lc.pressure_rise), active=lc.active == "max_pressure_angle_rise_deg"),
-                CamConstraintOut(name="max_pressure_angle_return_deg", limit=math.degrees(lim.max_pressure_return),
-                              value=math.degrees(lc.pressure_return),
-                              active=lc.active == "max_pressure_angle_return_deg"),
-                CamConstraintOut(name="min_curvature_radius_m", limit=lim.min_curvature_radius,
-                              value=lc.min_curvature_radius if math.isfinite(lc.min_curvature_radius) else 0.0,
-                              active=lc.active == "min_curvature_radius_m")]
-        cert = LeastCamCertificateOut(statement=lc.statement, grid_points=lc.grid_points, evaluations=lc.evaluations,
-                              bracket_width_m=lc.bracket_width, monotone=lc.monotone,
-                              just_below_fails=lc.just_below_fails, offsets_scanned=lc.offset_scan)
-        return cls(base_radius_m=lc.base_radius, offset_m=lc.offset, active_constraint=lc.active, constraints=cons,
-                   certificate=cert, cam=CamAnalysisOut.from_engine(r.analysis))
-
 
 class MotionLawOut(BaseModel):
     """A standard motion law's peak coefficients: peak = C h/beta^k per radian of cam angle."""
@@ -638,9 +443,3 @@ class MotionLawOut(BaseModel):
     acceleration_coefficient: float = Field(description="C_a, from the closed form.")
     jerk_coefficient: float = Field(description="C_j.")
     textbook_acceleration_coefficient: float = Field(description="C_a as the textbooks print it.")
-
-    @classmethod
-    def from_engine(cls, c: cams.LawCoefficients) -> MotionLawOut:
-        """Schema from the engine's coefficients."""
-        return cls(name=c.name, velocity_coefficient=c.velocity, acceleration_coefficient=c.acceleration,
-                   jerk_coefficient=c.jerk, textbook_acceleration_coefficient=cams.TEXTBOOK_PEAK_ACCELERATION[c.name])

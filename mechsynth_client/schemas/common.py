@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 from types import UnionType
 from typing import Annotated, Any, Literal, TypeVar, Union, get_args, get_origin
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pydantic.config import JsonDict
 
-from ._engine import np, synth
 
 # Bounds far outside any machine, so that arithmetic cannot overflow: a value beyond them is a typo.
 MAX_LENGTH_M = 1e3
@@ -126,10 +124,6 @@ class LinkIn(StrictModel):
     inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2,
                                 description="Moment of inertia about the centre of mass [kg·m²].")
 
-    def to_props(self) -> synth.MassProps:
-        """Engine mass properties."""
-        return synth.MassProps(self.mass_kg, (self.com_m[0], self.com_m[1]), self.inertia_kgm2)
-
 
 class FourBarLinks(StrictModel):
     """Links of a four-bar; a link left out is massless."""
@@ -169,12 +163,6 @@ class FourBarIn(StrictModel):
     links: FourBarLinks = Field(default_factory=FourBarLinks,
                                 description="Mass properties per link; a link left out is massless.")
 
-    def to_mechanism(self) -> synth.FourBar:
-        """Engine mechanism."""
-        return synth.FourBar(
-            self.ground_length_m, self.crank_length_m, self.coupler_length_m, self.rocker_length_m, self.branch
-        )
-
 
 class SliderCrankIn(StrictModel):
     """Offset slider-crank: crank pivot at the origin, slider on the horizontal line y = offset_m."""
@@ -187,10 +175,6 @@ class SliderCrankIn(StrictModel):
     branch: Literal[1, -1] = Field(1, description="+1: slider on the +x side of the crank pin; -1: on the -x side.")
     links: SliderCrankLinks = Field(default_factory=SliderCrankLinks,
                                     description="Mass properties per link; a link left out is massless.")
-
-    def to_mechanism(self) -> synth.SliderCrank:
-        """Engine mechanism."""
-        return synth.SliderCrank(self.crank_length_m, self.rod_length_m, self.offset_m, self.branch)
 
 
 class SlottedLeverIn(StrictModel):
@@ -207,10 +191,6 @@ class SlottedLeverIn(StrictModel):
                                 description="Height of the ram guide above O1 [m].")
     links: SlottedLeverLinks = Field(default_factory=SlottedLeverLinks,
                                      description="Mass properties per link; a link left out is massless.")
-
-    def to_mechanism(self) -> synth.SlottedLever:
-        """Engine mechanism."""
-        return synth.SlottedLever(self.crank_length_m, self.ground_length_m, self.rocker_length_m, self.ram_height_m)
 
 
 MAX_LINKAGE_LINKS = 24
@@ -253,11 +233,6 @@ class LinkageJointIn(StrictModel):
     slider_axis_deg: float = Field(0.0, ge=-3600, le=3600, description="Prismatic: the slide axis's direction in "
                                    "the sliding link's frame [deg]; 0 for a block whose x-axis runs along it.")
 
-    def to_engine(self) -> synth.JointSpec:
-        """Engine joint; degrees become radians."""
-        return synth.JointSpec(self.name, self.kind, (self.links[0], self.links[1]), self.point, self.axis_link,
-                               math.radians(self.axis_deg), self.through, math.radians(self.slider_axis_deg))
-
 
 class PlanarLinkageIn(StrictModel):
     """Any crank-driven planar linkage of revolute and prismatic pairs, split into the crank and dyads (RRR, RRP,
@@ -284,24 +259,6 @@ class PlanarLinkageIn(StrictModel):
                                          "without them the first start that closes its loops is taken.",
                                          examples=[{"B": [0.28, 0.12], "C": [0.47, 0.15]}])
 
-    def to_mechanism(self) -> synth.PlanarLinkage:
-        """Engine mechanism."""
-        return synth.PlanarLinkage(
-            frame_points=tuple((k, (v[0], v[1])) for k, v in self.frame_points_m.items()),
-            links=tuple(synth.LinkSpec(k.name, tuple(k.joints), k.length_m,
-                                       tuple((p, (xy[0], xy[1])) for p, xy in k.points_m.items()))
-                        for k in self.links),
-            joints=tuple(j.to_engine() for j in self.joints),
-            crank_link=self.crank,
-            output=self.output,
-            branches=tuple(self.branches.items()),
-            assembly=tuple((k, (v[0], v[1])) for k, v in self.assembly_m.items()),
-        )
-
-    def link_props(self) -> dict[str, synth.MassProps]:
-        """Engine mass properties per link."""
-        return {k.name: k.to_props() for k in self.links}
-
 
 MechanismIn = Annotated[Union[FourBarIn, SliderCrankIn, SlottedLeverIn, PlanarLinkageIn], Field(discriminator="type")]
 
@@ -323,15 +280,6 @@ class CounterweightIn(StrictModel):
                              examples=[[-0.06, 0.0]])
     inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Own inertia about its centre [kg·m²].")
 
-    def to_engine(self) -> synth.Counterweight:
-        """Engine counterweight."""
-        return synth.Counterweight(self.link, self.mass_kg, (self.position_m[0], self.position_m[1]), self.inertia_kgm2)
-
-    @classmethod
-    def from_engine(cls, cw: synth.Counterweight) -> CounterweightIn:
-        """Schema from an engine counterweight."""
-        return cls(link=cw.link, mass_kg=cw.mass, position_m=list(cw.position), inertia_kgm2=cw.inertia)
-
 
 class _LoadBase(StrictModel):
     force_N: float | list[float] | None = Field(None, description="Force on a sliding output (slider, ram) [N].")
@@ -348,23 +296,6 @@ class _LoadBase(StrictModel):
     frame_angle_deg: float = Field(0.0, ge=-360.0, le=360.0, description="direction frame: the force's direction, "
                                    "counter-clockwise from +x [deg].")
 
-    def _engine_direction(self) -> dict[str, Any]:
-        return {"direction": self.direction, "angle": math.radians(self.frame_angle_deg)}
-
-    def _magnitude(self, output_motion: str, table: bool) -> float | list[float]:
-        turning = output_motion == "rotation" and self.direction != "frame"
-        name, value = ("torque_Nm", self.torque_Nm) if turning else ("force_N", self.force_N)
-        other = self.force_N if name == "torque_Nm" else self.torque_Nm
-        if value is None or other is not None:
-            what = ("a force of fixed direction in the frame" if self.direction == "frame" else
-                    f"this mechanism's output {'turns' if name == 'torque_Nm' else 'slides'}")
-            raise synth.InvalidInput(f"{what}: give its load as {name}", field=f"loads.{name}")
-        if table != isinstance(value, list):
-            raise synth.InvalidInput(
-                f"{name} must be {'a list matching the table' if table else 'a single number'}", field=f"loads.{name}"
-            )
-        return value
-
 
 class WindowLoadIn(_LoadBase):
     """Constant load while the crank angle is inside [start_deg, end_deg] (wrapping past 360), against the output velocity."""
@@ -374,15 +305,6 @@ class WindowLoadIn(_LoadBase):
     end_deg: float = Field(360.0, description="Crank angle where it stops [deg]; below start_deg the window "
                            "wraps past 360 (-60 to 60 is the 120° around 0).")
 
-    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
-        """Engine load."""
-        mag = self._magnitude(output_motion, table=False)
-        assert isinstance(mag, float)
-        return synth.ProcessLoad(
-            "window", mag, math.radians(self.start_deg), math.radians(self.end_deg),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
-        )
-
 
 class CrankTableLoadIn(_LoadBase):
     """Load magnitude tabulated over crank angle (periodic linear interpolation), against the output velocity."""
@@ -390,15 +312,6 @@ class CrankTableLoadIn(_LoadBase):
     type: Literal["crank_table"] = Field("crank_table", description="A load tabulated over the crank angle.")
     crank_angle_deg: list[float] = Field(min_length=2, examples=[[0, 90, 180, 270]], description="Crank angles of "
                                          "the table rows [deg]; the magnitudes are force_N or torque_Nm, one per row.")
-
-    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
-        """Engine load."""
-        mag = self._magnitude(output_motion, table=True)
-        assert isinstance(mag, list)
-        return synth.ProcessLoad(
-            "crank_table", table_x=tuple(np.radians(self.crank_angle_deg)), values=tuple(mag),
-            stroke=self.stroke, point=(self.point_m[0], self.point_m[1]), **self._engine_direction(),
-        )
 
 
 class PositionTableLoadIn(_LoadBase):
@@ -408,23 +321,6 @@ class PositionTableLoadIn(_LoadBase):
                                             "position (an indicator diagram, say).")
     position_m: list[float] | None = Field(None, min_length=2, description="Output slide position along its guide [m].")
     position_deg: list[float] | None = Field(None, min_length=2, description="Output link angle [deg].")
-
-    def to_engine(self, output_motion: str) -> synth.ProcessLoad:
-        """Engine load."""
-        mag = self._magnitude(output_motion, table=True)
-        assert isinstance(mag, list)
-        if output_motion == "rotation":
-            if self.position_deg is None:
-                raise synth.InvalidInput("a turning output's table needs position_deg", field="loads.position_deg")
-            x = tuple(np.radians(self.position_deg))
-        else:
-            if self.position_m is None:
-                raise synth.InvalidInput("a sliding output's table needs position_m", field="loads.position_m")
-            x = tuple(self.position_m)
-        return synth.ProcessLoad(
-            "position_table", table_x=x, values=tuple(mag), stroke=self.stroke, point=(self.point_m[0], self.point_m[1]),
-            **self._engine_direction(),
-        )
 
 
 LoadIn = Annotated[Union[WindowLoadIn, CrankTableLoadIn, PositionTableLoadIn], Field(discriminator="type")]
@@ -464,21 +360,11 @@ class PairFrictionIn(StrictModel):
                                    description="With `rolling_resistance_m`: the roller's radius rho [m].",
                                    examples=[0.01])
 
-    def to_engine(self, joint: str) -> synth.PairFriction:
-        """Engine pair friction for ``joint``."""
-        return synth.PairFriction(joint, self.coefficient, self.journal_radius_m, self.viscous,
-                                  self.static_coefficient, self.rolling_resistance_m, self.roller_radius_m)
-
 
 FrictionIn = Annotated[dict[str, PairFrictionIn], Field(
     max_length=20, description="Friction per pair, keyed by the pair's (joint's) name as the answer's "
     "`joint_reactions_N` names them (O, A, B, Q, guide, ...); pairs left out are frictionless.",
     examples=[{"O": {"coefficient": 0.1, "journal_radius_m": 0.02}, "guide": {"coefficient": 0.15}}])]
-
-
-def pair_frictions(friction: dict[str, PairFrictionIn] | None) -> tuple[synth.PairFriction, ...]:
-    """Engine pair frictions of a request's friction block."""
-    return tuple(p.to_engine(name) for name, p in (friction or {}).items())
 
 
 class LinkageFields(StrictModel):
@@ -502,33 +388,6 @@ class LinkageFields(StrictModel):
     counterweights: list[CounterweightIn] = Field(
         default_factory=list, description="Counterweights already fitted (a balancing answer's, as they are)."
     )
-
-    def phi(self) -> np.ndarray | None:
-        """Explicit crank angles [rad], or None for the uniform grid."""
-        return None if self.crank_angle_deg is None else np.radians(self.crank_angle_deg)
-
-    def to_linkage(self) -> synth.Linkage:
-        """Engine linkage; degrees become radians here and nowhere else."""
-        if self.mechanism is None:
-            raise synth.InvalidInput("give the mechanism", field="mechanism")
-        mech = self.mechanism.to_mechanism()
-        output_motion = mech.topology.output_motion
-        mechanism = self.mechanism
-        if isinstance(mechanism, PlanarLinkageIn):
-            links = mechanism.link_props()
-        else:
-            links = {name: link.to_props() for name, link in mechanism.links}
-        gravity = None
-        if self.gravity is not None:
-            gravity = synth.Gravity(self.gravity.g_m_s2, math.radians(self.gravity.direction_deg))
-        return synth.Linkage(
-            mechanism=mech,
-            links=links,
-            counterweights=tuple(cw.to_engine() for cw in self.counterweights),
-            gravity=gravity,
-            loads=tuple(load.to_engine(output_motion) for load in self.loads),
-            torques=tuple(synth.LinkTorque(t.link, t.torque_Nm) for t in self.torques),
-        )
 
 
 class LinkageRequest(LinkageFields):
@@ -557,22 +416,6 @@ class WarningOut(BaseModel):
     stage: str | None = Field(None, description="In a machine design, the stage that found it: analysis, "
                               "balancing, drive, teeth, flywheel, motor or simulation; null elsewhere.")
 
-    @classmethod
-    def from_engine(cls, w: synth.DesignWarning) -> WarningOut:
-        """Schema from an engine warning; radians become degrees, rounded for people."""
-        value, unit = w.value, w.unit
-        if unit == "rad" and value is not None:
-            value, unit = round(math.degrees(value), 6), "deg"
-        ranges = [[round(math.degrees(a) % 360, 6), round(math.degrees(b) % 360, 6)] for a, b in w.ranges]
-        return cls(code=w.code, field=w.field, value=value, unit=unit, message=w.message,
-                   crank_angle_ranges_deg=ranges or None, stage=w.stage)
-
-
-def warnings_out(warnings: Iterable[synth.DesignWarning]) -> list[WarningOut]:
-    """Schemas of engine warnings."""
-    return [WarningOut.from_engine(w) for w in warnings]
-
-
 class ValidityCheckOut(BaseModel):
     """A condition the answer's model needs, held against its limit; a failed one comes with a warning of the
     same code."""
@@ -584,37 +427,6 @@ class ValidityCheckOut(BaseModel):
     detail: str = Field(description="What is compared, in words.")
     unit: str = Field("", description="Unit of `value` and `limit` (angles in degrees); empty for a ratio.")
 
-    @classmethod
-    def from_engine(cls, c: synth.ValidityCheck) -> ValidityCheckOut:
-        """Schema from an engine check; radians become degrees."""
-        value, limit, unit = c.value, c.limit, c.unit
-        if unit == "rad":
-            value, limit, unit = math.degrees(value), math.degrees(limit), "deg"
-        return cls(name=c.name, value=value, limit=limit, passed=c.passed, detail=c.detail, unit=unit)
-
-
-def validity_out(checks: Iterable[synth.ValidityCheck]) -> list[ValidityCheckOut]:
-    """Schemas of engine validity checks."""
-    return [ValidityCheckOut.from_engine(c) for c in checks]
-
-
-def degree_list(radians: np.ndarray) -> list[float]:
-    """Radians as degrees for people: rounded to 1e-9°, so a sample at 2π/3 reads 120, not 119.99999999999999."""
-    # Adding 0.0 turns -0.0 into 0.0.
-    degrees: list[float] = np.asarray(np.round(np.degrees(radians), 9) + 0.0).tolist()
-    return degrees
-
-
-def degree_array(radians: np.ndarray) -> np.ndarray:
-    """Radians as degrees for people, as an array for the JSON writer: rounded like :func:`degree_list`."""
-    return np.asarray(np.round(np.degrees(radians), 9) + 0.0)
-
-
-def ensure_finite(*arrays: np.ndarray) -> None:
-    """Refuse to answer with NaN or infinity: that would be an engine bug, not a property of the input."""
-    for a in arrays:
-        if not np.all(np.isfinite(a)):
-            raise RuntimeError("non-finite value in an engine result")
 
 
 class SummaryOut(BaseModel):
@@ -631,19 +443,6 @@ class SummaryOut(BaseModel):
                                          "[N·m].")
     max_bearing_force_N: float = Field(description="Largest magnitude of any revolute joint's reaction over the "
                                        "samples [N].")
-
-    @classmethod
-    def from_engine(cls, s: synth.Summary) -> SummaryOut:
-        """Schema from the engine summary."""
-        return cls(
-            rms_shaking_force_N=s.rms_shaking_force,
-            max_shaking_force_N=s.max_shaking_force,
-            rms_shaking_moment_Nm=s.rms_shaking_moment,
-            max_shaking_moment_Nm=s.max_shaking_moment,
-            rms_driving_torque_Nm=s.rms_driving_torque,
-            max_driving_torque_Nm=s.max_driving_torque,
-            max_bearing_force_N=s.max_bearing_force,
-        )
 
 
 FOURBAR_EXAMPLE: JsonDict = {

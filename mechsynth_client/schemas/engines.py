@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ._engine import synth
 from .common import Coordinate, Length, StrictModel
 
 Arrangement = Literal["inline2_360", "inline2_180", "inline3", "inline4", "inline5", "inline6", "v2_90",
@@ -62,22 +60,6 @@ class EngineIn(StrictModel):
                                               {"crank_angle_deg": 0, "bank_angle_deg": 45}]},
         ]})
 
-    def to_engine(self) -> synth.EngineSpec:
-        """Engine spec; degrees become radians, rev/min rad/s."""
-        given = [x is not None for x in (self.arrangement, self.cylinders, self.firing_order)]
-        if sum(given) != 1:
-            raise synth.InvalidInput("give one of arrangement, cylinders or firing_order", field="cylinders")
-        if self.arrangement is not None:
-            cylinders = synth.engine_layout(self.arrangement, self.pitch_m)
-        elif self.firing_order is not None:
-            cylinders = synth.inline_from_firing_order(self.firing_order, self.pitch_m, self.strokes)
-        else:
-            cylinders = tuple(synth.Cylinder(math.radians(c.crank_angle_deg), math.radians(c.bank_angle_deg),
-                                             c.axial_position_m) for c in self.cylinders or [])
-        return synth.EngineSpec(self.crank_radius_m, self.rod_length_m, self.reciprocating_mass_kg,
-                                self.rotating_mass_kg, self.speed_rpm * math.pi / 30, cylinders, self.orders,
-                                self.reference_z_m)
-
 
 class OrderOut(BaseModel):
     """One crank order of the shaking force [N] (or moment [N·m]): an ellipse, a forward and a backward circle."""
@@ -99,14 +81,6 @@ class OrderOut(BaseModel):
                                         "balance shaft) [kg·m or kg·m²].")
     backward_angle_deg: float = Field(description="Where that mass points at crank angle 0 [deg].")
 
-    @classmethod
-    def from_engine(cls, o: synth.OrderShaking, tol: float) -> OrderOut:
-        """Schema from one engine order."""
-        return cls(order=o.order, largest=o.largest, smallest=o.smallest, forward=abs(o.forward),
-                   backward=abs(o.backward), balanced=o.largest <= tol, forward_mass_radius=o.forward_mr,
-                   forward_angle_deg=math.degrees(o.forward_angle), backward_mass_radius=o.backward_mr,
-                   backward_angle_deg=math.degrees(o.backward_angle))
-
 
 class EngineOut(BaseModel):
     """Shaking force and moment (about the transverse axes) by crank orders, what cancels each, and the checks."""
@@ -127,20 +101,3 @@ class EngineOut(BaseModel):
     remaining_force_N: float = Field(description="Largest force left with every named mass: the orders beyond "
                                      "`orders` [N].")
     remaining_moment_Nm: float = Field(description="Largest moment left with every named couple [N·m].")
-
-    @classmethod
-    def from_engine(cls, r: synth.EngineShaking) -> EngineOut:
-        """Schema from the engine result."""
-        tol = r.balanced_tolerance
-        span = max(1.0, max(c.axial_position for c in r.spec.cylinders) - min(c.axial_position
-                                                                             for c in r.spec.cylinders))
-        return cls(
-            cylinders=len(r.spec.cylinders), speed_rad_s=r.spec.speed, reference_z_m=r.reference_z,
-            force_orders=[OrderOut.from_engine(o, tol) for o in r.force_orders],
-            moment_orders=[OrderOut.from_engine(o, tol * span) for o in r.moment_orders],
-            largest_force_N=float(max(abs(complex(*f)) for f in r.force)),
-            largest_moment_Nm=float(max(abs(complex(*m)) for m in r.moment)),
-            reconstruction_error_N=r.reconstruction_error, residual_force_N=r.residual_force,
-            residual_moment_Nm=r.residual_moment, remaining_force_N=r.remaining_force,
-            remaining_moment_Nm=r.remaining_moment,
-        )

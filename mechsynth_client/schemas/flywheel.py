@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import importlib
-import math
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
-from ._engine import np, synth
 from .foundation import ElasticDriveOut, ElasticElementIn
 from .motor import MotorIn
 from .common import (
@@ -24,11 +21,6 @@ from .common import (
     MechanismIn,
     StrictModel,
     WarningOut,
-    degree_list,
-    ensure_finite,
-    one_of,
-    pair_frictions,
-    warnings_out,
 )
 
 # Torques far beyond any machine's, so that the cycle's work cannot overflow.
@@ -66,19 +58,6 @@ class FlywheelTablesIn(StrictModel):
         "given, `driving` otherwise.",
     )
 
-    def to_cycle(self, cycle_deg: float, max_samples: int) -> synth.ReducedCycle:
-        """Engine cycle; degrees become radians here."""
-        return synth.cycle_from_tables(
-            [math.radians(a) for a in self.crank_angle_deg],
-            reduced_inertia=self.reduced_inertia_kgm2,
-            reduced_torque=self.reduced_torque_Nm,
-            driving_torque=self.driving_torque_Nm,
-            resisting_torque=self.resisting_torque_Nm,
-            period=math.radians(cycle_deg),
-            max_samples=max_samples,
-            balance=self.constant_torque_role,
-        )
-
 
 class FlywheelElasticDriveIn(StrictModel):
     """The motor's rotor joined to the machine by an elastic link, with the flywheel this request sizes on one side
@@ -104,19 +83,6 @@ class FlywheelElasticDriveIn(StrictModel):
         {"elements": [{"type": "shaft", "speed_ratio": 3.0, "diameter_m": 0.03, "length_m": 0.4},
                       {"type": "coupling", "speed_ratio": 3.0, "stiffness_Nm_rad": 2e3}],
          "flywheel_on": "motor_shaft", "start": True}]})
-
-    def link_stiffness(self) -> float:
-        """The link's stiffness at the crank, given or from its elements; InvalidInput naming the field."""
-        if (self.stiffness_Nm_rad is None) == (not self.elements):
-            raise synth.InvalidInput("give the link's stiffness_Nm_rad or its elements, one of the two",
-                                     field="elastic_drive.stiffness_Nm_rad")
-        if self.stiffness_Nm_rad is not None:
-            return self.stiffness_Nm_rad
-        try:
-            elements = tuple(e.to_engine(k) for k, e in enumerate(self.elements))
-            return float(importlib.import_module("synth.machine.elastic_drive").link_stiffness(elements))
-        except synth.InvalidInput as error:
-            raise synth.InvalidInput(str(error), field=f"elastic_drive.{error.field}") from error
 
 
 class ShaftIn(StrictModel):
@@ -150,19 +116,6 @@ class GeometryIn(StrictModel):
     shafts: list[ShaftIn] = Field(default_factory=list, max_length=20,
                                   description="Faster shafts that may carry it instead of the crank shaft.")
 
-    def to_engine(self) -> synth.GeometrySpec:
-        """Engine geometry specification."""
-        return synth.GeometrySpec(
-            shape=self.shape,
-            density=self.density_kg_m3,
-            max_rim_speed=self.max_rim_speed_m_s,
-            allowable_stress=self.allowable_stress_Pa,
-            max_diameter=self.max_diameter_m,
-            thickness_ratio=(self.thickness_ratio[0], self.thickness_ratio[1]),
-            width_ratio=(self.width_ratio[0], self.width_ratio[1]),
-            shafts=tuple(synth.Shaft(s.name, s.speed_ratio) for s in self.shafts),
-        )
-
 
 class FlywheelIn(LinkageFields):
     """Flywheel sizing: the machine as tables or as a linkage with loads, the mean speed and the target delta."""
@@ -185,10 +138,6 @@ class FlywheelIn(LinkageFields):
         None, description="A linkage's drive with an elastic link between the `motor` (needed) and the machine, "
         "the sized flywheel on the crank or the motor shaft: natural frequencies, the torque in the link over the "
         "steady cycle against the rigid model's, the load harmonics near resonance and, when asked, the run-up.")
-
-    def frictions(self) -> tuple[synth.PairFriction, ...]:
-        """Engine pair frictions of the ``friction`` block."""
-        return pair_frictions(self.friction)
 
     model_config = ConfigDict(
         json_schema_extra={
@@ -213,46 +162,6 @@ class FlywheelIn(LinkageFields):
         }
     )
 
-    def mean_speed(self) -> float:
-        """w_m [rad/s] from whichever mean speed is given (``speed_rpm`` for a linkage when it is the only one)."""
-        given = [v for v in (self.mean_speed_rpm, self.mean_speed_rad_s) if v is not None]
-        if len(given) > 1:
-            raise synth.InvalidInput("give mean_speed_rpm or mean_speed_rad_s, not both", field="mean_speed_rad_s")
-        if self.mean_speed_rad_s is not None:
-            speed = self.mean_speed_rad_s
-        elif self.mean_speed_rpm is not None:
-            speed = self.mean_speed_rpm * math.pi / 30
-        elif self.mechanism is not None and self.speed_rpm is not None:
-            speed = self.speed_rpm * math.pi / 30
-        else:
-            raise synth.InvalidInput("give mean_speed_rpm or mean_speed_rad_s", field="mean_speed_rpm")
-        if self.speed_rpm is not None and not math.isclose(speed, self.speed_rpm * math.pi / 30, rel_tol=1e-12):
-            raise synth.InvalidInput("speed_rpm differs from the mean speed; give one of them", field="speed_rpm")
-        return speed
-
-    def target_delta(self) -> float:
-        """The target delta, or the tightest admissible value of the machine type."""
-        if (self.delta is None) == (self.machine_type is None):
-            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
-        return self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
-
-    def uses_tables(self) -> bool:
-        """True for tables, False for a linkage; InvalidInput unless exactly one is given."""
-        if (self.tables is None) == (self.mechanism is None):
-            raise synth.InvalidInput("give tables or a mechanism (one of them)", field="tables")
-        if self.tables is not None:
-            for name in ("loads", "torques", "counterweights", "gravity", "speed_rpm", "crank_angle_deg", "friction"):
-                if getattr(self, name):
-                    raise synth.InvalidInput(f"{name} belongs to a linkage; tables already hold the torques", field=name)
-        if self.mechanism is not None:
-            if self.cycle_deg != 360:
-                raise synth.InvalidInput("a linkage's cycle is one crank revolution", field="cycle_deg")
-            if self.crank_angle_deg is not None:
-                raise synth.InvalidInput("a flywheel needs the whole cycle: use samples", field="crank_angle_deg")
-            if self.crank_acceleration_rad_s2 != 0:
-                raise synth.InvalidInput("steady motion has no mean crank acceleration", field="crank_acceleration_rad_s2")
-        return self.tables is not None
-
 
 class MachineTypeOut(BaseModel):
     """Admissible coefficient of speed fluctuation of one machine type (seed 003:443-453)."""
@@ -263,15 +172,6 @@ class MachineTypeOut(BaseModel):
                              "of the range [-].")
     delta_max: float = Field(description="Largest admissible coefficient of speed fluctuation of the range [-].")
     default_delta: float = Field(description="The tightest value, used when a request names this machine type.")
-
-    @classmethod
-    def from_engine(cls, row: synth.MachineType) -> MachineTypeOut:
-        """Schema from an engine table row."""
-        return cls(
-            machine_type=one_of(MACHINE_TYPES, row.name), label=row.label, delta_min=row.delta_min,
-            delta_max=row.delta_max,
-            default_delta=row.default_delta,
-        )
 
 
 class MethodOut(BaseModel):
@@ -289,20 +189,6 @@ class MethodOut(BaseModel):
     omega_max_rad_s: float = Field(description="Highest crank speed of the simulated steady motion [rad/s].")
     stalls: bool = Field(description="The simulated speed falls to zero within the cycle: no steady motion at this "
                          "mean speed (achieved_delta is then 2).")
-
-    @classmethod
-    def from_engine(cls, m: synth.MethodResult, target: float) -> MethodOut:
-        """Schema from an engine method result."""
-        return cls(
-            method=one_of(SIZING_METHODS, m.method),
-            required_constant_inertia_kgm2=m.required_constant_inertia,
-            flywheel_inertia_kgm2=m.flywheel_inertia,
-            achieved_delta=m.achieved_delta,
-            delta_error_rel=m.achieved_delta / target - 1,
-            omega_min_rad_s=m.speed.omega_min,
-            omega_max_rad_s=m.speed.omega_max,
-            stalls=m.speed.stalls,
-        )
 
 
 class EnergyMassOut(BaseModel):
@@ -348,16 +234,6 @@ class FlywheelPlacementOut(BaseModel):
                                  "[m/s].")
     inertia_check_kgm2: float = Field(description="Inertia about the shaft recomputed from the dimensions and "
                                       "density [kg·m²]; equals inertia_kgm2 to the solver's tolerance.")
-
-    @classmethod
-    def from_engine(cls, b: synth.FlywheelBody) -> FlywheelPlacementOut:
-        """Schema from an engine flywheel body."""
-        return cls(
-            shaft=b.shaft, speed_ratio=b.speed_ratio, shape=one_of(FLYWHEEL_SHAPES, b.shape), inertia_kgm2=b.inertia,
-            diameter_m=b.diameter,
-            outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness, width_m=b.width, mass_kg=b.mass,
-            rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check,
-        )
 
 
 class PlacementMissOut(BaseModel):
@@ -417,57 +293,3 @@ class FlywheelOut(BaseModel):
         None, description="The drive through the elastic link with the sized flywheel (as POST "
         "/v1/machines/elastic-drive answers it); null when the request has no `elastic_drive`. Its load "
         "harmonics near resonance are also among `warnings`, their field under `elastic_drive`.")
-
-    @classmethod
-    def from_engine(cls, r: synth.FlywheelResult, warnings: list[synth.DesignWarning] | None = None,
-                    drive: Any = None) -> FlywheelOut:
-        """Schema from the engine result (radians become degrees here), with the elastic drive's when given."""
-        elastic = None if drive is None else ElasticDriveOut.from_engine(drive)
-        near = [] if elastic is None else [w.model_copy(update={"field": f"elastic_drive.{w.field}"})
-                                           for w in elastic.warnings]
-        design, tan = r.design, r.tangents
-        w_min, w_max = r.speed_band
-        phi, omega = design.speed.thinned()
-        work = r.cycle.work_nodes()[:-1]
-        ensure_finite(omega, work, np.array([m.required_constant_inertia for m in r.methods]))
-        geometry = None
-        if r.geometry is not None:
-            geometry = GeometryOut(
-                best=FlywheelPlacementOut.from_engine(r.geometry.best),
-                placements=[FlywheelPlacementOut.from_engine(b) for b in r.geometry.bodies],
-                misses=[
-                    PlacementMissOut(shaft=m.shaft, speed_ratio=m.speed_ratio, constraint=m.constraint,
-                                     max_inertia_kgm2=m.max_inertia)
-                    for m in r.geometry.misses
-                ],
-            )
-        return cls(
-            flywheel_inertia_kgm2=design.flywheel_inertia,
-            required_constant_inertia_kgm2=design.required_constant_inertia,
-            achieved_delta=design.achieved_delta,
-            target_delta=r.target_delta,
-            mean_speed_rad_s=r.mean_speed,
-            omega_min_rad_s=w_min,
-            omega_max_rad_s=w_max,
-            constant_inertia_kgm2=r.constant_inertia,
-            constant_driving_torque_Nm=r.driving_torque,
-            constant_torque_role=r.cycle.balance,
-            cycle_work_J=r.cycle_work,
-            motor_mean_speed_rad_s=r.motor_mean_speed,
-            design_method=one_of(SIZING_METHODS, r.design_method),
-            methods=[MethodOut.from_engine(m, r.target_delta) for m in r.methods],
-            energy_mass=EnergyMassOut(
-                crank_angle_deg=degree_list(r.cycle.phi),
-                reduced_inertia_kgm2=r.cycle.inertia.tolist(),
-                excess_work_J=work.tolist(),
-                tangent_max_slope_J_per_kgm2=tan.slope_max,
-                tangent_max_intercept_J=tan.intercept_max,
-                tangent_min_slope_J_per_kgm2=tan.slope_min,
-                tangent_min_intercept_J=tan.intercept_min,
-            ),
-            speed=SpeedOut(method=one_of(SIZING_METHODS, design.method), crank_angle_deg=degree_list(phi),
-                           omega_rad_s=omega.tolist()),
-            geometry=geometry,
-            warnings=[*warnings_out(warnings or []), *near],
-            elastic_drive=elastic,
-        )

@@ -2,38 +2,19 @@
 
 from __future__ import annotations
 
-import importlib
-import math
-from typing import Any, Literal
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from pydantic.config import JsonDict
 
 from .analysis import AnalysisIn
 from .motor import MotorIn
-from ._engine import np
-from .common import (
-    MAX_INERTIA_KGM2,
-    MAX_MASS_KG,
-    StrictModel,
-    ValidityCheckOut,
-    Vec2,
-    WarningOut,
-    degree_array,
-    ensure_finite,
-    validity_out,
-    warnings_out,
-)
+from .common import MAX_INERTIA_KGM2, MAX_MASS_KG, StrictModel, ValidityCheckOut, Vec2, WarningOut
 
 #: Stiffness beyond any isolator or foundation bolt [N/m]; a larger value is a typo.
 MAX_STIFFNESS_N_M = 1e13
 MAX_DAMPING_NS_M = 1e10
 MAX_ISOLATORS = 64
-
-
-def _engine() -> Any:
-    """The foundation module of the engine, imported on first use (the schemas load without the engine)."""
-    return importlib.import_module("synth.machine.foundation")
 
 
 COMPRESSOR_EXAMPLE: JsonDict = {
@@ -57,10 +38,6 @@ class FrameIn(StrictModel):
     centre_m: Vec2 = Field(description="Its centre of mass in the linkage's coordinates (crank pivot at the origin, "
                            "y up) [m].", examples=[[0.1, -0.25]])
 
-    def to_engine(self) -> Any:
-        """Engine frame."""
-        return _engine().Frame(self.mass_kg, self.inertia_kgm2, (self.centre_m[0], self.centre_m[1]))
-
 
 class IsolatorIn(StrictModel):
     """One isolator: where it holds the frame, its stiffness along x and y, its damping as coefficients or as a
@@ -76,11 +53,6 @@ class IsolatorIn(StrictModel):
         None, ge=0, le=10, description="Damping as a ratio instead of coefficients [-]: c = 2·ζ·sqrt(k·m_share) "
         "along x and y, m_share the machine's mass times this isolator's part of the summed vertical stiffness.",
         examples=[0.08])
-
-    def to_engine(self) -> Any:
-        """Engine isolator."""
-        return _engine().Isolator((self.position_m[0], self.position_m[1]), self.kx_N_m, self.ky_N_m,
-                                  self.cx_Ns_m, self.cy_Ns_m, self.damping_ratio)
 
 
 class RunUpIn(StrictModel):
@@ -102,20 +74,10 @@ class IsolationIn(AnalysisIn):
     run_up: RunUpIn | None = Field(None, description="Also follow the frame while the machine runs up from rest "
                                    "(the start-up simulation's speed history).")
 
-    def run_up_engine(self) -> tuple[Any, float] | None:
-        """Engine motor and constant inertia of the run-up, or None."""
-        if self.run_up is None:
-            return None
-        return self.run_up.motor.to_engine(), self.run_up.constant_inertia_kgm2
-
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"mechanism": COMPRESSOR_EXAMPLE, "speed_rpm": 480, "samples": 360, "frame": FRAME_EXAMPLE,
          "isolators": ISOLATORS_EXAMPLE},
     ]})
-
-    def to_frame(self) -> tuple[Any, tuple[Any, ...]]:
-        """Engine frame and isolators."""
-        return self.frame.to_engine(), tuple(i.to_engine() for i in self.isolators)
 
 
 Objective = Literal["amplitude", "force"]
@@ -152,13 +114,6 @@ class IsolationDesignIn(AnalysisIn):
          "positions_m": [[-0.3, -0.5], [0.5, -0.5]], "objective": "amplitude", "max_force_N": 600,
          "max_static_deflection_m": 0.02, "max_block_mass_kg": 400},
     ]})
-
-    def to_spec(self) -> Any:
-        """Engine design spec."""
-        return importlib.import_module("synth.machine.foundation_design").IsolationDesignSpec(
-            tuple((p[0], p[1]) for p in self.positions_m), self.objective, self.max_force_N, self.max_amplitude_m,
-            self.stiffness_ratio, self.min_stiffness_N_m, self.max_stiffness_N_m, self.min_damping_ratio,
-            self.max_damping_ratio, self.max_static_deflection_m, self.max_block_mass_kg, self.block_radius_m)
 
 
 class RunUpOut(BaseModel):
@@ -265,45 +220,6 @@ class IsolationOut(BaseModel):
     validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the model needs "
                                              "against its limit.")
 
-    @classmethod
-    def from_engine(cls, r: Any) -> IsolationOut:
-        """Schema from an engine isolation."""
-        iso = [IsolatorLoadOut.model_construct(force_N=r.isolator_force[i],
-                                               peak_force_N=float(r.peak_isolator_force[i]),
-                               static_deflection_m=[float(v) for v in r.static_deflection[i]],
-                               static_load_N=[float(v) for v in r.static_load[i]])
-               for i in range(len(r.isolators))]
-        c = r.check
-        ensure_finite(r.displacement, r.rotation, r.force, r.moment, r.isolator_force)
-        values: dict[str, Any] = dict(
-            crank_angle_deg=degree_array(r.phi), time_s=r.time, displacement_m=r.displacement,
-            rotation_rad=r.rotation, force_N=r.force, moment_Nm=r.moment, shaking_force_N=r.shaking_force,
-            shaking_moment_Nm=r.shaking_moment, isolators=iso,
-            modes=[ModeOut(frequency_Hz=m.frequency, shape_x_m=m.shape[0], shape_y_m=m.shape[1],
-                           shape_theta_rad=m.shape[2], damping_ratio=m.damping_ratio) for m in r.modes],
-            harmonics=[HarmonicOut(order=h.order, frequency_Hz=h.frequency, shaking_force_N=h.shaking_force,
-                                   shaking_moment_Nm=h.shaking_moment, transmitted_force_N=h.transmitted_force,
-                                   transmitted_moment_Nm=h.transmitted_moment,
-                                   force_transmissibility=h.force_transmissibility,
-                                   moment_transmissibility=h.moment_transmissibility) for h in r.harmonics],
-            peak_displacement_m=r.peak_displacement, peak_rotation_rad=r.peak_rotation,
-            peak_isolator_displacement_m=r.peak_isolator_displacement, peak_force_N=r.peak_force,
-            peak_moment_Nm=r.peak_moment, peak_shaking_force_N=r.peak_shaking_force,
-            force_ratio=r.peak_force / r.peak_shaking_force if r.peak_shaking_force > 0 else 0.0,
-            settle_time_s=r.settle_time if math.isfinite(r.settle_time) else None,
-            checks=IsolationChecksOut(max_displacement_diff_m=c.displacement_diff,
-                                      max_rotation_diff_rad=c.rotation_diff,
-                                      max_force_diff_N=c.force_diff, relative_diff=c.relative_diff,
-                                      series_residual=c.series_residual, method=c.method),
-            warnings=warnings_out(r.warnings), validity=validity_out(r.checks),
-        )
-        ru = r.run_up
-        values["run_up"] = None if ru is None else RunUpOut.model_construct(
-            time_s=ru.time, crank_speed_rpm=ru.speed * 30 / math.pi, amplitude_m=ru.amplitude,
-            peak_amplitude_m=ru.peak_amplitude, peak_time_s=ru.peak_time, peak_speed_rpm=ru.peak_speed * 30 / math.pi,
-            steady_amplitude_m=ru.steady_amplitude, ratio=ru.ratio, crossed_frequencies_Hz=list(ru.crossed))
-        return cls.model_construct(**values)
-
 
 class IsolationDesignOut(BaseModel):
     """The isolators chosen, and the frame on them."""
@@ -324,22 +240,6 @@ class IsolationDesignOut(BaseModel):
     isolation: IsolationOut = Field(description="The frame on the chosen isolators, with its time-integration "
                                     "check.")
 
-    @classmethod
-    def from_engine(cls, d: Any) -> IsolationDesignOut:
-        """Schema from an engine design."""
-        return cls.model_construct(
-            ky_N_m=d.ky, kx_N_m=d.kx, damping_ratio=d.damping_ratio, block_mass_kg=d.block_mass,
-            amplitude_m=d.amplitude, peak_force_N=d.peak_force, static_deflection_m=d.static_deflection,
-            objective=d.objective, objective_value=d.objective_value, grid_best=d.grid_best,
-            candidates=d.candidates, refined=d.refined, method=d.method,
-            isolation=IsolationOut.from_engine(d.isolation))
-
-
-
-
-def _drive_engine() -> Any:
-    return importlib.import_module("synth.machine.elastic_drive")
-
 
 class ElasticElementIn(StrictModel):
     """One element of the elastic link between motor and machine: a shaft or a coupling."""
@@ -353,22 +253,6 @@ class ElasticElementIn(StrictModel):
     shear_modulus_Pa: float = Field(81e9, gt=0, le=1e12, description="Shear modulus [Pa] (steel 81 GPa).")
     stiffness_Nm_rad: float | None = Field(None, gt=0, le=1e12, description="A coupling's torsional stiffness "
                                            "on its shaft [N·m/rad].")
-
-    def to_engine(self, k: int) -> Any:
-        """Engine element; InvalidInput naming a missing field."""
-        if self.type == "shaft":
-            if self.diameter_m is None or self.length_m is None:
-                raise _invalid("a shaft needs diameter_m and length_m", f"elements.{k}.diameter_m")
-            return _drive_engine().ElasticElement("shaft", self.speed_ratio, self.diameter_m, self.length_m,
-                                                  self.shear_modulus_Pa)
-        if self.stiffness_Nm_rad is None:
-            raise _invalid("a coupling needs stiffness_Nm_rad", f"elements.{k}.stiffness_Nm_rad")
-        return _drive_engine().ElasticElement("coupling", self.speed_ratio, stiffness=self.stiffness_Nm_rad)
-
-
-def _invalid(message: str, field: str) -> Exception:
-    error: Exception = importlib.import_module("synth.errors").InvalidInput(message, field=field)
-    return error
 
 
 MOTOR_EXAMPLE: JsonDict = {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1440, "rated_torque_Nm": 30,
@@ -401,10 +285,6 @@ class ElasticDriveIn(AnalysisIn):
          "elements": [{"type": "shaft", "speed_ratio": 3.0, "diameter_m": 0.03, "length_m": 0.4},
                       {"type": "coupling", "speed_ratio": 1.0, "stiffness_Nm_rad": 2e4}]},
     ]})
-
-    def to_elements(self) -> tuple[Any, ...]:
-        """Engine elements."""
-        return tuple(e.to_engine(k) for k, e in enumerate(self.elements))
 
 
 class LoadHarmonicOut(BaseModel):
@@ -468,44 +348,6 @@ class ElasticDriveOut(BaseModel):
                                           "energy balance.")
     start: ElasticRunOut | None = Field(description="The run-up from rest with the link; null when not asked for.")
 
-    @classmethod
-    def from_engine(cls, d: Any) -> ElasticDriveOut:
-        """Schema from an engine elastic drive."""
-        rpm = 30 / math.pi
-        st = d.steady
-        ensure_finite(st.elastic_torque, d.rigid_torque, st.crank_speed, st.rotor_speed)
-        near = [h for h in d.harmonics if h.near]
-        warnings = [WarningOut(code="load_harmonic_near_resonance", field="stiffness_Nm_rad", value=h.ratio, unit="",
-                               message=f"harmonic {h.order} of the load torque ({h.frequency:.4g} Hz, "
-                               f"{h.amplitude:.4g} N·m) lies within 15 % of the link's natural frequency "
-                               f"({d.natural_frequency:.4g} Hz): change the stiffness or the inertias")
-                    for h in near]
-        start = None
-        if d.start is not None:
-            r = d.start
-            start = ElasticRunOut.model_construct(
-                time_s=r.time, crank_speed_rpm=r.crank_speed * rpm, rotor_speed_rpm=r.rotor_speed * rpm,
-                elastic_torque_Nm=r.elastic_torque, peak_elastic_torque_Nm=d.start_peak_torque,
-                rigid_peak_torque_Nm=d.rigid_start_peak_torque, energy_residual=r.energy_residual)
-        values: dict[str, Any] = dict(
-            stiffness_Nm_rad=d.stiffness, damping_Nms_rad=d.damping, rotor_inertia_kgm2=d.rotor_inertia,
-            machine_inertia_kgm2=list(d.machine_inertia), natural_frequency_Hz=d.natural_frequency,
-            natural_frequency_range_Hz=list(d.natural_frequency_range),
-            mean_speed_rpm=d.mean_speed * rpm,
-            crank_angle_deg=degree_array(d.phi), elastic_torque_Nm=st.elastic_torque, rigid_torque_Nm=d.rigid_torque,
-            crank_speed_rpm=st.crank_speed * rpm, rotor_speed_rpm=st.rotor_speed * rpm,
-            peak_elastic_torque_Nm=float(np.max(np.abs(st.elastic_torque))),
-            peak_rigid_torque_Nm=float(np.max(np.abs(d.rigid_torque))), dynamic_factor=d.dynamic_factor,
-            harmonics=[LoadHarmonicOut(order=h.order, frequency_Hz=h.frequency, amplitude_Nm=h.amplitude,
-                                       frequency_ratio=h.ratio, near_resonance=h.near) for h in d.harmonics],
-            warnings=warnings,
-            checks=ElasticDriveChecksOut(
-                eigen_frequency_Hz=d.eigen_frequency,
-                closed_form_diff=abs(d.eigen_frequency - d.natural_frequency) / d.natural_frequency,
-                steady_energy_residual=st.energy_residual, revolutions=d.revolutions),
-            start=start)
-        return cls.model_construct(**values)
-
 
 class RegulatorIn(StrictModel):
     """A PI controller on a frequency-converter drive: tuned for a settling time and overshoot, or given gains."""
@@ -518,23 +360,6 @@ class RegulatorIn(StrictModel):
     filter_time_s: float = Field(0.0, ge=0, le=100, description="Time constant of the speed measurement [s].")
     reference_speed_rpm: float | None = Field(None, gt=0, le=1e6, description="Speed to hold [rev/min]; default "
                                               "the mean speed before the step.")
-
-    def to_engine(self) -> tuple[Any, tuple[float, float, float] | None]:
-        """Engine controller (gains) or tuning targets; InvalidInput naming the missing field."""
-        tuned = self.settling_time_s is not None or self.overshoot is not None
-        given = self.kp is not None or self.ki is not None
-        if tuned == given:
-            raise _invalid("give the regulator either settling_time_s and overshoot (tuned) or kp and ki",
-                           "regulator")
-        if tuned:
-            if self.settling_time_s is None or self.overshoot is None:
-                raise _invalid("tuning needs both settling_time_s and overshoot", "regulator.settling_time_s")
-            return None, (self.settling_time_s, self.overshoot, self.filter_time_s)
-        if self.kp is None or self.ki is None:
-            raise _invalid("gains need both kp and ki", "regulator.kp")
-        ref = None if self.reference_speed_rpm is None else self.reference_speed_rpm * math.pi / 30
-        return importlib.import_module("synth.machine.regulation").PIController(
-            self.kp, self.ki, self.filter_time_s, ref), None
 
 
 class RegulationIn(AnalysisIn):
@@ -604,34 +429,8 @@ class RegulationOut(BaseModel):
                                              "needs against its limit: motor_stalls, motor_breakdown, "
                                              "regulator_damping, regulator_settling_time, regulator_overshoot.")
 
-    @classmethod
-    def from_engine(cls, r: Any) -> RegulationOut:
-        """Schema from an engine regulation."""
-        rpm = 30 / math.pi
-        ensure_finite(r.omega, r.smoothed, r.motor_torque)
-        c = r.controller
-        values: dict[str, Any] = dict(
-            time_s=r.time, crank_speed_rpm=r.omega * rpm, smoothed_speed_rpm=r.smoothed * rpm,
-            motor_torque_Nm=r.motor_torque, load_torque_Nm=r.load_torque, converter_shift_rpm=r.shift * rpm,
-            step_time_s=r.step_time, speed_before_rpm=r.speed_before * rpm, speed_after_rpm=r.speed_after * rpm,
-            drop_rpm=r.drop * rpm, drop_closed_form_rpm=r.drop_closed_form * rpm, time_constant_s=r.time_constant,
-            band_rpm=r.band * rpm, settling_time_s=r.settling_time, settling_closed_form_s=r.settling_closed_form,
-            overshoot=r.overshoot, max_deviation_rpm=r.max_deviation * rpm,
-            kp=None if c is None else c.kp, ki_1_s=None if c is None else c.ki,
-            filter_time_s=None if c is None else c.filter_time,
-            reference_speed_rpm=None if c is None or c.reference is None else c.reference * rpm,
-            poles_real_1_s=None if r.poles is None else [float(p.real) for p in r.poles],
-            poles_imag_1_s=None if r.poles is None else [float(p.imag) for p in r.poles],
-            breakdown_torque_Nm=r.breakdown_torque if math.isfinite(r.breakdown_torque) else None,
-            warnings=warnings_out(r.warnings), validity=validity_out(r.checks))
-        return cls.model_construct(**values)
-
-
 # ---------------------------------------------------------------------------------------------------------------
 # The blocks of POST /v1/machines/design: the same capabilities for the designed machine.
-
-def _chain_engine() -> Any:
-    return importlib.import_module("synth.machine.foundation_chain")
 
 
 class MachineFoundationIn(StrictModel):
@@ -650,12 +449,6 @@ class MachineFoundationIn(StrictModel):
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"frame": FRAME_EXAMPLE, "isolators": ISOLATORS_EXAMPLE, "max_force_N": 600}]})
-
-    def to_engine(self) -> Any:
-        """Engine foundation choice."""
-        return _chain_engine().FoundationChoice(
-            self.frame.to_engine(), tuple(i.to_engine() for i in self.isolators), self.max_force_N,
-            self.max_amplitude_m, self.run_up)
 
 
 class MachineElasticDriveIn(StrictModel):
@@ -682,12 +475,6 @@ class MachineElasticDriveIn(StrictModel):
                       {"type": "coupling", "speed_ratio": 3.0, "stiffness_Nm_rad": 2e3}],
          "max_dynamic_factor": 1.5}]})
 
-    def to_engine(self) -> Any:
-        """Engine elastic-drive choice."""
-        return _chain_engine().ElasticDriveChoice(
-            self.stiffness_Nm_rad, tuple(e.to_engine(k) for k, e in enumerate(self.elements)),
-            self.motor_side_inertia_kgm2, self.damping_ratio, self.start, self.max_dynamic_factor)
-
 
 class MachineRegulationIn(StrictModel):
     """A step in the designed machine's process load: its self-regulation through the chosen motor's
@@ -710,12 +497,6 @@ class MachineRegulationIn(StrictModel):
         {"load_step_Nm": 40, "max_settling_time_s": 2.0},
         {"load_step_Nm": 40, "regulator": {"settling_time_s": 0.5, "overshoot": 0.05}}]})
 
-    def to_engine(self) -> Any:
-        """Engine regulation choice."""
-        controller, tuning = (None, None) if self.regulator is None else self.regulator.to_engine()
-        return _chain_engine().RegulationChoice(self.load_step_Nm, self.delta, controller, tuning,
-                                                self.max_settling_time_s, self.max_speed_drop_rad_s)
-
 
 class MachineElasticDriveOut(ElasticDriveOut):
     """The designed machine's elastic drive, and what it was given."""
@@ -729,22 +510,8 @@ class MachineElasticDriveOut(ElasticDriveOut):
                                                            "where it is larger than the rigid machine's; `rigid`: "
                                                            "it is nowhere larger, or no stage is sized.")
 
-    @classmethod
-    def from_design(cls, e: Any) -> MachineElasticDriveOut:
-        """Schema from the engine's elastic drive of a design."""
-        base = ElasticDriveOut.from_engine(e.drive)
-        return cls.model_construct(**dict(base), motor_side_inertia_kgm2=e.motor_side_inertia,
-                                   machine_constant_inertia_kgm2=e.machine_constant_inertia,
-                                   gear_torque_basis=e.gear_torque_basis)
-
 
 class MachineRegulationOut(RegulationOut):
     """The designed machine after the load step, and the inertia it ran with."""
 
     constant_inertia_kgm2: float = Field(description="Rotor, train and flywheel reduced to the crank [kg·m²].")
-
-    @classmethod
-    def from_design(cls, g: Any) -> MachineRegulationOut:
-        """Schema from the engine's load step of a design."""
-        base = RegulationOut.from_engine(g.regulation)
-        return cls.model_construct(**dict(base), constant_inertia_kgm2=g.constant_inertia)

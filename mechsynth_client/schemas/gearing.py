@@ -7,7 +7,6 @@ from typing import TYPE_CHECKING, Annotated, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ._engine import synth
 from .common import (
     MAX_INERTIA_KGM2,
     StrictModel,
@@ -16,11 +15,9 @@ from .common import (
     at_most_one,
     exactly_one,
     given,
-    one_of,
     service_limit,
-    warnings_out,
 )
-from .rating import SizedStageOut, StrengthIn, sized_stages_out
+from .rating import SizedStageOut, StrengthIn
 
 _SPEEDS = ("motor_speed_rpm", "motor_speed_rad_s", "output_speed_rpm", "output_speed_rad_s")
 # The engine's bounds (synth.gearing.teeth): the schemas load without the engine.
@@ -53,10 +50,6 @@ class StageIn(StrictModel):
     efficiency: float | None = Field(None, gt=0, le=1, description="Stage efficiency incl. its bearings [-].")
     ratio: float | None = Field(None, gt=0, le=1e4, description="Fixed stage ratio (a standard ratio, say) [-].")
 
-    def to_spec(self) -> synth.StageSpec:
-        """Engine stage spec."""
-        return synth.StageSpec(self.type, self.ratio_min, self.ratio_max, self.efficiency, self.ratio)
-
 
 # Bounded here, before anything is allocated per stage; the service setting max_stages may lower it.
 MAX_STAGES = 12
@@ -65,21 +58,12 @@ StagesIn = (Annotated[int, Field(ge=1, le=MAX_STAGES, json_schema_extra=service_
                                                          json_schema_extra=service_limit("max_stages"))])
 
 
-def _specs(stages: int | list[StageType | StageIn]) -> int | list[synth.StageSpec | str]:
-    return stages if isinstance(stages, int) else [s if isinstance(s, str) else s.to_spec() for s in stages]
-
-
 class _InertiaFields(StrictModel):
     pinion_inertia_kgm2: float = Field(1e-3, gt=0, le=MAX_INERTIA_KGM2, description="Inertia of every pinion [kg·m²]; a gear of stage "
                                        "ratio u has u⁴ times it (same module and face width).")
     load_inertia_kgm2: float = Field(0.0, ge=0, le=MAX_INERTIA_KGM2, description="Inertia on the output shaft [kg·m²].")
     shaft_inertias_kgm2: list[Annotated[float, Field(ge=0, le=MAX_INERTIA_KGM2)]] | None = Field(
         None, max_length=MAX_STAGES + 1, description="Extra inertia on each shaft, motor shaft to output shaft (stages + 1 values) [kg·m²].")
-
-    def inertia_model(self, motor_inertia_kgm2: float = 0.0) -> synth.InertiaModel:
-        """Engine reduced-inertia model data."""
-        return synth.InertiaModel(self.pinion_inertia_kgm2, self.load_inertia_kgm2,
-                                  tuple(self.shaft_inertias_kgm2 or ()), motor_inertia_kgm2)
 
 
 class SplitIn(_InertiaFields):
@@ -134,19 +118,6 @@ class SplitIn(_InertiaFields):
             raise ValueError("give the output speed once, in rpm or in rad/s")
         return self
 
-    def ratio(self) -> float:
-        """The total ratio, from the speeds when it is not given."""
-        if self.total_ratio is not None:
-            return self.total_ratio
-        motor = self.motor_speed_rad_s if self.motor_speed_rpm is None else self.motor_speed_rpm * RPM
-        output = self.output_speed_rad_s if self.output_speed_rpm is None else self.output_speed_rpm * RPM
-        assert motor is not None and output is not None
-        return synth.total_ratio(motor, output)
-
-    def stage_specs(self) -> int | list[synth.StageSpec | str]:
-        """Engine stage specs."""
-        return _specs(self.stages)
-
 
 class StageOut(BaseModel):
     """A stage as used: type, admissible range and efficiency."""
@@ -157,13 +128,6 @@ class StageOut(BaseModel):
     efficiency: float = Field(description="Stage efficiency, output over input power [-].")
     fixed_ratio: float | None = Field(None, description="The ratio the layout fixes for this stage [-]; null when "
                                       "the split chooses it.")
-
-    @classmethod
-    def from_engine(cls, s: synth.Stage) -> StageOut:
-        """Schema from an engine stage."""
-        return cls(type=one_of(STAGE_TYPES, s.type), ratio_min=s.ratio_min, ratio_max=s.ratio_max,
-                   efficiency=s.efficiency,
-                   fixed_ratio=s.ratio)
 
 
 class SplitChecksOut(BaseModel):
@@ -206,22 +170,6 @@ class SplitOut(BaseModel):
     warnings: list[WarningOut] = Field(description="Likely mistakes and weak points of the split (a ratio outside "
                                        "a stage type's usual range, say); the answer stands.")
 
-    @classmethod
-    def from_engine(cls, r: synth.SplitResult, stages: tuple[synth.Stage, ...]) -> SplitOut:
-        """Schema from an engine split."""
-        return cls(
-            total_ratio=r.total_ratio, objective=one_of(OBJECTIVES, r.objective), stage_ratios=list(r.stage_ratios),
-            continuous_ratios=list(r.continuous_ratios), objective_value=r.objective_value,
-            objective_unit="m3" if r.objective == "min_volume" else "kgm2",
-            reduced_inertia_kgm2=r.reduced_inertia, gear_volume_m3=r.gear_volume,
-            stages=[StageOut.from_engine(s) for s in stages], snapped=r.snapped, snap_tolerance=r.snap_tolerance,
-            solver=r.solver, solver_status=r.solver_status, solve_time_s=r.solve_time,
-            checks=SplitChecksOut(objective_model=r.checks.objective_model,
-                                  ratio_product_error=r.checks.ratio_product_error,
-                                  kkt_residual=r.checks.kkt_residual),
-            warnings=warnings_out(r.warnings),
-        )
-
 
 class TeethIn(StrictModel):
     """A total ratio to realise with integer tooth numbers, exactly optimal over the whole train."""
@@ -252,15 +200,6 @@ class TeethIn(StrictModel):
         {"total_ratio": 17.3, "stages": ["spur", "planetary"], "planets": 3, "max_teeth": 100},
     ]})
 
-    def rules(self) -> synth.ToothRules:
-        """Engine tooth rules (degrees become radians here)."""
-        return synth.ToothRules(math.radians(self.pressure_angle_deg), self.addendum_coefficient,
-                                self.profile_shift, self.min_teeth, self.max_teeth, self.hunting_teeth, self.reverted)
-
-    def stage_specs(self) -> int | list[synth.StageSpec | str]:
-        """Engine stage specs."""
-        return _specs(self.stages)
-
 
 class MeshOut(BaseModel):
     """One stage's tooth numbers; ratio = gear_teeth / pinion_teeth. A planetary stage (sun in, ring held,
@@ -280,15 +219,6 @@ class MeshOut(BaseModel):
                                      "basic efficiency) [-]; null for a simple pair.")
     back_efficiency: float | None = Field(None, description="Planetary stage: efficiency with the carrier driving "
                                           "the sun (power flowing back) [-]; null for a simple pair.")
-
-    @classmethod
-    def from_engine(cls, m: synth.Mesh) -> MeshOut:
-        """Schema from an engine mesh, simple or planetary."""
-        if isinstance(m, synth.PlanetaryMesh):
-            return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio, sun_teeth=m.pinion_teeth,
-                       planet_teeth=m.planet_teeth, ring_teeth=m.gear_teeth, planets=m.planets,
-                       efficiency=m.efficiency, back_efficiency=m.back_efficiency)
-        return cls(pinion_teeth=m.pinion_teeth, gear_teeth=m.gear_teeth, ratio=m.ratio)
 
 
 class TeethChecksOut(BaseModel):
@@ -326,22 +256,6 @@ class TeethOut(BaseModel):
     warnings: list[WarningOut] = Field(description="Likely mistakes and weak points (a wheel below the undercut "
                                        "limit, say); the answer stands.")
 
-    @classmethod
-    def from_engine(cls, r: synth.ToothResult) -> TeethOut:
-        """Schema from an engine tooth result."""
-        c = r.checks
-        return cls(
-            stages=[MeshOut.from_engine(m) for m in r.stages],
-            total_ratio=r.total_ratio, target_ratio=r.target_ratio, ratio_error=r.ratio_error,
-            total_teeth=r.total_teeth, tolerance=r.tolerance, method=r.method, search_time_s=r.search_time,
-            products_examined=r.products_examined, undercut_limit=r.undercut_limit,
-            min_pinion_teeth=r.min_pinion_teeth, min_gear_teeth=r.min_gear_teeth,
-            checks=TeethChecksOut(enumeration_combinations=c.enumeration_combinations,
-                                  enumeration_ratio_error=c.enumeration_ratio_error,
-                                  enumeration_total_teeth=c.enumeration_total_teeth, agrees=c.agrees),
-            warnings=warnings_out(r.warnings),
-        )
-
 
 class CatalogueMotorIn(StrictModel):
     """A motor of your own catalogue."""
@@ -360,11 +274,6 @@ class CatalogueMotorIn(StrictModel):
         if self.rated_rpm > self.synchronous_rpm:
             raise ValueError("rated_rpm cannot exceed synchronous_rpm")
         return self
-
-    def to_engine(self) -> synth.CatalogueMotor:
-        """Engine motor (rpm become rad/s here)."""
-        return synth.CatalogueMotor(self.name, self.rated_power_W, self.synchronous_rpm * RPM,
-                                    self.rated_rpm * RPM, self.rotor_inertia_kgm2, mass=self.mass_kg)
 
 
 class DriveIn(_InertiaFields):
@@ -420,17 +329,9 @@ class DriveIn(_InertiaFields):
         assert self.output_speed_rpm is not None
         return self.output_speed_rpm * RPM
 
-    def catalogue(self) -> list[synth.CatalogueMotor] | None:
-        """Engine motors of the request's own catalogue, if it has one."""
-        return None if self.motor_catalogue is None else [m.to_engine() for m in self.motor_catalogue]
-
     def synchronous_speed(self) -> float | None:
         """Synchronous speed class [rad/s], if given."""
         return None if self.synchronous_rpm is None else self.synchronous_rpm * RPM
-
-    def stage_specs(self) -> int | list[synth.StageSpec | str]:
-        """Engine stage specs."""
-        return _specs(self.stages)
 
 
 class MotorOut(BaseModel):
@@ -444,12 +345,6 @@ class MotorOut(BaseModel):
                                              "give it.")
     mass_kg: float | None = Field(None, description="Catalogue mass of the foot-mounted motor [kg]; null when the "
                                   "catalogue does not give it.")
-
-    @classmethod
-    def from_engine(cls, m: synth.CatalogueMotor) -> MotorOut:
-        """Schema from an engine motor (rad/s become rpm here)."""
-        return cls(name=m.name, rated_power_W=m.rated_power, synchronous_rpm=round(m.synchronous_speed / RPM, 9),
-                   rated_rpm=round(m.rated_speed / RPM, 9), rotor_inertia_kgm2=m.rotor_inertia, mass_kg=m.mass)
 
 
 class ShaftOut(BaseModel):
@@ -501,24 +396,6 @@ class DriveOut(BaseModel):
     checks: DriveChecksOut = Field(description="Independent checks of the drive.")
     warnings: list[WarningOut] = Field(description="Likely mistakes and catalogue notes; the answer stands.")
 
-    @classmethod
-    def from_engine(cls, r: synth.DriveResult, stages: tuple[synth.Stage, ...]) -> DriveOut:
-        """Schema from an engine drive (rad/s become rpm here)."""
-        return cls(
-            motor=MotorOut.from_engine(r.motor), required_power_W=r.required_power,
-            drive_efficiency=r.drive_efficiency, chain_efficiency=r.chain_efficiency, total_ratio=r.total_ratio,
-            stage_ratios=list(r.split.stage_ratios), stage_efficiencies=list(r.stage_efficiencies),
-            shafts=[ShaftOut(speed_rpm=s.speed / RPM, speed_rad_s=s.speed, power_W=s.power, torque_Nm=s.torque,
-                             inertia_kgm2=s.inertia, reduced_inertia_kgm2=s.reduced_inertia) for s in r.shafts],
-            reduced_inertia_kgm2=r.reduced_inertia, output_speed_rpm=r.output_speed / RPM,
-            torque_basis=one_of(TORQUE_BASES, r.torque_basis), split=SplitOut.from_engine(r.split, stages),
-            checks=DriveChecksOut(power_balance_error=r.checks.power_balance_error,
-                                  kinetic_energy_J=r.checks.kinetic_energy,
-                                  reduced_kinetic_energy_J=r.checks.reduced_kinetic_energy),
-            warnings=warnings_out(r.warnings), gears=sized_stages_out(r.gears),
-            gear_mass_kg=None if r.gears is None else r.gears.mass, volume_agreement=r.volume_agreement,
-        )
-
 
 class StageTypeOut(BaseModel):
     """A row of the shipped stage-type table."""
@@ -532,10 +409,3 @@ class StageTypeOut(BaseModel):
     volume_coefficient_m3_per_Nm: float | None = Field(description="c of the contact-stress sizing rule, pinion "
                                                        "plus gear volume = c·T_pinion·(u + 1)(u² + 1)/u "
                                                        "[m³/(N·m)]; null where no rule is stated.")
-
-    @classmethod
-    def from_engine(cls, t: synth.StageType) -> StageTypeOut:
-        """Schema from an engine stage type."""
-        return cls(name=one_of(STAGE_TYPES, t.name), description=t.description, ratio_min=t.ratio_min,
-                   ratio_max=t.ratio_max,
-                   efficiency=t.efficiency, toothed=t.toothed, volume_coefficient_m3_per_Nm=t.volume_coefficient)

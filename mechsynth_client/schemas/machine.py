@@ -7,7 +7,6 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
-from ._engine import np, synth
 from .analysis import AnalysisOut
 from .balancing import BalanceOut, SliderCrankBalanceOut, WeightsIn
 from .common import (
@@ -22,13 +21,10 @@ from .common import (
     StrictModel,
     SummaryOut,
     WarningOut,
-    ensure_finite,
-    pair_frictions,
-    warnings_out,
 )
 from .flywheel import FlywheelOut, Ratio
-from .gearing import RPM, CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut, _specs
-from .rating import SizedStageOut, StrengthIn, sized_stages_out
+from .gearing import CatalogueMotorIn, DriveOut, MotorOut, Objective, StageIn, StageType, TeethOut
+from .rating import SizedStageOut, StrengthIn
 from .machine_strength import MachineStrengthIn, MachineStrengthOut
 from .foundation import (
     IsolationOut,
@@ -116,21 +112,6 @@ class MachineDriveIn(StrictModel):
         default_factory=StrengthIn, description="How the stages are sized: materials, life, minimum safety "
         "factors, module series (Miner's rule on the real cyclic load, so the application factor stays 1).")
 
-    def to_engine(self, max_stages: int) -> synth.DriveSpec:
-        """Engine drive (rpm become rad/s here)."""
-        stages = synth.make_stages(_specs(self.stages), max_stages=max_stages, field="drive.stages")
-        return synth.DriveSpec(
-            stages=stages, motor=self.motor,
-            catalogue=None if self.motor_catalogue is None else tuple(m.to_engine() for m in self.motor_catalogue),
-            synchronous_speed=None if self.synchronous_rpm is None else self.synchronous_rpm * RPM,
-            reserve_factor=self.reserve_factor, objective=self.objective,
-            inertia=synth.InertiaModel(self.pinion_inertia_kgm2, self.load_inertia_kgm2,
-                                       tuple(self.shaft_inertias_kgm2 or ())),
-            tooth_rules=synth.ToothRules(min_teeth=self.min_teeth, max_teeth=self.max_teeth),
-            tooth_tolerance=self.tooth_tolerance,
-            strength=self.strength.to_engine() if self.size_gears else None,
-        )
-
 
 class MachineBalancingIn(StrictModel):
     """How to balance the linkage: none, static, full or optimal for a four-bar; a slider-crank takes static (crank
@@ -149,14 +130,6 @@ class MachineBalancingIn(StrictModel):
     rotor_ratios: dict[str, Annotated[float, Field(gt=0, le=1e3)]] = Field(
         default_factory=dict, max_length=2, description="Full mode: counter-rotor speed over its link's.")
 
-    def to_engine(self) -> synth.BalancingChoice:
-        """Engine balancing choice."""
-        return synth.BalancingChoice(
-            self.mode, synth.CounterweightSpec(tuple(self.counterweight_links or ()), dict(self.max_radius_m)),
-            None if self.weights is None else self.weights.to_engine(), self.mass_budget_kg,
-            tuple(self.rotor_ratios.items()),
-        )
-
 
 class MachineGeometryIn(StrictModel):
     """Shape, material and limits of the flywheel (the candidate shafts are the drive's)."""
@@ -169,13 +142,6 @@ class MachineGeometryIn(StrictModel):
     max_diameter_m: float | None = Field(None, gt=0, le=1e3, description="Largest outer diameter [m].")
     thickness_ratio: Ratio = Field([0.1, 0.2], description="Rim radial thickness over mean diameter: [min, max].")
     width_ratio: Ratio = Field([0.1, 0.2], description="Width over diameter: [min, max].")
-
-    def to_engine(self) -> synth.GeometrySpec:
-        """Engine geometry specification."""
-        return synth.GeometrySpec(shape=self.shape, density=self.density_kg_m3, max_rim_speed=self.max_rim_speed_m_s,
-                                  allowable_stress=self.allowable_stress_Pa, max_diameter=self.max_diameter_m,
-                                  thickness_ratio=(self.thickness_ratio[0], self.thickness_ratio[1]),
-                                  width_ratio=(self.width_ratio[0], self.width_ratio[1]))
 
 
 class MachineFlywheelIn(StrictModel):
@@ -255,28 +221,6 @@ class MachineIn(LinkageRequest):
         "its own masses, before balancing, so that balancing, the flywheel and the drive see the real links), "
         "every revolute joint's pin and bearing, the crank shaft with its bearings and keys; their checks join "
         "`checks`.")
-
-    def to_engine(self, max_stages: int) -> synth.MachineSpec:
-        """Engine machine (degrees and rpm become radians and rad/s here)."""
-        if self.crank_angle_deg is not None:
-            raise synth.InvalidInput("a machine is designed over the whole cycle: use samples", field="crank_angle_deg")
-        if self.crank_acceleration_rad_s2 != 0:
-            raise synth.InvalidInput("steady motion has no mean crank acceleration", field="crank_acceleration_rad_s2")
-        if (self.delta is None) == (self.machine_type is None):
-            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
-        delta = self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
-        return synth.MachineSpec(
-            linkage=self.to_linkage(), speed=self.omega_rad_s, drive=self.drive.to_engine(max_stages), delta=delta,
-            balancing=self.balancing.to_engine(),
-            flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
-            samples=self.samples, speed_tolerance=self.speed_tolerance, friction=pair_frictions(self.friction),
-            brake_torque=self.brake_torque_Nm, start_under_load=self.start_under_load,
-            max_startup_time=self.max_startup_time_s,
-            max_rundown_time=self.max_rundown_time_s,
-            foundation=None if self.foundation is None else self.foundation.to_engine(),
-            elastic_drive=None if self.elastic_drive is None else self.elastic_drive.to_engine(),
-            regulation=None if self.regulation is None else self.regulation.to_engine(),
-        )
 
 
 class MachineMotorOut(BaseModel):
@@ -359,19 +303,9 @@ class MachineCheckOut(BaseModel):
     detail: str = Field(description="What the check compares, in words.")
     unit: str = Field("", description="The unit of `value` and `limit` (N·m, s); empty for a ratio.")
 
-    @classmethod
-    def from_engine(cls, c: synth.MachineCheck) -> MachineCheckOut:
-        """Schema from an engine check."""
-        return cls(name=c.name, label=c.label or c.name.replace("_", " "), value=c.value, limit=c.limit,
-                   passed=c.passed, detail=c.detail, unit=c.unit)
-
 
 #: Points of a start-up or run-down curve in the answer, evenly picked from the simulation's steps.
 TRANSIENT_POINTS = 1001
-
-
-def _picked(size: int) -> np.ndarray:
-    return np.unique(np.linspace(0, size - 1, min(TRANSIENT_POINTS, size)).round().astype(int))
 
 
 class EfficiencyOut(BaseModel):
@@ -447,38 +381,6 @@ class RunningOut(BaseModel):
     startup: StartUpOut = Field(description="The run-up from rest.")
     rundown: RunDownOut = Field(description="The run-down to rest (its checks are among the answer's `checks`).")
 
-    @classmethod
-    def from_engine(cls, r: synth.MachineRunning) -> RunningOut:
-        """Schema from the engine's running figures (radians become degrees here)."""
-        up, down, e = r.startup, r.rundown, r.efficiency
-        run = up.run
-        pick_up = _picked(run.time.size) if run is not None else np.zeros(0, dtype=int)
-        pick_down = _picked(down.run.time.size)
-        return cls(
-            efficiency=EfficiencyOut(linkage=e.linkage, gears=e.gears, overall=e.overall),
-            startup=StartUpOut(
-                starts=up.check.starts, starting_torque_Nm=up.check.starting_torque,
-                max_resisting_torque_Nm=float(up.check.resisting_torque.max()),
-                worst_crank_angle_deg=float(np.degrees(up.check.worst_angle)),
-                start_crank_angle_deg=None if run is None else float(np.degrees(run.phi[0])),
-                steady_time_s=up.steady_time,
-                motor_peak_torque_Nm=up.peak_motor_torque, motor_rms_torque_Nm=up.rms_motor_torque,
-                energy_residual=None if run is None else run.energy_residual,
-                time_s=[] if run is None else run.time[pick_up].tolist(),
-                omega_rad_s=[] if run is None else run.omega[pick_up].tolist(),
-                motor_torque_Nm=[] if run is None else run.motor_torque[pick_up].tolist(),
-                integrator=None if up.integrator is None else IntegratorOut(
-                    method=up.integrator.method, time_step_s=up.integrator.time_step,
-                    reference_inertia_kgm2=up.integrator.reference_inertia,
-                    reference_load_Nm=up.integrator.reference_load,
-                    reference_time_s=up.integrator.reference_time,
-                    closed_form_error=up.integrator.closed_form_error)),
-            rundown=RunDownOut(
-                stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
-                energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
-                omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
-        )
-
 
 class MachineShaftOut(BaseModel):
     """One shaft in the simulated steady motion, motor first, crank last: what it passes on."""
@@ -516,14 +418,6 @@ class MachineFlywheelBodyOut(BaseModel):
     inertia_check_kgm2: float = Field(description="Inertia about its shaft recomputed from the dimensions and "
                                       "density [kg·m²].")
 
-    @classmethod
-    def from_engine(cls, b: synth.FlywheelBody) -> MachineFlywheelBodyOut:
-        """Schema from the body on its shaft."""
-        return cls(shaft=b.shaft, speed_ratio=b.speed_ratio, inertia_on_shaft_kgm2=b.inertia,
-                   crank_equivalent_inertia_kgm2=b.inertia * b.speed_ratio**2, shape=b.shape,
-                   mean_diameter_m=b.diameter, outer_diameter_m=b.outer_diameter, rim_thickness_m=b.thickness,
-                   width_m=b.width, mass_kg=b.mass, rim_speed_m_s=b.rim_speed, inertia_check_kgm2=b.inertia_check)
-
 
 class AlternativeOut(BaseModel):
     """The same machine with another balancing mode: what it costs."""
@@ -550,22 +444,6 @@ class AlternativeOut(BaseModel):
     achieved_delta: float | None = Field(None, description="Coefficient of speed fluctuation of the simulated "
                                          "machine [-]; null when not available.")
     passed: bool | None = Field(None, description="Every check of this design passed; null when not available.")
-
-    @classmethod
-    def from_engine(cls, a: synth.Alternative) -> AlternativeOut:
-        """Schema from an engine alternative."""
-        d = a.design
-        if d is None:
-            return cls(mode=a.mode, available=False, reason=a.reason)
-        return cls(
-            mode=a.mode, available=True, rms_shaking_force_N=d.balancing.after.rms_shaking_force,
-            rms_shaking_moment_Nm=d.balancing.after.rms_shaking_moment, flywheel_inertia_kgm2=d.flywheel_inertia,
-            flywheel_mass_kg=None if d.placement is None else d.placement.mass,
-            flywheel_inertia_on_shaft_kgm2=None if d.placement is None else d.placement.inertia,
-            flywheel_shaft=None if d.placement is None else d.placement.shaft, motor=d.drive.motor.name,
-            peak_shaft_torque_Nm=max(s.peak_torque for s in d.shafts), achieved_delta=d.motion.delta,
-            passed=d.passed,
-        )
 
 
 class MachineDesignOut(BaseModel):
@@ -627,63 +505,3 @@ class MachineDesignOut(BaseModel):
     regulation: MachineRegulationOut | None = Field(None, description="With `regulation`: the speed after the "
                                                     "load step, as /v1/machines/regulation answers; null "
                                                     "otherwise.")
-
-    @classmethod
-    def from_engine(cls, d: synth.MachineDesign, alternatives: tuple[synth.Alternative, ...] = (),
-                    request_sha256: str | None = None) -> MachineDesignOut:
-        """Schema from an engine design (radians and rad/s become degrees and rpm here)."""
-        m, red, bal = d.motion, d.balanced.reduced, d.balancing
-        ensure_finite(m.omega, m.motor_torque, red.inertia, red.load_torque)
-        keep = np.unique(np.linspace(0, m.phi.size - 1, min(721, m.phi.size)).round().astype(int))
-        motor = d.motor
-        return cls(
-            passed=d.passed,
-            checks=[MachineCheckOut.from_engine(c) for c in d.checks],
-            analysis=AnalysisOut.from_engine(d.before),
-            balancing_mode=bal.mode,
-            balancing=None if bal.result is None else BalanceOut.from_engine(bal.result),
-            slider_crank_balancing=None if bal.slider_crank is None else SliderCrankBalanceOut.from_engine(
-                bal.slider_crank),
-            summary_after_balancing=SummaryOut.from_engine(bal.after),
-            reduced=ReducedOut(
-                crank_angle_deg=np.degrees(red.phi).tolist(), reduced_inertia_kgm2=red.inertia.tolist(),
-                reduced_load_torque_Nm=red.load_torque.tolist(),
-                friction_torque_Nm=None if red.friction_torque is None else red.friction_torque.tolist(),
-                driving_torque_Nm=d.balanced.kinetostatics.driving_torque.tolist(), mean_power_W=d.output_power,
-                train_inertia_kgm2=d.train_inertia, rotor_inertia_kgm2=motor.reduced().inertia,
-            ),
-            motor=MachineMotorOut(
-                motor=MotorOut.from_engine(d.drive.motor), rated_torque_Nm=motor.rated_torque,
-                breakdown_torque_Nm=motor.breakdown_torque, train_ratio=d.train_ratio,
-                train_efficiency=motor.efficiency, required_power_W=d.drive.required_power,
-                operating_speed_rpm=d.drive.shafts[0].speed / RPM,
-                simulated_mean_speed_rpm=motor.gear_ratio * m.mean_speed / RPM,
-            ),
-            drive=DriveOut.from_engine(d.drive, d.spec.drive.stages),
-            teeth=None if d.teeth is None else TeethOut.from_engine(d.teeth), gears=sized_stages_out(d.gears),
-            stage_ratios=list(d.stage_ratios),
-            flywheel=FlywheelOut.from_engine(d.flywheel),
-            flywheel_shaft=None if d.placement is None else d.placement.shaft,
-            flywheel_body=None if d.placement is None else MachineFlywheelBodyOut.from_engine(d.placement),
-            simulation=SimulationOut(
-                achieved_delta=m.delta, target_delta=d.spec.delta, mean_crank_speed_rad_s=m.mean_speed,
-                mean_crank_speed_rpm=m.mean_speed / RPM, period_s=m.period, motor_peak_torque_Nm=m.motor_peak_torque,
-                motor_rms_torque_Nm=m.motor_rms_torque, breakdown_margin=m.breakdown_margin,
-                crank_angle_deg=np.degrees(m.phi[keep]).tolist(), omega_rad_s=m.omega[keep].tolist(),
-                motor_torque_Nm=m.motor_torque[keep].tolist(),
-            ),
-            shafts=[MachineShaftOut(name=s.name, speed_ratio=s.speed_ratio, mean_speed_rpm=s.mean_speed / RPM,
-                                    mean_power_W=s.mean_power, mean_torque_Nm=s.mean_torque,
-                                    peak_torque_Nm=s.peak_torque, rms_torque_Nm=s.rms_torque, inertia_kgm2=s.inertia,
-                                    carries_flywheel=s.carries_flywheel) for s in d.shafts],
-            running=None if d.running is None else RunningOut.from_engine(d.running),
-            alternatives=[AlternativeOut.from_engine(a) for a in alternatives],
-            warnings=warnings_out(d.warnings),
-            request_sha256=request_sha256,
-            foundation=None if d.foundation is None else IsolationOut.from_engine(d.foundation),
-            elastic_drive=None if d.elastic is None else MachineElasticDriveOut.from_design(d.elastic),
-            regulation=None if d.regulation is None else MachineRegulationOut.from_design(d.regulation),
-        )
-
-
-

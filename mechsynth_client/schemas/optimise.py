@@ -3,13 +3,11 @@ over its linkage family out, with its gains over the chain, its certificate and 
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field
 from pydantic.config import JsonDict
 
-from ._engine import synth
 
 from .common import (
     SIX_BAR_PRESS_EXAMPLE,
@@ -21,16 +19,9 @@ from .common import (
     SliderCrankIn,
     StrictModel,
     exactly_one,
-    pair_frictions,
 )
 from .machine import MachineBalancingIn, MachineDesignOut, MachineDriveIn, MachineFlywheelIn, MachineIn
-from .synthesis import (
-    CrankRockerBoundsIn,
-    CrankRockerDensityIn,
-    SliderCrankBoundsIn,
-    SliderCrankDensityIn,
-    _within_limits,
-)
+from .synthesis import CrankRockerBoundsIn, CrankRockerDensityIn, SliderCrankBoundsIn, SliderCrankDensityIn
 
 OptimiseObjective = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 DEFAULT_PARETO: tuple[OptimiseObjective, OptimiseObjective] = ("motor_power", "rms_shaking_force")
@@ -89,18 +80,6 @@ class CrankRockerFunctionIn(StrictModel):
     max_length_ratio: float = Field(4.0, gt=1.0, le=100.0, description="No link longer than this many rocker "
                                     "lengths.")
 
-    def to_spec(self, loads: tuple[synth.ProcessLoad, ...]) -> synth.CrankRockerSpec:
-        """Engine synthesis spec (its dynamic objective unused); degrees become radians here."""
-        bounds = _within_limits({n: r.pair() for n, r in self.bounds_m if r is not None},
-                                ("crank", "coupler", "rocker", "ground"))
-        return synth.CrankRockerSpec(
-            swing=math.radians(self.swing_deg), time_ratio=self.time_ratio, scale_link=self.scale_link,
-            scale_length=self.scale_length_m, bounds=bounds, max_length_ratio=self.max_length_ratio,
-            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
-            slow_stroke={"ccw": 1, "cw": -1, None: 0}[self.slow_stroke],
-            linear_density={k: v for k, v in dict(self.linear_density_kg_m).items() if v > 0}, loads=loads,
-        )
-
 
 class SliderCrankFunctionIn(StrictModel):
     """What an offset slider-crank must do: the stroke and time ratio."""
@@ -117,19 +96,6 @@ class SliderCrankFunctionIn(StrictModel):
     min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission "
                                               "angle [deg].")
     max_length_ratio: float = Field(4.0, gt=1.0, le=100.0, description="The rod at most this many strokes.")
-
-    def to_spec(self, loads: tuple[synth.ProcessLoad, ...]) -> synth.SliderCrankSpec:
-        """Engine synthesis spec (its dynamic objective unused); degrees become radians here."""
-        given = {n: r.pair() for n, r in self.bounds_m if r is not None}
-        bounds = {**_within_limits(given, ("crank", "rod")),
-                  **(_within_limits(given, ("offset",), lowest=0.0) if "offset" in given else {})}
-        return synth.SliderCrankSpec(
-            stroke=self.stroke_m, time_ratio=self.time_ratio, bounds=bounds, max_length_ratio=self.max_length_ratio,
-            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
-            slow_stroke={"positive": 1, "negative": -1, None: 0}[self.slow_stroke],
-            linear_density={k: v for k, v in dict(self.linear_density_kg_m).items() if v > 0},
-            slider_mass=self.slider_mass_kg, loads=loads,
-        )
 
 
 FunctionIn = Annotated[Union[CrankRockerFunctionIn, SliderCrankFunctionIn], Field(discriminator="type")]
@@ -152,11 +118,6 @@ class PricesIn(StrictModel):
     motors: dict[Annotated[str, Field(min_length=1, max_length=80)], Price] = Field(
         default_factory=dict, max_length=500, description="Catalogue name -> price of that motor [currency].",
         examples=[{"4A71A4": 140.0}])
-
-    def to_engine(self) -> synth.Prices:
-        """Engine prices."""
-        return synth.Prices(self.counterweight_per_kg, self.balancer_per_kg, self.flywheel_per_kg,
-                            self.gears_per_kg, self.motor_per_kg, dict(self.motors))
 
 
 class MachineOptimiseIn(StrictModel):
@@ -219,58 +180,8 @@ class MachineOptimiseIn(StrictModel):
                                                  "examples": [{**CRANK_ROCKER_OPTIMISE_EXAMPLE, **QUICK_SCAN},
                                                               {**SLIDER_CRANK_OPTIMISE_EXAMPLE, **QUICK_SCAN}]})
 
-    def to_engine(self, max_stages: int) -> synth.OptimiseSpec:
-        """Engine optimisation (degrees and rpm become radians and rad/s here)."""
-        if (self.delta is None) == (self.machine_type is None):
-            raise synth.InvalidInput("give delta or machine_type (one of them)", field="delta")
-        if (self.objective is None) == (self.weights is None):
-            raise synth.InvalidInput("give objective or weights (one of them)", field="objective")
-        delta = self.delta if self.delta is not None else synth.admissible_delta(str(self.machine_type))
-        motion = "rotation" if isinstance(self.function, CrankRockerFunctionIn) else "translation"
-        loads = tuple(load.to_engine(motion) for load in self.loads)
-        weights = {self.objective: 1.0} if self.objective is not None else dict(self.weights or {})
-        return synth.OptimiseSpec(
-            function=self.function.to_spec(loads), speed=self.speed_rpm * math.pi / 30.0,
-            drive=self.drive.to_engine(max_stages), delta=delta, balancing=self.balancing.to_engine(),
-            flywheel=synth.FlywheelChoice(self.flywheel.placement, self.flywheel.geometry.to_engine()),
-            samples=self.samples, speed_tolerance=self.speed_tolerance,
-            weights={str(k): v for k, v in weights.items()}, max_rms_shaking_force=self.max_rms_shaking_force_N,
-            max_rms_shaking_moment=self.max_rms_shaking_moment_Nm, pareto=(self.pareto[0], self.pareto[1]),
-            scan=self.scan_members, search_cells=MAX_SCAN if self.search_cells == "all" else self.search_cells,
-            friction=pair_frictions(self.friction), brake_torque=self.brake_torque_Nm,
-            start_under_load=self.start_under_load, max_startup_time=self.max_startup_time_s,
-            max_rundown_time=self.max_rundown_time_s, prices=self.prices.to_engine(),
-        )
-
-
-def mechanism_json(linkage: synth.Linkage) -> dict[str, Any]:
-    """A family member as the `mechanism` of a /v1/machines/design request (lengths [m], link masses)."""
-    mech = linkage.mechanism
-    links = {name: {"mass_kg": p.mass, "com_m": [p.com[0], p.com[1]], "inertia_kgm2": p.inertia}
-             for name, p in linkage.links.items()}
-    if isinstance(mech, synth.FourBar):
-        return {"type": "fourbar", "ground_length_m": mech.ground, "crank_length_m": mech.crank,
-                "coupler_length_m": mech.coupler, "rocker_length_m": mech.rocker, "branch": mech.branch,
-                "links": links}
-    assert isinstance(mech, synth.SliderCrank)
-    return {"type": "slider_crank", "crank_length_m": mech.crank, "rod_length_m": mech.rod,
-            "offset_m": mech.offset, "branch": mech.branch, "links": links}
-
 
 MemberMechanism = Annotated[Union[FourBarIn, SliderCrankIn], Field(discriminator="type")]
-
-
-def mechanism_out(linkage: synth.Linkage) -> FourBarIn | SliderCrankIn:
-    """A family member as the `mechanism` model of a /v1/machines/design request."""
-    body = mechanism_json(linkage)
-    return FourBarIn.model_validate(body) if body["type"] == "fourbar" else SliderCrankIn.model_validate(body)
-
-
-def member_linkage(spec: Any, u: float) -> Any:
-    """The family member at ``u`` of an optimisation spec (engine objects)."""
-    from synth.machine.optimise import member_linkage as engine_member
-
-    return engine_member(spec, u)
 
 
 class FamilyMemberOut(BaseModel):
@@ -301,19 +212,6 @@ class FamilyMemberOut(BaseModel):
                                               "/v1/machines/design request (that request with the optimisation's "
                                               "machine around it designs this member).")
 
-    @classmethod
-    def from_engine(cls, m: Any, linkage: synth.Linkage | None = None) -> FamilyMemberOut:
-        """Schema from an engine member score and its linkage."""
-        v = m.values
-        return cls(parameter=m.parameter, stage=m.stage, feasible=m.feasible, reason=m.reason,
-                   motor_power_W=None if v is None else v[0], added_mass_kg=None if v is None else v[1],
-                   rms_shaking_force_N=None if v is None else v[2], rms_shaking_moment_Nm=m.rms_shaking_moment,
-                   machine_mass_kg=None if v is None else _finite(v[3]),
-                   cost=None if v is None else _finite(v[4]),
-                   machine_mass_bound_kg=None if m.lower_values is None else _finite(m.lower_values[3]),
-                   motor=None if m.choice is None else m.choice[0],
-                   mechanism=None if linkage is None else mechanism_out(linkage))
-
 
 class MachinePartsOut(BaseModel):
     """What the optimised machine weighs, part by part, and what it costs."""
@@ -330,13 +228,6 @@ class MachinePartsOut(BaseModel):
     motor_price: float = Field(description="The motor's price: its own in prices.motors, else its mass at "
                                "prices.motor_per_kg [currency].")
     cost: float = Field(description="Every part at its price [currency].")
-
-    @classmethod
-    def from_engine(cls, p: Any, prices: Any) -> MachinePartsOut:
-        """Schema from the engine's parts and prices."""
-        return cls(counterweights_kg=p.counterweights, balancers_kg=p.balancers, flywheel_kg=p.flywheel,
-                   gears_kg=p.gears or 0.0, motor_kg=p.motor, motor=p.motor_name, machine_mass_kg=p.mass,
-                   motor_price=p.motor_price(prices), cost=p.cost(prices))
 
 
 class GainOut(BaseModel):
@@ -395,29 +286,6 @@ class OptimiseCertificateOut(BaseModel):
                                            "the end of its feasible run, checks within 2 % of their limit "
                                            "(delta, motor_rms_torque, motor_peak_torque), the shaking limits.")
 
-    @classmethod
-    def from_engine(cls, c: Any) -> OptimiseCertificateOut:
-        """Schema from the engine's certificate."""
-        s = c.scan
-        return cls(statement=c.statement, parameter_range=list(s.parameter_range), kinematic_members=s.grid_points,
-                   kinematic_feasible=s.feasible_points, feasible_runs=[list(r) for r in s.runs],
-                   members_designed=c.members_designed, feasible_designed=c.feasible_designed,
-                   scan_members=len(s.candidates),
-                   refinements=[RefinementOut(
-                       lo=r.lo, hi=r.hi, start=r.start, status=r.status, bound=_finite(r.bound), plateaus=r.plateaus,
-                       evaluations=r.evaluations, best_parameter=r.best_parameter,
-                       motor=None if r.choice is None else r.choice[0],
-                       teeth=None if r.choice is None else [list(p) for p in r.choice[1]]) for r in c.refinements],
-                   cells_found=len(c.refinements),
-                   cells_searched=sum(r.status == "searched" for r in c.refinements),
-                   cells_pruned=sum(r.status == "pruned" for r in c.refinements),
-                   cells_unsearched=sum(r.status == "unsearched" for r in c.refinements),
-                   gap_bound=c.gap_bound, binding_constraints=list(c.binding))
-
-
-def _finite(v: float) -> float | None:
-    return v if math.isfinite(v) else None
-
 
 class MachineOptimiseOut(BaseModel):
     """The machine optimised as a whole: its design as /v1/machines/design answers it, the family member, the
@@ -444,25 +312,6 @@ class MachineOptimiseOut(BaseModel):
     members: list[FamilyMemberOut] = Field(description="Every member the chain designed, by parameter.")
     parts: MachinePartsOut | None = Field(None, description="The optimised machine's parts: their masses, the "
                                           "machine's mass and its cost.")
-
-    @classmethod
-    def from_engine(cls, r: synth.MachineOptimum) -> MachineOptimiseOut:
-        """Schema from the engine's optimum."""
-        return cls(
-            design=MachineDesignOut.from_engine(r.design),
-            mechanism=mechanism_out(r.design.spec.linkage), parameter=r.parameter, weights=dict(r.spec.weights),
-            score=r.score, chain_score=r.chain_score, chain_parameter=r.certificate.scan.chain_parameter,
-            chain_mechanism=mechanism_out(r.chain_linkage),
-            chain_reason=r.chain_reason,
-            gains=[GainOut(objective=g.objective, unit=g.unit, chain=_finite(g.chain), optimum=g.optimum,
-                           gain=_finite(g.gain), relative_gain=_finite(g.relative)) for g in r.gains],
-            certificate=OptimiseCertificateOut.from_engine(r.certificate),
-            pareto_objectives=list(r.pareto_objectives),
-            pareto=[FamilyMemberOut.from_engine(m) for m in r.pareto],
-            members=[FamilyMemberOut.from_engine(m, member_linkage(r.spec, m.parameter))
-                     for m in sorted(r.members, key=lambda m: m.parameter)],
-            parts=None if r.parts is None else MachinePartsOut.from_engine(r.parts, r.spec.prices),
-        )
 
 
 # Bounds of POST /v1/machines/optimise-linkage (synth.machine.optimise_linkage's), spelled here so that the schema
@@ -510,12 +359,6 @@ class BandIn(StrictModel):
     min: float = Field(ge=0, le=1e4, description="Least value.", examples=[0.18])
     max: float = Field(ge=0, le=1e4, description="Largest value.", examples=[0.26])
 
-    def pair(self, field: str, scale: float = 1.0) -> tuple[float, float]:
-        """(min, max) times ``scale``; InvalidInput naming ``field`` when min > max."""
-        if self.min > self.max:
-            raise synth.InvalidInput("a band needs min <= max", field=f"{field}.min")
-        return (self.min * scale, self.max * scale)
-
 
 class LinkageOptimiseIn(StrictModel):
     """Any linkage's free dimensions chosen with its machine: the machine as /v1/machines/design takes it (its
@@ -548,29 +391,6 @@ class LinkageOptimiseIn(StrictModel):
 
     model_config = ConfigDict(json_schema_extra={"allOf": [exactly_one("objective", "weights")],
                                                  "examples": [{**SIX_BAR_OPTIMISE_EXAMPLE, **LINKAGE_QUICK}]})
-
-    def to_engine(self, max_stages: int) -> Any:
-        """Engine spec (degrees become radians here)."""
-        from synth.machine.optimise_linkage import FreeDimension, LinkageFunction, LinkageOptimiseSpec
-
-        if (self.objective is None) == (self.weights is None):
-            raise synth.InvalidInput("give objective or weights (one of them)", field="objective")
-        if self.machine.mechanism.type != "linkage":
-            raise synth.InvalidInput("free dimensions need a general linkage (type linkage)",
-                                     field="machine.mechanism.type")
-        if self.stroke_m is not None and self.swing_deg is not None:
-            raise synth.InvalidInput("give stroke_m (a sliding output) or swing_deg (a turning one), not both",
-                                     field="swing_deg")
-        travel = (self.stroke_m.pair("stroke_m") if self.stroke_m is not None
-                  else self.swing_deg.pair("swing_deg", math.pi / 180) if self.swing_deg is not None else None)
-        weights = {self.objective: 1.0} if self.objective is not None else dict(self.weights or {})
-        return LinkageOptimiseSpec(
-            machine=self.machine.to_engine(max_stages),
-            free=tuple(FreeDimension(d.path, d.min, d.max) for d in self.free),
-            function=LinkageFunction(travel, None if self.time_ratio is None else self.time_ratio.pair("time_ratio"),
-                                     math.radians(self.min_transmission_angle_deg)),
-            weights={str(k): v for k, v in weights.items()}, samples=self.samples, refined=self.refined,
-            refine_runs=self.refine_runs, prices=self.prices.to_engine())
 
     def mechanism_with(self, x: Any) -> dict[str, Any]:
         """The request's linkage with the free numbers set to ``x``, as the `mechanism` of a request."""
@@ -642,44 +462,3 @@ class LinkageOptimiseOut(BaseModel):
     certificate: LinkageCertificateOut = Field(description="The certificate: members sampled, feasible, designed "
                                                "and refined, and its statement.")
     members: list[LinkageMemberOut] = Field(description="Every member, sample then refinement.")
-
-    @classmethod
-    def from_engine(cls, r: Any, body: dict[str, Any]) -> LinkageOptimiseOut:
-        """Schema from the engine's optimum and the request (as JSON)."""
-        req = LinkageOptimiseIn.model_validate(body)
-        turning = req.swing_deg is not None or (req.stroke_m is None and _turns(req))
-        k = 180 / math.pi if turning else 1.0
-        names = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
-
-        def member(m: Any) -> LinkageMemberOut:
-            kin = m.kinematics
-            ok = math.isfinite(kin.travel)
-            return LinkageMemberOut(
-                x=list(m.x), stage=m.stage, feasible=m.feasible, reason=m.reason,
-                stroke_or_swing=kin.travel * k if ok else None, time_ratio=_finite(kin.time_ratio) if ok else None,
-                min_transmission_angle_deg=math.degrees(kin.min_transmission_angle) if ok else None,
-                values=None if m.values is None else {n: _finite(v) for n, v in zip(names, m.values, strict=True)})
-
-        c = r.certificate
-        return cls(
-            design=MachineDesignOut.from_engine(r.design),
-            mechanism=PlanarLinkageIn.model_validate(req.mechanism_with(r.x)),
-            free=[FreeValueOut(path=d.path, value_m=float(v)) for d, v in zip(req.free, r.x, strict=True)],
-            stroke_or_swing=r.kinematics.travel * k, time_ratio=r.kinematics.time_ratio,
-            time_ratio_range=list(r.kinematics.time_ratio_span),
-            min_transmission_angle_deg=math.degrees(r.kinematics.min_transmission_angle),
-            values=dict(zip(names, r.values, strict=True)), score=r.score,
-            parts=MachinePartsOut.from_engine(r.parts, r.spec.prices),
-            certificate=LinkageCertificateOut(statement=c.statement, sampled=c.sampled,
-                                              kinematic_feasible=c.kinematic_feasible, designed=c.designed,
-                                              feasible=c.feasible, refined=c.refined, refine_runs=c.refine_runs,
-                                              gap_bound=c.gap_bound),
-            members=[member(m) for m in r.members])
-
-
-def _turns(req: LinkageOptimiseIn) -> bool:
-    """The linkage's output turns (a link with two points) rather than slides (a block)."""
-    mech = req.machine.mechanism
-    assert mech.type == "linkage"
-    out = mech.output or mech.links[-1].name
-    return len(next(k for k in mech.links if k.name == out).joints) > 1

@@ -8,8 +8,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ._engine import np, synth
-from .common import StrictModel, ValidityCheckOut, WarningOut, exactly_one, validity_out, warnings_out
+from .common import StrictModel, ValidityCheckOut, WarningOut, exactly_one
 
 MM = 1e-3
 UM = 1e-6
@@ -31,11 +30,6 @@ class _DutyFields(StrictModel):
     min_safety_root: float = Field(1.4, gt=0, le=10, description="S_Fmin, least tooth-root safety factor [-].")
     pitting_permitted: bool = Field(False, description="Use the S-N line of ISO 6336-2 that admits limited "
                                     "pitting (steels only).")
-
-    def duty(self) -> synth.Duty:
-        """Engine service conditions."""
-        return synth.Duty(self.application_factor, self.life_h, self.min_safety_contact, self.min_safety_root,
-                          self.pitting_permitted)
 
 
 class LoadSpectrumIn(StrictModel):
@@ -105,33 +99,9 @@ class RatingIn(_DutyFields):
             raise ValueError("give pinion_torque_Nm or load_spectrum, not both")
         return self
 
-    def to_engine(self) -> synth.GearPairSpec:
-        """Engine pair (mm, µm, deg and mm²/s become SI here)."""
-        return synth.GearPairSpec(
-            self.pinion_teeth, self.gear_teeth, self.normal_module_mm * MM, self.face_width_mm * MM,
-            math.radians(self.helix_angle_deg), (self.pinion_profile_shift, self.gear_profile_shift),
-            None if self.centre_distance_mm is None else self.centre_distance_mm * MM, self.accuracy_grade,
-            (self.pinion_material, self.gear_material), self.oil_viscosity_40C_mm2_s * 1e-6,
-            self.flank_roughness_Ra_um * UM, self.root_roughness_Rz_um * UM,
-            None if self.tip_relief_um is None else self.tip_relief_um * UM, self.face_load_factor,
-            synth.BasicRack(1.0, self.rack_dedendum, self.rack_root_radius,
-                            math.radians(self.normal_pressure_angle_deg)),
-            self.max_face_width_ratio,
-            (None if self.pinion_rim_thickness_mm is None else self.pinion_rim_thickness_mm * MM,
-             None if self.gear_rim_thickness_mm is None else self.gear_rim_thickness_mm * MM))
-
     def speed(self) -> float:
         """Pinion speed [rad/s]."""
         return self.pinion_speed_rpm * RPM
-
-    def spectrum(self) -> np.ndarray:
-        """The spectrum's torques [N·m]."""
-        assert self.load_spectrum is not None
-        return np.asarray(self.load_spectrum.torque_Nm, dtype=float)
-
-
-def _mm(v: tuple[float, float]) -> list[float]:
-    return [v[0] / MM, v[1] / MM]
 
 
 def mpa(v: tuple[float, float]) -> list[float]:
@@ -158,16 +128,6 @@ class PairGeometryOut(BaseModel):
     overlap_ratio: float = Field(description="epsilon_beta = b sin beta / (pi m_n) [-].")
     total_contact_ratio: float = Field(description="epsilon_gamma [-].")
     virtual_teeth: list[float] = Field(description="z_n = z / (cos² beta_b cos beta) [-].")
-
-    @classmethod
-    def from_engine(cls, g: synth.PairGeometry) -> PairGeometryOut:
-        """Schema from engine geometry (m and rad become mm and deg here)."""
-        return cls(transverse_pressure_angle_deg=math.degrees(g.alpha_t),
-                   working_pressure_angle_deg=math.degrees(g.alpha_wt), base_helix_angle_deg=math.degrees(g.beta_b),
-                   centre_distance_mm=g.a / MM, centre_distance_from_shifts_mm=g.a_shift / MM, ratio=g.ratio,
-                   reference_diameters_mm=_mm(g.d), base_diameters_mm=_mm(g.db), tip_diameters_mm=_mm(g.da),
-                   root_diameters_mm=_mm(g.df), working_diameters_mm=_mm(g.dw), transverse_contact_ratio=g.eps_alpha,
-                   overlap_ratio=g.eps_beta, total_contact_ratio=g.eps_gamma, virtual_teeth=list(g.zn))
 
 
 class FactorOut(BaseModel):
@@ -208,10 +168,6 @@ class SpectrumOut(BaseModel):
                                                    "damage [N·m].")
 
 
-def _finite_or_none(v: tuple[float, float]) -> list[float | None]:
-    return [x if math.isfinite(x) else None for x in v]
-
-
 class RatingOut(BaseModel):
     """ISO 6336 method B rating of the pair; every list is [pinion, gear]."""
 
@@ -244,41 +200,6 @@ class RatingOut(BaseModel):
     validity: list[ValidityCheckOut] = Field(default_factory=list, description="Each condition the rating needs "
                                              "against its limit.")
 
-    @classmethod
-    def from_engine(cls, r: synth.RatingResult | synth.SpectrumRating) -> RatingOut:
-        """Schema from an engine rating or spectrum rating."""
-        spectrum = None
-        if isinstance(r, synth.SpectrumRating):
-            s = r
-            spectrum = SpectrumOut(
-                samples=s.samples, rms_torque_Nm=s.rms_torque, mean_torque_Nm=s.mean_torque,
-                damage_contact=list(s.damage_contact), damage_root=list(s.damage_root),
-                life_contact_h=_finite_or_none(s.life_contact), life_root_h=_finite_or_none(s.life_root),
-                safety_contact=list(s.safety_contact), safety_root=list(s.safety_root),
-                equivalent_torque_contact_Nm=list(s.equivalent_torque_contact),
-                equivalent_torque_root_Nm=list(s.equivalent_torque_root))
-            rating = s.peak
-            sh, sf = s.safety_contact, s.safety_root
-        else:
-            rating, sh, sf = r, r.safety_contact, r.safety_root
-        d = rating.duty
-        return cls(
-            geometry=PairGeometryOut.from_engine(rating.geometry), pinion_torque_Nm=rating.pinion_torque,
-            tangential_force_N=rating.tangential_force, pitch_line_velocity_m_s=rating.pitch_line_velocity,
-            load_cycles=list(rating.load_cycles), nominal_contact_stress_MPa=rating.nominal_contact_stress / MPA,
-            contact_stress_MPa=mpa(rating.contact_stress), contact_limit_MPa=mpa(rating.contact_limit),
-            permissible_contact_stress_MPa=mpa(rating.permissible_contact),
-            nominal_root_stress_MPa=mpa(rating.nominal_root_stress), root_stress_MPa=mpa(rating.root_stress),
-            root_limit_MPa=mpa(rating.root_limit), permissible_root_stress_MPa=mpa(rating.permissible_root),
-            safety_contact=list(rating.safety_contact), safety_root=list(rating.safety_root),
-            meets_minimum=min(sh) >= d.min_safety_contact and min(sf) >= d.min_safety_root,
-            factors=[FactorOut(symbol=f.symbol, name=f.name, pinion=f.pinion, gear=f.gear, unit=f.unit)
-                     for f in rating.factors],
-            spectrum=spectrum,
-            checks=RatingChecksOut(hertz_contact_stress_MPa=rating.checks.hertz_contact_stress / MPA,
-                                   power_balance=rating.checks.power_balance),
-            warnings=warnings_out(rating.warnings), validity=validity_out(rating.validity))
-
 
 class GearMaterialOut(BaseModel):
     """A material grade of the shipped table."""
@@ -292,13 +213,6 @@ class GearMaterialOut(BaseModel):
     elastic_modulus_MPa: float = Field(description="Young's modulus [MPa].")
     poisson: float = Field(description="Poisson's ratio [-].")
     density_kg_m3: float = Field(description="Density [kg/m³].")
-
-    @classmethod
-    def from_engine(cls, m: synth.GearMaterial) -> GearMaterialOut:
-        """Schema from an engine grade."""
-        return cls(name=m.name, group=m.group, description=m.description, sigma_Hlim_MPa=m.sigma_Hlim / MPA,
-                   sigma_Flim_MPa=m.sigma_Flim / MPA, hardness_HB=m.hardness_HB,
-                   elastic_modulus_MPa=m.elastic_modulus / MPA, poisson=m.poisson, density_kg_m3=m.density)
 
 
 class StrengthIn(_DutyFields):
@@ -318,15 +232,6 @@ class StrengthIn(_DutyFields):
     max_face_width_ratio: float = Field(1.0, gt=0, le=2, description="Largest face width in pinion diameters [-].")
     objective: Literal["mass", "centre_distance"] = Field("mass", description="Least mass of the wheels, or "
                                                           "least sum of centre distances.")
-
-    def to_engine(self) -> synth.SizingRules:
-        """Engine sizing rules."""
-        return synth.SizingRules(
-            (self.pinion_material, self.gear_material),
-            None if self.helix_angle_deg is None else math.radians(self.helix_angle_deg), self.pinion_teeth,
-            self.accuracy_grade, self.oil_viscosity_40C_mm2_s * 1e-6, duty=self.duty(), series=self.module_series,
-            min_face_width_ratio=self.min_face_width_ratio, max_face_width_ratio=self.max_face_width_ratio,
-            objective=self.objective)
 
 
 class SizedStageOut(BaseModel):
@@ -353,23 +258,3 @@ class SizedStageOut(BaseModel):
                                             "there is none.")
     smaller_module_fails: str | None = Field(description="What that module fails at the same face width (a "
                                              "constraint name, or the geometry field); null when there is none.")
-
-    @classmethod
-    def from_engine(cls, s: synth.SizedStage) -> SizedStageOut:
-        """Schema from an engine sized stage (m become mm here)."""
-        return cls(stage=s.stage, module_mm=round(s.module / MM, 9), pinion_teeth=s.pinion_teeth,
-                   gear_teeth=s.gear_teeth, ratio=s.ratio, helix_angle_deg=math.degrees(s.helix_angle),
-                   face_width_mm=s.face_width / MM, centre_distance_mm=s.centre_distance / MM,
-                   reference_diameters_mm=[d / MM for d in s.diameters],
-                   tip_diameters_mm=[d / MM for d in s.tip_diameters], mass_kg=s.mass,
-                   safety_contact=list(s.safety_contact), safety_root=list(s.safety_root),
-                   pinion_torque_Nm=s.rating.pinion_torque, binding=s.binding, margins=dict(s.margins),
-                   smaller_module_mm=None if s.smaller_module is None else round(s.smaller_module[0] / MM, 9),
-                   smaller_module_fails=None if s.smaller_module is None else s.smaller_module[1])
-
-
-def sized_stages_out(t: synth.TrainSizing | None) -> list[SizedStageOut | None] | None:
-    """Per-stage schemas of a sized train (null for a stage that is not a cylindrical pair)."""
-    if t is None:
-        return None
-    return [None if s is None else SizedStageOut.from_engine(s) for s in t.stages]

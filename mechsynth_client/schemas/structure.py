@@ -7,7 +7,6 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 from pydantic.config import JsonDict
 
-from ._engine import synth
 from .common import PlanarLinkageIn, StrictModel
 
 Name = Annotated[str, Field(min_length=1, max_length=40)]
@@ -38,10 +37,6 @@ class PairIn(StrictModel):
     dof: int | None = Field(None, ge=1, le=5, description="Spatial: relative freedoms H = 6 - S.")
     higher: bool | None = Field(None, description="Point or line contact; default: classes I and II, planar "
                                 "higher pairs.")
-
-    def to_engine(self) -> synth.Pair:
-        """Engine pair."""
-        return synth.Pair(self.name, (self.links[0], self.links[1]), self.kind, self.pair_class, self.dof, self.higher)
 
 
 DOUBLE_PARALLELOGRAM_EXAMPLE: JsonDict = {
@@ -101,15 +96,6 @@ class StructureIn(StrictModel):
                    {"name": "C", "links": ["2", "3"], "pair_class": 4},
                    {"name": "D", "links": ["3", "frame"], "pair_class": 3}]},
     ]})
-
-    def run(self) -> synth.Structure:
-        """Engine call arguments as one structure analysis."""
-        if self.mechanism is not None:
-            return synth.linkage_structure(self.mechanism.to_mechanism())
-        assert self.links is not None and self.pairs is not None
-        return synth.analyse_structure(self.links, [p.to_engine() for p in self.pairs], frame=self.frame,
-                                       planar=self.planar, input_links=self.input_links,
-                                       known_mobility=self.known_mobility)
 
 
 class PairOut(BaseModel):
@@ -185,31 +171,3 @@ class StructureOut(BaseModel):
                       "(with passive links: which pairs are redundant).")
     geometry: MobilityGeometryOut | None = Field(None, description="With `mechanism` and passive links: the mobility from "
                                          "the geometry and the redundant pairs; null otherwise.")
-
-    @classmethod
-    def from_engine(cls, s: synth.Structure) -> StructureOut:
-        """Schema from an engine structure."""
-        roman = synth.structure.ROMAN
-        return cls(
-            moving_links=s.moving_links,
-            pairs=[PairOut(name=p.name, links=list(p.links), constraints=p.constraints, dof=p.dof,
-                           pair_class=p.pair_class, higher=p.higher) for p in s.pairs],
-            pair_counts={f"p{k + 1}": c for k, c in enumerate(s.pair_counts)},
-            mobility_somov_malyshev=s.mobility_somov, mobility_chebyshev=s.mobility_chebyshev,
-            redundant_constraints=s.redundant_constraints, primary_links=list(s.primary_links),
-            primary_pairs=list(s.primary_pairs), primary_mobility=s.primary_mobility,
-            assur_groups=None if s.groups is None else [
-                AssurGroupOut(links=list(g.links), pairs=list(g.pairs), n=g.n, p5=g.p5, mobility=g.mobility,
-                              group_class=roman[g.group_class], order=g.order,
-                              statically_determinate=g.statically_determinate,
-                              placement=None if s.placements is None else s.placements[i])  # type: ignore[arg-type]
-                for i, g in enumerate(s.groups)],
-            mechanism_class=None if s.mechanism_class is None else roman[s.mechanism_class],
-            replaced_higher_pairs=list(s.replaced_higher_pairs), note=s.note,
-            geometry=None if s.geometry is None else MobilityGeometryOut(
-                mobility_geometric=s.geometry.mobility_geometric, jacobian_rank=s.geometry.rank,
-                constraint_rows=s.geometry.rows, samples=s.geometry.samples,
-                passive_links=[p.link for p in s.geometry.passive],
-                redundant_pairs=list(s.geometry.redundant_pairs), dependent_pairs=list(s.geometry.dependent_pairs),
-                max_residual_m=s.geometry.max_residual, explanation=s.geometry.explanation()),
-        )

@@ -6,7 +6,6 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from ._engine import synth
 from .common import FOURBAR_EXAMPLE, StrictModel, at_least_one, exactly_one, service_limit
 
 Path = Annotated[str, Field(min_length=1, max_length=200, pattern=r"^[A-Za-z0-9_\-]+(\.[A-Za-z0-9_\-]+)*$",
@@ -117,10 +116,6 @@ class StudyIn(StrictModel):
             stack.extend((child, depth + 1) for child in children if isinstance(child, (dict, list)))
         return base
 
-    def to_engine(self) -> synth.Study:
-        """The engine's study (checks paths, objectives and constraints against the metrics)."""
-        return synth.study_from_dict(self.model_dump())
-
 
 class StudyLinks(BaseModel):
     """Where to find a study's parts."""
@@ -152,17 +147,6 @@ class StudyOut(BaseModel):
     position: int | None = Field(None, description="While queued: its place in the queue of studies waiting to "
                                                    "run, 1 for the next to start; null otherwise.")
 
-    @classmethod
-    def from_record(cls, r: synth.StudyRecord, position: int | None = None) -> StudyOut:
-        """Schema from the stored study, with its place in the queue while it waits."""
-        base = f"/v1/studies/{r.id}"
-        return cls(id=r.id, name=r.spec.get("name"), endpoint=r.spec["endpoint"], state=r.state,  # type: ignore[arg-type]
-                   total=r.total, done=r.done, failed=r.failed, elapsed_s=round(r.elapsed_s, 3),
-                   eta_s=None if r.eta_s is None else round(r.eta_s, 1), created_at=r.created_at,
-                   message=r.message, links=StudyLinks(self=base, results=f"{base}/results", pareto=f"{base}/pareto"),
-                   owner=str(r.spec.get("owner") or "anonymous"),
-                   position=position if r.state == "queued" else None)
-
 
 class VariantOut(BaseModel):
     """One variant: its parameter values and metrics, or the problem it ended with."""
@@ -175,14 +159,6 @@ class VariantOut(BaseModel):
     feasible: bool | None = Field(description="Within every constraint; null when the variant failed.")
     problem_type: str | None = Field(None, description="Problem type URI, as the endpoint would answer it.")
     detail: str | None = Field(None, description="The problem's message when the variant failed; null otherwise.")
-
-    @classmethod
-    def from_row(cls, row: synth.VariantRow, paths: list[str], metrics: list[str]) -> VariantOut:
-        """Schema from a stored row."""
-        return cls(index=row.index, parameters=dict(zip(paths, row.values)),
-                   metrics=None if row.metrics is None else dict(zip(metrics, row.metrics)),
-                   feasible=row.feasible, problem_type=None if row.ok else f"/problems/{row.problem_type}",
-                   detail=row.detail)
 
 
 class ResultsOut(BaseModel):
@@ -199,13 +175,6 @@ class ResultsOut(BaseModel):
     variants: list[VariantOut] = Field(description="The results on this page, in index order; a variant still "
                                        "waiting or running has none yet.")
 
-    @classmethod
-    def from_page(cls, r: synth.StudyRecord, rows: list[synth.VariantRow], offset: int, limit: int) -> ResultsOut:
-        """Schema from a stored page of rows."""
-        paths, metrics = _columns(r)
-        return cls(id=r.id, total=r.total, done=r.done, offset=offset, limit=limit, parameters=paths, metrics=metrics,
-                   variants=[VariantOut.from_row(row, paths, metrics) for row in rows])
-
 
 class ParetoOut(BaseModel):
     """The feasible variants no other feasible variant beats in every objective."""
@@ -215,14 +184,3 @@ class ParetoOut(BaseModel):
         description="Each objective metric and whether it is minimised or maximised.")
     candidates: int = Field(description="Feasible variants the front was chosen from.")
     front: list[VariantOut] = Field(description="The non-dominated feasible variants, in index order.")
-
-    @classmethod
-    def from_front(cls, r: synth.StudyRecord, candidates: int, rows: list[synth.VariantRow]) -> ParetoOut:
-        """Schema from the rows on the front."""
-        paths, metrics = _columns(r)
-        return cls(id=r.id, objectives=r.spec["objectives"], candidates=candidates,
-                   front=[VariantOut.from_row(row, paths, metrics) for row in rows])
-
-
-def _columns(r: synth.StudyRecord) -> tuple[list[str], list[str]]:
-    return [p["path"] for p in r.spec["parameters"]], list(r.spec["metrics"])

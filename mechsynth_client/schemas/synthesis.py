@@ -7,29 +7,10 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ._engine import np, synth
 from .analysis import TracePointIn
-from .common import (
-    MAX_LENGTH_M,
-    MIN_LENGTH_M,
-    Coordinate,
-    FourBarIn,
-    FourBarLinks,
-    Length,
-    LinkIn,
-    LoadIn,
-    SliderCrankIn,
-    SliderCrankLinks,
-    BRANCHES,
-    StrictModel,
-    Vec2,
-    WarningOut,
-    one_of,
-    warnings_out,
-)
+from .common import Coordinate, FourBarIn, Length, LoadIn, SliderCrankIn, StrictModel, Vec2, WarningOut
 
 Objective = Literal["transmission_angle", "peak_driving_torque", "rms_shaking_force"]
-_OBJECTIVE_UNIT = {"transmission_angle": "deg", "peak_driving_torque": "N·m", "rms_shaking_force": "N"}
 # What the crank-rocker and the slider-crank answers share, described once.
 ObjectiveName = Annotated[str, Field(description="The objective the family was searched for.")]
 ObjectiveValue = Annotated[float, Field(description="Its value at the answer, in objective_unit: the smallest "
@@ -42,16 +23,6 @@ CrankSpeed = Annotated[float, Field(description="The request's crank speed [rad/
 # schema loads without the engine; a test keeps them equal.
 MAX_PATH_POINTS = 40
 MAX_PATH_STARTS = 256
-
-
-def _within_limits(bounds: dict[str, tuple[float, float]], names: tuple[str, ...],
-                   lowest: float = MIN_LENGTH_M) -> dict[str, tuple[float, float]]:
-    """The caller's ranges narrowed to what a `mechanism` may hold, so every answer is a valid request elsewhere."""
-    out = {}
-    for name in names:
-        lo, hi = bounds.get(name, (lowest, MAX_LENGTH_M))
-        out[name] = (max(lo, lowest), min(hi, MAX_LENGTH_M))
-    return out
 
 
 class RangeIn(StrictModel):
@@ -88,12 +59,6 @@ class _TimeRatio(StrictModel):
         if self.time_ratio is not None and self.overlap_angle_deg is not None:
             raise ValueError("give time_ratio or overlap_angle_deg, not both")
         return self
-
-    def q(self) -> float:
-        """The time ratio Q."""
-        if self.overlap_angle_deg is not None:
-            return synth.time_ratio_of(math.radians(self.overlap_angle_deg))
-        return 1.0 if self.time_ratio is None else self.time_ratio
 
 
 class _Dynamics(StrictModel):
@@ -154,21 +119,6 @@ class CrankRockerIn(_TimeRatio, _Dynamics):
          "loads": [{"type": "window", "torque_Nm": 4.0}], "min_transmission_angle_deg": 35},
     ]})
 
-    def to_spec(self) -> synth.CrankRockerSpec:
-        """Engine spec; degrees become radians here."""
-        bounds = _within_limits({n: r.pair() for n, r in self.bounds_m if r is not None},
-                                ("crank", "coupler", "rocker", "ground"))
-        density = {} if self.linear_density_kg_m is None else dict(self.linear_density_kg_m)
-        return synth.CrankRockerSpec(
-            swing=math.radians(self.swing_deg), time_ratio=self.q(), scale_link=self.scale_link,
-            scale_length=self.scale_length_m, bounds=bounds, max_length_ratio=self.max_length_ratio,
-            pivot_region=None if self.crank_pivot_region_m is None else self.crank_pivot_region_m.box(),
-            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
-            slow_stroke={"ccw": 1, "cw": -1, None: 0}[self.slow_stroke], objective=self.objective,
-            linear_density={k: v for k, v in density.items() if v > 0}, speed=self.omega_rad_s,
-            loads=tuple(load.to_engine("rotation") for load in self.loads), samples=self.samples,
-        )
-
 
 class SliderCrankBoundsIn(StrictModel):
     """Optional length ranges [m]; the offset's range is for its magnitude."""
@@ -203,22 +153,6 @@ class SliderCrankSynthesisIn(_TimeRatio, _Dynamics):
          "linear_density_kg_m": {"crank": 3, "rod": 2}, "slider_mass_kg": 1.5, "min_transmission_angle_deg": 60},
     ]})
 
-    def to_spec(self) -> synth.SliderCrankSpec:
-        """Engine spec; degrees become radians here."""
-        given = {n: r.pair() for n, r in self.bounds_m if r is not None}
-        # The offset needs no default range: the rod, bounded here, is longer than crank and offset together.
-        bounds = {**_within_limits(given, ("crank", "rod")),
-                  **(_within_limits(given, ("offset",), lowest=0.0) if "offset" in given else {})}
-        density = {} if self.linear_density_kg_m is None else dict(self.linear_density_kg_m)
-        return synth.SliderCrankSpec(
-            stroke=self.stroke_m, time_ratio=self.q(), bounds=bounds, max_length_ratio=self.max_length_ratio,
-            min_transmission_angle=math.radians(self.min_transmission_angle_deg),
-            slow_stroke={"positive": 1, "negative": -1, None: 0}[self.slow_stroke], objective=self.objective,
-            linear_density={k: v for k, v in density.items() if v > 0}, slider_mass=self.slider_mass_kg,
-            speed=self.omega_rad_s, loads=tuple(load.to_engine("translation") for load in self.loads),
-            samples=self.samples,
-        )
-
 
 class OptimalityOut(BaseModel):
     """Why the answer is the global optimum of its one-parameter family."""
@@ -238,24 +172,6 @@ class OptimalityOut(BaseModel):
                                       "finite.")
     conditions_met: bool = Field(description="The first-order optimality conditions of `kind` hold at the answer.")
 
-    @classmethod
-    def from_engine(cls, o: synth.Optimality, u: float, unit_scale: float) -> OptimalityOut:
-        """Schema from the engine's certificate; ``unit_scale`` converts the objective to its reported unit."""
-        def fin(v: float) -> float | None:
-            return float(v * unit_scale) if math.isfinite(v) else None
-
-        where = {"stationary": "a stationary point", "kink": "a kink where two limits meet",
-                 "bound": f"the bound {o.binding!r}"}[o.kind]
-        statement = (
-            f"{o.grid_points} members spread over the whole family, then {o.evaluations - o.grid_points} more where a "
-            f"Lipschitz bound left room for a better one; no member can beat the answer by more than "
-            f"{o.gap_bound * abs(unit_scale):.3g}. The answer, polished within its bracket, sits at {where}; first-order "
-            f"conditions {'hold' if o.conditions_met else 'do not hold'}."
-        )
-        return cls(statement=statement, parameter=u, family_evaluations=o.evaluations, grid_points=o.grid_points,
-                   gap_bound=o.gap_bound * abs(unit_scale), kind=o.kind, binding_constraint=o.binding,
-                   left_slope=fin(o.left_slope), right_slope=fin(o.right_slope), conditions_met=o.conditions_met)
-
 
 class TransmissionOut(BaseModel):
     """Transmission angle extremes over the cycle with the crank angles where they occur [deg]."""
@@ -264,14 +180,6 @@ class TransmissionOut(BaseModel):
     min_at_crank_deg: float = Field(description="Crank angle where it occurs, in [0, 360) [deg].")
     max_deg: float = Field(description="Largest transmission angle over the cycle [deg].")
     max_at_crank_deg: float = Field(description="Crank angle where it occurs, in [0, 360) [deg].")
-
-    @classmethod
-    def from_engine(cls, c: synth.LinkageCheck) -> TransmissionOut:
-        """Schema from an engine check."""
-        return cls(min_deg=math.degrees(c.min_transmission_angle),
-                   min_at_crank_deg=math.degrees(c.min_transmission_crank_angle),
-                   max_deg=math.degrees(c.max_transmission_angle),
-                   max_at_crank_deg=math.degrees(c.max_transmission_crank_angle))
 
 
 class StrokesOut(BaseModel):
@@ -284,14 +192,6 @@ class StrokesOut(BaseModel):
     slow_stroke_time_s: float = Field(description="Time of the slow (working) stroke [s].")
     fast_stroke_time_s: float = Field(description="Time of the fast (return) stroke [s].")
 
-    @classmethod
-    def from_engine(cls, c: synth.LinkageCheck, speed: float) -> StrokesOut:
-        """Schema from an engine check at crank speed ``speed`` [rad/s]."""
-        slow, fast = c.stroke_times(speed)
-        return cls(time_ratio=c.time_ratio, overlap_angle_deg=math.degrees(synth.overlap_angle(c.time_ratio)),
-                   slow_stroke_crank_deg=[math.degrees(a) for a in c.slow_stroke],
-                   cycle_time_s=slow + fast, slow_stroke_time_s=slow, fast_stroke_time_s=fast)
-
 
 class CrankRockerCheckOut(StrokesOut):
     """Swing, time ratio and transmission angles recomputed by the analysis engine."""
@@ -300,15 +200,6 @@ class CrankRockerCheckOut(StrokesOut):
     rocker_angle_deg: list[float] = Field(description="Rocker angle at the start and the end of the slow stroke [deg].")
     rocker_tip_chord_m: float = Field(description="Straight distance between the rocker tip's extreme positions [m].")
     transmission_angle: TransmissionOut = Field(description="Extremes of the angle between coupler and rocker.")
-
-
-def _links(lengths: dict[str, float], density: dict[str, float]) -> dict[str, LinkIn]:
-    out = {}
-    for name, rho in density.items():
-        if rho > 0:
-            m, length = rho * lengths[name], lengths[name]
-            out[name] = LinkIn(mass_kg=m, com_m=[0.5 * length, 0.0], inertia_kgm2=m * length**2 / 12.0)
-    return out
 
 
 class CrankRockerOut(BaseModel):
@@ -330,30 +221,6 @@ class CrankRockerOut(BaseModel):
                                        "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
                                        "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg`, "
                                        "`max_length_ratio` or `bounds_m` to keep them out.")
-
-    @classmethod
-    def from_engine(cls, r: synth.CrankRockerResult, speed: float) -> CrankRockerOut:
-        """Schema from the engine result at crank speed ``speed`` [rad/s]."""
-        fb, c = r.fourbar, r.check
-        props = r.linkage.links
-        links = FourBarLinks(**{n: LinkIn(mass_kg=p.mass, com_m=list(p.com), inertia_kgm2=p.inertia)
-                                for n, p in props.items()})
-        deg = r.objective == "transmission_angle"
-        return cls(
-            mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
-                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch), links=links),
-            grashof=fb.grashof, objective=r.objective,
-            objective_value=math.degrees(r.objective_value) if deg else r.objective_value,
-            objective_unit=_OBJECTIVE_UNIT[r.objective], crank_pivot_m=list(r.crank_pivot), crank_speed_rad_s=speed,
-            check=CrankRockerCheckOut(
-                **StrokesOut.from_engine(c, speed).model_dump(), swing_deg=math.degrees(c.travel),
-                rocker_angle_deg=[math.degrees(a) for a in c.output_extremes],
-                rocker_tip_chord_m=2.0 * fb.rocker * math.sin(0.5 * c.travel),
-                transmission_angle=TransmissionOut.from_engine(c)),
-            optimality=OptimalityOut.from_engine(r.optimality, r.parameter,
-                                                 math.degrees(1.0) if deg else -1.0),
-            warnings=warnings_out(c.warnings),
-        )
 
 
 class SliderCrankCheckOut(StrokesOut):
@@ -381,25 +248,6 @@ class SliderCrankSynthesisOut(BaseModel):
                                        "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
                                        "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg`, "
                                        "`max_length_ratio` or `bounds_m` to keep them out.")
-
-    @classmethod
-    def from_engine(cls, r: synth.SliderCrankResult, speed: float) -> SliderCrankSynthesisOut:
-        """Schema from the engine result at crank speed ``speed`` [rad/s]."""
-        sc, c = r.slider_crank, r.check
-        links = SliderCrankLinks(**{n: LinkIn(mass_kg=p.mass, com_m=list(p.com), inertia_kgm2=p.inertia)
-                                    for n, p in r.linkage.links.items()})
-        deg = r.objective == "transmission_angle"
-        return cls(
-            mechanism=SliderCrankIn(crank_length_m=sc.crank, rod_length_m=sc.rod, offset_m=sc.offset,
-                                    branch=one_of(BRANCHES, sc.branch), links=links),
-            objective=r.objective, objective_value=math.degrees(r.objective_value) if deg else r.objective_value,
-            objective_unit=_OBJECTIVE_UNIT[r.objective], crank_speed_rad_s=speed,
-            check=SliderCrankCheckOut(
-                **StrokesOut.from_engine(c, speed).model_dump(), stroke_m=c.travel,
-                slider_position_m=list(c.output_extremes), transmission_angle=TransmissionOut.from_engine(c)),
-            optimality=OptimalityOut.from_engine(r.optimality, r.parameter, math.degrees(1.0) if deg else -1.0),
-            warnings=warnings_out(c.warnings),
-        )
 
 
 class PathBoundsIn(StrictModel):
@@ -439,23 +287,6 @@ class PathIn(StrictModel):
          "starts": 16, "seed": 1},
     ]})
 
-    def to_spec(self, time_limit_s: float) -> synth.PathSpec:
-        """Engine spec with the default limits filled in; degrees become radians here."""
-        targets = np.array(self.points_m, dtype=float)
-        bounds, box, cp_max = synth.default_path_limits(targets)
-        bounds.update({n: r.pair() for n, r in self.bounds_m if r is not None})
-        return synth.PathSpec(
-            targets=targets,
-            crank_angles=None if self.crank_angle_deg is None else np.radians(self.crank_angle_deg),
-            bounds=_within_limits(bounds, ("crank", "coupler", "rocker", "ground")),
-            pivot_box=box if self.pivot_box_m is None else self.pivot_box_m.box(),
-            coupler_point_max=min(MAX_LENGTH_M, cp_max if self.coupler_point_max_m is None else self.coupler_point_max_m),
-            branch=0 if self.branch is None else self.branch, starts=self.starts, seed=self.seed,
-            time_limit=time_limit_s, min_transmission_angle=math.radians(self.min_transmission_angle_deg),
-            rank_by=self.rank_by,
-        )
-
-
 class PathFitOut(BaseModel):
     """One four-bar through (or near) the points: a distinct design the starts reached, or a cognate of the
     answer built in closed form."""
@@ -477,21 +308,6 @@ class PathFitOut(BaseModel):
     source: Literal["starts", "cognate"] = Field(description="Reached by the starts and polished by IPOPT, or a "
                                                  "Roberts-Chebyshev cognate of the answer in closed form.")
 
-    @classmethod
-    def from_engine(cls, f: synth.PathFit) -> PathFitOut:
-        """Schema from an engine fit."""
-        fb = f.fourbar
-        lengths = (fb.ground, fb.crank, fb.coupler, fb.rocker)
-        return cls(
-            mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
-                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch)),
-            trace_point=TracePointIn(name="P", link="coupler", position_m=list(f.coupler_point)),
-            crank_pivot_m=list(f.crank_pivot), ground_angle_deg=math.degrees(f.ground_angle),
-            crank_angle_deg=np.degrees(f.crank_angles).tolist(), rms_residual_m=f.rms_residual,
-            max_residual_m=float(f.residuals.max()), grashof=fb.grashof, link_ratio=max(lengths) / min(lengths),
-            transmission_angle=None if f.check is None else TransmissionOut.from_engine(f.check),
-            starts=f.starts, source="cognate" if f.status == "cognate" else "starts",
-        )
 
 
 class PathCheckOut(BaseModel):
@@ -535,27 +351,3 @@ class PathOut(BaseModel):
                                        "under 40° (`transmission_angle_low`, with the crank angles), a link ratio "
                                        "beyond 10 (`link_ratio_large`). Set `min_transmission_angle_deg` or "
                                        "`bounds_m` to keep them out.")
-
-    @classmethod
-    def from_engine(cls, r: synth.PathResult) -> PathOut:
-        """Schema from the engine result."""
-        fb, c = r.fourbar, r.check
-        n = r.residuals.size
-        rms_starts = np.sqrt(r.start_objectives / n)
-        return cls(
-            mechanism=FourBarIn(ground_length_m=fb.ground, crank_length_m=fb.crank, coupler_length_m=fb.coupler,
-                                rocker_length_m=fb.rocker, branch=one_of(BRANCHES, fb.branch)),
-            trace_point=TracePointIn(name="P", link="coupler", position_m=list(r.coupler_point)),
-            crank_pivot_m=list(r.crank_pivot), ground_angle_deg=math.degrees(r.ground_angle),
-            crank_angle_deg=np.degrees(r.crank_angles).tolist(), residuals_m=r.residuals.tolist(),
-            max_residual_m=float(r.residuals.max()), rms_residual_m=float(np.sqrt(np.mean(r.residuals**2))),
-            starts=int(r.start_objectives.size), starts_converged=int(np.isfinite(r.start_objectives).sum()),
-            starts_at_best=r.starts_at_best,
-            start_rms_residuals_m=[float(v) if math.isfinite(v) else None for v in rms_starts],
-            solver_status=r.status,
-            fits=[PathFitOut.from_engine(f) for f in r.fits],
-            cognates=[PathFitOut.from_engine(f) for f in r.cognates],
-            check=PathCheckOut(grashof=fb.grashof, swing_deg=math.degrees(c.travel), time_ratio=c.time_ratio,
-                               transmission_angle=TransmissionOut.from_engine(c)),
-            warnings=warnings_out(c.warnings),
-        )

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
-from ._engine import synth
-from .common import Length, StrictModel, WarningOut, warnings_out
+from .common import Length, StrictModel, WarningOut
 
 Teeth = Annotated[int, Field(ge=1, le=10_000)]
 Speed = Annotated[float, Field(ge=-1e6, le=1e6)]
@@ -24,10 +22,6 @@ class TrainMeshIn(StrictModel):
     internal: bool = Field(False, description="One wheel is an annulus: both turn the same way.")
     idler: bool = Field(False, description="The driving wheel is the previous mesh's driven wheel itself.")
     efficiency: float | None = Field(None, gt=0, le=1, description="Default: a closed spur pair's (table).")
-
-    def to_engine(self) -> synth.GearMesh:
-        """Engine mesh."""
-        return synth.GearMesh(self.driving_teeth, self.driven_teeth, self.internal, self.idler, self.efficiency)
 
 
 class TrainPlanetaryIn(StrictModel):
@@ -48,12 +42,6 @@ class TrainPlanetaryIn(StrictModel):
     ring_internal: bool = Field(True, description="false: the ring is an external second sun meshing with a "
                                 "stepped planet (z_s + z_p = z_r + planet_ring_teeth): a positive basic ratio, "
                                 "large ratios, and a stage that may self-lock.")
-
-    def to_engine(self) -> synth.PlanetaryStage:
-        """Engine planetary stage."""
-        return synth.PlanetaryStage(self.sun_teeth, self.planet_teeth, self.ring_teeth, self.fixed, self.input,
-                                    self.output, self.planet_ring_teeth, self.efficiency, self.basic_efficiency,
-                                    self.ring_internal)
 
 
 def _element_type(value: object) -> str:
@@ -84,10 +72,6 @@ class TrainIn(StrictModel):
         {"elements": [{"type": "planetary", "sun_teeth": 20, "planet_teeth": 31, "ring_teeth": 82}],
          "input_speed_rad_s": 150.0},
     ]})
-
-    def to_engine(self) -> list[synth.GearMesh | synth.PlanetaryStage]:
-        """Engine train elements."""
-        return [e.to_engine() for e in self.elements]
 
 
 class TrainShaftOut(BaseModel):
@@ -138,19 +122,3 @@ class TrainOut(BaseModel):
     checks: TrainChecksOut = Field(description="The closed-form ratio against the propagation.")
     warnings: list[WarningOut] = Field(description="A planetary stage that self-locks either way "
                                        "(`self_locking`, `self_locking_back`).")
-
-    @classmethod
-    def from_engine(cls, r: synth.TrainResult) -> TrainOut:
-        """Schema from an engine train result."""
-        return cls(
-            ratio=r.ratio, output_direction=r.shafts[-1].direction, efficiency=r.efficiency,
-            back_efficiency=r.back_efficiency, locked=r.locked, self_locking=r.self_locking,
-            warnings=warnings_out(r.warnings),
-            external_meshes=r.external_meshes,
-            shafts=[TrainShaftOut(index=s.index, ratio=s.ratio, direction=s.direction, speed_rad_s=s.speed,
-                                  speed_rpm=None if s.speed is None else s.speed * 30 / math.pi,
-                                  wheels=list(s.wheels)) for s in r.shafts],
-            wheels=[TrainWheelOut(name=w.name, teeth=w.teeth, shaft=w.shaft, pitch_diameter_m=w.pitch_diameter)
-                    for w in r.wheels],
-            checks=TrainChecksOut(formula_ratio=r.formula_ratio, agrees=r.formula_agrees),
-        )
