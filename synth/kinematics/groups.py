@@ -31,7 +31,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import least_squares
 
 from ..errors import InvalidInput, NotAssemblable
 from ..mechanism import FloatArray
@@ -312,26 +311,58 @@ def _first(group: NumericGroup, sides: Sequence[tuple[Side, Side]], start: Mappi
         z = centre + spread * (rng.uniform(-1, 1, m) + 1j * rng.uniform(-1, 1, m))
         guesses.append(np.column_stack([z.real, z.imag, rng.uniform(-math.pi, math.pi, m)]).reshape(-1))
 
-    def fun(q: FloatArray) -> FloatArray:
-        return _residual(sides, q, 0)
-
-    def jac(q: FloatArray) -> FloatArray:
-        return _jacobian(sides, q, m)
-
     drawn = [(i, link_points[link][p], complex(*start[p])) for i, link in enumerate(group.links)
              for p in link_points[link] if p in start]
-    closed: list[FloatArray] = []
-    for guess in guesses:
-        sol = least_squares(fun, guess, jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400)
-        if np.max(np.abs(fun(sol.x))) <= CLOSURE_TOLERANCE:
-            if not drawn:
-                return np.asarray(sol.x, dtype=float)
-            closed.append(np.asarray(sol.x, dtype=float))
+    solved, miss = _close_all(sides, np.array(guesses), m)
+    closed = [solved[k] for k in range(len(guesses)) if miss[k] <= CLOSURE_TOLERANCE]
+    if closed and not drawn:
+        return np.asarray(closed[0], dtype=float)
     if closed:
         return _nearest(group, closed, drawn)
     raise NotAssemblable(f"the class-{group.group_class} group of links {list(group.links)} cannot be assembled at "
                          "crank angle 0° from the drawn positions (assembly_m) or any start tried",
                          phi=[0.0], ranges_deg=[(0.0, 0.0)])
+
+
+def _close_all(sides: Sequence[tuple[Side, Side]], guesses: FloatArray, m: int, iterations: int = 50
+               ) -> tuple[FloatArray, FloatArray]:
+    """Every guess (K, 3m) closed at the first angle at once by Levenberg-Marquardt with the analytic Jacobian,
+    each with its own damping (Nielsen's update); the solutions and their largest loop residual [m]."""
+    q = np.array(guesses, dtype=float)
+    k = len(q)
+    at = np.zeros(k, dtype=np.intp)
+    f = _residuals(sides, q, at)
+    cost = np.einsum("ki,ki->k", f, f)
+    damping, growth = np.full(k, 1e-3), np.full(k, 2.0)
+    eye = np.eye(3 * m)
+    stalled = np.zeros(k, dtype=bool)
+    for _ in range(iterations):
+        # a guess stops once its loops close, or when its residual no longer falls (a placement that does not
+        # close from there)
+        live = np.flatnonzero((np.max(np.abs(f), axis=1) > 1e-14) & (damping < 1e15) & ~stalled)
+        if live.size == 0:
+            break
+        jac = _jacobians(sides, q[live], m)
+        jt = jac.transpose(0, 2, 1)
+        normal = jt @ jac
+        grad = (jt @ f[live][..., None])[..., 0]
+        scale = np.maximum(np.einsum("kjj->kj", normal), 1e-12)
+        step = -np.linalg.solve(normal + (damping[live, None] * scale)[:, :, None] * eye, grad[..., None])[..., 0]
+        trial = q[live] + step
+        f_t = _residuals(sides, trial, at[live])
+        cost_t = np.einsum("ki,ki->k", f_t, f_t)
+        predicted = -2 * np.einsum("kj,kj->k", grad, step) - np.einsum("kj,kj->k", step,
+                                                                        (normal @ step[..., None])[..., 0])
+        gain = (cost[live] - cost_t) / np.maximum(predicted, 1e-300)
+        taken = np.isfinite(cost_t) & (gain > 1e-4)
+        went, back = live[taken], live[~taken]
+        stalled[went] = cost_t[taken] > (1 - 1e-6) * cost[went]
+        q[went], f[went], cost[went] = trial[taken], f_t[taken], cost_t[taken]
+        damping[went] *= np.maximum(1.0 / 3.0, 1.0 - (2.0 * np.minimum(gain[taken], 1.0) - 1.0) ** 3)
+        growth[went] = 2.0
+        damping[back] *= growth[back]
+        growth[back] = np.minimum(2.0 * growth[back], 1e6)
+    return q, np.max(np.abs(f), axis=1)
 
 
 #: The drawn points' distance from the assembly chosen must be at most this fraction of their distance from the
