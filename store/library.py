@@ -663,6 +663,8 @@ def imported_note(document: Mapping[str, Any], r: Mapping[str, Any], importer: s
         claims.append("its answer said it " + ("passed" if r["passed"] else "failed"))
     if r.get("deviation"):
         claims.append(f"deviation: {r['deviation']}")
+    if r.get("imported_note"):
+        claims.append(f"it had been imported before: {r['imported_note']}")
     for c in r.get("comments") or ():
         claims.append(f"{c.get('kind', 'comment')} by {c.get('author', '?')}{on(c.get('created_at'))}: "
                       f"{c.get('text', '')}")
