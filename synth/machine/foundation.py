@@ -28,6 +28,7 @@ from ..analysis import Analysis, analyse
 from ..counter_rotors import CounterRotor
 from ..errors import Infeasible, InvalidInput
 from ..flywheel import Motor
+from ..kinetostatics import link_arrays
 from ..model import FloatArray, Linkage
 from ..warnings import DesignWarning, ValidityCheck, angle_ranges
 from .simulate import MachineCycle
@@ -590,13 +591,49 @@ class RunUpPassage:
 RUN_UP_POINTS = 4000
 
 
+@dataclass(frozen=True, slots=True)
+class Momentum:
+    """What the crank's angular acceleration adds to the pull on the frame: the linkage's momentum over the steady
+    cycle of its :class:`Forcing` (same crank angles and speed), ``linear`` (N, 2) [N·s] and ``angular`` about the
+    crank pivot O (N,) [N·m·s]; ``spin`` the angular momentum of the drive's rotating parts (rotor, train,
+    flywheel) per unit crank speed [kg·m²]. At crank speed w and acceleration alpha the linkage pulls with
+    F = -dP/dt = (w/w_0)²·F_0 - alpha·P_0/w_0 and turns the frame with M = (w/w_0)²·M_0 - alpha·(H_0/w_0 + spin)."""
+
+    linear: FloatArray
+    angular: FloatArray
+    spin: float = 0.0
+
+
+def momentum_of(an: Analysis, spin: float = 0.0) -> Momentum:
+    """The momentum of an analysis' links at its constant crank speed (counterweights included; counter-rotors
+    left out), with the drive's ``spin`` [kg·m²]."""
+    arrays = link_arrays(an.motion, an.linkage)
+    mass = np.asarray(arrays.mass, dtype=float)
+    vel, pos = arrays.com_vel, arrays.com_pos
+    linear = np.einsum("l,lnk->nk", mass, vel)
+    cross = pos[..., 0] * vel[..., 1] - pos[..., 1] * vel[..., 0]
+    angular = np.einsum("l,ln->n", mass, cross) + np.einsum("l,ln->n", np.asarray(arrays.inertia), arrays.omega)
+    return Momentum(np.asarray(linear, dtype=float), np.asarray(angular, dtype=float), float(spin))
+
+
+def drive_spin(motor: Motor, constant_inertia: float) -> float:
+    """Angular momentum per unit crank speed of the rotating drive [kg·m²]: the rotor i·J_r (turning the crank's
+    way through the train) and the rest of ``constant_inertia`` (train and flywheel, i²·J_r taken off) counted
+    at the crank's speed."""
+    i, j_r = motor.gear_ratio, motor.rotor_inertia
+    return i * j_r + max(constant_inertia - i * i * j_r, 0.0)
+
+
 def run_up_passage(frame: Frame, isolators: tuple[Isolator, ...], forcing: Forcing, time: FloatArray,
-                   phi: FloatArray, omega: FloatArray, steady_peak: float) -> RunUpPassage:
+                   phi: FloatArray, omega: FloatArray, steady_peak: float,
+                   momentum: Momentum | None = None) -> RunUpPassage:
     """Integrate the frame from rest while the crank follows ``phi``(``time``) and ``omega`` [rad, rad/s] from a
-    start-up simulation. The linkage's pull at crank angle phi and speed w is taken as (w/w_0)² times the steady
-    cycle's at w_0 (inertia forces of a motion at slowly varying speed; the crank's own angular acceleration
-    left out), so the forcing is G(t) = (w(t)/w_0)² · Re sum_k G_k exp(i k (phi(t) - phi_0)); ``steady_peak``
-    the steady cycle's peak displacement of the centre [m]."""
+    start-up simulation. The linkage's pull at crank angle phi, speed w and acceleration alpha is
+    G(t) = (w/w_0)²·G_0(phi) - alpha·G_1(phi), G_0 the steady cycle's at w_0 and G_1 from ``momentum`` (the
+    linkage's momentum per unit crank speed and the drive's spin, see :class:`Momentum`; None: the
+    angular-acceleration terms left out), each as its harmonics Re sum_k G_k exp(i k (phi - phi_0));
+    alpha is the slope of ``omega`` over ``time``; ``steady_peak`` the steady cycle's peak displacement of the
+    centre [m]."""
     model = frame_model(frame, isolators)
     s = series(frame, forcing)
     w0 = forcing.speed
@@ -607,12 +644,21 @@ def run_up_passage(frame: Frame, isolators: tuple[Isolator, ...], forcing: Forci
     t_arr, p_arr, w_arr = (np.asarray(v, dtype=float) for v in (time, phi, omega))
     if t_arr.size < 2 or not np.all(np.diff(t_arr) > 0):
         raise InvalidInput("the run-up needs increasing times", field="run_up")
+    a_arr = np.gradient(w_arr, t_arr)
+    if momentum is not None:
+        per_speed = Forcing(forcing.phi, w0, momentum.linear / w0, momentum.angular / w0 + momentum.spin)
+        s1 = series(frame, per_speed)
+        o1, re1, im1 = s1.orders, s1.coefficients.real.T, s1.coefficients.imag.T
+    else:
+        o1, re1, im1 = np.zeros(1), np.zeros((3, 1)), np.zeros((3, 1))
 
     def rhs(t: float, y: FloatArray) -> FloatArray:
         p = np.interp(t, t_arr, p_arr) - phi0
         w = np.interp(t, t_arr, w_arr)
         ang = s.orders * p
         g = (w / w0) ** 2 * (re @ np.cos(ang) - im @ np.sin(ang))
+        ang1 = o1 * p
+        g = g - np.interp(t, t_arr, a_arr) * (re1 @ np.cos(ang1) - im1 @ np.sin(ang1))
         out = a @ y
         out[3:] += minv @ g
         return np.asarray(out)
@@ -651,13 +697,14 @@ def isolate_linkage(linkage: Linkage, speed: float, frame: Frame, isolators: tup
     red = an.reduced
     start = simulate_startup(MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque),
                              constant_inertia, motor)
-    return with_run_up(result, forcing, start)
+    return with_run_up(result, forcing, start, momentum_of(an, drive_spin(motor, constant_inertia)))
 
 
-def with_run_up(result: Isolation, forcing: Forcing, start: StartUp) -> Isolation:
+def with_run_up(result: Isolation, forcing: Forcing, start: StartUp, momentum: Momentum | None = None
+                ) -> Isolation:
     """``result`` with the frame's passage while the machine runs up from rest on the speed history ``start``
     of :func:`synth.machine.startup.simulate_startup`; ``forcing`` the steady cycle's at its constant crank
-    speed."""
+    speed, ``momentum`` what the crank's angular acceleration adds (None: left out)."""
     frame, isolators, speed = result.frame, result.isolators, forcing.speed
     if start.run is None:
         raise Infeasible("the motor cannot start the machine, so there is no run-up to follow",
@@ -677,7 +724,7 @@ def with_run_up(result: Isolation, forcing: Forcing, start: StartUp) -> Isolatio
     scale = (float(w[-1]) / speed) ** 2
     at_end = Forcing(forcing.phi, float(w[-1]), forcing.force * scale, forcing.moment * scale)
     steady = isolate(frame, isolators, at_end, check=False).peak_displacement
-    passage = run_up_passage(frame, isolators, forcing, t, p, w, steady)
+    passage = run_up_passage(frame, isolators, forcing, t, p, w, steady, momentum)
     return replace(result, run_up=passage)
 
 
