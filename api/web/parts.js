@@ -61,10 +61,11 @@ function linkDrawing(link) {
     svg.appendChild(s("circle", { cx: x(at), cy: hgt / 2, r: 4, fill: "#fff", stroke: "#333" }));
     svg.appendChild(s("text", { x: x(at), y: 10, "text-anchor": "middle", "font-size": 10 }, name));
   }
-  for (const c of link.checks) {
-    svg.appendChild(s("circle", { cx: x(c.x_m), cy: hgt / 2, r: 3.5, fill: MARKS[c.name], class: `mark-${c.name}` },
+  // the four checks' marks one above the other, so marks at one section stay apart
+  link.checks.forEach((c, i) => {
+    svg.appendChild(s("circle", { cx: x(c.x_m), cy: hgt / 2 + (i - 1.5) * 7, r: 3.5, fill: MARKS[c.name], class: `mark-${c.name}` },
       s("title", {}, `${c.name.replace(/_/g, " ")}: n = ${fmt(c.safety)} (≥ ${c.required}) at ${fmt(c.crank_angle_deg, 3)}°`)));
-  }
+  });
   svg.appendChild(s("text", { x: pad, y: hgt + 14, "font-size": 10 }, `${link.link}: ${link.section}, ${fmt(link.mass_kg)} kg`));
   return svg;
 }
