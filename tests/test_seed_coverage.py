@@ -109,6 +109,9 @@ EDGES = {
         "tests/test_foundation_validity.py::test_an_isolator_lifting_off_is_named_with_its_crank_angles",
     "a frame centre outside its isolators (an isolator in tension)":
         "tests/test_foundation_validity.py::test_a_centre_outside_its_isolators_is_named",
+    "the frame's run-up with the crank's angular acceleration and the drive's reaction":
+        "tests/test_foundation_validity.py::"
+        "test_the_run_up_with_the_cranks_acceleration_against_an_independent_integration",
     "the drawn assembly of a class-III group is the one analysed":
         "tests/test_passive_and_triads.py::test_the_drawn_assembly_is_the_one_analysed",
     "a study of lengths keeps the drawn assembly":

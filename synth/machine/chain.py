@@ -695,7 +695,8 @@ def _around(machine: MachineSpec, d: MachineDesign) -> MachineDesign:
                                               None if d.running is None else d.running.startup)
         more, notes = _limit_checks(foundation_limits(machine.foundation, foundation), "foundation")
         checks += more
-        warnings += notes
+        warnings += notes + [replace(w, stage="foundation", field=f"foundation.{w.field}" if w.field else None)
+                             for w in foundation.warnings]
     if machine.elastic_drive is not None:
         with stage("elastic_drive"):
             start_cycle = cycle
