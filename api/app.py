@@ -23,8 +23,10 @@ from .studies.runs import StudyRuns
 class ReadyOut(BaseModel):
     """What the service's workers are doing: requests (bounded by admission) and design studies (beside it)."""
 
-    status: Literal["ok", "busy", "degraded", "store-unavailable"] = Field(
-        description="busy: every request slot is taken; new requests get 503. degraded: a worker is being "
+    status: Literal["ok", "busy", "warming", "degraded", "store-unavailable"] = Field(
+        description="busy: every request slot is taken; new requests get 503. warming: a request worker runs "
+                    "each capability once before it takes work (at the start, or after it was replaced; "
+                    "requests wait for it or go to the others). degraded: a worker is being "
                     "replaced (requests wait for it or for the others), or the store takes no writes (`degraded` "
                     "says which). store-unavailable: the store cannot "
                     "be reached (store_problem says why); requests needing it get 503, and so does /ready.")
@@ -44,6 +46,8 @@ class ReadyOut(BaseModel):
                     "at most workers + 1 per study. They bypass the request slots above, so while they run on "
                     "the same workers requests are slower, never refused.")
     workers_alive: int = Field(description="Request workers up now; fewer than `workers` while one is replaced.")
+    workers_warm: int = Field(0, description="Request workers up and warm (each capability run once), ready to "
+                                             "take work; fewer than `workers_alive` while one warms up.")
     worker_restarts: int = Field(description="Workers replaced since the start (died, timed out or cancelled).")
     batch_workers: int = Field(0, description="Workers of the study lane (0: studies share the request workers).")
     batch_workers_alive: int = Field(0, description="Study-lane workers up now.")
@@ -118,8 +122,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         design studies' work beside the requests, and whether the store answers (503 when it does not)."""
         status = request.app.state.solvers.status()
         stored = await asyncio.to_thread(store_status, request.app.state.store)
-        state: Literal["ok", "busy", "degraded", "store-unavailable"] = (
+        state: Literal["ok", "busy", "warming", "degraded", "store-unavailable"] = (
             "ok" if status["queued"] < status["capacity"] else "busy")
+        if status["started"] and status["workers_warm"] < status["workers_alive"]:
+            state = "warming"
         degraded: list[Literal["store", "workers"]] = []
         if status["started"] and status["workers_alive"] < status["workers"]:
             state = "degraded"

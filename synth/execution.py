@@ -21,6 +21,7 @@ import concurrent.futures as cf
 import ctypes
 import functools
 import gc
+import importlib
 import logging
 import math
 import multiprocessing
@@ -143,6 +144,8 @@ INTERACTIVE, BATCH = "interactive", "batch"
 # How often a slot looks at a running task's cancellation and at an idle worker's life [s].
 _POLL_S = 0.05
 _IDLE_CHECK_S = 0.25
+#: Longest a new worker is waited for to warm up before it is given tasks anyway [s].
+WARM_LIMIT_S = 120.0
 
 
 class _PoolFuture(cf.Future):  # type: ignore[type-arg]
@@ -249,8 +252,24 @@ class _Scheduler:
             return left
 
 
-def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
-    """A worker process: run the tasks its slot sends, one at a time, and send back each outcome."""
+#: The message a worker sends its slot once it has warmed up, before it is sent any task.
+WARM = "warm"
+
+
+def _warm(warm: str) -> None:
+    """Run the ``module:function`` that warms a worker up (imports, compiled programs); its failure is logged."""
+    try:
+        module, _, name = warm.partition(":")
+        getattr(importlib.import_module(module), name)()
+    except Exception:
+        log.exception("warming the worker up with %s failed; it takes work without it", warm)
+    finally:
+        settle_heap()
+
+
+def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int, warm: str | None = None) -> None:
+    """A worker process: warm up, say so, then run the tasks its slot sends, one at a time, and send back each
+    outcome."""
     import signal
 
     # The web process decides when a worker stops (it kills it, or closes its pipe by exiting): Ctrl-C in a
@@ -261,6 +280,12 @@ def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int) -> None:
     if nice:
         os.nice(nice)
     _init_worker(memory_limit_bytes)
+    if warm is not None:
+        _warm(warm)
+        try:
+            conn.send(WARM)
+        except (BrokenPipeError, ConnectionError):
+            return
     while True:
         try:
             fn, args, kwargs = conn.recv()
@@ -306,6 +331,7 @@ class _Slot:
         self.born = 0.0
         self.quick = 0
         self.busy = False
+        self.warm = False
         self.thread = threading.Thread(target=self._loop, daemon=True, name=name)
 
     # -- the process -------------------------------------------------------------------------------------------
@@ -329,8 +355,9 @@ class _Slot:
             time.sleep(min(1.0, 0.1 * self.quick))
         self.born = time.monotonic()
         parent, child = self.pool.context.Pipe(duplex=True)
-        process = self.pool.context.Process(target=_worker_main, args=(child, self.pool.memory_limit, self.nice),
-                                            daemon=True, name=self.thread.name)
+        process = self.pool.context.Process(target=_worker_main, args=(child, self.pool.memory_limit, self.nice,
+                                                                       self.pool.warm), daemon=True,
+                                            name=self.thread.name)
         try:
             process.start()
         except Exception as exc:
@@ -339,13 +366,26 @@ class _Slot:
             return False
         finally:
             child.close()
-        self.process, self.conn = process, parent
+        self.process, self.conn, self.warm = process, parent, self.pool.warm is None
         return True
+
+    def _warming(self) -> None:
+        """Wait a moment for the new worker to say it is warm; past WARM_LIMIT_S it is given tasks anyway (they
+        wait in its pipe, their time starting when it takes them)."""
+        ready = multiprocessing.connection.wait([self.conn, self.process.sentinel], _IDLE_CHECK_S)
+        if self.conn in ready:
+            try:
+                self.warm = self.conn.recv() == WARM
+            except (EOFError, OSError):
+                return  # it died: the loop replaces it
+        if time.monotonic() - self.born > WARM_LIMIT_S:
+            self.warm = True
 
     def _retire(self) -> int | None:
         """Stop the worker (killing it if it still runs); its exit code."""
         process, conn = self.process, self.conn
         self.process = self.conn = None
+        self.warm = False
         if process is None:
             return None
         if process.exitcode is None:
@@ -378,6 +418,9 @@ class _Slot:
                     code = self._replace()
                     if not self.pool.stopping:
                         log.warning("an idle worker process died (exit code %s) and was replaced", code)
+                    continue
+                if not self.warm:
+                    self._warming()
                     continue
                 task = self.pool.scheduler.take(self.lanes, _IDLE_CHECK_S)
                 if task is None:
@@ -436,6 +479,8 @@ class _Slot:
                     _settle(future, exc)
                     return True
                 else:
+                    if message == WARM:  # warmed up late, after it was given the task anyway
+                        continue
                     if message is None:
                         received = True
                         if task.timeout is not None:
@@ -491,6 +536,9 @@ class LocalPoolExecutor:
         Address-space limit of each worker [MiB]; ``None`` for none.
     preload
         Modules the fork server imports besides the engine (those the tasks' functions live in).
+    warm
+        ``module:function`` every worker runs once when it starts, before it is given a task (its programs built
+        and exercised, so that its first task pays nothing for them); None for none.
     batch_workers
         Number of batch worker processes [-]; 0 to share the interactive ones.
     batch_nice
@@ -498,7 +546,7 @@ class LocalPoolExecutor:
     """
 
     def __init__(self, workers: int, memory_limit_mb: int | None = None, preload: Sequence[str] = (),
-                 batch_workers: int = 0, batch_nice: int = 19) -> None:
+                 batch_workers: int = 0, batch_nice: int = 19, warm: str | None = None) -> None:
         if workers < 1 or batch_workers < 0:
             raise ValueError("a worker pool needs at least one worker")
         self.workers = workers
@@ -507,6 +555,7 @@ class LocalPoolExecutor:
         # Forked from a server that imported the engine once: a replaced worker is ready in milliseconds.
         self.context.set_forkserver_preload(["numpy", "scipy.linalg", "synth", *preload])
         self.memory_limit = memory_limit_mb * 2**20 if memory_limit_mb else None
+        self.warm = warm
         self.lock = threading.Lock()
         self.restarts = 0
         self.stopping = False
@@ -544,6 +593,7 @@ class LocalPoolExecutor:
         batch = self._slots[self.workers:]
         return {
             "workers_alive": sum(s.alive() for s in interactive),
+            "workers_warm": sum(s.warm and s.alive() for s in interactive),
             "batch_workers": self.batch_workers,
             "batch_workers_alive": sum(s.alive() for s in batch),
             "worker_restarts": self.restarts,
@@ -551,6 +601,15 @@ class LocalPoolExecutor:
             "batch_tasks_queued": queued[BATCH],
             "batch_tasks_running": self.scheduler.batch_running,
         }
+
+    def wait_warm(self, timeout: float) -> bool:
+        """Wait until every request worker is up and warm, at most ``timeout`` [s]; whether they are."""
+        end = time.monotonic() + timeout
+        while not all(s.warm and s.alive() for s in self._slots[:self.workers]):
+            if time.monotonic() >= end or self.stopping:
+                return False
+            time.sleep(0.05)
+        return True
 
     def pids(self) -> list[int]:
         """Process ids of the workers now up (interactive first)."""
@@ -681,14 +740,14 @@ def _expire(outer: cf.Future[Any], timeout: float) -> None:
 
 def make_executor(kind: str, workers: int = 0, dask_address: str | None = None,
                   memory_limit_mb: int | None = None, preload: Sequence[str] = (), batch_workers: int = 0,
-                  batch_nice: int = 19) -> Executor:
+                  batch_nice: int = 19, warm: str | None = None) -> Executor:
     """An executor by name: ``serial``, ``pool`` (``workers`` processes; 0 means one per core; and
     ``batch_workers`` for background tasks) or ``dask``."""
     if kind == "serial":
         return SerialExecutor()
     if kind == "pool":
         return LocalPoolExecutor(workers or os.cpu_count() or 1, memory_limit_mb, preload, batch_workers,
-                                 batch_nice)
+                                 batch_nice, warm)
     if kind == "dask":
         return DaskExecutor(dask_address)
     raise ValueError(f"unknown executor {kind!r}; expected serial, pool or dask")

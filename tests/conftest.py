@@ -22,6 +22,8 @@ settings.load_profile("explore" if os.environ.get("SYNTH_HYPOTHESIS_RANDOM") els
 
 # Studies started by tests (fuzzing included) go to a scratch database, never into the working directory.
 os.environ.setdefault("SYNTH_STUDIES_DB", str(Path(tempfile.mkdtemp(prefix="synth-tests-")) / "studies.sqlite"))
+# Services started by the tests skip the workers' warm-up (seconds per pool); tests/test_execution.py warms one.
+os.environ.setdefault("SYNTH_WARM_WORKERS", "0")
 # Starlette's TestClient (and schemathesis in-process) speak to the app as host "testserver".
 os.environ.setdefault("SYNTH_ALLOWED_HOSTS", "localhost,127.0.0.1,::1,testserver")
 

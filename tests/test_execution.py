@@ -144,3 +144,40 @@ def test_a_process_that_never_shuts_its_pool_down_still_exits(tmp_path) -> None:
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "3"
     assert time.monotonic() - started < 60.0
+
+
+#: Set by :func:`_warm_up` in the worker that runs it: its process id and when it finished.
+_WARMED: dict[str, float] = {}
+
+
+def _warm_up() -> None:
+    time.sleep(0.3)
+    _WARMED.update(pid=os.getpid(), at=time.monotonic())
+
+
+def _warmed_in_this_process() -> bool:
+    return _WARMED.get("pid") == os.getpid()
+
+
+def test_a_worker_warms_up_before_its_first_task_and_so_does_its_replacement() -> None:
+    warm = LocalPoolExecutor(1, memory_limit_mb=1024, warm=f"{_warm_up.__module__}:_warm_up")
+    try:
+        assert warm.wait_warm(60)
+        assert warm.status()["workers_warm"] == 1
+        assert warm.submit(_warmed_in_this_process, timeout=30).result(timeout=30)
+        # a worker that dies is replaced by one that warms before it takes the next task
+        with pytest.raises(synth.WorkerLost):
+            warm.submit(_crash, timeout=30).result(timeout=30)
+        assert warm.submit(_warmed_in_this_process, timeout=30).result(timeout=60)
+        assert warm.restarts == 1
+    finally:
+        warm.shutdown()
+
+
+def test_a_warm_up_that_fails_leaves_a_worker_that_works() -> None:
+    broken = LocalPoolExecutor(1, memory_limit_mb=1024, warm=f"{_warm_up.__module__}:_no_such_function")
+    try:
+        assert broken.wait_warm(60)
+        assert broken.submit(abs, -5.0, timeout=30).result(timeout=30) == 5.0
+    finally:
+        broken.shutdown()

@@ -88,6 +88,9 @@ def spooled_response(spooled: Spooled, headers: dict[str, str] | None) -> Respon
                              headers={**(headers or {}), "content-length": str(spooled.size)})
 
 
+#: What every worker runs once before it takes work (see api.execution.warm).
+_WARM = "api.execution.warm:warm_worker"
+
 # One executor per configuration and process: apps built alike (tests, a reload) share their workers, and the
 # last app to shut down stops them.
 _EXECUTORS: dict[tuple[Any, ...], tuple[Executor, int]] = {}
@@ -104,12 +107,13 @@ def _batch_workers(settings: Settings, workers: int) -> int:
 def _acquire_executor(settings: Settings) -> Executor:
     s = settings
     workers = s.workers or os.cpu_count() or 1
-    key = (s.executor, workers, s.worker_memory_mb, _batch_workers(s, workers), s.study_nice)
+    warm = _WARM if s.warm_workers else None
+    key = (s.executor, workers, s.worker_memory_mb, _batch_workers(s, workers), s.study_nice, warm)
     with _EXECUTORS_LOCK:
         # Workers import the plans (schemas, exports) once in the fork server, not on their first request.
         executor, users = _EXECUTORS.get(key) or (
             make_executor(s.executor, workers, memory_limit_mb=s.worker_memory_mb, preload=["api.execution.plans"],
-                          batch_workers=_batch_workers(s, workers), batch_nice=s.study_nice), 0)
+                          batch_workers=_batch_workers(s, workers), batch_nice=s.study_nice, warm=warm), 0)
         _EXECUTORS[key] = (executor, users + 1)
         return executor
 
@@ -164,8 +168,9 @@ class Solvers:
 
     def status(self) -> dict[str, Any]:
         """Workers, queue and counters for ``/ready``; reads counters only, never waits on a worker."""
-        pool: dict[str, Any] = {"workers_alive": self.workers if self.settings.executor == "serial" else 0,
-                                "worker_restarts": 0}
+        serial = self.settings.executor == "serial"
+        pool: dict[str, Any] = {"workers_alive": self.workers if serial else 0,
+                                "workers_warm": self.workers if serial else 0, "worker_restarts": 0}
         if isinstance(self._executor, LocalPoolExecutor):
             pool = self._executor.status()
         return {**pool,
@@ -181,8 +186,12 @@ class Solvers:
         }
 
     def start(self) -> None:
-        """Start the workers and wait until one has run a task, so the first request does not pay for it."""
-        self.executor.submit(abs, 0.0).result()
+        """Start the workers and wait until every request worker is warm (bounded by ``warm_limit_s``) and one has
+        run a task, so the first requests do not pay for imports and compiled programs."""
+        executor = self.executor
+        if isinstance(executor, LocalPoolExecutor) and self.settings.warm_workers:
+            executor.wait_warm(self.settings.warm_limit_s)
+        executor.submit(abs, 0.0).result()
 
     def shutdown(self) -> None:
         """Let go of the executor; its workers stop when no other app of this process uses them."""
