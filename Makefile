@@ -20,13 +20,15 @@ run: $(STAMP)
 	$(VENV)/bin/python -m api.serve --host $(HOST) --port $(PORT)
 
 # The workbench's browser tests drive Debian's Chromium (Playwright's own download is not used); the store's tests
-# start a throwaway PostgreSQL cluster with Debian's server binaries.
+# start a throwaway PostgreSQL cluster with Debian's server binaries; the design record's drawings are read back
+# with poppler's pdftotext.
 CHROMIUM := /usr/bin/chromium
 
 test: $(STAMP)
 	test -x $(CHROMIUM) || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends chromium)
 	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends postgresql)
 	test -x /usr/sbin/nginx || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends nginx-light)
+	test -x /usr/bin/pdftotext || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends poppler-utils)
 	$(VENV)/bin/python -m mypy
 	$(VENV)/bin/python -m pytest -q
 

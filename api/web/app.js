@@ -461,16 +461,19 @@ function outputMotion(a, fam) {
     a: { label: "a [m/s²]", unit: "m/s²", sym: "a", values: p.acceleration_m_s2.map((q) => q[0]) } };
 }
 
+/** What the drawing shows besides the linkage at sample `i`: coupler point, counterweights, targets, arrows. */
+function extrasAt(i) {
+  const a = state.answer;
+  return { tracePoint: a.points[TRACE] ? TRACE : null, counterweights: counterweightExtras(), targets: state.targets,
+    counterRotors: state.design.counter_rotors || [], unitLength: state.units.length,
+    vectors: vectorsAt(a, state.vectors, i, state.layout.span) };
+}
+
 export function drawFrame() {
   const a = state.answer;
   if (!a) return;
   const i = state.index;
-  drawLinkage(document.getElementById("drawing"), a, state.design, i, state.layout, {
-    tracePoint: a.points[TRACE] ? TRACE : null, counterweights: counterweightExtras(), targets: state.targets,
-    counterRotors: state.design.counter_rotors || [],
-    unitLength: state.units.length,
-    vectors: vectorsAt(a, state.vectors, i, state.layout.span),
-  });
+  drawLinkage(document.getElementById("drawing"), a, state.design, i, state.layout, extrasAt(i));
   document.getElementById("angle-out").textContent = `φ = ${a.crank_angle_deg[i].toFixed(1)}°`;
   for (const p of state.plots) p.setCursor(i);
 }
@@ -625,7 +628,7 @@ async function main() {
     });
   }
   installDragging();
-  installExports({ state, request: analysisRequest, redraw: drawFrame, setStatus });
+  installExports({ state, request: analysisRequest, redraw: drawFrame, setStatus, extrasAt });
   document.getElementById("angle").addEventListener("input", (e) => { state.index = Number(e.target.value); drawFrame(); });
   let timer = null;
   document.getElementById("play").addEventListener("click", (e) => {

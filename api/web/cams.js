@@ -8,6 +8,9 @@ import { admitted } from "./signin.js";
 
 const panel = document.getElementById("panel-cams");
 let seq = 0;
+// The base-radius bounds in the form's length unit (the editor's choice at the top), metres on the wire.
+const LENGTH = { mm: 1e-3, m: 1 };
+const lengthUnit = () => document.getElementById("unit-length").value;
 
 function numberRow(id, label, value, unit, attrs = {}) {
   return h("div", { class: "row" }, h("label", { for: id }, label),
@@ -84,8 +87,19 @@ async function build() {
   textarea.value = JSON.stringify(example || {}, null, 1);
   const rise = numberRow("cam-alpha-rise", "Largest pressure angle, rise", 30, "deg", { min: 1, max: 89 });
   const ret = numberRow("cam-alpha-return", "Largest pressure angle, return", 45, "deg", { min: 1, max: 89 });
-  const lo = numberRow("cam-rb-min", "Base radius from", 0.005, "m", { min: 0 });
-  const hi = numberRow("cam-rb-max", "Base radius to", 0.2, "m", { min: 0 });
+  let unit = lengthUnit();
+  const lo = numberRow("cam-rb-min", "Base radius from", 0.005 / LENGTH[unit], unit, { min: 0 });
+  const hi = numberRow("cam-rb-max", "Base radius to", 0.2 / LENGTH[unit], unit, { min: 0 });
+  // the form's unit changed: the same bounds shown in the new one
+  document.getElementById("unit-length").addEventListener("change", () => {
+    const next = lengthUnit();
+    for (const row of [lo, hi]) {
+      const input = row.querySelector("input");
+      if (input.value !== "") input.value = String(Number(((Number(input.value) * LENGTH[unit]) / LENGTH[next]).toPrecision(10)));
+      row.querySelector(".unit").textContent = next;
+    }
+    unit = next;
+  });
   const problem = h("p", { id: "cam-problem", class: "problem", role: "alert", hidden: true });
   const result = h("div", { id: "cam-summary", "aria-live": "polite" });
   const figure = h("img", { id: "cam-figure", alt: "s, v, a, jerk and pressure angle over the turn; the cam with its follower", hidden: true });
@@ -105,9 +119,17 @@ async function build() {
       const { base_radius_m: _unused, ...rest } = body;
       request = { ...rest, max_pressure_angle_rise_deg: Number(rise.querySelector("input").value),
         max_pressure_angle_return_deg: Number(ret.querySelector("input").value),
-        base_radius_bounds_m: [Number(lo.querySelector("input").value), Number(hi.querySelector("input").value)] };
+        base_radius_bounds_m: [lo, hi].map((row) => Number(row.querySelector("input").value) * LENGTH[unit]) };
       path = "/v1/cams/synthesis";
     }
+    // the figure and the figures beside it are of the last cam until the new answer is in: greyed and said so
+    const updating = [figure, result];
+    const note = document.getElementById("cam-updating");
+    updating.forEach((el) => el.classList.add("stale-view"));
+    note.hidden = false;
+    note.textContent = kind === "least" ? "Finding the least cam… the figure below is of the last cam." : "Analysing… the figure below is of the last cam.";
+    panel.dataset.updating = "1";
+    const settled = () => { updating.forEach((el) => el.classList.remove("stale-view")); note.hidden = true; panel.dataset.updating = ""; };
     try {
       const out = await post(path, request);
       const cam = kind === "least" ? out.cam : out;
@@ -125,8 +147,10 @@ async function build() {
       figure.hidden = false;
       download(csv, table, "cam.csv");
       download(dxf, drawing, "cam.dxf");
+      settled();
       done(kind === "least" ? "synthesised" : "analysed");
     } catch (err) {
+      settled();
       showProblem(problem, err);
       done("problem");
     }
@@ -140,7 +164,7 @@ async function build() {
     h("div", { class: "row" }, textarea),
     h("div", { class: "controls" }, rise, ret, lo, hi),
     h("div", { class: "actions" }, analyse, least, csv, dxf),
-    problem, result, figure);
+    problem, h("p", { id: "cam-updating", class: "stale-note", role: "status", hidden: true }), result, figure);
   document.body.dataset.camReady = "1";
 }
 

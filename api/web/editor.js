@@ -13,7 +13,9 @@ const GRID = { mm: [0.005, 0.01, 0.05], m: [0.01, 0.05, 0.1] };
 const TOOLS = [["move", "V", "Move / select"], ["frame", "F", "Frame point"], ["joint", "J", "Joint"],
   ["bar", "B", "Binary link (2 points)"], ["plate", "T", "Ternary link (3 points)"],
   ["slide", "S", "Block on a guide or in a slot: joint, then frame point or link"], ["crank", "C", "Crank"], ["output", "O", "Output"],
-  ["delete", "X", "Delete"]];
+  ["point", "P", "Coupler point: click on a link"], ["delete", "X", "Delete"]];
+// The coupler point's name in the answer's `points`.
+const TRACE = "P";
 const GROUP_COLOURS = ["#1b7a3a", "#8a2be2", "#c25e00", "#0a7d8c", "#a0306e"];
 
 export const ed = {
@@ -529,6 +531,11 @@ function drawCanvas() {
     g.appendChild(s("circle", { class: ["draw-point", p.ground && "frame", sel && "selected"], dataset: { point: p.name }, cx: p.x, cy: Y(p.y), r: 5 * sw, "stroke-width": 2 * sw },
       s("title", {}, p.name)));
   }
+  const tpos = tracePosition(m);
+  if (tpos) {
+    g.appendChild(s("path", { class: "draw-trace", d: `M${tpos[0]},${Y(tpos[1]) - 6 * sw} l${6 * sw},${6 * sw} l${-6 * sw},${6 * sw} l${-6 * sw},${-6 * sw} z`,
+      fill: "#c25e00", "stroke-width": sw }, s("title", {}, `coupler point ${TRACE}`)));
+  }
   ed.labels = placeLabels(m, crank, v, sw);
   for (const l of ed.labels) {
     g.appendChild(s("text", { class: l.cls, x: (l.box.x0 + l.box.x1) / 2, y: (l.box.y0 + l.box.y1) / 2, "text-anchor": "middle",
@@ -768,6 +775,11 @@ function renderSide() {
     h("div", { class: "draw-actions" },
       h("button", { type: "button", id: "draw-undo", disabled: !ed.undo.length, title: "Undo (Ctrl+Z)" }, "Undo"),
       h("button", { type: "button", id: "draw-redo", disabled: !ed.redo.length, title: "Redo (Ctrl+Y)" }, "Redo"),
+      h("button", { type: "button", id: "draw-zoom-in", title: "Zoom in (+; the wheel zooms about the pointer)" }, "+"),
+      h("button", { type: "button", id: "draw-zoom-out", title: "Zoom out (−)" }, "−"),
+      h("button", { type: "button", id: "draw-fit", title: "Zoom to fit the linkage and its paths (0); drag the empty canvas to pan" }, "Fit"),
+      h("button", { type: "button", id: "draw-invert", disabled: !(ed.selected || "").startsWith("link:"),
+        title: "Kinematic inversion: the selected link becomes the frame, the frame a link" }, "Make it the frame"),
       h("label", {}, "Grid ", h("select", { id: "draw-grid" }, GRID[u].map((g2) => h("option", { value: String(g2), selected: Math.abs(g2 - ed.grid) < 1e-12 }, `${num(g2)} ${u}`)))),
       h("label", {}, "Template ", h("select", { id: "draw-template" }, h("option", { value: "" }, "—"), Object.entries(TEMPLATES).map(([k, t]) => h("option", { value: k }, t.label))))),
     W, groups, msgs,
@@ -798,6 +810,90 @@ function place(xy, ground) {
   return name;
 }
 
+// --- the view: zoom to fit, zoom about a point, pan ----------------------------------------------------------------------
+/** The whole linkage and the paths of its joints in view. */
+export function fitView() {
+  ed.view = viewFor(ed.model);
+  ed.userView = false;
+  render();
+}
+
+/** Zoom by `k` (below 1: in) about a model point [m] that stays where it is on the screen (default: the middle). */
+export function zoom(k, about = null) {
+  const v = ed.view, [cx, cy] = about || [v.x0 + v.w / 2, v.y0 + v.h / 2];
+  ed.view = { x0: cx - (cx - v.x0) * k, y0: cy - (cy - v.y0) * k, w: v.w * k, h: v.h * k };
+  ed.userView = true;
+  render();
+}
+
+function onWheel(e) {
+  if (!ed.on || !ed.view) return;
+  e.preventDefault();
+  zoom(e.deltaY > 0 ? 1.2 : 1 / 1.2, toModel(e.currentTarget, e));
+}
+
+/** The link frame of a drawn link as the request writes it: origin at its first point (a crank's on the frame), x
+ *  toward its second. */
+function frameOf(m, l) {
+  let names = [...l.points];
+  const crank = crankOf(m);
+  if (crank && l.name === crank.name) {
+    const g = names.find((n) => pt(n).ground);
+    names = [g, ...names.filter((n) => n !== g)];
+  }
+  const a = pt(names[0]), b = pt(names[1]);
+  return { origin: [a.x, a.y], angle: Math.atan2(b.y - a.y, b.x - a.x) };
+}
+
+/** Where the coupler point sits on the drawing [m], from its link's points as drawn. */
+function tracePosition(m) {
+  const tp = ((state.design && state.design.trace_points) || []).find((q) => q.name === TRACE);
+  const l = tp && m.links.find((q) => q.name === tp.link);
+  if (!l) return null;
+  const { origin: [x, y], angle } = frameOf(m, l), [u, w] = tp.position_m;
+  return [x + Math.cos(angle) * u - Math.sin(angle) * w, y + Math.sin(angle) * u + Math.cos(angle) * w];
+}
+
+/** Put the coupler point on a drawn link where the pointer is (one coupler point: a new one replaces it). */
+function placeTrace(linkName, [x, y]) {
+  const l = ed.model.links.find((q) => q.name === linkName);
+  if (!l) return;
+  const { origin: [ox, oy], angle } = frameOf(ed.model, l), dx = x - ox, dy = y - oy;
+  const local = [Math.cos(angle) * dx + Math.sin(angle) * dy, -Math.sin(angle) * dx + Math.cos(angle) * dy];
+  change(() => { state.design.trace_points = [{ name: TRACE, link: linkName, position_m: local.map((c) => Number(c.toPrecision(12))) }]; }, { topology: false });
+}
+
+/** The nearest drawn link to a model point within a few pixels, by name. */
+function nearestLink(xy) {
+  const r = (ed.view.w / 600) * 8;
+  let best = null;
+  for (const l of ed.model.links) {
+    const d = linkDist(xy, l.points.map((n) => [pt(n).x, pt(n).y]));
+    if (d <= r && (!best || d < best[0])) best = [d, l.name];
+  }
+  return best && best[1];
+}
+
+/** Kinematic inversion: the link `name` becomes the frame and the frame a link (its points one body). */
+export function invert(name) {
+  const m = ed.model, L = m.links.find((l) => l.name === name);
+  const ground = m.points.filter((p) => p.ground).map((p) => p.name);
+  let why = null;
+  if (!L) why = "select a drawn link (Move, click on it) to make it the frame";
+  else if (m.blocks.length) why = "an inversion here takes pin-jointed links only: this drawing has blocks";
+  else if (ground.length < 2) why = "the frame has fewer than two points: it cannot become a link";
+  if (why) { ed.messages = [...ed.messages, { text: why }]; render(); return false; }
+  change((mm) => {
+    for (const p of mm.points) p.ground = L.points.includes(p.name);
+    mm.links = mm.links.filter((l) => l.name !== name);
+    mm.links.push({ name: nextLinkName("L"), points: ground });
+    // the crank and output are chosen again among the links on the new frame; the branches read off the drawing
+    mm.crank = null; mm.output = null; mm.branches = {};
+  });
+  ed.selected = null;
+  return true;
+}
+
 function onPointerDown(e) {
   const svg = e.currentTarget;
   svg.focus();
@@ -806,6 +902,14 @@ function onPointerDown(e) {
   ed.lastPress = toModel(svg, e);
   ed.presses += 1;
   svg.dataset.presses = String(ed.presses);
+  // the middle button, or the Move tool on empty canvas: the view is dragged
+  if (e.button === 1 || (ed.tool === "move" && !hit && !link)) {
+    ed.panning = { x: e.clientX, y: e.clientY, view: { ...ed.view }, scale: ed.view.w / svg.getBoundingClientRect().width };
+    if (ed.selected) { ed.selected = null; render(); }
+    svg.setPointerCapture(e.pointerId);
+    e.preventDefault();
+    return;
+  }
   const t = ed.tool;
   if (t === "move") {
     if (hit) {
@@ -846,6 +950,9 @@ function onPointerDown(e) {
       const axis = d > 1e-12 ? Math.round(((Math.atan2(jp.y - gp.y, jp.x - gp.x) * 180) / Math.PI) / 15) * 15 : 0;
       change((m) => { m.blocks.push({ name: nextLinkName("block"), point: j, through: gname, axis_deg: ((axis % 360) + 360) % 360 }); });
     } else render();
+  } else if (t === "point") {
+    const on = (link && ed.model.links.some((l) => l.name === link) && link) || nearestLink(toModel(svg, e));
+    if (on) placeTrace(on, toModel(svg, e));
   } else if (t === "crank" || t === "output") {
     const name = link || (hit && bodiesAt(ed.model, hit)[0]);
     if (name) change((m) => { m[t] = name; });
@@ -859,6 +966,13 @@ function onPointerDown(e) {
 // the answer comes is the next one sent, before that answer is drawn (the moves in between are never asked for, so
 // none is thrown away: aborting a request in flight for a newer move leaves the service computing it all the same).
 function onPointerMove(e) {
+  if (ed.panning) {
+    const p = ed.panning, v = p.view;
+    ed.view = { ...v, x0: v.x0 - (e.clientX - p.x) * p.scale, y0: v.y0 + (e.clientY - p.y) * p.scale };
+    ed.userView = true;
+    drawCanvas();
+    return;
+  }
   if (!ed.dragging) return;
   const t0 = performance.now();
   const d = ed.dragging, [x, y] = snapXY(toModel(e.currentTarget, e), e.altKey);
@@ -880,13 +994,15 @@ function sendDrag(draw = true) {
 }
 
 function onPointerUp() {
+  if (ed.panning) { ed.panning = null; render(); return; }
   if (!ed.dragging) return;
   const moved = ed.dragging.moved;
   ed.dragging = null;
   state.dragging = false;
   if (!moved) { ed.undo.pop(); return; }
   ed.fit = 4;
-  ed.view = viewFor(ed.model);
+  // the view follows the linkage, unless the user has zoomed or panned it
+  if (!ed.userView) ed.view = viewFor(ed.model);
   commit();
 }
 
@@ -900,6 +1016,9 @@ function onKey(e) {
   const tool = TOOLS.find(([, k]) => k === e.key.toUpperCase());
   if (tool) { setTool(tool[0]); e.preventDefault(); return; }
   if (e.key === "Escape") { ed.pending = []; ed.selected = null; render(); return; }
+  if (e.key === "+" || e.key === "=") { zoom(1 / 1.25); e.preventDefault(); return; }
+  if (e.key === "-") { zoom(1.25); e.preventDefault(); return; }
+  if (e.key === "0") { fitView(); e.preventDefault(); return; }
   if ((e.key === "Delete" || e.key === "Backspace") && ed.selected) {
     const [kind, name] = ed.selected.split(":");
     ed.selected = null;
@@ -943,6 +1062,10 @@ function onSideClick(e) {
   if (b.dataset.tool) setTool(b.dataset.tool);
   else if (b.id === "draw-undo") undo();
   else if (b.id === "draw-redo") redo();
+  else if (b.id === "draw-zoom-in") zoom(1 / 1.25);
+  else if (b.id === "draw-zoom-out") zoom(1.25);
+  else if (b.id === "draw-fit") fitView();
+  else if (b.id === "draw-invert") invert((ed.selected || "").slice(5));
 }
 
 export function openTemplate(key) {
@@ -953,7 +1076,10 @@ export function openTemplate(key) {
   ed.view = null;
   ed.structureKey = "";
   if (t.loads) state.design.loads = clone(t.loads); else delete state.design.loads;
+  // the last answer is of another linkage: its paths are no part of this one's view, until its own answer comes
+  ed.answerOk = false;
   ed.view = viewFor(ed.model);
+  ed.refit = true;
   return commit();
 }
 
@@ -977,6 +1103,7 @@ export function setEditing(on) {
   if (imported && state.design.mechanism.type !== "linkage") ed.fit = 4;
   ed.offset = [0, 0];
   ed.view = viewFor(ed.model);
+  ed.refit = true;
   if (imported) commit(); else render();
 }
 
@@ -984,8 +1111,12 @@ export function setEditing(on) {
 export function clearDrawing() {
   ed.undo.push(snapshot()); ed.redo = [];
   ed.model = emptyModel();
-  // a new linkage: the loads, counterweights and the rest of the one before are not its own (an undo keeps them)
+  // a new linkage: the loads, counterweights and the rest of the one before are not its own (an undo keeps them);
+  // nor are the paths its joints swept
   for (const k of BY_NAME) delete state.design[k];
+  ed.answerOk = false;
+  // drawn from nothing: the canvas stays where it is while the points go down (Fit zooms to them on demand)
+  ed.refit = false;
   // room for a linkage a metre across, in the canvas's proportions
   const b = document.getElementById("draw-canvas").getBoundingClientRect(), aspect = b.width / Math.max(b.height, 1) || 2.4;
   const w = Math.max(1.6, 1.5 * aspect);
@@ -1021,6 +1152,7 @@ function install() {
   canvas.addEventListener("pointermove", onPointerMove);
   canvas.addEventListener("pointerup", onPointerUp);
   canvas.addEventListener("pointercancel", onPointerUp);
+  canvas.addEventListener("wheel", onWheel, { passive: false });
   document.addEventListener("keydown", onKey);
   side.addEventListener("change", onSideChange);
   side.addEventListener("click", onSideClick);
@@ -1041,6 +1173,9 @@ function install() {
       if (m) { ed.model = m; ed.offset = [0, 0]; ed.view = viewFor(m); }
     }
     ed.answerOk = true;
+    // a drawing opened, a template or a new drawing: zoomed to fit once its first answer (and the paths its joints
+    // sweep) is in
+    if (ed.refit && !ed.dragging) { ed.refit = false; ed.userView = false; ed.view = viewFor(ed.model); }
     settle(answer);
   });
   state.hooks.problem.push((err) => {
@@ -1055,7 +1190,8 @@ function install() {
     markStale(ed.problem);
     render();
   });
-  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, labelBoxes, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism };
+  window.workbench.editor = { ed, setEditing, openTemplate, toScreen, labelBoxes, clearDrawing, toMechanism, undo, redo, familyExample: defaultMechanism,
+    fitView, zoom, invert };
   document.body.dataset.editorReady = "1";
 }
 

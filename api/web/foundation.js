@@ -19,6 +19,14 @@ const DESIGN_FIELDS = [["max_force_N", "Peak force limit (design)", "N", 600], [
   ["max_block_mass_kg", "Largest inertia block", "kg", 0]];
 let seq = 0;
 let isolators = [];
+// Lengths and masses in the form's units (the editor's choice at the top), SI on the wire.
+const KIND = { m: "length", kg: "mass" };
+const SCALE = { length: { mm: 1e-3, m: 1 }, mass: { g: 1e-3, kg: 1 } };
+const shown = { length: "mm", mass: "kg" };
+const scale = (kind) => (kind ? SCALE[kind][shown[kind]] : 1);
+const unitOf = (unit) => (KIND[unit] ? shown[KIND[unit]] : unit);
+// a value in SI as typed or answered, unrounded; in mm or g to 12 digits (the conversion's last-digit noise off)
+const display = (v, kind) => (v === undefined || v === null ? "" : kind ? String(Number((v / scale(kind)).toPrecision(12))) : String(v));
 
 function done(kind) {
   seq += 1;
@@ -26,9 +34,10 @@ function done(kind) {
 }
 
 function numberRow(id, label, value, unit) {
-  const input = h("input", { id, type: "text", inputmode: "decimal", autocomplete: "off" });
-  input.value = value === undefined || value === null ? "" : String(value);
-  return h("div", { class: "row" }, h("label", { for: id }, label), input, h("span", { class: "unit" }, unit),
+  const kind = KIND[unit] || "";
+  const input = h("input", { id, type: "text", inputmode: "decimal", autocomplete: "off", dataset: { kind } });
+  input.value = display(value, kind);
+  return h("div", { class: "row" }, h("label", { for: id }, label), input, h("span", { class: "unit", dataset: { kind } }, unitOf(unit)),
     h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
 }
 
@@ -37,7 +46,7 @@ function readNumber(id) {
   const raw = el.value.trim().replace(",", ".");
   if (raw === "") return undefined;
   const v = Number(raw);
-  return Number.isFinite(v) ? v : NaN;
+  return Number.isFinite(v) ? v * scale(el.dataset.kind) : NaN;
 }
 
 function clear() {
@@ -78,13 +87,14 @@ function isolatorTable() {
       const id = `fnd-isolators.${i}.${path}`;
       const parts = path.split(".");
       const v = parts.length === 2 ? iso[parts[0]][Number(parts[1])] : iso[path];
-      const input = h("input", { id, type: "text", inputmode: "decimal", autocomplete: "off", size: 9, "aria-label": `isolator ${i + 1} ${path}` });
-      input.value = v === undefined || v === null ? "" : String(v);
+      const kind = KIND[ISOLATOR_FIELDS.find(([p2]) => p2 === path)[2]] || "";
+      const input = h("input", { id, type: "text", inputmode: "decimal", autocomplete: "off", size: 9, "aria-label": `isolator ${i + 1} ${path}`, dataset: { kind } });
+      input.value = display(v, kind);
       input.addEventListener("change", () => { const x = readNumber(id); setValue(iso, path, x); });
       return h("td", {}, input, h("p", { class: "msg", id: `${id}-msg`, hidden: true }));
     }),
     h("td", {}, h("button", { class: "secondary", onclick: () => { isolators.splice(i, 1); drawTable(); } }, "remove"))));
-  return table(["", ...ISOLATOR_FIELDS.map(([, l, u]) => `${l} [${u}]`), ""], rows, { id: "fnd-isolators" });
+  return table(["", ...ISOLATOR_FIELDS.map(([, l, u]) => `${l} [${unitOf(u)}]`), ""], rows, { id: "fnd-isolators" });
 }
 
 function setValue(iso, path, v) {
@@ -273,7 +283,19 @@ async function example() {
   }
 }
 
+/** The form's units changed: every length and mass shown again in them, the values unchanged. */
+function unitsChanged() {
+  const si = [...panel.querySelectorAll("input[data-kind]")].filter((el) => el.dataset.kind).map((el) => [el, readNumber(el.id)]);
+  isolators = readIsolators();
+  Object.assign(shown, state.units);
+  for (const [el, v] of si) if (!Number.isNaN(v)) el.value = display(v, el.dataset.kind);
+  panel.querySelectorAll(".unit[data-kind]").forEach((u) => { if (u.dataset.kind) u.textContent = shown[u.dataset.kind]; });
+  drawTable();
+}
+
 async function build() {
+  Object.assign(shown, state.units);
+  for (const id of ["unit-length", "unit-mass"]) document.getElementById(id).addEventListener("change", unitsChanged);
   const ex = await example();
   const frame = (ex && ex.frame) || { mass_kg: 400, inertia_kgm2: 60, centre_m: [0, -0.25] };
   isolators = structuredClone((ex && ex.isolators) || []);
@@ -284,7 +306,8 @@ async function build() {
   } }, "Use the manual's compressor");
   put(panel, h("h2", {}, "The machine on its foundation: frame, isolators, the force the foundation feels"),
     h("p", { class: "note" }, "The current linkage at its speed drives the frame with its shaking force and moment. "
-      + "The frame is the whole machine as one rigid body; positions in the linkage's coordinates (crank pivot O at the origin, y up), SI units. "
+      + "The frame is the whole machine as one rigid body; positions in the linkage's coordinates (crank pivot O at the origin, y up), "
+      + "lengths and masses in the form's units. "
       + "Forces are as the foundation feels them."),
     h("div", { class: "controls" }, FRAME_FIELDS.map(([path, label, unit]) => {
       const parts = path.split(".");

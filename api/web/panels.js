@@ -927,6 +927,11 @@ function studiesPanel() {
   let study = null, timer = null, base = null;
   const render = () => {
     const numeric = ctx.state.fields.filter((f) => !f.options && !f.path.startsWith("loads") && f.path !== "samples" && typeof ctx.getPath(ctx.state.design, f.path) === "number");
+    if (numeric.length < 2) {
+      put(el, h("h2", {}, "Design study over the current design"),
+        h("p", { class: "note" }, "A study varies two numbers of the design's form: this design has fewer (a general linkage is edited as JSON or drawn)."));
+      return;
+    }
     const opts = numeric.map((f) => [f.path, `${f.groupLabel}: ${f.label}`]);
     const cur = (p) => ctx.getPath(ctx.state.design, p);
     const row = (n, path) => {

@@ -41,16 +41,28 @@ function extent(arrays, pad = 0.05) {
   return [lo - d * pad, hi + d * pad];
 }
 
-function frame(xs, ys, xt, yt, xLabel, yLabel) {
+/** Tick labels with as many digits as it takes for no two to read the same (a front at solver noise: 4.5, 4.5, …
+ *  becomes 4.500000001, 4.500000002, …); ticks closer than a float can tell apart are thinned to one. */
+export function tickLabels(ticks) {
+  for (let digits = 3; digits <= 15; digits++) {
+    const labels = ticks.map((v) => fmt(v, digits));
+    if (new Set(labels).size === labels.length) return { ticks, labels };
+  }
+  const mid = ticks[Math.floor(ticks.length / 2)];
+  return { ticks: [mid], labels: [fmt(mid, 15)] };
+}
+
+function frame(xs, ys, xt, yt, xLabel, yLabel, top = M.t) {
   const X = (v) => M.l + ((v - xs[0]) / (xs[1] - xs[0])) * (W - M.l - M.r);
-  const Y = (v) => H - M.b - ((v - ys[0]) / (ys[1] - ys[0])) * (H - M.t - M.b);
+  const Y = (v) => H - M.b - ((v - ys[0]) / (ys[1] - ys[0])) * (H - top - M.b);
   const nodes = [];
-  for (const v of yt) nodes.push(s("line", { class: "grid", x1: M.l, x2: W - M.r, y1: Y(v), y2: Y(v) }),
-    s("text", { class: "tick", x: M.l - 4, y: Y(v) + 4, "text-anchor": "end" }, fmt(v, 3)));
-  for (const v of xt) nodes.push(s("line", { class: "grid", y1: M.t, y2: H - M.b, x1: X(v), x2: X(v) }),
-    s("text", { class: "tick", x: X(v), y: H - M.b + 13, "text-anchor": "middle" }, fmt(v, 3)));
+  const yl = tickLabels(yt), xl = tickLabels(xt);
+  yl.ticks.forEach((v, k) => nodes.push(s("line", { class: "grid", x1: M.l, x2: W - M.r, y1: Y(v), y2: Y(v) }),
+    s("text", { class: "tick", dataset: { axis: "y" }, x: M.l - 4, y: Y(v) + 4, "text-anchor": "end" }, yl.labels[k])));
+  xl.ticks.forEach((v, k) => nodes.push(s("line", { class: "grid", y1: top, y2: H - M.b, x1: X(v), x2: X(v) }),
+    s("text", { class: "tick", dataset: { axis: "x" }, x: X(v), y: H - M.b + 13, "text-anchor": "middle" }, xl.labels[k])));
   nodes.push(s("line", { class: "axis", x1: M.l, x2: W - M.r, y1: H - M.b, y2: H - M.b }),
-    s("line", { class: "axis", x1: M.l, x2: M.l, y1: M.t, y2: H - M.b }),
+    s("line", { class: "axis", x1: M.l, x2: M.l, y1: top, y2: H - M.b }),
     s("text", { x: (M.l + W - M.r) / 2, y: H - 3, "text-anchor": "middle" }, xLabel),
     s("text", { transform: `translate(11 ${(M.t + H - M.b) / 2}) rotate(-90)`, "text-anchor": "middle" }, yLabel));
   return { X, Y, nodes };
@@ -102,12 +114,35 @@ function box(container, id, title) {
   return { el, svg };
 }
 
+// The plots' text as the style sheet sets it (11 px of the system font), measured to lay legends out.
+const measure = { ctx: null };
+function textWidth(text) {
+  if (!measure.ctx) {
+    measure.ctx = document.createElement("canvas").getContext("2d");
+    measure.ctx.font = `11px ${getComputedStyle(document.body).fontFamily || "system-ui, sans-serif"}`;
+  }
+  return measure.ctx.measureText(text).width;
+}
+
+const LEGEND_ROW = 13;
+
+/** The legend's entries laid out by their measured width, left to right, a new row when the next would pass the
+ *  plot's right edge; and the top margin that leaves room for its rows. */
 function legend(series) {
-  if (series.length < 2) return [];
-  const step = Math.min(110, (W - M.l - M.r - 8) / series.length);
-  return series.map((c, i) => s("g", { transform: `translate(${M.l + 8 + i * step} ${M.t - 10})` },
+  if (series.length < 2) return { nodes: [], top: M.t };
+  const place = [];
+  let x = M.l + 8, row = 0;
+  for (const c of series) {
+    const w = 20 + textWidth(c.name) + 10;
+    if (x + w > W - M.r && x > M.l + 8) { x = M.l + 8; row += 1; }
+    place.push([x, row]);
+    x += w;
+  }
+  const top = M.t + row * LEGEND_ROW;
+  const nodes = series.map((c, i) => s("g", { class: "legend-entry", transform: `translate(${place[i][0]} ${M.t - 10 + place[i][1] * LEGEND_ROW})` },
     s("line", { x1: 0, x2: 16, y1: 0, y2: 0, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-width": 2, "stroke-dasharray": c.dash || null }),
     s("text", { x: 20, y: 4 }, c.name)));
+  return { nodes, top };
 }
 
 /** The note a plot carries when everything it draws is numerically zero. */
@@ -128,7 +163,8 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
   const ys = isZero ? [-zeroSpan, zeroSpan] : extent([...series.map((c) => c.values), ...limits.map((l) => [l.y])]);
   const xt = niceTicks(xs[0], xs[1], 6).ticks.filter((v) => v >= xs[0] - 1e-9 && v <= xs[1] + 1e-9);
   const yt = niceTicks(ys[0], ys[1], 5).ticks.filter((v) => v >= ys[0] - 1e-12 * (ys[1] - ys[0]) && v <= ys[1] + 1e-12 * (ys[1] - ys[0]));
-  const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel);
+  const key = legend(series);
+  const { X, Y, nodes } = frame(xs, ys, xt, yt, xLabel, yLabel, key.top);
   series.forEach((c, i) => {
     nodes.push(s("polyline", { class: "curve", dataset: { series: c.name }, stroke: c.colour || COLOURS[i % COLOURS.length], "stroke-dasharray": c.dash || null,
       points: polyline(x, c.values, X, Y) }));
@@ -138,10 +174,10 @@ export function linePlot(container, id, { title, x, xLabel, series, yLabel, unit
     nodes.push(s("line", { class: "limit", x1: M.l, x2: W - M.r, y1: Y(l.y), y2: Y(l.y) }),
       s("text", { x: W - M.r - 4, y: Y(l.y) - 4, "text-anchor": "end", fill: "#b3261e" }, l.label));
   }
-  if (isZero) nodes.push(zeroNote(peak, unit, W - M.r - 4, M.t + 12));
-  nodes.push(...legend(series));
-  let cursorLine = s("line", { class: "cursor", y1: M.t, y2: H - M.b, x1: M.l, x2: M.l });
-  let hoverLine = s("line", { class: "hover", y1: M.t, y2: H - M.b, x1: 0, x2: 0, visibility: "hidden" });
+  if (isZero) nodes.push(zeroNote(peak, unit, W - M.r - 4, key.top + 12));
+  nodes.push(...key.nodes);
+  let cursorLine = s("line", { class: "cursor", y1: key.top, y2: H - M.b, x1: M.l, x2: M.l });
+  let hoverLine = s("line", { class: "hover", y1: key.top, y2: H - M.b, x1: 0, x2: 0, visibility: "hidden" });
   nodes.push(cursorLine, hoverLine);
   const live = morph(svg, nodes);
   [cursorLine, hoverLine] = live.slice(-2);

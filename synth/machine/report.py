@@ -57,6 +57,8 @@ from .record import SHEET_KEY, TITLE_BLOCK_KEY, DesignRecord, input_rows, sheet_
 from .running_plots import running_figure  # noqa: E402
 from .foundation_plots import foundation_record_pages  # noqa: E402
 from .strength_plots import joint_rows, link_rows, shaft_rows, strength_record_page  # noqa: E402
+from .label_layout import OFFSETS, Labels, freeze, mm_axes, scale_bar  # noqa: E402
+from ..gearing.stages import stage_name  # noqa: E402
 
 #: A4 landscape [in]: every page of the report.
 A4 = (11.69, 8.27)
@@ -689,24 +691,15 @@ def _summary_figure(d: MachineDesign) -> Figure:
     return fig
 
 
-def _scale_bar(ax: Axes, span: float) -> None:
-    """A scale bar in millimetres, bottom left of the axes' data limits: the drawing is to scale."""
-    raw = span / 4
-    mag = 10 ** math.floor(math.log10(raw))
-    length = max(s * mag for s in (1, 2, 5, 10) if s * mag <= raw)
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    x, y = x0 + 0.04 * (x1 - x0), y0 + 0.05 * (y1 - y0)
-    ax.plot([x, x + length], [y, y], "k-", lw=2.5, solid_capstyle="butt")
-    ax.text(x, y + 0.015 * (y1 - y0), f"{length * 1e3:g} mm", fontsize=7, va="bottom")
-
-
-def _dimension(ax: Axes, a: Sequence[float], b: Sequence[float], text: str, offset: tuple[float, float] = (0, 0),
-               **kw: Any) -> None:
-    """A dimension line from ``a`` to ``b`` [m] with arrows at both ends and its text at the middle."""
+def _dimension(ax: Axes, labels: Labels, a: Sequence[float], b: Sequence[float], text: str, **kw: Any) -> None:
+    """A dimension line from ``a`` to ``b`` [m] with arrows at both ends, its text placed by measure beside its
+    middle."""
     ax.annotate("", xy=(b[0], b[1]), xytext=(a[0], a[1]), arrowprops={"arrowstyle": "<->", "lw": 0.8, "color": "0.15"})
-    mid = (0.5 * (a[0] + b[0]) + offset[0], 0.5 * (a[1] + b[1]) + offset[1])
-    ax.text(*mid, text, fontsize=7, ha="center", va="center",
-            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85}, **kw)
+    mid = (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]))
+    near = ((0.0, 0.0), (0.0, 8.0), (0.0, -8.0), (10.0, 0.0), (-10.0, 0.0), (0.0, 18.0), (0.0, -18.0), (24.0, 0.0),
+            (-24.0, 0.0), *OFFSETS)
+    labels.place(mid, text, near, fontsize=7, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85},
+                 **kw)
 
 
 def _linkage_drawing(ax: Axes, d: MachineDesign) -> None:
@@ -717,8 +710,8 @@ def _linkage_drawing(ax: Axes, d: MachineDesign) -> None:
     draw_linkage(ax, an.linkage, an, phi, counterweights=[])
     mech = an.linkage.mechanism
     single = solve_motion(mech, np.array([phi]), an.motion.omega_crank)
-    span = max(np.ptp(np.vstack(list(an.motion.point_pos.values())), axis=0).max(), 1e-6)
-    for n, cw in enumerate(_counterweights(d)):
+    discs = []
+    for cw in _counterweights(d):
         if cw.mass <= 0:
             continue
         origin = single.point_pos[mech.origins[cw.link]][0]
@@ -726,36 +719,47 @@ def _linkage_drawing(ax: Axes, d: MachineDesign) -> None:
         c, s = math.cos(ang), math.sin(ang)
         centre = origin + np.array([c * cw.position[0] - s * cw.position[1], s * cw.position[0] + c * cw.position[1]])
         dia, thick = counterweight_disc(cw)
-        ax.add_patch(Circle(tuple(centre), dia / 2, fc="tab:orange", ec="saddlebrown", alpha=0.6, zorder=4))
+        patch = Circle(tuple(centre), dia / 2, fc="tab:orange", ec="saddlebrown", alpha=0.6, zorder=4)
+        ax.add_patch(patch)
+        discs.append((cw, origin, centre, dia, thick, patch))
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.relim()
+    ax.autoscale_view()
+    # room round the linkage for the labels, then the limits fixed: every box below is measured against them
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    pad = 0.08 * max(x1 - x0, y1 - y0)
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 - pad, y1 + pad)
+    mm_axes(ax)
+    legend = ax.legend(fontsize=7, loc="upper right")
+    freeze(ax)
+    labels = Labels(ax)
+    labels.take([legend, *(p for *_, p in discs)])
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    scale_bar(ax, labels, max(x1 - x0, y1 - y0))
+    for cw, origin, centre, dia, thick, _ in discs:
         radius = math.hypot(*cw.position)
         theta = math.degrees(math.atan2(cw.position[1], cw.position[0]))
-        _dimension(ax, origin, centre, f"r = {num(radius * 1e3)} mm", offset=(0, 0.03 * span * (1 if n % 2 else -1)))
-        ax.annotate(f"counterweight on the {cw.link}: {num(cw.mass)} kg\nat {num(theta, 360.0)}° in the link frame\n"
-                    f"steel disc Ø {num(dia * 1e3)} mm × {num(thick * 1e3)} mm",
-                    tuple(centre), xytext=(12, -28 - 30 * n), textcoords="offset points", fontsize=7,
-                    arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.4"},
-                    bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "lw": 0.5})
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.autoscale_view()
-    ax.set_xticks([])
-    ax.set_yticks([])
-    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    _scale_bar(ax, max(x1 - x0, y1 - y0))
+        _dimension(ax, labels, origin, centre, f"r = {num(radius * 1e3)} mm")
+        labels.place(centre, f"counterweight on the {cw.link}: {num(cw.mass)} kg\nat {num(theta, 360.0)}° in the link frame\n"
+                     f"steel disc Ø {num(dia * 1e3)} mm × {num(thick * 1e3)} mm", leader=True, fontsize=7,
+                     bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "lw": 0.5})
     ax.set_title(f"{_family(d)} at {num(math.degrees(phi))}° with its counterweights", fontsize=9)
 
 
 def _gear_drawing(ax: Axes, d: MachineDesign) -> None:
     """Each sized gear pair, to scale: pitch circles (tip circles dashed), the centre distance and both
     diameters dimensioned, module and face width written."""
-    ax.set_xticks([])
-    ax.set_yticks([])
     sized = [g for g in (d.gears.stages if d.gears is not None else []) if g is not None]
     if not sized:
+        ax.set_xticks([])
+        ax.set_yticks([])
         ax.text(0.5, 0.5, "gears not sized for strength", ha="center", va="center", transform=ax.transAxes)
         ax.set_title("gear pairs", fontsize=9)
         return
     y = 0.0
     widest = max(g.centre_distance + (g.tip_diameters[0] + g.tip_diameters[1]) / 2 for g in sized)
+    rows = []
     for g in sized:
         r1, r2 = g.diameters[0] / 2, g.diameters[1] / 2
         top = max(g.tip_diameters) / 2
@@ -764,29 +768,37 @@ def _gear_drawing(ax: Axes, d: MachineDesign) -> None:
             ax.add_patch(Circle((x, y), r, fill=False, lw=1.2, ec="tab:blue"))
             ax.add_patch(Circle((x, y), tip, fill=False, lw=0.6, ls="--", ec="tab:blue"))
             ax.plot(x, y, "k+", ms=5)
-        _dimension(ax, (0.0, y - top - 0.06 * widest), (g.centre_distance, y - top - 0.06 * widest),
-                   f"a = {num(g.centre_distance * 1e3)} mm")
-        _dimension(ax, (0.0, y - r1), (0.0, y + r1), f"d1 = {num(g.diameters[0] * 1e3)} mm", rotation=90)
-        _dimension(ax, (g.centre_distance, y - r2), (g.centre_distance, y + r2),
-                   f"d2 = {num(g.diameters[1] * 1e3)} mm", rotation=90)
-        ax.text(-r1 - 0.05 * widest, y, f"stage {g.stage + 1}\nz {g.pinion_teeth}:{g.gear_teeth}\n"
-                f"m {g.module * 1e3:g} mm\nb {num(g.face_width * 1e3)} mm", fontsize=7, ha="right", va="center")
-        y -= top + 0.18 * widest
+        rows.append((g, y, top, r1, r2))
+        y -= top + 0.3 * widest
     ax.set_aspect("equal", adjustable="datalim")
-    ax.autoscale_view()
     ax.relim()
+    ax.autoscale_view()
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    ax.set_xlim(x0 - 0.35 * widest, x1)
-    _scale_bar(ax, max(x1 - x0, y1 - y0))
+    ax.set_xlim(x0 - 0.6 * widest, x1 + 0.1 * widest)
+    ax.set_ylim(y0 - 0.1 * widest, y1 + 0.1 * widest)
+    mm_axes(ax)
+    freeze(ax)
+    labels = Labels(ax)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    scale_bar(ax, labels, max(x1 - x0, y1 - y0))
+    for g, y, top, r1, r2 in rows:
+        _dimension(ax, labels, (0.0, y - top - 0.08 * widest), (g.centre_distance, y - top - 0.08 * widest),
+                   f"a = {num(g.centre_distance * 1e3)} mm")
+        _dimension(ax, labels, (0.0, y - r1), (0.0, y + r1), f"d1 = {num(g.diameters[0] * 1e3)} mm")
+        _dimension(ax, labels, (g.centre_distance, y - r2), (g.centre_distance, y + r2),
+                   f"d2 = {num(g.diameters[1] * 1e3)} mm")
+        labels.place((-r1, y), f"{stage_name(g.stage)}\nz {g.pinion_teeth}:{g.gear_teeth}\n"
+                     f"m {g.module * 1e3:g} mm\nb {num(g.face_width * 1e3)} mm",
+                     ((-8.0, 0.0), (-20.0, 0.0), *OFFSETS), fontsize=7)
     ax.set_title("gear pairs (pitch circles; tip circles dashed)", fontsize=9)
 
 
 def _flywheel_drawing(ax: Axes, d: MachineDesign) -> None:
     """The flywheel, to scale: front view and section, outer and inner diameters and width dimensioned."""
-    ax.set_xticks([])
-    ax.set_yticks([])
     b = d.placement
     if b is None:
+        ax.set_xticks([])
+        ax.set_yticks([])
         ax.text(0.5, 0.5, "no flywheel needed", ha="center", va="center", transform=ax.transAxes)
         ax.set_title("flywheel", fontsize=9)
         return
@@ -803,20 +815,30 @@ def _flywheel_drawing(ax: Axes, d: MachineDesign) -> None:
     ax.add_patch(Rectangle((x, -R), b.width, 2 * R, fc="#dfe7f3", ec="#2d3e5c", lw=1.2))
     if r > 0:
         ax.add_patch(Rectangle((x + 0.35 * b.width, -r), 0.3 * b.width, 2 * r, fc="white", ec="#2d3e5c"))
-    _dimension(ax, (-R, -1.15 * R), (R, -1.15 * R), f"D = {num(b.outer_diameter * 1e3)} mm")
-    if r > 0:
-        _dimension(ax, (-r, 0.0), (r, 0.0), f"d = {num(2 * r * 1e3)} mm", offset=(0, 0.1 * R))
-    _dimension(ax, (x, 1.12 * R), (x + b.width, 1.12 * R), f"b = {num(b.width * 1e3)} mm", offset=(0, 0.08 * R))
-    ax.set_xlim(-1.3 * R, x + b.width + 0.5 * R)
-    ax.set_ylim(-1.45 * R, 1.35 * R)
+    ax.set_xlim(-1.3 * R, x + b.width + 0.6 * R)
+    ax.set_ylim(-1.6 * R, 1.45 * R)
     ax.set_aspect("equal", adjustable="datalim")
-    _scale_bar(ax, 2.8 * R)
+    mm_axes(ax)
+    freeze(ax)
+    labels = Labels(ax)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    scale_bar(ax, labels, max(x1 - x0, y1 - y0))
+    _dimension(ax, labels, (-R, -1.15 * R), (R, -1.15 * R), f"D = {num(b.outer_diameter * 1e3)} mm")
+    if r > 0:
+        _dimension(ax, labels, (-r, 0.0), (r, 0.0), f"d = {num(2 * r * 1e3)} mm")
+    _dimension(ax, labels, (x, 1.12 * R), (x + b.width, 1.12 * R), f"b = {num(b.width * 1e3)} mm")
     ax.set_title(f"flywheel ({b.shape}) on the {b.shaft} shaft: {num(b.mass)} kg", fontsize=9)
 
 
+# The drawing pages' layout, fixed (the text on them is placed by measure at this size).
+_DRAWING_ADJUST = {"left": 0.08, "right": 0.98, "bottom": 0.15, "top": 0.88, "wspace": 0.3}
+
+
 def dimensioned_figure(d: MachineDesign) -> Figure:
-    """The linkage with its counterweights, the gear pairs and the flywheel, each to scale and dimensioned."""
-    fig = plt.figure(figsize=(A4[0], A4[1] * 0.78))
+    """The linkage with its counterweights, the gear pairs and the flywheel, each to scale and dimensioned, on
+    one A4 landscape page."""
+    fig = plt.figure(figsize=(_PAGE[0] / 72, _PAGE[1] / 72))
+    fig.subplots_adjust(**_DRAWING_ADJUST)
     grid = fig.add_gridspec(1, 3, width_ratios=(1.5, 1.0, 1.0))
     _linkage_drawing(fig.add_subplot(grid[0]), d)
     _gear_drawing(fig.add_subplot(grid[1]), d)
@@ -898,7 +920,7 @@ def design_report_pdf(design: MachineDesign, alternatives: Sequence[Alternative]
                 fig.set_size_inches(_PAGE[0] / 72, _PAGE[1] / 72)
                 fig.suptitle(title, x=_MARGIN / _PAGE[0], ha="left", fontsize=12, weight="bold")
                 # fixed margins (tight_layout measures every text's extent: seconds on a busy machine)
-                fig.subplots_adjust(left=0.08, right=0.98, bottom=0.15, top=0.88, wspace=0.3)
+                fig.subplots_adjust(**_DRAWING_ADJUST)
             pages += 1
             _figure_footer(fig, record, pages)
             pdf.savefig(literal_text(fig))
