@@ -27,7 +27,8 @@ _GAP = 2.0
 
 def mm_axes(ax: Axes) -> None:
     """Ticks in millimetres on both axes of a drawing whose data are in metres."""
-    mm = FuncFormatter(lambda v, _: f"{v * 1e3:.6g}")
+    # to the micrometre: a tick at the origin computed as 1e-17 m reads 0, never 1e-14
+    mm = FuncFormatter(lambda v, _: f"{round(v * 1e3, 3) + 0.0:g}")
     ax.xaxis.set_major_formatter(mm)
     ax.yaxis.set_major_formatter(mm)
     ax.set_xlabel("x [mm]", fontsize=8)
