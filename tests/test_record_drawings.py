@@ -16,6 +16,7 @@ from matplotlib.text import Annotation, Text
 from matplotlib.transforms import Bbox
 
 import synth
+from api.translate.machine import machine_from
 from mechsynth_client.schemas.common import FOURBAR_EXAMPLE
 from mechsynth_client.schemas.machine import MachineIn
 from synth.machine.record import DesignRecord
@@ -32,7 +33,7 @@ BODY: dict[str, Any] = {
 
 @pytest.fixture(scope="module")
 def design() -> Any:
-    return synth.design_machine(MachineIn.model_validate(BODY).to_engine(4))
+    return synth.design_machine(machine_from(MachineIn.model_validate(BODY), 4))
 
 
 def _apart(a: Bbox, b: Bbox) -> bool:
