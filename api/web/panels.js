@@ -490,7 +490,8 @@ const MACHINE_MORE = {
 const MACHINE_LABELS = Object.fromEntries(Object.values(MACHINE_MORE).flat());
 const MACHINE_FOLDS = { "": "Machine type, speed, start-up and run-down, name", drive: "Drive: motor, split and teeth",
   balancing: "Balancing", flywheel: "Flywheel", title_block: "Title block of the record", foundation: "Foundation",
-  elastic_drive: "Elastic drive", regulation: "Load step and speed regulation", friction: "Friction" };
+  elastic_drive: "Elastic drive", regulation: "Load step and speed regulation", friction: "Friction",
+  strength: "Parts sized for strength: links, pins, bearings, crank shaft and keys (any field filled sizes them)" };
 // The fields the panel's first rows hold, and the linkage (the editor's).
 const MACHINE_OWN = [...LINKAGE_FIELDS, "delta", "balancing.mode", "drive.synchronous_rpm", "drive.stages", "alternatives"];
 
