@@ -107,3 +107,30 @@ def test_sizing_an_impossible_load_names_the_stage() -> None:
     with pytest.raises(synth.Infeasible) as exc:
         synth.size_stage(4.0, synth.StageLoad(5e7, LOAD.speed), RULES, stage=2)
     assert exc.value.details["stage_index"] == 2
+
+
+def test_a_sized_stage_in_a_resonance_range_says_so_in_the_drive() -> None:
+    stages = synth.make_stages(["helical", "spur"], max_stages=6)
+    r = synth.design_drive(3000.0, 60 * RPM, stages, objective="min_volume", strength=RULES)
+    assert r.gears is not None
+    # every sized stage's own resonance warnings, and only those, are in the drive's list under its stage
+    expected = sorted((f"stages[{k}]", w.code) for k, g in enumerate(r.gears.stages) if g is not None
+                      for w in g.rating.warnings)
+    codes = {"gear_main_resonance", "gear_intermediate_resonance", "gear_subcritical_resonance"}
+    assert sorted((w.field, w.code) for w in r.warnings if w.code in codes) == expected
+    # each sized stage's ratio N places it: a warning exactly when N lies in a range the rating names
+    for g in r.gears.stages:
+        assert g is not None
+        n = g.rating.factor("N").pinion
+        assert bool(g.rating.warnings) == any(not c.passed for c in g.rating.validity)
+        assert (0.85 < n <= 1.15) == ("gear_main_resonance" in {w.code for w in g.rating.warnings})
+
+
+def test_a_stage_sized_at_high_speed_is_rated_with_its_resonance_range() -> None:
+    # a 50 N·m pinion at 15 000 rpm: the sizing's pair runs at N = 1.33, between the main resonance and the
+    # supercritical range (ISO 6336-1), and says so; N grows with the speed alone for the same pair
+    from synth.gearing.sizing import StageLoad, size_stage
+
+    g = size_stage(3.0, StageLoad(50.0, 15000 * RPM))
+    n = g.rating.factor("N").pinion
+    assert 1.15 < n < 1.5 and [w.code for w in g.rating.warnings] == ["gear_intermediate_resonance"]

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -213,6 +213,9 @@ def design_drive(
         warnings += [DesignWarning("stage_not_sized", f"stages[{k}]", None,
                                    f"{stage_name(k)} ({stages[k].type}) is not a cylindrical pair; it is not sized")
                      for k, g in enumerate(gears.stages) if g is None]
+        # a sized stage's rating says where it stops too (its mesh resonance)
+        warnings += [replace(w, field=f"stages[{k}]", message=f"{stage_name(k)}: {w.message}")
+                     for k, g in enumerate(gears.stages) if g is not None for w in g.rating.warnings]
     return DriveResult(chosen, required, eta, eta_chain, total, split, tuple(map(float, etas)), shafts,
                        split.reduced_inertia, float(speeds[-1]), torque_basis, checks,
                        tuple(warnings) + split.warnings, gears,

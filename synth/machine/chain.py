@@ -488,8 +488,11 @@ def _gears(machine: MachineSpec, teeth: ToothResult | None, ratios: Sequence[flo
         helix = rules.helix_angle if rules.helix_angle is not None else HELICAL_TYPES.get(s.type, 0.0)
         load = StageLoad(torques[k], shafts[k].mean_speed, weights)
         try:
-            out.append(size_stage(mesh.gear_teeth / mesh.pinion_teeth, load, rules, stage=k, helix_angle=helix,
-                                  pinion_teeth=mesh.pinion_teeth, width_steps=width_steps))
+            sized_stage = size_stage(mesh.gear_teeth / mesh.pinion_teeth, load, rules, stage=k, helix_angle=helix,
+                                     pinion_teeth=mesh.pinion_teeth, width_steps=width_steps)
+            out.append(sized_stage)
+            warnings += [replace(w, field=f"drive.stages[{k}]", message=f"{stage_name(k)}: {w.message}",
+                                 stage="drive") for w in sized_stage.rating.warnings]
         except (InvalidInput, Infeasible) as exc:
             out.append(None)
             warnings.append(DesignWarning("stage_not_sized", f"drive.stages[{k}]", None,
