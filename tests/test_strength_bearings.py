@@ -145,3 +145,18 @@ def test_catalogue_is_well_formed() -> None:
     assert len(cat) > 40
     assert {b.type for b in cat} == {"deep_groove_ball", "cylindrical_roller", "needle_roller"}
     assert all(b.outer > b.bore and b.static_rating > 0 for b in cat)
+
+
+def test_a_small_bore_takes_its_largest_length_when_the_next_whole_millimetre_passes_it() -> None:
+    # p = F/(d b): 360 N on a 5 mm bore at the sintered bronze's 10 MPa needs b = 7.2 mm, within b/d = 1.5 (7.5 mm)
+    # though its next whole millimetre (8 mm) is not; 400 N needs 8.0 mm, beyond it.
+    from synth.strength.bearings import bushing_materials, size_bushing
+
+    bronze = bushing_materials()["sintered_bronze_oil"]
+    w = np.full(36, 0.5)
+    fit = size_bushing("joint A", np.full(36, 360.0), w, 5e-3, bronze)
+    assert fit.length == pytest.approx(7.5e-3, rel=1e-12)
+    assert float(fit.pressure.max()) == pytest.approx(360.0 / (5e-3 * 7.5e-3), rel=1e-12)
+    assert all(c.passed for c in fit.checks)
+    with pytest.raises(Infeasible, match="8.0 mm of length for pressure"):
+        size_bushing("joint A", np.full(36, 400.0), w, 5e-3, bronze)

@@ -347,7 +347,10 @@ def size_bushing(
         need_pv = float(np.mean(f * v)) / (diameter * material.pv_limit)
         need = max(lo * diameter, need_p, need_pv)
         length = math.ceil(need * 1e3 - 1e-9) / 1e3
-        if length > hi * diameter * (1.0 + 1e-12):
+        if length > hi * diameter and need <= hi * diameter * (1.0 + 1e-12):
+            # a small bore whose next whole millimetre passes b/d, although the length it needs does not: b/d itself
+            length = hi * diameter
+        if need > hi * diameter * (1.0 + 1e-12):
             which = "bushing_pressure" if need_p >= need_pv else "bushing_pv"
             raise Infeasible(f"{part}: a {material.name} bushing of {diameter * 1e3:.1f} mm bore needs "
                              f"{need * 1e3:.1f} mm of length for {which.split('_')[1]}, beyond b/d = {hi:g}",
