@@ -89,6 +89,8 @@ def test_a_centre_outside_its_isolators_is_named(client: SynthClient) -> None:
 def test_the_run_up_with_the_cranks_acceleration_against_an_independent_integration() -> None:
     from scipy.integrate import solve_ivp
 
+    from api.translate.foundation import frame_and_isolators_from
+    from api.translate.linkage import linkage_from
     from synth.analysis import analyse
     from synth.flywheel import Motor
     from synth.kinetostatics import link_arrays
@@ -98,8 +100,8 @@ def test_the_run_up_with_the_cranks_acceleration_against_an_independent_integrat
 
     example = IsolationIn.model_json_schema()["examples"][0]
     body = IsolationIn.model_validate({**example, "samples": 72})
-    frame, isolators = body.to_frame()
-    an = analyse(body.to_linkage(), body.omega_rad_s, samples=72)
+    frame, isolators = frame_and_isolators_from(body)
+    an = analyse(linkage_from(body), body.omega_rad_s, samples=72)
     motor = Motor(1500 * math.pi / 30, 1440 * math.pi / 30, 30.0, 3.0, 1.0, 0.02, 70.0)
     red = an.reduced
     start = simulate_startup(MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque), 0.5, motor)
@@ -113,7 +115,7 @@ def test_the_run_up_with_the_cranks_acceleration_against_an_independent_integrat
     # independently: every link's centre and angle over the turn (positions only), their derivatives in the crank
     # angle by periodic finite differences on a fine analysis, and the pull -sum m (r'' w² + r' alpha) with the
     # moment -sum [m r x (r'' w² + r' alpha) + J (theta'' w² + theta' alpha)] - spin·alpha, integrated in time
-    fine = analyse(body.to_linkage(), body.omega_rad_s, samples=1440)
+    fine = analyse(linkage_from(body), body.omega_rad_s, samples=1440)
     arr = link_arrays(fine.motion, fine.linkage)
     phi = fine.motion.phi
     h = phi[1] - phi[0]
