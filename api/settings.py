@@ -94,6 +94,8 @@ class Settings(BaseSettings):
     session_hours: float = Field(8.0, gt=0, le=24 * 30, description="How long a browser sign-in lasts [h].")
     sign_ins_per_minute: int = Field(10, ge=1, le=100_000, description="Sign-in attempts one client address may "
                                      "make per minute, right or wrong; 429 with Retry-After beyond.")
+    token_days: float = Field(90.0, ge=0, le=36_500, description="How long a new API token lasts unless its "
+                              "maker says otherwise [days]; 0: new tokens last until revoked.")
     max_connections_per_client: int = Field(100, ge=1, le=1_000_000, description="Open connections from one "
                                             "client address at once; beyond, its new connections are answered "
                                             "503 and closed (the others' are not).")

@@ -74,6 +74,8 @@ api_tokens = Table(
     Column("last_used_at", Float),
     # The user's credential epoch when the token was made: a token of an older epoch is refused.
     Column("epoch", Integer, nullable=False, server_default="0"),
+    # After this the token is refused [s since the epoch]; none: until it is revoked.
+    Column("expires_at", Float),
     Index("ix_api_tokens_user_id", "user_id"),
 )
 

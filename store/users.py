@@ -126,12 +126,14 @@ class Users:
             db.execute(users.update().where(users.c.id == user_id)
                        .values(credential_epoch=users.c.credential_epoch + 1))
 
-    def add_token(self, user_id: int, token: str, label: str | None = None) -> int:
-        """Keep the hash of a new API token of a user; the token's number (to revoke it by)."""
+    def add_token(self, user_id: int, token: str, label: str | None = None, expires_at: float | None = None) -> int:
+        """Keep the hash of a new API token of a user, refused after ``expires_at`` [s since the epoch] when
+        given; the token's number (to revoke it by)."""
         with self.store.write() as db:
             epoch = sa.select(users.c.credential_epoch).where(users.c.id == user_id).scalar_subquery()
             return int(db.execute(api_tokens.insert().values(token_hash=token_hash(token), user_id=user_id,
-                                                             label=label, created_at=time.time(), epoch=epoch)
+                                                             label=label, created_at=time.time(), epoch=epoch,
+                                                             expires_at=expires_at)
                                   .returning(api_tokens.c.id)).scalar_one())
 
     def by_token(self, token: str) -> User | None:
@@ -140,7 +142,9 @@ class Users:
         with self.store.write() as db:
             row = db.execute(sa.select(*_USER_COLUMNS).join(api_tokens, api_tokens.c.user_id == users.c.id)
                              .where(api_tokens.c.token_hash == digest,
-                                    api_tokens.c.epoch == users.c.credential_epoch)).one_or_none()
+                                    api_tokens.c.epoch == users.c.credential_epoch,
+                                    sa.or_(api_tokens.c.expires_at.is_(None),
+                                           api_tokens.c.expires_at > time.time()))).one_or_none()
             if row is None:
                 return None
             db.execute(api_tokens.update().where(api_tokens.c.token_hash == digest)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import tempfile
+import time
 from collections.abc import Callable, Iterator
 from http.cookies import SimpleCookie
 from pathlib import Path
@@ -25,6 +26,7 @@ from mechsynth_client import SynthClient
 from mechsynth_client.client import ForbiddenError, UnauthorizedError
 from mechsynth_client.schemas.auth import TokenIn, UserIn, UserPatchIn
 from mechsynth_client.schemas.gearing import SplitIn
+from store.schema import api_tokens
 from store_engines import open_store, pg_cluster, store_url  # noqa: F401  (fixtures)
 
 SPLIT = {"total_ratio": 12.0, "stages": 2}
@@ -430,3 +432,21 @@ def test_accounts_on_both_engines(open_store: Callable[[], store.Store]) -> None
     accounts.remove(ada)
     assert accounts.by_name("ada") is None and accounts.token_user(second) is None
     assert not accounts.revoke_token(2**31 - 1)       # the largest number the path accepts, on either engine
+
+
+def test_a_token_lasts_its_days_then_is_refused_naming_its_expiry(http: TestClient) -> None:
+    admin = _bearer(http, "ada")
+    made = http.post("/v1/users/emil/tokens", json={"label": "default"}, headers=admin).json()
+    # the service's default, SYNTH_TOKEN_DAYS = 90 days from now
+    assert made["expires_at"] == pytest.approx(made["created_at"] + 90 * 86_400, abs=1.0)
+    forever = http.post("/v1/users/emil/tokens", json={"label": "kept", "expires_in_days": 0}, headers=admin)
+    assert forever.json()["expires_at"] is None
+    short = http.post("/v1/users/emil/tokens", json={"label": "short", "expires_in_days": 1}, headers=admin).json()
+    bearer = {"authorization": f"Bearer {short['token']}"}
+    assert http.get("/v1/studies", headers=bearer).status_code == 200
+    with _accounts(http).store.write() as db:      # its day has passed
+        db.execute(api_tokens.update().where(api_tokens.c.id == short["id"]).values(expires_at=time.time() - 1))
+    refused = http.get("/v1/studies", headers=bearer)
+    assert refused.status_code == 401 and "expired at" in refused.json()["detail"], refused.text
+    listed = {t["label"]: t for t in http.get("/v1/users/emil/tokens", headers=admin).json()}
+    assert listed["kept"]["expires_at"] is None and listed["short"]["expires_at"] < time.time()

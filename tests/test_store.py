@@ -25,7 +25,7 @@ def _rows(indices: range) -> list[VariantRow]:
 
 def test_migrations_bring_an_empty_store_to_head_once(open_store: Callable[[], Store]) -> None:
     store = open_store()
-    assert store.migrate() == ["0001", "0002", "0003"]
+    assert store.migrate() == ["0001", "0002", "0003", "0004"]
     assert open_store().migrate() == []        # a second process finds the schema current
     tables = set(sa.inspect(store.engine).get_table_names())
     assert {"studies", "study_rows", "users", "api_tokens", "projects", "designs", "revisions", "revision_comments",
@@ -117,7 +117,7 @@ def test_a_study_file_from_before_migrations_is_taken_over(tmp_path: Path) -> No
         """)
     store = Store(f"sqlite:///{path}")
     try:
-        assert store.migrate() == ["0001", "0002", "0003"]
+        assert store.migrate() == ["0001", "0002", "0003", "0004"]
         studies = SqlStudyStore(store)
         assert studies.sweep() == 1 and studies.missing("s1", 2) == [1]
         assert studies.rows("s1") == [VariantRow(0, (0.5,), (2.0,), True)]

@@ -22,7 +22,7 @@ import store
 from ..problems import problem
 from . import roles, tokens
 from .sessions import CSRF_HEADER, Session, Sessions
-from .users import Accounts
+from .users import Accounts, TokenExpired
 
 REALM = 'Bearer realm="mechsynth"'
 
@@ -82,7 +82,10 @@ class Access:
         """The caller of a bearer token; :class:`Refused` when it is unknown or revoked."""
         if not tokens.well_formed(sent):
             raise Refused("the bearer token is not one this service issued")
-        found = self.accounts.token_user(sent)
+        try:
+            found = self.accounts.token_user(sent)
+        except TokenExpired as exc:
+            raise Refused(str(exc)) from None
         if found is None:
             raise Refused("the bearer token is unknown or revoked")
         user, token_id = found

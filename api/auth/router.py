@@ -167,7 +167,7 @@ def _user_out(user: store.User) -> UserOut:
 
 def _token_out(token: TokenInfo) -> TokenOut:
     return TokenOut(id=token.id, user=token.user, label=token.label, created_at=token.created_at,
-                    last_used_at=token.last_used_at)
+                    last_used_at=token.last_used_at, expires_at=token.expires_at)
 
 
 def _no_user(name: str) -> JSONResponse:
@@ -307,16 +307,20 @@ async def user_tokens(name: UserName, access: AccessDep) -> Any:
 
 
 @router.post("/users/{name}/tokens", status_code=201, response_model=NewTokenOut, responses=NO_USER)
-async def add_token(name: UserName, body: TokenIn, access: AccessDep) -> Any:
+async def add_token(name: UserName, body: TokenIn, request: Request, access: AccessDep) -> Any:
     """Make an API token for a user (admins only); the answer shows the token this once. Programs send it as
-    `Authorization: Bearer <token>`; it acts with the user's roles."""
+    `Authorization: Bearer <token>`; it acts with the user's roles, until `expires_in_days` (the service's
+    default when omitted; 0: until revoked)."""
     found = await asyncio.to_thread(access.accounts.by_name, name)
     if found is None:
         return _no_user(name)
     token = tokens.new_token()
-    token_id = await asyncio.to_thread(access.accounts.add_token, found.id, token, body.label)
-    return NewTokenOut(id=token_id, user=name, label=body.label, created_at=time.time(), last_used_at=None,
-                       token=token)
+    now = time.time()
+    days = request.app.state.settings.token_days if body.expires_in_days is None else body.expires_in_days
+    expires_at = now + days * 86_400.0 if days > 0 else None
+    token_id = await asyncio.to_thread(access.accounts.add_token, found.id, token, body.label, expires_at)
+    return NewTokenOut(id=token_id, user=name, label=body.label, created_at=now, last_used_at=None,
+                       expires_at=expires_at, token=token)
 
 
 @router.delete("/tokens/{token_id}", status_code=204, response_model=None,

@@ -27,6 +27,16 @@ class TokenInfo:
     label: str
     created_at: float
     last_used_at: float | None
+    expires_at: float | None = None
+
+
+class TokenExpired(Exception):
+    """The token was valid until ``expires_at`` [s since the epoch] and is refused from then on."""
+
+    def __init__(self, expires_at: float) -> None:
+        super().__init__(f"the bearer token expired at {time.strftime('%Y-%m-%d %H:%M:%S', time.gmtime(expires_at))} "
+                         "UTC; an admin makes a new one")
+        self.expires_at = expires_at
 
 
 class Accounts(store.Users):
@@ -69,7 +79,8 @@ class Accounts(store.Users):
             return self._uses.get(token_id)
 
     def token_user(self, token: str) -> tuple[store.User, int] | None:
-        """The user holding ``token`` and the token's number, or None; the token's use now is noted (written by
+        """The user holding ``token`` and the token's number, or None (:class:`TokenExpired` past its expiry); the
+        token's use now is noted (written by
         :meth:`record_uses`, off the request's path: recognising a caller never writes).
 
         The row is found by the token's SHA-256 (a 256-bit random secret, so the index lookup tells an attacker
@@ -78,12 +89,15 @@ class Accounts(store.Users):
         digest = store.token_hash(token)
         with self.store.read() as db:
             row = db.execute(sa.select(api_tokens.c.id, api_tokens.c.token_hash, users.c.id, users.c.name,
-                                       users.c.roles, users.c.created_at, users.c.credential_epoch)
+                                       users.c.roles, users.c.created_at, users.c.credential_epoch,
+                                       api_tokens.c.expires_at)
                              .join(users, api_tokens.c.user_id == users.c.id)
                              .where(api_tokens.c.token_hash == digest,
                                     api_tokens.c.epoch == users.c.credential_epoch)).one_or_none()
             if row is None or not hmac.compare_digest(str(row[1]).encode(), digest.encode()):
                 return None
+        if row[7] is not None and float(row[7]) <= time.time():
+            raise TokenExpired(float(row[7]))
         self.used(int(row[0]))
         user = store.User(int(row[2]), str(row[3]), frozenset(str(row[4]).split()), float(row[5]), int(row[6]))
         return user, int(row[0])
@@ -92,12 +106,13 @@ class Accounts(store.Users):
         """A user's tokens, oldest first."""
         with self.store.read() as db:
             rows = db.execute(sa.select(api_tokens.c.id, api_tokens.c.label, api_tokens.c.created_at,
-                                        api_tokens.c.last_used_at)
+                                        api_tokens.c.last_used_at, api_tokens.c.expires_at)
                               .where(api_tokens.c.user_id == user.id).order_by(api_tokens.c.id)).all()
         out = []
         for r in rows:
             last = max((float(t) for t in (r[3], self.noted_use(int(r[0]))) if t is not None), default=None)
-            out.append(TokenInfo(int(r[0]), user.name, str(r[1] or ""), float(r[2]), last))
+            out.append(TokenInfo(int(r[0]), user.name, str(r[1] or ""), float(r[2]), last,
+                                 None if r[4] is None else float(r[4])))
         return out
 
     def remove(self, user: store.User) -> None:

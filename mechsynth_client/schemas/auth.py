@@ -70,6 +70,10 @@ class TokenIn(StrictModel):
 
     label: Annotated[str, Field(min_length=1, max_length=100, description="What the token is for.",
                                 examples=["nightly studies"])]
+    expires_in_days: Annotated[float | None, Field(
+        ge=0, le=36_500, examples=[30],
+        description="Days the token lasts, from now [days]; 0: until it is revoked; omitted: the service's "
+                    "default (SYNTH_TOKEN_DAYS, 90 days unless set).")] = None
 
 
 class TokenOut(BaseModel):
@@ -80,6 +84,8 @@ class TokenOut(BaseModel):
     label: str = Field(description="What the token is for.")
     created_at: float = Field(description="When the token was made [s since the epoch].")
     last_used_at: float | None = Field(description="When the token was last used [s since the epoch].")
+    expires_at: float | None = Field(None, description="When the token stops working [s since the epoch]; null: "
+                                                       "until it is revoked.")
 
 
 class NewTokenOut(TokenOut):
