@@ -8,8 +8,9 @@ crank angle where starting is hardest, with the motor's whole characteristic fro
 Hermite curve through the tables of J_red and its analytic slope, and J' is that curve's own derivative, so
 the integrated motion keeps the energy balance (motor work = kinetic energy gained + losses + process work)
 the answer reports as its check. Classical Runge-Kutta steps in time, a fixed step of a quarter of a sample
-interval at the motor's no-load speed, compiled once per call with CasADi; the work integrals are states of
-the same integration.
+interval at the motor's no-load speed (of a 360-sample interval on finer tables: the step follows the motion,
+not the grid), built on CasADi's scalar expressions once per call; the work integrals are states of the same
+integration.
 """
 
 from __future__ import annotations
@@ -31,8 +32,12 @@ STEADY_TOLERANCE = 0.01
 MAX_TIME = 600.0
 #: Most Runge-Kutta steps of one run (a fast crank with a heavy flywheel would otherwise hold millions of states).
 MAX_STEPS = 400_000
-#: Runge-Kutta steps per sample interval at the no-load crank speed.
+#: Runge-Kutta steps per sample interval at the no-load crank speed, on at most RESOLVED_SAMPLES intervals.
 SUBSTEPS = 4
+#: Finer tables than this many samples per revolution do not shorten the step: 1 440 steps a revolution resolve
+#: the motion (its speed varies over the revolution as the load and the inertia do), and a finer sample grid only
+#: refines the tables the steps read between their nodes.
+RESOLVED_SAMPLES = 360
 #: Steps integrated between two looks at the speed (a few revolutions).
 CHUNK_STEPS = 4096
 #: Most steps of the closed-form reference run that checks the integrator.
@@ -186,6 +191,12 @@ def _uniform_step(phi: FloatArray) -> float:
     return step
 
 
+def _time_step(cycle: MachineCycle, speed: float) -> float:
+    """The fixed Runge-Kutta step [s]: SUBSTEPS steps a sample interval (on at most RESOLVED_SAMPLES of them a
+    revolution) at crank ``speed`` [rad/s]."""
+    return 2 * math.pi / (SUBSTEPS * min(cycle.phi.size, RESOLVED_SAMPLES) * max(speed, 1e-300))
+
+
 def _hermite(phi_rel: FloatArray, step: float, j: FloatArray, dj: FloatArray) -> FloatArray:
     """J on the Hermite curve through the closed tables at angles ``phi_rel`` from the first sample [rad]."""
     n = j.size - 1
@@ -208,14 +219,15 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
     stacked = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
                                                     friction)])
     table = ca.interpolant("tables", "linear", grid, stacked.reshape(-1).tolist())
-    x = ca.MX.sym("x", 6)
+    # built on scalar expressions (the table look-ups included): cheap to build, a step a fraction of a graph's
+    x = ca.SX.sym("x", 6)
     i_gear, eta = motor.gear_ratio, motor.efficiency
     n_s, n_b = motor.synchronous_speed, motor.breakdown_speed
     slope = motor.rated_torque / (motor.synchronous_speed - motor.rated_speed)
     t_start = motor.starting_torque
     t_break = motor.breakdown_torque
 
-    def rate(state: ca.MX) -> ca.MX:
+    def rate(state: ca.SX) -> ca.SX:
         phi, w = state[0], state[1]
         u = phi / step
         k = ca.floor(u)
@@ -244,8 +256,7 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
     k3 = rate(x + 0.5 * dt * k2)
     k4 = rate(x + dt * k3)
     one = ca.Function("rk4", [x], [x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
-    # expanded to scalar operations (the table look-ups included), a step costs a fraction of the MX graph's
-    return one.expand().mapaccum("run", steps)
+    return one.mapaccum("run", steps)
 
 
 def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
@@ -376,7 +387,7 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     """
     if not 0 < tolerance < 1:
         raise InvalidInput("the steady-state tolerance must lie in (0, 1)", field="tolerance")
-    step = _uniform_step(cycle.phi)
+    _uniform_step(cycle.phi)
     friction = _friction_table(cycle, friction_torque, "friction_torque")
     check = start_check(cycle, motor, breakaway_torque, standstill_load)
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
@@ -384,7 +395,7 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     phi0 = check.worst_angle if start_angle is None else float(start_angle)
     if not check.starts:
         return StartUp(check, None, steady, None, 0.0, 0.0, tolerance, True)
-    dt = step / (SUBSTEPS * motor.synchronous_speed / motor.gear_ratio)
+    dt = _time_step(cycle, motor.synchronous_speed / motor.gear_ratio)
     stop = _Stop(steady, tolerance, float(cycle.phi[0]))
     states, stalled = _integrate(cycle, constant_inertia, motor, friction, 0.0, True, phi0, 0.0, dt, stop)
     run = _transient(cycle, constant_inertia, motor, states, dt, True)
@@ -415,11 +426,11 @@ def simulate_rundown(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     """
     if not (math.isfinite(brake_torque) and brake_torque >= 0):
         raise InvalidInput("the brake torque must be finite and not negative", field="brake_torque_Nm")
-    step = _uniform_step(cycle.phi)
+    _uniform_step(cycle.phi)
     friction = _friction_table(cycle, friction_torque, "friction_torque")
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
     steady = simulate_machine(loaded, constant_inertia, motor)
-    dt = step / (SUBSTEPS * max(float(steady.omega.max()), 1e-300))
+    dt = _time_step(cycle, float(steady.omega.max()))
     states, stopped = _integrate(cycle, constant_inertia, motor, friction, brake_torque, False,
                                  float(cycle.phi[0]), float(steady.omega[0]), dt, _Never())
     run = _transient(cycle, constant_inertia, motor, states, dt, False)
