@@ -783,6 +783,14 @@ function synthesisPanel() {
     // each task shows the fields it takes
     const USED = { "crank-rocker": ["swing_deg", "time_ratio", "scale_length_m"], "slider-crank": ["stroke_m", "time_ratio"], path: [] };
     const showTask = () => {
+      // another task: the answer of the one before is no answer to it
+      if (answer && answer.task !== read("syn", "task")) {
+        answer = null;
+        put(document.getElementById("syn-result"));
+        document.getElementById("syn-open").disabled = true;
+        delete document.body.dataset.synthesised;
+        drawCanvas();
+      }
       const used = USED[read("syn", "task")];
       for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m"]) {
         document.getElementById(`syn-${name}`).closest(".row").hidden = !used.includes(name);
