@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, lru_cache
 from importlib import resources
 from typing import Any
 
@@ -91,9 +91,12 @@ _YNT = {
 _YNT_GROUP = {"St": "V", "V": "V", "GGG": "V", "Eh": "Eh", "IF": "Eh", "NT": "NT", "NV": "NT", "GG": "NT"}
 
 
+@lru_cache(maxsize=64)
 def _curve(knots: tuple[tuple[float, float], ...]) -> tuple[FloatArray, FloatArray]:
+    """log N and log factor at the knots (read-only: shared by every call on the same curve)."""
     n = np.log([k[0] for k in knots])
     f = np.log([k[1] for k in knots])
+    n.flags.writeable = f.flags.writeable = False
     return n, f
 
 
@@ -115,7 +118,7 @@ def _inverse_life(knots: tuple[tuple[float, float], ...], factor: FloatArray) ->
     inside = np.interp(logf, f[::-1], n[::-1])
     beyond = n[-1] + (logf - f[-1]) / slope
     # Beyond ~1e300 cycles a stress does no damage worth counting: clip before exp so nothing overflows.
-    logn = np.clip(np.where(logf < f[-1], beyond, inside), -700.0, 700.0)
+    logn = np.minimum(np.maximum(np.where(logf < f[-1], beyond, inside), -700.0), 700.0)
     out = np.exp(logn)
     return np.asarray(np.where(logf > f[0] * (1 + 1e-12), 0.0, out), dtype=float)
 

@@ -297,8 +297,12 @@ def _root_form_factors(g: PairGeometry) -> dict[str, FloatArray]:
     big_g = rfp / mn - hfp / mn + x
     big_h = 2 / zn * (math.pi / 2 - e / mn) - math.pi / 3
     theta = np.full(2, math.pi / 6)
+    slope = 2 * big_g / zn
     for _ in range(60):
-        theta = np.clip(2 * big_g / zn * np.tan(theta) - big_h, -1.5, 1.5)
+        # once an iterate repeats itself exactly, every later one is the same: stop there
+        theta, last = np.minimum(np.maximum(slope * np.tan(theta) - big_h, -1.5), 1.5), theta
+        if np.array_equal(theta, last):
+            break
     s_fn = mn * (zn * np.sin(math.pi / 3 - theta) + math.sqrt(3) * (big_g / np.cos(theta) - rfp / mn))
     rho_f = rfp + 2 * mn * big_g**2 / (np.cos(theta) * (zn * np.cos(theta) ** 2 - 2 * big_g))
     dn = mn * zn
