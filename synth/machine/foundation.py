@@ -17,6 +17,7 @@ after as many cycles as it takes (reported as the settling time).
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -232,6 +233,12 @@ def frame_model(frame: Frame, isolators: tuple[Isolator, ...] | list[Isolator]) 
             c[i] = 2 * iso.damping_ratio * np.sqrt(k[i] * share)
         else:
             c[i] = iso.cx, iso.cy
+    stiffest = float(np.max(k, initial=0.0))
+    for name, value in (("frame.mass_kg", frame.mass), ("frame.inertia_kgm2", frame.inertia)):
+        # a subnormal mass or inertia: stiffness over it overflows and the frame's modes cannot be computed
+        if not (value >= sys.float_info.min and math.isfinite(stiffest / value)):
+            raise InvalidInput(f"{name} {value:g} is too small to compute the frame's modes with against isolators "
+                               f"of up to {stiffest:g} N/m", field=name)
     mass = np.diag([frame.mass, frame.mass, frame.inertia])
     stiffness = np.einsum("iaj,ia,iak->jk", maps, k, maps)
     damping = np.einsum("iaj,ia,iak->jk", maps, c, maps)
