@@ -215,10 +215,12 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
     step = 2 * math.pi / cycle.phi.size
     n = cycle.phi.size
     grid = [list(np.arange(n + 1, dtype=float))]
-    # one look-up gives all four tables at a node (values interleaved per node, as CasADi stacks outputs)
-    stacked = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
-                                                    friction)])
-    table = ca.interpolant("tables", "linear", grid, stacked.reshape(-1).tolist())
+    # one look-up at a node gives the four tables there and at the next node (values interleaved per node, as
+    # CasADi stacks outputs; the extra last row, the first again, keeps the grid at two nodes or more)
+    closed = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
+                                                   friction)])
+    rows = np.hstack([closed[:-1], closed[1:]])
+    table = ca.interpolant("tables", "linear", grid, np.vstack([rows, rows[:1]]).reshape(-1).tolist())
     # built on scalar expressions (the table look-ups included): cheap to build, a step a fraction of a graph's
     x = ca.SX.sym("x", 6)
     i_gear, eta = motor.gear_ratio, motor.efficiency
@@ -233,7 +235,8 @@ def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, frictio
         k = ca.floor(u)
         t = u - k
         idx = k - n * ca.floor(k / n)
-        a, b = table(idx), table(idx + 1)
+        ab = table(idx)
+        a, b = ab[:4], ab[4:]
         j0, d0, j1, d1 = a[0], a[1], b[0], b[1]
         jj = ((2 * t**3 - 3 * t**2 + 1) * j0 + (t**3 - 2 * t**2 + t) * step * d0 + (-2 * t**3 + 3 * t**2) * j1
               + (t**3 - t**2) * step * d1)
