@@ -47,9 +47,9 @@ class Settings(BaseSettings):
         "separate", description="separate: study tasks run on workers of their own (niced); shared: on the "
                                 "request workers, requests first, studies holding at most all but one.")
     study_nice: int = Field(19, ge=0, le=19, description="Niceness of the study workers (0..19).")
-    warm_workers: bool = Field(True, description="Every worker (a replaced one too) runs each capability once "
-                                                 "before it takes work, and the service starts answering when "
-                                                 "its request workers are warm.")
+    warm_workers: bool = Field(True, description="Every request worker (a replaced one too) runs each capability "
+                                                 "once before it takes work, and the service starts answering "
+                                                 "when they are warm.")
     warm_limit_s: float = Field(120.0, gt=0, le=3600, description="Longest the start waits for the workers "
                                                                   "to warm up [s]; past it, it answers anyway.")
     max_running_studies: int = Field(4, ge=1, le=1000, description="Studies running at once; the others wait as "

@@ -322,8 +322,10 @@ def _with_worker_traceback(exc: BaseException) -> BaseException:
 class _Slot:
     """One worker process and the thread that feeds it tasks, watches it, and replaces it whenever it dies."""
 
-    def __init__(self, pool: LocalPoolExecutor, lanes: tuple[str, ...], nice: int, name: str) -> None:
+    def __init__(self, pool: LocalPoolExecutor, lanes: tuple[str, ...], nice: int, name: str,
+                 warm_with: str | None = None) -> None:
         self.pool = pool
+        self.warm_with = warm_with
         self.lanes = lanes
         self.nice = nice
         self.process: Any = None
@@ -356,7 +358,7 @@ class _Slot:
         self.born = time.monotonic()
         parent, child = self.pool.context.Pipe(duplex=True)
         process = self.pool.context.Process(target=_worker_main, args=(child, self.pool.memory_limit, self.nice,
-                                                                       self.pool.warm), daemon=True,
+                                                                       self.warm_with), daemon=True,
                                             name=self.thread.name)
         try:
             process.start()
@@ -366,7 +368,7 @@ class _Slot:
             return False
         finally:
             child.close()
-        self.process, self.conn, self.warm = process, parent, self.pool.warm is None
+        self.process, self.conn, self.warm = process, parent, self.warm_with is None
         return True
 
     def _warming(self) -> None:
@@ -537,8 +539,9 @@ class LocalPoolExecutor:
     preload
         Modules the fork server imports besides the engine (those the tasks' functions live in).
     warm
-        ``module:function`` every worker runs once when it starts, before it is given a task (its programs built
-        and exercised, so that its first task pays nothing for them); None for none.
+        ``module:function`` every request worker runs once when it starts, before it is given a task (its
+        programs built and exercised, so that its first task pays nothing for them); None for none. The batch
+        workers do not: a study's first task pays once what its many variants share.
     batch_workers
         Number of batch worker processes [-]; 0 to share the interactive ones.
     batch_nice
@@ -561,7 +564,8 @@ class LocalPoolExecutor:
         self.stopping = False
         shared = batch_workers == 0
         self.scheduler = _Scheduler(max(1, workers - 1) if shared else batch_workers)
-        self._slots = [_Slot(self, (INTERACTIVE, BATCH) if shared else (INTERACTIVE,), 0, f"synth-worker-{k}")
+        # only the request workers warm up: a study's first task pays once what thousands of variants share
+        self._slots = [_Slot(self, (INTERACTIVE, BATCH) if shared else (INTERACTIVE,), 0, f"synth-worker-{k}", warm)
                        for k in range(workers)]
         self._slots += [_Slot(self, (BATCH,), batch_nice, f"synth-batch-{k}") for k in range(batch_workers)]
         for slot in self._slots:
