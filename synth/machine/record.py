@@ -19,7 +19,7 @@ from typing import Any
 
 #: Unit suffixes of the request's field names, longest first so that ``_m_s`` is not read as ``_s``.
 _UNITS: tuple[tuple[str, str], ...] = (
-    ("_Nm_rad", "N·m/rad"), ("_Ns_m", "N·s/m"), ("_N_m", "N/m"), ("_mm2_s", "mm²/s"), ("_kg_m3", "kg/m³"), ("_m_s2", "m/s²"), ("_kgm2", "kg·m²"), ("_m_s", "m/s"), ("_rad_s2", "rad/s²"),
+    ("_MPa_m_s", "MPa·m/s"), ("_Nm_rad", "N·m/rad"), ("_Ns_m", "N·s/m"), ("_N_m", "N/m"), ("_mm2_s", "mm²/s"), ("_kg_m3", "kg/m³"), ("_m_s2", "m/s²"), ("_kgm2", "kg·m²"), ("_m_s", "m/s"), ("_rad_s2", "rad/s²"),
     ("_rad_s", "rad/s"), ("_rpm", "rpm"), ("_deg", "°"), ("_Nm", "N·m"), ("_Pa", "Pa"), ("_kg", "kg"),
     ("_W", "W"), ("_N", "N"), ("_m", "m"), ("_s", "s"), ("_h", "h"),
 )
