@@ -196,18 +196,29 @@ def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatAr
     return np.asarray(q, dtype=float)
 
 
+def _unknown_sides(sides: Sequence[tuple[Side, Side]]
+                   ) -> tuple[IndexArray, IndexArray, FloatArray, NDArray[np.complex128]]:
+    """The group links' sides of every pair as arrays: their pair, the column of their link's x in q, their
+    sign and their pin in the link's frame, so that the loop equations are evaluated side by side."""
+    unknown = [(j, s) for j, pair in enumerate(sides) for s in pair if s.known is None]
+    return (np.array([j for j, _ in unknown], dtype=np.intp),
+            np.array([3 * s.index for _, s in unknown], dtype=np.intp),
+            np.array([s.sign for _, s in unknown]), np.array([s.local for _, s in unknown], dtype=complex))
+
+
 def _residuals(sides: Sequence[tuple[Side, Side]], q: FloatArray, at: IndexArray) -> FloatArray:
     """The loop equations at the samples ``at`` for the coordinates ``q`` (one row each), (N, 2·pairs)."""
-    out = np.empty((len(at), 2 * len(sides)))
-    for j, pair in enumerate(sides):
-        z = np.zeros(len(at), dtype=complex)
-        for s in pair:
+    pair, col, sign, local = _unknown_sides(sides)
+    terms = sign * (q[:, col] + 1j * q[:, col + 1] + np.exp(1j * q[:, col + 2]) * local)
+    z = np.zeros((len(at), len(sides)), dtype=complex)
+    for j, two in enumerate(sides):
+        for s in two:
             if s.known is not None:
-                z += s.sign * s.known.v[at]
-            else:
-                c = 3 * s.index
-                z += s.sign * (q[:, c] + 1j * q[:, c + 1] + np.exp(1j * q[:, c + 2]) * s.local)
-        out[:, 2 * j], out[:, 2 * j + 1] = z.real, z.imag
+                z[:, j] += s.sign * s.known.v[at]
+    for u, j in enumerate(pair):
+        z[:, j] += terms[:, u]
+    out = np.empty((len(at), 2 * len(sides)))
+    out[:, 0::2], out[:, 1::2] = z.real, z.imag
     return out
 
 
@@ -245,18 +256,15 @@ def _jacobian(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> Floa
 
 def _jacobians(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> FloatArray:
     """d(loop)/dq at every angle, (N, 2·pairs, 3m): per group side, the identity on its origin and
-    i·exp(i·theta)·p on its angle."""
+    i·exp(i·theta)·p on its angle (every side's entries added at once, in the sides' order)."""
+    pair, col, sign, local = _unknown_sides(sides)
     jac = np.zeros((q.shape[0], 2 * len(sides), 3 * m))
-    for j, pair in enumerate(sides):
-        for s in pair:
-            if s.known is not None:
-                continue
-            c = 3 * s.index
-            lever = np.exp(1j * q[:, c + 2]) * s.local * 1j
-            jac[:, 2 * j, c] += s.sign
-            jac[:, 2 * j + 1, c + 1] += s.sign
-            jac[:, 2 * j, c + 2] += s.sign * lever.real
-            jac[:, 2 * j + 1, c + 2] += s.sign * lever.imag
+    lever = sign * (np.exp(1j * q[:, col + 2]) * local * 1j)
+    every = np.arange(q.shape[0])[:, None]
+    np.add.at(jac, (every, 2 * pair, col), np.broadcast_to(sign, lever.shape))
+    np.add.at(jac, (every, 2 * pair + 1, col + 1), np.broadcast_to(sign, lever.shape))
+    np.add.at(jac, (every, 2 * pair, col + 2), lever.real)
+    np.add.at(jac, (every, 2 * pair + 1, col + 2), lever.imag)
     return jac
 
 
