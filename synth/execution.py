@@ -21,7 +21,6 @@ import concurrent.futures as cf
 import ctypes
 import functools
 import gc
-import importlib
 import logging
 import math
 import multiprocessing
@@ -256,18 +255,19 @@ class _Scheduler:
 WARM = "warm"
 
 
-def _warm(warm: str) -> None:
-    """Run the ``module:function`` that warms a worker up (imports, compiled programs); its failure is logged."""
+def _warm(warm: Callable[[], object]) -> None:
+    """Run the function that warms a worker up (imports, compiled programs); its failure is logged."""
     try:
-        module, _, name = warm.partition(":")
-        getattr(importlib.import_module(module), name)()
+        warm()
     except Exception:
-        log.exception("warming the worker up with %s failed; it takes work without it", warm)
+        log.exception("warming the worker up with %s failed; it takes work without it",
+                      getattr(warm, "__qualname__", warm))
     finally:
         settle_heap()
 
 
-def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int, warm: str | None = None) -> None:
+def _worker_main(conn: Any, memory_limit_bytes: int | None, nice: int,
+                 warm: Callable[[], object] | None = None) -> None:
     """A worker process: warm up, say so, then run the tasks its slot sends, one at a time, and send back each
     outcome."""
     import signal
@@ -323,7 +323,7 @@ class _Slot:
     """One worker process and the thread that feeds it tasks, watches it, and replaces it whenever it dies."""
 
     def __init__(self, pool: LocalPoolExecutor, lanes: tuple[str, ...], nice: int, name: str,
-                 warm_with: str | None = None) -> None:
+                 warm_with: Callable[[], object] | None = None) -> None:
         self.pool = pool
         self.warm_with = warm_with
         self.lanes = lanes
@@ -539,7 +539,7 @@ class LocalPoolExecutor:
     preload
         Modules the fork server imports besides the engine (those the tasks' functions live in).
     warm
-        ``module:function`` every request worker runs once when it starts, before it is given a task (its
+        The function every request worker runs once when it starts, before it is given a task (its
         programs built and exercised, so that its first task pays nothing for them); None for none. The batch
         workers do not: a study's first task pays once what its many variants share.
     batch_workers
@@ -549,7 +549,7 @@ class LocalPoolExecutor:
     """
 
     def __init__(self, workers: int, memory_limit_mb: int | None = None, preload: Sequence[str] = (),
-                 batch_workers: int = 0, batch_nice: int = 19, warm: str | None = None) -> None:
+                 batch_workers: int = 0, batch_nice: int = 19, warm: Callable[[], object] | None = None) -> None:
         if workers < 1 or batch_workers < 0:
             raise ValueError("a worker pool needs at least one worker")
         self.workers = workers
@@ -744,7 +744,7 @@ def _expire(outer: cf.Future[Any], timeout: float) -> None:
 
 def make_executor(kind: str, workers: int = 0, dask_address: str | None = None,
                   memory_limit_mb: int | None = None, preload: Sequence[str] = (), batch_workers: int = 0,
-                  batch_nice: int = 19, warm: str | None = None) -> Executor:
+                  batch_nice: int = 19, warm: Callable[[], object] | None = None) -> Executor:
     """An executor by name: ``serial``, ``pool`` (``workers`` processes; 0 means one per core; and
     ``batch_workers`` for background tasks) or ``dask``."""
     if kind == "serial":

@@ -160,7 +160,7 @@ def _warmed_in_this_process() -> bool:
 
 
 def test_a_worker_warms_up_before_its_first_task_and_so_does_its_replacement() -> None:
-    warm = LocalPoolExecutor(1, memory_limit_mb=1024, warm=f"{_warm_up.__module__}:_warm_up")
+    warm = LocalPoolExecutor(1, memory_limit_mb=1024, warm=_warm_up)
     try:
         assert warm.wait_warm(60)
         assert warm.status()["workers_warm"] == 1
@@ -174,8 +174,12 @@ def test_a_worker_warms_up_before_its_first_task_and_so_does_its_replacement() -
         warm.shutdown()
 
 
+def _failing_warm_up() -> None:
+    raise RuntimeError("a program that does not build")
+
+
 def test_a_warm_up_that_fails_leaves_a_worker_that_works() -> None:
-    broken = LocalPoolExecutor(1, memory_limit_mb=1024, warm=f"{_warm_up.__module__}:_no_such_function")
+    broken = LocalPoolExecutor(1, memory_limit_mb=1024, warm=_failing_warm_up)
     try:
         assert broken.wait_warm(60)
         assert broken.submit(abs, -5.0, timeout=30).result(timeout=30) == 5.0

@@ -28,6 +28,7 @@ from synth.execution import BATCH, Executor, LocalPoolExecutor, make_executor
 
 from ..media import Render, file_headers, negotiate
 from .plans import Limits, Plan
+from .warm import warm_worker
 from ..settings import Settings
 
 T = TypeVar("T")
@@ -88,8 +89,6 @@ def spooled_response(spooled: Spooled, headers: dict[str, str] | None) -> Respon
                              headers={**(headers or {}), "content-length": str(spooled.size)})
 
 
-#: What every worker runs once before it takes work (see api.execution.warm).
-_WARM = "api.execution.warm:warm_worker"
 
 # One executor per configuration and process: apps built alike (tests, a reload) share their workers, and the
 # last app to shut down stops them.
@@ -107,7 +106,7 @@ def _batch_workers(settings: Settings, workers: int) -> int:
 def _acquire_executor(settings: Settings) -> Executor:
     s = settings
     workers = s.workers or os.cpu_count() or 1
-    warm = _WARM if s.warm_workers else None
+    warm = warm_worker if s.warm_workers else None
     key = (s.executor, workers, s.worker_memory_mb, _batch_workers(s, workers), s.study_nice, warm)
     with _EXECUTORS_LOCK:
         # Workers import the plans (schemas, exports) once in the fork server, not on their first request.
