@@ -223,13 +223,19 @@ def test_study_lane_runs_niced_and_owners_alternate() -> None:
 
 
 def test_a_path_synthesis_beyond_its_estimated_time_is_refused_before_it_starts(tmp_path: Path) -> None:
-    from tests.test_service_limits import LONG_PATH
+    # 40 points of a four-bar's coupler curve, 256 starts: 0.05 + 256 x 0.001 x 40/10 = 1.07 s of work on one worker
+    # by the service's price of a path synthesis (api/execution/work.py), beyond the 1 s set here; 64 starts
+    # (0.31 s) are within it.
+    from tests.test_service_limits import FOURBAR
 
-    # 256 starts through 10 points: 0.02 + 256 x 0.03 = 7.7 s of work on one worker, beyond the 5 s set here.
-    settings = Settings(workers=1, max_request_work_s=5.0, studies_db=str(tmp_path / "s.sqlite"))
+    settings = Settings(workers=1, max_request_work_s=1.0, studies_db=str(tmp_path / "s.sqlite"))
     with TestClient(create_app(settings)) as c:
+        curve = c.post("/v1/analysis", json={"mechanism": FOURBAR, "crank_angle_deg": [9.0 * k for k in range(40)],
+                                             "trace_points": [{"name": "P", "link": "coupler",
+                                                               "position_m": [0.15, 0.08]}]})
+        long_path = {"points_m": curve.json()["points"]["P"]["position_m"], "starts": 256, "seed": 1}
         start = time.monotonic()
-        r = c.post("/v1/synthesis/path", json=LONG_PATH)
+        r = c.post("/v1/synthesis/path", json=long_path)
         assert r.status_code == 413 and r.json()["field"] == "starts" and time.monotonic() - start < 2.0
-        assert r.json()["got"] == 7 and r.json()["limit"] == 5
-        assert c.post("/v1/synthesis/path", json={**LONG_PATH, "starts": 8}).status_code == 200
+        assert r.json()["got"] == 1 and r.json()["limit"] == 1
+        assert c.post("/v1/synthesis/path", json={**long_path, "starts": 64}).status_code == 200
