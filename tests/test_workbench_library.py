@@ -102,7 +102,7 @@ def test_save_edit_save_compare_check_approve_and_download_the_signed_record(pag
     assert (second["parent"], second["request"]["speed_rpm"]) == (1, speed + 30)
 
     # revision 1 opened again: the form holds its speed, and a save from it would overwrite revision 2
-    page.click("#lib-history tr[data-revision='1'] button:has-text('Open')")
+    _act(page, "#lib-history tr[data-revision='1'] button:has-text('Open')", "opened")
     page.wait_for_function(f"window.workbench.state.design.speed_rpm === {speed}", timeout=30_000)
     _act(page, "#lib-save", "refused")
     status = page.inner_text("#lib-status")
