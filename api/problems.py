@@ -9,7 +9,7 @@ import os
 import sys
 import tempfile
 import uuid
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -320,29 +320,9 @@ class BodyLimit:
         if scope.get("path", "") in self.larger and scope.get("method") == "POST":
             await self._spooled(scope, receive, send, limit)
             return
-        loop = asyncio.get_running_loop()
-        deadline = loop.time() + self.timeout_s
         chunks: list[bytes] = []
-        size = 0
-        while True:
-            try:
-                message = await asyncio.wait_for(receive(), timeout=max(0.0, deadline - loop.time()))
-            except asyncio.TimeoutError:
-                response = problem(408, "body-timeout", "Request body too slow",
-                                   f"the body was not received within {self.timeout_s:g} s",
-                                   headers={"Connection": "close"}, limit_s=self.timeout_s, received_bytes=size)
-                await response(scope, receive, send)
-                return
-            if message["type"] == "http.disconnect":
-                return
-            chunk = message.get("body", b"")
-            size += len(chunk)
-            if size > limit:
-                await self._too_large(scope, receive, send, size, limit)
-                return
-            chunks.append(chunk)
-            if not message.get("more_body", False):
-                break
+        if not await self._receive(scope, receive, send, limit, chunks.append):
+            return
         body = b"".join(chunks)
         replayed = False
 
@@ -359,32 +339,11 @@ class BodyLimit:
         """A whole file as the body (a library export): written to a temporary file as it arrives, never held in
         memory; the app finds the file's path in the request's state (``body_file``) and the file is removed
         once the app has answered."""
-        loop = asyncio.get_running_loop()
-        deadline = loop.time() + self.timeout_s
         handle, path = tempfile.mkstemp(prefix="synth-body-", suffix=".json")
-        size = 0
         try:
             with os.fdopen(handle, "wb") as spool:
-                while True:
-                    try:
-                        message = await asyncio.wait_for(receive(), timeout=max(0.0, deadline - loop.time()))
-                    except asyncio.TimeoutError:
-                        response = problem(408, "body-timeout", "Request body too slow",
-                                           f"the body was not received within {self.timeout_s:g} s",
-                                           headers={"Connection": "close"}, limit_s=self.timeout_s,
-                                           received_bytes=size)
-                        await response(scope, receive, send)
-                        return
-                    if message["type"] == "http.disconnect":
-                        return
-                    chunk = message.get("body", b"")
-                    size += len(chunk)
-                    if size > limit:
-                        await self._too_large(scope, receive, send, size, limit)
-                        return
-                    spool.write(chunk)
-                    if not message.get("more_body", False):
-                        break
+                if not await self._receive(scope, receive, send, limit, spool.write):
+                    return
             scope.setdefault("state", {})["body_file"] = path
             done = False
 
@@ -398,6 +357,33 @@ class BodyLimit:
             await self.app(scope, empty, send)
         finally:
             os.unlink(path)
+
+    async def _receive(self, scope: Scope, receive: Receive, send: Send, limit: int,
+                       sink: Callable[[bytes], object]) -> bool:
+        """Each chunk of the body to ``sink`` as it arrives, within the body's time and size bounds: True once the
+        whole body came; False when it was answered 408 or 413 here, or the client went away."""
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + self.timeout_s
+        size = 0
+        while True:
+            try:
+                message = await asyncio.wait_for(receive(), timeout=max(0.0, deadline - loop.time()))
+            except asyncio.TimeoutError:
+                response = problem(408, "body-timeout", "Request body too slow",
+                                   f"the body was not received within {self.timeout_s:g} s",
+                                   headers={"Connection": "close"}, limit_s=self.timeout_s, received_bytes=size)
+                await response(scope, receive, send)
+                return False
+            if message["type"] == "http.disconnect":
+                return False
+            chunk = message.get("body", b"")
+            size += len(chunk)
+            if size > limit:
+                await self._too_large(scope, receive, send, size, limit)
+                return False
+            sink(chunk)
+            if not message.get("more_body", False):
+                return True
 
     async def _too_large(self, scope: Scope, receive: Receive, send: Send, got: int, limit: int) -> None:
         response = problem_response(TooLarge("request body bytes", limit, got))
