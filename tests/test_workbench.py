@@ -297,6 +297,7 @@ def _distance_to_polyline(p: np.ndarray, curve: np.ndarray) -> float:
 def test_clicked_path_points_yield_a_linkage_whose_coupler_curve_passes_near_them(page: Page, base_url: str) -> None:
     page.click("button[data-panel=synthesis]")
     page.select_option("[id='syn-task']", "path")
+    page.locator("#synth-canvas").scroll_into_view_if_needed()   # whole in the window, so every click lands on it
     box = page.locator("#synth-canvas").bounding_box()
     assert box is not None
     for k in range(7):

@@ -2,7 +2,7 @@
 // public API and draws the answer. Nothing here computes what the service answers.
 import { post, get, del, postFile, describe, leaves } from "./api.js";
 import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
-import { toModel } from "./draw.js";
+import { toModel, drawLinkage, layout } from "./draw.js";
 import { h, s, put, table } from "./dom.js";
 
 let ctx = null;
@@ -761,41 +761,73 @@ function machinePanel() {
 }
 
 // --- synthesis ---------------------------------------------------------------------------------------------------
+// The edges of a pivot region, as the request names them, and how the panel labels them.
+const EDGES = [["x_min_m", "left x"], ["x_max_m", "right x"], ["y_min_m", "lower y"], ["y_max_m", "upper y"]];
+// Each task's region of its ground pivots (request field), the links the size bound limits, and the fields it takes.
+const TASKS = {
+  "crank-rocker": { model: "CrankRockerIn", region: "crank_pivot_region_m", links: ["crank", "coupler", "rocker", "ground"],
+    fields: ["swing_deg", "time_ratio", "scale_length_m", "max_length_ratio", "max_m"] },
+  "slider-crank": { model: "SliderCrankSynthesisIn", region: null, links: ["crank", "rod"], fields: ["stroke_m", "time_ratio", "max_length_ratio", "max_m"] },
+  path: { model: "PathIn", region: "pivot_box_m", links: ["crank", "coupler", "rocker", "ground"], fields: ["max_m"] },
+};
+const REGION_NOTES = { crank_pivot_region_m: "Where the crank pivot may go (the rocker pivot at the origin, the rocker at mid-swing along +x); all four edges, or none",
+  pivot_box_m: "Where both ground pivots may go, in the path points' frame; all four edges, or none" };
+
+/** An answer's linkage placed in the frame its task speaks of: `pivot` where its crank pivot O goes, `angle` the
+ *  direction of its ground line O->Q [rad]. */
+function placed(points, pivot, angle) {
+  const c = Math.cos(angle), sn = Math.sin(angle), [ox, oy] = pivot;
+  return Object.fromEntries(Object.entries(points).map(([k, p]) => [k, { ...p,
+    position_m: p.position_m.map(([x, y]) => [ox + c * x - sn * y, oy + sn * x + c * y]) }]));
+}
+
+/** "1 cognate", "2 cognates". */
+function count(n, noun) { return `${n} ${noun}${n === 1 ? "" : "s"}`; }
+
 function synthesisPanel() {
   const el = document.getElementById("panel-synthesis");
   let points = [];
-  let answer = null;
+  let answer = null;      // the service's answer, with the task it answers
+  let shown = null;       // the design drawn: the answer, or one of its fits or cognates
+  let motion = null;      // its analysis in the task's frame, the layout and the frame shown
+  let timer = null;
   const VIEW = { x0: -0.1, y0: -0.05, w: 0.4, h: 0.3 };
+  const task = () => read("syn", "task");
   const render = () => {
+    const regionRows = (name) => h("div", { class: "controls region", id: `syn-${name}` }, h("p", { class: "note" }, REGION_NOTES[name]),
+      EDGES.map(([edge, label]) => field("syn", { name: `${name}.${edge}`, label, model: name === "pivot_box_m" ? "PathIn" : "CrankRockerIn", path: `${name}.${edge}`, kind: "length" })));
     put(el, h("h2", {}, "Synthesis"), h("div", { class: "controls" },
       field("syn", { name: "task", label: "Task", options: [["crank-rocker", "crank-rocker: swing and time ratio"], ["slider-crank", "slider-crank: stroke and time ratio"], ["path", "four-bar through path points"]], value: "crank-rocker" }),
       field("syn", { name: "swing_deg", label: "Rocker swing", model: "CrankRockerIn", path: "swing_deg", value: 40 }),
       field("syn", { name: "time_ratio", label: "Time ratio", model: "CrankRockerIn", path: "time_ratio", value: 1.2 }),
       field("syn", { name: "scale_length_m", label: "Rocker length", model: "CrankRockerIn", path: "scale_length_m", kind: "length", value: 0.15 }),
-      field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 })),
+      field("syn", { name: "stroke_m", label: "Slider stroke", model: "SliderCrankSynthesisIn", path: "stroke_m", kind: "length", value: 0.1 }),
+      field("syn", { name: "max_length_ratio", label: "Longest link, in rocker lengths", model: "CrankRockerIn", path: "max_length_ratio" }),
+      field("syn", { name: "max_m", label: "Longest link", model: "RangeIn", path: "max_m", kind: "length" })),
+    regionRows("crank_pivot_region_m"), regionRows("pivot_box_m"),
     h("p", { class: "note", id: "syn-path-note" }, "Path points: click on the grid, or type a point's coordinates and add it (at least 3 points, in order along the path)."),
     s("svg", { id: "synth-canvas", viewBox: `${VIEW.x0} ${-(VIEW.y0 + VIEW.h)} ${VIEW.w} ${VIEW.h}`, role: "application", "aria-label": "Click to place path points", tabindex: 0 }),
     h("div", { class: "controls", id: "syn-points" }, field("syn", { name: "px", label: "Point x", kind: "length" }), field("syn", { name: "py", label: "Point y", kind: "length" })),
     actions(h("button", { class: "secondary", id: "syn-add" }, "Add the point"), h("button", { class: "secondary", id: "syn-clear" }, "Clear points"),
       h("button", { class: "run", id: "syn-run" }, "Synthesise"), h("button", { class: "secondary", id: "syn-open", disabled: true }, "Open the answer in the editor"),
       h("span", { id: "syn-status", class: "note" })),
-    h("p", { id: "syn-problem", class: "problem", hidden: true }), h("div", { id: "syn-result" }));
-    // each task shows the fields it takes
-    const USED = { "crank-rocker": ["swing_deg", "time_ratio", "scale_length_m"], "slider-crank": ["stroke_m", "time_ratio"], path: [] };
+    h("p", { id: "syn-problem", class: "problem", hidden: true }), h("div", { id: "syn-result" }),
+    h("div", { id: "syn-view", hidden: true },
+      s("svg", { id: "syn-drawing", role: "img", "aria-label": "The synthesised linkage" }),
+      actions(h("button", { class: "secondary", id: "syn-play", "aria-pressed": "false" }, "Play"),
+        h("label", { for: "syn-angle" }, "Crank angle"), h("input", { id: "syn-angle", type: "range", min: 0, max: 0, value: 0 }))),
+    h("div", { id: "syn-fits" }));
     const showTask = () => {
       // another task: the answer of the one before is no answer to it
-      if (answer && answer.task !== read("syn", "task")) {
-        answer = null;
-        put(document.getElementById("syn-result"));
-        document.getElementById("syn-open").disabled = true;
-        delete document.body.dataset.synthesised;
-        drawCanvas();
+      if (answer && answer.task !== task()) forget();
+      const t = TASKS[task()];
+      for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m", "max_length_ratio", "max_m"]) {
+        document.getElementById(`syn-${name}`).closest(".row").hidden = !t.fields.includes(name);
       }
-      const used = USED[read("syn", "task")];
-      for (const name of ["swing_deg", "time_ratio", "scale_length_m", "stroke_m"]) {
-        document.getElementById(`syn-${name}`).closest(".row").hidden = !used.includes(name);
-      }
-      for (const id of ["syn-path-note", "synth-canvas", "syn-points", "syn-add", "syn-clear"]) document.getElementById(id).hidden = read("syn", "task") !== "path";
+      document.querySelector("label[for='syn-max_length_ratio']").textContent = task() === "slider-crank" ? "Longest link, in strokes" : "Longest link, in rocker lengths";
+      for (const name of ["crank_pivot_region_m", "pivot_box_m"]) document.getElementById(`syn-${name}`).hidden = t.region !== name;
+      // (an SVG element has no `hidden` property: the attribute itself)
+      for (const id of ["syn-path-note", "synth-canvas", "syn-points", "syn-add", "syn-clear"]) document.getElementById(id).toggleAttribute("hidden", task() !== "path");
     };
     el.querySelector("#syn-task").addEventListener("change", showTask);
     showTask();
@@ -804,7 +836,7 @@ function synthesisPanel() {
       if (points.length >= 30) return;
       const p = toModel(canvas, evt);
       points.push([Number(p[0].toFixed(5)), Number(p[1].toFixed(5))]);
-      if (read("syn", "task") !== "path") { document.getElementById("syn-task").value = "path"; showTask(); }
+      if (task() !== "path") { document.getElementById("syn-task").value = "path"; showTask(); }
       drawCanvas();
     });
     el.querySelector("#syn-clear").addEventListener("click", () => { points = []; drawCanvas(); });
@@ -818,10 +850,33 @@ function synthesisPanel() {
       showTask();
       drawCanvas();
     });
+    // the pivot box follows its fields on the points' grid
+    el.querySelector("#syn-pivot_box_m").addEventListener("input", drawCanvas);
     el.querySelector("#syn-run").addEventListener("click", run);
     el.querySelector("#syn-open").addEventListener("click", open);
+    el.querySelector("#syn-play").addEventListener("click", play);
+    el.querySelector("#syn-angle").addEventListener("input", (e) => { stop(); if (motion) { motion.i = Number(e.target.value); drawMotion(); } });
     drawCanvas();
   };
+  /** A region's four edges [m] as the request takes them; null when none is given, NaN-marked fields when only some. */
+  function region(name) {
+    const edges = EDGES.map(([edge]) => read("syn", `${name}.${edge}`));
+    if (edges.every((v) => v === null)) return null;
+    if (!checkNumbers("syn", EDGES.map(([edge]) => `${name}.${edge}`))) return undefined;
+    const missing = EDGES.filter((_, k) => edges[k] === null);
+    for (const [edge] of missing) {
+      const m = document.getElementById(`syn-${name}.${edge}-msg`);
+      m.textContent = "give all four edges, or none"; m.hidden = false;
+      document.getElementById(`syn-${name}.${edge}`).setAttribute("aria-invalid", "true");
+    }
+    return missing.length ? undefined : Object.fromEntries(EDGES.map(([edge], k) => [edge, edges[k]]));
+  }
+  /** A region drawn as a box (SVG y down). */
+  function box(r, sw) {
+    return s("rect", { class: "region", x: r.x_min_m, y: -r.y_max_m, width: r.x_max_m - r.x_min_m, height: r.y_max_m - r.y_min_m,
+      fill: "rgba(31, 95, 191, 0.06)", stroke: "#1f5fbf", "stroke-width": sw, "stroke-dasharray": `${4 * sw} ${2 * sw}`, dataset: { region: JSON.stringify(r) } },
+    s("title", {}, "pivot region"));
+  }
   function drawCanvas() {
     const canvas = document.getElementById("synth-canvas");
     const f = ctx.factor("length"), u = ctx.unitLabel("length");
@@ -836,7 +891,8 @@ function synthesisPanel() {
         s("text", { x: VIEW.x0 + 0.002, y: -y - 0.003, "font-size": 0.011, fill: "#5b6575" }, String(+(y / f).toFixed(3))));
     }
     nodes.push(s("text", { x: VIEW.x0 + VIEW.w - 0.004, y: -(VIEW.y0 + VIEW.h) + 0.014, "text-anchor": "end", "font-size": 0.012 }, `[${u}]`));
-    if (answer && answer.curve) nodes.push(s("polygon", { points: answer.curve.map((p) => `${p[0]},${-p[1]}`).join(" "), fill: "none", stroke: "#c25e00", "stroke-width": 0.0015, "stroke-dasharray": "0.004 0.002" }));
+    const edges = EDGES.map(([edge]) => read("syn", `pivot_box_m.${edge}`));
+    if (edges.every((v) => Number.isFinite(v))) nodes.push(box(Object.fromEntries(EDGES.map(([edge], k) => [edge, edges[k]])), 0.001));
     if (points.length > 1) nodes.push(s("polyline", { points: points.map((p) => `${p[0]},${-p[1]}`).join(" "), fill: "none", stroke: "#d0243a", "stroke-width": 0.0008 }));
     points.forEach((p, n) => {
       nodes.push(s("circle", { class: "target", cx: p[0], cy: -p[1], r: 0.004 }), s("text", { x: p[0] + 0.005, y: -p[1] - 0.004, "font-size": 0.012 }, String(n + 1)));
@@ -844,38 +900,106 @@ function synthesisPanel() {
     canvas.replaceChildren(...nodes);
     canvas.dataset.points = JSON.stringify(points);
   }
+  function forget() {
+    stop();
+    answer = null; shown = null; motion = null;
+    put(document.getElementById("syn-result"));
+    put(document.getElementById("syn-fits"));
+    document.getElementById("syn-view").hidden = true;
+    document.getElementById("syn-open").disabled = true;
+    delete document.body.dataset.synthesised;
+    delete document.body.dataset.synDrawn;
+  }
   async function run() {
     clearPanel("syn");
-    const task = read("syn", "task");
+    const t = task(), spec = TASKS[t];
+    if (!checkNumbers("syn", spec.fields)) return;
     let body;
-    if (task === "crank-rocker") {
-      if (!checkNumbers("syn", ["swing_deg", "time_ratio", "scale_length_m"])) return;
+    if (t === "crank-rocker") {
       body = { swing_deg: read("syn", "swing_deg"), time_ratio: read("syn", "time_ratio"), scale_link: "rocker",
         scale_length_m: read("syn", "scale_length_m"), speed_rpm: ctx.state.design.speed_rpm };
-    } else if (task === "slider-crank") {
-      if (!checkNumbers("syn", ["stroke_m", "time_ratio"])) return;
+    } else if (t === "slider-crank") {
       body = { stroke_m: read("syn", "stroke_m"), time_ratio: read("syn", "time_ratio"), speed_rpm: ctx.state.design.speed_rpm };
     } else {
       body = { points_m: points, starts: 16, seed: 1 };
     }
+    if (spec.fields.includes("max_length_ratio") && read("syn", "max_length_ratio") !== null) body.max_length_ratio = read("syn", "max_length_ratio");
+    const longest = read("syn", "max_m");
+    if (longest !== null) body.bounds_m = Object.fromEntries(spec.links.map((k) => [k, { max_m: longest }]));
+    if (spec.region) {
+      const r = region(spec.region);
+      if (r === undefined) return;
+      if (r) body[spec.region] = r;
+    }
+    forget();
     busy("syn", "synthesising…");
     try {
-      const a = await post(`/v1/synthesis/${task}`, body);
-      answer = { task, ...a };
-      if (task === "path") {
-        // the answer's coupler curve, analysed by the service, drawn among the targets
-        const an = await post("/v1/analysis", { mechanism: a.mechanism, samples: 180, trace_points: [a.trace_point] });
-        const [ox, oy] = a.crank_pivot_m, t = (a.ground_angle_deg * Math.PI) / 180;
-        answer.curve = an.points[a.trace_point.name].position_m.map(([x, y]) => [ox + Math.cos(t) * x - Math.sin(t) * y, oy + Math.sin(t) * x + Math.cos(t) * y]);
-        drawCanvas();
-      }
-      busy("syn", "");
+      const a = await post(`/v1/synthesis/${t}`, body);
+      answer = { task: t, request: body, ...a };
       show();
+      await choose(a);
+      document.body.dataset.synthesised = t;
+      busy("syn", "");
     } catch (err) { busy("syn", ""); panelProblem("syn", err.body && err.body.field === "points_m" ? Object.assign(err, { body: { ...err.body, field: null } }) : err); }
   }
-  /** Target points in the answer mechanism's own frame (crank pivot at the origin, O->Q along x). */
-  function targetsInMechanismFrame() {
-    const [ox, oy] = answer.crank_pivot_m, t = (answer.ground_angle_deg * Math.PI) / 180;
+  /** Draw one design of the answer (the answer itself, a fit or a cognate): its analysis over a cycle, placed in
+   *  the task's frame among the targets and the region. */
+  async function choose(fit, index = 0) {
+    stop();
+    shown = fit;
+    const m = fit.mechanism;
+    const req = { mechanism: m, samples: 120, speed_rpm: ctx.state.design.speed_rpm };
+    let trace = null;
+    if (fit.trace_point) { req.trace_points = [fit.trace_point]; trace = fit.trace_point.name; }
+    const an = await post("/v1/analysis", req);
+    let pivot = [0, 0], angle = 0;
+    if (answer.task === "path") { pivot = fit.crank_pivot_m; angle = (fit.ground_angle_deg * Math.PI) / 180; }
+    // the crank-rocker's region frame: the rocker pivot Q at the origin, the crank pivot where the answer says
+    if (answer.task === "crank-rocker") { pivot = fit.crank_pivot_m; angle = Math.atan2(-pivot[1], -pivot[0]); }
+    const moved = { ...an, points: placed(an.points, pivot, angle) };
+    const r = answer.request[TASKS[answer.task].region] || null;
+    const extras = { tracePoint: trace, targets: answer.task === "path" ? points : [], unitLength: ctx.state.units.length };
+    const lay = layout(moved, { mechanism: m }, { targets: [...extras.targets, ...(r ? [[r.x_min_m, r.y_min_m], [r.x_max_m, r.y_max_m]] : [])] });
+    motion = { answer: moved, mechanism: m, lay, extras, region: r, i: 0, n: an.crank_angle_deg.length };
+    const slider = document.getElementById("syn-angle");
+    slider.max = String(motion.n - 1); slider.value = "0";
+    document.getElementById("syn-view").hidden = false;
+    document.querySelectorAll("#syn-fits tr[data-fit]").forEach((row) => row.setAttribute("aria-selected", String(row.dataset.fit === String(index))));
+    drawMotion();
+    document.getElementById("syn-open").disabled = false;
+    document.body.dataset.synDrawn = `${answer.task}-${index}`;
+  }
+  function drawMotion() {
+    const svg = document.getElementById("syn-drawing");
+    drawLinkage(svg, motion.answer, { mechanism: motion.mechanism }, motion.i, motion.lay, motion.extras);
+    if (motion.region) svg.firstChild.prepend(box(motion.region, motion.lay.span / 180));
+    svg.dataset.frame = String(motion.i);
+  }
+  function play() {
+    const btn = document.getElementById("syn-play");
+    if (timer) { stop(); return; }
+    btn.textContent = "Pause"; btn.setAttribute("aria-pressed", "true");
+    let last = performance.now();
+    const step = (now) => {
+      if (motion && now - last > 1000 / 30) {
+        motion.i = (motion.i + 1) % motion.n;
+        document.getElementById("syn-angle").value = String(motion.i);
+        drawMotion();
+        last = now;
+      }
+      timer = requestAnimationFrame(step);
+    };
+    timer = requestAnimationFrame(step);
+  }
+  function stop() {
+    if (timer) cancelAnimationFrame(timer);
+    timer = null;
+    const btn = document.getElementById("syn-play");
+    if (btn) { btn.textContent = "Play"; btn.setAttribute("aria-pressed", "false"); }
+  }
+  /** Target points in a fit's own frame (crank pivot at the origin, O->Q along x). */
+  function targetsInMechanismFrame(fit) {
+    const [ox, oy] = fit.crank_pivot_m, t = (fit.ground_angle_deg * Math.PI) / 180;
     return points.map(([x, y]) => [Math.cos(t) * (x - ox) + Math.sin(t) * (y - oy), -Math.sin(t) * (x - ox) + Math.cos(t) * (y - oy)]);
   }
   function show() {
@@ -891,19 +1015,30 @@ function synthesisPanel() {
         (a.check.swing_deg !== undefined ? `, swing ${fmt(a.check.swing_deg)}°` : `, stroke ${L(a.check.stroke_m)}`) +
         `, transmission angle ${fmt(a.check.transmission_angle.min_deg)}° … ${fmt(a.check.transmission_angle.max_deg)}°.`;
     }
-    put(res, h("h3", {}, `${FAMILY[m.type] || m.type}: ${lengths}`), h("p", {}, text));
-    document.getElementById("syn-open").disabled = false;
-    document.body.dataset.synthesised = a.task;
+    put(res, h("h3", {}, `${FAMILY[m.type] || m.type}: ${lengths}`), h("p", {}, text),
+      (a.warnings || []).map((w) => h("p", { class: "note" }, `⚠ ${w.message}`)));
+    if (a.task === "path") {
+      // every distinct design the starts reached, then the answer's cognates: a row drawn when chosen
+      const all = [...a.fits, ...a.cognates];
+      const rows = all.map((f, k) => h("tr", { dataset: { fit: String(k) }, tabindex: 0, role: "button", "aria-selected": String(k === 0),
+        onclick: () => choose(f, k), onkeydown: (e) => { if (e.key === "Enter") choose(f, k); } },
+      h("td", {}, k === 0 ? "the answer" : f.source === "cognate" ? "cognate" : `fit ${k + 1}`),
+      h("td", { class: "num" }, L(f.max_residual_m)), h("td", { class: "num" }, L(f.rms_residual_m)), h("td", {}, f.grashof),
+      h("td", { class: "num" }, f.transmission_angle ? `${fmt(f.transmission_angle.min_deg)}° … ${fmt(f.transmission_angle.max_deg)}°` : "–"),
+      h("td", { class: "num" }, fmt(f.link_ratio)), h("td", { class: "num" }, String(f.starts))));
+      put(document.getElementById("syn-fits"), h("h3", {}, `${count(a.fits.length, "distinct fit")} and ${count(a.cognates.length, "cognate")}: click one to draw it`),
+        table(["design", "largest residual", "RMS residual", "Grashof class", "transmission angle", "link ratio", "starts"], rows, { id: "syn-fit-table", class: "pick" }));
+    }
   }
   function open() {
-    if (!answer) return;
-    const d = { mechanism: structuredClone(answer.mechanism), speed_rpm: ctx.state.design.speed_rpm, samples: ctx.state.design.samples || 360 };
+    if (!answer || !shown) return;
+    const d = { mechanism: structuredClone(shown.mechanism), speed_rpm: ctx.state.design.speed_rpm, samples: ctx.state.design.samples || 360 };
     let targets = [];
     if (answer.task === "path") {
-      d.trace_points = [structuredClone(answer.trace_point)];
-      targets = targetsInMechanismFrame();
-    } else if (answer.mechanism.type === "fourbar") {
-      const len = answer.mechanism.coupler_length_m;
+      d.trace_points = [structuredClone(shown.trace_point)];
+      targets = targetsInMechanismFrame(shown);
+    } else if (shown.mechanism.type === "fourbar") {
+      const len = shown.mechanism.coupler_length_m;
       d.trace_points = [{ name: "P", link: "coupler", position_m: [len / 2, len * 0.4] }];
     }
     ctx.setDesign(d, { targets });
