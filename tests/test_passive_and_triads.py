@@ -289,3 +289,36 @@ def test_a_drawing_between_two_assemblies_is_refused() -> None:
     with pytest.raises(synth.InvalidInput) as err:
         synth.analyse(engine({**EIGHT_BAR, "assembly_m": between}), SPEED, samples=36)
     assert err.value.field == "mechanism.assembly_m"
+
+
+# The first assembly's B and C at crank angle 0 to four decimals (see SECOND above).
+FIRST = {"B": [0.3359, -0.2585], "C": [0.1984, -0.1133]}
+
+
+@pytest.mark.parametrize("assembly", [FIRST, SECOND], ids=["first", "second"])
+def test_a_drawing_a_few_millimetres_off_is_placed_in_its_assembly(assembly: dict[str, list[float]],
+                                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    # B and C drawn 2.5 mm off the assembly meant: the placement is that assembly (within the four decimals the
+    # reference carries), every loop closes, and the full search over 24 starts (the drawing's own placement
+    # not trusted) picks the same one
+    from synth.kinematics import groups
+    proved = groups._only_near
+    verdicts: list[bool] = []
+    monkeypatch.setattr(groups, "_only_near", lambda *args: verdicts.append(proved(*args)) or verdicts[-1])
+    off = {k: [v[0] + 0.002, v[1] - 0.0015] for k, v in assembly.items()}
+    mech = engine({**EIGHT_BAR, "assembly_m": off}).mechanism
+    assert isinstance(mech, PlanarLinkage)
+    phi = np.radians(np.arange(0.0, 360.0, 5.0))
+    pts, ang = mech.solve(phi)
+    assert verdicts == [True]   # the drawing's own placement was kept without the search
+    for name, xy in assembly.items():
+        assert np.hypot(*(pts[name].pos[0] - xy)) < 1e-4
+    b, c = pts["B"].pos[0], pts["C"].pos[0]
+    assert np.hypot(b[0] - 0.1, b[1]) == pytest.approx(0.35, abs=1e-9)        # rod A-B from the crank pin
+    assert np.hypot(c[0] - 0.45, c[1] - 0.05) == pytest.approx(0.3, abs=1e-9)  # rocker P-C
+    assert mech.closure_residual({k: v.pos for k, v in pts.items()}, {k: v.angle for k, v in ang.items()}) <= 1e-9
+    monkeypatch.setattr(groups, "_only_near", lambda *args: False)
+    searched, _ = mech.solve(phi)
+    for name in ("B", "C", "D"):
+        assert np.abs(searched[name].pos - pts[name].pos).max() < 1e-12
+        assert np.abs(searched[name].d2 - pts[name].d2).max() < 1e-9 * np.abs(pts[name].d2).max()

@@ -26,7 +26,7 @@ pairs whose constraints depend on each other.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,28 +82,149 @@ class Side:
     known: Jet | None
 
 
+@dataclass(frozen=True, slots=True)
+class _Loops:
+    """A group's loop equations as arrays, built once per placement: per side on a group link (U of them) the
+    column of its link's x in q, its sign and its pin in the link's frame; the one-hot maps that add each side into
+    its pair's equation and its lever into the Jacobian; the known points' sum per pair with its analogues."""
+
+    pairs: int
+    width: int
+    col: IndexArray
+    sign: FloatArray
+    local: NDArray[np.complex128]
+    scatter: FloatArray             # (U, pairs)
+    base: FloatArray                # (2·pairs·width,) the origins' constant entries of the Jacobian
+    lever_re: FloatArray            # (U, 2·pairs·width) where each side's i·exp(i·theta)·p lands, real part
+    lever_im: FloatArray            # the same, imaginary part
+    known: NDArray[np.complex128]   # (N, pairs) sum of sign·K over the pair's known sides
+    known_d1: NDArray[np.complex128]
+    known_d2: NDArray[np.complex128]
+    reach: float                    # largest over the links of half the sum of their pins' distances from the origin
+    known_points: NDArray[np.complex128]   # every known side's point at the first sample
+    split: _Split | None            # the Jacobian's constant origin columns factored once (None: not of full rank)
+
+    @staticmethod
+    def of(sides: Sequence[tuple[Side, Side]], m: int, n: int) -> _Loops:
+        unknown = [(j, s) for j, pair in enumerate(sides) for s in pair if s.known is None]
+        pairs, width = len(sides), 3 * m
+        col = np.array([3 * s.index for _, s in unknown], dtype=np.intp)
+        scatter = np.zeros((len(unknown), pairs))
+        base = np.zeros((2 * pairs, width))
+        lever_re = np.zeros((len(unknown), 2 * pairs, width))
+        lever_im = np.zeros_like(lever_re)
+        half = np.zeros(m)
+        for u, (j, s) in enumerate(unknown):
+            scatter[u, j] = 1.0
+            base[2 * j, 3 * s.index] += s.sign
+            base[2 * j + 1, 3 * s.index + 1] += s.sign
+            lever_re[u, 2 * j, 3 * s.index + 2] = 1.0
+            lever_im[u, 2 * j + 1, 3 * s.index + 2] = 1.0
+            half[s.index] += abs(s.local) / 2
+        known, known_d1, known_d2 = (np.zeros((n, pairs), dtype=complex) for _ in range(3))
+        for j, pair in enumerate(sides):
+            for s in pair:
+                if s.known is not None:
+                    known[:, j] += s.sign * s.known.v
+                    known_d1[:, j] += s.sign * s.known.d1
+                    known_d2[:, j] += s.sign * s.known.d2
+        return _Loops(pairs, width, col, np.array([s.sign for _, s in unknown]),
+                      np.array([s.local for _, s in unknown], dtype=complex), scatter, base.reshape(-1),
+                      lever_re.reshape(len(unknown), -1), lever_im.reshape(len(unknown), -1), known, known_d1,
+                      known_d2,
+                      float(np.max(half)) if m else 0.0,
+                      np.array([s.known.v[0] for pair in sides for s in pair if s.known is not None], dtype=complex),
+                      _Split.of(base, lever_re, lever_im, m))
+
+
+@dataclass(frozen=True, slots=True)
+class _Split:
+    """The loop Jacobian J = [B | Theta(q)] (origin columns, angle columns) of a group with as many equations as
+    unknowns, solved through B's QR factors computed once: with Q^T·B = [R; 0], J·d = f becomes the m×m system
+    (Q^T·Theta)_lower · d_theta = (Q^T·f)_lower, then R·d_xy = (Q^T·f)_upper - (Q^T·Theta)_upper · d_theta. Only
+    the small system changes with q, and det J = ±det R·det(lower) keeps the lower block's sign."""
+
+    xy: IndexArray                  # the origin columns of q, (2m,)
+    theta: IndexArray               # the angle columns of q, (m,)
+    qt: FloatArray                  # Q^T, (2·pairs, 2·pairs)
+    r_inv: FloatArray               # R^-1, (2m, 2m)
+    theta_re: FloatArray            # (U, 2·pairs·m): where each side's lever lands among the angle columns
+    theta_im: FloatArray
+
+    @staticmethod
+    def of(base: FloatArray, lever_re: FloatArray, lever_im: FloatArray, m: int) -> _Split | None:
+        rows = base.shape[0]
+        if rows != 3 * m or m == 0:
+            return None
+        xy = np.array([3 * i + c for i in range(m) for c in (0, 1)], dtype=np.intp)
+        theta = np.arange(2, 3 * m, 3, dtype=np.intp)
+        q, r = np.linalg.qr(base[:, xy], mode="complete")
+        diag = np.abs(np.diag(r[:2 * m]))
+        if not diag.min() > 1e-9 * diag.max():
+            return None
+        u = lever_re.shape[0]
+        return _Split(xy, theta, np.ascontiguousarray(q.T), np.linalg.inv(r[:2 * m]),
+                      lever_re.reshape(u, rows, 3 * m)[:, :, theta].reshape(u, -1),
+                      lever_im.reshape(u, rows, 3 * m)[:, :, theta].reshape(u, -1))
+
+
+class _Linear:
+    """The loop Jacobian at every row of q, ready to solve J·d = f for one right-hand side after another."""
+
+    def __init__(self, loops: _Loops, q: FloatArray) -> None:
+        self.loops, self.split = loops, loops.split
+        if self.split is None:
+            self.jac = _jacobians(loops, q)
+            return
+        sp, m = self.split, len(self.split.theta)
+        lever = loops.sign * (np.exp(1j * q[:, loops.col + 2]) * loops.local * 1j)
+        theta = (lever.real @ sp.theta_re + lever.imag @ sp.theta_im).reshape(q.shape[0], 3 * m, m)
+        t = sp.qt @ theta
+        self.upper, self.lower = t[:, :2 * m], t[:, 2 * m:]
+
+    def solve(self, f: FloatArray) -> FloatArray:
+        """d with J·d = f, one row per row of q, (K, 3m)."""
+        if self.split is None:
+            return np.asarray(np.linalg.solve(self.jac, f[..., None])[..., 0], dtype=float)
+        sp = self.split
+        g = f @ sp.qt.T
+        m = len(sp.theta)
+        d_theta = np.linalg.solve(self.lower, g[:, 2 * m:, None])
+        d = np.empty((f.shape[0], 3 * m))
+        d[:, sp.theta] = d_theta[..., 0]
+        d[:, sp.xy] = (g[:, :2 * m] - (self.upper @ d_theta)[..., 0]) @ sp.r_inv.T
+        return d
+
+    def det_sign(self) -> FloatArray:
+        """The sign of det J at every row, up to one factor the same for all rows."""
+        return np.asarray(np.sign(np.linalg.det(self.jac if self.split is None else self.lower)), dtype=float)
+
+
 def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray,
-                start: Mapping[str, tuple[float, float]], link_points: Mapping[str, Mapping[str, complex]]
-                ) -> tuple[list[tuple[Jet, Jet]], FloatArray]:
+                start: Mapping[str, tuple[float, float]], link_points: Mapping[str, Mapping[str, complex]],
+                fixed: Collection[str] = ()) -> tuple[list[tuple[Jet, Jet]], FloatArray]:
     """Place a numerical group at every crank angle of ``phi`` [rad] (a path starting at 0, in small steps).
 
     ``sides`` per pair of the group; ``start`` positions of points as drawn at crank angle 0 [m] (those of the
-    group's links that are given); ``link_points`` each group link's named points in its frame. Returns per
+    group's links that are given), of which those named in ``fixed`` are the known points' own positions, the same
+    in every assembly; ``link_points`` each group link's named points in its frame. Returns per
     group link (origin jet, angle jet) and the loop-closure residual [m] at every angle. Raises NotAssemblable
     at the first angle where Newton's method does not close the loop.
     """
     m, n = len(group.links), len(phi)
-    q0 = _first(group, sides, start, link_points)
-    q = _coarse(group, sides, phi, q0) if n > COARSE_MIN else None
+    loops = _Loops.of(sides, m, n)
+    q0 = _first(group, loops, start, link_points, fixed)
+    q = _coarse(group, loops, phi, q0) if n > COARSE_MIN else None
     if q is None and n > DENSE:
-        q = _dense(group, sides, phi, q0)
+        q = _dense(group, loops, phi, q0)
     if q is None:
-        q = _continue(group, sides, phi, q0, np.arange(n))
-    residual = np.max(np.abs(_residuals(sides, q, np.arange(n))), axis=1)
-    jac = _jacobians(sides, q, m)
+        q = _continue(group, loops, phi, q0, np.arange(n))
+    every = np.arange(n)
+    residual = np.max(np.abs(_residuals(loops, q, every)), axis=1)
+    linear = _Linear(loops, q)
     # the determinant keeps its sign within one assembly; it changes where the path passes a position at which
     # two assemblies meet, and beyond it the group may have gone over to the other one
-    sign = np.sign(np.linalg.det(jac))
+    sign = linear.det_sign()
     flips = np.flatnonzero(sign[1:] != sign[:-1])
     if flips.size:
         k = int(flips[0])
@@ -113,8 +234,8 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
             f"assemblies meet between crank angles {a:.3f}° and {b:.3f}°: beyond it the motion is not determined "
             "by the drawing (the group may go over to the other assembly); change a length to keep it away",
             phi=phi[k:k + 2], ranges_deg=[(a, b)])
-    qd = np.asarray(np.linalg.solve(jac, _rhs1_all(sides, n)[..., None])[..., 0], dtype=float)
-    qdd = np.asarray(np.linalg.solve(jac, _rhs2_all(sides, q, qd)[..., None])[..., 0], dtype=float)
+    qd = linear.solve(_rhs1(loops, every))
+    qdd = linear.solve(_rhs2(loops, q, qd))
     out = []
     for i in range(m):
         x, y, th = (slice(3 * i + c, 3 * i + c + 1) for c in range(3))
@@ -124,62 +245,69 @@ def place_group(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: Fl
     return out, residual
 
 
-def _continue(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray,
-              at: IndexArray) -> FloatArray:
+def _continue(group: NumericGroup, loops: _Loops, phi: FloatArray, q0: FloatArray, at: IndexArray) -> FloatArray:
     """Newton's method angle after angle along the samples ``at`` of the path ``phi``, each started from the last
     solution moved on by its velocity; NotAssemblable at the first angle where the loop does not close."""
-    m = len(group.links)
-    q = np.empty((len(at), 3 * m))
-    rate: FloatArray = np.zeros(3 * m)
+    q = np.empty((len(at), loops.width))
+    rate: FloatArray = np.zeros(loops.width)
+    bend: FloatArray = np.zeros(loops.width)
     for i, k in enumerate(at):
-        q[i] = q0 if i == 0 else q[i - 1] + rate * (phi[k] - phi[at[i - 1]])
+        here = at[i:i + 1]
+        h = 0.0 if i == 0 else float(phi[k] - phi[at[i - 1]])
+        # the start moved on by the velocity and by the change of velocity over the last step
+        qi = (q0 if i == 0 else q[i - 1] + (rate + 0.5 * h * bend) * h)[None, :]
+        linear = None
         for _ in range(MAX_NEWTON):
-            f = _residual(sides, q[i], k)
+            f = _residuals(loops, qi, here)
             if np.max(np.abs(f)) <= 1e-14:
                 break
             try:
-                q[i] -= np.linalg.solve(_jacobian(sides, q[i], m), f)
+                linear = _Linear(loops, qi)
+                qi = qi - linear.solve(f)
             except np.linalg.LinAlgError:
                 break
-        miss = float(np.max(np.abs(_residual(sides, q[i], k))))
+        else:
+            f = _residuals(loops, qi, here)
+        miss = float(np.max(np.abs(f)))
         if not miss <= CLOSURE_TOLERANCE:
             at_deg = math.degrees(phi[k]) % 360
             raise NotAssemblable(
                 f"the class-{group.group_class} group of links {list(group.links)} does not close at crank angle "
                 f"{at_deg:.3f}° (loop residual {miss:.2e} m; it meets a dead or unreachable position there)",
                 phi=phi[k:k + 1], ranges_deg=[(at_deg, at_deg)])
-        rate = np.asarray(np.linalg.solve(_jacobian(sides, q[i], m), _rhs1(sides, k)), dtype=float)
+        q[i] = qi[0]
+        # the velocity only predicts the next start: the Jacobian of the last Newton step serves
+        new_rate = (linear or _Linear(loops, qi)).solve(_rhs1(loops, here))[0]
+        bend = (new_rate - rate) / h if i > 0 and h != 0.0 else np.zeros(loops.width)
+        rate = new_rate
     return q
 
 
-def _coarse(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray
-            ) -> FloatArray | None:
+def _coarse(group: NumericGroup, loops: _Loops, phi: FloatArray, q0: FloatArray) -> FloatArray | None:
     """Every sample at once from a continuation on samples about COARSE_STEP apart, or None when that
     continuation does not close or the samples do not join up into one assembly (see JOIN_TOLERANCE)."""
     try:
-        q = _dense(group, sides, phi, q0, COARSE_STEP)
+        q = _dense(group, loops, phi, q0, COARSE_STEP)
     except NotAssemblable:
         return None
     if q is None:
         return None
-    m = len(group.links)
-    qd = np.linalg.solve(_jacobians(sides, q, m), _rhs1_all(sides, len(phi))[..., None])[..., 0]
+    qd = _Linear(loops, q).solve(_rhs1(loops, np.arange(len(phi))))
     step = np.diff(phi)[:, None]
     miss = q[1:] - q[:-1] - 0.5 * (qd[1:] + qd[:-1]) * step
     return q if np.max(np.abs(miss)) <= JOIN_TOLERANCE else None
 
 
-def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatArray, q0: FloatArray,
-           spacing: float = MAX_STEP / 2) -> FloatArray | None:
+def _dense(group: NumericGroup, loops: _Loops, phi: FloatArray, q0: FloatArray, spacing: float = MAX_STEP / 2
+           ) -> FloatArray | None:
     """A long path: continuation on samples about ``spacing`` [rad] apart, then every sample at once by batched
     Newton steps from the nearest earlier one moved on by its velocity. None when a sample does not close that way
     (the caller then continues sample by sample, which names the first angle that fails)."""
     travel = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(phi)))])
     coarse = np.unique(np.concatenate([[0], np.searchsorted(travel, np.arange(0.0, travel[-1], spacing)),
                                        [len(phi) - 1]]))
-    m = len(group.links)
-    qc = _continue(group, sides, phi, q0, coarse)
-    rates = np.linalg.solve(_jacobians(sides, qc, m), _rhs1_all(sides, len(phi))[coarse][..., None])[..., 0]
+    qc = _continue(group, loops, phi, q0, coarse)
+    rates = _Linear(loops, qc).solve(_rhs1(loops, coarse))
     # Each sample starts from the nearer of the coarse samples on either side, moved on by its velocity.
     before = np.searchsorted(coarse, np.arange(len(phi)), side="right") - 1
     after = np.minimum(before + 1, len(coarse) - 1)
@@ -187,141 +315,81 @@ def _dense(group: NumericGroup, sides: Sequence[tuple[Side, Side]], phi: FloatAr
     q = qc[near] + rates[near] * (phi - phi[coarse[near]])[:, None]
     every = np.arange(len(phi))
     for _ in range(MAX_NEWTON):
-        f = _residuals(sides, q, every)
+        f = _residuals(loops, q, every)
         if np.max(np.abs(f)) <= 1e-14:
             break
-        q -= np.linalg.solve(_jacobians(sides, q, m), f[..., None])[..., 0]
-    if not np.max(np.abs(_residuals(sides, q, every))) <= CLOSURE_TOLERANCE:
+        q -= _Linear(loops, q).solve(f)
+    else:
+        f = _residuals(loops, q, every)
+    if not np.max(np.abs(f)) <= CLOSURE_TOLERANCE:
         return None
     return np.asarray(q, dtype=float)
 
 
-def _unknown_sides(sides: Sequence[tuple[Side, Side]]
-                   ) -> tuple[IndexArray, IndexArray, FloatArray, NDArray[np.complex128]]:
-    """The group links' sides of every pair as arrays: their pair, the column of their link's x in q, their
-    sign and their pin in the link's frame, so that the loop equations are evaluated side by side."""
-    unknown = [(j, s) for j, pair in enumerate(sides) for s in pair if s.known is None]
-    return (np.array([j for j, _ in unknown], dtype=np.intp),
-            np.array([3 * s.index for _, s in unknown], dtype=np.intp),
-            np.array([s.sign for _, s in unknown]), np.array([s.local for _, s in unknown], dtype=complex))
+def _split(z: NDArray[np.complex128]) -> FloatArray:
+    """(K, pairs) complex loop values as (K, 2·pairs) real ones, x and y of each pair side by side."""
+    return np.ascontiguousarray(z).view(np.float64)
 
 
-def _residuals(sides: Sequence[tuple[Side, Side]], q: FloatArray, at: IndexArray) -> FloatArray:
-    """The loop equations at the samples ``at`` for the coordinates ``q`` (one row each), (N, 2·pairs)."""
-    pair, col, sign, local = _unknown_sides(sides)
-    terms = sign * (q[:, col] + 1j * q[:, col + 1] + np.exp(1j * q[:, col + 2]) * local)
-    z = np.zeros((len(at), len(sides)), dtype=complex)
-    for j, two in enumerate(sides):
-        for s in two:
-            if s.known is not None:
-                z[:, j] += s.sign * s.known.v[at]
-    for u, j in enumerate(pair):
-        z[:, j] += terms[:, u]
-    out = np.empty((len(at), 2 * len(sides)))
-    out[:, 0::2], out[:, 1::2] = z.real, z.imag
-    return out
+def _residuals(loops: _Loops, q: FloatArray, at: IndexArray) -> FloatArray:
+    """The loop equations at the samples ``at`` for the coordinates ``q`` (one row each), (K, 2·pairs)."""
+    c = loops.col
+    terms = loops.sign * (q[:, c] + 1j * q[:, c + 1] + np.exp(1j * q[:, c + 2]) * loops.local)
+    return _split(loops.known[at] + terms @ loops.scatter)
 
 
-def _term(side: Side, q: FloatArray, k: int) -> complex:
-    if side.known is not None:
-        return complex(side.known.v[k])
-    x, y, th = q[3 * side.index: 3 * side.index + 3]
-    return complex(x, y) + complex(math.cos(th), math.sin(th)) * side.local
+def _jacobians(loops: _Loops, q: FloatArray) -> FloatArray:
+    """d(loop)/dq at every row of ``q``, (K, 2·pairs, 3m): per group side, the identity on its origin and
+    i·exp(i·theta)·p on its angle."""
+    lever = loops.sign * (np.exp(1j * q[:, loops.col + 2]) * loops.local * 1j)
+    flat: FloatArray = loops.base + lever.real @ loops.lever_re + lever.imag @ loops.lever_im
+    return flat.reshape(q.shape[0], 2 * loops.pairs, loops.width)
 
 
-def _residual(sides: Sequence[tuple[Side, Side]], q: FloatArray, k: int) -> FloatArray:
-    out = np.empty(2 * len(sides))
-    for j, pair in enumerate(sides):
-        z = sum((s.sign * _term(s, q, k) for s in pair), 0j)
-        out[2 * j], out[2 * j + 1] = z.real, z.imag
-    return out
+def _rhs1(loops: _Loops, at: IndexArray) -> FloatArray:
+    """J·q' at the samples ``at``: minus the known points' velocity analogues, per pair."""
+    return _split(-loops.known_d1[at])
 
 
-def _jacobian(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> FloatArray:
-    """d(loop)/dq at one angle: scalar arithmetic, as the matrix is small and built at every Newton step."""
-    jac = np.zeros((2 * len(sides), 3 * m))
-    for j, pair in enumerate(sides):
-        for s in pair:
-            if s.known is not None:
-                continue
-            c = 3 * s.index
-            th = float(q[c + 2])
-            lever = complex(math.cos(th), math.sin(th)) * s.local * 1j
-            jac[2 * j, c] += s.sign
-            jac[2 * j + 1, c + 1] += s.sign
-            jac[2 * j, c + 2] += s.sign * lever.real
-            jac[2 * j + 1, c + 2] += s.sign * lever.imag
-    return jac
+def _rhs2(loops: _Loops, q: FloatArray, qd: FloatArray) -> FloatArray:
+    """J·q'' at every sample: minus the known points' acceleration analogues, plus each group side's
+    sign·theta'²·exp(i·theta)·p."""
+    c = loops.col
+    turn = loops.sign * qd[:, c + 2] ** 2 * np.exp(1j * q[:, c + 2]) * loops.local
+    return _split(-loops.known_d2 + turn @ loops.scatter)
 
 
-def _jacobians(sides: Sequence[tuple[Side, Side]], q: FloatArray, m: int) -> FloatArray:
-    """d(loop)/dq at every angle, (N, 2·pairs, 3m): per group side, the identity on its origin and
-    i·exp(i·theta)·p on its angle (every side's entries added at once, in the sides' order)."""
-    pair, col, sign, local = _unknown_sides(sides)
-    jac = np.zeros((q.shape[0], 2 * len(sides), 3 * m))
-    lever = sign * (np.exp(1j * q[:, col + 2]) * local * 1j)
-    every = np.arange(q.shape[0])[:, None]
-    np.add.at(jac, (every, 2 * pair, col), np.broadcast_to(sign, lever.shape))
-    np.add.at(jac, (every, 2 * pair + 1, col + 1), np.broadcast_to(sign, lever.shape))
-    np.add.at(jac, (every, 2 * pair, col + 2), lever.real)
-    np.add.at(jac, (every, 2 * pair + 1, col + 2), lever.imag)
-    return jac
+def _first(group: NumericGroup, loops: _Loops, start: Mapping[str, tuple[float, float]],
+           link_points: Mapping[str, Mapping[str, complex]], fixed: Collection[str]) -> FloatArray:
+    """The group's coordinates at the path's first angle.
 
-
-def _rhs1(sides: Sequence[tuple[Side, Side]], k: int) -> FloatArray:
-    out = np.zeros(2 * len(sides))
-    for j, pair in enumerate(sides):
-        z = -sum((s.sign * complex(s.known.d1[k]) for s in pair if s.known is not None), 0j)
-        out[2 * j], out[2 * j + 1] = z.real, z.imag
-    return out
-
-
-def _rhs1_all(sides: Sequence[tuple[Side, Side]], n: int) -> FloatArray:
-    out = np.zeros((n, 2 * len(sides)))
-    for j, pair in enumerate(sides):
-        z = np.zeros(n, dtype=complex)
-        for s in pair:
-            if s.known is not None:
-                z -= s.sign * s.known.d1
-        out[:, 2 * j], out[:, 2 * j + 1] = z.real, z.imag
-    return out
-
-
-def _rhs2_all(sides: Sequence[tuple[Side, Side]], q: FloatArray, qd: FloatArray) -> FloatArray:
-    out = np.zeros((q.shape[0], 2 * len(sides)))
-    for j, pair in enumerate(sides):
-        z = np.zeros(q.shape[0], dtype=complex)
-        for s in pair:
-            if s.known is not None:
-                z -= s.sign * s.known.d2
-            else:
-                c = 3 * s.index
-                z += s.sign * qd[:, c + 2] ** 2 * np.exp(1j * q[:, c + 2]) * s.local
-        out[:, 2 * j], out[:, 2 * j + 1] = z.real, z.imag
-    return out
-
-
-def _first(group: NumericGroup, sides: Sequence[tuple[Side, Side]], start: Mapping[str, tuple[float, float]],
-           link_points: Mapping[str, Mapping[str, complex]]) -> FloatArray:
-    """The group's coordinates at the path's first angle: from the drawn positions where every link has two of
-    its points drawn, else from deterministic starts spread over the known points; closed by least squares with
-    the analytic Jacobian."""
+    With points drawn, the links are first placed on them (:func:`_drawn`) and closed; that placement is kept
+    when :func:`_only_near` proves no other assembly lies as near the drawing. Otherwise deterministic starts
+    spread over the known points are closed at once by least squares with the analytic Jacobian, and the one
+    nearest the drawing is kept (:func:`_nearest`; without a drawing, the first that closes).
+    """
     m = len(group.links)
+    drawn = [(i, link_points[link][p], complex(*start[p])) for i, link in enumerate(group.links)
+             for p in link_points[link] if p in start]
+    guess = _drawn(group.links, link_points, start, fixed) if drawn else None
+    if guess is not None:
+        solved, miss = _close_all(loops, guess[0][None, :], m)
+        if miss[0] <= CLOSURE_TOLERANCE:
+            gap = float(np.sqrt(np.sum(np.abs(_points(solved[0], drawn) - np.array([w for _, _, w in drawn])) ** 2)))
+            if _only_near(loops, solved[0], guess[1], gap * (1 + 1 / ASSEMBLY_MARGIN)):
+                return np.asarray(solved[0], dtype=float)
     guesses: list[FloatArray] = []
     fitted = [_fit(link_points[link], start) for link in group.links]
     if all(f is not None for f in fitted):
         guesses.append(np.concatenate([f for f in fitted if f is not None]))
-    known = np.array([s.known.v[0] for pair in sides for s in pair if s.known is not None])
+    known = loops.known_points
     centre = complex(known.mean()) if known.size else 0j
     spread = float(np.max(np.abs(known - centre))) if known.size else 1.0
     rng = np.random.default_rng(0)
     for _ in range(24):
         z = centre + spread * (rng.uniform(-1, 1, m) + 1j * rng.uniform(-1, 1, m))
         guesses.append(np.column_stack([z.real, z.imag, rng.uniform(-math.pi, math.pi, m)]).reshape(-1))
-
-    drawn = [(i, link_points[link][p], complex(*start[p])) for i, link in enumerate(group.links)
-             for p in link_points[link] if p in start]
-    solved, miss = _close_all(sides, np.array(guesses), m)
+    solved, miss = _close_all(loops, np.array(guesses), m)
     closed = [solved[k] for k in range(len(guesses)) if miss[k] <= CLOSURE_TOLERANCE]
     if closed and not drawn:
         return np.asarray(closed[0], dtype=float)
@@ -332,14 +400,98 @@ def _first(group: NumericGroup, sides: Sequence[tuple[Side, Side]], start: Mappi
                          phi=[0.0], ranges_deg=[(0.0, 0.0)])
 
 
-def _close_all(sides: Sequence[tuple[Side, Side]], guesses: FloatArray, m: int, iterations: int = 50
-               ) -> tuple[FloatArray, FloatArray]:
+def _drawn(links: Sequence[str], link_points: Mapping[str, Mapping[str, complex]],
+           start: Mapping[str, tuple[float, float]], fixed: Collection[str]
+           ) -> tuple[FloatArray, Callable[[float, float], float]] | None:
+    """The group's links placed on the drawing: each on the two of its points farthest apart whose positions are
+    drawn (or known) or follow from a link placed before, until every link is placed (None if one cannot be).
+
+    Also the map from a distance eps [m] to a bound on how far (in q, m and rad together) the same construction
+    moves between two exact placements whose drawn points differ by at most eps (the ``fixed`` ones not at all):
+    two pins at distance s each moved by at most e_a and e_b turn the link by at most 2·asin((e_a + e_b)/(2s)),
+    its origin and other points then move by at most e_a plus their distance from the first pin times that turn.
+    The bound places each link on the pair of its pins available that turns it least.
+    """
+    world = {p: complex(*xy) for p, xy in start.items()}
+    order: list[tuple[int, list[str]]] = []
+    q = np.zeros(3 * len(links))
+    pending = list(range(len(links)))
+    while pending:
+        placed = []
+        for i in pending:
+            points = link_points[links[i]]
+            names = [p for p in points if p in world]
+            pins = [(a, b) for k, a in enumerate(names) for b in names[k + 1:] if points[a] != points[b]]
+            if not pins:
+                continue
+            a, b = max(pins, key=lambda ab: abs(points[ab[1]] - points[ab[0]]))
+            turn = (world[b] - world[a]) / (points[b] - points[a])
+            e = turn / abs(turn) if turn else 1.0 + 0j
+            origin = world[a] - e * points[a]
+            q[3 * i: 3 * i + 3] = origin.real, origin.imag, math.atan2(e.imag, e.real)
+            for p, local in points.items():
+                world.setdefault(p, origin + e * local)
+            order.append((i, names))
+            placed.append(i)
+        if not placed:
+            return None
+        pending = [i for i in pending if i not in placed]
+
+    def bound(eps: float, scale: float) -> float:
+        err = {p: 0.0 if p in fixed else eps for p in start}
+        total = 0.0
+        for i, names in order:
+            points = link_points[links[i]]
+            a, b = min(((a, b) for k, a in enumerate(names) for b in names[k + 1:] if points[a] != points[b]),
+                       key=lambda ab: (err[ab[0]] + err[ab[1]]) / abs(points[ab[1]] - points[ab[0]]))
+            if err[b] < err[a]:
+                a, b = b, a
+            span = abs(points[b] - points[a])
+            if err[a] + err[b] >= 2 * span:
+                return math.inf
+            turn = 2 * math.asin((err[a] + err[b]) / (2 * span))
+            total += (err[a] + abs(points[a]) * turn) ** 2 + (scale * turn) ** 2
+            for p, local in points.items():
+                err.setdefault(p, err[a] + abs(local - points[a]) * turn)
+        return math.sqrt(total)
+
+    return q, bound
+
+
+def _only_near(loops: _Loops, q: FloatArray, bound: Callable[[float, float], float], eps: float) -> bool:
+    """True when the placement ``q`` (closed at the first angle) is the only assembly whose drawn points lie
+    within ``eps`` [m] of its own: by :func:`_drawn`'s bound such an assembly lies within bound(eps) of ``q``, and
+    none but ``q`` itself does within Newton's uniqueness radius.
+
+    In the coordinates d = (origins [m], scale·angles [m]), for two placements q and q + d of the loops F,
+    F(q + d) = F(q) + J'·d + R(d) with |R(d)| at most the sum over the group's sides of |p|·dtheta²/2
+    (|exp(i·t) - 1 - i·t| <= t²/2), so at most (reach/scale²)·|d|²; a second root then has
+    sigma·|d| <= |F(q)| + (reach/scale²)·|d|², sigma the least singular value of J', J with its angle columns
+    divided by scale: |d| is either within rounding of 0 or at least the larger root of that quadratic. Any
+    scale gives a proof; a few around the links' size are tried.
+    """
+    jac = _jacobians(loops, q[None, :])[0]
+    if jac.shape[0] < jac.shape[1] or loops.reach <= 0:
+        return False
+    rho = float(np.linalg.norm(_residuals(loops, q[None, :], np.zeros(1, dtype=np.intp))))
+    for scale in loops.reach * np.array([1.0, 2.0, 4.0, 8.0]):
+        scaled = jac.copy()
+        scaled[:, 2::3] /= scale
+        sigma = float(np.linalg.svd(scaled, compute_uv=False)[-1])
+        curve = loops.reach / scale**2
+        if sigma * sigma > 4 * curve * rho and \
+                bound(eps, scale) < (sigma + math.sqrt(sigma * sigma - 4 * curve * rho)) / (2 * curve):
+            return True
+    return False
+
+
+def _close_all(loops: _Loops, guesses: FloatArray, m: int, iterations: int = 50) -> tuple[FloatArray, FloatArray]:
     """Every guess (K, 3m) closed at the first angle at once by Levenberg-Marquardt with the analytic Jacobian,
     each with its own damping (Nielsen's update); the solutions and their largest loop residual [m]."""
     q = np.array(guesses, dtype=float)
     k = len(q)
     at = np.zeros(k, dtype=np.intp)
-    f = _residuals(sides, q, at)
+    f = _residuals(loops, q, at)
     cost = np.einsum("ki,ki->k", f, f)
     damping, growth = np.full(k, 1e-3), np.full(k, 2.0)
     eye = np.eye(3 * m)
@@ -350,14 +502,14 @@ def _close_all(sides: Sequence[tuple[Side, Side]], guesses: FloatArray, m: int, 
         live = np.flatnonzero((np.max(np.abs(f), axis=1) > 1e-14) & (damping < 1e15) & ~stalled)
         if live.size == 0:
             break
-        jac = _jacobians(sides, q[live], m)
+        jac = _jacobians(loops, q[live])
         jt = jac.transpose(0, 2, 1)
         normal = jt @ jac
         grad = (jt @ f[live][..., None])[..., 0]
         scale = np.maximum(np.einsum("kjj->kj", normal), 1e-12)
         step = -np.linalg.solve(normal + (damping[live, None] * scale)[:, :, None] * eye, grad[..., None])[..., 0]
         trial = q[live] + step
-        f_t = _residuals(sides, trial, at[live])
+        f_t = _residuals(loops, trial, at[live])
         cost_t = np.einsum("ki,ki->k", f_t, f_t)
         predicted = -2 * np.einsum("kj,kj->k", grad, step) - np.einsum("kj,kj->k", step,
                                                                         (normal @ step[..., None])[..., 0])

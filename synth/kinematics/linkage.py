@@ -426,6 +426,7 @@ class PlanarLinkage:
         """Place a group of class III or above by Newton continuation on its loop equations."""
         sides = []
         start = dict(self.assembly)
+        fixed = set()
         for name in group.joints:
             j = joints[name]
             p = _revolute_point(j)
@@ -436,11 +437,13 @@ class PlanarLinkage:
                     pair.append(Side(sign, group.links.index(link), complex(xy[0], xy[1]), None))
                 else:
                     known = places[link].point(local[link][p])
-                    start.setdefault(p, (float(known.v[0].real), float(known.v[0].imag)))
+                    if p not in start:
+                        start[p] = (float(known.v[0].real), float(known.v[0].imag))
+                        fixed.add(p)
                     pair.append(Side(sign, -1, 0j, known))
             sides.append((pair[0], pair[1]))
         link_points = {link: {k: complex(xy[0], xy[1]) for k, xy in local[link].items()} for link in group.links}
-        placed, _ = place_group(group, sides, phi, start, link_points)
+        placed, _ = place_group(group, sides, phi, start, link_points, fixed)
         for link, (origin, angle) in zip(group.links, placed):
             places[link] = _Place(origin, (0.0, 0.0), angle)
 
