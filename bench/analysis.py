@@ -1,5 +1,11 @@
 """Analysis against hand-written closed forms in the same run, then the request and its serialisation.
 
+First the four-bar at its floor: ``bench.closed_forms.fourbar_careful`` computes every output the engine returns
+the fastest way numpy allows (constants folded, trigonometry once, no per-link objects); the engine is timed
+against it at 3 angles (the fixed cost of a call), 360, 3 600 and 36 000, beside the previous baseline
+(``closed_forms.fourbar``), with the Python calls per analysis. The goal there: at most 2x the careful form.
+
+Then every family against the previous baseline's closed forms:
 For every family (four-bar, slider-crank, and the six-bar press as a linkage of dyads) ``bench.closed_forms`` has a
 vectorised numpy closed form that computes every array ``synth.analyse`` returns, written the fastest way numpy
 allows (plane vectors as complex numbers, each dyad's reactions from its two moment equations); each is checked
@@ -83,6 +89,72 @@ def print_families(rows: list[tuple[str, int, float, float, float, float]]) -> N
               f" {ratio:8.2f}/{e_med / c_med:.2f}  {'met' if ratio <= GOAL_RATIO else 'not met'}")
 
 
+#: Sizes of the floor comparison: 3 samples measures the fixed cost of a call, the rest the cost per sample.
+FLOOR_SIZES = (3, 360, 3600, 36_000)
+FLOOR_GOAL = 2.0
+FIXED_COST_GOAL = 0.3e-3
+
+
+def python_calls(fn: Callable[[], object], runs: int = 20) -> float:
+    """Python function calls (the interpreter's and numpy's functions written in Python included, C functions
+    too as cProfile counts them) per call of ``fn``."""
+    import cProfile
+    import pstats
+
+    fn()
+    profile = cProfile.Profile()
+    profile.enable()
+    for _ in range(runs):
+        fn()
+    profile.disable()
+    return pstats.Stats(profile).total_calls / runs  # type: ignore[attr-defined, no-any-return]
+
+
+def compare_floor(sizes: tuple[int, ...] = FLOOR_SIZES) -> list[tuple[int, tuple[float, float], tuple[float, float],
+                                                                       tuple[float, float]]]:
+    """The four-bar (gravity on) at each size: engine, the careful closed form and the previous baseline's
+    closed form, alternated, each (min, median) [s], after checking both closed forms equal to the engine."""
+    linkage = _linkage(FOURBAR_EXAMPLE)
+    rows = []
+    for n in sizes:
+        phi = synth.cycle_angles(n)
+        engine = synth.analyse(linkage, OMEGA, samples=n)
+        for closed in (closed_forms.fourbar_careful, closed_forms.fourbar):
+            reference = closed(linkage, phi, OMEGA)
+            worst, where = closed_forms.worst_relative_difference(
+                closed_forms.engine_outputs(engine, list(reference)), reference)
+            assert worst < TOLERANCE, f"{closed.__name__}, {n} angles: disagrees at {where} by {worst:.1e}"
+        repeat = max(7, min(201, 1_500_000 // (n * 40 + 2000)))
+        t = interleaved({"engine": lambda: synth.analyse(linkage, OMEGA, samples=n),
+                         "careful": lambda: closed_forms.fourbar_careful(linkage, phi, OMEGA),
+                         "previous": lambda: closed_forms.fourbar(linkage, phi, OMEGA)}, repeat)
+        rows.append((n, t["engine"], t["careful"], t["previous"]))
+    return rows
+
+
+def print_floor(rows: list[tuple[int, tuple[float, float], tuple[float, float], tuple[float, float]]]) -> None:
+    """The floor table: the engine against the careful closed form, beside the previous baseline."""
+    import os
+
+    print(f"The four-bar's analysis at its floor: synth.analyse against the careful closed form "
+          f"(closed_forms.fourbar_careful) and the previous baseline (closed_forms.fourbar), alternated, "
+          f"min / median [ms] (load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores):")
+    print(f"  {'angles':>6s} {'engine':>17s} {'careful':>17s} {'previous':>17s} {'/careful':>11s} {'/previous':>11s}"
+          f"  goal <= {FLOOR_GOAL:g}x the careful form")
+    for n, e, c, p in rows:
+        ratio = e[0] / c[0]
+        print(f"  {n:6d} {e[0] * 1e3:8.3f}/{e[1] * 1e3:8.3f} {c[0] * 1e3:8.3f}/{c[1] * 1e3:8.3f} "
+              f"{p[0] * 1e3:8.3f}/{p[1] * 1e3:8.3f} {ratio:5.2f}/{e[1] / c[1]:4.2f} {e[0] / p[0]:5.2f}/{e[1] / p[1]:4.2f}"
+              f"  {'met' if ratio <= FLOOR_GOAL else 'not met'}")
+    linkage = _linkage(FOURBAR_EXAMPLE)
+    fixed = rows[0][1][0] if rows and rows[0][0] == 3 else float("nan")
+    calls = python_calls(lambda: synth.analyse(linkage, OMEGA, samples=3))
+    careful_calls = python_calls(lambda: closed_forms.fourbar_careful(linkage, synth.cycle_angles(3), OMEGA))
+    print(f"  fixed cost per analysis (3 angles, min): {fixed * 1e3:.3f} ms (goal <= {FIXED_COST_GOAL * 1e3:g} ms: "
+          f"{'met' if fixed <= FIXED_COST_GOAL else 'not met'}); {calls:.0f} function calls (the careful form "
+          f"{careful_calls:.0f})")
+
+
 def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> np.ndarray:
     """Driving torque angle by angle, the way a user would write it: closed-form kinematics, then one 9x9
     reaction solve per angle."""
@@ -142,6 +214,7 @@ def per_angle_torque(linkage: synth.Linkage, phi: np.ndarray, omega: float) -> n
 def main() -> None:
     """Every family against its closed form at every size, the per-angle loop, then the request and its JSON."""
     keep_freed_memory()  # the allocator as the service's workers set it, for both sides of every ratio
+    print_floor(compare_floor())
     print_families(compare_families())
     linkage = linkage_from(AnalysisIn.model_validate({"mechanism": FOURBAR_EXAMPLE}))  # the loop has no gravity
     phi = synth.cycle_angles(SAMPLES)
