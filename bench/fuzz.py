@@ -59,8 +59,9 @@ def main(argv: list[str] | None = None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         env = {"SYNTH_STUDIES_DB": str(Path(tmp) / "store.sqlite")}
         with server(2, extra_env=env, module="api.serve") as (url, _pid):
-            operations = [f"{method.upper()} {path}" for path, item in httpx.get(f"{url}/openapi.json").json()[
-                "paths"].items() for method in item if method in {"get", "post", "put", "patch", "delete"}]
+            document = httpx.get(f"{url}/openapi.json", timeout=120).json()
+            operations = [f"{method.upper()} {path}" for path, item in document["paths"].items()
+                          for method in item if method in {"get", "post", "put", "patch", "delete"}]
             report = Path(tmp) / "events.ndjson"
             start = time.monotonic()
             subprocess.run([sys.executable, "-m", "schemathesis.cli", "run", f"{url}/openapi.json",

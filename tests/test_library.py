@@ -254,6 +254,21 @@ def test_export_and_import_keep_every_hash_and_sign_nothing(store_url: str, tmp_
             [[(r.number, r.content_hash, r.request) for r in d.revisions] for d in document.designs]
 
 
+def test_an_import_whose_times_are_no_dates_is_refused_naming_the_time(client: SynthClient) -> None:
+    # 1e15 s after 1970 is in the year 31 690 377, past 9999-12-31, the last day a date can name: such an export
+    # once stored its project and then failed to answer it
+    client.library.save("press", "linkage", "/v1/balancing/static", REQUEST, author="ann")
+    document = client.library.export("press").model_dump()
+    for where, edit in (("created_at", lambda d: d.update(created_at=1e15)),
+                        ("designs.0.revisions.0.created_at",
+                         lambda d: d["designs"][0]["revisions"][0].update(created_at=1e15))):
+        bad = copy.deepcopy(document)
+        edit(bad)
+        answer = client.http.post("/v1/library/import", json=bad)
+        assert answer.status_code == 422, answer.text
+        assert answer.json()["field"].endswith(where), answer.json()
+
+
 def lib_text_holds(pdf: bytes, text: str) -> bool:
     """The PDF's text (pypdf) holds ``text`` (line breaks and spaces ignored)."""
     import io

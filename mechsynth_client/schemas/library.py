@@ -26,6 +26,12 @@ SAVE_EXAMPLE: dict[str, Any] = {
 }
 
 
+#: 9999-12-31T23:59:59 UTC [s since 1970]: the last instant a date can name, so an export's times stay dates.
+LAST_SECOND = 253_402_300_799.0
+#: An instant of an export [s since 1970, UTC].
+Instant = Annotated[float, Field(ge=0, le=LAST_SECOND, examples=[1.7e9])]
+
+
 def _when(seconds: float) -> datetime:
     return datetime.fromtimestamp(seconds, tz=timezone.utc)
 
@@ -238,7 +244,7 @@ class ExportComment(StrictModel):
     """A comment as exported."""
 
     author: str = Field(max_length=100, description="Who wrote it.")
-    created_at: float = Field(ge=0, examples=[1.7e9], description="When [s since 1970, UTC].")
+    created_at: Instant = Field(description="When [s since 1970, UTC].")
     kind: str = Field(max_length=16, description="returned, check, approve, deviation or comment.")
     text: str = Field(max_length=2000, description="What it says.")
 
@@ -251,15 +257,15 @@ class ExportRevision(StrictModel):
     request: dict[str, Any] = Field(description="The canonical SI request.")
     content_hash: str = Field(pattern=r"^[0-9a-f]{64}$", description="sha256 of the request's canonical JSON, hex.")
     author: Person = Field(description="Who saved it.")
-    created_at: float = Field(ge=0, examples=[1.7e9], description="When it was saved [s since 1970, UTC].")
+    created_at: Instant = Field(description="When it was saved [s since 1970, UTC].")
     message: str = Field(max_length=2000, description="Why it was made.")
     answer: dict[str, Any] | None = Field(description="The endpoint's answer to the request, when kept.")
     passed: bool | None = Field(description="Every check of the answer passed.")
     state: RevisionState = Field(description="draft, checked, approved or superseded.")
     checked_by: str | None = Field(max_length=100, description="Who checked it.")
-    checked_at: float | None = Field(ge=0, examples=[1.7e9], description="When it was checked [s since 1970, UTC].")
+    checked_at: Instant | None = Field(description="When it was checked [s since 1970, UTC].")
     approved_by: str | None = Field(max_length=100, description="Who approved it.")
-    approved_at: float | None = Field(ge=0, examples=[1.7e9], description="When it was approved [s since 1970, UTC].")
+    approved_at: Instant | None = Field(description="When it was approved [s since 1970, UTC].")
     superseded_by: int | None = Field(ge=1, le=1_000_000, examples=[None], description="The approved revision that replaced it.")
     deviation: str | None = Field(None, max_length=2000, description="Why it was signed although it failed a check.")
     imported_note: str | None = Field(None, max_length=4000, description="Set when it was imported here before.")
@@ -272,7 +278,7 @@ class ExportDesign(StrictModel):
 
     name: Name = Field(description="The design's name within its project.")
     endpoint: str = Field(min_length=4, max_length=100, description="The service operation its requests are for.")
-    created_at: float = Field(ge=0, examples=[1.7e9], description="When it was first saved [s since 1970, UTC].")
+    created_at: Instant = Field(description="When it was first saved [s since 1970, UTC].")
     created_by: Person = Field(description="Who first saved it.")
     revisions: list[ExportRevision] = Field(max_length=10_000, description="Every revision, oldest first.")
 
@@ -284,7 +290,7 @@ class LibraryExport(StrictModel):
 
     format: Literal["mechsynth-library/1"] = Field(description="The export format and its version.")
     project: Name = Field(description="The project exported.")
-    created_at: float = Field(ge=0, examples=[1.7e9], description="When the project was made [s since 1970, UTC].")
+    created_at: Instant = Field(description="When the project was made [s since 1970, UTC].")
     created_by: Person = Field(description="Who made it.")
-    exported_at: float = Field(ge=0, examples=[1.7e9], description="When it was exported [s since 1970, UTC].")
+    exported_at: Instant = Field(description="When it was exported [s since 1970, UTC].")
     designs: list[ExportDesign] = Field(max_length=10_000, description="Every design with its revisions.")
