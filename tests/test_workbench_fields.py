@@ -93,19 +93,19 @@ def _bracket_unit(text: str) -> str | None:
     return found[-1] if found else None
 
 
-@pytest.mark.parametrize("panel", list(PANELS))
-def test_every_field_of_the_request_has_a_widget_with_its_unit(page: Page, panel: str, schemas: dict[str, Any]) -> None:
-    model, skip = PANELS[panel]
-    page.click(f"button[data-panel={panel}]")
-    page.wait_for_selector(f"#panel-{panel} .row")
-    rows = page.evaluate(f"""[...document.querySelectorAll('#panel-{panel} .row[data-field]')].map(r => {{
+def panel_rows(page: Page, root: str) -> list[dict[str, Any]]:
+    """Every field row under ``root`` (a selector) as the page shows it: its field, range, unit and widget."""
+    return list(page.evaluate(f"""[...document.querySelectorAll("{root} .row[data-field]")].map(r => {{
         const w = r.querySelector('input, select, textarea');
         return {{ field: r.dataset.field, range: r.dataset.range || '', unit: r.querySelector('.unit')?.textContent || '',
                  tag: w && w.tagName, placeholder: w && w.placeholder, options: w && w.tagName === 'SELECT' ?
-                 [...w.options].map(o => o.value) : [] }}; }})""")
+                 [...w.options].map(o => o.value) : [] }}; }})"""))
+
+
+def check_rows(rows: list[dict[str, Any]], leaves: list[tuple[str, list[dict[str, Any]], dict[str, Any]]]
+               ) -> tuple[list[str], list[tuple[str, str, dict[str, Any]]]]:
+    """The leaves with no widget, and the widgets that show a leaf wrongly (choices, unit, range, default)."""
     by_field = {r["field"]: r for r in rows}
-    leaves = _leaves(model, skip, schemas)
-    assert len(leaves) > 10, leaves     # the walk found the request's fields (the machine's are over a hundred)
     missing, wrong = [], []
     for path, shapes, prop in leaves:
         row = by_field.get(path) or next((r for f, r in by_field.items() if f.startswith(path + ".")), None)
@@ -140,6 +140,17 @@ def test_every_field_of_the_request_has_a_widget_with_its_unit(page: Page, panel
                 # the placeholder is the schema's default in the form's unit, rounded for reading (4 digits)
                 if not shown == pytest.approx(default * scale, rel=1e-3, abs=1e-12):
                     wrong.append((path, f"default {default}", row))
+    return missing, wrong
+
+
+@pytest.mark.parametrize("panel", list(PANELS))
+def test_every_field_of_the_request_has_a_widget_with_its_unit(page: Page, panel: str, schemas: dict[str, Any]) -> None:
+    model, skip = PANELS[panel]
+    page.click(f"button[data-panel={panel}]")
+    page.wait_for_selector(f"#panel-{panel} .row")
+    leaves = _leaves(model, skip, schemas)
+    assert len(leaves) > 10, leaves     # the walk found the request's fields (the machine's are over a hundred)
+    missing, wrong = check_rows(panel_rows(page, f"#panel-{panel}"), leaves)
     page.locator(f"#panel-{panel}").screenshot(path=str(SHOTS / f"fields-{panel}.png"))
     assert not missing, f"{panel}: fields with no widget: {missing}"
     assert not wrong, f"{panel}: {wrong}"

@@ -1,10 +1,11 @@
-"""The Machine panel's optimisation in a real browser (Playwright, the system's Chromium, a live server): the
-machine it shows is the service's own answer, asked here directly, and a point of the Pareto scatter opens that
-member's design."""
+"""The Machine panel's optimisation in a real browser (Playwright, the system's Chromium, a live server): a form of
+the request's fields as the manual describes them, the machine it shows is the service's own answer, asked here
+directly, a point of the Pareto scatter opens that member's design, and a long optimisation can be cancelled."""
 
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Iterator
 
 import httpx
@@ -12,6 +13,12 @@ import pytest
 from playwright.sync_api import Browser, Page
 
 from test_workbench import SHOTS, base_url, browser, open_page  # noqa: F401  (the service and the browser, per module)
+from test_workbench_fields import _leaves, check_rows, panel_rows
+
+# The request's tables of objects, left to the API's defaults by the form (a client sends them as JSON).
+TABLES = ["friction", "drive.motor_catalogue", "balancing.counterweight_links", "balancing.max_radius_m",
+          "balancing.rotor_ratios", "prices.motors"]
+FUNCTIONS = {"crank_rocker": "CrankRockerFunctionIn", "slider_crank": "SliderCrankFunctionIn"}
 
 
 @pytest.fixture
@@ -30,10 +37,12 @@ def test_the_optimised_machine_is_the_services_and_a_point_opens_its_design(page
     assert not page.is_visible("#panel-optimise")
     page.click("button[data-panel=machine]")
     assert page.is_visible("#panel-optimise")
-    body = json.loads(page.input_value("#opt-json"))
-    assert body["function"]["type"] == "slider_crank"  # the manual's press
-    assert body["pareto"] == ["added_mass", "rms_shaking_force"]
-    page.click("#opt-run")
+    with page.expect_request("**/v1/machines/optimise") as sent:
+        page.click("#opt-run")
+    body = sent.value.post_data_json
+    # the form starts from the manual's press (MachineOptimiseIn's second example), its Pareto set changed
+    example = httpx.get(f"{base_url}/openapi.json").json()["components"]["schemas"]["MachineOptimiseIn"]["examples"][1]
+    assert body == {**example, "pareto": ["added_mass", "rms_shaking_force"]}
     _wait(page, "optimised")
     direct = httpx.post(f"{base_url}/v1/machines/optimise", json=body, timeout=120).json()
     heading = page.text_content("#opt-result h3") or ""
@@ -41,6 +50,11 @@ def test_the_optimised_machine_is_the_services_and_a_point_opens_its_design(page
     assert f"{direct['parameter']:.5g}" in heading
     rows = page.locator("#opt-gains tr")
     assert rows.count() == 1 + len(direct["gains"]) == 6
+    # every objective named in words with its unit, the cost in the prices' currency
+    shown = {r[0]: r[3] for r in page.eval_on_selector_all("#opt-gains tr", "rs => rs.slice(1).map(r => "
+                                                             "[...r.cells].map(c => c.textContent))")}
+    assert shown == {"motor power": "W", "added mass": "kg", "RMS shaking force": "N", "machine mass": "kg",
+                     "cost": "currency"}
     # one point per feasible member with both Pareto figures, the optimum among them
     feasible = [m for m in direct["members"] if m["feasible"]]
     points = page.locator("#opt-scatter circle.opt-point")
@@ -62,14 +76,57 @@ def test_the_optimised_machine_is_the_services_and_a_point_opens_its_design(page
     print(f"screenshot: {SHOTS / 'optimise.png'}")
 
 
-def test_a_request_that_is_not_json_is_named(page: Page) -> None:
+def test_every_field_of_the_request_is_a_widget_with_its_unit(page: Page, base_url: str) -> None:
+    schemas = httpx.get(f"{base_url}/openapi.json").json()["components"]["schemas"]
     page.click("button[data-panel=machine]")
-    page.fill("#opt-json", "{ not json")
+    # no raw JSON: every field a widget, no label in snake_case
+    assert page.locator("#panel-optimise textarea").count() == 0
+    labels = page.eval_on_selector_all("#panel-optimise label", "ls => ls.map(l => l.textContent)")
+    assert labels and not [t for t in labels if re.search(r"\b[a-z]+_[a-z]+", t)], labels
+    rest = [leaf for leaf in _leaves("MachineOptimiseIn", ["function", *TABLES], schemas)]
+    for kind, model in FUNCTIONS.items():
+        page.select_option("[id='opt-function.type']", kind)
+        own = [(f"function.{p}", shapes, prop) for p, shapes, prop in _leaves(model, ["type"], schemas)]
+        missing, wrong = check_rows(panel_rows(page, "#panel-optimise"), rest + own)
+        assert not missing, f"{kind}: fields with no widget: {missing}"
+        assert not wrong, f"{kind}: {wrong}"
+    # every number typed has its unit beside it (– for a pure number)
+    units = page.eval_on_selector_all("#panel-optimise .row input", "is => is.map(i => [i.id, "
+                                      "i.closest('.row').querySelector('.unit').textContent])")
+    assert units and not [u for u in units if not u[1].strip()], units
+    page.locator("#panel-optimise").screenshot(path=str(SHOTS / "optimise-form.png"))
+
+
+def test_a_field_that_is_no_number_and_a_value_the_service_refuses_are_named_at_their_field(page: Page) -> None:
+    page.click("button[data-panel=machine]")
+    page.fill("[id='opt-speed_rpm']", "fast")
     page.click("#opt-run")
     _wait(page, "problem")
-    assert "not a JSON object" in (page.text_content("#opt-problem") or "")
+    assert page.inner_text("[id='opt-speed_rpm-msg']") == "enter a number"
     first = page.evaluate("document.body.dataset.optimise")
-    page.fill("#opt-json", json.dumps({"function": {"type": "slider_crank"}}))
+    # a swing of 200° is outside (0, 180): the service's 422 names the function's field, shown beside it
+    page.select_option("[id='opt-function.type']", "crank_rocker")
+    page.fill("[id='opt-speed_rpm']", "120")
+    page.fill("[id='opt-function.swing_deg']", "200")
     page.click("#opt-run")
     _wait(page, "problem", after=first)
-    assert "function" in (page.text_content("#opt-problem") or "")
+    msg = page.locator("[id='opt-function.swing_deg-msg']")
+    assert msg.is_visible() and "180" in msg.inner_text()
+    assert page.get_attribute("[id='opt-function.swing_deg']", "aria-invalid") == "true"
+
+
+def test_a_long_optimisation_shows_its_progress_and_is_cancelled(page: Page) -> None:
+    page.click("button[data-panel=machine]")
+    # every cell searched over many members: an optimisation of many seconds on this machine
+    page.fill("[id='opt-scan_members']", "64")
+    page.select_option("[id='opt-search_cells']", "all")
+    page.click("#opt-run")
+    page.wait_for_selector("#opt-progress progress", timeout=5_000)
+    assert page.is_disabled("#opt-run")
+    page.wait_for_function("/optimising… [1-9]\\d* s/.test(document.getElementById('opt-elapsed').textContent)",
+                           timeout=10_000)
+    page.click("#opt-cancel")
+    _wait(page, "cancelled")
+    assert page.locator("#opt-progress").count() == 0 and page.is_enabled("#opt-run")
+    assert page.inner_text("#opt-result").strip() == ""
+    assert "cancelled" in page.inner_text("#opt-status")

@@ -157,8 +157,8 @@ async function answer(r) {
 }
 
 /** POST a JSON body and take the answer as a file (a PDF, a PNG). */
-export async function postFile(path, body) {
-  const r = await fetch(path, { method: "POST", headers: { "content-type": "application/json", ...csrf() }, body: JSON.stringify(body) });
+export async function postFile(path, body, { signal } = {}) {
+  const r = await fetch(path, { method: "POST", headers: { "content-type": "application/json", ...csrf() }, body: JSON.stringify(body), signal });
   if (!r.ok) return answer(r);
   return r.blob();
 }

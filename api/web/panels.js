@@ -531,7 +531,7 @@ function rangeText(d, kind) {
 function schemaField(prefix, { path, label = null, schema = null, value = "" }) {
   const [model, sp] = schema || ["MachineIn", path];
   const d = describe(model, sp);
-  const baseUnit = d.unit.replace(/, list$/, "");
+  const baseUnit = d.unit === "list" ? "–" : d.unit.replace(/, list$/, "");
   const kind = baseUnit === "m" ? "length" : baseUnit === "kg" ? "mass" : "plain";
   const id = `${prefix}-${path}`;
   const dflt = d.default;
@@ -1189,8 +1189,20 @@ function studiesPanel() {
   return render;
 }
 
+let installed = null;
+/** Resolved once the panels have their context (units, the manual): the modules beside them wait for it. */
+export const panelsReady = new Promise((resolve) => { installed = resolve; });
+
+/** The panels' field machinery, for the modules beside them (the optimisation form): fields described by the
+ *  manual, read in SI, checked, filled from SI values, and a problem put next to the field it names. */
+export const kit = {
+  schemaField, schemaFields, readSchemaField, checkSchemaFields, panelProblem, clearPanel, loadCatalogues,
+  fill(input, v) { input.value = v === undefined || v === null ? "" : typeof v === "number" && input.dataset.kind !== "plain" ? ctx.toDisplay(v, input.dataset.kind) : String(v); },
+};
+
 export function installPanels(c) {
   ctx = c;
+  installed();
   const renders = { balancing: balancingPanel(), flywheel: flywheelPanel(), drive: drivePanel(), machine: machinePanel(),
     synthesis: synthesisPanel(), studies: studiesPanel() };
   const rendered = { designs: {} };
