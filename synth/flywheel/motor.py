@@ -214,6 +214,9 @@ def motor_constant_inertia(
     lbx[n + 2] = 1e-9 * max(guess, 1.0) - float(cycle.inertia.min())
     lbg = np.concatenate([np.zeros(n), np.zeros(2 * n), [-np.inf]])
     ubg = np.concatenate([np.zeros(n), np.full(2 * n, np.inf), [0.0]])
+    newton = _periodic_newton(cycle, motor, delta, guess, initial, lbx[n], lbx[n + 2])
+    if newton is not None:
+        return MotorSizing(newton[1], newton[0], "newton")
     solver = _motor_nlp(n, float(time_limit_s))
     sol = solver(x0=x0, p=params, lbx=lbx, ubx=np.inf, lbg=lbg, ubg=ubg)
     stats = solver.stats()
@@ -224,6 +227,81 @@ def motor_constant_inertia(
             raise SolverTimeout(time_limit_s, reached_inertia_kgm2=float(x[n + 2]))
         raise SolverFailed(status)
     return MotorSizing(float(x[n + 2]), x[:n], status)
+
+
+#: Newton iterations on the collocation's optimality system before IPOPT is asked instead.
+NEWTON_ITERATIONS = 40
+
+
+def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, guess: float, start: FloatArray,
+                     least_speed: float, least_inertia: float) -> tuple[FloatArray, float] | None:
+    """The NLP's optimum as the root of its optimality system, by Newton's method; None when the root is not
+    the NLP's optimum (then IPOPT solves the program itself).
+
+    Least J_c holds the speed band exactly: its optimum has the n periodic collocation equations and the
+    coefficient at its limit, w_max·(1 - delta/2) = w_min·(1 + delta/2), with w_max and w_min the largest and
+    least speeds at the samples; n + 1 equations in the n speeds and J_c. The Jacobian is cyclic bidiagonal in
+    the speeds with one column for J_c and one row for the band: a dense solve of that size costs far less than
+    an IPOPT iteration, and the root does not depend on where the iterations start. It is the optimum when the
+    coefficient falls as J_c grows there (a larger J_c only narrows the band) and the speed and inertia bounds of
+    the program do not bind.
+    """
+    phi, _, _ = cycle.closed()
+    h = np.diff(phi)
+    inertia, torque = cycle.inertia, cycle.torque
+    n = inertia.size
+    s, w_free = motor.slope, motor.no_load_speed
+    up, down = 1.0 - 0.5 * delta, 1.0 + 0.5 * delta
+    rows = np.arange(n)
+    nxt = np.roll(rows, -1)
+    w, jc = np.array(start, dtype=float), float(guess)
+    if not np.all(w > 0):
+        return None
+    scale = float(np.mean(w))
+    a = np.zeros((n + 1, n + 1))
+    # J_c held at its guess until the speeds are periodic: from a flat start the band's row means nothing
+    free = False
+    for _ in range(NEWTON_ITERATIONS):
+        total = inertia + jc
+        energy = 0.5 * total * w**2
+        power = torque + s * (w_free - w)
+        lo, hi = int(np.argmin(w)), int(np.argmax(w))
+        g = np.empty(n + 1)
+        g[:n] = energy[nxt] - energy - 0.5 * h * (power + power[nxt])
+        g[n] = up * w[hi] - down * w[lo]
+        a.fill(0.0)
+        a[rows, rows] = -total * w + 0.5 * h * s
+        a[rows, nxt] += total[nxt] * w[nxt] + 0.5 * h * s
+        a[:n, n] = 0.5 * (w[nxt] ** 2 - w**2)
+        a[n, hi] += up
+        a[n, lo] -= down
+        try:
+            step = np.linalg.solve(a, -g) if free else np.append(np.linalg.solve(a[:n, :n], -g[:n]), 0.0)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(step)):
+            return None
+        # the speeds must stay positive and J_c above its bound: a step that would stop the machine or take
+        # more than half of J_c's room is shortened
+        shrink = 1.0
+        while (np.any(w + shrink * step[:n] <= 0.0) or jc + shrink * step[n] <= 0.5 * (jc + least_inertia)) \
+                and shrink > 1e-6:
+            shrink *= 0.5
+        w, jc = w + shrink * step[:n], jc + shrink * step[n]
+        if not free:
+            free = shrink == 1.0 and np.max(np.abs(step[:n])) <= 1e-6 * scale
+            continue
+        if shrink == 1.0 and np.max(np.abs(step[:n])) <= 1e-13 * scale and abs(step[n]) <= 1e-13 * max(abs(jc), guess):
+            break
+    else:
+        return None
+    if int(np.argmin(w)) != lo or int(np.argmax(w)) != hi or w[lo] <= least_speed or jc <= least_inertia:
+        return None
+    # dw/dJ_c from the periodic equations alone: the band must narrow as J_c grows
+    sens = np.linalg.solve(a[:n, :n], -a[:n, n])
+    if not up * sens[hi] - down * sens[lo] < 0:
+        return None
+    return w, jc
 
 
 _MOTOR_NLPS = threading.local()
