@@ -348,18 +348,36 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
         assert v == pytest.approx(w, rel=1e-9, abs=1e-9)
 
 
-def test_member_shares_give_each_worker_about_the_same_work() -> None:
-    # every member once; the shares' work (the sized member weighing SIZED_MEMBER_WEIGHT) within one member
-    # of each other; each share spread over the family, not a block of it
-    from api.execution.optimise import SIZED_MEMBER_WEIGHT, member_shares
+def test_member_tasks_hold_every_member_once_the_sized_one_alone_and_first() -> None:
+    # the workers take the tasks in turn (api.execution.admission.in_turn), so each task is small and spans the
+    # family; the member whose wheels are sized (several members' work) is handed out first, on its own
+    from api.execution.optimise import MEMBERS_PER_TASK, member_tasks
 
     members = [k / 64 for k in range(65)]
-    for n in (1, 2, 3):
-        shares = member_shares(members, members[20], n)
-        assert sorted(u for s in shares for u in s) == members
-        work = [sum(SIZED_MEMBER_WEIGHT if u == members[20] else 1.0 for u in s) for s in shares]
-        assert max(work) - min(work) <= 1.0
-        assert all(min(s) <= members[n - 1] and max(s) >= members[-n] for s in shares)
+    tasks = member_tasks(members, members[20])
+    assert tasks[0] == [members[20]]
+    assert sorted(u for t in tasks for u in t) == members
+    assert all(len(t) <= MEMBERS_PER_TASK for t in tasks[1:])
+    assert all(t == sorted(t) and t[-1] - t[0] >= 0.75 for t in tasks[1:])
+
+
+def test_in_turn_keeps_at_most_so_many_in_flight_and_the_order() -> None:
+    import asyncio
+
+    from api.execution.admission import in_turn
+
+    flight, most = 0, 0
+
+    async def call(i: int) -> int:
+        nonlocal flight, most
+        flight += 1
+        most = max(most, flight)
+        await asyncio.sleep(0.001 * (i % 3))
+        flight -= 1
+        return i
+
+    out = asyncio.run(in_turn([lambda i=i: call(i) for i in range(10)], 2))  # type: ignore[misc]
+    assert out == list(range(10)) and most == 2
 
 
 def test_all_cells_leaves_none_unsearched_and_the_engine_agrees(client: SynthClient) -> None:

@@ -16,7 +16,7 @@ import os
 import tempfile
 import threading
 import time
-from collections.abc import Awaitable, Callable, Iterable, Iterator
+from collections.abc import Awaitable, Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, TypeVar
 
@@ -234,6 +234,21 @@ class Solvers:
         finally:
             self.in_flight -= 1
             self.completed += 1
+
+
+async def in_turn(calls: Sequence[Callable[[], Awaitable[T]]], at_once: int) -> list[T]:
+    """Await the engine calls ``calls`` makes, at most ``at_once`` in flight, the next one started as soon as one
+    ends, and return their results in order: the workers stay evenly busy whatever each call costs, and the
+    request holds no more of the service's slots than that. A failure cancels the others, as :func:`together`."""
+    pending = iter(enumerate(calls))
+    results: dict[int, T] = {}
+
+    async def lane() -> None:
+        for i, call in pending:
+            results[i] = await call()
+
+    await together(lane() for _ in range(max(1, min(at_once, len(calls)))))
+    return [results[i] for i in range(len(calls))]
 
 
 async def together(calls: Iterable[Awaitable[T]]) -> list[T]:

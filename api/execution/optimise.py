@@ -2,10 +2,10 @@
 
 The engine's :func:`synth.optimise_machine` runs its stages one after another in one process (a design study's
 variant does that). A request runs the same stages as separate tasks: the kinematic scan; the scan's members in
-one task per worker; rounds of cells (two at a time, each round's chosen against the best found before it), one
-task per cell to cut it into plateaus and one per plateau searched; and the conclusion, which renders the answer
-in its worker. The members are put back in the order the engine's own loop makes them, so both give the same
-answer.
+small tasks the workers take in turn; rounds of cells (two at a time, each round's chosen against the best found
+before it), one task per cell to cut it into plateaus and one per plateau searched; and the conclusion, which
+renders the answer in its worker. The members are put back in the order the engine's own loop makes them, so both
+give the same answer.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from synth.machine.optimise import (
     search_plateau,
 )
 
-from .admission import RequestSolvers, together
+from .admission import RequestSolvers, in_turn, together
 from synth.machine.record import DesignRecord
 
 from .plans import SERVICE_VERSION, Limits, machine_optimise_conclusion
@@ -38,22 +38,18 @@ from api.translate.optimise import machine_optimise_from
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
-#: The chain's own member has its wheels sized to the chain's precision: about as much work as this many other
-#: members of the scan (measured on the README's crank-rocker with two stages).
-SIZED_MEMBER_WEIGHT = 8.0
+#: Members of the scan in one task: the workers take the tasks in turn, so they finish within about one task's
+#: work of each other, and each task pays the hand-off to a worker once.
+MEMBERS_PER_TASK = 4
 
 
-def member_shares(candidates: Sequence[float], sized: float, n: int) -> list[list[float]]:
-    """The scan's members in ``n`` shares of about the same work: each member, in the family's order, to the
-    share with the least work so far, so every worker gets members from the whole family and the member
-    ``sized`` counts for :data:`SIZED_MEMBER_WEIGHT`."""
-    shares: list[list[float]] = [[] for _ in range(n)]
-    work = [0.0] * n
-    for u in candidates:
-        k = min(range(n), key=lambda i: (work[i], i))
-        shares[k].append(u)
-        work[k] += SIZED_MEMBER_WEIGHT if u == sized else 1.0
-    return [s for s in shares if s]
+def member_tasks(candidates: Sequence[float], sized: float) -> list[list[float]]:
+    """The scan's members as tasks for the workers to take in turn: the member ``sized`` (its wheels sized to the
+    chain's precision, several members' work) alone and first, then the others in tasks of about
+    :data:`MEMBERS_PER_TASK`, each task every k-th member of the family's order (so each spans the family)."""
+    others = [u for u in candidates if u != sized]
+    k = max(1, math.ceil(len(others) / MEMBERS_PER_TASK))
+    return [[sized], *(others[i::k] for i in range(k) if others[i::k])]
 
 
 def price_optimisation(b: MachineOptimiseIn, lim: Limits, workers: int) -> float:
@@ -80,10 +76,10 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     spec = machine_optimise_from(body, lim.max_stages)
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)
-    n = max(1, min(solvers.solvers.workers, len(scan.candidates)))
-    shares = member_shares(scan.candidates, scan.chain_parameter, n)
-    parts = await together(solvers.run(design_members, spec, share, time_limit_s=t,
-                                       size_gears_at=(scan.chain_parameter,)) for share in shares)
+    tasks = member_tasks(scan.candidates, scan.chain_parameter)
+    parts = await in_turn([lambda share=share: solvers.run(design_members, spec, share, time_limit_s=t,  # type: ignore[misc]
+                                                           size_gears_at=(scan.chain_parameter,))
+                           for share in tasks], solvers.solvers.workers)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
 
