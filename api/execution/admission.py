@@ -27,6 +27,7 @@ from synth.errors import SolverTimeout
 from synth.execution import BATCH, Executor, LocalPoolExecutor, make_executor
 
 from ..media import Render, file_headers, negotiate
+from .held import HeldResults
 from .plans import Limits, Plan
 from .warm import warm_worker
 from ..settings import Settings
@@ -62,7 +63,23 @@ class Spooled:
 def answer_task(render: Render, spool_above: int, fn: Callable[..., Any], args: tuple[Any, ...],
                 kwargs: dict[str, Any]) -> tuple[bytes, str] | Spooled:
     """Worker side of a request whose answer may be large: beyond ``spool_above`` bytes it goes to a file."""
-    content, media_type = render_task(render, fn, args, kwargs)
+    return _spooled(render_task(render, fn, args, kwargs), spool_above)
+
+
+def kept_answer_task(render: Render, spool_above: int, fn: Callable[..., Any], args: tuple[Any, ...],
+                     kwargs: dict[str, Any]) -> tuple[tuple[bytes, str] | Spooled, Any]:
+    """:func:`answer_task` that also sends the engine's result back, for the web process to hold."""
+    result = fn(*args, **kwargs)
+    return _spooled(render(result), spool_above), result
+
+
+def given(result: T) -> T:
+    """The engine's work already done: its result as it was held."""
+    return result
+
+
+def _spooled(answer: tuple[bytes, str], spool_above: int) -> tuple[bytes, str] | Spooled:
+    content, media_type = answer
     if len(content) <= spool_above:
         return content, media_type
     fd, path = tempfile.mkstemp(prefix="synth-answer-", suffix=".part")
@@ -138,6 +155,7 @@ class Solvers:
         self.completed = 0
         self.timed_out = 0
         self.rejected = 0
+        self.held = HeldResults()
 
     @property
     def executor(self) -> Executor:
@@ -300,3 +318,22 @@ class RequestSolvers:
         render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes)
         return await self.answer(render, plan.fn, *plan.args, headers=file_headers(chosen, plan.stem),
                                  **plan.kwargs)
+
+    async def answer_held(self, plan: Plan, request: Request, fmt: str | None, key: tuple[str, str]) -> Response:
+        """:meth:`answer_plan` for a plan whose result the process holds under ``key`` (the user and the hash of
+        the canonical request): a result held is only rendered (no engine work), a new one is held."""
+        chosen = negotiate(request, fmt, plan.offered)
+        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes)
+        spool = self.settings.spool_above_bytes
+        held = self.solvers.held.get(key)
+        if held is not None:
+            answer = await self.solvers.run(self.deadline, answer_task, render, spool, given, (held,), {})
+        else:
+            answer, result = await self.solvers.run(self.deadline, kept_answer_task, render, spool, plan.fn,
+                                                    plan.args, plan.kwargs)
+            self.solvers.held.put(key, result)
+        headers = file_headers(chosen, plan.stem)
+        if isinstance(answer, Spooled):
+            return spooled_response(answer, headers)
+        content, media_type = answer
+        return Response(content=content, media_type=media_type, headers=headers)

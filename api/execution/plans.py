@@ -169,7 +169,8 @@ class Limits:
 @dataclass(frozen=True, slots=True)
 class Plan:
     """One engine call and how its answer is written; ``offered`` are the formats besides JSON, ``stem`` names
-    the file of a CSV or DXF answer."""
+    the file of a CSV or DXF answer, ``request_hash`` the canonical request's where the result is held for the
+    documents of the same request."""
 
     render: Render
     fn: Callable[..., Any]
@@ -177,6 +178,7 @@ class Plan:
     kwargs: dict[str, Any] = field(default_factory=dict)
     offered: tuple[str, ...] = ()
     stem: str = "answer"
+    request_hash: str = ""
 
 
 def analysis(b: AnalysisIn, lim: Limits, angle_deg: float | None = None) -> Plan:
@@ -377,7 +379,7 @@ def machine_design(b: MachineIn, lim: Limits) -> Plan:
     spec = with_strength(machine_from(b, lim.max_stages), b.strength)
     return Plan(Render(design_out, design_file, model_extra=(record,), export_extra=(record,)), design_machine,
                 (spec, b.alternatives, lim.solver_time_limit_s), offered=("png", "pdf"),
-                stem="machine-design")
+                stem="machine-design", request_hash=record.request_sha256)
 
 
 def machine_optimise(b: MachineOptimiseIn, lim: Limits) -> Plan:

@@ -11,6 +11,7 @@ from ..execution import plans
 from ..execution.optimise import answer_optimisation
 from ..execution.optimise_linkage import answer_linkage_optimisation
 from ..deps import SolverDep
+from ..identity import current_user
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
 from mechsynth_client.schemas.optimise import (
     LinkageOptimiseIn,
@@ -38,7 +39,11 @@ async def design(body: MachineIn, request: Request, solvers: SolverDep, format: 
     the motor from the mean power, ratio split and tooth numbers, the flywheel for the chosen motor on the chosen
     shaft, and every shaft's speed, power and peak and RMS torque; checked by simulating the assembled machine
     to its steady state. `alternatives: true` designs it with the other balancing modes too."""
-    return await solvers.answer_plan(plans.machine_design(body, solvers.limits), request, format)
+    plan = plans.machine_design(body, solvers.limits)
+    # the design a person just looked at, held: its record or summary of the same request is written from it
+    user = current_user(request)
+    key = ("" if user is None else str(user.id), plan.request_hash)
+    return await solvers.answer_held(plan, request, format, key)
 
 
 @router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine",

@@ -7,6 +7,7 @@
 import { post, get, Problem } from "./api.js";
 import { csrf } from "./signin.js";
 import { h, put, table } from "./dom.js";
+import { longStep, cancelled } from "./progress.js";
 
 const LIB = "/v1/library";
 const KINDS = [["/v1/machines/design", "machine + record"], ["/v1/analysis", "linkage"]];
@@ -101,9 +102,11 @@ async function save(branch = false) {
   const same = current && current.project === project && current.design === design;
   const body = { endpoint, request: requestFor(endpoint), message: el("lib-message").value, author: who(),
     parent: same ? current.number : null, branch };
-  say(endpoint === "/v1/machines/design" ? "saving: the machine is designed and its record written…" : "saving…");
+  say("");
+  const step = longStep(el("lib-progress-box"), "lib", endpoint === "/v1/machines/design" ? "saving: the machine is designed and its record written…" : "saving…");
+  el("lib-save").disabled = true;
   try {
-    const r = await post(`${path(project, design)}/revisions`, body);
+    const r = await post(`${path(project, design)}/revisions`, body, { signal: step.signal });
     current = { project, design, number: r.number, endpoint };
     say(`Saved as revision ${r.number} of ${project}/${design} (${r.state}, ${r.passed === false ? "its answer FAILED a check: it is signed only with a deviation" : "passed"}); content hash ${r.content_hash.slice(0, 12)}…`, r.passed === false);
     await refresh(project, design);
@@ -116,8 +119,16 @@ async function save(branch = false) {
       put(el("lib-stale"),
         h("button", { id: "lib-branch", onclick: () => save(true) }, `Save as a branch from revision ${body.parent}`),
         h("button", { class: "secondary", onclick: () => { history(project, design); open(project, design, head); } }, `Open revision ${head}`));
+    } else if (cancelled(err)) {
+      // the page stopped waiting; the service finishes what it started, so the history says whether it was saved
+      say(`Stopped waiting: the service may still save this revision; the history of ${project}/${design} shows whether it did.`, true);
+      done("cancelled");
+      return;
     } else say(`Not saved: ${problemText(err)}`, true);
     done("refused");
+  } finally {
+    step.end();
+    el("lib-save").disabled = false;
   }
 }
 
@@ -335,6 +346,7 @@ function render() {
         placeholder: "with Check, Approve or Return: why; for a revision that FAILED, the reason it is released anyway" })) : h("input", { id: "lib-remark", type: "hidden" })),
     holds("engineer", "admin") ? h("div", { class: "actions" }, h("button", { class: "run", id: "lib-save", onclick: () => save(false) }, "Save to the library"),
       h("span", { id: "lib-stale" })) : h("span", { id: "lib-stale" }),
+    h("div", { id: "lib-progress-box", hidden: true }),
     h("p", { id: "lib-status", class: "note", role: "status" }),
     h("div", { class: "actions" },
       h("label", { for: "lib-find" }, "Find designs named"), h("input", { id: "lib-find", type: "search", placeholder: "part of a name" }),

@@ -4,6 +4,7 @@ import { post, get, del, postFile, describe, leaves } from "./api.js";
 import { linePlot, polarPlot, scatterPlot, fmt } from "./plot.js";
 import { toModel, drawLinkage, layout } from "./draw.js";
 import { h, s, put, table } from "./dom.js";
+import { longStep, cancelled } from "./progress.js";
 
 let ctx = null;
 
@@ -657,6 +658,7 @@ function machinePanel() {
     actions(h("button", { class: "run", id: "mac-run", onclick: run }, "Design the machine"),
       h("button", { class: "secondary", id: "mac-pdf", disabled: true, onclick: pdf }, "Download the design record (PDF)"),
       h("span", { id: "mac-status", class: "note" })),
+    h("div", { id: "mac-progress-box", hidden: true }),
     h("p", { id: "mac-problem", class: "problem", hidden: true }), h("div", { id: "mac-result" }));
     const stageRows = () => {
       const n = Number(read("mac", "stage-count"));
@@ -710,12 +712,23 @@ function machinePanel() {
   }
   async function pdf() {
     if (!last) return;
-    busy("mac", "writing the design record…");
+    // the same request as the answer shown: the service writes the record from the design it holds
+    busy("mac", "");
+    const step = longStep(document.getElementById("mac-progress-box"), "mac", "writing the design record…");
+    const button = document.getElementById("mac-pdf");
+    button.disabled = true;
     try {
-      const blob = await postFile("/v1/machines/design?format=pdf", last);
+      const blob = await postFile("/v1/machines/design?format=pdf", last, { signal: step.signal });
       download(blob, "design-record.pdf");
       busy("mac", "design record downloaded");
-    } catch (err) { busy("mac", ""); panelProblem("mac", err); }
+      document.body.dataset.record = "downloaded";
+    } catch (err) {
+      if (cancelled(err)) { busy("mac", "cancelled: no record downloaded"); document.body.dataset.record = "cancelled"; }
+      else { busy("mac", ""); panelProblem("mac", err); document.body.dataset.record = "problem"; }
+    } finally {
+      step.end();
+      button.disabled = !last;
+    }
   }
   function show(m) {
     const tick = (ok) => (ok ? h("span", { class: "ok" }, "✔") : h("span", { class: "ko" }, "✘"));
