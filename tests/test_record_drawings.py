@@ -1,5 +1,6 @@
 """The design record's dimensioned drawings laid out by measuring their text: every label inside its drawing, none
-over another, ticks in millimetres on every axis; read back from the figure and from the PDF's own word boxes."""
+over another, ticks in millimetres on every axis; read back from the figure and from the PDF's own word boxes.
+And no page of the record near-empty, read from its pages as rendered."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 from matplotlib.text import Annotation, Text
 from matplotlib.transforms import Bbox
@@ -106,3 +108,28 @@ def test_the_pdf_drawings_page_has_no_word_over_another(design: Any) -> None:
     # three drawings with their axes in millimetres, and both counterweights' labels whole
     assert text.count("[mm]") >= 6
     assert "counterweight on the crank:" in text and "counterweight on the rocker:" in text
+
+
+@pytest.mark.skipif(shutil.which("pdftoppm") is None, reason="poppler-utils' pdftoppm renders the PDF's pages")
+def test_no_page_of_the_record_is_near_empty(design: Any) -> None:
+    pdf = design_report_pdf(design, record=DesignRecord("press", "x", "-", BODY, "0" * 64))
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "record.pdf"
+        path.write_bytes(pdf)
+        subprocess.run(["pdftoppm", "-r", "30", "-gray", str(path), str(Path(tmp) / "page")], check=True)
+        pages = sorted(Path(tmp).glob("page*.pgm"), key=lambda f: int(re.findall(r"\d+", f.stem)[-1]))
+        assert len(pages) >= 6
+        for n, page in enumerate(pages, 1):
+            header, width_height, _, data = page.read_bytes().split(b"\n", 3)
+            assert header == b"P5"
+            w, h = (int(v) for v in width_height.split())
+            ink = (np.frombuffer(data, dtype=np.uint8).reshape(h, w) < 200).any(axis=1)
+            rows = np.flatnonzero(ink)
+            # the footer (the record's name, request hash and page number) is the last band of ink: left out
+            footer = rows[-1]
+            while footer > 0 and ink[footer - 1]:
+                footer -= 1
+            body = rows[rows < footer - 1]
+            # the page's own content spans at least a third of its height: a page left with a heading and a few
+            # lines (a table pushed onto a page of its own) fails
+            assert body.size and (body[-1] - body[0]) / h >= 1 / 3, (n, body[[0, -1]] if body.size else None, h)
