@@ -137,7 +137,8 @@ def running_out(r: synth.MachineRunning) -> RunningOut:
                 closed_form_error=up.integrator.closed_form_error)),
         rundown=RunDownOut(
             stop_time_s=down.stop_time, brake_torque_Nm=down.brake_torque,
-            energy_residual=down.run.energy_residual, time_s=down.run.time[pick_down].tolist(),
+            energy_residual=down.run.energy_residual, time_error=down.time_error,
+            time_s=down.run.time[pick_down].tolist(),
             omega_rad_s=np.maximum(down.run.omega[pick_down], 0.0).tolist()),
     )
 

@@ -322,7 +322,8 @@ class IntegratorOut(BaseModel):
     """How the run-up was integrated, and the same integrator against a run-up known in closed form."""
 
     method: str = Field(description="The integration method.")
-    time_step_s: float = Field(description="Its fixed time step [s].")
+    time_step_s: float = Field(description="The spacing of the states it reports (its own steps are set by its "
+                               "error control) [s].")
     reference_inertia_kgm2: float = Field(description="The reference run-up's constant inertia at the crank: the "
                                           "cycle's mean plus rotor, train and flywheel [kg·m²].")
     reference_load_Nm: float = Field(description="Its constant load torque at the crank, the cycle's mean "
@@ -366,10 +367,13 @@ class RunDownOut(BaseModel):
     """The run-down to rest with the motor switched off in the steady state."""
 
     stop_time_s: float | None = Field(description="Time until the crank comes to rest [s]; null when it still "
-                                      "turns after 600 s or 400 000 integration steps.")
+                                      "turns after 600 s or 400 000 samples passed.")
     brake_torque_Nm: float = Field(description="Brake torque at the crank [N·m].")
     energy_residual: float = Field(description="Kinetic energy given up - losses - process work over the run-down, "
-                                   "relative to the largest term [-].")
+                                   "relative to the largest term [-] (zero to rounding: with the motor off the "
+                                   "run-down is integrated over the crank angle by this balance).")
+    time_error: float = Field(description="The run-down's time by a quadrature rule of lower order, relative: the "
+                              "check of the one integral approximated, time = integral of dphi/w [-].")
     time_s: list[float] = Field(description="Times of the curve [s], at most 1001 points.")
     omega_rad_s: list[float] = Field(description="Crank speed at those times [rad/s].")
 

@@ -96,7 +96,8 @@ def running_figure(d: MachineDesign) -> Figure | None:
             ["run-up to steady", _fmt(up.steady_time, " s")],
             ["motor peak / RMS over the start", f"{up.peak_motor_torque:.4g} / {up.rms_motor_torque:.4g} N·m"],
             ["run-down to rest", _fmt(r.rundown.stop_time, " s")],
-            ["energy balance, run-up", _residual(up.run.energy_residual if up.run is not None else None)]]
+            ["energy balance, run-up", _residual(up.run.energy_residual if up.run is not None else None)],
+            ["time quadrature check, run-down", _residual(r.rundown.time_error)]]
     ax = axes[1, 1]
     ax.axis("off")
     table = ax.table(cellText=rows, colLabels=["quantity", "value"], loc="upper left", cellLoc="right",

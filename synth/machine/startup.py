@@ -7,10 +7,12 @@ crank angle where starting is hardest, with the motor's whole characteristic fro
 :func:`synth.machine.simulate.simulate_machine` finds for the same machine. Between the samples J is the cubic
 Hermite curve through the tables of J_red and its analytic slope, and J' is that curve's own derivative, so
 the integrated motion keeps the energy balance (motor work = kinetic energy gained + losses + process work)
-the answer reports as its check. Classical Runge-Kutta steps in time, a fixed step of a quarter of a sample
-interval at the motor's no-load speed (of a 360-sample interval on finer tables: the step follows the motion,
-not the grid), built on CasADi's scalar expressions once per call; the work integrals are states of the same
-integration.
+the answer reports as its check. LSODA (scipy's ``odeint``: Adams steps, BDF where the motion turns
+stiff) sets the step by its error control to a relative tolerance of 1e-10, no step longer than 1/90 revolution
+at the motor's no-load speed (no feature of the load wider than four degrees is stepped over); the states are
+reported on a uniform grid of a quarter of a sample interval at that speed (of a 360-sample interval on finer
+tables), and the start-up time, the peaks and the run-down time are read from it. The work integrals are states
+of the same integration. Nothing is built per call but the list of the cycle's nodes the right-hand side reads.
 """
 
 from __future__ import annotations
@@ -18,30 +20,44 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import casadi as ca
-import numpy as np
+import warnings
+from collections.abc import Callable
 
-from ..errors import InvalidInput
+import numpy as np
+from scipy.integrate import ODEintWarning, odeint
+
+from ..errors import InvalidInput, SolverFailed
 from ..flywheel import Motor
 from ..model import FloatArray
+from .rundown import coast
 from .simulate import MachineCycle, MachineMotion, simulate_machine
 
 #: Relative distance from the periodic steady speed, (w - w_steady(phi))/w_mean, counted as steady [-].
 STEADY_TOLERANCE = 0.01
 #: Longest run-up or run-down simulated [s]: a machine not steady or stopped by then is reported as such.
 MAX_TIME = 600.0
-#: Most Runge-Kutta steps of one run (a fast crank with a heavy flywheel would otherwise hold millions of states).
+#: Most reported states of one run (a fast crank with a heavy flywheel would otherwise hold millions of them).
 MAX_STEPS = 400_000
-#: Runge-Kutta steps per sample interval at the no-load crank speed, on at most RESOLVED_SAMPLES intervals.
+#: Reported states per sample interval at the no-load crank speed, on at most RESOLVED_SAMPLES intervals.
 SUBSTEPS = 4
-#: Finer tables than this many samples per revolution do not shorten the step: 1 440 steps a revolution resolve
-#: the motion (its speed varies over the revolution as the load and the inertia do), and a finer sample grid only
-#: refines the tables the steps read between their nodes.
+#: Finer tables than this many samples per revolution do not refine the reported grid: 1 440 states a revolution
+#: show the motion (its speed varies over the revolution as the load and the inertia do), and a finer sample grid
+#: only refines the tables the integration reads between their nodes.
 RESOLVED_SAMPLES = 360
-#: Steps integrated between two looks at the speed (a few revolutions).
+#: Reported states integrated between two looks at the speed (a few revolutions).
 CHUNK_STEPS = 4096
-#: Most steps of the closed-form reference run that checks the integrator.
+#: Most reported states of the closed-form reference run that checks the integrator.
 REFERENCE_STEPS = 1024
+#: LSODA's relative tolerance; the absolute ones are this times a revolution (angle), the no-load speed (speed)
+#: and one joule (work integrals).
+RELATIVE_TOLERANCE = 1e-10
+#: Least integration steps a revolution at the no-load speed (the longest step LSODA may take).
+MIN_STEPS_PER_REVOLUTION = 90
+#: Most integration steps LSODA may take between two reported states.
+_MAX_INNER_STEPS = 100_000
+#: The integration as the answer names it.
+METHOD = ("LSODA (adaptive Adams/BDF, relative tolerance 1e-10, at least 90 steps a revolution), states reported "
+          "at a fixed time step")
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,12 +108,12 @@ class Transient:
 class IntegratorCheck:
     """How the run-up was integrated and how well the same integrator meets a closed form.
 
-    ``method`` in words; ``time_step`` [s] (fixed); the reference is the same machine with its inertia held at
+    ``method`` in words; ``time_step`` the spacing of the reported states [s]; the reference is the same machine with its inertia held at
     the cycle's mean ``reference_inertia`` [kg·m²], its load at the mean ``reference_load`` [N·m] (zero when the
     motor could not turn against it) and the motor's linear branch down to standstill, whose run-up from rest is
     w(t) = w_inf·(1 - exp(-k·t/J)) (k the characteristic's slope at the crank, w_inf = w_s + M/k): the same
-    Runge-Kutta steps from rest over ``reference_time`` [s] (three time constants, or the first
-    ``REFERENCE_STEPS`` steps of them) miss it by at most ``closed_form_error`` of w_inf [-].
+    integration from rest over ``reference_time`` [s] (three time constants, or the first ``REFERENCE_STEPS``
+    reported states of them) misses it by at most ``closed_form_error`` of w_inf [-].
     """
 
     method: str
@@ -129,16 +145,16 @@ def _integrator_check(cycle: MachineCycle, constant_inertia: float, motor: Motor
         load = 0.0
     n = cycle.phi.size
     flat = MachineCycle(cycle.phi, np.full(n, inertia - constant_inertia), np.zeros(n), np.full(n, load))
-    # the run-up's own step over three time constants, or the first 1024 steps of them: the error a step makes is
-    # what is checked, and a short run keeps the check a small part of the start-up's cost
+    # the run-up's own integration over three time constants, or the first 1024 reported states of them: the error
+    # the integration makes is what is checked, and a short run keeps the check a small part of the start-up's cost
     steps = int(min(max(256, math.ceil(3 * inertia / reduced.slope / dt)), REFERENCE_STEPS))
-    run = _stepper(flat, constant_inertia, linear, np.zeros(n), 0.0, True, dt, steps)
-    states = np.asarray(run(np.zeros(6)), dtype=float)
+    rates = _rates(flat, constant_inertia, linear, np.zeros(n), 0.0, True)
+    states = _run(rates, np.zeros(6), dt, steps, motor)
     time: FloatArray = dt * np.arange(1, steps + 1, dtype=float)
     exact = run_up_closed_form(time, inertia, reduced.slope, reduced.no_load_speed, load)
     final = reduced.no_load_speed + load / reduced.slope
     error = float(np.max(np.abs(states[1] - exact)) / final)
-    return IntegratorCheck("classical Runge-Kutta (4th order), fixed time step, CasADi", dt, inertia, load,
+    return IntegratorCheck(METHOD, dt, inertia, load,
                            float(time[-1]), error)
 
 
@@ -170,13 +186,17 @@ class StartUp:
 class RunDown:
     """The run-down from the steady state at the first sample with the motor switched off.
 
-    ``run`` the simulated run-down (its motor work is zero); ``stop_time`` when the crank comes to rest [s]
-    (None: still turning after ``MAX_TIME`` or ``MAX_STEPS`` steps); ``brake_torque`` at the crank [N·m].
+    ``run`` the run-down on the sample grid, integrated over the crank angle by
+    :func:`synth.machine.rundown.coast` (its motor work is zero, its energy balance holds by construction);
+    ``stop_time`` when the crank comes to rest [s] (None: still turning after ``MAX_TIME`` or ``MAX_STEPS``
+    samples); ``brake_torque`` at the crank [N·m]; ``time_error`` the time at the end by a quadrature rule of
+    lower order, relative [-] (the check of the only integral approximated).
     """
 
     run: Transient
     stop_time: float | None
     brake_torque: float
+    time_error: float
 
 
 def _closed(values: FloatArray) -> FloatArray:
@@ -192,7 +212,7 @@ def _uniform_step(phi: FloatArray) -> float:
 
 
 def _time_step(cycle: MachineCycle, speed: float) -> float:
-    """The fixed Runge-Kutta step [s]: SUBSTEPS steps a sample interval (on at most RESOLVED_SAMPLES of them a
+    """The spacing of the reported states [s]: SUBSTEPS a sample interval (on at most RESOLVED_SAMPLES of them a
     revolution) at crank ``speed`` [rad/s]."""
     return 2 * math.pi / (SUBSTEPS * min(cycle.phi.size, RESOLVED_SAMPLES) * max(speed, 1e-300))
 
@@ -208,58 +228,76 @@ def _hermite(phi_rel: FloatArray, step: float, j: FloatArray, dj: FloatArray) ->
     return np.asarray(h00 * j[i] + h10 * step * dj[i] + h01 * j[i + 1] + h11 * step * dj[i + 1], dtype=float)
 
 
-def _stepper(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
-             motor_on: bool, dt: float, steps: int) -> ca.Function:
-    """``steps`` Runge-Kutta steps of the state (phi - phi_0, w, motor work, gear loss, friction loss, process
-    work), every state after each step returned."""
+_Rates = Callable[[float, FloatArray], tuple[float, float, float, float, float, float]]
+
+
+def _rates(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
+           motor_on: bool) -> _Rates:
+    """The time derivative of the state (phi - phi_0, w, motor work, gear loss, friction loss, process work).
+
+    Plain floats throughout: LSODA calls it a few thousand times a run with one state, where an array's or a
+    compiled graph's call costs more than the arithmetic. The node list is the only thing built per call.
+    """
     step = 2 * math.pi / cycle.phi.size
     n = cycle.phi.size
-    grid = [list(np.arange(n + 1, dtype=float))]
-    # one look-up at a node gives the four tables there and at the next node (values interleaved per node, as
-    # CasADi stacks outputs; the extra last row, the first again, keeps the grid at two nodes or more)
     closed = np.column_stack([_closed(v) for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque,
                                                    friction)])
-    rows = np.hstack([closed[:-1], closed[1:]])
-    table = ca.interpolant("tables", "linear", grid, np.vstack([rows, rows[:1]]).reshape(-1).tolist())
-    # built on scalar expressions (the table look-ups included): cheap to build, a step a fraction of a graph's
-    x = ca.SX.sym("x", 6)
-    i_gear, eta = motor.gear_ratio, motor.efficiency
-    n_s, n_b = motor.synchronous_speed, motor.breakdown_speed
-    slope = motor.rated_torque / (motor.synchronous_speed - motor.rated_speed)
-    t_start = motor.starting_torque
-    t_break = motor.breakdown_torque
+    # one look-up at a node gives the four tables there and at the next node
+    nodes: list[tuple[float, ...]] = [tuple(r) for r in np.hstack([closed[:-1], closed[1:]]).tolist()]
+    i_gear, eta = float(motor.gear_ratio), float(motor.efficiency)
+    n_s = float(motor.synchronous_speed)
+    slope = float(motor.rated_torque / (motor.synchronous_speed - motor.rated_speed))
+    t_start, t_break = motor.starting_torque, motor.breakdown_torque
+    whole = t_start is not None and t_break is not None
+    n_b = float(motor.breakdown_speed) if whole else 0.0
+    start_torque = float(t_start) if t_start is not None else 0.0
+    start_rise = (float(t_break) - start_torque) / max(n_b, 1e-300) if t_break is not None else 0.0
+    inv, c_j = 1.0 / step, float(constant_inertia)
+    floor = math.floor
 
-    def rate(state: ca.SX) -> ca.SX:
-        phi, w = state[0], state[1]
-        u = phi / step
-        k = ca.floor(u)
+    def rates(_: float, state: FloatArray) -> tuple[float, float, float, float, float, float]:
+        phi, w = float(state[0]), float(state[1])
+        u = phi * inv
+        k = floor(u)
         t = u - k
-        idx = k - n * ca.floor(k / n)
-        ab = table(idx)
-        a, b = ab[:4], ab[4:]
-        j0, d0, j1, d1 = a[0], a[1], b[0], b[1]
-        jj = ((2 * t**3 - 3 * t**2 + 1) * j0 + (t**3 - 2 * t**2 + t) * step * d0 + (-2 * t**3 + 3 * t**2) * j1
-              + (t**3 - t**2) * step * d1)
-        dj = ((6 * t**2 - 6 * t) * (j0 - j1)) / step + (3 * t**2 - 4 * t + 1) * d0 + (3 * t**2 - 2 * t) * d1
-        load = a[2] + t * (b[2] - a[2])
-        fric = a[3] + t * (b[3] - a[3]) + brake
+        j0, d0, l0, f0, j1, d1, l1, f1 = nodes[k % n]
+        t2 = t * t
+        t3 = t2 * t
+        jj = (2 * t3 - 3 * t2 + 1) * j0 + (t3 - 2 * t2 + t) * step * d0 + (3 * t2 - 2 * t3) * j1 + (t3 - t2) * step * d1
+        dj = (6 * t2 - 6 * t) * (j0 - j1) * inv + (3 * t2 - 4 * t + 1) * d0 + (3 * t2 - 2 * t) * d1
+        load = l0 + t * (l1 - l0)
+        fric = f0 + t * (f1 - f0) + brake
         speed = i_gear * w
-        torque = slope * (n_s - speed)
-        if t_start is not None and t_break is not None:
-            torque = ca.if_else(speed >= n_b, torque, t_start + (t_break - t_start) * speed / max(n_b, 1e-300))
         if not motor_on:
-            torque = 0 * torque
-        drive = i_gear * eta * torque
-        acc = (drive + load - fric - 0.5 * dj * w * w) / (jj + constant_inertia)
-        shaft_power = torque * speed
-        return ca.vertcat(w, acc, shaft_power, (1 - eta) * shaft_power, fric * w, -load * w)
+            torque = 0.0
+        elif whole and speed < n_b:
+            torque = start_torque + start_rise * speed
+        else:
+            torque = slope * (n_s - speed)
+        power = torque * speed
+        acc = (i_gear * eta * torque + load - fric - 0.5 * dj * w * w) / (jj + c_j)
+        return w, acc, power, (1 - eta) * power, fric * w, -load * w
 
-    k1 = rate(x)
-    k2 = rate(x + 0.5 * dt * k1)
-    k3 = rate(x + 0.5 * dt * k2)
-    k4 = rate(x + dt * k3)
-    one = ca.Function("rk4", [x], [x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
-    return one.mapaccum("run", steps)
+    return rates
+
+
+def _run(rates: _Rates, start: FloatArray, dt: float, steps: int, motor: Motor) -> FloatArray:
+    """The states (6, steps) at dt, 2·dt, ... steps·dt after ``start``, integrated by LSODA with steps of at most
+    1/MIN_STEPS_PER_REVOLUTION revolution at the motor's no-load crank speed."""
+    no_load = max(motor.synchronous_speed / motor.gear_ratio, 1e-300)
+    max_step = 2 * math.pi / (MIN_STEPS_PER_REVOLUTION * no_load)
+    scale = np.array([2 * math.pi, no_load, 1.0, 1.0, 1.0, 1.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ODEintWarning)
+        try:
+            states, info = odeint(rates, start, dt * np.arange(steps + 1, dtype=float), tfirst=True,
+                                  rtol=RELATIVE_TOLERANCE, atol=RELATIVE_TOLERANCE * scale, hmax=max_step,
+                                  mxstep=_MAX_INNER_STEPS, full_output=True)
+        except ODEintWarning as exc:
+            raise SolverFailed("integration_failed", f"the start-up's integration failed: {exc}") from exc
+    if info["message"] != "Integration successful.":
+        raise SolverFailed("integration_failed", f"the start-up's integration failed: {info['message']}")
+    return np.asarray(states[1:].T, dtype=float)
 
 
 def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, friction: FloatArray, brake: float,
@@ -267,11 +305,11 @@ def _integrate(cycle: MachineCycle, constant_inertia: float, motor: Motor, frict
                done: _Stop) -> tuple[FloatArray, bool]:
     """States (6, M) from (phi0, w0) until ``done`` says so, the speed reaches zero or MAX_TIME passes; and
     whether it ended by the speed reaching zero."""
-    run = _stepper(cycle, constant_inertia, motor, friction, brake, motor_on, dt, CHUNK_STEPS)
+    rates = _rates(cycle, constant_inertia, motor, friction, brake, motor_on)
     states = [np.array([[phi0 - float(cycle.phi[0])], [w0], [0.0], [0.0], [0.0], [0.0]])]
     max_chunks = max(1, min(math.ceil(MAX_TIME / (dt * CHUNK_STEPS)), MAX_STEPS // CHUNK_STEPS))
     for _ in range(max_chunks):
-        chunk = np.asarray(run(states[-1][:, -1]), dtype=float)
+        chunk = _run(rates, states[-1][:, -1], dt, CHUNK_STEPS, motor)
         stop = np.flatnonzero(~(chunk[1] > 0))
         if stop.size:
             states.append(chunk[:, : stop[0] + 1])
@@ -298,14 +336,6 @@ class _Stop:
         bad = np.flatnonzero(self.errors(states) > self.tolerance)
         last = states[0, bad[-1]] if bad.size else states[0, 0]
         return bool(states[0, -1] - last >= 2 * math.pi)
-
-
-class _Never(_Stop):
-    def __init__(self) -> None:
-        pass
-
-    def __call__(self, states: FloatArray) -> bool:
-        return False
 
 
 def _transient(cycle: MachineCycle, constant_inertia: float, motor: Motor, states: FloatArray, dt: float,
@@ -433,13 +463,13 @@ def simulate_rundown(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     friction = _friction_table(cycle, friction_torque, "friction_torque")
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
     steady = simulate_machine(loaded, constant_inertia, motor)
-    dt = _time_step(cycle, float(steady.omega.max()))
-    states, stopped = _integrate(cycle, constant_inertia, motor, friction, brake_torque, False,
-                                 float(cycle.phi[0]), float(steady.omega[0]), dt, _Never())
-    run = _transient(cycle, constant_inertia, motor, states, dt, False)
-    stop_time = None
-    if stopped:
-        # the speed crosses zero within the last step: where, by the line between its two ends
-        w_a, w_b = run.omega[-2], run.omega[-1]
-        stop_time = float(run.time[-2] + dt * w_a / (w_a - w_b))
-    return RunDown(run, stop_time, brake_torque)
+    down = coast(cycle.inertia, cycle.inertia_slope, cycle.load_torque, friction + brake_torque, constant_inertia,
+                 float(steady.omega[0]), MAX_TIME, MAX_STEPS)
+    energy = 0.5 * (_hermite(down.angle, 2 * math.pi / cycle.phi.size, _closed(cycle.inertia),
+                             _closed(cycle.inertia_slope)) + constant_inertia) * down.omega**2
+    gained = float(energy[-1] - energy[0])
+    scale = max(abs(gained), abs(down.friction_loss), abs(down.process_work), 1e-300)
+    run = Transient(down.time, down.angle + float(cycle.phi[0]), down.omega, np.zeros_like(down.omega), 0.0, gained,
+                    0.0, down.friction_loss, down.process_work,
+                    (-gained - down.friction_loss - down.process_work) / scale)
+    return RunDown(run, down.stop_time, brake_torque, down.time_error)
