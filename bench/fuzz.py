@@ -72,11 +72,12 @@ def main(argv: list[str] | None = None) -> None:
                             "--suppress-health-check", "all", "--no-color"],
                            env={**os.environ}, stdout=subprocess.DEVNULL, check=False)
             took = time.monotonic() - start
+            interactions = _interactions(report) if report.exists() else []
     sent: Counter[str] = Counter()
     server_errors: Counter[str] = Counter()
     timeouts: Counter[str] = Counter()
     unanswered: Counter[str] = Counter()
-    for label, status, body in _interactions(report) if report.exists() else []:
+    for label, status, body in interactions:
         sent[label] += 1
         if status == 0:
             unanswered[label] += 1
