@@ -406,8 +406,9 @@ def _drawn(links: Sequence[str], link_points: Mapping[str, Mapping[str, complex]
     """The group's links placed on the drawing: each on the two of its points farthest apart whose positions are
     drawn (or known) or follow from a link placed before, until every link is placed (None if one cannot be).
 
-    Also the map from a distance eps [m] to a bound on how far (in q, m and rad together) the same construction
-    moves between two exact placements whose drawn points differ by at most eps (the ``fixed`` ones not at all):
+    Also the map from a distance eps [m] and a length ``scale`` [m] to a bound on how far (in the coordinates
+    origins and scale·angles, Euclidean) the same construction moves between two exact placements whose drawn
+    points differ by at most eps (the ``fixed`` ones not at all):
     two pins at distance s each moved by at most e_a and e_b turn the link by at most 2·asin((e_a + e_b)/(2s)),
     its origin and other points then move by at most e_a plus their distance from the first pin times that turn.
     The bound places each link on the pair of its pins available that turns it least.
