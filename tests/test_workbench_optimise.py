@@ -115,6 +115,26 @@ def test_a_field_that_is_no_number_and_a_value_the_service_refuses_are_named_at_
     assert page.get_attribute("[id='opt-function.swing_deg']", "aria-invalid") == "true"
 
 
+def test_lengths_and_masses_follow_the_forms_units(page: Page) -> None:
+    page.click("button[data-panel=machine]")
+    stroke = page.locator("[id='opt-function.stroke_m']")
+    assert stroke.input_value() == "120"                      # the manual's press: 0.12 m, in the form's mm
+    page.select_option("#unit-length", "m")
+    page.select_option("#unit-mass", "g")
+    # the same values in the new units: 0.12 m, the slider's 8 kg as 8000 g
+    assert stroke.input_value() == "0.12"
+    assert page.locator("[id='opt-function.slider_mass_kg']").input_value() == "8000"
+    row = stroke.locator("xpath=ancestor::div[contains(@class, 'row')]")
+    assert row.locator(".unit").inner_text() == "m"
+    with page.expect_request("**/v1/machines/optimise") as sent:
+        page.click("#opt-run")
+    body = sent.value.post_data_json
+    # the wire stays SI
+    assert body["function"]["stroke_m"] == pytest.approx(0.12, rel=1e-12)
+    assert body["function"]["slider_mass_kg"] == pytest.approx(8, rel=1e-12)
+    _wait(page, "optimised")
+
+
 def test_a_long_optimisation_shows_its_progress_and_is_cancelled(page: Page) -> None:
     page.click("button[data-panel=machine]")
     # every cell searched over many members: an optimisation of many seconds on this machine

@@ -865,6 +865,7 @@ function synthesisPanel() {
     });
     // the pivot box follows its fields on the points' grid
     el.querySelector("#syn-pivot_box_m").addEventListener("input", drawCanvas);
+    el.addEventListener("units-changed", drawCanvas);
     el.querySelector("#syn-run").addEventListener("click", run);
     el.querySelector("#syn-open").addEventListener("click", open);
     el.querySelector("#syn-play").addEventListener("click", play);
@@ -1213,9 +1214,37 @@ export const kit = {
   fill(input, v) { input.value = v === undefined || v === null ? "" : typeof v === "number" && input.dataset.kind !== "plain" ? ctx.toDisplay(v, input.dataset.kind) : String(v); },
 };
 
+// The panels whose fields this module makes (the Foundation and Cams panels follow the units their own way).
+const UNIT_PANELS = ["balancing", "flywheel", "drive", "machine", "synthesis", "studies", "optimise"].map((p) => `#panel-${p}`).join(", ");
+
+/** The form's units chosen again: every length or mass a panel holds (typed, or its default as placeholder) is
+ *  shown in the new unit with its value kept, and its unit beside it says so. */
+function followUnits() {
+  const factors = { length: ctx.factor("length"), mass: ctx.factor("mass") };
+  for (const [id, kind] of [["unit-length", "length"], ["unit-mass", "mass"]]) {
+    document.getElementById(id).addEventListener("change", () => {
+      const before = factors[kind];
+      factors[kind] = ctx.factor(kind);
+      if (before === factors[kind]) return;
+      const again = (text) => text.split(/\s*,\s*/).map((t) => {
+        const v = Number(t.replace(",", "."));
+        return t.trim() === "" || !Number.isFinite(v) ? t : ctx.toDisplay(v * before, kind);
+      }).join(", ");
+      document.querySelectorAll(`:is(${UNIT_PANELS}) [data-kind='${kind}']`).forEach((input) => {
+        if (input.value.trim() !== "") input.value = again(input.value.trim());
+        if (input.placeholder) input.placeholder = again(input.placeholder);
+        const unit = input.closest(".row")?.querySelector(".unit");
+        if (unit && unit.textContent) unit.textContent = ctx.unitLabel(kind) + (input.dataset.type === "list" ? " (list)" : "");
+      });
+      document.getElementById("panel-synthesis").dispatchEvent(new CustomEvent("units-changed"));
+    });
+  }
+}
+
 export function installPanels(c) {
   ctx = c;
   installed();
+  followUnits();
   const renders = { balancing: balancingPanel(), flywheel: flywheelPanel(), drive: drivePanel(), machine: machinePanel(),
     synthesis: synthesisPanel(), studies: studiesPanel() };
   const rendered = { designs: {} };
