@@ -132,6 +132,8 @@ def test_units_of_the_form_are_chosen_and_the_api_stays_si(page: Page) -> None:
     assert state(page, "design.mechanism.links.crank.mass_kg") == pytest.approx(1.5, rel=1e-12)
     assert state(page, "design.mechanism.crank_length_m") == pytest.approx(0.11, rel=1e-12)
     assert "units=m,g" in page.url
+    # a choice among values (the assembly branch, +1 or -1) has no unit beside it
+    assert page.inner_text(".row[data-path='mechanism.branch'] .unit") == ""
 
 
 def test_dragging_joint_a_changes_the_crank_length(page: Page) -> None:

@@ -161,7 +161,8 @@ export function renderForm() {
     spec.kind = kind;
     const id = `f-${spec.path}`;
     const value = getPath(state.design, spec.path);
-    const unit = unitLabel(kind, d.unit);
+    // a choice among names (the assembly branch) has no unit to show
+    const unit = d.unit === "choice" ? "" : unitLabel(kind, d.unit);
     const title = `${d.text}`.trim();
     const common = { id, name: spec.path, title, "aria-describedby": `m-${spec.path}` };
     let input;
