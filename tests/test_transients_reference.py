@@ -44,8 +44,10 @@ def _rhs(cycle: MachineCycle, constant: float, motor: synth.Motor | None, resist
         t = u - k
         jj = ((2 * t**3 - 3 * t**2 + 1) * j[k] + (t**3 - 2 * t**2 + t) * h * dj[k] + (3 * t**2 - 2 * t**3) * j[k + 1]
               + (t**3 - t**2) * h * dj[k + 1])
-        djj = (6 * t**2 - 6 * t) * (j[k] - j[k + 1]) / h + (3 * t**2 - 4 * t + 1) * dj[k] + (3 * t**2 - 2 * t) * dj[k + 1]
-        drive = 0.0 if motor is None else float(motor.start_torque_at(motor.gear_ratio * w)) * motor.gear_ratio * motor.efficiency
+        djj = ((6 * t**2 - 6 * t) * (j[k] - j[k + 1]) / h + (3 * t**2 - 4 * t + 1) * dj[k]
+               + (3 * t**2 - 2 * t) * dj[k + 1])
+        drive = (0.0 if motor is None
+                 else float(motor.start_torque_at(motor.gear_ratio * w)) * motor.gear_ratio * motor.efficiency)
         m = drive + load[k] + t * (load[k + 1] - load[k]) - (res[k] + t * (res[k + 1] - res[k]))
         return [w, (m - 0.5 * djj * w * w) / (jj + constant)]
 

@@ -55,13 +55,26 @@ def _damage(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[f
             cycles_each: FloatArray, scale: FloatArray) -> FloatArray:
     """Miner sums per wheel (2,) for stresses (N, 2) each multiplied by ``scale`` (2,); ``cycles_each`` (2, N)
     the load cycles each sample carries per wheel."""
-    out = np.empty(2)
+    return np.asarray(_damages(stress, reference, knots, cycles_each, np.asarray(scale, dtype=float)[None, :])[0])
+
+
+def _damages(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
+             cycles_each: FloatArray, scales: FloatArray) -> FloatArray:
+    """Miner sums (M, 2) for M pairs of stress factors ``scales`` (M, 2) at once, vectorised over the factors,
+    the wheels and the spectrum.
+
+    Wheel-major, so each sum runs over contiguous samples in the order a single wheel's would: the same sums to
+    the last bit as one factor and one wheel at a time.
+    """
+    factor = (scales[:, :, None] * np.ascontiguousarray(np.asarray(stress, dtype=float).T)[None, :, :]
+              / np.asarray(reference, dtype=float)[None, :, None])
+    allowed = np.empty_like(factor)
     for j in (0, 1):
-        factor = scale[j] * stress[:, j] / reference[j]
-        allowed = cycles_to_failure(knots[j], factor)
-        with np.errstate(divide="ignore"):
-            out[j] = np.sum(np.where(factor > 0, cycles_each[j] / np.where(factor > 0, allowed, 1.0), 0.0))
-    return out
+        allowed[:, j] = cycles_to_failure(knots[j], factor[:, j])
+    positive = factor > 0
+    with np.errstate(divide="ignore"):
+        per_sample = np.where(positive, cycles_each[None, :, :] / np.where(positive, allowed, 1.0), 0.0)
+    return np.asarray(np.sum(per_sample, axis=2), dtype=float)
 
 
 def _safety(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],

@@ -56,8 +56,9 @@ def _table() -> dict[str, Any]:
     return table
 
 
-def gear_materials() -> dict[str, GearMaterial]:
-    """The shipped material grades by name."""
+@cache
+def _grades() -> dict[str, GearMaterial]:
+    # built once: a sizing looks its two grades up for every candidate it rates
     return {
         name: GearMaterial(name, row["group"], row["description"], row["sigma_Hlim_MPa"] * MPA,
                            row["sigma_Flim_MPa"] * MPA, row["hardness_HB"], row["yield_MPa"] * MPA,
@@ -66,9 +67,14 @@ def gear_materials() -> dict[str, GearMaterial]:
     }
 
 
+def gear_materials() -> dict[str, GearMaterial]:
+    """The shipped material grades by name."""
+    return dict(_grades())
+
+
 def gear_material(name: str, field: str = "material") -> GearMaterial:
     """A grade by name; an unknown name raises InvalidInput naming ``field`` and listing the known grades."""
-    known = gear_materials()
+    known = _grades()
     if name not in known:
         raise InvalidInput(f"unknown gear material {name!r}; known grades: {', '.join(sorted(known))}", field=field)
     return known[name]

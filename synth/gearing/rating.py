@@ -284,6 +284,26 @@ def _face_load_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], 
 
 def _root_form_factors(g: PairGeometry) -> dict[str, FloatArray]:
     """Y_F, Y_S and the tooth-root figures of method B at the outer point of single pair contact, per gear."""
+    # every figure here is the tooth's, not the face width's: a sizing's width search reads them from the cache
+    key = (g.normal_module, g.rack, g.helix_angle, g.beta_b, g.eps_alpha, tuple(g.z), tuple(g.zn), tuple(g.x),
+           tuple(g.d), tuple(g.da))
+    return {k: v.copy() if isinstance(v, np.ndarray) else v for k, v in _root_form_cached(key, g).items()}
+
+
+_ROOT_FORMS: dict[tuple[object, ...], dict[str, FloatArray]] = {}
+_ROOT_FORMS_HELD = 256
+
+
+def _root_form_cached(key: tuple[object, ...], g: PairGeometry) -> dict[str, FloatArray]:
+    held = _ROOT_FORMS.get(key)
+    if held is None:
+        held = _ROOT_FORMS[key] = _root_form_computed(g)
+        if len(_ROOT_FORMS) > _ROOT_FORMS_HELD:
+            _ROOT_FORMS.pop(next(iter(_ROOT_FORMS)), None)
+    return held
+
+
+def _root_form_computed(g: PairGeometry) -> dict[str, FloatArray]:
     mn = g.normal_module / MM
     an = g.rack.pressure_angle
     beta = g.helix_angle

@@ -108,12 +108,13 @@ class Transient:
 class IntegratorCheck:
     """How the run-up was integrated and how well the same integrator meets a closed form.
 
-    ``method`` in words; ``time_step`` the spacing of the reported states [s]; the reference is the same machine with its inertia held at
-    the cycle's mean ``reference_inertia`` [kg·m²], its load at the mean ``reference_load`` [N·m] (zero when the
-    motor could not turn against it) and the motor's linear branch down to standstill, whose run-up from rest is
-    w(t) = w_inf·(1 - exp(-k·t/J)) (k the characteristic's slope at the crank, w_inf = w_s + M/k): the same
-    integration from rest over ``reference_time`` [s] (three time constants, or the first ``REFERENCE_STEPS``
-    reported states of them) misses it by at most ``closed_form_error`` of w_inf [-].
+    ``method`` in words; ``time_step`` the spacing of the reported states [s]; the reference is the same
+    machine with its inertia held at the cycle's mean ``reference_inertia`` [kg·m²], its load at the mean
+    ``reference_load`` [N·m] (zero when the motor could not turn against it) and the motor's linear branch down
+    to standstill, whose run-up from rest is w(t) = w_inf·(1 - exp(-k·t/J)) (k the characteristic's slope at the
+    crank, w_inf = w_s + M/k): the same integration from rest over ``reference_time`` [s] (three time constants,
+    or the first ``REFERENCE_STEPS`` reported states of them) misses it by at most ``closed_form_error`` of
+    w_inf [-].
     """
 
     method: str
