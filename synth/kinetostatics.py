@@ -108,17 +108,19 @@ def _link_arrays(motion: Motion, links: tuple[str, ...], params: FloatArray) -> 
     inertia = np.where(heavy, params[..., 3] - mass * (com[..., 0] * com[..., 0] + com[..., 1] * com[..., 1]),
                        params[..., 3])
     origins = [motion.link_origin[link] for link in links]
-    origin_pos = np.stack([motion.point_pos[o] for o in origins])
-    origin_vel = np.stack([motion.point_vel[o] for o in origins])
-    origin_acc = np.stack([motion.point_acc[o] for o in origins])
-    angle = np.stack([motion.link_angle[link] for link in links])
-    omega = np.stack([motion.link_omega[link] for link in links])
-    alpha = np.stack([motion.link_alpha[link] for link in links])
+    # np.array of equal-shaped arrays stacks them in one call (np.stack is several Python calls)
+    origin_pos = np.array([motion.point_pos[o] for o in origins], dtype=float)
+    origin_vel = np.array([motion.point_vel[o] for o in origins], dtype=float)
+    origin_acc = np.array([motion.point_acc[o] for o in origins], dtype=float)
+    angle = np.array([motion.link_angle[link] for link in links], dtype=float)
+    omega = np.array([motion.link_omega[link] for link in links], dtype=float)
+    alpha = np.array([motion.link_alpha[link] for link in links], dtype=float)
     # Motion.point_on's arithmetic for all links at once, the plane vectors as complex numbers: the centre of mass
     # at r = e^(i·angle)·(x + i·y) from the frame origin moves with i·omega·r and accelerates with
     # (i·alpha - omega²)·r relative to it.
     known = motion.link_unit
-    e = (np.stack([known[link] for link in links]) if all(link in known for link in links) else unit(angle))
+    e = (np.array([known[link] for link in links], dtype=complex) if all(link in known for link in links)
+         else unit(angle))
     local = com[..., 0] + 1j * com[..., 1]
     r = e * (local[:, None] if local.ndim == 1 else local)
     com_pos = origin_pos + xy(r)
@@ -699,7 +701,7 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
         r[link] -= values[e] * h[column]
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(np.prod(row_sq, axis=0)))
+        ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(row_sq.prod(axis=0)))
     _refuse_dead_positions(motion, ratio)
     x = np.empty((samples, b_last.shape[0], width))
     x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
@@ -879,7 +881,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
         g = linkage.gravity.vector
         if arrays.mass.ndim == 1:
             force = force - arrays.mass.sum() * g
-            first = np.tensordot(arrays.mass, arrays.com_pos, axes=1)
+            first = (arrays.mass @ arrays.com_pos.reshape(len(arrays.mass), -1)).reshape(-1, 2)
         else:   # masses per sample (link_arrays_per_sample)
             force = force - arrays.mass.sum(axis=0)[:, None] * g
             first = np.einsum("ln,lnk->nk", arrays.mass, arrays.com_pos)

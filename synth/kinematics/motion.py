@@ -193,18 +193,18 @@ def build_motion(
     def acceleration(d1: FloatArray, d2: FloatArray) -> FloatArray:
         return omega**2 * d2 + alpha * d1 if alpha else omega**2 * d2
 
-    return Motion(
-        phi=phi,
-        omega_crank=float(omega),
-        alpha_crank=float(alpha),
-        point_pos={k: p.pos for k, p in points.items()},
-        point_vel={k: omega * p.d1 for k, p in points.items()},
-        point_acc={k: acceleration(p.d1, p.d2) for k, p in points.items()},
-        link_angle={k: a.angle for k, a in angles.items()},
-        link_omega={k: omega * a.d1 for k, a in angles.items()},
-        link_alpha={k: acceleration(a.d1, a.d2) for k, a in angles.items()},
-        link_origin=dict(origins),
-        link_unit={k: a.unit for k, a in angles.items() if a.unit is not None},
+    # The mechanisms' own solvers made these arrays over ``phi``: the constructor's shape checks, meant for
+    # motions made by hand, are not repeated on every analysis.
+    return Motion.derived(
+        phi, float(omega), float(alpha),
+        {k: p.pos for k, p in points.items()},
+        {k: omega * p.d1 for k, p in points.items()},
+        {k: acceleration(p.d1, p.d2) for k, p in points.items()},
+        {k: a.angle for k, a in angles.items()},
+        {k: omega * a.d1 for k, a in angles.items()},
+        {k: acceleration(a.d1, a.d2) for k, a in angles.items()},
+        dict(origins),
+        {k: a.unit for k, a in angles.items() if a.unit is not None},
     )
 
 
@@ -217,8 +217,15 @@ def crank_point(length: float, phi: FloatArray) -> PointAnalogues:
 def fixed_point(xy: tuple[float, float], n: int) -> PointAnalogues:
     """A frame point [m] repeated over N samples, with zero analogues."""
     # Read-only views of one row each: a point that stands still costs no memory per sample.
-    zero = np.broadcast_to(np.zeros(2), (n, 2))
-    return PointAnalogues(np.broadcast_to(np.asarray(xy, dtype=float), (n, 2)), zero, zero)
+    zero = _repeated(np.zeros(2), n)
+    return PointAnalogues(_repeated(np.array(xy, dtype=float), n), zero, zero)
+
+
+def _repeated(row: FloatArray, n: int) -> FloatArray:
+    """``row`` (2,) as a read-only (n, 2) view with stride 0 (np.broadcast_to's result in one call)."""
+    view = np.ndarray((n, 2), dtype=float, buffer=row, strides=(0, row.itemsize))
+    view.flags.writeable = False
+    return view
 
 
 def constant_angle(value: float, n: int) -> AngleAnalogues:
