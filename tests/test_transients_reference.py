@@ -93,3 +93,18 @@ def test_run_up_meets_the_time_domain_reference() -> None:
     assert up.peak_motor_torque == pytest.approx(peak_ref, rel=1e-6)
     # motor work = kinetic energy gained + losses + process work (identity of the integrated states), to 1e-7
     assert abs(run.energy_residual) < 1e-7
+
+
+def test_a_finer_grid_reports_no_more_states() -> None:
+    # 3 600 samples a revolution are integrated on their own grid and reported on 360 a revolution: the answer
+    # holds no more states than at 360, and the stop time moves by the tables' refinement only (1e-3)
+    cycle, motor, constant, friction = _press()
+    coarse = simulate_rundown(cycle, constant, motor, friction_torque=friction, brake_torque=5.0)
+    fine_phi = np.arange(3600) * 2 * math.pi / 3600
+    fine = MachineCycle(fine_phi, *(np.interp(fine_phi, PHI, v, period=2 * math.pi)
+                                    for v in (cycle.inertia, cycle.inertia_slope, cycle.load_torque)))
+    down = simulate_rundown(fine, constant, motor, friction_torque=np.interp(fine_phi, PHI, friction,
+                                                                               period=2 * math.pi), brake_torque=5.0)
+    assert down.stop_time is not None and coarse.stop_time is not None
+    assert down.stop_time == pytest.approx(coarse.stop_time, rel=1e-3)
+    assert down.run.time.size <= coarse.run.time.size + 2

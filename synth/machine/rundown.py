@@ -27,6 +27,10 @@ _POINTS, _CHECK_POINTS = 6, 3
 #: The last intervals before the stop, integrated in the variable that removes the square-root singularity, and
 #: the Gauss-Legendre points there.
 _TAIL_INTERVALS, _TAIL_POINTS, _TAIL_CHECK_POINTS = 8, 24, 12
+#: Sample intervals whose times are evaluated together.
+_BLOCK = 4096
+#: Most states reported a revolution (finer tables are integrated on their own grid, reported on this one).
+REPORTED_PER_REVOLUTION = 360
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,8 +119,12 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
 
     def interval_times(upto: int, points: int) -> FloatArray:
         x, w = _gauss(points)
-        u = np.arange(upto)[:, None] + x[None, :]
-        return np.asarray(h * (inverse_speed(u) @ w), dtype=float)
+        out = np.empty(upto)
+        # in blocks: the memory a run-down takes stays that of a block, not of every point of every interval
+        for lo in range(0, upto, _BLOCK):
+            u = np.arange(lo, min(lo + _BLOCK, upto))[:, None] + x[None, :]
+            out[lo: lo + u.shape[0]] = h * (inverse_speed(u) @ w)
+        return out
 
     def time_to(end: float, begin: float, points: int) -> float:
         """Time from ``begin`` to the stop at ``end`` [intervals]: with u = end - (end - begin)·sigma², K vanishes
@@ -163,5 +171,8 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
         r = full % n
         return whole + h * float(v[r] * frac + (v[r + 1] - v[r]) * frac * frac / 2)
 
+    # a finer grid than REPORTED_PER_REVOLUTION samples is reported at that spacing (the stop always)
+    shown = np.unique(np.append(np.arange(0, nodes.size, max(1, n // REPORTED_PER_REVOLUTION)), nodes.size - 1))
+    nodes, time, omega = nodes[shown], time[shown], omega[shown]
     return Coast(nodes * h, time, omega, t_end if stopped else None, work(res), -work(ld),
                  abs(check - t_end) / max(t_end, 1e-300))
