@@ -174,8 +174,9 @@ def analyse(
     k, r = result.kinetostatics, result.reduced
     checked = (k.unknowns, k.shaking_force, k.shaking_moment, result.virtual_power_torque, r.inertia, r.load_torque)
     # A sum is finite only when every term is (a huge but finite set of terms that overflows its sum is as far
-    # outside any physical range).
-    if not all(np.isfinite(a.sum()) for a in checked):
+    # outside any physical range); one sum of the arrays' sums, each by the ufunc itself (ndarray.sum is three
+    # Python calls).
+    if not math.isfinite(sum(float(np.add.reduce(a, axis=None)) for a in checked)):
         raise InvalidInput("the analysis overflows floating point: a length, mass, inertia, load or speed is far "
                            "outside any physical range")
     return result

@@ -207,6 +207,8 @@ class _MomentPlan:
     col_y: IndexArray
     sign: FloatArray
     incidence: FloatArray                                     # (links, levers): 1 where a lever is in a link's row
+    heads: IndexArray                                         # the signed lever is points[heads] - points[tails]
+    tails: IndexArray
     prismatic: tuple[tuple[int, int, int, int, float], ...]   # (joint, link, cx, cy, sign)
     torque: tuple[int, int]
 
@@ -238,8 +240,11 @@ def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, .
     as_int = cols[:, :5].astype(np.intp)
     incidence = np.zeros((len(links), len(rev)))
     incidence[as_int[:, 2], np.arange(len(rev))] = 1.0
+    receiving = cols[:, 5] > 0
+    heads = np.where(receiving, as_int[:, 0], as_int[:, 1])
+    tails = np.where(receiving, as_int[:, 1], as_int[:, 0])
     return _MomentPlan(tuple(points), as_int[:, 0], as_int[:, 1], as_int[:, 2], as_int[:, 3], as_int[:, 4],
-                       cols[:, 5], incidence, tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
+                       cols[:, 5], incidence, heads, tails, tuple(prismatic), (links.index(topo.crank), col_pos[-1]))
 
 
 @dataclass(frozen=True, slots=True)
@@ -259,6 +264,12 @@ class _MomentTerms:
     r_entries: IndexArray
     r_columns: IndexArray
     r_rows: IndexArray
+    r_incidence: FloatArray        # (n, entries picked): 1 where a picked entry sits in a link's moment row
+    # The reduction's orders as index arrays, made once: force rows, moment rows, eliminated and kept unknowns.
+    force_rows: IndexArray
+    moment_rows: IndexArray
+    eliminated: IndexArray
+    kept: IndexArray
 
 
 @functools.lru_cache(maxsize=64)
@@ -284,8 +295,14 @@ def _moment_terms(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, 
         s_const[i] += sign * coefficients(cy)
     s_const[plan.torque[0]] += coefficients(plan.torque[1])
     r_entries = np.array([e for e, c in enumerate(columns) if c < k], dtype=np.intp)
+    rows = np.asarray(red.rows, dtype=np.intp)
+    r_rows = np.asarray(links, dtype=np.intp)[r_entries]
+    r_incidence = np.zeros((n, len(r_entries)))
+    r_incidence[r_rows, np.arange(len(r_entries))] = 1.0
     return _MomentTerms(plan, s_map.reshape(n * n_kept, -1), s_const, r_entries,
-                        np.asarray(columns, dtype=np.intp)[r_entries], np.asarray(links, dtype=np.intp)[r_entries])
+                        np.asarray(columns, dtype=np.intp)[r_entries], r_rows, r_incidence,
+                        rows[:k], rows[k:], np.asarray(red.eliminated, dtype=np.intp),
+                        np.asarray(red.kept, dtype=np.intp))
 
 
 def _batched_matmul(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -552,13 +569,20 @@ def _det_and_solve(s: FloatArray, r: FloatArray) -> tuple[FloatArray, FloatArray
         det = s[0, 0] * s[1, 1] - s[0, 1] * s[1, 0]
         adj = np.stack([np.stack([s[1, 1], -s[0, 1]]), np.stack([-s[1, 0], s[0, 0]])])
     elif k == 3:
-        # Rows a, b, c; the adjugate's columns are b x c, c x a, a x b.
+        # Rows a, b, c: x = adj·r / det with the adjugate's columns b x c, c x a, a x b, and
+        # r1·(c x a) + r2·(a x b) = a x (r2·b - r1·c): one cross product fewer than the adjugate.
         (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = s
-        adj = np.empty_like(s)
-        adj[0, 0], adj[1, 0], adj[2, 0] = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
-        adj[0, 1], adj[1, 1], adj[2, 1] = c1 * a2 - c2 * a1, c2 * a0 - c0 * a2, c0 * a1 - c1 * a0
-        adj[0, 2], adj[1, 2], adj[2, 2] = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-        det = a0 * adj[0, 0] + a1 * adj[1, 0] + a2 * adj[2, 0]
+        r0, r1, r2 = r
+        u0, u1, u2 = b1 * c2 - b2 * c1, b2 * c0 - b0 * c2, b0 * c1 - b1 * c0
+        det = a0 * u0 + a1 * u1 + a2 * u2
+        t0, t1, t2 = r2 * b0 - r1 * c0, r2 * b1 - r1 * c1, r2 * b2 - r1 * c2
+        x = np.empty(r.shape)
+        x[0] = r0 * u0 + (a1 * t2 - a2 * t1)
+        x[1] = r0 * u1 + (a2 * t0 - a0 * t2)
+        x[2] = r0 * u2 + (a0 * t1 - a1 * t0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x /= det
+        return det, x
     else:
         with np.errstate(divide="ignore", invalid="ignore"):
             blocked = _block_det_and_solve(s, r)
@@ -647,7 +671,7 @@ def _solve_assembled(motion: Motion, topo: Topology, red: _Reduction | None, b: 
 def _refuse_dead_positions(motion: Motion, ratio: FloatArray) -> None:
     """NotAssemblable where the Hadamard ratio of the system says it is singular (or is not a number)."""
     bad = ~np.isfinite(ratio) | (ratio < SINGULAR_RATIO)
-    if bad.any():
+    if np.logical_or.reduce(bad):
         raise NotAssemblable(
             f"the linkage passes a dead (singular) position at {int(bad.sum())} of {motion.samples} crank angles; "
             "the crank cannot drive it there",
@@ -662,25 +686,21 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     force rows enter through F⁻¹, ``g`` and their norms, all constant, and the moment rows only through their
     nonzero entries (the levers), which constant maps made once per topology (:func:`_moment_terms`) take
     straight to the reduced system's matrix and right-hand side: no (n, 3n, N) matrix of mostly zeros is made."""
-    rows, cols = red.rows, red.columns
     k, n_kept = len(red.eliminated), len(red.kept)
     links = topo.links
-    terms = _moment_terms(topo, red.positions(cols), tuple(motion.link_origin[link] for link in links))
+    terms = _moment_terms(topo, red.positions(red.columns), tuple(motion.link_origin[link] for link in links))
     plan = terms.plan
     width, samples = b_last.shape[1], b_last.shape[2]
-    bt = b_last[list(rows)]                                   # (3n, M, N) in solving order
-    h = (red.f_inv @ bt[:k].reshape(k, -1)).reshape(k, width, samples)     # eliminated = h - g @ kept
+    # eliminated = h - g @ kept
+    h = (red.f_inv @ b_last[terms.force_rows].reshape(k, -1)).reshape(k, width, samples)
     # The varying entries, (entries, N), written in place: at a few thousand angles each pass over memory costs
     # more than its arithmetic.
     levers = len(plan.sign)
     values = np.empty((terms.s_map.shape[1], samples))
-    lever = np.empty((levers, samples), dtype=complex)
-    pos = {p: complex_of(motion.point_pos[p]) for p in plan.points}
-    for q, (jp, op, sign) in enumerate(zip(plan.joint_points, plan.origin_points, plan.sign, strict=True)):
-        head, tail = pos[plan.points[jp]], pos[plan.points[op]]
-        if sign < 0:
-            head, tail = tail, head
-        np.subtract(head, tail, out=lever[q])
+    # every point the levers use, stacked in one call, (points, N) complex; all levers in one subtraction
+    pos = np.array([motion.point_pos[p] for p in plan.points], dtype=float).view(np.complex128)[..., 0]
+    lever = pos[plan.heads]
+    lever -= pos[plan.tails]
     np.negative(lever.imag, out=values[:levers])
     values[levers:2 * levers] = lever.real
     squares = np.square(values[:2 * levers])
@@ -696,17 +716,22 @@ def _solve_constant_forces(motion: Motion, topo: Topology, red: _Reduction, g: F
     s = terms.s_map @ values
     s += terms.s_const.reshape(-1, 1)
     s = s.reshape(len(links), n_kept, samples)
-    r = bt[k:].copy()
-    for e, column, link in zip(terms.r_entries, terms.r_columns, terms.r_rows, strict=True):
-        r[link] -= values[e] * h[column]
+    r = b_last[terms.moment_rows]                             # a copy, in solving order
+    if len(terms.r_entries):
+        # every lever times its eliminated reaction at once, summed into its link's row by a constant matrix
+        picked = values[terms.r_entries][:, None, :] * h[terms.r_columns]
+        r -= (terms.r_incidence @ picked.reshape(len(terms.r_entries), -1)).reshape(r.shape)
     det, x_kept = _det_and_solve(s, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.abs(red.f_det * det) / (force_rows_norm * np.sqrt(row_sq.prod(axis=0)))
     _refuse_dead_positions(motion, ratio)
-    x = np.empty((samples, b_last.shape[0], width))
-    x[:, list(red.eliminated)] = (h - (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples)).transpose(2, 0, 1)
-    x[:, list(red.kept)] = x_kept.transpose(2, 0, 1)
-    return x
+    # Assembled with the angle last (each unknown one contiguous run) and handed out as an (N, 3n, M) view: a
+    # scatter into the angle-first layout would stride across memory for every unknown.
+    x = np.empty((b_last.shape[0], width, samples))
+    np.subtract(h, (g @ x_kept.reshape(n_kept, -1)).reshape(k, width, samples), out=h)
+    x[terms.eliminated] = h
+    x[terms.kept] = x_kept
+    return x.transpose(2, 0, 1)
 
 
 @dataclass(frozen=True, slots=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -80,8 +81,15 @@ class Gravity:
 
     @property
     def vector(self) -> FloatArray:
-        """Gravitational acceleration vector [m/s²]."""
-        return self.g * np.array([math.cos(self.direction), math.sin(self.direction)])
+        """Gravitational acceleration vector [m/s²] (read-only: one array shared by every use)."""
+        return _gravity_vector(self.g, self.direction)
+
+
+@functools.lru_cache(maxsize=64)
+def _gravity_vector(g: float, direction: float) -> FloatArray:
+    vector = g * np.array([math.cos(direction), math.sin(direction)])
+    vector.flags.writeable = False
+    return vector
 
 
 @dataclass(frozen=True, slots=True)

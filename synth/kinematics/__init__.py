@@ -24,7 +24,8 @@ def cycle_angles(samples: int, cycle: float = 2 * math.pi, max_samples: int = MA
         raise InvalidInput(f"samples must be at least 3, got {samples}", field="samples")
     if samples > max_samples:
         raise TooLarge("samples per cycle", max_samples, samples, field="samples")
-    return np.linspace(0.0, cycle, samples, endpoint=False)
+    # np.linspace's own arithmetic for this grid (index times step), without its Python-level checks
+    return np.arange(samples, dtype=float) * (cycle / samples)
 
 
 def motion(mechanism: Mechanism, phi: FloatArray, omega: float, alpha: float = 0.0) -> Motion:
@@ -35,7 +36,7 @@ def motion(mechanism: Mechanism, phi: FloatArray, omega: float, alpha: float = 0
     phi = np.asarray(phi, dtype=float).reshape(-1)
     if phi.size == 0:
         raise InvalidInput("at least one crank angle is needed", field="crank_angle_deg")
-    if not np.all(np.isfinite(phi)):
+    if not np.isfinite(phi).all():
         raise InvalidInput("crank angles must be finite", field="crank_angle_deg")
     if not (math.isfinite(omega) and omega > 0):
         raise InvalidInput(f"crank speed must be positive, got {omega!r} rad/s", field="speed_rpm")

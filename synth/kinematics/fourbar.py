@@ -121,7 +121,7 @@ class FourBar:
         """Joint positions and link angles with their analogues; NotAssemblable where the loop cannot close."""
         n = len(phi)
         moving, angles, bad = loop_closure(self.crank, self.ground, self.coupler, self.rocker, self.branch, phi)
-        if bad.any():
+        if np.logical_or.reduce(bad):
             raise NotAssemblable(
                 f"four-bar cannot be assembled at {int(bad.sum())} of {n} crank angles; "
                 f"exact gaps (deg): {self.assembly_gaps_deg()}",
@@ -166,7 +166,7 @@ def loop_closure(a: float | FloatArray, ground: float | FloatArray, b: float | F
     bad = (dist > b + c + 1e-12) | (dist < np.abs(b - c) - 1e-12) | (dist == 0)
     with np.errstate(divide="ignore", invalid="ignore"):
         x = (b * b - c * c + dist * dist) / (2 * dist)
-        h = np.sqrt(np.clip(b * b - x * x, 0.0, None))
+        h = np.sqrt(np.maximum(b * b - x * x, 0.0))          # np.clip's result, without its Python layers
         bpos = pin + (to_q / dist) * (x + (1j * branch) * h)
         e2 = (bpos - pin) / b
         e3 = (bpos - ground) / c
@@ -187,7 +187,7 @@ def loop_closure(a: float | FloatArray, ground: float | FloatArray, b: float | F
     }
     angles = {
         "crank": AngleAnalogues(np.asarray(phi, dtype=float), np.ones(n), np.zeros(n), pin / a),
-        "coupler": AngleAnalogues(np.angle(e2), t2d1, t2d2, e2),
-        "rocker": AngleAnalogues(np.angle(e3), t3d1, t3d2, e3),
+        "coupler": AngleAnalogues(np.arctan2(e2.imag, e2.real), t2d1, t2d2, e2),     # np.angle, one call
+        "rocker": AngleAnalogues(np.arctan2(e3.imag, e3.real), t3d1, t3d2, e3),
     }
     return points, angles, bad
