@@ -21,6 +21,7 @@ import synth
 from synth.plots import close_figures
 
 Format = Literal["json", "png", "svg", "pdf", "csv", "dxf", "npz"]
+Precision = Literal["single", "full"]
 
 FormatQuery = Annotated[
     Format | None,
@@ -30,6 +31,16 @@ FormatQuery = Annotated[
                       "archive, one array per JSON path (`joint_reactions_N/A`, `links/crank/angle_deg`). An `Accept` "
                       "header (image/png, image/svg+xml, application/pdf, text/csv, image/vnd.dxf, "
                       "application/x-npz) chooses the same way."),
+]
+
+PrecisionQuery = Annotated[
+    Precision,
+    Query(description="Digits of a JSON answer's arrays (the curves over the samples): `single` (default) writes each "
+                      "as the shortest text of its single-precision (float32) value, at most 9 significant digits "
+                      "and within 1.2e-7 (2^-23) of the computed value relative to it, about half the bytes and "
+                      "time of full precision; `full` writes every number as the shortest text that reads back as "
+                      "exactly the float64 computed. Single numbers (summaries, check figures, designs) are always "
+                      "written in full, and an npz answer always holds float64."),
 ]
 
 MEDIA_TYPES: dict[str, str] = {
@@ -112,8 +123,41 @@ def _plain(value: Any) -> Any:
 def _default(value: Any) -> Any:
     """What orjson cannot write natively: strided numpy views (a column slice of the reaction unknowns)."""
     if isinstance(value, np.ndarray):
-        return np.ascontiguousarray(value, dtype=float)
+        return np.ascontiguousarray(value, dtype=np.float32 if value.dtype == np.float32 else float)
     raise TypeError(f"cannot serialise {type(value).__name__}")
+
+
+def _single(value: np.ndarray) -> np.ndarray:
+    """A float array as contiguous float32, which orjson writes as the shortest text of each float32 (at most 9
+    significant digits, within 2^-23 of the float64 relative to it); other arrays unchanged, and so is a float
+    array beyond float32's range (about 3.4e38), which has no float32 to write. Its values are finite (checked
+    before)."""
+    if value.dtype.kind != "f" or value.ndim == 0 or value.size == 0 or value.dtype == np.float32:
+        return value
+    with np.errstate(over="ignore"):
+        single = np.ascontiguousarray(value, dtype=np.float32)
+    return single if bool(np.isfinite(single).all()) else value
+
+
+def single_precision(plain: Any) -> Any:
+    """``plain`` (an answer as dicts, lists and arrays, every number finite) with its float arrays in float32:
+    the answer's curves written with the digits single precision carries. Python floats (single figures, and
+    the lists a response model builds itself) are left as they are."""
+    if isinstance(value := plain, np.ndarray):
+        return _single(value)
+    if isinstance(value, dict):
+        return {key: item if type(item) in _LEAVES else single_precision(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)) and value and not _numbers(value):
+        return [item if type(item) in _LEAVES else single_precision(item) for item in value]
+    return value
+
+
+def _numbers(value: list[Any] | tuple[Any, ...]) -> bool:
+    """A list of numbers or of rows of numbers, told by its first item: nothing in it to cast."""
+    first = value[0]
+    if isinstance(first, (list, tuple)) and first:
+        first = first[0]
+    return isinstance(first, (float, int))
 
 
 def _non_finite(value: Any, path: str = "") -> str | None:
@@ -151,15 +195,18 @@ def finite_answer(plain: Any) -> Any:
     return plain
 
 
-def json_bytes(model: BaseModel) -> bytes:
+def json_bytes(model: BaseModel, precision: Precision = "full") -> bytes:
     """JSON of a response model whose array fields may hold the engine's numpy arrays, written by orjson.
 
     The field names, order and values are those of pydantic's ``model_dump_json`` for the same content; the
-    arrays are written straight from their buffers instead of through per-element Python floats. An answer
-    holding a NaN or an infinity is refused (:func:`finite_answer`): every answer of the service goes through
-    here or :func:`npz_bytes`.
+    arrays are written straight from their buffers instead of through per-element Python floats, with
+    ``precision="single"`` as float32 (:func:`single_precision`). An answer holding a NaN or an infinity is
+    refused (:func:`finite_answer`): every answer of the service goes through here or :func:`npz_bytes`.
     """
-    return orjson.dumps(finite_answer(_plain(model)), default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
+    plain = finite_answer(_plain(model))
+    if precision == "single":
+        plain = single_precision(plain)
+    return orjson.dumps(plain, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
 
 
 def _numeric(value: Any) -> bool:
@@ -239,6 +286,9 @@ class Render:
     export_extra: tuple[Any, ...] = ()
     #: The largest answer the service sends [bytes]; 0 for no bound (a study's variant stays in the worker).
     max_bytes: int = 0
+    #: Digits of a JSON answer's arrays: full unless the request's answer asks for fewer (stored answers, a
+    #: study's variants and a library's revisions are kept in full).
+    precision: Precision = "full"
 
     def __call__(self, result: Any) -> tuple[bytes, str]:
         """The bytes of the answer and their media type."""
@@ -262,7 +312,7 @@ class Render:
             check_answer_size(model, self.fmt, self.max_bytes)
         if self.fmt == "npz":
             return npz_bytes(model), MEDIA_TYPES["npz"]
-        return json_bytes(model), "application/json"
+        return json_bytes(model, self.precision), "application/json"
 
 
 #: Bytes a number takes in an answer: JSON writes a float in up to 24 characters with its separator (about 20

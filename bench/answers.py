@@ -2,11 +2,13 @@
 are judged: the service's own app and worker processes in this process (FastAPI's TestClient), calls alternated so
 that a burst of load from other work on the machine falls on both sides of each ratio.
 
-- A 3 600-sample analysis of a four-bar answered as JSON against the same answer as npz (goal: at most 1.3x), and
-  where the JSON's time goes in the worker's code path: the engine, the answer model, the answer written by
-  orjson, npz's archive of the same numbers, and orjson writing as many plain floats from one numpy array. That last
-  figure is the floor of any JSON answer at full precision (each float written as its shortest round-trip text);
-  the answer's JSON written within a small factor of it means the rest of the gap is the float text itself.
+- A 3 600-sample analysis of a four-bar answered as JSON (the default, its curves in single precision) against
+  the same answer as npz (goal: at most 1.3x), and with ``?precision=full`` (every float64 exactly, the previous
+  default) beside it; and where the JSON's time goes in the worker's code path: the engine, the answer model, the
+  answer written by orjson in single and in full precision, npz's archive of the same numbers, and orjson writing
+  as many plain floats from one numpy array in float64 and in float32. Those last figures are the floors of any
+  JSON answer (each float written as its shortest text); the answer's JSON written within a small factor of them
+  means the rest of the gap is the float text itself.
 - The docs' eight-bar (docs/linkages.md, a class-III group placed numerically) against the four-bar at 360 samples,
   in the engine and through the service (goal: at most 5x).
 
@@ -77,20 +79,25 @@ def worker_path() -> dict[str, tuple[float, float]]:
     """The JSON and npz answers' parts as a worker runs them, and the float-text floor, alternated [s]."""
     body = AnalysisIn.model_validate({"mechanism": FOURBAR, "speed_rpm": 120, "samples": SAMPLES})
     plan = plans.analysis(body, Limits.from_settings(Settings()))
-    as_json, as_npz = replace(plan.render, fmt="json"), replace(plan.render, fmt="npz")
+    as_json, as_npz = replace(plan.render, fmt="json", precision="single"), replace(plan.render, fmt="npz")
+    as_full = replace(as_json, precision="full")
     result = plan.fn(*plan.args, **plan.kwargs)
     model = plan.render.model(result, *plan.render.model_extra)
     # as many floats as the answer holds (npz keeps each as 8 bytes), drawn over the answers' own magnitudes
     count = sum(a.size for a in np.load(io.BytesIO(npz_bytes(model))).values())
     floats = np.random.default_rng(0).normal(scale=100.0, size=count)
+    singles = floats.astype(np.float32)
     return interleaved({
         "request's worker, JSON": lambda: as_json(plan.fn(*plan.args, **plan.kwargs)),
+        "request's worker, JSON full precision": lambda: as_full(plan.fn(*plan.args, **plan.kwargs)),
         "request's worker, npz": lambda: as_npz(plan.fn(*plan.args, **plan.kwargs)),
         "engine (synth.analyse)": lambda: plan.fn(*plan.args, **plan.kwargs),
         "answer model": lambda: plan.render.model(result, *plan.render.model_extra),
-        "answer's JSON (json_bytes)": lambda: json_bytes(model),
+        "answer's JSON (json_bytes, single)": lambda: json_bytes(model, "single"),
+        "answer's JSON (json_bytes, full)": lambda: json_bytes(model, "full"),
         "answer's npz (npz_bytes)": lambda: npz_bytes(model),
-        f"orjson of {count} floats (the floor)": lambda: orjson.dumps(floats, option=orjson.OPT_SERIALIZE_NUMPY),
+        f"orjson of {count} float64 (the floor)": lambda: orjson.dumps(floats, option=orjson.OPT_SERIALIZE_NUMPY),
+        f"orjson of {count} float32": lambda: orjson.dumps(singles, option=orjson.OPT_SERIALIZE_NUMPY),
     }, 9)
 
 
@@ -122,6 +129,7 @@ def service() -> dict[str, tuple[float, float]]:
     answer = {"mechanism": FOURBAR, "speed_rpm": 120, "samples": SAMPLES}
     with client:
         formats = interleaved({"JSON": post("/v1/analysis", answer),
+                               "JSON full": post("/v1/analysis?precision=full", answer),
                                "npz": post("/v1/analysis?format=npz", answer)}, 11)
         linkages = interleaved({
             "eight-bar": post("/v1/analysis", {"mechanism": EIGHT_BAR, "speed_rpm": 120, "samples": 360}),
@@ -140,10 +148,14 @@ def main() -> None:
     w = worker_path()
     for name, t in w.items():
         print(_row(name, t))
-    floor = next(t for name, t in w.items() if name.startswith("orjson of"))
+    floor = next(t for name, t in w.items() if name.startswith("orjson of") and "float64" in name)
+    floor32 = next(t for name, t in w.items() if name.startswith("orjson of") and "float32" in name)
     worker_ratio = w["request's worker, JSON"][1] / w["request's worker, npz"][1]
-    text_ratio = w["answer's JSON (json_bytes)"][1] / floor[1]
-    print(f"  JSON/npz in the worker {worker_ratio:.2f}; the answer's JSON {text_ratio:.2f}x the float-text floor")
+    full_ratio = w["request's worker, JSON full precision"][1] / w["request's worker, npz"][1]
+    single = w["answer's JSON (json_bytes, single)"][1] / floor32[1]
+    full = w["answer's JSON (json_bytes, full)"][1] / floor[1]
+    print(f"  JSON/npz in the worker {worker_ratio:.2f} ({full_ratio:.2f} in full precision); the answer's JSON "
+          f"{single:.2f}x the float32 text floor, in full precision {full:.2f}x the float64 one")
     e = engine_eight_bar()
     print(f"The docs' eight-bar against the four-bar at 360 samples in the engine ({_load()}): "
           f"{e['eight-bar'][1] * 1e3:.1f} / {e['four-bar'][1] * 1e3:.2f} ms median, "
@@ -153,7 +165,8 @@ def main() -> None:
     eight_ratio = s["eight-bar"][1] / s["four-bar"][1]
     print(f"Through the service in-process, alternated, median ({_load()}):")
     print(f"  analysis {SAMPLES} samples: JSON {s['JSON'][1] * 1e3:.1f} ms, npz {s['npz'][1] * 1e3:.1f} ms, "
-          f"{json_ratio:.2f}x (goal <= {JSON_GOAL:g}: {'met' if json_ratio <= JSON_GOAL else 'not met'})")
+          f"{json_ratio:.2f}x (goal <= {JSON_GOAL:g}: {'met' if json_ratio <= JSON_GOAL else 'not met'}); "
+          f"?precision=full {s['JSON full'][1] * 1e3:.1f} ms, {s['JSON full'][1] / s['npz'][1]:.2f}x")
     print(f"  360 samples: eight-bar {s['eight-bar'][1] * 1e3:.1f} ms, four-bar {s['four-bar'][1] * 1e3:.1f} ms, "
           f"{eight_ratio:.1f}x (goal <= {EIGHT_BAR_GOAL:g}: {'met' if eight_ratio <= EIGHT_BAR_GOAL else 'not met'})")
 

@@ -13,6 +13,10 @@ the curves as CSV text (``*_csv``, one row per crank angle), the arrays of array
 (``analysis_arrays``, ``flywheel_arrays``: a NumPy ``.npz`` answer, the only methods that need numpy), the drawings as DXF or SVG (``analysis_drawing``,
 ``balance_dxf``) and the machine's design report as PDF (``design_report_pdf``).
 
+The arrays of a JSON answer (the curves over the crank angles) come with the digits of single precision, as
+the service writes them by default; ``SynthClient(..., precision="full")`` asks every answer for the float64
+values exactly (``?precision=full``).
+
 The client needs only httpx and pydantic (``pip install ./client``): its models are the wire (fields, validation,
 examples) and import nothing of the engine or the service. The in-process mode needs the service installed, which
 offers itself through the entry point group ``mechsynth_client.inprocess``.
@@ -101,6 +105,9 @@ InProcessExecutor = Literal["serial", "pool"]
 SynthesisKind = Literal["crank-rocker", "slider-crank", "path"]
 DrawingFormat = Literal["dxf", "svg"]
 FigureFormat = Literal["png", "svg", "pdf"]
+#: Digits of the arrays of a JSON answer: ``single`` (the service's default: float32's, at most 9 significant
+#: digits, within 1.2e-7 relative) or ``full`` (every float64 exactly).
+Precision = Literal["single", "full"]
 
 
 class ProblemError(Exception):
@@ -215,9 +222,15 @@ def _retry_after_s(response: httpx.Response) -> float | None:
 class _Policy:
     """What the sync and async clients share: the retry policy, encoding requests and decoding problems."""
 
-    def __init__(self, retries: int, max_retry_wait_s: float, token: str | None = None) -> None:
+    def __init__(self, retries: int, max_retry_wait_s: float, token: str | None = None,
+                 precision: Precision = "single") -> None:
         if retries < 0 or not max_retry_wait_s >= 0:
             raise ValueError("retries and max_retry_wait_s must not be negative")
+        if precision not in ("single", "full"):
+            raise ValueError("precision must be 'single' or 'full'")
+        self.precision: Precision = precision
+        # the service's default is not sent, so a service that predates the option answers as before
+        self._answer_query: dict[str, str] = {"precision": precision} if precision == "full" else {}
         self.retries = retries
         self.max_retry_wait_s = max_retry_wait_s
         # kept out of repr and logs; sent on every request
@@ -286,21 +299,22 @@ class SynthClient(_Policy):
     """Client of the mechanism synthesis service over a given ``httpx.Client`` or a base URL."""
 
     def __init__(self, base_url: str | None = None, *, http: httpx.Client | None = None, timeout_s: float = 60.0,
-                 retries: int = 3, max_retry_wait_s: float = 30.0, token: str | None = None) -> None:
+                 retries: int = 3, max_retry_wait_s: float = 30.0, token: str | None = None,
+                 precision: Precision = "single") -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.Client")
-        super().__init__(retries, max_retry_wait_s, token)
+        super().__init__(retries, max_retry_wait_s, token, precision)
         self.http = http if http is not None else httpx.Client(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls, executor: InProcessExecutor = "serial") -> SynthClient:
+    def in_process(cls, executor: InProcessExecutor = "serial", precision: Precision = "single") -> SynthClient:
         """A client speaking to a fresh app in this process, without a network (needs the service installed).
 
         Solver work runs in one background thread (``executor="serial"``), which works from any script or notebook;
         ``"pool"`` uses worker processes as the service does (a script then needs an ``if __name__ == "__main__"``
         guard, as every multiprocessing program does).
         """
-        return cls(http=_in_process_service().http_client(executor, base_url="http://localhost"))
+        return cls(http=_in_process_service().http_client(executor, base_url="http://localhost"), precision=precision)
 
     def close(self) -> None:
         """Close the underlying HTTP client."""
@@ -328,7 +342,7 @@ class SynthClient(_Policy):
             attempt += 1
 
     def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
-        response = self._send("POST", path, json=self._json(body))
+        response = self._send("POST", path, json=self._json(body), params=self._answer_query)
         return out.model_validate_json(response.content)
 
     def _export(self, path: str, body: BaseModel, fmt: str, **params: Any) -> httpx.Response:
@@ -645,18 +659,19 @@ class AsyncSynthClient(_Policy):
 
     def __init__(self, base_url: str | None = None, *, http: httpx.AsyncClient | None = None,
                  timeout_s: float = 60.0, retries: int = 3, max_retry_wait_s: float = 30.0,
-                 token: str | None = None) -> None:
+                 token: str | None = None, precision: Precision = "single") -> None:
         if http is None and base_url is None:
             raise ValueError("give a base_url or an httpx.AsyncClient")
-        super().__init__(retries, max_retry_wait_s, token)
+        super().__init__(retries, max_retry_wait_s, token, precision)
         self.http = http if http is not None else httpx.AsyncClient(base_url=base_url or "", timeout=timeout_s)
 
     @classmethod
-    def in_process(cls, executor: InProcessExecutor = "serial") -> AsyncSynthClient:
+    def in_process(cls, executor: InProcessExecutor = "serial", precision: Precision = "single"
+                   ) -> AsyncSynthClient:
         """A client speaking to a fresh app in this process over ASGI (needs the service installed); ``executor``
         as in :meth:`SynthClient.in_process`."""
         transport = httpx.ASGITransport(app=_in_process_service().app(executor))
-        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://localhost"))
+        return cls(http=httpx.AsyncClient(transport=transport, base_url="http://localhost"), precision=precision)
 
     async def aclose(self) -> None:
         """Close the underlying HTTP client."""
@@ -684,7 +699,7 @@ class AsyncSynthClient(_Policy):
             attempt += 1
 
     async def _post(self, path: str, body: BaseModel, out: type[M]) -> M:
-        response = await self._send("POST", path, json=self._json(body))
+        response = await self._send("POST", path, json=self._json(body), params=self._answer_query)
         return out.model_validate_json(response.content)
 
     async def _export(self, path: str, body: BaseModel, fmt: str, **params: Any) -> httpx.Response:

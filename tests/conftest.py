@@ -51,10 +51,13 @@ def _repository_root_stays_clean():  # type: ignore[no-untyped-def]
 
 @pytest.fixture(scope="session")
 def client():  # type: ignore[no-untyped-def]
-    """In-process client of a fresh app."""
+    """In-process client of a fresh app, its methods asking every answer for full precision: the tests hold
+    answers to the engine's values and identities at its own round-off (a raw ``client.http`` call that does
+    so asks with ``?precision=full``). ``tests/test_answer_precision.py`` holds the service's default, single
+    precision, to the full answers."""
     from mechsynth_client.client import SynthClient
 
-    with SynthClient.in_process() as c:
+    with SynthClient.in_process(precision="full") as c:
         yield c
 
 

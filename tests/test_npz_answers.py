@@ -44,8 +44,8 @@ def _same(arrays: dict[str, np.ndarray], answer: dict[str, Any]) -> None:
     expected = _numbers(answer)
     assert set(arrays) == set(expected)
     for key, value in expected.items():
-        # The archive holds the engine's float64 values and the JSON their shortest round-trip decimal form:
-        # equal bit for bit.
+        # The archive holds the engine's float64 values and the full-precision JSON their shortest round-trip
+        # decimal form: equal bit for bit.
         assert np.array_equal(arrays[key], np.asarray(value, dtype=float)), key
 
 
@@ -53,7 +53,8 @@ def _same(arrays: dict[str, np.ndarray], answer: dict[str, Any]) -> None:
 def test_analysis_arrays_equal_the_json_answer(client: SynthClient, mechanism: dict[str, Any]) -> None:
     body = AnalysisIn.model_validate({"mechanism": mechanism, "speed_rpm": 120, "samples": 72,
                                       "gravity": {"g_m_s2": 9.81}})
-    answer = client.http.post("/v1/analysis", json=body.model_dump(mode="json", exclude_none=True))
+    answer = client.http.post("/v1/analysis", json=body.model_dump(mode="json", exclude_none=True),
+                              params={"precision": "full"})
     assert answer.headers["content-type"].startswith("application/json")
     arrays = client.analysis_arrays(body)
     _same(arrays, answer.json())
@@ -67,13 +68,15 @@ def test_accept_header_chooses_npz(client: SynthClient) -> None:
     by_header = client.http.post("/v1/analysis", json=payload, headers={"accept": "application/x-npz"})
     assert by_header.headers["content-type"] == "application/x-npz"
     with np.load(io.BytesIO(by_header.content), allow_pickle=False) as archive:
-        _same({key: archive[key] for key in archive.files}, client.http.post("/v1/analysis", json=payload).json())
+        _same({key: archive[key] for key in archive.files},
+              client.http.post("/v1/analysis", json=payload, params={"precision": "full"}).json())
 
 
 @pytest.mark.parametrize("example", FLYWHEEL_EXAMPLES, ids=["tables", "mechanism", "elastic-drive"])
 def test_flywheel_arrays_equal_the_json_answer(client: SynthClient, example: dict[str, Any]) -> None:
     body = FlywheelIn.model_validate(example)
-    answer = client.http.post("/v1/flywheel", json=body.model_dump(mode="json", exclude_none=True)).json()
+    answer = client.http.post("/v1/flywheel", json=body.model_dump(mode="json", exclude_none=True),
+                              params={"precision": "full"}).json()
     _same(client.flywheel_arrays(body), answer)
 
 

@@ -26,7 +26,7 @@ from fastapi.responses import StreamingResponse
 from synth.errors import SolverTimeout
 from synth.execution import BATCH, Executor, LocalPoolExecutor, make_executor
 
-from ..media import Render, file_headers, negotiate
+from ..media import Precision, Render, file_headers, negotiate
 from .held import HeldResults
 from .plans import Limits, Plan
 from .warm import warm_worker
@@ -283,10 +283,12 @@ async def together(calls: Iterable[Awaitable[T]]) -> list[T]:
 
 @dataclass(frozen=True, slots=True)
 class RequestSolvers:
-    """The solvers as one request sees them: every call shares the request's deadline."""
+    """The solvers as one request sees them: every call shares the request's deadline, and every answer is
+    written with the digits the request asks for."""
 
     solvers: Solvers
     deadline: float
+    precision: Precision = "single"
 
     @property
     def settings(self) -> Settings:
@@ -315,7 +317,7 @@ class RequestSolvers:
     async def answer_plan(self, plan: Plan, request: Request, fmt: str | None = None) -> Response:
         """Answer with ``plan`` in the format the request asks for among those the plan offers."""
         chosen = negotiate(request, fmt, plan.offered)
-        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes)
+        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes, precision=self.precision)
         return await self.answer(render, plan.fn, *plan.args, headers=file_headers(chosen, plan.stem),
                                  **plan.kwargs)
 
@@ -323,7 +325,7 @@ class RequestSolvers:
         """:meth:`answer_plan` for a plan whose result the process holds under ``key`` (the user and the hash of
         the canonical request): a result held is only rendered (no engine work), a new one is held."""
         chosen = negotiate(request, fmt, plan.offered)
-        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes)
+        render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes, precision=self.precision)
         spool = self.settings.spool_above_bytes
         held = self.solvers.held.get(key)
         if held is not None:

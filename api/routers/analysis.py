@@ -9,7 +9,7 @@ from fastapi.responses import Response
 
 
 from ..execution import plans
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep, SolverDep
 from ..media import ARRAYS, FIGURES, FormatQuery, format_responses, media
 from api.translate.analysis import plot_angle
 from api.translate.linkage import crank_angles, linkage_from
@@ -25,7 +25,7 @@ AngleQuery = Annotated[float | None, Query(ge=-1e6, le=1e6, description="Crank a
 async def analysis(
     body: AnalysisIn,
     request: Request,
-    solvers: SolverDep,
+    solvers: AnswerSolverDep,
     format: FormatQuery = None,
     angle_deg: AngleQuery = None,
 ) -> Response:

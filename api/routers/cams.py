@@ -9,7 +9,7 @@ from fastapi.responses import Response
 
 import synth.cams
 
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep
 from ..execution.plans import CAM_FORMATS as FORMATS
 from ..execution.plans import cam_analysis_plan as analysis_plan
 from ..execution.plans import cam_synthesis_plan as synthesis_plan
@@ -37,7 +37,7 @@ CamFormat = Annotated[
 
 
 @router.post("/analysis", response_model=CamAnalysisOut, responses=format_responses(FORMATS))
-async def cam_analysis(body: CamAnalysisIn, request: Request, solvers: SolverDep,
+async def cam_analysis(body: CamAnalysisIn, request: Request, solvers: AnswerSolverDep,
                        format: CamFormat = None) -> Response:
     """A disc cam over one turn: the follower's s, v, a and jerk (per radian and at speed), the pitch curve and
     profile, pressure angle and radius of curvature, and with `loads` the contact force, the spring (designed
@@ -49,7 +49,7 @@ async def cam_analysis(body: CamAnalysisIn, request: Request, solvers: SolverDep
 
 
 @router.post("/synthesis", response_model=CamSynthesisOut, responses=format_responses(FORMATS))
-async def cam_synthesis(body: CamSynthesisIn, request: Request, solvers: SolverDep,
+async def cam_synthesis(body: CamSynthesisIn, request: Request, solvers: AnswerSolverDep,
                         format: CamFormat = None) -> Response:
     """The least base circle (and the best offset, given its range) for the largest pressure angles in rise and
     return and the least radius of curvature, by an exhaustive scan and bisection that certifies every smaller

@@ -10,7 +10,7 @@ from fastapi.responses import Response
 import synth
 
 from ..execution import plans
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep
 from ..media import ARRAYS, FIGURES, format_responses
 from api.translate.flywheel import machine_type_out
 from mechsynth_client.schemas.flywheel import FlywheelIn, FlywheelOut, MachineTypeOut
@@ -35,7 +35,7 @@ def machine_types() -> list[MachineTypeOut]:
 
 
 @router.post("/flywheel", response_model=FlywheelOut, responses=format_responses(FORMATS))
-async def flywheel(body: FlywheelIn, request: Request, solvers: SolverDep,
+async def flywheel(body: FlywheelIn, request: Request, solvers: AnswerSolverDep,
                    format: FlywheelFormat = None) -> Response:
     """Smallest flywheel for a target delta by the exact (Wittenbauer), Mertsalov and energy methods, and with
     a motor characteristic as a collocation NLP; each checked by integrating the equation of motion. With

@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, Query, Request
 from fastapi.responses import Response
 
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep
 from ..execution import plans
 from ..media import FIGURES, format_responses
 from mechsynth_client.schemas.foundation import (
@@ -33,7 +33,7 @@ FigureFormat = Annotated[
 
 @router.post("/isolation", response_model=IsolationOut, responses=format_responses(FIGURES),
              name="isolate_machine")
-async def isolation(body: IsolationIn, request: Request, solvers: SolverDep, format: FigureFormat = None) -> Response:
+async def isolation(body: IsolationIn, request: Request, solvers: AnswerSolverDep, format: FigureFormat = None) -> Response:
     """The machine's frame on isolators, driven by the linkage's shaking force and moment over the steady cycle
     at the crank speed: natural frequencies and mode shapes, the steady motion solved exactly per harmonic, the
     force each isolator and all together pass to the foundation (as the foundation feels it), the
@@ -45,7 +45,7 @@ async def isolation(body: IsolationIn, request: Request, solvers: SolverDep, for
 
 @router.post("/isolation/design", response_model=IsolationDesignOut, responses=format_responses(FIGURES),
              name="design_isolation")
-async def isolation_design(body: IsolationDesignIn, request: Request, solvers: SolverDep,
+async def isolation_design(body: IsolationDesignIn, request: Request, solvers: AnswerSolverDep,
                            format: FigureFormat = None) -> Response:
     """Choose one isolator type for the given positions (vertical stiffness, horizontal as a ratio of it, damping
     ratio) and optionally an inertia block: the least frame amplitude with the peak force to the foundation
@@ -59,7 +59,7 @@ async def isolation_design(body: IsolationDesignIn, request: Request, solvers: S
 
 @router.post("/elastic-drive", response_model=ElasticDriveOut, responses=format_responses(FIGURES),
              name="elastic_drive")
-async def elastic_drive(body: ElasticDriveIn, request: Request, solvers: SolverDep,
+async def elastic_drive(body: ElasticDriveIn, request: Request, solvers: AnswerSolverDep,
                         format: FigureFormat = None) -> Response:
     """The machine driven through an elastic link: motor rotor and machine as two masses on a torsional spring
     (given, or from shafts and couplings reduced to the crank by their speed ratio squared), the machine's
@@ -72,7 +72,7 @@ async def elastic_drive(body: ElasticDriveIn, request: Request, solvers: SolverD
 
 
 @router.post("/regulation", response_model=RegulationOut, responses=format_responses(FIGURES), name="regulation")
-async def regulation(body: RegulationIn, request: Request, solvers: SolverDep, format: FigureFormat = None) -> Response:
+async def regulation(body: RegulationIn, request: Request, solvers: AnswerSolverDep, format: FigureFormat = None) -> Response:
     """The machine's speed after a step in the process load: self-regulation through the motor's characteristic
     (time constant, speed drop, time to settle in the delta band, with their closed forms for a constant
     inertia), or a PI controller on a frequency converter tuned for a settling time and overshoot (or given

@@ -10,7 +10,7 @@ from fastapi.responses import Response
 from ..execution import plans
 from ..execution.optimise import answer_optimisation
 from ..execution.optimise_linkage import answer_linkage_optimisation
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep
 from ..identity import current_user
 from mechsynth_client.schemas.machine import MachineDesignOut, MachineIn
 from mechsynth_client.schemas.optimise import (
@@ -34,7 +34,7 @@ RESPONSES: dict[int | str, dict[str, Any]] = {
 
 
 @router.post("/design", response_model=MachineDesignOut, responses=RESPONSES, name="design_machine")
-async def design(body: MachineIn, request: Request, solvers: SolverDep, format: ReportFormat = None) -> Response:
+async def design(body: MachineIn, request: Request, solvers: AnswerSolverDep, format: ReportFormat = None) -> Response:
     """Design the whole machine in one request: analysis, balancing, the balanced linkage reduced to its crank,
     the motor from the mean power, ratio split and tooth numbers, the flywheel for the chosen motor on the chosen
     shaft, and every shaft's speed, power and peak and RMS torque; checked by simulating the assembled machine
@@ -49,7 +49,7 @@ async def design(body: MachineIn, request: Request, solvers: SolverDep, format: 
 @router.post("/optimise", response_model=MachineOptimiseOut, name="optimise_machine",
              responses={200: {"content": {"application/pdf": {}},
                               "description": "The optimised machine, or its design record (?format=pdf)."}})
-async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep,
+async def optimise(body: MachineOptimiseIn, request: Request, solvers: AnswerSolverDep,
                    format: Annotated[Literal["json", "pdf"] | None, Query(
                        description="`pdf`: the chosen machine's design record with a page for the "
                        "optimisation's certificate.")] = None) -> Response:
@@ -65,7 +65,7 @@ async def optimise(body: MachineOptimiseIn, request: Request, solvers: SolverDep
 
 
 @router.post("/optimise-linkage", response_model=LinkageOptimiseOut, name="optimise_linkage")
-async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: SolverDep) -> Response:
+async def optimise_linkage(body: LinkageOptimiseIn, request: Request, solvers: AnswerSolverDep) -> Response:
     """Choose any linkage's free dimensions together with its machine: numbers of a general linkage (a frame
     point's coordinate, a link's length, a point of a link) free within bounds, the function as constraints on
     the analysed linkage (the output's stroke or swing within a band, the time ratio within a band, the least

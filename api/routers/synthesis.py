@@ -11,7 +11,7 @@ from synth.synthesis.path import path_starts
 
 from ..execution import plans
 from ..execution.admission import together
-from ..deps import SolverDep
+from ..deps import AnswerSolverDep
 from ..media import PNG_RESPONSES, FormatQuery
 from mechsynth_client.schemas.synthesis import (
     CrankRockerIn,
@@ -27,7 +27,7 @@ FORMATS = ("png",)
 
 
 @router.post("/crank-rocker", response_model=CrankRockerOut, responses=PNG_RESPONSES)
-async def synthesise_crank_rocker(body: CrankRockerIn, request: Request, solvers: SolverDep,
+async def synthesise_crank_rocker(body: CrankRockerIn, request: Request, solvers: AnswerSolverDep,
                        format: FormatQuery = None) -> Response:
     """The crank-rocker with the requested rocker swing and time ratio that is best (largest minimum
     transmission angle, or least peak driving torque / RMS shaking force) over its whole one-parameter family,
@@ -37,7 +37,7 @@ async def synthesise_crank_rocker(body: CrankRockerIn, request: Request, solvers
 
 
 @router.post("/slider-crank", response_model=SliderCrankSynthesisOut, responses=PNG_RESPONSES)
-async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request, solvers: SolverDep,
+async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request, solvers: AnswerSolverDep,
                        format: FormatQuery = None) -> Response:
     """The offset slider-crank with the requested stroke and time ratio that is best over its whole
     one-parameter family, with its certificate and the engine's check. `?format=png` draws both dead centres."""
@@ -45,7 +45,7 @@ async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request
 
 
 @router.post("/path", response_model=PathOut, responses=PNG_RESPONSES)
-async def synthesise_path(body: PathIn, request: Request, solvers: SolverDep, format: FormatQuery = None) -> Response:
+async def synthesise_path(body: PathIn, request: Request, solvers: AnswerSolverDep, format: FormatQuery = None) -> Response:
     """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: every
     seeded Sobol start screened at once by Levenberg-Marquardt, the best distinct designs polished by IPOPT, each
     fit with the starts that reached it and the residual at every point recomputed by the analysis engine, and the
