@@ -49,11 +49,11 @@ GRID = 16
 @pytest.fixture(scope="module")
 def pool_client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[SynthClient]:
     """The endpoint as the service runs it, its stages as tasks on two worker processes; a deadline that leaves
-    room for cores shared with other work."""
+    room for cores shared with other work; answers in full precision, to be held to the engine's."""
     settings = Settings(executor="pool", workers=2, request_deadline_s=300.0,
                         studies_db=str(tmp_path_factory.mktemp("linkage-pool") / "s.sqlite"))
     with TestClient(create_app(settings), base_url="http://localhost") as http:
-        yield SynthClient(http=http)
+        yield SynthClient(http=http, precision="full")
 
 
 @pytest.fixture(scope="module")
