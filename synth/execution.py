@@ -48,10 +48,19 @@ class Executor(Protocol):
     """Runs plain functions of plain data and answers with futures."""
 
     workers: int
+    #: Tasks worth keeping submitted beyond one per worker, so that a worker that finishes starts the next task
+    #: without waiting for this process to hear of it and send one: one for a local pool, one per worker where a
+    #: task's dispatch and answer take a scheduler's round trips (Dask).
+    spare_tasks: int
 
     def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
                **kwargs: Any) -> cf.Future[T]:
         """Schedule ``fn(*args, **kwargs)``; past ``timeout`` seconds of running, the task fails with SolverTimeout."""
+        ...
+
+    def share(self, value: Any) -> Any:
+        """``value`` as an argument that many tasks take: on a cluster it is sent to every worker once and the
+        tasks get a reference to it; elsewhere it is ``value`` itself."""
         ...
 
     def shutdown(self) -> None:
@@ -124,6 +133,7 @@ class SerialExecutor:
     """One task at a time in one background thread of this process; timeouts are not enforced here."""
 
     workers = 1
+    spare_tasks = 1
 
     def __init__(self) -> None:
         self._pool = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="synth-serial")
@@ -132,6 +142,10 @@ class SerialExecutor:
                **kwargs: Any) -> cf.Future[T]:
         """Queue ``fn(*args, **kwargs)`` on the one thread."""
         return self._pool.submit(run_task, fn, args, kwargs)
+
+    def share(self, value: Any) -> Any:
+        """``value`` itself: the tasks run in this process."""
+        return value
 
     def shutdown(self) -> None:
         """Finish the queued tasks and stop the thread."""
@@ -553,6 +567,7 @@ class LocalPoolExecutor:
         if workers < 1 or batch_workers < 0:
             raise ValueError("a worker pool needs at least one worker")
         self.workers = workers
+        self.spare_tasks = 1
         self.batch_workers = batch_workers
         self.context = multiprocessing.get_context("forkserver")
         # Forked from a server that imported the engine once: a replaced worker is ready in milliseconds.
@@ -579,6 +594,10 @@ class LocalPoolExecutor:
         """Schedule ``fn(*args, **kwargs)`` on an interactive worker; errors come back as the engine's typed
         errors."""
         return self._put(INTERACTIVE, "", fn, args, kwargs, timeout)
+
+    def share(self, value: Any) -> Any:
+        """``value`` itself: a task's arguments reach its worker through one pipe either way."""
+        return value
 
     def lane(self, lane: str, group: str = "") -> Executor:
         """This pool as seen by one ``group`` (an owner) of the ``lane`` (``BATCH``); an Executor of its own."""
@@ -646,11 +665,16 @@ class _Lane:
         self.lane_name = lane
         self.group = group
         self.workers = (pool.batch_workers or pool.scheduler.batch_cap) if lane == BATCH else pool.workers
+        self.spare_tasks = pool.spare_tasks
 
     def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
                **kwargs: Any) -> cf.Future[T]:
         """Schedule ``fn(*args, **kwargs)`` in this lane."""
         return self.pool._put(self.lane_name, self.group, fn, args, kwargs, timeout)
+
+    def share(self, value: Any) -> Any:
+        """``value`` itself, as the pool shares it."""
+        return self.pool.share(value)
 
     def shutdown(self) -> None:
         """Nothing to stop: the pool is shared."""
@@ -660,7 +684,10 @@ class DaskExecutor:
     """Tasks on a Dask.distributed cluster: ``address`` of a scheduler, or an existing ``distributed.Client``.
 
     A running task cannot be interrupted on a Dask worker, so ``timeout`` is enforced by failing the future;
-    studies keep tasks short (0.2-2 s) so a cancel takes effect within one task.
+    studies keep tasks short (0.2-2 s) so a cancel takes effect within one task. A task's dispatch and its answer
+    each take round trips through the scheduler (milliseconds to tens of them), so a task is kept queued behind
+    each running one (``spare_tasks``) and what every task of a study takes is sent to the workers once
+    (:meth:`share`).
     """
 
     def __init__(self, address: str | None = None, client: Any = None) -> None:
@@ -671,6 +698,13 @@ class DaskExecutor:
             client = Client(address, set_as_default=False)  # type: ignore[no-untyped-call]
         self.client = client
         self.workers = max(1, sum(w.get("nthreads", 1) for w in self.client.scheduler_info()["workers"].values()))
+        self.spare_tasks = self.workers
+
+    def share(self, value: Any) -> Any:
+        """``value`` scattered to every worker once; tasks given the returned future get ``value`` there. The
+        cluster lets go of it when the future is dropped."""
+        # in a list, so that a dict or a list is scattered whole rather than item by item
+        return self.client.scatter([value], broadcast=True, hash=False)[0]
 
     def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
                **kwargs: Any) -> cf.Future[T]:
@@ -707,9 +741,16 @@ class DaskExecutor:
 
 
 def _run_on_dask(fn: Callable[..., T], args: tuple[Any, ...], kwargs: dict[str, Any]) -> T:
+    _dask_worker_ready()
+    return run_task(fn, args, kwargs)
+
+
+@functools.cache
+def _dask_worker_ready() -> None:
+    """Once per Dask worker process, what a pool's worker does when it starts: BLAS on one thread (threadpoolctl
+    looks through every loaded library, milliseconds a call) and freed arrays kept."""
     limit_threads()
     keep_freed_memory()
-    return run_task(fn, args, kwargs)
 
 
 class _DaskLinked(cf.Future):  # type: ignore[type-arg]

@@ -116,6 +116,7 @@ class _Counted:
 
     def __init__(self, executor: Executor, in_flight: _InFlight) -> None:
         self.workers = executor.workers
+        self.spare_tasks = executor.spare_tasks
         self._executor = executor
         self._in_flight = in_flight
 
@@ -125,6 +126,10 @@ class _Counted:
         future = self._executor.submit(fn, *args, timeout=timeout, **kwargs)
         self._in_flight.add(future)
         return future
+
+    def share(self, value: Any) -> Any:
+        """``value`` as the executor shares it."""
+        return self._executor.share(value)
 
     def shutdown(self) -> None:
         """Nothing to stop: the executor is the service's (or the Dask connection's), not one study's."""

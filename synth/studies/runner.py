@@ -255,9 +255,9 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     cancel
         When set, no further task is submitted and the tasks in flight are cancelled [-].
     in_flight
-        Most tasks submitted at once, default one more than the executor's workers: a worker that finishes
-        starts the next batch without waiting for this thread, and requests sharing the workers wait behind
-        one batch at most [-].
+        Most tasks submitted at once, default the executor's workers and its spare tasks (one more on a local
+        pool, twice as many on Dask): a worker that finishes starts the next batch without waiting for this
+        thread, and requests sharing a pool's workers wait behind one batch at most [-].
     variant_timeout_s
         Time allowed per variant; a task may run its variant count times this [s].
     progress
@@ -273,7 +273,9 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
     order = range(sampler.count) if indices is None else list(indices)
     pending: Iterator[int] = iter(order)
     unsent = len(order)
-    limit = max(1, in_flight or executor.workers + 1)
+    limit = max(1, in_flight or executor.workers + executor.spare_tasks)
+    # what every task takes, sent to a cluster's workers once instead of with each task
+    shared = executor.share(spec)
     sizer = _Sizer()
     futures: dict[cf.Future[tuple[list[VariantRow], float]], list[tuple[int, list[Scalar]]]] = {}
     # Variants of a lost batch, each to run again in a task of its own before any new batch.
@@ -301,7 +303,7 @@ def run_study(study: Study, variant_fn: VariantFn, executor: Executor, sink: Cal
                 return False
             unsent -= len(items)
         timeout = None if variant_timeout_s is None else variant_timeout_s * len(items)
-        futures[executor.submit(run_batch, spec, items, timeout=timeout)] = items
+        futures[executor.submit(run_batch, shared, items, timeout=timeout)] = items
         return True
 
     try:
