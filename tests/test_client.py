@@ -115,7 +115,7 @@ def test_async_client_answers_like_the_sync_one(client: SynthClient) -> None:
         "rocker_length_m": 0.12}})
 
     async def run() -> tuple[Any, ...]:
-        async with AsyncSynthClient.in_process() as aclient:
+        async with AsyncSynthClient.in_process(precision="full") as aclient:   # as the shared client asks
             with pytest.raises(NotAssemblableError) as err:
                 await aclient.analysis(broken)
             return (await aclient.analysis(EXAMPLE), await aclient.machine_types(),
