@@ -134,10 +134,17 @@ def critical_path(body: MachineOptimiseIn) -> dict[str, float]:
     machine stretches far less than wall time), and the longest path through them on two workers."""
     spec = machine_optimise_from(body, max_stages=6)
     scan, t_scan = _cpu(lambda: opt.scan_family(spec))
-    shares = [_cpu(lambda s=s: opt.design_members(spec, s, size_gears_at=(scan.chain_parameter,)))  # type: ignore[misc]
+    shares = [_cpu(lambda s=s: opt.scan_members(spec, s, scan.chain_parameter))  # type: ignore[misc]
               for s in member_tasks(scan.candidates, scan.chain_parameter)]
     by = {m.parameter: m for part, _ in shares for m in part}
     members = tuple(by[u] for u in scan.candidates)
+    t_members = _two_workers([t for _, t in shares])
+    t_scan_cpu = sum(t for _, t in shares)
+    while todo := opt.members_to_design(spec, scan, members):
+        round_ = [_cpu(lambda u=u: opt.design_members(spec, [u])) for u in todo]  # type: ignore[misc]
+        members = opt.with_designed(members, (m for part, _ in round_ for m in part))
+        t_members += _two_workers([t for _, t in round_])
+        t_scan_cpu += sum(t for _, t in round_)
     walks: list[Any] = []
     seen: list[Any] = []
     cut: list[float] = []
@@ -154,10 +161,10 @@ def critical_path(body: MachineOptimiseIn) -> dict[str, float]:
         t_cut += _two_workers([t for _, t in round_walks])
         t_plateaus += _two_workers([t for _, t in round_seen])
     _, t_end = _cpu(lambda: opt.conclude_search(spec, scan, members, walks, seen))
-    t_members = _two_workers([t for _, t in shares])
     path = t_scan + t_members + t_cut + t_plateaus + t_end
-    print(f"crank-rocker on 2 workers, CPU s here: scan {t_scan:.3f} | members {sum(t for _, t in shares):.2f} in "
-          f"{len(shares)} tasks ({shares[0][1]:.2f} the sized one), {t_members:.2f} on 2 workers "
+    print(f"crank-rocker on 2 workers, CPU s here: scan {t_scan:.3f} | members {t_scan_cpu:.2f} ({shares[0][1]:.2f} "
+          f"the chain's sized one; {sum(m.stage == opt.BOUNDED for m in members)} bounded only), {t_members:.2f} "
+          f"on 2 workers "
           f"| cells cut {' + '.join(f'{t:.2f}' for t in cut)} | {len(searched)} plateaus "
           f"{sum(searched):.2f} | conclusion {t_end:.2f} | critical path {path:.2f} s")
     return {"scan": t_scan, "members": t_members, "cells cut": t_cut, "plateaus": t_plateaus, "conclusion": t_end,

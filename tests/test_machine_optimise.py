@@ -233,7 +233,9 @@ def test_slider_crank_optimum_with_its_certificate(client: SynthClient,
     assert a.design.simulation.achieved_delta <= a.design.simulation.target_delta * (1 + 1e-3)
     c = a.certificate
     assert c.kinematic_members == engine.KINEMATIC_GRID and 0 < c.kinematic_feasible <= c.kinematic_members
-    assert c.members_designed == len(a.members) >= c.scan_members
+    # the scan's members bounded and not designed further are listed but not counted as designed
+    assert c.members_designed == sum(m.stage != "bounded" for m in a.members)
+    assert len(a.members) >= c.scan_members
     assert c.gap_bound is None and "no gap bound" in c.statement
     assert c.cells_found == len(c.refinements) == c.cells_searched + c.cells_pruned + c.cells_unsearched
     assert c.cells_searched <= engine.MAX_SEARCHED
@@ -333,7 +335,7 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
                   else (SLIDER_CRANK_OPTIMISE_EXAMPLE, slider_crank_answer))
     # the members of the service's densest scan (scan_members 64), from the cheap kinematic scan alone
     densest = engine.scan_family(machine_optimise_from(_body(example, scan_members=MAX_SCAN), 6)).candidates
-    scanned = {m.parameter for m in a.members if m.stage == "scan"}
+    scanned = {m.parameter for m in a.members if m.stage in ("scan", "bounded")}
     assert set(densest) <= scanned
     best, member = _scan_best(a)
     assert a.score <= best * (1 + 1e-4)
@@ -346,6 +348,21 @@ def test_default_answer_never_worse_than_the_densest_scan(client: SynthClient, w
     for v, w in zip(_objectives(d)[:3], (member.motor_power_W, member.added_mass_kg, member.rms_shaking_force_N),
                     strict=True):
         assert v == pytest.approx(w, rel=1e-9, abs=1e-9)
+
+
+def test_bounded_members_designed_here_never_beat_the_optimum(client: SynthClient,
+                                                            crank_rocker_answer: MachineOptimiseOut) -> None:
+    # a member the scan only bounded (its discrete choice's parts no better than the best found) is designed here
+    # through /v1/machines/design and scored from its own figures: never better than the answer
+    a = crank_rocker_answer
+    bounded = [m for m in a.members if m.stage == "bounded"]
+    designed = [m for m in a.members if m.stage != "bounded"]
+    assert bounded and a.certificate.members_designed == len(designed)
+    assert all(m.added_mass_kg is None and m.reason and "not designed further" in m.reason for m in bounded)
+    for m in bounded[:: max(1, len(bounded) // 4)]:
+        d = client.design_machine(_machine_request(CRANK_ROCKER_OPTIMISE_EXAMPLE, m.mechanism))
+        if d.passed:
+            assert _score(a, _objectives(d)) >= a.score * (1 - 1e-9), f"bounded member u={m.parameter:.6g} wins"
 
 
 def test_member_tasks_hold_every_member_once_the_sized_one_alone_and_first() -> None:

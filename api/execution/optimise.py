@@ -2,10 +2,11 @@
 
 The engine's :func:`synth.optimise_machine` runs its stages one after another in one process (a design study's
 variant does that). A request runs the same stages as separate tasks: the kinematic scan; the scan's members in
-small tasks the workers take in turn; rounds of cells (two at a time, each round's chosen against the best found
-before it), one task per cell to cut it into plateaus and one per plateau searched; and the conclusion, which
-renders the answer in its worker. The members are put back in the order the engine's own loop makes them, so both
-give the same answer.
+small tasks the workers take in turn (the chain's own designed, the others bounded), then rounds of the bounded
+members that could still win, one task each; rounds of cells (two at a time, each round's chosen against the best
+found before it), one task per cell to cut it into plateaus and one per plateau searched; and the conclusion,
+which renders the answer in its worker. The members are put back in the order the engine's own loop makes them,
+so both give the same answer.
 """
 
 from __future__ import annotations
@@ -24,9 +25,12 @@ from synth.machine.optimise import (
     conclude_search,
     design_members,
     designed,
+    members_to_design,
     next_cells,
     scan_family,
+    scan_members,
     search_plateau,
+    with_designed,
 )
 
 from .admission import RequestSolvers, in_turn, together
@@ -76,12 +80,18 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     spec = machine_optimise_from(body, lim.max_stages)
     t = lim.solver_time_limit_s
     scan = await solvers.run(scan_family, spec)
+    workers = solvers.solvers.workers
     tasks = member_tasks(scan.candidates, scan.chain_parameter)
-    parts = await in_turn([lambda share=share: solvers.run(design_members, spec, share, time_limit_s=t,  # type: ignore[misc]
-                                                           size_gears_at=(scan.chain_parameter,))
-                           for share in tasks], solvers.solvers.workers)
+    parts = await in_turn([lambda share=share: solvers.run(scan_members, spec, share,  # type: ignore[misc]
+                                                           scan.chain_parameter, time_limit_s=t)
+                           for share in tasks], workers)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
+    # rounds of the bounded members that could still win, as the engine runs them, one member a task
+    while bound_round := await solvers.run(members_to_design, spec, scan, members):
+        found = await in_turn([lambda u=u: solvers.run(design_members, spec, [u], time_limit_s=t)  # type: ignore[misc]
+                               for u in bound_round], workers)
+        members = with_designed(members, (m for part in found for m in part))
 
     async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other

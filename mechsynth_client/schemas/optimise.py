@@ -189,7 +189,9 @@ class FamilyMemberOut(BaseModel):
 
     parameter: float = Field(description="Family parameter u of the member (the crank pivot's place on its "
                              "circle; its sign the side of the chord for a crank-rocker) [-].")
-    stage: str = Field(description="scan (the steady machine), refine (a cell walked plateau by plateau), optimum or chain.")
+    stage: str = Field(description="scan (the steady machine), bounded (a scanned member bounded by its discrete "
+                       "choice and not designed further: that bound could not beat the best member found; its "
+                       "reason gives the bound), refine (a cell walked plateau by plateau), optimum or chain.")
     feasible: bool = Field(description="Its machine passes every check and meets the shaking limits.")
     reason: str | None = Field(description="Why not, when not feasible; null otherwise.")
     motor_power_W: float | None = Field(description="Rated power of its catalogue motor [W]; null when the chain "
@@ -270,7 +272,8 @@ class OptimiseCertificateOut(BaseModel):
     kinematic_feasible: int = Field(description="Of these, the members within every kinematic constraint.")
     feasible_runs: list[list[float]] = Field(description="Intervals [lo, hi] of u the kinematic constraints "
                                              "admit.")
-    members_designed: int = Field(description="Members the whole chain designed: scan and refinements.")
+    members_designed: int = Field(description="Members the chain designed to their steady machine: scan and "
+                                  "refinements (the bounded ones not counted).")
     feasible_designed: int = Field(description="Of these, the machines that pass every check and limit.")
     scan_members: int = Field(description="Members of the evenly spread scan (the chain's member among them).")
     refinements: list[RefinementOut] = Field(description="Every cell between neighbouring scanned members, in "

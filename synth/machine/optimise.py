@@ -69,6 +69,10 @@ DEFAULT_SCAN = 64
 #: may spend on bounded Brent after its two ends.
 MAX_SEARCHED = 2
 REFINE_EVALUATIONS = 2
+#: Members designed in full at a time after the scan's bounds, least bound first (each round's best prunes the next).
+BOUND_ROUND = 4
+#: The stage of a scanned member the search bounded and did not design further.
+BOUNDED = "bounded"
 #: Best members of the search designed through the whole chain, in turn, until one passes its start checks.
 FINAL_TRIES = 3
 #: Plateaus walked at most in one cell.
@@ -449,6 +453,92 @@ def design_members(spec: OptimiseSpec, parameters: Sequence[float], *, time_limi
     return tuple(_score_member(spec, float(u), stage, time_limit_s, float(u) in sized)[0] for u in parameters)
 
 
+def bounds_apply(spec: OptimiseSpec) -> bool:
+    """The scan may bound members instead of designing them: the objective holds only parts the discrete choice
+    and the balancing fix from below (motor power, balancing masses, shaking force); the machine's mass and cost
+    need every member's wheels and motor as the chain sizes them."""
+    return not spec.weighs_parts
+
+
+def bound_members(spec: OptimiseSpec, parameters: Sequence[float], *,
+                  time_limit_s: float = 20.0) -> tuple[MemberScore, ...]:
+    """Each member bounded (stage :data:`BOUNDED`), not designed: the chain up to its discrete choice (analysis,
+    balancing, the drive's split and teeth), with the parts of the objectives that fixes as ``floor_values``:
+    the motor before any upgrade the steady checks ask for (which only takes a larger one), the balancing masses
+    (the flywheel body, never negative, left out) and the shaking force after balancing. A member the chain
+    refuses in these stages is refused as the scan refuses it."""
+    out: list[MemberScore] = []
+    for u in parameters:
+        machine = spec.machine(_member(spec, float(u)))
+        machine = replace(machine, drive=replace(machine.drive, strength=None))
+        try:
+            c = discrete_choice(machine, time_limit_s=time_limit_s)
+        except (Infeasible, InvalidInput, SolverFailed, SolverTimeout) as exc:
+            out.append(MemberScore(float(u), None, None, False, f"the chain refuses it: {exc}", "scan"))
+            continue
+        floor = (c.motor_power, c.balancing_mass, c.rms_shaking_force, math.nan, math.nan)
+        out.append(MemberScore(float(u), None, None, False, None, BOUNDED, choice=c.choice, floor_values=floor))
+    return tuple(out)
+
+
+def scan_members(spec: OptimiseSpec, parameters: Sequence[float], chain_parameter: float, *,
+                 time_limit_s: float = 20.0) -> tuple[MemberScore, ...]:
+    """The scan's first pass over ``parameters``: the chain's own member designed in full (its wheels sized: the
+    gains report its mass and cost), the others bounded when :func:`bounds_apply`, else designed in full."""
+    out: list[MemberScore] = []
+    for u in parameters:
+        if u == chain_parameter or not bounds_apply(spec):
+            out += design_members(spec, [u], time_limit_s=time_limit_s, size_gears_at=(chain_parameter,))
+        else:
+            out += bound_members(spec, [u], time_limit_s=time_limit_s)
+    return tuple(out)
+
+
+def _scales_from_chain(members: Sequence[MemberScore], chain_parameter: float) -> bool:
+    """Every objective's scale is its value on the chain's machine, whatever the other members give."""
+    chain = next((m for m in members if m.parameter == chain_parameter and m.values is not None), None)
+    if chain is None or chain.values is None:
+        return False
+    return all(v > 0 or (OBJECTIVES[k] == "rms_shaking_force" and bool(chain.rms_shaking_force_before))
+               for k, v in enumerate(chain.values))
+
+
+def members_to_design(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore]) -> tuple[float, ...]:
+    """The bounded members to design in full next, :data:`BOUND_ROUND` at most, least bound first: those whose
+    bound is better than the best member designed, and their neighbours in the scan (so that every cell that
+    could still be searched has both ends designed, as it would had every member been designed). Every bounded
+    member when the objectives' scales do not all come from the chain's machine (they would then depend on
+    which members were designed). None when no bounded member could still win."""
+    bounded = [m for m in members if m.stage == BOUNDED]
+    if not bounded:
+        return ()
+    if not _scales_from_chain(members, scan.chain_parameter):
+        return tuple(m.parameter for m in bounded)
+    norm = normalisers(members, scan.chain_parameter)
+    every = _scores(spec, members, norm)
+    best = float(np.min(every)) if every.size else math.inf
+    scanned = sorted((m for m in members if m.stage in ("scan", BOUNDED)), key=lambda m: m.parameter)
+
+    def floor(m: MemberScore) -> float:
+        return -math.inf if m.floor_values is None else score(spec, m.floor_values, norm)
+
+    open_ = set()
+    for i, m in enumerate(scanned):
+        if floor(m) < best * (1 - 1e-12):
+            open_.add(m.parameter)
+            for j in (i - 1, i + 1):
+                if 0 <= j < len(scanned) and _run_of(scan, scanned[j].parameter) == _run_of(scan, m.parameter):
+                    open_.add(scanned[j].parameter)
+    todo = sorted((m for m in bounded if m.parameter in open_), key=lambda m: (floor(m), m.parameter))
+    return tuple(m.parameter for m in todo[:BOUND_ROUND])
+
+
+def with_designed(members: Sequence[MemberScore], designed: Iterable[MemberScore]) -> tuple[MemberScore, ...]:
+    """``members`` with the bounded ones that were since ``designed`` in their place."""
+    by = {m.parameter: m for m in designed}
+    return tuple(by.get(m.parameter, m) for m in members)
+
+
 def normalisers(members: Iterable[MemberScore], chain_parameter: float) -> tuple[float, ...]:
     """Each objective's scale: its value on the chain's machine, else the largest over the members designed,
     else 1 (an objective that is zero everywhere weighs nothing). A balanced machine's RMS shaking force is
@@ -528,7 +618,7 @@ def cells(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore],
     across the cell. The cells whose (lo, hi) are in ``done`` are searched; of the others, a cell whose bound is
     no better than the best score of every member designed is pruned, and the rest are open."""
     norm = normalisers(members, scan.chain_parameter)
-    scanned = sorted((m for m in members if m.stage == "scan"), key=lambda m: m.parameter)
+    scanned = sorted((m for m in members if m.stage in ("scan", BOUNDED)), key=lambda m: m.parameter)
     s = _scores(spec, scanned, norm)
     every = _scores(spec, members, norm)
     best = float(np.min(every)) if every.size else math.inf
@@ -725,7 +815,19 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
         gains.append(Gain(name, unit, c, values[k], c - values[k], (c - values[k]) / norm[k]))
     a, b = (OBJECTIVES.index(n) for n in spec.pareto)
     binding = _binding(spec, scan, design, best.parameter)
-    designed = len(members)
+    bounded = [k for k, m in enumerate(members) if m.stage == BOUNDED]
+    if bounded:
+        # what the bound was measured against: the best member found, the search's included
+        best_score = float(np.min(s))
+        members = list(members)
+        for k in bounded:
+            m = members[k]
+            floor = score(spec, m.floor_values, norm) if m.floor_values is not None else math.nan
+            members[k] = replace(m, reason=f"not designed further: its bound {floor:.6g} (motor, balancing masses and "
+                                 f"shaking force its discrete choice fixes, the flywheel body left out) is no "
+                                 f"better than the best member found ({best_score:.6g})")
+        members = tuple(members)
+    designed = len(members) - len(bounded)
     feasible = int(np.isfinite(s).sum())
     searched = {(r.lo, r.hi): r for r in refinements}
     # what is still open once the search has stopped was left by the budget
@@ -735,8 +837,14 @@ def conclude(spec: OptimiseSpec, scan: FamilyScan, members: Sequence[MemberScore
     statement = (
         f"{scan.grid_points} members of the family checked kinematically at once ({scan.feasible_points} within "
         f"the bounds and the transmission-angle limit, in {len(scan.runs)} run(s) of the parameter); "
-        f"{len(scan.candidates)} spread evenly over the feasible runs (the chain's own member among them) run "
-        f"through the chain to their steady machine. Members sharing the chain's motor and tooth numbers form "
+        f"{len(scan.candidates)} spread evenly over the feasible runs (the chain's own member among them) "
+        + (f"bounded first by the chain up to its discrete choice (the motor, the balancing masses and the shaking "
+           f"force that choice fixes; the flywheel body, never negative, left out); the chain's own member and "
+           f"the {len(scan.candidates) - len(bounded) - 1} whose bound (or a neighbour's) could still beat the "
+           f"best member found run through the chain to their steady machine, least bound first, {BOUND_ROUND} "
+           f"at a time; the {len(bounded)} others could not win and were not designed further. "
+           if bounded else "run through the chain to their steady machine. ")
+        + f"Members sharing the chain's motor and tooth numbers form "
         f"plateaus of the parameter on which the objective is continuous. Of the {len(found)} cells between "
         f"neighbouring scanned members, {counts['pruned']} were pruned: their least score from the motor, the "
         f"balancing masses and the shaking force at their ends (the flywheel body, never negative, left out) is "
@@ -804,8 +912,9 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
     Raises InvalidInput or Infeasible naming the request field, or Infeasible when no member meets the checks.
     """
     scan = scan_family(spec)
-    members = design_members(spec, scan.candidates, time_limit_s=time_limit_s,
-                             size_gears_at=(scan.chain_parameter,))
+    members = scan_members(spec, scan.candidates, scan.chain_parameter, time_limit_s=time_limit_s)
+    while bound_round := members_to_design(spec, scan, members):
+        members = with_designed(members, design_members(spec, bound_round, time_limit_s=time_limit_s))
     walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
     seen: list[tuple[MemberScore, ...]] = []
     # rounds of cells, each round's cells chosen against the best of every member designed before it

@@ -24,7 +24,7 @@ from reportlab.lib.styles import getSampleStyleSheet
 from reportlab.lib.units import mm
 from reportlab.platypus import Paragraph, SimpleDocTemplate, Spacer, Table, TableStyle
 
-from .optimise import OBJECTIVES, OBJECTIVE_UNITS, MachineOptimum, _scores
+from .optimise import BOUNDED, OBJECTIVES, OBJECTIVE_UNITS, MachineOptimum, _scores, score
 from .record import DesignRecord
 from .report import design_report_pdf
 
@@ -91,7 +91,12 @@ def coverage_figure(opt: MachineOptimum) -> Figure:
     ok = np.isfinite(s)
     u = np.array([m.parameter for m in members])
     scanned = np.array([m.stage == "scan" for m in members])
-    shown = [float(v) for v in s[ok]] + [r.bound for r in c.refinements if math.isfinite(r.bound)]
+    bounded = np.array([m.stage == BOUNDED for m in members])
+    # a bounded member is drawn at its bound: its score is at least that
+    floors = np.array([score(opt.spec, m.floor_values, opt.normalisers) if m.floor_values is not None else np.nan
+                       for m in members])
+    shown = ([float(v) for v in s[ok]] + [r.bound for r in c.refinements if math.isfinite(r.bound)]
+             + [float(v) for v in floors[bounded] if np.isfinite(v)])
     lo, hi = (min(shown), max(shown)) if shown else (0.0, 1.0)
     pad = 0.05 * (hi - lo or abs(hi) or 1.0)
     top = hi + 3 * pad
@@ -102,8 +107,11 @@ def coverage_figure(opt: MachineOptimum) -> Figure:
             ax.plot([r.lo, r.hi], [r.bound, r.bound], color=colour, lw=1.5)
     ax.plot(u[ok & scanned], s[ok & scanned], "o", ms=4, color="#1565c0", label="scanned member")
     ax.plot(u[ok & ~scanned], s[ok & ~scanned], "x", ms=4, color="#6a1b9a", label="member of a searched cell")
-    if (~ok).any():
-        ax.plot(u[~ok], np.full(int((~ok).sum()), top), "v", ms=5, color="#c62828",
+    if bounded.any():
+        ax.plot(u[bounded], floors[bounded], "^", ms=4, mfc="none", color="#757575",
+                label="bounded, not designed further (drawn at its bound)")
+    if (~ok & ~bounded).any():
+        ax.plot(u[~ok & ~bounded], np.full(int((~ok & ~bounded).sum()), top), "v", ms=5, color="#c62828",
                 label="refused or failing a check (drawn at the top)")
     if opt.chain_score is not None:
         ax.plot([opt.chain.parameter], [opt.chain_score], "D", ms=8, mfc="none", mec="black", label="chain's member")
@@ -116,7 +124,7 @@ def coverage_figure(opt: MachineOptimum) -> Figure:
     ax.set_ylabel("score (weighted objectives over the chain's) [-]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", fontsize=8, ncols=2)
-    fig.suptitle(f"How the family was covered: {len(members)} members designed, {len(c.refinements)} cells; "
+    fig.suptitle(f"How the family was covered: {c.members_designed} members designed, {len(c.refinements)} cells; "
                  f"optimum u = {opt.parameter:.6g}, score {opt.score:.5g}", fontsize=11)
     return fig
 
