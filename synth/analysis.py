@@ -143,7 +143,7 @@ def analyse(
     arrays = link_arrays(base, linkage)
     coms = {f"S_{link}": PointState(arrays.com_pos[i], arrays.com_vel[i], arrays.com_acc[i])
             for i, link in enumerate(links)}
-    mot = base.with_points(extra, coms)
+    mot = base.with_points(extra, coms, states_checked=True)   # the stacked arrays are (L, N, 2) by construction
     loads = external_loads(mot, linkage)
     kin = solve_direct(mot, linkage, arrays, loads)
     vp = virtual_power_torque(mot, linkage, arrays, loads)

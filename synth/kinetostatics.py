@@ -905,7 +905,7 @@ def solve_direct(motion: Motion, linkage: Linkage, arrays: LinkArrays | None = N
     if linkage.gravity is not None:  # the weights' resultant and its moment about O
         g = linkage.gravity.vector
         if arrays.mass.ndim == 1:
-            force = force - arrays.mass.sum() * g
+            force = force - np.add.reduce(arrays.mass) * g
             first = (arrays.mass @ arrays.com_pos.reshape(len(arrays.mass), -1)).reshape(-1, 2)
         else:   # masses per sample (link_arrays_per_sample)
             force = force - arrays.mass.sum(axis=0)[:, None] * g

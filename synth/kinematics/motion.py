@@ -161,13 +161,14 @@ class Motion:
         return state
 
     def with_points(self, points: Mapping[str, tuple[str, tuple[float, float]]],
-                    states: Mapping[str, PointState] | None = None) -> Motion:
+                    states: Mapping[str, PointState] | None = None, *, states_checked: bool = False) -> Motion:
         """A copy with named extra points (centres of mass, coupler points): name -> (link, local xy), and
         points whose kinematics the caller has already resolved (``states``: name -> position, velocity,
-        acceleration)."""
+        acceleration; ``states_checked`` when the caller made them (N, 2) from this motion's own arrays)."""
         pos, vel, acc = dict(self.point_pos), dict(self.point_vel), dict(self.point_acc)
         shape = (self.samples, 2)
-        if bad := [k for k, s in (states or {}).items() if any(a.shape != shape for a in s)]:
+        if not states_checked and (
+                bad := [k for k, s in (states or {}).items() if any(a.shape != shape for a in s)]):
             raise InvalidInput(f"points with wrong shape, expected {shape}: {bad}")
         for name, state in (states or {}).items():
             pos[name], vel[name], acc[name] = state
