@@ -197,7 +197,8 @@ def _assemble(motion: Motion, topo: Topology, row_pos: tuple[int, ...], col_pos:
 class _MomentPlan:
     """Where each revolute lever enters the moment rows, fixed per topology and column order: the lever of
     joint point ``joint_points[p]`` about the frame origin ``origin_points[p]`` of link ``link[p]``, with
-    ``sign`` (+1 on the receiving link, -1 on the giving one), in columns ``col_x[p]`` and ``col_y[p]``."""
+    ``sign`` (+1 on the receiving link, -1 on the giving one), in columns ``col_x[p]`` and ``col_y[p]``. A joint at
+    its link's own origin has no lever there and no entry."""
 
     points: tuple[str, ...]
     joint_points: IndexArray
@@ -233,7 +234,8 @@ def _moment_plan(topo: Topology, col_pos: tuple[int, ...], origins: tuple[str, .
                 continue
             i = links.index(body)
             if joint.kind == "revolute":
-                rev.append((index(joint.point), index(origins[i]), i, cx, cy, sign))
+                if joint.point != origins[i]:   # a joint at its link's origin has no lever: no entry to make
+                    rev.append((index(joint.point), index(origins[i]), i, cx, cy, sign))
             else:
                 prismatic.append((j, i, cx, cy, sign))
     cols = np.array(rev, dtype=float).reshape(-1, 6)

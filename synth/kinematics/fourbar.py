@@ -162,10 +162,13 @@ def loop_closure(a: float | FloatArray, ground: float | FloatArray, b: float | F
     # one array operation instead of two.
     pin = a * unit(phi)
     to_q = ground - pin
-    dist = np.abs(to_q)
+    # |to_q| from its squared length, which the circle intersection needs anyway (np.abs of a complex number is
+    # a slower hypot)
+    dist2 = to_q.real * to_q.real + to_q.imag * to_q.imag
+    dist = np.sqrt(dist2)
     bad = (dist > b + c + 1e-12) | (dist < np.abs(b - c) - 1e-12) | (dist == 0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = (b * b - c * c + dist * dist) / (2 * dist)
+        x = (b * b - c * c + dist2) / (2 * dist)
         h = np.sqrt(np.maximum(b * b - x * x, 0.0))          # np.clip's result, without its Python layers
         bpos = pin + (to_q / dist) * (x + (1j * branch) * h)
         e2 = (bpos - pin) / b
