@@ -6,12 +6,17 @@ for the same machine: analyse, balance, re-analyse, choose the drive, pick teeth
 motor (every method, each checked by the adaptive shooting of ``steady_speed_motor``). Prints medians [ms], the
 ratios, the same design at 3 600 samples against 360, and the chain in compute units timed in the same run
 (:func:`bench._timing.compute_unit`): the goals are at most 4 units at 360 samples and at most twice that time at
-3 600.
+3 600. Then each stage's share of the chain (cProfile's cumulative time of the stage's function, so shares of
+Python-heavy stages read a little high), and the goals as they are judged: ``POST /v1/machines/design`` on the
+service's own app and workers in-process (MachineIn's example 0, at 360 and 3 600 samples, each request new to
+the service), in units.
 """
 
 from __future__ import annotations
 
+import cProfile
 import math
+import pstats
 import statistics
 import time
 from collections.abc import Callable
@@ -53,6 +58,59 @@ def _stage_by_stage(spec: synth.MachineSpec) -> float:
     return result.design.flywheel_inertia
 
 
+#: The chain's stages as the profile names their functions: (label, file suffix, function name).
+STAGES = (("analysis", "synth/analysis.py", "analyse"), ("balancing", "synth/machine/chain.py", "_balance"),
+          ("drive and teeth", "synth/gearing/drive.py", "design_drive"),
+          ("gear sizing for strength", "synth/gearing/sizing.py", "size_stage"),
+          ("flywheel", "synth/machine/chain.py", "_flywheel"),
+          ("start-up", "synth/machine/startup.py", "simulate_startup"),
+          ("run-down", "synth/machine/startup.py", "simulate_rundown"),
+          ("steady simulation", "synth/machine/simulate.py", "simulate_machine"))
+
+
+def _shares(spec: synth.MachineSpec) -> list[tuple[str, float]]:
+    """Each stage's share of one chain run, from cProfile's cumulative times (a stage's first call only counts
+    where stages nest: the steady simulation also runs inside start-up and run-down)."""
+    profile = cProfile.Profile()
+    profile.enable()
+    synth.design_machine(spec)
+    profile.disable()
+    stats = pstats.Stats(profile).stats  # type: ignore[attr-defined]
+    total = max((v[3] for (f, _, name), v in stats.items() if f.endswith("chain.py") and name == "design_machine"),
+                default=0.0)
+    out = []
+    for label, suffix, fn in STAGES:
+        cum = sum(v[3] for (f, _, name), v in stats.items() if f.endswith(suffix) and name == fn)
+        out.append((label, cum / total if total else 0.0))
+    return out
+
+
+def _service(unit_s: float) -> None:
+    """The goals as judged: the service's own app and workers in-process, POST /v1/machines/design."""
+    from fastapi.testclient import TestClient
+
+    from api.app import app
+
+    body = dict(MachineIn.model_json_schema()["examples"][0], samples=360)
+    runs = iter(range(1, 1000))
+    with TestClient(app, base_url="http://127.0.0.1") as client:
+        def post(samples: int) -> float:
+            # delta a part in 1e9 apart each time: the web process holds the designs it just made, and a request
+            # it holds is answered without the chain this measures
+            request = dict(body, samples=samples, delta=body["delta"] * (1 + 1e-9 * next(runs)))
+            t0 = time.perf_counter()
+            r = client.post("/v1/machines/design", json=request)
+            assert r.status_code == 200, r.text[:300]
+            return time.perf_counter() - t0
+
+        post(360)
+        post(3600)
+        t360 = statistics.median(post(360) for _ in range(5))
+        t3600 = statistics.median(post(3600) for _ in range(3))
+    print(f"service POST /v1/machines/design: 360 samples {t360 / unit_s:.1f} units (goal <= 4), "
+          f"3 600/360 {t3600 / t360:.2f}x (goal <= 2)   ({1e3 * t360:.0f} and {1e3 * t3600:.0f} ms here)")
+
+
 def main() -> None:
     """Time the chain and the stage-by-stage baseline on the same machine; print medians and the ratio."""
     spec = machine_from(MachineIn.model_validate(PRESS_EXAMPLE), max_stages=6)
@@ -80,6 +138,9 @@ def main() -> None:
           f"(goal <= 2)")
     print(f"compute unit {unit_ms:.1f} ms: the chain at 360 samples {t_chain / unit_ms:.1f} units (goal <= 4), "
           f"stage by stage {t_base / unit_ms:.1f} units   (speed {spec.speed / (math.pi / 30):.0f} rpm)")
+    print("shares of the chain at 360 samples (cProfile, cumulative): " + ", ".join(
+        f"{label} {100 * share:.0f} %" for label, share in _shares(spec)))
+    _service(min(unit_ms / 1e3, compute_unit()))
 
 
 if __name__ == "__main__":
