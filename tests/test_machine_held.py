@@ -66,6 +66,10 @@ def test_the_record_of_the_design_just_made_is_written_from_it(counted: tuple[Te
     assert len(calls) == 1
     other = c.post("/v1/machines/design?format=pdf", json={**FOURBAR_MACHINE, "speed_rpm": 290})
     assert other.status_code == 200 and len(calls) == 2
+    # a JSON answer is always designed anew (its time is the design's), and the same numbers come back
+    again = c.post("/v1/machines/design", json=FOURBAR_MACHINE)
+    assert again.status_code == 200 and len(calls) == 3
+    assert again.json()["checks"] == design["checks"]
 
 
 def test_few_results_are_held_and_the_least_recently_used_goes_first() -> None:

@@ -60,6 +60,10 @@ class Spooled:
     media_type: str
 
 
+#: The formats written from a held result rather than by designing again.
+DOCUMENTS = frozenset({"pdf", "png"})
+
+
 def answer_task(render: Render, spool_above: int, fn: Callable[..., Any], args: tuple[Any, ...],
                 kwargs: dict[str, Any]) -> tuple[bytes, str] | Spooled:
     """Worker side of a request whose answer may be large: beyond ``spool_above`` bytes it goes to a file."""
@@ -323,11 +327,12 @@ class RequestSolvers:
 
     async def answer_held(self, plan: Plan, request: Request, fmt: str | None, key: tuple[str, str]) -> Response:
         """:meth:`answer_plan` for a plan whose result the process holds under ``key`` (the user and the hash of
-        the canonical request): a result held is only rendered (no engine work), a new one is held."""
+        the canonical request): a document (PDF, PNG) of a result held is only rendered (no engine work); a JSON
+        answer is always designed anew, so its time is the design's, and held."""
         chosen = negotiate(request, fmt, plan.offered)
         render = replace(plan.render, fmt=chosen, max_bytes=self.settings.max_answer_bytes, precision=self.precision)
         spool = self.settings.spool_above_bytes
-        held = self.solvers.held.get(key)
+        held = self.solvers.held.get(key) if chosen in DOCUMENTS else None
         if held is not None:
             answer = await self.solvers.run(self.deadline, answer_task, render, spool, given, (held,), {})
         else:
