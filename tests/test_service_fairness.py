@@ -115,7 +115,8 @@ def test_answers_are_bounded_in_size_and_large_ones_streamed(tmp_path: Path) -> 
     body = {"mechanism": FOURBAR_EXAMPLE, "speed_rpm": 300, "samples": 20_000}
     whole = Settings(workers=1, studies_db=str(tmp_path / "a.sqlite"), spool_above_bytes=1_000_000_000)
     with TestClient(create_app(whole)) as c:
-        reference = c.post("/v1/analysis", json=body)
+        # in full precision: the bound's estimate (20 bytes a number) is for the engine's every digit
+        reference = c.post("/v1/analysis", params={"precision": "full"}, json=body)
     assert reference.status_code == 200 and "content-length" in reference.headers
     size = len(reference.content)
     # The estimate (20 bytes a number) is within a fifth of the JSON the engine's numbers make.
@@ -123,12 +124,12 @@ def test_answers_are_bounded_in_size_and_large_ones_streamed(tmp_path: Path) -> 
     spooled = Settings(workers=1, studies_db=str(tmp_path / "b.sqlite"), spool_above_bytes=100_000,
                        max_answer_bytes=int(numbers * 20 * 1.25))
     with TestClient(create_app(spooled)) as c:
-        streamed = c.post("/v1/analysis", json=body)
+        streamed = c.post("/v1/analysis", params={"precision": "full"}, json=body)
         assert streamed.status_code == 200 and streamed.content == reference.content
         assert int(streamed.headers["content-length"]) == size
     bounded = Settings(workers=1, studies_db=str(tmp_path / "c.sqlite"), max_answer_bytes=int(size * 0.8))
     with TestClient(create_app(bounded)) as c:
-        refused = c.post("/v1/analysis", json=body)
+        refused = c.post("/v1/analysis", params={"precision": "full"}, json=body)
         assert refused.status_code == 413 and refused.json()["field"] == "samples"
         assert "format=npz" in refused.json()["detail"]
         # As npz (8 bytes a number) the same answer is within the bound.

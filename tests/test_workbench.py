@@ -26,6 +26,10 @@ from service import running_service
 
 REPO = Path(__file__).resolve().parents[1]
 CHROMIUM = "/usr/bin/chromium"
+# The page holds the service's default JSON answers, whose curves are in single precision (float32's spacing is
+# 2**-23 of each value: a position of 0.5 m within 6e-8 m); 1e-6 of the scale leaves room for the page's own
+# arithmetic on them.
+CURVES = 1e-6
 # Playwright's own browser download is not reachable: the system's Chromium, headless and quiet on the network.
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import Page
 
-from test_workbench import SHOTS, base_url, browser, open_page  # noqa: F401  (the service and the browser, per module)
+from test_workbench import CURVES, SHOTS, base_url, browser, open_page  # noqa: F401  (the service and the browser, per module)
 
 
 @pytest.fixture
@@ -84,7 +84,8 @@ def test_a_crank_rocker_in_a_pivot_region_is_drawn_in_it_and_turns(page: Page, b
     # drawn in the region's frame: the rocker pivot at the origin, the crank pivot where the answer puts it,
     # inside the box drawn from the fields (to the drawing's 7 significant digits)
     assert _region(page) == pytest.approx(region, abs=1e-9)
-    assert np.allclose(_joint(page, "Q"), [0, 0], atol=1e-9) and np.allclose(_joint(page, "O"), pivot, atol=1e-9)
+    assert np.allclose(_joint(page, "Q"), [0, 0], atol=CURVES)
+    assert np.allclose(_joint(page, "O"), pivot, atol=CURVES)
     mech = direct["mechanism"]
     for name, other, length in (("O", "A", mech["crank_length_m"]), ("A", "B", mech["coupler_length_m"]),
                                 ("Q", "B", mech["rocker_length_m"]), ("O", "Q", mech["ground_length_m"])):
@@ -145,7 +146,7 @@ def test_path_fits_and_cognates_are_listed_and_a_click_draws_the_one_chosen(page
         o, q = pivots(f)
         # the design chosen is the one drawn: its ground pivots where the service puts them, in the targets'
         # frame, and both within the box (IPOPT's bound tolerance, 1e-8 m)
-        assert np.allclose(_joint(page, "O"), o, atol=1e-9) and np.allclose(_joint(page, "Q"), q, atol=1e-9)
+        assert np.allclose(_joint(page, "O"), o, atol=CURVES) and np.allclose(_joint(page, "Q"), q, atol=CURVES)
         for p in (o, q):
             assert box["x_min_m"] - 1e-8 <= p[0] <= box["x_max_m"] + 1e-8
             assert box["y_min_m"] - 1e-8 <= p[1] <= box["y_max_m"] + 1e-8
@@ -177,5 +178,5 @@ def test_a_slider_crank_is_drawn_with_its_slider_on_its_guide(page: Page, base_u
     assert float(np.hypot(*(a - o))) == pytest.approx(mech["crank_length_m"], rel=1e-6)
     assert float(np.hypot(*(b - a))) == pytest.approx(mech["rod_length_m"], rel=1e-6)
     _played(page)
-    assert abs(_joint(page, "B")[1] - b[1]) < 1e-9   # the slider stays on its guide
+    assert abs(_joint(page, "B")[1] - b[1]) < CURVES   # the slider stays on its guide
     page.locator("#panel-synthesis").screenshot(path=str(SHOTS / "synthesis-slider-crank.png"))
