@@ -33,7 +33,7 @@ from synth.machine.optimise import (
     with_designed,
 )
 
-from .admission import RequestSolvers, in_turn, together
+from .admission import RequestSolvers, in_turn
 from synth.machine.record import DesignRecord
 
 from .plans import SERVICE_VERSION, Limits, machine_optimise_conclusion
@@ -93,19 +93,24 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
                                for u in bound_round], workers)
         members = with_designed(members, (m for part in found for m in part))
 
+    # the cells' walks side by side on the workers, each cell's plateaus within the service's slots left to it: the
+    # request never holds more slots than the service has (a service of one worker and no queue runs them in turn)
+    plateaus_at_once = max(1, solvers.solvers.capacity // max(1, workers))
+
     async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
         # cells' walks
         walk = await solvers.run(cell_plateaus, spec, members, r, time_limit_s=t)
-        return walk, await together(solvers.run(search_plateau, spec, scan, members, p, time_limit_s=t)
-                                    for p in walk[1])
+        return walk, await in_turn([lambda p=p: solvers.run(search_plateau, spec, scan, members,  # type: ignore[misc]
+                                                            p, time_limit_s=t)
+                                    for p in walk[1]], plateaus_at_once)
 
     walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
     seen: list[tuple[MemberScore, ...]] = []
     # rounds of cells as the engine runs them, each chosen against the best of every member designed before it
     while todo := await solvers.run(next_cells, spec, scan, members + designed(seen),
                                     tuple((r.lo, r.hi) for r, _ in walks)):
-        for walk, found in await together(search(r) for r in todo):
+        for walk, found in await in_turn([lambda r=r: search(r) for r in todo], workers):  # type: ignore[misc]
             walks.append(walk)
             seen.extend(found)
     record = DesignRecord.of(body.model_dump(mode="json"), name="machine optimisation", version=SERVICE_VERSION)
