@@ -8,6 +8,8 @@ import re
 import shutil
 import subprocess
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -79,12 +81,18 @@ def test_every_label_lies_in_its_drawing_apart_from_the_others(design: Any) -> N
         plt.close(fig)
 
 
-@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils' pdftotext reads the PDF's word boxes")
-def test_the_pdf_drawings_page_has_no_word_over_another(design: Any) -> None:
-    pdf = design_report_pdf(design, record=DesignRecord("press", "x", "-", BODY, "0" * 64))
+@contextmanager
+def _record_file(design: Any) -> Iterator[Path]:
+    """The design's record written to a PDF file in a scratch directory, for poppler's tools to read."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "record.pdf"
-        path.write_bytes(pdf)
+        path.write_bytes(design_report_pdf(design, record=DesignRecord("press", "x", "-", BODY, "0" * 64)))
+        yield path
+
+
+@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils' pdftotext reads the PDF's word boxes")
+def test_the_pdf_drawings_page_has_no_word_over_another(design: Any) -> None:
+    with _record_file(design) as path:
         html = subprocess.run(["pdftotext", "-bbox-layout", str(path), "-"], check=True, capture_output=True,
                               text=True).stdout
     pages = html.split("<page ")[1:]
@@ -112,12 +120,9 @@ def test_the_pdf_drawings_page_has_no_word_over_another(design: Any) -> None:
 
 @pytest.mark.skipif(shutil.which("pdftoppm") is None, reason="poppler-utils' pdftoppm renders the PDF's pages")
 def test_no_page_of_the_record_is_near_empty(design: Any) -> None:
-    pdf = design_report_pdf(design, record=DesignRecord("press", "x", "-", BODY, "0" * 64))
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "record.pdf"
-        path.write_bytes(pdf)
-        subprocess.run(["pdftoppm", "-r", "30", "-gray", str(path), str(Path(tmp) / "page")], check=True)
-        pages = sorted(Path(tmp).glob("page*.pgm"), key=lambda f: int(re.findall(r"\d+", f.stem)[-1]))
+    with _record_file(design) as path:
+        subprocess.run(["pdftoppm", "-r", "30", "-gray", str(path), str(path.parent / "page")], check=True)
+        pages = sorted(path.parent.glob("page*.pgm"), key=lambda f: int(re.findall(r"\d+", f.stem)[-1]))
         assert len(pages) >= 6
         for n, page in enumerate(pages, 1):
             header, width_height, _, data = page.read_bytes().split(b"\n", 3)
