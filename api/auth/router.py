@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import asyncio
 import collections
+import contextlib
 import math
+import os
 import threading
 import time
 from collections.abc import Callable
@@ -64,7 +66,18 @@ ADDRESS_WINDOW_S = 60.0
 # never on the pool that recognises callers or serves the routes; beyond this many waiting, sign-in answers 429.
 HASH_THREADS = 1
 MAX_HASHES_WAITING = 4
-_HASHING = ThreadPoolExecutor(max_workers=HASH_THREADS, thread_name_prefix="password-hash")
+#: The hashing threads' niceness: a spray's hashes take the core only when the routes leave it idle.
+HASH_NICENESS = 10
+
+
+def _lower_priority() -> None:
+    """The calling thread yields the core to the routes (Linux's niceness is a thread's own)."""
+    with contextlib.suppress(OSError, AttributeError):
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), HASH_NICENESS)
+
+
+_HASHING = ThreadPoolExecutor(max_workers=HASH_THREADS, thread_name_prefix="password-hash",
+                              initializer=_lower_priority)
 
 
 class Failures:
