@@ -10,7 +10,9 @@ complete ``SYNTH_HEADER_TIMEOUT_S`` after it opened (or after its previous answe
 One client could still take every one of the ``SYNTH_MAX_CONNECTIONS`` by holding slow sockets open (each closed
 after the head timeout and opened again at once): the protocol also counts open connections per client address,
 and a connection beyond ``SYNTH_MAX_CONNECTIONS_PER_CLIENT`` from one address is answered 503 and closed at once,
-before it costs a request, so the other clients (and ``/health``) keep their places.
+before it costs a request, so the other clients (and ``/health``) keep their places. A flood of new
+connections waits in the kernel's queue of ``SYNTH_ACCEPT_BACKLOG`` (uvicorn's 2 048 would let one turn of the
+event loop accept, and refuse, thousands while the requests in progress wait).
 """
 
 from __future__ import annotations
@@ -39,6 +41,11 @@ class HeaderTimeout(H11Protocol):
     # open connections per client address, over every connection of this process (one event loop)
     open_from: dict[str, int] = {}
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        # uvicorn's own set-up (its h11 connection, its state) waits until the connection is admitted: a crowd
+        # refused at once costs only the refusal
+        self._setup = (args, kwargs)
+
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
         self._header_timer: asyncio.TimerHandle | None = None
         peer = transport.get_extra_info("peername")
@@ -53,6 +60,8 @@ class HeaderTimeout(H11Protocol):
                 transport.close()
                 return
             self.open_from[self._address] = count + 1
+        args, kwargs = self._setup
+        super().__init__(*args, **kwargs)
         super().connection_made(transport)
         self._arm()
 
@@ -106,7 +115,7 @@ def config(host: str, port: int, settings: Settings, **extra: Any) -> uvicorn.Co
                                                                      settings.max_connections_per_client),
                           limit_concurrency=settings.max_connections,
                           timeout_keep_alive=settings.keep_alive_s,  # type: ignore[arg-type]
-                          **extra)
+                          backlog=settings.accept_backlog, **extra)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -99,6 +99,10 @@ class Settings(BaseSettings):
     max_connections_per_client: int = Field(100, ge=1, le=1_000_000, description="Open connections from one "
                                             "client address at once; beyond, its new connections are answered "
                                             "503 and closed (the others' are not).")
+    accept_backlog: int = Field(128, ge=1, le=65_535, description="Connections the kernel holds waiting to be "
+                                "accepted, and the most the service accepts in one turn of its event loop; a "
+                                "flood of new connections beyond waits in the kernel instead of stalling the "
+                                "requests in progress.")
     admin_name: str | None = Field(None, min_length=1, max_length=64,
                                    description="A first admin created at start when no user of that name exists.")
     admin_password: SecretStr | None = Field(None, description="The first admin's password (with admin_name).")
