@@ -7,6 +7,7 @@ rounding of a published shift), so a pair never jams and never carries a shift i
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -130,11 +131,7 @@ def pair_geometry(z1: int, z2: int, normal_module: float, face_width: float, hel
     beta_b = math.atan(math.tan(beta) * math.cos(alpha_t))
     d = np.array([z1, z2]) * mn / math.cos(beta)
     db = d * math.cos(alpha_t)
-    if face_width > max_face_width_ratio * d[0]:
-        raise InvalidInput(
-            f"face width {face_width * 1e3:.4g} mm exceeds {max_face_width_ratio:g} pinion reference diameters "
-            f"({max_face_width_ratio * d[0] * 1e3:.4g} mm): the load would not spread across it",
-            field="face_width_mm")
+    _check_face_width(face_width, max_face_width_ratio, float(d[0]))
     a0 = (d[0] + d[1]) / 2
     alpha_w_shift = inv_inverse(inv(alpha_t) + 2 * math.tan(an) * (x1 + x2) / (z1 + z2))
     a_shift = a0 * math.cos(alpha_t) / math.cos(alpha_w_shift)
@@ -165,7 +162,7 @@ def pair_geometry(z1: int, z2: int, normal_module: float, face_width: float, hel
             raise InvalidInput(f"the {name.split('_')[0]}'s teeth are pointed: tip thickness "
                                f"{s_at[i] * math.cos(beta) / mn:.3f} modules (at least 0.1); reduce the profile "
                                "shift", field=name)
-    eps_beta = face_width * math.sin(beta) / (math.pi * mn)
+    eps_beta = _overlap_ratio(face_width, beta, mn)
     zn = np.array([z1, z2]) / (math.cos(beta_b) ** 2 * math.cos(beta))
     rho = db / 2 * math.tan(alpha_wt)
     rho_red = float(rho[0] * rho[1] / (rho[0] + rho[1]))
@@ -174,3 +171,25 @@ def pair_geometry(z1: int, z2: int, normal_module: float, face_width: float, hel
         (float(d[0]), float(d[1])), (float(db[0]), float(db[1])), (float(da[0]), float(da[1])),
         (float(df[0]), float(df[1])), (float(dw[0]), float(dw[1])), eps_alpha, float(eps_beta),
         (float(zn[0]), float(zn[1])), rho_red)
+
+
+def _check_face_width(face_width: float, max_face_width_ratio: float, d1: float) -> None:
+    if face_width > max_face_width_ratio * d1:
+        raise InvalidInput(
+            f"face width {face_width * 1e3:.4g} mm exceeds {max_face_width_ratio:g} pinion reference diameters "
+            f"({max_face_width_ratio * d1 * 1e3:.4g} mm): the load would not spread across it",
+            field="face_width_mm")
+
+
+def _overlap_ratio(face_width: float, helix_angle: float, normal_module: float) -> float:
+    return float(face_width * math.sin(helix_angle) / (math.pi * normal_module))
+
+
+def with_face_width(g: PairGeometry, face_width: float, max_face_width_ratio: float = 1.5) -> PairGeometry:
+    """The same pair with another face width [m]: the face width and the overlap ratio are all it changes.
+    Raises InvalidInput as :func:`pair_geometry` does for a width that is not positive or too wide."""
+    if not (math.isfinite(face_width) and face_width > 0):
+        raise InvalidInput("face_width_mm must be positive", field="face_width_mm")
+    _check_face_width(face_width, max_face_width_ratio, g.d[0])
+    return dataclasses.replace(g, face_width=face_width,
+                               eps_beta=_overlap_ratio(face_width, g.helix_angle, g.normal_module))

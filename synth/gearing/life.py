@@ -51,43 +51,45 @@ class SpectrumRating:
     equivalent_torque_root: tuple[float, float]
 
 
-def _damage(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
-            cycles_each: FloatArray, scale: FloatArray) -> FloatArray:
-    """Miner sums per wheel (2,) for stresses (N, 2) each multiplied by ``scale`` (2,); ``cycles_each`` (2, N)
-    the load cycles each sample carries per wheel."""
+Knots = tuple[tuple[float, float], ...]
+
+
+def _damage(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray,
+            scale: FloatArray) -> FloatArray:
+    """Miner sums per lane (L,) for stresses (N, L) each multiplied by ``scale`` (L,); ``cycles_each`` (L, N)
+    the load cycles each sample carries per lane. A lane is one wheel's flank or root, on its own S-N curve."""
     return np.asarray(_damages(stress, reference, knots, cycles_each, np.asarray(scale, dtype=float)[None, :])[0])
 
 
-def _damages(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
-             cycles_each: FloatArray, scales: FloatArray) -> FloatArray:
-    """Miner sums (M, 2) for M pairs of stress factors ``scales`` (M, 2) at once, vectorised over the factors,
-    the wheels and the spectrum.
+def _damages(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray,
+             scales: FloatArray) -> FloatArray:
+    """Miner sums (M, L) for M sets of stress factors ``scales`` (M, L) at once, vectorised over the factors,
+    the lanes (wheels, flank and root) and the spectrum.
 
-    Wheel-major, so each sum runs over contiguous samples in the order a single wheel's would: the same sums to
-    the last bit as one factor and one wheel at a time.
+    Lane-major, so each sum runs over contiguous samples in the order a single wheel's would: the same sums to
+    the last bit as one factor and one lane at a time.
     """
     factor = (scales[:, :, None] * np.ascontiguousarray(np.asarray(stress, dtype=float).T)[None, :, :]
               / np.asarray(reference, dtype=float)[None, :, None])
     allowed = np.empty_like(factor)
-    for j in (0, 1):
-        allowed[:, j] = cycles_to_failure(knots[j], factor[:, j])
+    for j, curve in enumerate(knots):
+        allowed[:, j] = cycles_to_failure(curve, factor[:, j])
     positive = factor > 0
     with np.errstate(divide="ignore"):
         per_sample = np.where(positive, cycles_each[None, :, :] / np.where(positive, allowed, 1.0), 0.0)
     return np.asarray(np.sum(per_sample, axis=2), dtype=float)
 
 
-def _safety(stress: FloatArray, reference: FloatArray, knots: list[tuple[tuple[float, float], ...]],
-            cycles_each: FloatArray) -> tuple[float, float]:
-    """The factor S per wheel with D(S) = 1, by bisection in log S (D grows with S)."""
-    lo, hi = np.full(2, -12.0), np.full(2, 12.0)
+def _safety(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray) -> FloatArray:
+    """The factor S per lane (L,) with D(S) = 1, by bisection in log S (D grows with S), every lane in step."""
+    lo, hi = np.full(len(knots), -12.0), np.full(len(knots), 12.0)
     for _ in range(_BISECTION_STEPS):
         mid = (lo + hi) / 2
         d = _damage(stress, reference, knots, cycles_each, np.exp(mid))
         over = d > 1
         hi = np.where(over, mid, hi)
         lo = np.where(over, lo, mid)
-    return _pair(np.exp((lo + hi) / 2))
+    return np.asarray(np.exp((lo + hi) / 2), dtype=float)
 
 
 def _shares(torque: FloatArray, weights: FloatArray | None) -> FloatArray:
@@ -101,35 +103,64 @@ def _shares(torque: FloatArray, weights: FloatArray | None) -> FloatArray:
     return np.asarray(w / w.sum(), dtype=float)
 
 
+@dataclass(frozen=True, slots=True)
+class SpectrumLanes:
+    """A pair's four Miner sums on one spectrum, less the stresses: ``torque`` magnitudes [N·m] (N,), and per
+    lane (contact pinion, contact gear, root pinion, root gear) the S-N curve's ``reference`` stress (its limit
+    over its life factor) [Pa], its ``knots`` and the load cycles each sample carries ``cycles_each`` (4, N).
+    None of it depends on the face width: a width search builds it once per module."""
+
+    torque: FloatArray
+    reference: FloatArray
+    knots: list[Knots]
+    cycles_each: FloatArray
+
+    @classmethod
+    def of(cls, model: PairModel, torque: FloatArray, weights: FloatArray | None = None) -> SpectrumLanes:
+        """The lanes of ``model`` for pinion torque magnitudes [N·m] with time ``weights`` (None: equal)."""
+        cycles = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
+        knots = ([contact_life_curve(m, model.duty.pitting_permitted) for m in model.mats]
+                 + [root_life_curve(m) for m in model.mats])
+        # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
+        reference = np.concatenate([model.sigma_hg / model.z_nt, model.sigma_fg / model.y_nt])
+        return cls(torque, reference, knots, np.concatenate([cycles, cycles]))
+
+    def stresses(self, model: PairModel) -> FloatArray:
+        """Contact and root stresses (N, 4) [Pa] of ``model`` at the spectrum's torques."""
+        _, sh, sf, _ = model.stresses(self.torque)
+        return np.concatenate([sh, sf], axis=1)
+
+    def damage(self, model: PairModel, scale: FloatArray) -> FloatArray:
+        """Miner sums (4,) with every stress of lane j times ``scale[j]``."""
+        return _damage(self.stresses(model), self.reference, self.knots, self.cycles_each, scale)
+
+    def safety(self, model: PairModel) -> FloatArray:
+        """Safety factors (4,) on the spectrum: S_H1, S_H2, S_F1, S_F2."""
+        return _safety(self.stresses(model), self.reference, self.knots, self.cycles_each)
+
+    def feasible(self, model: PairModel) -> bool:
+        """Whether every Miner sum with the stresses times S_Hmin (contact) and S_Fmin (root) stays within 1,
+        i.e. the spectrum's safety factors reach their minimums."""
+        duty = model.duty
+        need = np.array([duty.min_safety_contact] * 2 + [duty.min_safety_root] * 2)
+        return bool(np.all(self.damage(model, need) <= 1))
+
+
 def spectrum_safety(model: PairModel, torque: FloatArray, weights: FloatArray | None = None
                     ) -> tuple[FloatArray, FloatArray, tuple[float, float], tuple[float, float]]:
     """Miner sums over the life (contact, root) and the spectrum's safety factors (contact, root) per wheel for
     pinion torque magnitudes [N·m] sampled over the cycle, evenly or with time ``weights``."""
-    duty = model.duty
-    _, sh, sf, _ = model.stresses(torque)
-    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
-    # Reference stresses: the S-N curve's stress over its life factor, i.e. everything but Z_NT (Y_NT).
-    ref_h = model.sigma_hg / model.z_nt
-    ref_f = model.sigma_fg / model.y_nt
-    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
-    knots_f = [root_life_curve(m) for m in model.mats]
-    one = np.ones(2)
-    d_h = _damage(sh, ref_h, knots_h, cycles_each, one)
-    d_f = _damage(sf, ref_f, knots_f, cycles_each, one)
-    return d_h, d_f, _safety(sh, ref_h, knots_h, cycles_each), _safety(sf, ref_f, knots_f, cycles_each)
+    lanes = SpectrumLanes.of(model, torque, weights)
+    stress = lanes.stresses(model)
+    d = _damage(stress, lanes.reference, lanes.knots, lanes.cycles_each, np.ones(4))
+    s = _safety(stress, lanes.reference, lanes.knots, lanes.cycles_each)
+    return d[:2], d[2:], _pair(s[:2]), _pair(s[2:])
 
 
 def spectrum_feasible(model: PairModel, torque: FloatArray, weights: FloatArray | None = None) -> bool:
     """Whether the Miner sums with every stress times S_Hmin (contact) and S_Fmin (root) stay within 1, i.e. the
     spectrum's safety factors reach their minimums, for pinion torque magnitudes [N·m]."""
-    duty = model.duty
-    _, sh, sf, _ = model.stresses(torque)
-    cycles_each = np.asarray(model.cycles)[:, None] * _shares(torque, weights)[None, :]
-    knots_h = [contact_life_curve(m, duty.pitting_permitted) for m in model.mats]
-    knots_f = [root_life_curve(m) for m in model.mats]
-    d_h = _damage(sh, model.sigma_hg / model.z_nt, knots_h, cycles_each, np.full(2, duty.min_safety_contact))
-    d_f = _damage(sf, model.sigma_fg / model.y_nt, knots_f, cycles_each, np.full(2, duty.min_safety_root))
-    return bool(np.all(d_h <= 1) and np.all(d_f <= 1))
+    return SpectrumLanes.of(model, torque, weights).feasible(model)
 
 
 def rate_spectrum(spec: GearPairSpec, pinion_torque: FloatArray, pinion_speed: float, duty: Duty | None = None,

@@ -23,6 +23,8 @@ are evaluated elementwise, so one call rates a whole load spectrum.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -31,7 +33,7 @@ import numpy as np
 from ..errors import InvalidInput
 from ..model import FloatArray
 from ..warnings import DesignWarning, ValidityCheck
-from .involute import BasicRack, PairGeometry, pair_geometry
+from .involute import BasicRack, PairGeometry, pair_geometry, with_face_width
 from .materials import (
     MPA,
     GearMaterial,
@@ -421,13 +423,9 @@ class PairModel:
         g = pair_geometry(spec.pinion_teeth, spec.gear_teeth, spec.normal_module, spec.face_width,
                           spec.helix_angle, spec.profile_shift[0], spec.profile_shift[1], spec.centre_distance,
                           spec.rack, spec.max_face_width_ratio)
-        self.geometry = g
-        mn, b = g.normal_module / MM, g.face_width / MM
+        mn = g.normal_module / MM
         d = np.array(g.d) / MM
-        self.tol = _tolerances(spec.accuracy_grade, d, mn, b)
-        self.fpb = float(np.max(self.tol["f_pt"]))
-        self.ff = float(np.max(self.tol["f_falpha"]))
-        self.f_hbeta = float(np.max(self.tol["f_Hbeta"]))
+        self._face_width_terms(g)
         self.c_th, self.c1, self.c_ga = _single_stiffness(g)
         self.c_gb = 0.85 * self.c_ga
         self.tip_relief_um = (float(np.mean([running_in_tip_relief(m.sigma_Hlim) for m in self.mats]))
@@ -439,13 +437,7 @@ class PairModel:
         cb, ca = math.cos(g.beta_b), math.cos(g.alpha_t)
         self.z_h = math.sqrt(2 * cb * math.cos(g.alpha_wt) / (ca**2 * math.sin(g.alpha_wt)))
         self.z_e = elasticity_factor(*self.mats)
-        ea, eb = g.eps_alpha, g.eps_beta
-        if eb >= 1:
-            self.z_eps = math.sqrt(1 / ea)
-        else:
-            self.z_eps = math.sqrt((4 - ea) / 3 * (1 - eb) + eb / ea)
         self.z_beta = 1 / math.sqrt(math.cos(g.helix_angle))
-        self.z_b, self.z_d = _single_pair_factors(g)
         lim = np.array([m.sigma_Hlim / MPA for m in self.mats])
         czl = np.where(lim < 850, 0.83, np.where(lim > 1200, 0.91, 0.08 * (lim - 850) / 350 + 0.83))
         nu40 = spec.oil_viscosity_40 * 1e6
@@ -469,8 +461,6 @@ class PairModel:
         self.root = root
         self.y_f, self.y_s = root["Y_F"], root["Y_S"]
         _check_finite(self)
-        beta_deg = min(math.degrees(g.helix_angle), 30.0)
-        self.y_beta = max(1 - min(eb, 1.0) * beta_deg / 120, 1 - 0.25 * min(eb, 1.0), 0.75)
         depth = (np.array(g.da) - np.array(g.df)) / 2
         self.y_b = np.array([rim_thickness_factor(sr, h, f"{who}_rim_thickness_mm") for sr, h, who in
                              zip(spec.rim_thickness, depth, ("pinion", "gear"), strict=True)])
@@ -482,12 +472,40 @@ class PairModel:
         self.y_delta = (1 + np.sqrt(rho_p * chi)) / (1 + np.sqrt(rho_p * _CHI_T))
         self.y_r = np.array([relative_roughness_factor(m.group, spec.root_roughness_Rz / UM) for m in self.mats])
         self.y_x = np.array([root_size_factor(m.group, mn) for m in self.mats])
-        h = (np.array(g.da) - np.array(g.df)) / 2
-        bh = max(min(g.face_width / float(np.max(h)), g.face_width / float(np.min(h))), 3.0)
-        self.n_f = bh**2 / (1 + bh + bh**2)
         self.sigma_hg = lim * self.z_nt * self.z_l * self.z_v * self.z_r * self.z_w * self.z_x * MPA
         flim = np.array([m.sigma_Flim / MPA for m in self.mats])
         self.sigma_fg = flim * Y_ST * self.y_nt * self.y_delta * self.y_r * self.y_x * MPA
+
+    def _face_width_terms(self, g: PairGeometry) -> None:
+        """What the face width enters, itself or through the overlap ratio eps_beta: the helix slope tolerance,
+        Z_eps, Z_B/Z_D, Y_beta and K_Fbeta's exponent N_F. Nothing else in the model depends on it."""
+        self.geometry = g
+        self.tol = _tolerances(self.spec.accuracy_grade, np.array(g.d) / MM, g.normal_module / MM,
+                               g.face_width / MM)
+        self.fpb = float(np.max(self.tol["f_pt"]))
+        self.ff = float(np.max(self.tol["f_falpha"]))
+        self.f_hbeta = float(np.max(self.tol["f_Hbeta"]))
+        ea, eb = g.eps_alpha, g.eps_beta
+        if eb >= 1:
+            self.z_eps = math.sqrt(1 / ea)
+        else:
+            self.z_eps = math.sqrt((4 - ea) / 3 * (1 - eb) + eb / ea)
+        self.z_b, self.z_d = _single_pair_factors(g)
+        beta_deg = min(math.degrees(g.helix_angle), 30.0)
+        self.y_beta = max(1 - min(eb, 1.0) * beta_deg / 120, 1 - 0.25 * min(eb, 1.0), 0.75)
+        h = (np.array(g.da) - np.array(g.df)) / 2
+        bh = max(min(g.face_width / float(np.max(h)), g.face_width / float(np.min(h))), 3.0)
+        self.n_f = bh**2 / (1 + bh + bh**2)
+
+    def at_width(self, face_width: float) -> PairModel:
+        """The same pair, duty and speed at another face width [m], the rest of the model shared: a sizing's
+        width search rates one pair at many widths. Raises InvalidInput as the geometry does for a width that
+        is not positive or exceeds the spec's ratio to the pinion diameter."""
+        g = with_face_width(self.geometry, face_width, self.spec.max_face_width_ratio)
+        model = copy.copy(self)
+        model.spec = dataclasses.replace(self.spec, face_width=face_width)
+        model._face_width_terms(g)
+        return model
 
     def load_factors(self, torque: FloatArray) -> _LoadFactors:
         """Tangential force [N] and the load-dependent K factors at each pinion torque [N·m]."""

@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import Infeasible, InvalidInput
 from ..model import FloatArray
 from .involute import BasicRack, min_profile_shift
-from .life import spectrum_feasible, spectrum_safety
+from .life import SpectrumLanes
 from .materials import gear_material
 from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, rate_pair
 from .split import InertiaModel, SplitResult, gear_volume, split_ratio
@@ -138,21 +138,27 @@ def _spec(rules: SizingRules, z1: int, z2: int, module: float, width: float, hel
                         max_face_width_ratio=rules.max_face_width_ratio * (1 + 1e-9))
 
 
-def _safeties(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> FloatArray:
-    """S_H1, S_H2, S_F1, S_F2 (on the spectrum when the load is one)."""
+def _model(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> tuple[PairModel, SpectrumLanes | None]:
+    """The pair's model and, for a load spectrum, its Miner lanes: both hold at every face width."""
     model = PairModel(spec, rules.duty, load.speed)
     if isinstance(load.torque, np.ndarray):
-        _, _, s_h, s_f = spectrum_safety(model, np.abs(load.torque), load.weights)
-        return np.array([*s_h, *s_f])
+        return model, SpectrumLanes.of(model, np.abs(load.torque), load.weights)
+    return model, None
+
+
+def _safeties(model: PairModel, lanes: SpectrumLanes | None, load: StageLoad) -> FloatArray:
+    """S_H1, S_H2, S_F1, S_F2 (on the spectrum when the load is one)."""
+    if lanes is not None:
+        return lanes.safety(model)
     _, sh, sf, _ = model.stresses(np.array([float(load.torque)]))
     return np.concatenate([model.sigma_hg / sh[0], model.sigma_fg / sf[0]])
 
 
-def _feasible(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> bool:
+def _feasible(model: PairModel, lanes: SpectrumLanes | None, load: StageLoad) -> bool:
     """Every safety factor reaches its minimum (for a spectrum without finding the factors themselves)."""
-    if isinstance(load.torque, np.ndarray):
-        return spectrum_feasible(PairModel(spec, rules.duty, load.speed), np.abs(load.torque), load.weights)
-    return bool(np.min(_margins(_safeties(rules, spec, load), rules.duty)) >= 0)
+    if lanes is not None:
+        return lanes.feasible(model)
+    return bool(np.min(_margins(_safeties(model, lanes, load), model.duty)) >= 0)
 
 
 def _rating(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> RatingResult:
@@ -205,21 +211,24 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
             if float(np.sum(rho * math.pi / 4 * b_lo * d**2)) >= best[0]:
                 break
         examined += 1
-        if not _feasible(rules, _spec(rules, z1, z2, m, b_hi, helix), load):
+        # one model and one set of Miner lanes per module: the width search changes only the width's terms
+        wide, lanes = _model(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
+        if not _feasible(wide, lanes, load):
             continue                     # even the widest face fails: a larger module is needed
-        if _feasible(rules, _spec(rules, z1, z2, m, b_lo, helix), load):
-            b, s = b_lo, _safeties(rules, _spec(rules, z1, z2, m, b_lo, helix), load)
+        narrow = wide.at_width(b_lo)
+        if _feasible(narrow, lanes, load):
+            b, s = b_lo, _safeties(narrow, lanes, load)
             binding = "min_face_width"
         else:
             lo, hi = math.log(b_lo), math.log(b_hi)
             for _ in range(_WIDTH_STEPS if width_steps is None else width_steps):
                 mid = (lo + hi) / 2
-                if _feasible(rules, _spec(rules, z1, z2, m, math.exp(mid), helix), load):
+                if _feasible(wide.at_width(math.exp(mid)), lanes, load):
                     hi = mid
                 else:
                     lo = mid
             b = math.exp(hi)
-            s = _safeties(rules, _spec(rules, z1, z2, m, b, helix), load)
+            s = _safeties(wide.at_width(b), lanes, load)
             binding = _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
         d = np.array([z1, z2]) * m / math.cos(helix)
         mass = float(np.sum(rho * math.pi / 4 * b * d**2))
@@ -244,7 +253,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     if i > 0:
         ms = modules[i - 1]
         try:
-            s_small = _safeties(rules, _spec(rules, z1, z2, ms, b, helix), load)
+            s_small = _safeties(*_model(rules, _spec(rules, z1, z2, ms, b, helix), load), load)
             marg = _margins(s_small, rules.duty)
             smaller = (ms, _CONSTRAINTS[int(np.argmin(marg))] if np.min(marg) < 0 else "none")
         except InvalidInput as exc:
