@@ -82,3 +82,34 @@ def test_spectrum_safety_is_the_root_of_the_scalar_sum(seed: int) -> None:
         root = brentq(excess, -12.0, 12.0, xtol=1e-13)
         # the bisection's 36 halvings of [-12, 12] in log S: 24/2^36 = 3.5e-10
         assert math.log(safety[j]) == pytest.approx(root, abs=4e-10)
+
+
+def _halvings(stress: np.ndarray, ref: np.ndarray, knots: list, cycles: np.ndarray) -> np.ndarray:
+    """The plain bisection, written here: 36 halvings of [-12, 12] in log S, a Miner sum at every midpoint."""
+    lo, hi = np.full(len(knots), -12.0), np.full(len(knots), 12.0)
+    for _ in range(36):
+        mid = (lo + hi) / 2
+        over = _damage(stress, ref, knots, cycles, np.exp(mid)) > 1
+        hi, lo = np.where(over, mid, hi), np.where(over, lo, mid)
+    return np.exp((lo + hi) / 2)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_spectrum_safety_is_the_plain_bisection_to_the_last_bit(seed: int) -> None:
+    # The safety brackets each root in a few sums and replays the halvings on the bracket: it must land on the
+    # same midpoint as the plain bisection, whether the root is smooth, at a curve's static value (D jumps to
+    # infinity), beyond e^12 (no load), or the spectrum has samples without cycles (the plain path).
+    rng = np.random.default_rng(300 + seed)
+    for _ in range(60):
+        n = int(rng.choice([1, 7, 61, 400]))
+        stress = rng.uniform(0.0, 1.0, (n, 4)) ** rng.uniform(0.5, 4.0) * 10 ** rng.uniform(6.0, 10.0)
+        stress[rng.random(n) < 0.2] = 0.0
+        if rng.random() < 0.1:
+            stress[:, rng.integers(4)] = 0.0
+        ref = rng.uniform(300e6, 900e6, 4)
+        knots = [CURVES[rng.integers(len(CURVES))] for _ in range(4)]
+        cycles = rng.uniform(1e2, 1e12, 4)[:, None] * np.full((4, n), 1.0 / n)
+        if rng.random() < 0.1:
+            cycles[:, rng.integers(n)] = 0.0
+        with np.errstate(invalid="ignore"):      # a sample without cycles past its static value: 0/0
+            assert np.array_equal(_safety(stress, ref, knots, cycles), _halvings(stress, ref, knots, cycles))

@@ -23,6 +23,13 @@ from .rating import Duty, GearPairSpec, PairModel, RatingResult, _pair, _result
 
 MAX_SPECTRUM_SAMPLES = 100_000
 _BISECTION_STEPS = 36
+_BRACKET = 1e-11     # [log S]
+_JUMP = 4e-12        # [log S], above the rounding of log S at a curve's static value
+_NEAR = 1e-10        # [log S]
+_CAP = 1e3
+_SLOPE_STEP = 1e-3   # [log S], the step that measures log D's slope
+_SECANT_SUMS = 24    # then halvings only: 45 bring [-12, 12] itself below _BRACKET
+_BRACKET_SUMS = 72
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,15 +88,88 @@ def _damages(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycl
 
 
 def _safety(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray) -> FloatArray:
-    """The factor S per lane (L,) with D(S) = 1, by bisection in log S (D grows with S), every lane in step."""
+    """The factor S per lane (L,) with D(S) = 1, as the bisection in log S that halves [-12, 12]
+    ``_BISECTION_STEPS`` times finds it (D grows with S), every lane in step.
+
+    Each lane's root is bracketed first (:func:`_root_bracket`, a few sums); the halvings are then replayed on
+    the bracket: a midpoint more than ``_NEAR`` outside it is decided by D's growth (on every S-N curve log D
+    rises by at least 6 per unit of log S, so D moves by parts in 1e9 there, far above its rounding), and a
+    midpoint nearer by the sum itself. The answer is the plain bisection's to the last bit at a fraction of its
+    sums. A spectrum with a sample that carries no cycles (D may then be undefined) takes the plain bisection.
+    """
+    bracket = _root_bracket(stress, reference, knots, cycles_each) if np.all(cycles_each > 0) else None
     lo, hi = np.full(len(knots), -12.0), np.full(len(knots), 12.0)
     for _ in range(_BISECTION_STEPS):
         mid = (lo + hi) / 2
-        d = _damage(stress, reference, knots, cycles_each, np.exp(mid))
-        over = d > 1
+        if bracket is None:
+            over = _damage(stress, reference, knots, cycles_each, np.exp(mid)) > 1
+        else:
+            a, b = bracket
+            over = mid >= b
+            near = (mid > a - _NEAR) & (mid < b + _NEAR)
+            if near.any():
+                over = np.where(near, _damage(stress, reference, knots, cycles_each, np.exp(mid)) > 1, over)
         hi = np.where(over, mid, hi)
         lo = np.where(over, lo, mid)
     return np.asarray(np.exp((lo + hi) / 2), dtype=float)
+
+
+def _root_bracket(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray
+                  ) -> tuple[FloatArray, FloatArray]:
+    """Per lane an interval [a, b] of log S no wider than ``_BRACKET`` with D(e^a) <= 1 < D(e^b); a = b = 12
+    where D stays within 1 up to e^12, a = b = -12 where it exceeds 1 from e^-12 on.
+
+    D is infinite once the most stressed sample passes its curve's static value, at log S = ``jump``: the root
+    is often that jump (a sum just below it decides), else it lies below, where log D is nearly straight in
+    log S (the curves are straight in log-log). A Newton step on the slope measured just below the jump lands
+    near the root, and regula falsi on log D (the Illinois variant, each step kept ``_BRACKET``/4 inside the
+    bracket so that a point next to the root closes it) ends in a few sums.
+    """
+
+    def log_damage(t: FloatArray) -> FloatArray:
+        t = np.atleast_2d(t)
+        with np.errstate(divide="ignore"):
+            d = _damages(stress, reference, knots, cycles_each, np.exp(t))
+            return np.clip(np.log(d), -_CAP, _CAP)
+
+    lanes = len(knots)
+    peak = np.max(np.asarray(stress, dtype=float), axis=0, initial=0.0) / reference
+    static = np.array([math.log(k[0][1]) for k in knots]) * (1 + 1e-12)
+    with np.errstate(divide="ignore"):
+        jump = np.where(peak > 0, static - np.log(np.where(peak > 0, peak, 1.0)), np.inf)
+    t1 = np.clip(jump - _JUMP, -12.0, 12.0)
+    t2 = np.maximum(t1 - _SLOPE_STEP, -12.0)
+    g1, g2 = log_damage(np.stack([t1, t2]))
+    over1, over2 = g1 > 0, g2 > 0
+    # D within 1 just below the jump: the root is the jump (or beyond e^12)
+    a = np.where(~over1, t1, np.where(~over2, t2, -12.0))
+    b = np.where(~over1, np.where(t1 < 12.0, jump + _JUMP, 12.0), np.where(over2, t2, t1))
+    ga = np.where(~over1, g1, np.where(~over2, g2, -_CAP))
+    gb = np.where(~over1, _CAP, np.where(over2, g2, g1))
+    have_a = ~over1 | ~over2 | (t2 <= -12.0)
+    slope = np.where((g1 - g2 > 0) & (np.abs(g1) < _CAP), (g1 - g2) / np.maximum(t1 - t2, 1e-300), 6.0)
+    side = np.zeros(lanes)
+    guard = _BRACKET / 4
+    for step in range(_BRACKET_SUMS):
+        active = ~have_a | (b - a > _BRACKET)
+        if not active.any():
+            break
+        secant = b - gb * (b - a) / np.where(gb > ga, gb - ga, 1.0)
+        plain = (step >= _SECANT_SUMS) | (np.abs(ga) >= _CAP) | (np.abs(gb) >= _CAP) | ~(b - a > 4 * guard)
+        inside = np.where(plain | ~np.isfinite(secant), (a + b) / 2, np.clip(secant, a + guard, b - guard))
+        newton = np.maximum(b - gb / np.maximum(slope, 1.0), -12.0)
+        t = np.where(active, np.where(have_a, inside, newton), b)
+        g = log_damage(t)[0]
+        up, down = active & (g > 0), active & ~(g > 0)
+        # Illinois: an end kept twice has its value halved, so both ends close in
+        ga = np.where(up & (side > 0) & have_a, ga / 2, np.where(down, g, ga))
+        gb = np.where(down & (side < 0), gb / 2, np.where(up, g, gb))
+        a, b = np.where(down, t, a), np.where(up, t, b)
+        side = np.where(up & have_a, 1.0, np.where(down, -1.0, side))
+        stuck = up & ~have_a & (t <= -12.0)          # over 1 even at e^-12
+        a = np.where(stuck, -12.0, a)
+        have_a = have_a | down | stuck
+    return a, b
 
 
 def _shares(torque: FloatArray, weights: FloatArray | None) -> FloatArray:
@@ -127,8 +207,7 @@ class SpectrumLanes:
 
     def stresses(self, model: PairModel) -> FloatArray:
         """Contact and root stresses (N, 4) [Pa] of ``model`` at the spectrum's torques."""
-        _, sh, sf, _ = model.stresses(self.torque)
-        return np.concatenate([sh, sf], axis=1)
+        return model.lane_stresses(self.torque)[1].T
 
     def damage(self, model: PairModel, scale: FloatArray) -> FloatArray:
         """Miner sums (4,) with every stress of lane j times ``scale[j]``."""

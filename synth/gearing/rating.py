@@ -211,11 +211,18 @@ def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], li
     bp = c1 * (fpb - y_p) / floor
     bf = c1 * (ff - y_f) / floor
     bk = np.abs(1 - c1 * tip_relief_um / floor)
-    n_s = np.where(line_load < 100, 0.5 + 0.35 * np.sqrt(line_load / 100), 0.85)
-    sub = n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1
+    # N_S lies in [0.5, 0.85]: outside that band of N one range holds at every load, and only its K_V is needed
+    if n_ratio <= 0.5:
+        return np.asarray(n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1, dtype=float), n_ratio
     main = cv1 * bp + cv2 * bf + cv4 * bk + 1
+    if 0.85 < n_ratio <= 1.15:
+        return np.asarray(main, dtype=float), n_ratio
     sup = cv5 * bp + cv6 * bf + cv7
     mid = sup + (main - sup) * (1.5 - n_ratio) / 0.35
+    if n_ratio > 0.85:
+        return np.asarray(mid if n_ratio < 1.5 else sup, dtype=float), n_ratio
+    n_s = np.where(line_load < 100, 0.5 + 0.35 * np.sqrt(line_load / 100), 0.85)
+    sub = n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1
     kv = np.where(n_ratio <= n_s, sub, np.where(n_ratio <= 1.15, main, np.where(n_ratio < 1.5, mid, sup)))
     return np.asarray(kv, dtype=float), n_ratio
 
@@ -536,17 +543,31 @@ class PairModel:
 
     def stresses(self, torque: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, _LoadFactors]:
         """Nominal contact stress (N,), contact stress (N, 2) and root stress (N, 2) [Pa] at each pinion torque."""
+        sh0, lanes, lf = self.lane_stresses(torque)
+        return sh0, lanes[:2].T, lanes[2:].T, lf
+
+    def lane_stresses(self, torque: FloatArray) -> tuple[FloatArray, FloatArray, _LoadFactors]:
+        """Nominal contact stress (N,) and the stresses (4, N) [Pa] of the pinion's and the gear's flank, then
+        the pinion's and the gear's root, at each pinion torque: one contiguous row per wheel and mode, the
+        layout a Miner sum over the samples runs along."""
         g = self.geometry
         lf = self.load_factors(torque)
         u = g.ratio
         b, d1, mn = g.face_width / MM, g.d[0] / MM, g.normal_module / MM
         ka = self.duty.application_factor
         sh0 = self.z_h * self.z_e * self.z_eps * self.z_beta * np.sqrt(lf.ft / (d1 * b) * (u + 1) / u)
-        k_h = np.sqrt(ka * lf.kv * lf.khb * lf.kha)
-        sh = sh0[:, None] * k_h[:, None] * np.array([self.z_b, self.z_d])[None, :]
-        sf0 = lf.ft[:, None] / (b * mn) * (self.y_f * self.y_s * self.y_beta * self.y_b * self.y_dt)[None, :]
-        sf = sf0 * (ka * lf.kv * lf.kfb * lf.kfa)[:, None]
-        return sh0 * MPA, sh * MPA, sf * MPA, lf
+        k_h = sh0 * np.sqrt(ka * lf.kv * lf.khb * lf.kha)
+        nominal_root = lf.ft / (b * mn)
+        k_f = ka * lf.kv * lf.kfb * lf.kfa
+        y = self.y_f * self.y_s * self.y_beta * self.y_b * self.y_dt
+        out = np.empty((4, sh0.size))
+        for row, z in enumerate((self.z_b, self.z_d)):
+            np.multiply(k_h, z, out=out[row])
+        for row in (0, 1):
+            np.multiply(nominal_root, y[row], out=out[2 + row])
+            out[2 + row] *= k_f
+        out *= MPA
+        return sh0 * MPA, out, lf
 
 
 def _pair(v: FloatArray | tuple[float, float]) -> tuple[float, float]:
