@@ -79,12 +79,21 @@ def _damages(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycl
     factor = (scales[:, :, None] * np.ascontiguousarray(np.asarray(stress, dtype=float).T)[None, :, :]
               / np.asarray(reference, dtype=float)[None, :, None])
     allowed = np.empty_like(factor)
-    for j, curve in enumerate(knots):
-        allowed[:, j] = cycles_to_failure(curve, factor[:, j])
+    for curve, lanes in _by_curve(knots):
+        allowed[:, lanes] = cycles_to_failure(curve, factor[:, lanes])
     positive = factor > 0
     with np.errstate(divide="ignore"):
         per_sample = np.where(positive, cycles_each[None, :, :] / np.where(positive, allowed, 1.0), 0.0)
     return np.asarray(np.sum(per_sample, axis=2), dtype=float)
+
+
+def _by_curve(knots: list[Knots]) -> list[tuple[Knots, slice | list[int]]]:
+    """The lanes on each distinct S-N curve (a slice where they are adjacent): one evaluation per curve."""
+    groups: dict[Knots, list[int]] = {}
+    for j, curve in enumerate(knots):
+        groups.setdefault(curve, []).append(j)
+    return [(curve, slice(js[0], js[-1] + 1) if js[-1] - js[0] == len(js) - 1 else js)
+            for curve, js in groups.items()]
 
 
 def _safety(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycles_each: FloatArray) -> FloatArray:

@@ -185,17 +185,27 @@ def _single_stiffness(g: PairGeometry) -> tuple[float, float, float]:
     return c_th, c1, c1 * (0.75 * g.eps_alpha + 0.25)
 
 
-def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], line_load: FloatArray,
-                    n1_rpm: float, c1: float, c_ga: float, fpb: float, ff: float, tip_relief_um: float
-                    ) -> tuple[FloatArray, float]:
-    """K_V by method B and the resonance ratio N (ISO 6336-1 §6.5); ``line_load`` K_A F_t / b [N/mm]."""
+def _resonance_ratio(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], n1_rpm: float, c_ga: float
+                     ) -> float:
+    """The resonance ratio N = n1/nE1 (ISO 6336-1 §6.5.3) [-]."""
     dm = (np.array(g.da) + np.array(g.df)) / 2 / MM
     db = np.array(g.db) / MM
     rho = np.array([m.density for m in mats]) * 1e-9  # [kg/mm³]
     m_star = math.pi / 8 * rho * dm**4 / db**2      # mass per face width reduced to the line of action [kg/mm]
     m_red = float(m_star[0] * m_star[1] / (m_star[0] + m_star[1]))
     n_e1 = 30000.0 / (math.pi * g.z[0]) * math.sqrt(c_ga / m_red)
-    n_ratio = n1_rpm / n_e1
+    return n1_rpm / n_e1
+
+
+def _running_in(mats: tuple[GearMaterial, GearMaterial], deviation_um: float) -> float:
+    """The pair's running-in allowance y_alpha of a pitch or profile deviation [µm]: the wheels' mean."""
+    return float(np.mean([running_in(m.group, m.sigma_Hlim, deviation_um) for m in mats]))
+
+
+def _dynamic_factor(g: PairGeometry, line_load: FloatArray, n_ratio: float, c1: float, fpb: float, y_p: float,
+                    ff: float, y_f: float, tip_relief_um: float) -> FloatArray:
+    """K_V by method B (ISO 6336-1 §6.5) at the resonance ratio ``n_ratio``; ``line_load`` K_A F_t / b [N/mm],
+    ``fpb``, ``ff`` the pitch and profile deviations and ``y_p``, ``y_f`` their running-in allowances [µm]."""
     eg = g.eps_gamma
     if eg <= 2:
         cv2, cv3, cv4, cv6 = 0.34, 0.23, 0.90, 0.47
@@ -204,8 +214,6 @@ def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], li
         cv4, cv6 = (0.57 - 0.05 * eg) / (eg - 1.44), 0.12 / (eg - 1.74)
     cv1, cv5 = 0.32, 0.47
     cv7 = 0.75 if eg <= 1.5 else (0.125 * math.sin(math.pi * (eg - 2)) + 0.875 if eg <= 2.5 else 1.0)
-    y_p = float(np.mean([running_in(m.group, m.sigma_Hlim, fpb) for m in mats]))
-    y_f = float(np.mean([running_in(m.group, m.sigma_Hlim, ff) for m in mats]))
     # ISO 6336-1 takes line loads below 100 N/mm as 100 N/mm in the deviation terms.
     floor = np.maximum(line_load, MIN_LINE_LOAD)
     bp = c1 * (fpb - y_p) / floor
@@ -213,18 +221,18 @@ def _dynamic_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], li
     bk = np.abs(1 - c1 * tip_relief_um / floor)
     # N_S lies in [0.5, 0.85]: outside that band of N one range holds at every load, and only its K_V is needed
     if n_ratio <= 0.5:
-        return np.asarray(n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1, dtype=float), n_ratio
+        return np.asarray(n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1, dtype=float)
     main = cv1 * bp + cv2 * bf + cv4 * bk + 1
     if 0.85 < n_ratio <= 1.15:
-        return np.asarray(main, dtype=float), n_ratio
+        return np.asarray(main, dtype=float)
     sup = cv5 * bp + cv6 * bf + cv7
     mid = sup + (main - sup) * (1.5 - n_ratio) / 0.35
     if n_ratio > 0.85:
-        return np.asarray(mid if n_ratio < 1.5 else sup, dtype=float), n_ratio
+        return np.asarray(mid if n_ratio < 1.5 else sup, dtype=float)
     n_s = np.where(line_load < 100, 0.5 + 0.35 * np.sqrt(line_load / 100), 0.85)
     sub = n_ratio * (cv1 * bp + cv2 * bf + cv3 * bk) + 1
     kv = np.where(n_ratio <= n_s, sub, np.where(n_ratio <= 1.15, main, np.where(n_ratio < 1.5, mid, sup)))
-    return np.asarray(kv, dtype=float), n_ratio
+    return np.asarray(kv, dtype=float)
 
 
 def subcritical_limit(line_load: float) -> float:
@@ -285,7 +293,10 @@ def _face_load_factor(g: PairGeometry, mats: tuple[GearMaterial, GearMaterial], 
     fm_per_b = np.maximum(fm_per_b, MIN_LINE_LOAD)
     f_sh = 0.023 * fm_per_b * b_d1**2
     f_bx = 1.33 * f_sh + f_hbeta
-    y_b = np.mean([running_in_helix(m.group, m.sigma_Hlim, f_bx) for m in mats], axis=0)
+    if mats[0] is mats[1]:
+        y_b = running_in_helix(mats[0].group, mats[0].sigma_Hlim, f_bx)   # the mean of two equal allowances
+    else:
+        y_b = np.mean([running_in_helix(m.group, m.sigma_Hlim, f_bx) for m in mats], axis=0)
     f_by = np.maximum(f_bx - y_b, 0.0)
     k = c_gb * f_by / (2 * fm_per_b)
     return np.asarray(np.where(k <= 1, 1 + k, np.sqrt(4 * k)), dtype=float)
@@ -439,6 +450,8 @@ class PairModel:
                               if spec.tip_relief is None else spec.tip_relief / UM)
         u = g.ratio
         self.n1_rpm = pinion_speed * 30 / math.pi
+        self.n_ratio = _resonance_ratio(g, self.mats, self.n1_rpm, self.c_ga)
+        self.y_p, self.y_f_dev = _running_in(self.mats, self.fpb), _running_in(self.mats, self.ff)
         self.v = math.pi * d[0] * self.n1_rpm / 60000.0
         self.cycles = np.array([60 * self.n1_rpm * duty.life, 60 * self.n1_rpm / u * duty.life])
         cb, ca = math.cos(g.beta_b), math.cos(g.alpha_t)
@@ -521,14 +534,14 @@ class PairModel:
         ft = 2000.0 * np.abs(np.asarray(torque, dtype=float)) / (g.d[0] / MM)
         ka = self.duty.application_factor
         line = np.maximum(ka * ft / b, 1e-9)
-        kv, n_ratio = _dynamic_factor(g, self.mats, line, self.n1_rpm, self.c1, self.c_ga, self.fpb, self.ff,
-                                      self.tip_relief_um)
+        kv = _dynamic_factor(g, line, self.n_ratio, self.c1, self.fpb, self.y_p, self.ff, self.y_f_dev,
+                             self.tip_relief_um)
         if self.spec.face_load_factor is not None:
             khb = np.full_like(ft, self.spec.face_load_factor)
         else:
             khb = _face_load_factor(g, self.mats, kv * line, self.c_gb, self.f_hbeta)
         kfb = khb**self.n_f
-        y_a = float(np.mean([running_in(m.group, m.sigma_Hlim, self.fpb) for m in self.mats]))
+        y_a = self.y_p
         fth_b = np.maximum(line * kv * khb, MIN_LINE_LOAD)
         eg, ea = g.eps_gamma, g.eps_alpha
         core = self.c_ga * (self.fpb - y_a) / fth_b
@@ -539,7 +552,7 @@ class PairModel:
         kha = np.clip(ka_raw, 1.0, eg / (ea * self.z_eps**2))
         y_e = 0.25 + 0.75 / ea
         kfa = np.clip(ka_raw, 1.0, eg / (ea * y_e))
-        return _LoadFactors(ft, kv, khb, kfb, kha, kfa, n_ratio)
+        return _LoadFactors(ft, kv, khb, kfb, kha, kfa, self.n_ratio)
 
     def stresses(self, torque: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, _LoadFactors]:
         """Nominal contact stress (N,), contact stress (N, 2) and root stress (N, 2) [Pa] at each pinion torque."""
