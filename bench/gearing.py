@@ -203,6 +203,31 @@ def bench_sizing() -> None:
           f"b {sized_s.face_width * 1e3:.2f} mm, {sized_s.mass:.3f} kg, binding {sized_s.binding}")
 
 
+def _press_loads(samples: int) -> list[tuple[Any, ...]]:
+    """The arguments of the README press's calls of size_stage in its design at ``samples`` samples."""
+    from unittest import mock
+
+    from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
+    from synth.machine import chain
+
+    with mock.patch.object(chain, "size_stage", wraps=chain.size_stage) as sizing:
+        synth.design_machine(machine_from(MachineIn.model_validate({**PRESS_EXAMPLE, "samples": samples}), 6))
+    return [(c.args, c.kwargs) for c in sizing.call_args_list]
+
+
+def bench_press_sizing() -> None:
+    from bench._timing import compute_unit
+    print("\nthe README press's stage sized for strength on its cyclic torque (as its design sizes it)")
+    for samples in (360, 3600):
+        (args, kwargs), = _press_loads(samples)
+        t, sized = _best_of(lambda: synth.size_stage(*args, **kwargs), 7)
+        unit = compute_unit()
+        print(f"  {samples:5d} samples ({args[1].torque.size} torque samples): {1e3 * t:.1f} ms = {t / unit:.2f} "
+              f"compute units ({1e3 * unit:.1f} ms); module {sized.module * 1e3:g} mm, b "
+              f"{sized.face_width * 1e3:.4f} mm, S_H {min(sized.safety_contact):.6f}, S_F "
+              f"{min(sized.safety_root):.6f}, binding {sized.binding}, {sized.modules_examined} modules examined")
+
+
 def bench_machines() -> None:
     from mechsynth_client.schemas.machine import FOURBAR_MACHINE_EXAMPLE, PRESS_EXAMPLE, MachineIn
     print("\nmachines of the manual: gears sized from the cyclic torque of the simulated steady motion")
@@ -228,6 +253,7 @@ def main(only: str | None = None) -> None:
         bench_split()
     bench_rating()
     bench_sizing()
+    bench_press_sizing()
     bench_machines()
 
 
