@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -79,15 +80,19 @@ def _damages(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycl
     factor = (scales[:, :, None] * np.ascontiguousarray(np.asarray(stress, dtype=float).T)[None, :, :]
               / np.asarray(reference, dtype=float)[None, :, None])
     allowed = np.empty_like(factor)
-    for curve, lanes in _by_curve(knots):
+    for curve, lanes in _by_curve(tuple(knots)):
         allowed[:, lanes] = cycles_to_failure(curve, factor[:, lanes])
     positive = factor > 0
     with np.errstate(divide="ignore"):
-        per_sample = np.where(positive, cycles_each[None, :, :] / np.where(positive, allowed, 1.0), 0.0)
+        if positive.all():               # no idle sample: nothing to mask
+            per_sample = cycles_each[None, :, :] / allowed
+        else:
+            per_sample = np.where(positive, cycles_each[None, :, :] / np.where(positive, allowed, 1.0), 0.0)
     return np.asarray(np.sum(per_sample, axis=2), dtype=float)
 
 
-def _by_curve(knots: list[Knots]) -> list[tuple[Knots, slice | list[int]]]:
+@lru_cache(maxsize=64)
+def _by_curve(knots: tuple[Knots, ...]) -> list[tuple[Knots, slice | list[int]]]:
     """The lanes on each distinct S-N curve (a slice where they are adjacent): one evaluation per curve."""
     groups: dict[Knots, list[int]] = {}
     for j, curve in enumerate(knots):

@@ -164,13 +164,19 @@ class RatingChecks:
 def _tolerances(grade: int, d_mm: FloatArray, mn_mm: float, b_mm: float) -> dict[str, FloatArray]:
     """ISO 1328-1:2013 tolerances [µm] per gear: single pitch f_p, profile form f_falpha, helix slope f_Hbeta."""
     scale = 2.0 ** ((grade - 5) / 2)
-    raw = {
-        "f_pt": (0.001 * d_mm + 0.4 * mn_mm + 5) * scale,
-        "f_falpha": (0.55 * mn_mm + 5) * scale * np.ones_like(d_mm),
-        "f_Hbeta": (0.05 * np.sqrt(d_mm) + 0.35 * math.sqrt(b_mm) + 4) * scale,
-    }
+    return {"f_pt": _rounded((0.001 * d_mm + 0.4 * mn_mm + 5) * scale),
+            "f_falpha": _rounded((0.55 * mn_mm + 5) * scale * np.ones_like(d_mm)),
+            "f_Hbeta": _helix_slope_tolerance(grade, d_mm, b_mm)}
+
+
+def _helix_slope_tolerance(grade: int, d_mm: FloatArray, b_mm: float) -> FloatArray:
+    """f_Hbeta of ISO 1328-1:2013 [µm] per gear, the one tolerance the face width enters."""
+    return _rounded((0.05 * np.sqrt(d_mm) + 0.35 * math.sqrt(b_mm) + 4) * 2.0 ** ((grade - 5) / 2))
+
+
+def _rounded(v: FloatArray) -> FloatArray:
     # ISO 1328-1 rounds tolerances to 0.1 µm below 10 µm and to whole micrometres above.
-    return {k: np.where(v < 10, np.round(v, 1), np.round(v)) for k, v in raw.items()}
+    return np.asarray(np.where(v < 10, np.round(v, 1), np.round(v)), dtype=float)
 
 
 def _single_stiffness(g: PairGeometry) -> tuple[float, float, float]:
@@ -418,6 +424,12 @@ class PairModel:
     """The load-independent part of a rating, built once per pair and duty; :meth:`stresses` evaluates any
     number of pinion torques at once."""
 
+    tol: dict[str, FloatArray]
+    fpb: float
+    ff: float
+    _d_mm: FloatArray
+    _depth: tuple[float, float]
+
     def __init__(self, spec: GearPairSpec, duty: Duty, pinion_speed: float) -> None:
         for name, v in (("application_factor", duty.application_factor), ("life_h", duty.life),
                         ("min_safety_contact", duty.min_safety_contact), ("min_safety_root", duty.min_safety_root),
@@ -496,14 +508,20 @@ class PairModel:
         flim = np.array([m.sigma_Flim / MPA for m in self.mats])
         self.sigma_fg = flim * Y_ST * self.y_nt * self.y_delta * self.y_r * self.y_x * MPA
 
-    def _face_width_terms(self, g: PairGeometry) -> None:
+    def _face_width_terms(self, g: PairGeometry, rewidth: bool = False) -> None:
         """What the face width enters, itself or through the overlap ratio eps_beta: the helix slope tolerance,
         Z_eps, Z_B/Z_D, Y_beta and K_Fbeta's exponent N_F. Nothing else in the model depends on it."""
         self.geometry = g
-        self.tol = _tolerances(self.spec.accuracy_grade, np.array(g.d) / MM, g.normal_module / MM,
-                               g.face_width / MM)
-        self.fpb = float(np.max(self.tol["f_pt"]))
-        self.ff = float(np.max(self.tol["f_falpha"]))
+        if rewidth:                      # the pitch and profile tolerances and the tooth depths stay
+            self.tol = {**self.tol, "f_Hbeta": _helix_slope_tolerance(self.spec.accuracy_grade, self._d_mm,
+                                                                       g.face_width / MM)}
+        else:
+            self._d_mm = np.array(g.d) / MM
+            self.tol = _tolerances(self.spec.accuracy_grade, self._d_mm, g.normal_module / MM, g.face_width / MM)
+            self.fpb = float(np.max(self.tol["f_pt"]))
+            self.ff = float(np.max(self.tol["f_falpha"]))
+            depth = (np.array(g.da) - np.array(g.df)) / 2
+            self._depth = float(np.max(depth)), float(np.min(depth))
         self.f_hbeta = float(np.max(self.tol["f_Hbeta"]))
         ea, eb = g.eps_alpha, g.eps_beta
         if eb >= 1:
@@ -513,8 +531,7 @@ class PairModel:
         self.z_b, self.z_d = _single_pair_factors(g)
         beta_deg = min(math.degrees(g.helix_angle), 30.0)
         self.y_beta = max(1 - min(eb, 1.0) * beta_deg / 120, 1 - 0.25 * min(eb, 1.0), 0.75)
-        h = (np.array(g.da) - np.array(g.df)) / 2
-        bh = max(min(g.face_width / float(np.max(h)), g.face_width / float(np.min(h))), 3.0)
+        bh = max(min(g.face_width / self._depth[0], g.face_width / self._depth[1]), 3.0)
         self.n_f = bh**2 / (1 + bh + bh**2)
 
     def at_width(self, face_width: float) -> PairModel:
@@ -524,7 +541,7 @@ class PairModel:
         g = with_face_width(self.geometry, face_width, self.spec.max_face_width_ratio)
         model = copy.copy(self)
         model.spec = dataclasses.replace(self.spec, face_width=face_width)
-        model._face_width_terms(g)
+        model._face_width_terms(g, rewidth=True)
         return model
 
     def load_factors(self, torque: FloatArray) -> _LoadFactors:
