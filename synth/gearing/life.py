@@ -122,7 +122,9 @@ def _safety(stress: FloatArray, reference: FloatArray, knots: list[Knots], cycle
             over = mid >= b
             near = (mid > a - _NEAR) & (mid < b + _NEAR)
             if near.any():
-                over = np.where(near, _damage(stress, reference, knots, cycles_each, np.exp(mid)) > 1, over)
+                j = np.flatnonzero(near)
+                over[j] = _damage(stress[:, j], reference[j], [knots[k] for k in j], cycles_each[j],
+                                  np.exp(mid[j])) > 1
         hi = np.where(over, mid, hi)
         lo = np.where(over, lo, mid)
     return np.asarray(np.exp((lo + hi) / 2), dtype=float)

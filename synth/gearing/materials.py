@@ -115,18 +115,34 @@ def _life_factor(knots: tuple[tuple[float, float], ...], cycles: FloatArray) -> 
     return np.asarray(np.exp(np.where(logn > n[-1], beyond, inside)), dtype=float)
 
 
+@lru_cache(maxsize=64)
+def _inverse_curve(knots: tuple[tuple[float, float], ...]) -> tuple[FloatArray, FloatArray, float, float, float, float]:
+    """What the inverse of a curve needs, once per curve: the knots reversed (log factor ascending), the last
+    branch's slope and end, and the static value (with the margin a factor must pass to count as above it)."""
+    n, f = _curve(knots)
+    slope = (f[-1] - f[-2]) / (n[-1] - n[-2])
+    return (np.ascontiguousarray(f[::-1]), np.ascontiguousarray(n[::-1]), float(slope), float(f[-1]), float(n[-1]),
+            float(f[0] * (1 + 1e-12)))
+
+
 def _inverse_life(knots: tuple[tuple[float, float], ...], factor: FloatArray) -> FloatArray:
     """Load cycles at which the life factor equals ``factor``; 0 above the static value, inf never below."""
-    n, f = _curve(knots)
-    logf = np.log(np.maximum(np.asarray(factor, dtype=float), 1e-300))
-    slope = (f[-1] - f[-2]) / (n[-1] - n[-2])
-    # f decreases with n: interpolate on the reversed knots.
-    inside = np.interp(logf, f[::-1], n[::-1])
-    beyond = n[-1] + (logf - f[-1]) / slope
+    f_up, n_up, slope, f_end, n_end, static = _inverse_curve(knots)
+    logf = np.maximum(np.asarray(factor, dtype=float), 1e-300)
+    np.log(logf, out=logf)
+    # f decreases with n: interpolate on the reversed knots; below the last knot the last branch goes on.
+    logn = np.interp(logf, f_up, n_up)
+    low = logf < f_end
+    if low.any():
+        beyond = logf - f_end
+        beyond /= slope
+        beyond += n_end
+        np.copyto(logn, beyond, where=low)
     # Beyond ~1e300 cycles a stress does no damage worth counting: clip before exp so nothing overflows.
-    logn = np.minimum(np.maximum(np.where(logf < f[-1], beyond, inside), -700.0), 700.0)
-    out = np.exp(logn)
-    return np.asarray(np.where(logf > f[0] * (1 + 1e-12), 0.0, out), dtype=float)
+    np.clip(logn, -700.0, 700.0, out=logn)
+    np.exp(logn, out=logn)
+    logn[logf > static] = 0.0
+    return np.asarray(logn, dtype=float)
 
 
 def contact_life_curve(material: GearMaterial, pitting_permitted: bool = False) -> tuple[tuple[float, float], ...]:

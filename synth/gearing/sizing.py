@@ -197,7 +197,9 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     torque_peak = float(np.max(np.abs(load.torque))) if isinstance(load.torque, np.ndarray) else float(load.torque)
     if not (math.isfinite(torque_peak) and torque_peak > 0):
         raise InvalidInput(f"{stage_name(stage)} carries no torque", field=f"stages[{stage}]")
-    best: tuple[float, float, float, FloatArray, str] | None = None
+    # the best so far: its key, module, width, model at that width and Miner lanes, and whether the narrowest face
+    # carries the load (its safety factors and binding constraint are found for the winner only)
+    best: tuple[float, float, float, PairModel, SpectrumLanes | None, bool] | None = None
     examined = 0
     modules = module_series(rules.series)
     rho = np.array([gear_material(n).density for n in rules.materials])
@@ -215,10 +217,10 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
         wide, lanes = _model(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
         if not _feasible(wide, lanes, load):
             continue                     # even the widest face fails: a larger module is needed
-        narrow = wide.at_width(b_lo)
-        if _feasible(narrow, lanes, load):
-            b, s = b_lo, _safeties(narrow, lanes, load)
-            binding = "min_face_width"
+        at_b = wide.at_width(b_lo)
+        narrowest = _feasible(at_b, lanes, load)
+        if narrowest:
+            b = b_lo
         else:
             lo, hi = math.log(b_lo), math.log(b_hi)
             for _ in range(_WIDTH_STEPS if width_steps is None else width_steps):
@@ -228,22 +230,23 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
                 else:
                     lo = mid
             b = math.exp(hi)
-            s = _safeties(wide.at_width(b), lanes, load)
-            binding = _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
+            at_b = wide.at_width(b)
         d = np.array([z1, z2]) * m / math.cos(helix)
         mass = float(np.sum(rho * math.pi / 4 * b * d**2))
         a = float(d.sum() / 2)
         key = mass if rules.objective == "mass" else a + 1e-9 * mass
         if best is None or key < best[0]:
-            best = (key, m, b, s, binding)
-        if binding == "min_face_width":
+            best = (key, m, b, at_b, lanes, narrowest)
+        if narrowest:
             break                        # larger modules only add mass and centre distance from here
     if best is None:
         raise Infeasible(
             f"{stage_name(stage)}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
             f"up to {rules.max_face_width_ratio:g} pinion diameters",
             constraint="strength", stage_index=stage, pinion_torque_Nm=torque_peak)
-    _, m, b, s, binding = best
+    _, m, b, at_b, lanes, narrowest = best
+    s = _safeties(at_b, lanes, load)
+    binding = "min_face_width" if narrowest else _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
     r = _rating(rules, _spec(rules, z1, z2, m, b, helix), load)
     d = np.array([z1, z2]) * m / math.cos(helix)
     rho = np.array([gear_material(n).density for n in rules.materials])
