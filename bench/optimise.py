@@ -131,6 +131,22 @@ def _two_workers(times: list[float]) -> float:
     return max(busy)
 
 
+def _cells_on_two_workers(cells: list[tuple[float, list[float]]]) -> float:
+    """The time two workers take for a round of cells as the endpoint runs them: the cells' walks first, each on
+    the first free worker; each cell's plateaus' searches once its walk is done, each taken by the first free
+    worker in the order they were handed out."""
+    free = [0.0, 0.0]
+    searches: list[tuple[float, float]] = []
+    for walk, timed in cells:
+        w = free.index(min(free))
+        free[w] += walk
+        searches += [(free[w], t) for t in timed]
+    for found_at, t in sorted(searches, key=lambda s: s[0]):
+        w = free.index(min(free))
+        free[w] = max(free[w], found_at) + t
+    return max(free)
+
+
 def critical_path(body: MachineOptimiseIn) -> dict[str, float]:
     """The endpoint's stages on the crank-rocker run in this process, each timed in CPU seconds (which a busy
     machine stretches far less than wall time), and the longest path through them on two workers."""
@@ -151,26 +167,25 @@ def critical_path(body: MachineOptimiseIn) -> dict[str, float]:
     seen: list[Any] = []
     cut: list[float] = []
     searched: list[float] = []
-    t_cut = t_plateaus = 0.0
+    t_cells = 0.0
     while todo := opt.next_cells(spec, scan, members + opt.designed(seen), [(r.lo, r.hi) for r, _ in walks]):
-        round_walks = [_cpu(lambda r=r: opt.cell_plateaus(spec, members, r)) for r in todo]  # type: ignore[misc]
-        round_seen = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p))  # type: ignore[misc]
-                      for (_, ps), _ in round_walks for p in ps]
-        walks += [w for w, _ in round_walks]
-        seen += [m for m, _ in round_seen]
-        cut += [t for _, t in round_walks]
-        searched += [t for _, t in round_seen]
-        t_cut += _two_workers([t for _, t in round_walks])
-        t_plateaus += _two_workers([t for _, t in round_seen])
+        round_: list[tuple[float, list[float]]] = []
+        for r in todo:
+            walk, t_walk = _cpu(lambda r=r: opt.cell_plateaus(spec, members, r))  # type: ignore[misc]
+            timed = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p)) for p in walk[1]]  # type: ignore[misc]
+            walks.append(walk)
+            seen += [m for m, _ in timed]
+            round_.append((t_walk, [t for _, t in timed]))
+        cut += [t for t, _ in round_]
+        searched += [t for _, ts in round_ for t in ts]
+        t_cells += _cells_on_two_workers(round_)
     _, t_end = _cpu(lambda: opt.conclude_search(spec, scan, members, walks, seen))
-    path = t_scan + t_members + t_cut + t_plateaus + t_end
+    path = t_scan + t_members + t_cells + t_end
     print(f"crank-rocker on 2 workers, CPU s here: scan {t_scan:.3f} | members {t_scan_cpu:.2f} ({shares[0][1]:.2f} "
           f"the chain's sized one; {sum(m.stage == opt.BOUNDED for m in members)} bounded only), {t_members:.2f} "
-          f"on 2 workers "
-          f"| cells cut {' + '.join(f'{t:.2f}' for t in cut)} | {len(searched)} plateaus "
-          f"{sum(searched):.2f} | conclusion {t_end:.2f} | critical path {path:.2f} s")
-    return {"scan": t_scan, "members": t_members, "cells cut": t_cut, "plateaus": t_plateaus, "conclusion": t_end,
-            "path": path}
+          f"on 2 workers | cells cut {' + '.join(f'{t:.2f}' for t in cut)}, {len(searched)} plateaus searched "
+          f"{sum(searched):.2f}, {t_cells:.2f} on 2 workers | conclusion {t_end:.2f} | critical path {path:.2f} s")
+    return {"scan": t_scan, "members": t_members, "cells": t_cells, "conclusion": t_end, "path": path}
 
 
 def member_costs(body: MachineOptimiseIn, unit: float, members: int = 16) -> None:

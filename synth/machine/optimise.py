@@ -666,19 +666,26 @@ def _choice_at(spec: OptimiseSpec, u: float, time_limit_s: float) -> Choice | No
 
 
 def _plateau_end(spec: OptimiseSpec, inside: float, outside: float, choice: Choice | None,
-                 time_limit_s: float) -> tuple[float, float, Choice | None]:
+                 choices: dict[float, Choice | None], time_limit_s: float) -> tuple[float, float, Choice | None]:
     """The plateau of ``choice`` ends between ``inside`` and ``outside``: the last member found on it and the
-    first beyond it with its choice, by :data:`BISECT_STEPS` bisections on the chain's discrete choice."""
-    beyond = _choice_at(spec, outside, time_limit_s)
+    first beyond it with its choice, by :data:`BISECT_STEPS` bisections on the chain's discrete choice.
+    ``choices`` holds the members' choices known so far and gains those found here."""
+
+    def at(u: float) -> Choice | None:
+        if u not in choices:
+            choices[u] = _choice_at(spec, u, time_limit_s)
+        return choices[u]
+
+    beyond = at(outside)
     if beyond == choice:
         return outside, outside, beyond
     for _ in range(BISECT_STEPS):
         mid = 0.5 * (inside + outside)
-        at = _choice_at(spec, mid, time_limit_s)
-        if at == choice:
+        found = at(mid)
+        if found == choice:
             inside = mid
         else:
-            outside, beyond = mid, at
+            outside, beyond = mid, found
     return inside, outside, beyond
 
 
@@ -698,10 +705,13 @@ def cell_plateaus(spec: OptimiseSpec, members: Sequence[MemberScore], r: Refinem
     """The cell ``r`` (of :func:`next_cells`) cut into its plateaus from its lower end, each one's end located by
     bisection on the chain's discrete choice, :data:`MAX_WALK` at most."""
     known = {m.parameter: m for m in members}
+    # the choices the scan's bounds found (a designed member's choice is its steady machine's, which a motor
+    # upgrade may have changed); the cell's upper end is asked for by every plateau of the walk
+    choices = {m.parameter: m.choice for m in members if m.stage == BOUNDED and r.lo <= m.parameter <= r.hi}
     x, choice = r.lo, known[r.lo].choice
     out: list[Plateau] = []
     while x < r.hi and len(out) < MAX_WALK:
-        inside, outside, beyond = _plateau_end(spec, x, r.hi, choice, time_limit_s)
+        inside, outside, beyond = _plateau_end(spec, x, r.hi, choice, choices, time_limit_s)
         out.append(Plateau(x, inside, choice, r.hi - r.lo))
         if outside <= inside:
             break

@@ -24,6 +24,9 @@ from ..model import FloatArray
 
 #: A shooting step below this fraction of the speed is applied along the motion by its sensitivity [-].
 LINEAR_STEP = 1e-5
+#: Steps up to which the stepper is expanded into one flat expression: a fifth faster a call, for a build of
+#: tens of milliseconds once per process (any sample count up to 1440 gives fewer steps than this).
+EXPAND_STEPS = 2880
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,7 +97,8 @@ def _cycle_stepper(steps: int) -> ca.Function:
     k3 = f(jm, dm, mm, x[0] + 0.5 * h * k2[0], x[1] + 0.5 * h * k2[1])
     k4 = f(jb, db, mb, x[0] + h * k3[0], x[1] + h * k3[1])
     step = ca.Function("step", [x, p], [x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
-    return step.mapaccum("cycle", steps)
+    accumulated = step.mapaccum("cycle", steps)
+    return accumulated.expand() if steps <= EXPAND_STEPS else accumulated
 
 
 def _step_parameters(nodes: FloatArray, tables: tuple[FloatArray, FloatArray, FloatArray], c: float,
