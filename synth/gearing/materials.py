@@ -139,7 +139,8 @@ def _inverse_life(knots: tuple[tuple[float, float], ...], factor: FloatArray) ->
         beyond += n_end
         np.copyto(logn, beyond, where=low)
     # Beyond ~1e300 cycles a stress does no damage worth counting: clip before exp so nothing overflows.
-    np.clip(logn, -700.0, 700.0, out=logn)
+    np.maximum(logn, -700.0, out=logn)
+    np.minimum(logn, 700.0, out=logn)
     np.exp(logn, out=logn)
     logn[logf > static] = 0.0
     return np.asarray(logn, dtype=float)

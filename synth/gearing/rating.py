@@ -566,9 +566,10 @@ class PairModel:
             ka_raw = eg / 2 * (0.9 + 0.4 * core)
         else:
             ka_raw = 0.9 + 0.4 * math.sqrt(2 * (eg - 1) / eg) * core
-        kha = np.clip(ka_raw, 1.0, eg / (ea * self.z_eps**2))
+        floored = np.maximum(ka_raw, 1.0)
+        kha = np.minimum(floored, eg / (ea * self.z_eps**2))
         y_e = 0.25 + 0.75 / ea
-        kfa = np.clip(ka_raw, 1.0, eg / (ea * y_e))
+        kfa = np.minimum(floored, eg / (ea * y_e))
         return _LoadFactors(ft, kv, khb, kfb, kha, kfa, self.n_ratio)
 
     def stresses(self, torque: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, _LoadFactors]:

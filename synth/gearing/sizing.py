@@ -28,7 +28,7 @@ from ..model import FloatArray
 from .involute import BasicRack, min_profile_shift
 from .life import SpectrumLanes
 from .materials import gear_material
-from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, rate_pair
+from .rating import MM, Duty, GearPairSpec, PairModel, RatingResult, _result
 from .split import InertiaModel, SplitResult, gear_volume, split_ratio
 from .stages import Stage, stage_name
 
@@ -161,11 +161,6 @@ def _feasible(model: PairModel, lanes: SpectrumLanes | None, load: StageLoad) ->
     return bool(np.min(_margins(_safeties(model, lanes, load), model.duty)) >= 0)
 
 
-def _rating(rules: SizingRules, spec: GearPairSpec, load: StageLoad) -> RatingResult:
-    peak = float(np.max(np.abs(load.torque)))
-    return rate_pair(spec, peak, load.speed, rules.duty)
-
-
 def _margins(s: FloatArray, duty: Duty) -> FloatArray:
     need = np.array([duty.min_safety_contact] * 2 + [duty.min_safety_root] * 2)
     return np.asarray(s / need - 1, dtype=float)
@@ -247,7 +242,7 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     _, m, b, at_b, lanes, narrowest = best
     s = _safeties(at_b, lanes, load)
     binding = "min_face_width" if narrowest else _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
-    r = _rating(rules, _spec(rules, z1, z2, m, b, helix), load)
+    r = _result(at_b, torque_peak)      # the full rating at the peak torque, on the model the search found
     d = np.array([z1, z2]) * m / math.cos(helix)
     rho = np.array([gear_material(n).density for n in rules.materials])
     vol = float(np.sum(math.pi / 4 * b * d**2))
