@@ -242,9 +242,10 @@ def _balancing_field(name: str | None) -> str | None:
     return name
 
 
-def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
+def _balance(spec: MachineSpec, before: Analysis | None, time_limit_s: float) -> tuple[Balancing, Analysis]:
     """The balancing stage and the balanced linkage's analysis (counter-rotors included), reusing the
-    balancing's own re-analysis where it is the same one."""
+    balancing's own re-analysis where it is the same one. ``before`` the linkage's analysis, None where the
+    balancing's own analysis of the linkage serves (a program balancing analyses it as the chain does)."""
     try:
         return _balance_stage(spec, before, time_limit_s)
     except Infeasible as exc:
@@ -253,10 +254,13 @@ def _balance(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[
         raise InvalidInput(str(exc), field=_balancing_field(exc.field)) from exc
 
 
-def _balance_stage(spec: MachineSpec, before: Analysis, time_limit_s: float) -> tuple[Balancing, Analysis]:
+def _balance_stage(spec: MachineSpec, before: Analysis | None,
+                   time_limit_s: float) -> tuple[Balancing, Analysis]:
     choice, linkage, speed = spec.balancing, spec.linkage, spec.speed
     mode = choice.mode
     if mode == "none":
+        if before is None:
+            before = analyse(linkage, speed, samples=spec.samples, friction=spec.friction)
         return Balancing("none", None, None, linkage, (), 0.0, before.summary()), before
     mech = linkage.mechanism
     if mode == "optimal" or isinstance(mech, (FourBar, PlanarLinkage)):

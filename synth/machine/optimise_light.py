@@ -26,6 +26,7 @@ from ..gearing import DriveResult, ToothResult, chain_efficiency, design_drive
 from ..gearing.split import teeth_limited
 from ..gearing.stages import Stage
 from ..gearing.teeth import ToothRules
+from ..kinematics import FourBar
 from ..errors import InvalidInput
 from . import chain as _chain
 from .chain import MAX_MOTOR_UPGRADES, MIN_POWER, Balancing, MachineCheck
@@ -87,8 +88,16 @@ def _front(machine: MachineSpec, time_limit_s: float) -> tuple[Analysis, Balanci
     """Analysis, balancing and the cycle's mean output power, exactly as the chain makes them."""
     machine.validate()
     refuse_likely_mistakes(machine.linkage)
-    before = analyse(machine.linkage, machine.speed, samples=machine.samples, friction=machine.friction)
+    # a four-bar's static balancing analyses the linkage itself, as the chain's analysis before it does when the
+    # pairs have no friction: that analysis is the one before
+    own = (machine.balancing.mode == "static" and isinstance(machine.linkage.mechanism, FourBar)
+           and not machine.friction)
+    before = None if own else analyse(machine.linkage, machine.speed, samples=machine.samples,
+                                      friction=machine.friction)
     bal, balanced = _chain._balance(machine, before, time_limit_s)
+    if before is None:
+        assert bal.result is not None
+        before = bal.result.analysis_before
     if machine.friction:
         fr = friction_kinetostatics(balanced.motion, balanced.linkage, balanced.kinetostatics, machine.friction)
         balanced = replace(balanced, friction=fr, reduced=replace(balanced.reduced, friction_torque=fr.loss_torque))
