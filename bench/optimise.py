@@ -172,7 +172,8 @@ def critical_path(body: MachineOptimiseIn) -> dict[str, float]:
         round_: list[tuple[float, list[float]]] = []
         for r in todo:
             walk, t_walk = _cpu(lambda r=r: opt.cell_plateaus(spec, members, r))  # type: ignore[misc]
-            timed = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p)) for p in walk[1]]  # type: ignore[misc]
+            timed = [_cpu(lambda p=p: opt.search_plateau(spec, scan, members, p))  # type: ignore[misc]
+                     for p in walk[1]]
             walks.append(walk)
             seen += [m for m, _ in timed]
             round_.append((t_walk, [t for _, t in timed]))

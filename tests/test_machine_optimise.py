@@ -449,3 +449,29 @@ def test_work_beyond_the_bound_is_refused_before_it_starts(tmp_path: Path) -> No
         problem = r.json()
         assert (problem["field"], problem["got"], problem["limit"]) == ("search_cells", 247, 120)
         assert time.monotonic() - start < 2.0  # refused at once, not after the work
+
+
+def test_a_runs_kept_stages_give_the_member_computed_afresh() -> None:
+    """A member's analysis, balancing, drive and teeth kept for one optimisation's later stages are the ones a
+    fresh computation gives (an identity: the same steady machine either way), found again for a machine built
+    anew from the same member, and seen by no other run."""
+    from synth.machine import optimise_light as light
+
+    spec = machine_optimise_from(_body(CRANK_ROCKER_OPTIMISE_EXAMPLE), max_stages=6)
+    u = engine.scan_family(spec).candidates[3]
+
+    def machine() -> synth.MachineSpec:
+        m = spec.machine(engine.member_linkage(spec, u))
+        return replace(m, drive=replace(m.drive, strength=None))
+
+    fresh = light.steady_member(machine())
+    with light.kept("one run"):
+        bound = light.discrete_choice(machine())
+        again = light.steady_member(machine())
+    assert again.values == fresh.values and again.choice == fresh.choice == bound.choice
+    assert again.failed == fresh.failed and again.parts == fresh.parts
+    # the bound's two stages served the steady machine: nothing added
+    assert len(light._KEPT["one run"]) == 2
+    with light.kept("another run"):
+        light.discrete_choice(machine())
+    assert len(light._KEPT["another run"]) == 2

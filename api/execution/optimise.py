@@ -12,6 +12,7 @@ so both give the same answer.
 from __future__ import annotations
 
 import math
+import uuid
 from collections.abc import Sequence
 
 from fastapi import Request, Response
@@ -25,6 +26,7 @@ from synth.machine.optimise import (
     conclude_search,
     design_members,
     designed,
+    in_run,
     members_to_design,
     next_cells,
     scan_family,
@@ -79,17 +81,21 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     price_optimisation(body, lim, solvers.solvers.workers)
     spec = machine_optimise_from(body, lim.max_stages)
     t = lim.solver_time_limit_s
+    # the stages run as one optimisation: a worker that analysed, balanced and geared a member for an earlier
+    # stage takes them as they were (the scan's bound, then its steady machine; a walk's bisection, then a search)
+    run = uuid.uuid4().hex
     scan = await solvers.run(scan_family, spec)
     workers = solvers.solvers.workers
     tasks = member_tasks(scan.candidates, scan.chain_parameter)
-    parts = await in_turn([lambda share=share: solvers.run(scan_members, spec, share,  # type: ignore[misc]
-                                                           scan.chain_parameter, time_limit_s=t)
+    parts = await in_turn([lambda share=share: solvers.run(  # type: ignore[misc]
+                               in_run, run, scan_members, spec, share, scan.chain_parameter, time_limit_s=t)
                            for share in tasks], workers)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
     # rounds of the bounded members that could still win, as the engine runs them, one member a task
     while bound_round := await solvers.run(members_to_design, spec, scan, members):
-        found = await in_turn([lambda u=u: solvers.run(design_members, spec, [u], time_limit_s=t)  # type: ignore[misc]
+        found = await in_turn([lambda u=u: solvers.run(in_run, run, design_members, spec,  # type: ignore[misc]
+                                                       [u], time_limit_s=t)
                                for u in bound_round], workers)
         members = with_designed(members, (m for part in found for m in part))
 
@@ -100,9 +106,9 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
         # cells' walks
-        walk = await solvers.run(cell_plateaus, spec, members, r, time_limit_s=t)
-        return walk, await in_turn([lambda p=p: solvers.run(search_plateau, spec, scan, members,  # type: ignore[misc]
-                                                            p, time_limit_s=t)
+        walk = await solvers.run(in_run, run, cell_plateaus, spec, members, r, time_limit_s=t)
+        return walk, await in_turn([lambda p=p: solvers.run(in_run, run, search_plateau,  # type: ignore[misc]
+                                                            spec, scan, members, p, time_limit_s=t)
                                     for p in walk[1]], plateaus_at_once)
 
     walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []

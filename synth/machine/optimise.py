@@ -33,9 +33,10 @@ claimed; the certificate states the plateaus found, searched, pruned (and why) a
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+import uuid
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -48,10 +49,11 @@ from ..synthesis import crank_rocker as _cr
 from ..synthesis import slider_crank as _sc
 from ..synthesis.family import MARGIN
 from .chain import MachineDesign, design_machine
-from .optimise_light import SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, steady_member
+from .optimise_light import SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, kept, steady_member
 from .optimise_parts import MachineParts, Prices, machine_parts
 from .spec import BalancingChoice, DriveSpec, FlywheelChoice, MachineSpec
 
+T = TypeVar("T")
 ObjectiveName = Literal["motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost"]
 #: The objectives, in the order every tuple of objective values holds them.
 OBJECTIVES: tuple[ObjectiveName, ...] = ("motor_power", "added_mass", "rms_shaking_force", "machine_mass", "cost")
@@ -908,6 +910,14 @@ def designed(seen: Sequence[Sequence[MemberScore]]) -> tuple[MemberScore, ...]:
     return tuple(m for part in seen for m in part)
 
 
+def in_run(run: str, fn: Callable[..., T], /, *args: Any, **kwargs: Any) -> T:
+    """``fn(*args, **kwargs)`` as a stage of the optimisation ``run`` (a name of its own): a member's stages up to
+    its drive that an earlier stage of the run computed in this process are taken as they were
+    (:func:`.optimise_light.kept`)."""
+    with kept(run):
+        return fn(*args, **kwargs)
+
+
 def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> MachineOptimum:
     """Optimise the machine as a whole over its linkage family; every stage in this process, one after another.
 
@@ -921,6 +931,11 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
 
     Raises InvalidInput or Infeasible naming the request field, or Infeasible when no member meets the checks.
     """
+    with kept(uuid.uuid4().hex):
+        return _optimise_machine(spec, time_limit_s)
+
+
+def _optimise_machine(spec: OptimiseSpec, time_limit_s: float) -> MachineOptimum:
     scan = scan_family(spec)
     members = scan_members(spec, scan.candidates, scan.chain_parameter, time_limit_s=time_limit_s)
     while bound_round := members_to_design(spec, scan, members):

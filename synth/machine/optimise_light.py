@@ -15,7 +15,13 @@ leaves out, and it is never negative: the choice's figures bound the objectives 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+import pickle
+from collections import OrderedDict
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, fields, replace
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -39,6 +45,10 @@ from .stages import refuse_likely_mistakes
 #: Bisections of the face width when the search sizes the wheels for their mass: the width within ln(5)/2^12,
 #: a few parts in 1e4, never below the least (the answer's own design sizes them to the chain's precision).
 SEARCH_WIDTH_STEPS = 12
+
+#: Members whose stages up to the drive one optimisation keeps in a process, and optimisations kept at once.
+KEPT_MEMBERS = 128
+KEPT_RUNS = 2
 
 #: A member's discrete choice: the catalogue motor's name and each toothed stage's (pinion, gear) teeth.
 Choice = tuple[str, tuple[tuple[int, int], ...]]
@@ -84,8 +94,58 @@ def balancing_mass(bal: Balancing) -> float:
     return float(mass)
 
 
+T = TypeVar("T")
+_KEPT: OrderedDict[str, OrderedDict[bytes, Any]] = OrderedDict()
+_RUN: ContextVar[str | None] = ContextVar("optimisation_run", default=None)
+
+
+@contextmanager
+def kept(run: str) -> Iterator[None]:
+    """Within it, a member's analysis, balancing, drive and teeth are computed once in this process for the
+    optimisation ``run`` (a name of its own): the search asks for a member more than once (its bound, then its
+    steady machine; a plateau's ends found by the walk's bisection, then searched), and the stages' answers
+    depend on the member alone. Another run never sees them."""
+    token = _RUN.set(run)
+    try:
+        yield
+    finally:
+        _RUN.reset(token)
+
+
+def _once(key: tuple[Any, ...], compute: Callable[[], T]) -> T:
+    run = _RUN.get()
+    if run is None:
+        return compute()
+    store = _KEPT.get(run)
+    if store is None:
+        store = _KEPT[run] = OrderedDict()
+        while len(_KEPT) > KEPT_RUNS:
+            _KEPT.popitem(last=False)
+    name = pickle.dumps(key)
+    if name in store:
+        store.move_to_end(name)
+        return store[name]  # type: ignore[no-any-return]
+    out = compute()
+    store[name] = out
+    if len(store) > KEPT_MEMBERS:
+        store.popitem(last=False)
+    return out
+
+
+def _named(machine: MachineSpec) -> tuple[Any, ...]:
+    """What a machine's stages depend on: its fields, the linkage's compared ones (not the caches it fills)."""
+    link = machine.linkage
+    return (tuple(getattr(link, f.name) for f in fields(link) if f.compare),
+            tuple(getattr(machine, f.name) for f in fields(machine) if f.name != "linkage"))
+
+
 def _front(machine: MachineSpec, time_limit_s: float) -> tuple[Analysis, Balancing, Analysis, ReducedCycle, float]:
     """Analysis, balancing and the cycle's mean output power, exactly as the chain makes them."""
+    return _once(("front", _named(machine), time_limit_s), lambda: _front_of(machine, time_limit_s))
+
+
+def _front_of(machine: MachineSpec,
+              time_limit_s: float) -> tuple[Analysis, Balancing, Analysis, ReducedCycle, float]:
     machine.validate()
     refuse_likely_mistakes(machine.linkage)
     # a four-bar's static balancing analyses the linkage itself, as the chain's analysis before it does when the
@@ -111,6 +171,13 @@ def _front(machine: MachineSpec, time_limit_s: float) -> tuple[Analysis, Balanci
 
 def _drive(machine: MachineSpec, output_power: float, motor_name: str | None,
            time_limit_s: float) -> tuple[DriveResult, ToothResult | None, tuple[float, ...], list[Stage]]:
+    drive, teeth, ratios, stages = _once(("drive", _named(machine), output_power, motor_name, time_limit_s),
+                                         lambda: _drive_of(machine, output_power, motor_name, time_limit_s))
+    return drive, teeth, ratios, list(stages)
+
+
+def _drive_of(machine: MachineSpec, output_power: float, motor_name: str | None,
+              time_limit_s: float) -> tuple[DriveResult, ToothResult | None, tuple[float, ...], tuple[Stage, ...]]:
     d = machine.drive
     motor_power = output_power / chain_efficiency(d.stages)
     stages, _ = teeth_limited(d.stages, d.tooth_rules or ToothRules())
@@ -121,7 +188,7 @@ def _drive(machine: MachineSpec, output_power: float, motor_name: str | None,
     if d.motor is not None:
         operating_speed(drive.motor, motor_power)
     teeth, ratios, _ = _chain._teeth(machine, drive, stages)
-    return drive, teeth, tuple(ratios), list(stages)
+    return drive, teeth, tuple(ratios), tuple(stages)
 
 
 def _choice(drive: DriveResult, teeth: ToothResult | None) -> Choice:
