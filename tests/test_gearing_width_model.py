@@ -61,3 +61,63 @@ def test_a_width_beyond_the_ratio_is_refused_as_the_geometry_refuses_it() -> Non
     with pytest.raises(InvalidInput) as built:
         PairModel(_spec(0.2, 15.0, 7), DUTY, 150.0)
     assert moved.value.field == built.value.field == "face_width_mm"
+
+
+def _plain_sizing(ratio: float, load: synth.StageLoad, rules: synth.SizingRules, helix: float,
+                  z1: int) -> tuple[float, float, int]:
+    """The sizing's search written plainly here: every module of the series in order, each bisected to the end
+    (26 halvings of its log width range), the lightest kept (a later one must be strictly lighter), the series
+    left once a module's narrowest face is already no lighter than the best: module, width, modules examined."""
+    from synth.gearing.sizing import _feasible, _model, _spec
+    z2 = max(int(round(ratio * z1)), z1)
+    rho = np.array([synth.gear_material(n).density for n in rules.materials])
+    best: tuple[float, float, float] | None = None
+    examined = 0
+    for m in synth.module_series(rules.series):
+        d = np.array([z1, z2]) * m / math.cos(helix)
+        b_lo, b_hi = rules.min_face_width_ratio * d[0], rules.max_face_width_ratio * d[0]
+        if best is not None and float(np.sum(rho * math.pi / 4 * b_lo * d**2)) >= best[0]:
+            break
+        examined += 1
+        wide, lanes = _model(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
+        if not _feasible(wide, lanes, load):
+            continue
+        narrowest = _feasible(wide.at_width(b_lo), lanes, load)
+        if narrowest:
+            b = b_lo
+        else:
+            lo, hi = math.log(b_lo), math.log(b_hi)
+            for _ in range(26):
+                mid = (lo + hi) / 2
+                lo, hi = (lo, mid) if _feasible(wide.at_width(math.exp(mid)), lanes, load) else (mid, hi)
+            b = math.exp(hi)
+        mass = float(np.sum(rho * math.pi / 4 * b * d**2))
+        if best is None or mass < best[0]:
+            best = (mass, m, b)
+        if narrowest:
+            break
+    assert best is not None
+    return best[1], best[2], examined
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_sizing_settles_losing_modules_early_and_answers_the_plain_search(seed: int) -> None:
+    # The sizing bisects a module only as far as deciding whether it can be the lightest needs: it must answer
+    # the module, the width (to the last bit) and the modules examined of the plain search.
+    rng = np.random.default_rng(500 + seed)
+    for _ in range(5):
+        helix = math.radians(float(rng.choice([0.0, 15.0])))
+        z1 = int(rng.choice([19, 25, 31]))
+        rules = synth.SizingRules(materials=("through_hardened_alloy_MQ",) * 2 if rng.random() < 0.5 else
+                                  ("case_hardened_MQ",) * 2, series="first_and_second" if rng.random() < 0.5
+                                  else "first", duty=DUTY)
+        phase = np.linspace(0, 2 * np.pi, 181)
+        load = synth.StageLoad(10 ** rng.uniform(1.0, 3.0) * (0.6 + 0.4 * np.sin(phase + rng.uniform(0, 3))),
+                               float(rng.uniform(20.0, 150.0)))
+        ratio = float(rng.uniform(1.5, 5.0))
+        try:
+            plain = _plain_sizing(ratio, load, rules, helix, z1)
+        except AssertionError:
+            continue                     # no module carries it: the sizing refuses, as another test checks
+        sized = synth.size_stage(ratio, load, rules, helix_angle=helix, pinion_teeth=z1)
+        assert (sized.module, sized.face_width, sized.modules_examined) == plain

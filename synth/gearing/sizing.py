@@ -5,8 +5,11 @@ sum of centre distances) is the sum of each stage's least. Per stage the module 
 choice, or first and second), and for each module the least face width meeting S_H >= S_Hmin and S_F >= S_Fmin
 on both wheels is one monotone root-find (the stresses fall as the face widens), so enumerating the series with
 a bisection per module finds the exact optimum of this mixed-integer program with no MINLP solver; a
-branch-and-bound would search the same dozen modules. The face width lies between ``min_face_width_ratio`` and
-``max_face_width_ratio`` pinion diameters; the constraint that fixes it is reported as the binding one.
+branch-and-bound would search the same dozen modules. A module's bisection runs only as far as the choice needs:
+its width, and so its mass, lies between the ends it has reached, so a module those bounds show to lose is left
+there, and the module chosen is bisected to the end (the answer is the full search's to the last bit). The face
+width lies between ``min_face_width_ratio`` and ``max_face_width_ratio`` pinion diameters; the constraint that
+fixes it is reported as the binding one.
 
 The ratio split agrees with this sizing: :func:`split_for_strength` sizes the stages, reads each stage's volume
 coefficient c_k = V_k / (T_k (u + 1)(u² + 1)/u) off the sized pair and splits again with those coefficients
@@ -17,7 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -192,54 +195,48 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     torque_peak = float(np.max(np.abs(load.torque))) if isinstance(load.torque, np.ndarray) else float(load.torque)
     if not (math.isfinite(torque_peak) and torque_peak > 0):
         raise InvalidInput(f"{stage_name(stage)} carries no torque", field=f"stages[{stage}]")
-    # the best so far: its key, module, width, model at that width and Miner lanes, and whether the narrowest face
-    # carries the load (its safety factors and binding constraint are found for the winner only)
-    best: tuple[float, float, float, PairModel, SpectrumLanes | None, bool] | None = None
     examined = 0
     modules = module_series(rules.series)
     rho = np.array([gear_material(n).density for n in rules.materials])
+
+    def key_of(m: float) -> Callable[[float], float]:
+        d = np.array([z1, z2]) * m / math.cos(helix)
+        a = float(d.sum() / 2)
+
+        def key(b: float) -> float:
+            mass = float(np.sum(rho * math.pi / 4 * b * d**2))
+            return mass if rules.objective == "mass" else a + 1e-9 * mass
+        return key
+
+    found: list[_WidthSearch] = []       # the modules that carry the load, in the series' order
+    steps = _WIDTH_STEPS if width_steps is None else width_steps
     for m in modules:
         d1 = z1 * m / math.cos(helix)
         b_lo, b_hi = rules.min_face_width_ratio * d1, rules.max_face_width_ratio * d1
-        if best is not None and rules.objective == "mass":
+        if found and rules.objective == "mass":
             # the least mass this module could have (the narrowest face) grows as the module cubed: once it
             # reaches the best found, no larger module can beat it
             d = np.array([z1, z2]) * m / math.cos(helix)
-            if float(np.sum(rho * math.pi / 4 * b_lo * d**2)) >= best[0]:
+            if _at_least_least(float(np.sum(rho * math.pi / 4 * b_lo * d**2)), found):
                 break
         examined += 1
         # one model and one set of Miner lanes per module: the width search changes only the width's terms
         wide, lanes = _model(rules, _spec(rules, z1, z2, m, b_hi, helix), load)
         if not _feasible(wide, lanes, load):
             continue                     # even the widest face fails: a larger module is needed
-        at_b = wide.at_width(b_lo)
-        narrowest = _feasible(at_b, lanes, load)
-        if narrowest:
-            b = b_lo
-        else:
-            lo, hi = math.log(b_lo), math.log(b_hi)
-            for _ in range(_WIDTH_STEPS if width_steps is None else width_steps):
-                mid = (lo + hi) / 2
-                if _feasible(wide.at_width(math.exp(mid)), lanes, load):
-                    hi = mid
-                else:
-                    lo = mid
-            b = math.exp(hi)
-            at_b = wide.at_width(b)
-        d = np.array([z1, z2]) * m / math.cos(helix)
-        mass = float(np.sum(rho * math.pi / 4 * b * d**2))
-        a = float(d.sum() / 2)
-        key = mass if rules.objective == "mass" else a + 1e-9 * mass
-        if best is None or key < best[0]:
-            best = (key, m, b, at_b, lanes, narrowest)
-        if narrowest:
+        narrow = wide.at_width(b_lo)
+        if _feasible(narrow, lanes, load):
+            found.append(_WidthSearch(m, key_of(m), wide, lanes, load, 0.0, 0.0, 0, (b_lo, narrow)))
             break                        # larger modules only add mass and centre distance from here
-    if best is None:
+        found.append(_WidthSearch(m, key_of(m), wide, lanes, load, math.log(b_lo), math.log(b_hi), steps))
+    if not found:
         raise Infeasible(
             f"{stage_name(stage)}: no ISO 54 module up to {modules[-1] / MM:g} mm carries the load with a face width "
             f"up to {rules.max_face_width_ratio:g} pinion diameters",
             constraint="strength", stage_index=stage, pinion_torque_Nm=torque_peak)
-    _, m, b, at_b, lanes, narrowest = best
+    best = _least(found)
+    m, b, at_b, lanes = best.module, best.width(), best.model(), best.lanes
+    narrowest = best.narrowest is not None
     s = _safeties(at_b, lanes, load)
     binding = "min_face_width" if narrowest else _CONSTRAINTS[int(np.argmin(_margins(s, rules.duty)))]
     r = _result(at_b, torque_peak)      # the full rating at the peak torque, on the model the search found
@@ -261,6 +258,71 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     return SizedStage(stage, m, z1, z2, z2 / z1, helix, b, g.a, (float(d[0]), float(d[1])), g.da,
                       float(np.sum(rho * math.pi / 4 * b * d**2)), vol, (float(s[0]), float(s[1])),
                       (float(s[2]), float(s[3])), binding, margins, r, examined, smaller)
+
+
+class _WidthSearch:
+    """One module's bisection for its least face width, run only as far as the sizing's decisions need it.
+
+    The bisection halves [ln b_lo, ln b_hi] ``steps`` times and answers the upper end. Its answer lies above
+    every lower end it passes and below every upper end, so the key (mass, or centre distance) of the width it
+    will answer lies in [key(e^lo), key(e^hi)] at every step: a module that loses (or wins) on those bounds is
+    settled without its remaining steps, and the module chosen is bisected to the end as before."""
+
+    def __init__(self, module: float, key: Callable[[float], float], wide: PairModel, lanes: SpectrumLanes | None,
+                 load: StageLoad, lo: float, hi: float, steps: int,
+                 narrowest: tuple[float, PairModel] | None = None) -> None:
+        """``narrowest``: the least width and its model when the narrowest face carries the load (no search)."""
+        self.module, self.key, self.wide, self.lanes, self.load = module, key, wide, lanes, load
+        self.lo, self.hi, self.steps, self.narrowest = lo, hi, steps, narrowest
+        if narrowest is not None:
+            self.bounds = (key(narrowest[0]),) * 2
+        else:
+            self.bounds = (key(math.exp(hi)),) * 2 if steps == 0 else (key(math.exp(lo)), key(math.exp(hi)))
+
+    def step(self) -> None:
+        mid = (self.lo + self.hi) / 2
+        if _feasible(self.wide.at_width(math.exp(mid)), self.lanes, self.load):
+            self.hi = mid
+        else:
+            self.lo = mid
+        self.steps -= 1
+        self.bounds = ((self.key(math.exp(self.hi)),) * 2 if self.steps == 0
+                       else (self.key(math.exp(self.lo)), self.key(math.exp(self.hi))))
+
+    def width(self) -> float:
+        if self.narrowest is not None:
+            return self.narrowest[0]
+        while self.steps:
+            self.step()
+        return math.exp(self.hi)
+
+    def model(self) -> PairModel:
+        return self.narrowest[1] if self.narrowest is not None else self.wide.at_width(self.width())
+
+
+def _at_least_least(value: float, found: list[_WidthSearch]) -> bool:
+    """Whether ``value`` >= the least key of the modules found, stepping their searches only until that is known."""
+    while True:
+        if value >= min(f.bounds[1] for f in found):
+            return True
+        if value < min(f.bounds[0] for f in found):
+            return False
+        # undecided: the least lower bound belongs to a search still running (a finished one has equal bounds)
+        min((f for f in found if f.steps), key=lambda f: f.bounds[0]).step()
+
+
+def _least(found: list[_WidthSearch]) -> _WidthSearch:
+    """The first module of least key (a later one must be strictly lighter to replace an earlier one)."""
+    while True:
+        alive = [i for i, f in enumerate(found) if not any(
+            (j < i and g.bounds[1] <= f.bounds[0]) or (j > i and g.bounds[1] < f.bounds[0])
+            for j, g in enumerate(found))]
+        if len(alive) == 1:
+            return found[alive[0]]
+        running = [found[i] for i in alive if found[i].steps]
+        if not running:                  # every key known: one module survives
+            return found[alive[0]]
+        min(running, key=lambda f: f.bounds[0]).step()
 
 
 def size_train(ratios: Sequence[float] | FloatArray, loads: Sequence[StageLoad], stages: Sequence[Stage] | None = None,
