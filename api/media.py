@@ -176,10 +176,22 @@ def _non_finite(value: Any, path: str = "") -> str | None:
             if (found := _non_finite(item, f"{path}.{key}" if path else str(key))) is not None:
                 return found
     elif isinstance(value, (list, tuple)):
+        if value and _numbers(value) and _all_finite(value):
+            return None
         for i, item in enumerate(value):
             if (found := _non_finite(item, f"{path}[{i}]")) is not None:
                 return found
     return None
+
+
+def _all_finite(numbers: list[Any] | tuple[Any, ...]) -> bool:
+    """A list of numbers (or of rows of numbers) with every one finite, checked in one array pass; False also
+    when it is not one array of numbers (ragged, or holding a null, which numpy reads as NaN): the item-by-item
+    walk then finds what, if anything, is not finite."""
+    try:
+        return bool(np.isfinite(np.asarray(numbers, dtype=float)).all())
+    except (TypeError, ValueError, OverflowError):
+        return False
 
 
 def finite_answer(plain: Any) -> Any:

@@ -190,3 +190,19 @@ def test_a_gear_stage_without_teeth_is_named_by_its_index_and_keeps_the_problem_
                                                   "max_teeth": 20})
     problem = checker(client.http)(r, "/v1/gears/teeth")
     assert r.status_code == 422 and problem["stage_index"] == 0 and "stage" not in problem, problem
+
+
+def test_a_non_finite_number_in_a_list_of_numbers_is_named_by_its_place() -> None:
+    """Lists of Python numbers (a model's own tables) are checked in one array pass; a null in them is no
+    number to refuse, and a NaN or an infinity is named by its place, in a row too."""
+    from api.media import finite_answer
+
+    curve = [0.5 * k for k in range(5000)]
+    assert finite_answer({"curve": curve, "gaps": [1.0, None, 2.0]}) is not None
+    for bad, path in ((math.nan, "curve[4321]"), (math.inf, "curve[4321]")):
+        with pytest.raises(synth.InvalidInput) as err:
+            finite_answer({"curve": curve[:4321] + [bad] + curve[4322:]})
+        assert err.value.field == path
+    with pytest.raises(synth.InvalidInput) as err:
+        finite_answer({"rows": [[0.0, 1.0], [2.0, -math.inf]], "ok": [1, 2]})
+    assert err.value.field == "rows[1][1]"
