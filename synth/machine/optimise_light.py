@@ -46,8 +46,10 @@ from .stages import refuse_likely_mistakes
 #: a few parts in 1e4, never below the least (the answer's own design sizes them to the chain's precision).
 SEARCH_WIDTH_STEPS = 12
 
-#: Members whose stages up to the drive one optimisation keeps in a process, and optimisations kept at once.
-KEPT_MEMBERS = 128
+#: Crank angles of the stages (a member's analyses and balancing, about 1 kB an angle, or its drive) one
+#: optimisation keeps in a process: 133 at 120 samples (half of them analyses), 22 at 720; and optimisations kept
+#: at once.
+KEPT_SAMPLES = 16_000
 KEPT_RUNS = 2
 
 #: A member's discrete choice: the catalogue motor's name and each toothed stage's (pinion, gear) teeth.
@@ -112,7 +114,7 @@ def kept(run: str) -> Iterator[None]:
         _RUN.reset(token)
 
 
-def _once(key: tuple[Any, ...], compute: Callable[[], T]) -> T:
+def _once(key: tuple[Any, ...], samples: int, compute: Callable[[], T]) -> T:
     run = _RUN.get()
     if run is None:
         return compute()
@@ -127,7 +129,7 @@ def _once(key: tuple[Any, ...], compute: Callable[[], T]) -> T:
         return store[name]  # type: ignore[no-any-return]
     out = compute()
     store[name] = out
-    if len(store) > KEPT_MEMBERS:
+    while len(store) > max(2, KEPT_SAMPLES // samples):
         store.popitem(last=False)
     return out
 
@@ -141,7 +143,8 @@ def _named(machine: MachineSpec) -> tuple[Any, ...]:
 
 def _front(machine: MachineSpec, time_limit_s: float) -> tuple[Analysis, Balancing, Analysis, ReducedCycle, float]:
     """Analysis, balancing and the cycle's mean output power, exactly as the chain makes them."""
-    return _once(("front", _named(machine), time_limit_s), lambda: _front_of(machine, time_limit_s))
+    return _once(("front", _named(machine), time_limit_s), machine.samples,
+                 lambda: _front_of(machine, time_limit_s))
 
 
 def _front_of(machine: MachineSpec,
@@ -172,6 +175,7 @@ def _front_of(machine: MachineSpec,
 def _drive(machine: MachineSpec, output_power: float, motor_name: str | None,
            time_limit_s: float) -> tuple[DriveResult, ToothResult | None, tuple[float, ...], list[Stage]]:
     drive, teeth, ratios, stages = _once(("drive", _named(machine), output_power, motor_name, time_limit_s),
+                                         machine.samples,
                                          lambda: _drive_of(machine, output_power, motor_name, time_limit_s))
     return drive, teeth, ratios, list(stages)
 
