@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import pickle
+import threading
 from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -98,6 +99,7 @@ def balancing_mass(bal: Balancing) -> float:
 
 T = TypeVar("T")
 _KEPT: OrderedDict[str, OrderedDict[bytes, Any]] = OrderedDict()
+_KEPT_LOCK = threading.Lock()  # a worker of several threads may run two stages of one run at once
 _RUN: ContextVar[str | None] = ContextVar("optimisation_run", default=None)
 
 
@@ -118,19 +120,21 @@ def _once(key: tuple[Any, ...], samples: int, compute: Callable[[], T]) -> T:
     run = _RUN.get()
     if run is None:
         return compute()
-    store = _KEPT.get(run)
-    if store is None:
-        store = _KEPT[run] = OrderedDict()
-        while len(_KEPT) > KEPT_RUNS:
-            _KEPT.popitem(last=False)
     name = pickle.dumps(key)
-    if name in store:
-        store.move_to_end(name)
-        return store[name]  # type: ignore[no-any-return]
+    with _KEPT_LOCK:
+        store = _KEPT.get(run)
+        if store is None:
+            store = _KEPT[run] = OrderedDict()
+            while len(_KEPT) > KEPT_RUNS:
+                _KEPT.popitem(last=False)
+        if name in store:
+            store.move_to_end(name)
+            return store[name]  # type: ignore[no-any-return]
     out = compute()
-    store[name] = out
-    while len(store) > max(2, KEPT_SAMPLES // samples):
-        store.popitem(last=False)
+    with _KEPT_LOCK:
+        store[name] = out
+        while len(store) > max(2, KEPT_SAMPLES // samples):
+            store.popitem(last=False)
     return out
 
 
