@@ -13,7 +13,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import synth
-from synth.machine import MachineCycle, simulate_rundown, simulate_startup
+from synth.machine import MachineCycle, rundown, simulate_rundown, simulate_startup
 
 N = 360
 PHI = np.arange(N) * 2 * math.pi / N
@@ -33,14 +33,15 @@ def _press() -> tuple[MachineCycle, synth.Motor, float, np.ndarray]:
 
 
 def _rhs(cycle: MachineCycle, constant: float, motor: synth.Motor | None, resisting: np.ndarray):
-    h = 2 * math.pi / N
+    n = cycle.phi.size
+    h = 2 * math.pi / n
     j, dj = np.append(cycle.inertia, cycle.inertia[0]), np.append(cycle.inertia_slope, cycle.inertia_slope[0])
     load, res = np.append(cycle.load_torque, cycle.load_torque[0]), np.append(resisting, resisting[0])
 
     def f(_: float, y: np.ndarray) -> list[float]:
         phi, w = y
         u = (phi % (2 * math.pi)) / h
-        k = min(int(u), N - 1)
+        k = min(int(u), n - 1)
         t = u - k
         jj = ((2 * t**3 - 3 * t**2 + 1) * j[k] + (t**3 - 2 * t**2 + t) * h * dj[k] + (3 * t**2 - 2 * t**3) * j[k + 1]
               + (t**3 - t**2) * h * dj[k + 1])
@@ -108,3 +109,13 @@ def test_a_finer_grid_reports_no_more_states() -> None:
     assert down.stop_time is not None and coarse.stop_time is not None
     assert down.stop_time == pytest.approx(coarse.stop_time, rel=1e-3)
     assert down.run.time.size <= coarse.run.time.size + 2
+    # the fine grid's intervals take fewer quadrature points than the reported grid's rule (checked against the
+    # time-domain reference above): the stop time it gives is that rule's to 1e-9, within its own error estimate
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(rundown, "_points", lambda samples: (rundown._POINTS, rundown._CHECK_POINTS))
+        full = simulate_rundown(fine, constant, motor, friction_torque=np.interp(fine_phi, PHI, friction,
+                                                                                 period=2 * math.pi),
+                                brake_torque=5.0)
+    assert rundown._points(3600) < (rundown._POINTS, rundown._CHECK_POINTS)
+    assert full.stop_time is not None and down.stop_time == pytest.approx(full.stop_time, rel=1e-9)
+    assert down.time_error < 1e-8

@@ -22,7 +22,8 @@ import numpy as np
 
 from ..model import FloatArray
 
-#: Gauss-Legendre points in each sample interval (and fewer, for the error estimate).
+#: Gauss-Legendre points in each sample interval (and fewer, for the error estimate) on a grid of
+#: REPORTED_PER_REVOLUTION samples; a finer grid's intervals are shorter and take fewer (:func:`_points`).
 _POINTS, _CHECK_POINTS = 6, 3
 #: The last intervals before the stop, integrated in the variable that removes the square-root singularity, and
 #: the Gauss-Legendre points there.
@@ -48,6 +49,14 @@ class Coast:
     friction_loss: float
     process_work: float
     time_error: float
+
+
+def _points(samples: int) -> tuple[int, int]:
+    """Gauss-Legendre points per interval, and for the error estimate, on a grid of ``samples`` a revolution:
+    about as many a revolution as on the reported grid (an n-point rule's error falls as the interval's 2n-th
+    power, so ten times shorter intervals need far fewer points for the same time), never fewer than 3 and 2."""
+    scale = REPORTED_PER_REVOLUTION / samples
+    return max(3, math.ceil(_POINTS * scale)), max(2, math.ceil(_CHECK_POINTS * scale))
 
 
 @cache
@@ -133,19 +142,20 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
         rest = end - begin
         return float(h * rest * 2 * np.sum(ws * sg * inverse_speed(end - rest * sg * sg)))
 
+    points, check_points = _points(n)
     if hit is None:
         m = start.size
-        time = np.concatenate(([0.0], np.cumsum(interval_times(m, _POINTS))))
-        check = float(np.sum(interval_times(m, _CHECK_POINTS)))
+        time = np.concatenate(([0.0], np.cumsum(interval_times(m, points))))
+        check = float(np.sum(interval_times(m, check_points)))
         end = float(m)
         kin = np.append(start, start[-1] + gain[idx[-1]])
     else:
         i, s_stop = hit
         end = i + s_stop
         head = max(i - _TAIL_INTERVALS, 0)
-        t_head = np.concatenate(([0.0], np.cumsum(interval_times(head, _POINTS))))
+        t_head = np.concatenate(([0.0], np.cumsum(interval_times(head, points))))
         t_stop = float(t_head[-1]) + time_to(end, head, _TAIL_POINTS)
-        check = float(np.sum(interval_times(head, _CHECK_POINTS))) + time_to(end, head, _TAIL_CHECK_POINTS)
+        check = float(np.sum(interval_times(head, check_points))) + time_to(end, head, _TAIL_CHECK_POINTS)
         tail = [t_stop - time_to(end, float(k), _TAIL_POINTS) for k in range(head + 1, i + 1)]
         time = np.concatenate((t_head, tail, [t_stop]))
         m = i + 1
