@@ -5,8 +5,9 @@ the load cycles each wheel sees in the required life (60 n L_h for the pinion, t
 S-N curve of each wheel is its endurance stress times Z_NT (contact) or Y_NT (root) as functions of the load
 cycles (ISO 6336-2/-3 method B), so a stress sigma allows N(sigma) cycles where the curve reaches it. Damage
 is D = sum n_i / N(sigma_i) (Miner, as ISO 6336-6 uses it); the safety factor on the spectrum is the factor
-S by which every stress may grow before D reaches 1, found by bisection. Torques of either sign count with
-their magnitude: reversed torque loads the other flank, so counting both on one flank errs safe.
+S by which every stress may grow before D reaches 1, found by bisection in log S (replayed on a bracket of the
+root found in a few sums: the same factor to the last bit). Torques of either sign count with their magnitude:
+reversed torque loads the other flank, so counting both on one flank errs safe.
 """
 
 from __future__ import annotations
@@ -27,11 +28,11 @@ _BISECTION_STEPS = 36
 _BRACKET = 1e-11     # [log S]
 _JUMP = 4e-12        # [log S], above the rounding of log S at a curve's static value
 _NEAR = 1e-10        # [log S]
-_CAP = 1e3
+_CAP = 1e3           # |log D| beyond this counts as this: no load, or past a static value
 _SURE = 1e-6         # a bound on a Miner sum this far within 1 decides it, whatever the rounding
 _SLOPE_STEP = 1e-3   # [log S], the step that measures log D's slope
 _SECANT_SUMS = 24    # then halvings only: 45 bring [-12, 12] itself below _BRACKET
-_BRACKET_SUMS = 72
+_BRACKET_SUMS = 72   # at most, whatever D does
 
 
 @dataclass(frozen=True, slots=True)
