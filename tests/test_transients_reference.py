@@ -119,3 +119,18 @@ def test_a_finer_grid_reports_no_more_states() -> None:
     assert rundown._points(3600) < (rundown._POINTS, rundown._CHECK_POINTS)
     assert full.stop_time is not None and down.stop_time == pytest.approx(full.stop_time, rel=1e-9)
     assert down.time_error < 1e-8
+
+
+def test_a_steady_speed_to_start_from_changes_no_state() -> None:
+    # the chain hands its working steady speed to the run-down and the start-up: their shooting starts there,
+    # and what they find is what they find from their own guess, to the shooting's tolerance (1e-10)
+    cycle, motor, constant, friction = _press()
+    own = simulate_rundown(cycle, constant, motor, friction_torque=friction, brake_torque=5.0)
+    given = simulate_rundown(cycle, constant, motor, friction_torque=friction, brake_torque=5.0,
+                             steady_start=float(own.run.omega[0]) * (1 + 1e-3))
+    assert own.stop_time is not None and given.stop_time == pytest.approx(own.stop_time, rel=1e-10)
+    up = simulate_startup(cycle, constant, motor, friction_torque=friction, breakaway_torque=1.5 * friction)
+    guided = simulate_startup(cycle, constant, motor, friction_torque=friction, breakaway_torque=1.5 * friction,
+                              steady_start=float(own.run.omega[0]))
+    assert np.max(np.abs(guided.steady.omega - up.steady.omega)) <= 1e-10 * float(np.max(up.steady.omega))
+    assert guided.steady_time == pytest.approx(up.steady_time, rel=1e-9)

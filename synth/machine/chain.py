@@ -793,7 +793,8 @@ def _drive_onwards(machine: MachineSpec, before: Analysis, bal: Balancing, balan
     constant = train + motor.reduced().inertia + flywheel.design.flywheel_inertia
     with stage("simulation"):
         running = machine_running(balanced, motor, constant, drive.chain_efficiency, machine.friction,
-                                  machine.brake_torque, machine.start_under_load)
+                                  machine.brake_torque, machine.start_under_load,
+                                  steady_start=float(motion.omega[0]))
     running_checks = tuple(_running_checks(machine, running))
     checks = (*steady_checks, *running_checks)
     warnings += _flywheel_warnings(machine, flywheel, placement) + _check_warnings(steady_checks) + not_sized

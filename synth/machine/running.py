@@ -47,7 +47,7 @@ class MachineRunning:
 
 def machine_running(balanced: Analysis, motor: Motor, constant_inertia: float, gear_efficiency: float,
                     friction: Sequence[PairFriction] = (), brake_torque: float = 0.0,
-                    start_under_load: bool = False) -> MachineRunning:
+                    start_under_load: bool = False, steady_start: float | None = None) -> MachineRunning:
     """Efficiencies, start-up and run-down of the machine whose balanced linkage is ``balanced``.
 
     Parameters
@@ -69,6 +69,10 @@ def machine_running(balanced: Analysis, motor: Motor, constant_inertia: float, g
         and runs up idling, against gravity, link torques and the friction these cause, to its idle steady
         state (a press's flywheel run up before the clutch engages the stroke). Either way from the crank angle
         where starting is hardest.
+    steady_start
+        The working steady speed at the first sample when the caller has simulated it [rad/s]: the run-down
+        starts from that state, and the start-up's steady state is shot for from it (fewer integrations, the
+        same states).
     """
     red = balanced.reduced
     cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
@@ -87,8 +91,10 @@ def machine_running(balanced: Analysis, motor: Motor, constant_inertia: float, g
                                         0.0)
     breakaway = breakaway_torque(at_rest, friction, red.phi) if friction else None
     startup = simulate_startup(start_cycle, constant_inertia, motor, friction_torque=start_friction,
-                               breakaway_torque=None if breakaway is None else np.maximum(breakaway, 0.0))
-    rundown = simulate_rundown(cycle, constant_inertia, motor, friction_torque=running, brake_torque=brake_torque)
+                               breakaway_torque=None if breakaway is None else np.maximum(breakaway, 0.0),
+                               steady_start=steady_start)
+    rundown = simulate_rundown(cycle, constant_inertia, motor, friction_torque=running, brake_torque=brake_torque,
+                               steady_start=steady_start)
     linkage = 1.0 if balanced.friction is None else balanced.friction.cycle_efficiency
     overall = None if linkage is None else linkage * gear_efficiency
     return MachineRunning(Efficiency(linkage, gear_efficiency, overall), startup, rundown, constant_inertia)

@@ -393,7 +393,7 @@ def start_check(cycle: MachineCycle, motor: Motor, breakaway_torque: FloatArray 
 def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
                      friction_torque: FloatArray | None = None, breakaway_torque: FloatArray | None = None,
                      standstill_load: FloatArray | None = None, start_angle: float | None = None,
-                     tolerance: float = STEADY_TOLERANCE) -> StartUp:
+                     tolerance: float = STEADY_TOLERANCE, steady_start: float | None = None) -> StartUp:
     """Run the machine up from rest to its periodic steady state.
 
     Parameters
@@ -416,6 +416,9 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         when the start check fails.
     tolerance
         Relative distance from the steady speed counted as steady [-].
+    steady_start
+        Crank speed at the first sample to start the steady state's shooting from [rad/s] (a nearby machine's
+        steady speed saves integrations; the steady state found does not depend on it).
 
     The steady state is :func:`simulate_machine`'s, on the same cycle less the friction torque.
     """
@@ -425,7 +428,7 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     friction = _friction_table(cycle, friction_torque, "friction_torque")
     check = start_check(cycle, motor, breakaway_torque, standstill_load)
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
-    steady = simulate_machine(loaded, constant_inertia, motor)
+    steady = simulate_machine(loaded, constant_inertia, motor, start=steady_start)
     phi0 = check.worst_angle if start_angle is None else float(start_angle)
     if not check.starts:
         return StartUp(check, None, steady, None, 0.0, 0.0, tolerance, True)
@@ -448,7 +451,8 @@ def simulate_startup(cycle: MachineCycle, constant_inertia: float, motor: Motor,
 
 
 def simulate_rundown(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
-                     friction_torque: FloatArray | None = None, brake_torque: float = 0.0) -> RunDown:
+                     friction_torque: FloatArray | None = None, brake_torque: float = 0.0,
+                     steady_start: float | None = None) -> RunDown:
     """Switch the motor off in the steady state at the first sample and let the machine run down.
 
     Parameters
@@ -457,13 +461,15 @@ def simulate_rundown(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         As for :func:`simulate_startup`; the motor's rotor still turns with the train.
     brake_torque
         Constant brake torque at the crank while turning [N·m] (>= 0).
+    steady_start
+        As for :func:`simulate_startup`.
     """
     if not (math.isfinite(brake_torque) and brake_torque >= 0):
         raise InvalidInput("the brake torque must be finite and not negative", field="brake_torque_Nm")
     _uniform_step(cycle.phi)
     friction = _friction_table(cycle, friction_torque, "friction_torque")
     loaded = MachineCycle(cycle.phi, cycle.inertia, cycle.inertia_slope, cycle.load_torque - friction)
-    steady = simulate_machine(loaded, constant_inertia, motor)
+    steady = simulate_machine(loaded, constant_inertia, motor, start=steady_start)
     down = coast(cycle.inertia, cycle.inertia_slope, cycle.load_torque, friction + brake_torque, constant_inertia,
                  float(steady.omega[0]), MAX_TIME, MAX_STEPS)
     energy = 0.5 * (_hermite(down.angle, 2 * math.pi / cycle.phi.size, _closed(cycle.inertia),
