@@ -121,3 +121,23 @@ def test_sizing_settles_losing_modules_early_and_answers_the_plain_search(seed: 
             continue                     # no module carries it: the sizing refuses, as another test checks
         sized = synth.size_stage(ratio, load, rules, helix_angle=helix, pinion_teeth=z1)
         assert (sized.module, sized.face_width, sized.modules_examined) == plain
+
+
+@pytest.mark.parametrize(("helix_deg", "grade"), [(0.0, 7), (15.0, 7)])
+def test_lanes_that_fall_short_are_those_whose_safety_factors_do(helix_deg: float, grade: int) -> None:
+    # One Miner sum per lane at the minimum factors names the lanes short of them; where it answers, it is the
+    # verdict of the safety factors themselves (the bisection), lane by lane.
+    torque = np.abs(100.0 * (0.5 + 0.4 * np.sin(np.linspace(0, 2 * np.pi, 361))))
+    d1 = 33 * 2.5e-3 / math.cos(math.radians(helix_deg))
+    wide = PairModel(_spec(d1, helix_deg, grade), DUTY, 150.0)
+    lanes = SpectrumLanes.of(wide, torque)
+    need = np.array([DUTY.min_safety_contact] * 2 + [DUTY.min_safety_root] * 2)
+    answered = 0
+    for width in np.exp(np.linspace(math.log(0.2 * d1), math.log(d1), 25)):
+        model = wide.at_width(float(width))
+        failing = lanes.failing(model)
+        if failing is None:
+            continue
+        answered += 1
+        assert failing == [int(j) for j in np.flatnonzero(lanes.safety(model) / need - 1 < 0)]
+    assert answered >= 20

@@ -29,6 +29,7 @@ _BRACKET = 1e-11     # [log S]
 _JUMP = 4e-12        # [log S], above the rounding of log S at a curve's static value
 _NEAR = 1e-10        # [log S]
 _CAP = 1e3           # |log D| beyond this counts as this: no load, or past a static value
+_CLEAR = 1e-6        # |log D| at the minimum factors beyond which a lane's verdict is its safety factor's
 _SURE = 1e-6         # a bound on a Miner sum this far within 1 decides it, whatever the rounding
 _SLOPE_STEP = 1e-3   # [log S], the step that measures log D's slope
 _SECANT_SUMS = 24    # then halvings only: 45 bring [-12, 12] itself below _BRACKET
@@ -230,6 +231,25 @@ class SpectrumLanes:
     def safety(self, model: PairModel) -> FloatArray:
         """Safety factors (4,) on the spectrum: S_H1, S_H2, S_F1, S_F2."""
         return _safety(self.stresses(model), self.reference, self.knots, self.cycles_each)
+
+    def failing(self, model: PairModel) -> list[int] | None:
+        """The lanes whose spectrum safety factor falls short of its minimum, from one Miner sum per lane at the
+        minimum factors instead of the factors themselves; None where a sum lies so near 1 that only the factors
+        tell (within ``_CLEAR`` in log D: on the steepest S-N branch, ~52, that is 2e-8 in log S, a hundred times
+        the bisection's resolution), or a lane's static value lies within 1e-9 of its minimum factor."""
+        duty = model.duty
+        stress = self.stresses(model)
+        need = np.array([duty.min_safety_contact] * 2 + [duty.min_safety_root] * 2)
+        with np.errstate(divide="ignore"):
+            log_d = np.log(_damage(stress, self.reference, self.knots, self.cycles_each, need))
+        peak = np.max(stress, axis=0, initial=0.0) / self.reference
+        static = np.array([math.log(k[0][1]) for k in self.knots]) * (1 + 1e-12)
+        with np.errstate(divide="ignore"):
+            jump = static - np.log(peak)
+        near_jump = np.abs(np.log(need) - jump) <= 1e-9
+        if np.any(np.isnan(log_d)) or np.any(np.abs(log_d) <= _CLEAR) or np.any(near_jump):
+            return None
+        return [int(j) for j in np.flatnonzero(log_d > 0)]
 
     def feasible(self, model: PairModel) -> bool:
         """Whether every Miner sum with the stresses times S_Hmin (contact) and S_Fmin (root) stays within 1,

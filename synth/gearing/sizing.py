@@ -248,9 +248,14 @@ def size_stage(ratio: float, load: StageLoad, rules: SizingRules | None = None, 
     if i > 0:
         ms = modules[i - 1]
         try:
-            s_small = _safeties(*_model(rules, _spec(rules, z1, z2, ms, b, helix), load), load)
-            marg = _margins(s_small, rules.duty)
-            smaller = (ms, _CONSTRAINTS[int(np.argmin(marg))] if np.min(marg) < 0 else "none")
+            small, small_lanes = _model(rules, _spec(rules, z1, z2, ms, b, helix), load)
+            # one Miner sum per lane says which fall short; their factors are needed only to rank two or more
+            failing = small_lanes.failing(small) if small_lanes is not None else None
+            if failing is not None and len(failing) <= 1:
+                smaller = (ms, _CONSTRAINTS[failing[0]] if failing else "none")
+            else:
+                marg = _margins(_safeties(small, small_lanes, load), rules.duty)
+                smaller = (ms, _CONSTRAINTS[int(np.argmin(marg))] if np.min(marg) < 0 else "none")
         except InvalidInput as exc:
             smaller = (ms, f"geometry: {exc.field}")
     margins = dict(zip(_CONSTRAINTS, map(float, _margins(s, rules.duty)), strict=True))
