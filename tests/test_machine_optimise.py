@@ -475,3 +475,5 @@ def test_a_runs_kept_stages_give_the_member_computed_afresh() -> None:
     with light.kept("another run"):
         light.discrete_choice(machine())
     assert len(light._KEPT["another run"]) == 2
+    light.forget("another run")
+    assert "another run" not in light._KEPT

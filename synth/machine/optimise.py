@@ -49,7 +49,8 @@ from ..synthesis import crank_rocker as _cr
 from ..synthesis import slider_crank as _sc
 from ..synthesis.family import MARGIN
 from .chain import MachineDesign, design_machine
-from .optimise_light import SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, kept, steady_member
+from .optimise_light import (SEARCH_WIDTH_STEPS, Choice, balancing_mass, discrete_choice, forget, kept,
+                             steady_member)
 from .optimise_parts import MachineParts, Prices, machine_parts
 from .spec import BalancingChoice, DriveSpec, FlywheelChoice, MachineSpec
 
@@ -931,8 +932,12 @@ def optimise_machine(spec: OptimiseSpec, *, time_limit_s: float = 20.0) -> Machi
 
     Raises InvalidInput or Infeasible naming the request field, or Infeasible when no member meets the checks.
     """
-    with kept(uuid.uuid4().hex):
-        return _optimise_machine(spec, time_limit_s)
+    run = uuid.uuid4().hex
+    try:
+        with kept(run):
+            return _optimise_machine(spec, time_limit_s)
+    finally:
+        forget(run)
 
 
 def _optimise_machine(spec: OptimiseSpec, time_limit_s: float) -> MachineOptimum:

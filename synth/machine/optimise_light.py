@@ -116,6 +116,12 @@ def kept(run: str) -> Iterator[None]:
         _RUN.reset(token)
 
 
+def forget(run: str) -> None:
+    """Let go of what the optimisation ``run`` kept in this process (it has ended)."""
+    with _KEPT_LOCK:
+        _KEPT.pop(run, None)
+
+
 def _once(key: tuple[Any, ...], samples: int, compute: Callable[[], T]) -> T:
     run = _RUN.get()
     if run is None:
