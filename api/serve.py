@@ -9,8 +9,10 @@ complete ``SYNTH_HEADER_TIMEOUT_S`` after it opened (or after its previous answe
 
 One client could still take every one of the ``SYNTH_MAX_CONNECTIONS`` by holding slow sockets open (each closed
 after the head timeout and opened again at once): the protocol also counts open connections per client address,
-and a connection beyond ``SYNTH_MAX_CONNECTIONS_PER_CLIENT`` from one address is answered 503 and closed at once,
-before it costs a request, so the other clients (and ``/health``) keep their places. A flood of new
+and a connection beyond ``SYNTH_MAX_CONNECTIONS_PER_CLIENT`` from one address is answered 503 and closed, before
+it costs a request, so the other clients (and ``/health``) keep their places. That answer comes after
+:data:`REFUSAL_DELAY_S` unread (for at most :func:`_most_held` connections at once, beyond at once), so a client
+reopening every refused socket at once makes the service refuse hundreds a second, not thousands. A flood of new
 connections waits in the kernel's queue of ``SYNTH_ACCEPT_BACKLOG`` (uvicorn's 2 048 would let one turn of the
 event loop accept, and refuse, thousands while the requests in progress wait).
 """
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import resource
 from typing import Any
 
 import h11
@@ -33,6 +36,21 @@ _TIMED_OUT = (b"HTTP/1.1 408 Request Timeout\r\ncontent-type: text/plain\r\nconn
               b"content-length: 41\r\n\r\nthe request's headers came too slowly\r\n\r\n")
 
 
+#: How long a connection refused for its address waits, unread, before its 503: a crowd that reopens each
+#: refused socket at once would otherwise make the service accept and refuse thousands a second.
+REFUSAL_DELAY_S = 1.0
+
+
+def _most_held() -> int:
+    """Refused connections held waiting at once: a quarter of the process's file descriptors, at most 1 000
+    (beyond, a refused connection is answered at once), so the wait never starves the service of descriptors."""
+    try:
+        soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    except (OSError, ValueError):
+        return 0
+    return max(0, min(1000, (soft if soft != resource.RLIM_INFINITY else 4000) // 4))
+
+
 class HeaderTimeout(H11Protocol):
     """uvicorn's h11 protocol with a bound on the time to receive a request's head."""
 
@@ -40,6 +58,9 @@ class HeaderTimeout(H11Protocol):
     per_client = 1_000_000
     # open connections per client address, over every connection of this process (one event loop)
     open_from: dict[str, int] = {}
+    # refused connections waiting for their 503, over every connection of this process, and the most of them
+    held = 0
+    most_held = _most_held()
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         # uvicorn's own set-up (its h11 connection, its state) waits until the connection is admitted: a crowd
@@ -56,8 +77,14 @@ class HeaderTimeout(H11Protocol):
             if count >= self.per_client:
                 # uvicorn's protocol is never set up for it: no request, no slot of SYNTH_MAX_CONNECTIONS
                 self._refused = True
-                transport.write(_CROWDED)
-                transport.close()
+                self._refusal: asyncio.TimerHandle | None = None
+                cls = type(self)
+                if cls.held < cls.most_held:
+                    cls.held += 1
+                    transport.pause_reading()
+                    self._refusal = asyncio.get_running_loop().call_later(REFUSAL_DELAY_S, self._refuse, transport)
+                else:
+                    self._refuse(transport)
                 return
             self.open_from[self._address] = count + 1
         args, kwargs = self._setup
@@ -84,8 +111,20 @@ class HeaderTimeout(H11Protocol):
         if not self.transport.is_closing():
             self._arm()  # the next request's head on a kept-alive connection
 
+    def _refuse(self, transport: asyncio.Transport) -> None:
+        if self._refusal is not None:
+            self._refusal = None
+            type(self).held -= 1
+        if not transport.is_closing():
+            transport.write(_CROWDED)
+            transport.close()
+
     def connection_lost(self, exc: Exception | None) -> None:
         if self._refused:
+            if self._refusal is not None:  # the client left before its answer
+                self._refusal.cancel()
+                self._refusal = None
+                type(self).held -= 1
             return
         if self._address is not None:
             left = self.open_from.get(self._address, 1) - 1
@@ -106,7 +145,8 @@ class HeaderTimeout(H11Protocol):
 def protocol(header_timeout_s: float, per_client: int = 1_000_000) -> type[HeaderTimeout]:
     """The protocol class with the given head timeout [s] and bound on one client address's open connections."""
     return type("HeaderTimeoutProtocol", (HeaderTimeout,), {"header_timeout_s": header_timeout_s,
-                                                             "per_client": per_client, "open_from": {}})
+                                                             "per_client": per_client, "open_from": {},
+                                                             "held": 0})
 
 
 def config(host: str, port: int, settings: Settings, **extra: Any) -> uvicorn.Config:

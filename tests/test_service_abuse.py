@@ -15,6 +15,7 @@ from pathlib import Path
 import httpx
 import pytest
 
+from api.serve import REFUSAL_DELAY_S
 from service import running_process
 from store import Store
 from store.schema import api_tokens
@@ -99,7 +100,7 @@ def test_one_address_holding_sockets_leaves_health_to_the_others(service: tuple[
             s.connect(("127.0.0.1", port))
             s.sendall(b"GET /health HTTP/1.1\r\nHost: 127.0.0.1\r\n")   # a head never finished
             held.append(s)
-        time.sleep(0.5)
+        time.sleep(REFUSAL_DELAY_S + 0.5)  # the refused ones wait that long, unread, for their 503
         for s in held:
             s.settimeout(0.2)
             try:
