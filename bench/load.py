@@ -486,7 +486,7 @@ ROWS = [
     ("crowd_health_not_200", "/health not 200 meanwhile"),
     ("crowd_health_n", "/health answers meanwhile"),
     ("crowd_opened", "slow sockets opened (each reopened when closed)"),
-    ("crowd_refused_503", "slow sockets refused 503 at once"),
+    ("crowd_refused_503", "slow sockets answered 503 (past the per-address cap)"),
     ("import_status", "100 MB import: status"),
     ("import_s", "100 MB import: time [s]"),
     ("import_rss_growth_mb", "web process peak RSS growth [MiB] (goal <= 100)"),
