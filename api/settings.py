@@ -97,8 +97,8 @@ class Settings(BaseSettings):
     token_days: float = Field(90.0, ge=0, le=36_500, description="How long a new API token lasts unless its "
                               "maker says otherwise [days]; 0: new tokens last until revoked.")
     max_connections_per_client: int = Field(100, ge=1, le=1_000_000, description="Open connections from one "
-                                            "client address at once; beyond, its new connections are answered "
-                                            "503 and closed (the others' are not).")
+                                            "client address at once; beyond, its new connections wait a second "
+                                            "unread, are answered 503 and closed (the others' are not).")
     accept_backlog: int = Field(128, ge=1, le=65_535, description="Connections the kernel holds waiting to be "
                                 "accepted, and the most the service accepts in one turn of its event loop; a "
                                 "flood of new connections beyond waits in the kernel instead of stalling the "
