@@ -63,8 +63,8 @@ class HeaderTimeout(H11Protocol):
     most_held = _most_held()
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
-        # uvicorn's own set-up (its h11 connection, its state) waits until the connection is admitted: a crowd
-        # refused at once costs only the refusal
+        # uvicorn's own set-up (its h11 connection, its state) waits until the connection is admitted: a
+        # connection refused for its address costs only its refusal
         self._setup = (args, kwargs)
 
     def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]

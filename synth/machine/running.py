@@ -70,9 +70,8 @@ def machine_running(balanced: Analysis, motor: Motor, constant_inertia: float, g
         state (a press's flywheel run up before the clutch engages the stroke). Either way from the crank angle
         where starting is hardest.
     steady_start
-        The working steady speed at the first sample when the caller has simulated it [rad/s]: the run-down
-        starts from that state, and the start-up's steady state is shot for from it (fewer integrations, the
-        same states).
+        The working steady speed at the first sample when the caller has simulated it [rad/s]: the start-up's
+        and the run-down's steady states are shot for from it (fewer integrations, the same states).
     """
     red = balanced.reduced
     cycle = MachineCycle(red.phi, red.inertia, red.inertia_slope, red.load_torque)
