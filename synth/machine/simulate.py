@@ -4,7 +4,7 @@ The equation of motion is integrated in its velocity form, J(phi)·w·dw/dphi = 
 J'(phi)·w²/2, with J'(phi) the analytic slope of the linkage's reduced inertia (not the finite differences of
 the energy form the flywheel NLP and its own check use), the motor's characteristic through the real train
 ratio and efficiency, and the constant inertia of rotor, train and flywheel, by classical Runge-Kutta steps
-between the samples (compiled once per step count with CasADi). Newton shooting on the initial speed, with the
+between the samples (one compiled loop, :mod:`synth.compiled`). Newton shooting on the initial speed, with the
 variational equation for the slope, finds the motion that repeats after one revolution.
 """
 
@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
-import casadi as ca
 import numpy as np
 
+from ..compiled import compiled
 from ..errors import InvalidInput, SolverFailed
 from ..flywheel import Motor
 from ..model import FloatArray
@@ -24,9 +23,6 @@ from ..model import FloatArray
 
 #: A shooting step below this fraction of the speed is applied along the motion by its sensitivity [-].
 LINEAR_STEP = 1e-5
-#: Steps up to which the stepper is expanded into one flat expression: a fifth faster a call, for a build of
-#: tens of milliseconds once per process (any sample count up to 1440 gives fewer steps than this).
-EXPAND_STEPS = 2880
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,34 +72,43 @@ def _closed(values: FloatArray) -> FloatArray:
     return np.append(values, values[0])
 
 
-@lru_cache(maxsize=16)
-def _cycle_stepper(steps: int) -> ca.Function:
-    """Classical Runge-Kutta over ``steps`` steps of dw/dphi = f(phi, w), compiled once per step count.
+@compiled
+def _march(w0: float, params: FloatArray) -> FloatArray:  # pragma: no cover - compiled; run through _cycle
+    """Classical Runge-Kutta over the columns of ``params`` of dw/dphi = f(phi, w), with its variational state.
 
     f = (M(phi) + c·(w_free - w) - J'(phi)·w²/2) / (J(phi)·w). The state carries the variational equation
     ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Each step's column of parameters holds its length, J,
-    J' and M at its start, middle and end, and c, w_free; the answer is the state after every step.
+    J' and M at its start, middle and end, and c, w_free; the answer (2, steps) is the state after every step.
     """
-    x = ca.SX.sym("x", 2)
-    p = ca.SX.sym("p", 12)
-    h, ja, jm, jb, da, dm, db, ma, mm, mb, c, w_free = (p[i] for i in range(12))
-
-    def f(j: ca.SX, dj: ca.SX, m: ca.SX, w: ca.SX, sv: ca.SX) -> ca.SX:
-        r = (m + c * (w_free - w) - 0.5 * dj * w * w) / (j * w)
-        return ca.vertcat(r, ((-c - dj * w) / (j * w) - r / w) * sv)
-
-    k1 = f(ja, da, ma, x[0], x[1])
-    k2 = f(jm, dm, mm, x[0] + 0.5 * h * k1[0], x[1] + 0.5 * h * k1[1])
-    k3 = f(jm, dm, mm, x[0] + 0.5 * h * k2[0], x[1] + 0.5 * h * k2[1])
-    k4 = f(jb, db, mb, x[0] + h * k3[0], x[1] + h * k3[1])
-    step = ca.Function("step", [x, p], [x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
-    accumulated = step.mapaccum("cycle", steps)
-    return accumulated.expand() if steps <= EXPAND_STEPS else accumulated
+    steps = params.shape[1]
+    out = np.empty((2, steps))
+    w, s = w0, 1.0
+    for i in range(steps):
+        h, ja, jm, jb = params[0, i], params[1, i], params[2, i], params[3, i]
+        da, dm, db = params[4, i], params[5, i], params[6, i]
+        ma, mm, mb = params[7, i], params[8, i], params[9, i]
+        c, w_free = params[10, i], params[11, i]
+        r1 = (ma + c * (w_free - w) - 0.5 * da * w * w) / (ja * w)
+        s1 = ((-c - da * w) / (ja * w) - r1 / w) * s
+        w2, v2 = w + 0.5 * h * r1, s + 0.5 * h * s1
+        r2 = (mm + c * (w_free - w2) - 0.5 * dm * w2 * w2) / (jm * w2)
+        s2 = ((-c - dm * w2) / (jm * w2) - r2 / w2) * v2
+        w3, v3 = w + 0.5 * h * r2, s + 0.5 * h * s2
+        r3 = (mm + c * (w_free - w3) - 0.5 * dm * w3 * w3) / (jm * w3)
+        s3 = ((-c - dm * w3) / (jm * w3) - r3 / w3) * v3
+        w4, v4 = w + h * r3, s + h * s3
+        r4 = (mb + c * (w_free - w4) - 0.5 * db * w4 * w4) / (jb * w4)
+        s4 = ((-c - db * w4) / (jb * w4) - r4 / w4) * v4
+        w = w + h / 6 * (r1 + 2 * r2 + 2 * r3 + r4)
+        s = s + h / 6 * (s1 + 2 * s2 + 2 * s3 + s4)
+        out[0, i] = w
+        out[1, i] = s
+    return out
 
 
 def _step_parameters(nodes: FloatArray, tables: tuple[FloatArray, FloatArray, FloatArray], c: float,
                      w_free: float, substeps: int) -> FloatArray:
-    """The (12, N·substeps) parameter columns of :func:`_cycle_stepper`: tables linear between samples."""
+    """The (12, N·substeps) parameter columns of :func:`_march`: tables linear between samples."""
     t = np.arange(substeps) / substeps
     frac = [t, t + 0.5 / substeps, t + 1.0 / substeps]
     h = np.repeat(np.diff(nodes) / substeps, substeps)
@@ -151,13 +156,12 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     if substeps < 1:
         raise InvalidInput("substeps must be at least 1", field="substeps")
     params = _step_parameters(nodes, (j, dj, load), red.slope, red.no_load_speed, substeps)
-    stepper = _cycle_stepper(params.shape[1])
     if start is None:
         # the linear characteristic's steady angle-average speed starts the shooting close to the answer
         start = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
     w0 = float(start)
     for _ in range(40):
-        states = np.asarray(stepper(np.array([w0, 1.0]), params), dtype=float)
+        states = _march(w0, params)
         if not (np.all(np.isfinite(states)) and np.all(states[0] > 0)):
             raise SolverFailed("no_periodic_motion", "the machine stalls: the motor cannot keep it turning")
         speeds, sens = np.concatenate(([w0], states[0])), float(states[1, -1])
