@@ -6,8 +6,8 @@ The equation of motion J(phi)·dw/dt + J'(phi)·w²/2 = M(phi) is then d(J·w²/
 so the kinetic energy is the integral of the net torque over the angle, exact on the tables (linear between
 the samples: each sample interval adds the trapezoid, and within it the energy is a quadratic in the angle).
 The crank stops where that energy first reaches zero, found as the root of the quadratic. The only thing
-approximated is the time, the integral of dphi/w with w = sqrt(2·K/J): Gauss-Legendre in every interval, and
-over the last intervals before the stop (where 1/w grows without bound) in a variable that takes the square
+approximated is the time, the integral of dphi/w with w = sqrt(2·K/J): Gauss-Legendre in every interval (in every
+panel of the reported spacing on a finer grid), and over the last intervals before the stop (where 1/w grows without bound) in a variable that takes the square
 root out, so the stop time of a rotor with constant inertia and torque is exact. The same integral by a rule of
 lower order gives the time's error estimate the answer reports.
 """
@@ -23,7 +23,7 @@ import numpy as np
 from ..model import FloatArray
 
 #: Gauss-Legendre points in each sample interval (and fewer, for the error estimate) on a grid of
-#: REPORTED_PER_REVOLUTION samples; a finer grid's intervals are shorter and take fewer (:func:`_points`).
+#: REPORTED_PER_REVOLUTION samples; a finer grid takes them in each panel of that spacing (:func:`_points`).
 _POINTS, _CHECK_POINTS = 6, 3
 #: The last intervals before the stop, integrated in the variable that removes the square-root singularity, and
 #: the Gauss-Legendre points there.
@@ -52,9 +52,9 @@ class Coast:
 
 
 def _points(samples: int) -> tuple[int, int]:
-    """Gauss-Legendre points per interval, and for the error estimate, on a grid of ``samples`` a revolution:
-    about as many a revolution as on the reported grid (an n-point rule's error falls as the interval's 2n-th
-    power, so ten times shorter intervals need far fewer points for the same time), never fewer than 3 and 2."""
+    """Gauss-Legendre points per panel, and for the error estimate, on a grid of ``samples`` panels a revolution:
+    about as many a revolution as on the reported grid (an n-point rule's error falls as the panel's 2n-th power,
+    so shorter panels need fewer points for the same time), never fewer than 3 and 2."""
     scale = REPORTED_PER_REVOLUTION / samples
     return max(3, math.ceil(_POINTS * scale)), max(2, math.ceil(_CHECK_POINTS * scale))
 
@@ -126,13 +126,16 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
         kin = start[k] + lin[r] * s + quad[r] * s * s
         return np.asarray(np.sqrt(_hermite(r, s, h, j, dj) / (2 * np.maximum(kin, 1e-300))), dtype=float)
 
-    def interval_times(upto: int, points: int) -> FloatArray:
+    def panel_times(bounds: FloatArray, points: int) -> FloatArray:
+        """Time over each panel between successive ``bounds`` [intervals from the start]."""
         x, w = _gauss(points)
-        out = np.empty(upto)
-        # in blocks: the memory a run-down takes stays that of a block, not of every point of every interval
-        for lo in range(0, upto, _BLOCK):
-            u = np.arange(lo, min(lo + _BLOCK, upto))[:, None] + x[None, :]
-            out[lo: lo + u.shape[0]] = h * (inverse_speed(u) @ w)
+        out = np.empty(bounds.size - 1)
+        # in blocks: the memory a run-down takes stays that of a block, not of every point of every panel
+        for lo in range(0, out.size, _BLOCK):
+            b = bounds[lo: lo + _BLOCK + 1]
+            width = np.diff(b)
+            u = b[:-1, None] + width[:, None] * x[None, :]
+            out[lo: lo + width.size] = h * width * (inverse_speed(u) @ w)
         return out
 
     def time_to(end: float, begin: float, points: int) -> float:
@@ -142,30 +145,47 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
         rest = end - begin
         return float(h * rest * 2 * np.sum(ws * sg * inverse_speed(end - rest * sg * sg)))
 
-    points, check_points = _points(n)
+    # A finer grid than REPORTED_PER_REVOLUTION samples is reported at that spacing, and its time integrated in
+    # panels of that spacing: within a panel the integrand is as smooth as the tables (their kinks at the fine
+    # samples are of the order of the samples' spacing squared), so a panel takes the reported grid's rule.
+    stride = max(1, n // REPORTED_PER_REVOLUTION)
+    points, check_points = _points(n // stride)
+
+    def panels(upto: int) -> FloatArray:
+        return np.unique(np.append(np.arange(0, upto, stride), upto)).astype(float)
+
     if hit is None:
         m = start.size
-        time = np.concatenate(([0.0], np.cumsum(interval_times(m, points))))
-        check = float(np.sum(interval_times(m, check_points)))
+        bounds = panels(m)
+        time = np.concatenate(([0.0], np.cumsum(panel_times(bounds, points))))
+        check = float(np.sum(panel_times(bounds, check_points)))
         end = float(m)
-        kin = np.append(start, start[-1] + gain[idx[-1]])
+        nodes = bounds
+        kin = np.append(start, start[-1] + gain[idx[-1]])[bounds.astype(int)]
     else:
         i, s_stop = hit
         end = i + s_stop
         head = max(i - _TAIL_INTERVALS, 0)
-        t_head = np.concatenate(([0.0], np.cumsum(interval_times(head, points))))
+        bounds = panels(head)
+        t_head = np.concatenate(([0.0], np.cumsum(panel_times(bounds, points))))
         t_stop = float(t_head[-1]) + time_to(end, head, _TAIL_POINTS)
-        check = float(np.sum(interval_times(head, check_points))) + time_to(end, head, _TAIL_CHECK_POINTS)
-        tail = [t_stop - time_to(end, float(k), _TAIL_POINTS) for k in range(head + 1, i + 1)]
+        check = float(np.sum(panel_times(bounds, check_points))) + time_to(end, head, _TAIL_CHECK_POINTS)
+        tail_nodes = np.arange(head + 1, i + 1)
+        if stride > 1:
+            tail_nodes = tail_nodes[tail_nodes % stride == 0]
+        tail = [t_stop - time_to(end, float(k), _TAIL_POINTS) for k in tail_nodes]
         time = np.concatenate((t_head, tail, [t_stop]))
-        m = i + 1
-        kin = np.append(start[:m], 0.0)
-    nodes = np.append(np.arange(m, dtype=float), end)
+        nodes = np.concatenate((bounds, tail_nodes, [end]))
+        kin = np.append(start[nodes[:-1].astype(int)], 0.0)
+    m = int(math.floor(nodes[-1])) if hit is None else i + 1
     k = np.minimum(np.floor(nodes).astype(int), m - 1)
     jn = _hermite(idx[k], nodes - k, h, j, dj)
     omega = np.sqrt(2 * np.maximum(kin, 0.0) / jn)
     t_end = float(time[-1])
     stopped = hit is not None and t_end <= max_time
+    # the nodes reported: the multiples of the reported spacing, and the last (the stop, or the horizon)
+    shown = np.flatnonzero((nodes % stride == 0) | (np.arange(nodes.size) == nodes.size - 1))
+    nodes, time, omega = nodes[shown], time[shown], omega[shown]
     if t_end > max_time:
         keep = int(np.searchsorted(time, max_time)) + 1
         nodes, time, omega = nodes[:keep], time[:keep], omega[:keep]
@@ -181,8 +201,5 @@ def coast(inertia: FloatArray, inertia_slope: FloatArray, load: FloatArray, resi
         r = full % n
         return whole + h * float(v[r] * frac + (v[r + 1] - v[r]) * frac * frac / 2)
 
-    # a finer grid than REPORTED_PER_REVOLUTION samples is reported at that spacing (the stop always)
-    shown = np.unique(np.append(np.arange(0, nodes.size, max(1, n // REPORTED_PER_REVOLUTION)), nodes.size - 1))
-    nodes, time, omega = nodes[shown], time[shown], omega[shown]
     return Coast(nodes * h, time, omega, t_end if stopped else None, work(res), -work(ld),
                  abs(check - t_end) / max(t_end, 1e-300))
