@@ -38,7 +38,7 @@ from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
 from ..warnings import DesignWarning
 from .stages import Stage, stage_name
-from .teeth import ToothRules, pairs_admissible
+from .teeth import ToothRules, grid_pairs
 
 Objective = Literal["min_inertia", "min_volume", "handbook"]
 OBJECTIVES: tuple[str, ...] = ("min_inertia", "min_volume", "handbook")
@@ -207,24 +207,21 @@ def teeth_limited(stages: Sequence[Stage], rules: ToothRules) -> tuple[tuple[Sta
     ranges gives ratios the tooth search can meet. A stage with no admissible pair at all is left as it is (the
     tooth search names it). Returns the stages and the narrowings made.
     """
-    z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
-    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
     out: list[Stage] = []
     limits: list[TeethLimit] = []
     for k, s in enumerate(stages):
         if not s.toothed or s.ratio is not None:
             out.append(s)
             continue
-        ok = pairs_admissible(zp, zg, s, rules)
-        if not ok.any():
+        zp, zg = grid_pairs(s, rules)
+        if not zp.size:
             out.append(s)
             continue
-        ratio = zg[ok] / zp[ok]
+        ratio = zg / zp
         i_lo, i_hi = int(np.argmin(ratio)), int(np.argmax(ratio))
         lo, hi = float(ratio[i_lo]), float(ratio[i_hi])
         if lo > s.ratio_min * (1 + 1e-12) or hi < s.ratio_max * (1 - 1e-12):
-            limits.append(TeethLimit(k, lo, hi, (int(zp[ok][i_lo]), int(zg[ok][i_lo])),
-                                     (int(zp[ok][i_hi]), int(zg[ok][i_hi]))))
+            limits.append(TeethLimit(k, lo, hi, (int(zp[i_lo]), int(zg[i_lo])), (int(zp[i_hi]), int(zg[i_hi]))))
             s = Stage(s.type, max(lo, s.ratio_min), min(hi, s.ratio_max), s.efficiency, s.volume_coefficient,
                       s.toothed, None)
         out.append(s)

@@ -29,6 +29,7 @@ be optimal, so the answer equals a plain enumeration of all combinations (:func:
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Sequence
@@ -180,17 +181,46 @@ def _wheel_minimums(rules: ToothRules) -> tuple[int, int]:
     return max(1, math.ceil(small - 1e-9)), max(1, math.ceil(large - 1e-9))
 
 
-def pairs_admissible(zp: IntArray, zg: IntArray, stage: Stage, rules: ToothRules) -> NDArray[np.bool_]:
-    """Which (pinion, gear) pairs one stage admits under ``rules`` (vectorised; reverted sums aside)."""
+def _rules_admit(zp: IntArray, zg: IntArray, rules: ToothRules) -> NDArray[np.bool_]:
+    """Which (pinion, gear) pairs ``rules`` admit, whatever their ratio (vectorised)."""
     small, large = np.minimum(zp, zg), np.maximum(zp, zg)
     min_small, min_large = _wheel_minimums(rules)
-    ratio = zg / zp
     ok = (small >= min_small) & (large >= min_large) & (large <= rules.max_teeth)
     ok &= large <= interference_limit(small, rules.pressure_angle, rules.addendum, rules.profile_shift) + 1e-9
-    ok &= (ratio >= stage.ratio_min * (1 - 1e-12)) & (ratio <= stage.ratio_max * (1 + 1e-12))
     if rules.hunting:
         ok &= np.gcd(zp, zg) == 1
     return ok
+
+
+def _in_range(ratio: FloatArray, stage: Stage) -> NDArray[np.bool_]:
+    return (ratio >= stage.ratio_min * (1 - 1e-12)) & (ratio <= stage.ratio_max * (1 + 1e-12))
+
+
+def pairs_admissible(zp: IntArray, zg: IntArray, stage: Stage, rules: ToothRules) -> NDArray[np.bool_]:
+    """Which (pinion, gear) pairs one stage admits under ``rules`` (vectorised; reverted sums aside)."""
+    return _rules_admit(zp, zg, rules) & _in_range(zg / zp, stage)
+
+
+@functools.lru_cache(maxsize=16)
+def _grid_pairs(rules: ToothRules) -> tuple[IntArray, IntArray, FloatArray]:
+    """Every (pinion, gear) pair of 1..max_teeth teeth the rules admit whatever the ratio, pinion-major, and
+    their ratios: the same for every stage and every member an optimisation designs, so made once."""
+    z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
+    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
+    ok = _rules_admit(zp, zg, rules)
+    zp, zg = zp[ok], zg[ok]
+    ratio = zg / zp
+    for a in (zp, zg, ratio):
+        a.setflags(write=False)
+    return zp, zg, ratio
+
+
+def grid_pairs(stage: Stage, rules: ToothRules) -> tuple[IntArray, IntArray]:
+    """The (pinion, gear) pairs of 1..max_teeth teeth one stage admits, pinion-major: the pairs of the whole grid
+    :func:`pairs_admissible` admits, in the grid's order."""
+    zp, zg, ratio = _grid_pairs(rules)
+    ok = _in_range(ratio, stage)
+    return zp[ok], zg[ok]
 
 
 def _validate(target: float, stages: Sequence[Stage], rules: ToothRules, tolerance: float | None) -> None:
@@ -537,18 +567,19 @@ def _fewest(table: _Table, stream: _Stream, target: float,
 
 def _stage_sets(stages: Sequence[Stage], rules: ToothRules, total_sum: int | None) -> list[tuple[IntArray, IntArray]]:
     z = np.arange(1, rules.max_teeth + 1, dtype=np.int64)
-    zp, zg = (g.ravel() for g in np.meshgrid(z, z, indexing="ij"))
-    if total_sum is not None:
-        zp = z[z < total_sum]
-        zg = total_sum - zp
+    zp = z[z < total_sum] if total_sum is not None else z
+    zg = total_sum - zp if total_sum is not None else z
     out = []
     # Stages with the same ratio range admit the same pairs: the same arrays, so the search deduplicates them once.
     made: dict[tuple[float, float], tuple[IntArray, IntArray]] = {}
     for s in stages:
         key = (s.ratio_min, s.ratio_max)
         if key not in made:
-            ok = pairs_admissible(zp, zg, s, rules)
-            made[key] = (zp[ok], zg[ok])
+            if total_sum is None:
+                made[key] = grid_pairs(s, rules)
+            else:
+                ok = pairs_admissible(zp, zg, s, rules)
+                made[key] = (zp[ok], zg[ok])
         out.append(made[key])
     return out
 
