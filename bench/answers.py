@@ -2,13 +2,13 @@
 are judged: the service's own app and worker processes in this process (FastAPI's TestClient), calls alternated so
 that a burst of load from other work on the machine falls on both sides of each ratio.
 
-- A 3 600-sample analysis of a four-bar answered as JSON (the default, its curves in single precision) against
-  the same answer as npz (goal: at most 1.3x), and with ``?precision=full`` (every float64 exactly, the previous
-  default) beside it; and where the JSON's time goes in the worker's code path: the engine, the answer model, the
-  answer written by orjson in single and in full precision, npz's archive of the same numbers, and orjson writing
-  as many plain floats from one numpy array in float64 and in float32. Those last figures are the floors of any
-  JSON answer (each float written as its shortest text); the answer's JSON written within a small factor of them
-  means the rest of the gap is the float text itself.
+- A 3 600-sample analysis of a four-bar answered as JSON (the default, its curves at one quantum per array)
+  against the same answer as npz (goal: at most 1.3x), and with ``?precision=full`` (every float64 exactly) beside
+  it; and where the JSON's time goes in the worker's code path: the engine, the answer model, the answer's JSON
+  in the default and in full precision, npz's archive of the same numbers, and as many plain floats from one
+  numpy array written by the curve writer (``api.curve_text``) and by orjson in float64 and in float32 (its
+  shortest text of each float). Those are the floors of a JSON answer in each precision; the answer's JSON
+  written within a small factor of them means the rest of the gap is the float text itself.
 - The docs' eight-bar (docs/linkages.md, a class-III group placed numerically) against the four-bar at 360 samples,
   in the engine and through the service (goal: at most 5x).
 
@@ -30,6 +30,7 @@ import orjson
 import synth
 from api.execution import plans
 from api.execution.plans import Limits
+from api.curve_text import curve_bytes
 from api.media import json_bytes, npz_bytes
 from api.settings import Settings
 from api.translate.linkage import linkage_from
@@ -96,9 +97,20 @@ def worker_path() -> dict[str, tuple[float, float]]:
         "answer's JSON (json_bytes, single)": lambda: json_bytes(model, "single"),
         "answer's JSON (json_bytes, full)": lambda: json_bytes(model, "full"),
         "answer's npz (npz_bytes)": lambda: npz_bytes(model),
-        f"orjson of {count} float64 (the floor)": lambda: orjson.dumps(floats, option=orjson.OPT_SERIALIZE_NUMPY),
+        f"curve writer of {count} floats (the floor)": lambda: curve_bytes(floats),
+        f"orjson of {count} float64 (full's floor)": lambda: orjson.dumps(floats,
+                                                                            option=orjson.OPT_SERIALIZE_NUMPY),
         f"orjson of {count} float32": lambda: orjson.dumps(singles, option=orjson.OPT_SERIALIZE_NUMPY),
     }, 9)
+
+
+def answer_sizes() -> dict[str, int]:
+    """The 3 600-sample answer's bytes as JSON, JSON in full precision and npz."""
+    body = AnalysisIn.model_validate({"mechanism": FOURBAR, "speed_rpm": 120, "samples": SAMPLES})
+    plan = plans.analysis(body, Limits.from_settings(Settings()))
+    model = plan.render.model(plan.fn(*plan.args, **plan.kwargs), *plan.render.model_extra)
+    return {"json": len(json_bytes(model, "single")), "full": len(json_bytes(model, "full")),
+            "npz": len(npz_bytes(model))}
 
 
 def engine_eight_bar() -> dict[str, tuple[float, float]]:
@@ -150,12 +162,17 @@ def main() -> None:
         print(_row(name, t))
     floor = next(t for name, t in w.items() if name.startswith("orjson of") and "float64" in name)
     floor32 = next(t for name, t in w.items() if name.startswith("orjson of") and "float32" in name)
+    writer = next(t for name, t in w.items() if name.startswith("curve writer"))
     worker_ratio = w["request's worker, JSON"][1] / w["request's worker, npz"][1]
     full_ratio = w["request's worker, JSON full precision"][1] / w["request's worker, npz"][1]
-    single = w["answer's JSON (json_bytes, single)"][1] / floor32[1]
+    single = w["answer's JSON (json_bytes, single)"][1] / writer[1]
     full = w["answer's JSON (json_bytes, full)"][1] / floor[1]
     print(f"  JSON/npz in the worker {worker_ratio:.2f} ({full_ratio:.2f} in full precision); the answer's JSON "
-          f"{single:.2f}x the float32 text floor, in full precision {full:.2f}x the float64 one")
+          f"{single:.2f}x the curve writer's floor, in full precision {full:.2f}x orjson's float64 one; the "
+          f"writer {writer[1] / floor32[1]:.2f}x orjson's float32 text, {writer[1] / floor[1]:.2f}x its float64")
+    sizes = answer_sizes()
+    print(f"  answer bytes: JSON {sizes['json'] / 1e6:.2f} MB, full precision {sizes['full'] / 1e6:.2f} MB, "
+          f"npz {sizes['npz'] / 1e6:.2f} MB")
     e = engine_eight_bar()
     print(f"The docs' eight-bar against the four-bar at 360 samples in the engine ({_load()}): "
           f"{e['eight-bar'][1] * 1e3:.1f} / {e['four-bar'][1] * 1e3:.2f} ms median, "

@@ -13,9 +13,9 @@ the curves as CSV text (``*_csv``, one row per crank angle), the arrays of array
 (``analysis_arrays``, ``flywheel_arrays``: a NumPy ``.npz`` answer, the only methods that need numpy), the drawings as DXF or SVG (``analysis_drawing``,
 ``balance_dxf``) and the machine's design report as PDF (``design_report_pdf``).
 
-The arrays of a JSON answer (the curves over the crank angles) come with the digits of single precision, as
-the service writes them by default; ``SynthClient(..., precision="full")`` asks every answer for the float64
-values exactly (``?precision=full``).
+The arrays of a JSON answer (the curves over the crank angles) come at one quantum per array, as the service
+writes them by default (eight significant digits at an array's largest magnitude, every value within 5e-8 of
+it); ``SynthClient(..., precision="full")`` asks every answer for the float64 values exactly (``?precision=full``).
 
 The client needs only httpx and pydantic (``pip install ./client``): its models are the wire (fields, validation,
 examples) and import nothing of the engine or the service. The in-process mode needs the service installed, which
@@ -105,8 +105,8 @@ InProcessExecutor = Literal["serial", "pool"]
 SynthesisKind = Literal["crank-rocker", "slider-crank", "path"]
 DrawingFormat = Literal["dxf", "svg"]
 FigureFormat = Literal["png", "svg", "pdf"]
-#: Digits of the arrays of a JSON answer: ``single`` (the service's default: float32's, at most 9 significant
-#: digits, within 1.2e-7 relative) or ``full`` (every float64 exactly).
+#: Digits of the arrays of a JSON answer: ``single`` (the service's default: one quantum per array, eight
+#: significant digits at its largest magnitude, within 5e-8 of it) or ``full`` (every float64 exactly).
 Precision = Literal["single", "full"]
 
 

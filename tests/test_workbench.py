@@ -26,9 +26,9 @@ from service import running_service
 
 REPO = Path(__file__).resolve().parents[1]
 CHROMIUM = "/usr/bin/chromium"
-# The page holds the service's default JSON answers, whose curves are in single precision (float32's spacing is
-# 2**-23 of each value: a position of 0.5 m within 6e-8 m); 1e-6 of the scale leaves room for the page's own
-# arithmetic on them.
+# The page holds the service's default JSON answers, whose curves are written at one quantum per array (each value
+# within 5e-8 of its array's largest magnitude: a position in a curve reaching 0.5 m within 2.5e-8 m); 1e-6 of the
+# scale leaves room for the page's own arithmetic on them.
 CURVES = 1e-6
 # Playwright's own browser download is not reachable: the system's Chromium, headless and quiet on the network.
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -109,7 +109,7 @@ def test_crank_length_edit_redraws_drawing_and_torque(page: Page, base_url: str)
     # 120 mm typed: the request carries 0.12 m (SI at the API).
     assert design["mechanism"]["crank_length_m"] == pytest.approx(0.12, rel=1e-12)
     # The drawing is in metres: the crank circle's radius is |OA| from the new answer, the typed length (to the
-    # answer's single precision, 2^-23 on each coordinate).
+    # answer's quantum, 5e-8 of the largest coordinate of the curve).
     circle_after = float(page.get_attribute("#drawing .crank-circle", "r") or "nan")
     assert circle_before == pytest.approx(crank_before, rel=1e-6) and circle_after == pytest.approx(0.12, rel=1e-6)
     torque_after = page.get_attribute("#plot-torque polyline[data-series='kinetostatic']", "points")
@@ -178,7 +178,7 @@ def test_a_general_linkage_from_the_manual_is_edited_as_json_and_drawn(page: Pag
     edit_and_wait(page, "mechanism", json.dumps(text))
     drawn_crank = state(page, "answer.points")
     a, o = (np.asarray(drawn_crank[n]["position_m"][0]) for n in crank["joints"][::-1])
-    # the crank's two joints now lie the new length apart (the answer's positions, in single precision)
+    # the crank's two joints now lie the new length apart (the answer's positions, to their curves' quanta)
     assert float(np.hypot(*(a - o))) == pytest.approx(crank["length_m"], rel=1e-6)
 
 

@@ -376,7 +376,7 @@ def test_a_block_in_the_slot_of_a_moving_lever_is_drawn_and_the_lever_follows_th
     pins = answer["points"]["A"]["position_m"]
     want = [math.degrees(math.atan2(p[1] - (o1[1] - o[1]), p[0] - (o1[0] - o[0]))) for p in pins]
     got = answer["links"]["L2"]["angle_deg"]
-    # angles in single precision: 180° × 2**-23 = 2e-5° apart
+    # angles to their curve's quantum (5e-8 × 180° = 1e-5°) and positions to theirs (5e-8 of 0.1 m, 5e-7 rad)
     assert max(abs((g - w + 180) % 360 - 180) for g, w in zip(got, want, strict=True)) < 1e-4
     _shot(page, "draw-slot")
 

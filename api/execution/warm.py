@@ -13,12 +13,15 @@ from __future__ import annotations
 import logging
 import time
 
+import numpy as np
+
 import synth
 from synth.machine.optimise import design_members, scan_family
 
 from mechsynth_client.schemas.machine import PRESS_EXAMPLE, MachineIn
 from mechsynth_client.schemas.optimise import CRANK_ROCKER_OPTIMISE_EXAMPLE, MachineOptimiseIn
 
+from ..curve_text import curve_bytes
 from ..translate.machine import machine_from
 from ..translate.optimise import machine_optimise_from
 
@@ -34,16 +37,22 @@ def _optimisation_member() -> None:
     design_members(spec, [scan.chain_parameter, *others], size_gears_at=(scan.chain_parameter,))
 
 
+def _curve_text() -> None:
+    curve_bytes(np.zeros((2, 2)))
+
+
 def _machine() -> None:
     spec = machine_from(MachineIn.model_validate(PRESS_EXAMPLE), _MAX_STAGES)
     synth.design_machine(spec)
 
 
 #: The README's press designed whole (analysis, balancing, drive, teeth, gears for strength, the flywheel with its
-#: motor NLP, the steady, start-up and run-down simulations) and two members of its crank-rocker optimisation
-#: (the scan, the four-bar's static balancing, the chain's own member with its gears sized).
+#: motor NLP, the steady, start-up and run-down simulations), two members of its crank-rocker optimisation
+#: (the scan, the four-bar's static balancing, the chain's own member with its gears sized) and the compiled
+#: writer of a JSON answer's curves.
 WARM_STEPS = (("the machine's chain", _machine),
-              ("the optimisation's member", _optimisation_member))
+              ("the optimisation's member", _optimisation_member),
+              ("the curves' JSON writer", _curve_text))
 
 
 def warm_worker() -> float:
