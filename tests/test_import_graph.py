@@ -21,7 +21,7 @@ ROOMS = ("synth", "mechsynth_client", "api", "store")
 
 # Longest prefix wins. Within one layer, modules may import each other as long as no circle forms.
 LAYERS: dict[str, float] = {
-    "synth.errors": 0, "synth.model": 0, "synth.topology": 0, "synth.execution": 0,
+    "synth.errors": 0, "synth.model": 0, "synth.topology": 0, "synth.execution": 0, "synth.compiled": 0,
     "synth.kinematics": 1, "synth.structure": 1,
     "synth.kinetostatics": 2, "synth.analysis": 2, "synth.dynamics": 2, "synth.counter_rotors": 2,
     "synth.friction": 2, "synth.mechanism": 0,

@@ -354,8 +354,9 @@ PATH_CHUNK_STARTS = 64
 
 def synthesis_path_chunks(b: PathIn, lim: Limits, workers: int) -> tuple[PathSpec, list[tuple[int, ...]]]:
     """POST /v1/synthesis/path, first step: the starts dealt into chunks of at least :data:`PATH_CHUNK_STARTS`,
-    at most one per worker, each a task of :func:`synth.synthesis.path.path_starts` (the screening steps all of a
-    chunk's starts at once, so a smaller chunk saves little and costs a round trip)."""
+    at most one per worker, each a task of :func:`synth.synthesis.path.path_starts` (a start's screening takes about
+    a quarter of a millisecond, so a smaller chunk saves less than its round trip and the extra task that
+    concludes it cost)."""
     wall = estimate_s("/v1/synthesis/path", b) / max(1, workers)
     if wall > lim.max_work_s:
         raise synth.TooLarge("path synthesis estimated time [s]", int(lim.max_work_s), int(wall),

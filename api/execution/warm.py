@@ -1,8 +1,8 @@
 """What a worker does before it takes its first request: import, build and run each capability's programs once.
 
 The solvers are compiled on first use (CasADi's steppers and the flywheel's motor NLP, the convex problems of
-balancing, the ISO 6336 tables), so without this the first heavy request after a start paid about as much again
-as its own work. A request worker runs :func:`warm_worker` once, right after it is forked and before its slot
+balancing, the ISO 6336 tables, the numba loops of the steady simulation and of path synthesis), so without this
+the first heavy request after a start paid about as much again as its own work. A request worker runs :func:`warm_worker` once, right after it is forked and before its slot
 hands it a task (a replaced worker too): one small representative task per capability, at the sizes the README's
 requests use, so their programs are the ones later requests reuse. A failure here only costs the first request its speed:
 it is logged and the worker takes work as usual.
@@ -41,6 +41,13 @@ def _curve_text() -> None:
     curve_bytes(np.zeros((2, 2)))
 
 
+def _path() -> None:
+    # Three points, one start on each branch: the screening's compiled kernels loaded from numba's cache.
+    targets = np.array([[0.0, 0.0], [0.1, 0.05], [0.2, 0.0]])
+    bounds, box, coupler_point = synth.default_path_limits(targets)
+    synth.synthesise_path(synth.PathSpec(targets, None, bounds, box, coupler_point, starts=2))
+
+
 def _machine() -> None:
     spec = machine_from(MachineIn.model_validate(PRESS_EXAMPLE), _MAX_STAGES)
     synth.design_machine(spec)
@@ -48,11 +55,12 @@ def _machine() -> None:
 
 #: The README's press designed whole (analysis, balancing, drive, teeth, gears for strength, the flywheel with its
 #: motor NLP, the steady, start-up and run-down simulations), two members of its crank-rocker optimisation
-#: (the scan, the four-bar's static balancing, the chain's own member with its gears sized) and the compiled
-#: writer of a JSON answer's curves.
+#: (the scan, the four-bar's static balancing, the chain's own member with its gears sized), the compiled
+#: writer of a JSON answer's curves and a small path synthesis.
 WARM_STEPS = (("the machine's chain", _machine),
               ("the optimisation's member", _optimisation_member),
-              ("the curves' JSON writer", _curve_text))
+              ("the curves' JSON writer", _curve_text),
+              ("path synthesis", _path))
 
 
 def warm_worker() -> float:

@@ -47,7 +47,7 @@ async def synthesise_slider_crank(body: SliderCrankSynthesisIn, request: Request
 @router.post("/path", response_model=PathOut, responses=PNG_RESPONSES)
 async def synthesise_path(body: PathIn, request: Request, solvers: AnswerSolverDep, format: FormatQuery = None) -> Response:
     """A crank-rocker four-bar whose coupler point passes through (or nearest to) the target points: every
-    seeded Sobol start screened at once by Levenberg-Marquardt, the best distinct designs polished by IPOPT, each
+    seeded Sobol start screened by Levenberg-Marquardt, the best distinct designs polished by IPOPT, each
     fit with the starts that reached it and the residual at every point recomputed by the analysis engine, and the
     answer's Roberts-Chebyshev cognates. `?format=png` draws the coupler curve through the targets.
 

@@ -8,9 +8,9 @@ so the linkage assembles at every crank angle and never changes branch. Everythi
 targets' extent about their centre, where every length and angle is of order one.
 
 The problem has many local minima, so it is started from scrambled-Sobol points (scipy.stats.qmc, seeded), and
-every start is screened at once: a Levenberg-Marquardt iteration over the stacked residuals of all starts with
-the coupler point's analytic Jacobian, each start with its own damping, the constraints (Grashof margins,
-transmission angle, crank angles in order within one turn, the bounds) as penalty rows of the same least squares.
+every start is screened by a compiled Levenberg-Marquardt iteration over its stacked residuals with the coupler
+point's analytic Jacobian, each start with its own damping, the constraints (Grashof margins, transmission angle,
+crank angles in order within one turn, the bounds) as penalty rows of the same least squares.
 The best distinct designs it reaches are then polished by IPOPT on the exact constrained problem (residuals
 lifted into variables, r = P - T as equalities, so IPOPT meets a Gauss-Newton-like Hessian near a fit), warm
 started at the screened point; IPOPT's status is the certificate of each. Every distinct fit is answered with how
@@ -390,8 +390,8 @@ def _initial_points(spec: PathSpec, indices: Sequence[int], frame: _Frame, targe
 
 
 def path_starts(spec: PathSpec, indices: Sequence[int]) -> PathStarts:
-    """Screen the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), all at once, each from
-    its own Sobol point and on its own path: a plain function of plain data, so chunks run in separate workers
+    """Screen the starts ``indices`` of the multistart (a chunk of :func:`start_chunks`), each from its own
+    Sobol point and on its own path: a plain function of plain data, so chunks run in separate workers
     and give what one run of all starts gives. SolverTimeout past ``spec.time_limit`` counted from this call."""
     targets, offsets, timed, frame, params, bounds = _problem(spec)
     n = targets.shape[0]
