@@ -6,11 +6,12 @@ significant digits at the array's largest magnitude and fewer for its smaller va
 of the float64 (and the float64 read back from that text within its own half ulp). The engine's round-off in a
 curve is absolute, at the scale of its largest values, so digits below ``q`` carry nothing.
 
-One compiled loop writes the whole array. The scale is found once (a logarithm per array, none per number); each
+Two compiled loops write the whole array. The scale is found once (a logarithm per array, none per number); each
 value is then the integer ``n = round(|x|/q)``, at most 10^8, whose eight low digits are spread into the eight
-bytes of one 64-bit word by multiplications and shifts (two digits, then four, then eight at a time), with the
-decimal point placed by the array's exponent, the leading and trailing zeros counted with one bit-scan each, and
-eight bytes stored at once. No division, no table and no branch on a value's length. Every value is written as a
+bytes of one 64-bit word by multiplications and shifts (two digits, then four, then eight at a time), split at the
+decimal point the array's exponent places, the leading and trailing zeros counted with one bit-scan each: no
+division, no table and no branch, so the compiler runs that loop on several values at once. The second loop
+places each value's words, eight bytes a store, one after the other. Every value is written as a
 JSON float (``0.0``, ``359.9``, ``-0.0012345``, ``12345e-20``), so a parser reads the same type whichever precision
 the answer was written in. Values must be finite (the answer is checked before it is written).
 """
@@ -108,48 +109,71 @@ def _put8(out: np.ndarray, pos: int, word: np.uint64) -> None:
     out[p + _U(7)] = (word >> _U(56)) & _BYTE
 
 
-@_inlined
-def _fixed(x: float, scale: float, places: int, out: np.ndarray, pos: int) -> int:
-    """x written with at most ``places`` (1 to 12) decimal places at out[pos:], |x|·scale <= 10^8 where scale
-    is 10^places: the integer part without leading zeros, the point, the fraction without trailing zeros (one
-    digit at least on each side). Returns the end; bytes past it may have been written and are overwritten next."""
-    y = x * scale
-    n = _U(abs(y) + 0.5)
-    out[pos] = _MINUS
-    pos += y <= -0.5                                       # a value that rounds to zero is written "0.0"
-    ninth = _U(n >= _E8)                                   # n is 10^8 at most
-    word = _digits8(n - ninth * _E8)
+@compiled
+def _texts(values: np.ndarray, scale: float, places: int, head: np.ndarray, tail: np.ndarray,
+           sizes: np.ndarray) -> None:
+    """Each value written with at most ``places`` (1 to 12) decimal places, |x|·scale <= 10^8 where scale is
+    10^places, as two words of text and a byte between them: ``head`` the integer part without leading zeros and
+    ``tail`` the fraction without trailing zeros, one digit at least each, the point between them; below 0.1 of
+    a unit (nine places or more) ``head`` is "0." and the fraction's first zeros, the byte its ninth digit.
+    ``sizes`` holds the two lengths (bits 0-3 and 4-7), the sign (bit 8; a value that rounds to zero is "0.0")
+    and the byte (bits 9-16). Loops of arithmetic without a branch, which the compiler runs on several values at
+    once (SIMD); :func:`_emit` then places the words."""
     if places <= 8:
-        # the integer part: the ninth digit and the word's first 8 - places, leading zeros dropped
-        whole = (ninth | (word << _U(8))) & ((_U1 << _U(8 * (9 - places))) - _U1 if places > 1 else ~_U0)
-        lead = min(int(np.int64(trailing_zeros(whole)) >> 3), 8 - places)
-        _put8(out, pos, (whole >> _U(8 * lead)) + _ASCII)
-        pos += 9 - places - lead
-        fraction = word >> _U(8 * (8 - places))
-        trail = min(int(np.int64(leading_zeros(fraction)) >> 3) - (8 - places), places - 1)
-        out[pos] = _DOT
-        _put8(out, pos + 1, fraction + _ASCII)
-        return pos + 1 + places - trail
-    # below 0.1 of a unit: "0.", the zeros before the ninth digit's place, then the nine digits
-    _put8(out, pos, _ASCII)
-    out[pos + 1] = _DOT
-    pos += places - 7
-    out[pos] = _U(_ZERO) + ninth
-    _put8(out, pos + 1, word + _ASCII)
-    trail = int(np.int64(leading_zeros(word)) >> 3)
-    if word == _U0:
-        trail = 8 if ninth else places - 1
-    return pos + 9 - trail
+        mask = (_U1 << _U(8 * (9 - places))) - _U1 if places > 1 else ~_U0
+        drop = _U(8 * (8 - places))
+        for i in range(values.size):
+            y = values[i] * scale
+            n = _U(abs(y) + 0.5)
+            ninth = _U(n >= _E8)                           # n is 10^8 at most
+            word = _digits8(n - ninth * _E8)
+            # the integer part: the ninth digit and the word's first 8 - places, leading zeros dropped
+            whole = (ninth | (word << _U(8))) & mask
+            lead = min(int(np.int64(trailing_zeros(whole)) >> 3), 8 - places)
+            head[i] = (whole >> _U(8 * lead)) + _ASCII
+            fraction = word >> drop
+            trail = min(int(np.int64(leading_zeros(fraction)) >> 3) - (8 - places), places - 1)
+            tail[i] = fraction + _ASCII
+            sizes[i] = (9 - places - lead) | ((places - trail) << 4) | (int(y <= -0.5) << 8) | (_DOT << 9)
+        return
+    # "0." and the places - 9 zeros before the ninth digit's place, as the bytes of a word
+    zeros = _U(0)
+    for j in range(places - 7):
+        zeros |= _U(_DOT if j == 1 else _ZERO) << _U(8 * j)
+    for i in range(values.size):
+        y = values[i] * scale
+        n = _U(abs(y) + 0.5)
+        ninth = _U(n >= _E8)
+        word = _digits8(n - ninth * _E8)
+        digits = 8 - (int(np.int64(leading_zeros(word)) >> 3))   # the word's digits up to its last non-zero
+        zero = n == _U0
+        head[i] = _U(_ZERO) if zero else zeros
+        tail[i] = word + _ASCII
+        sizes[i] = ((1 if zero else places - 7) | ((1 if zero else digits) << 4) | (int(y <= -0.5) << 8)
+                    | ((_DOT if zero else _ZERO + int(ninth)) << 9))
+
+
+@_inlined
+def _emit(out: np.ndarray, pos: int, head: np.uint64, tail: np.uint64, size: int) -> int:
+    """A value's words from :func:`_texts` at out[pos:]: the sign, the head, the byte between, the tail.
+    Returns the end; bytes past it may have been written and are overwritten next."""
+    out[pos] = _MINUS
+    pos += (size >> 8) & 1
+    _put8(out, pos, head)
+    pos += size & 15
+    out[pos] = size >> 9
+    _put8(out, pos + 1, tail)
+    return pos + 1 + ((size >> 4) & 15)
 
 
 @_inlined
 def _general(x: float, k: int, scale1: float, scale2: float, out: np.ndarray, pos: int,
              digits: np.ndarray) -> int:
-    """x at the quantum 10^k where :func:`_fixed` does not apply (a quantum of one or more, or beyond the
+    """x at the quantum 10^k where :func:`_texts` does not apply (a quantum of one or more, or beyond the
     positional range) at out[pos:]: the integer, then k zeros and ".0"; or the integer without its trailing zeros
     and an exponent. ``x * scale1 * scale2`` is x / 10^k. Returns the end."""
     y = x * scale1 * scale2
-    n = np.int64(abs(y) + 0.5)                             # rounded as :func:`_fixed` rounds
+    n = np.int64(abs(y) + 0.5)                             # rounded as :func:`_texts` rounds
     if n == 0:
         out[pos] = _ZERO
         out[pos + 1] = _DOT
@@ -210,33 +234,45 @@ def _write(values: np.ndarray, columns: int, pow10: np.ndarray) -> np.ndarray:
     # x / 10^k as x * 10^-k, in two factors where 10^-k alone would overflow (curves of subnormal numbers)
     s1 = min(-k, 308)
     scale1, scale2 = pow10[s1 - _POW10_LOW], pow10[-k - s1 - _POW10_LOW]
-    fixed = POSITIONAL[0] <= k < 0
+    places = -k
+    words = POSITIONAL[0] <= k < 0                         # decimals of 1 to 12 places: the common case
+    head = np.empty(n if words else 0, dtype=np.uint64)
+    tail = np.empty_like(head)
+    sizes = np.empty(n if words else 0, dtype=np.int64)
+    if words:
+        _texts(values, scale1, places, head, tail, sizes)
     out[0] = _OPEN
     pos = 1
-    if fixed and columns == 0:
-        for i in range(n):                                 # a curve of one value per sample, kept tight
-            pos = _fixed(values[i], scale1, -k, out, pos)
+    if words and columns == 0:
+        for i in range(n):                                 # a curve of one value per sample
+            pos = _emit(out, pos, head[i], tail[i], sizes[i])
             out[pos] = _COMMA
             pos += 1
-        pos -= n > 0
+    elif words:
+        for i in range(0, n, width):                       # rows: points and forces over the samples
+            out[pos] = _OPEN
+            pos += 1
+            for j in range(i, i + width):
+                pos = _emit(out, pos, head[j], tail[j], sizes[j])
+                out[pos] = _COMMA
+                pos += 1
+            out[pos - 1] = _CLOSE
+            out[pos] = _COMMA
+            pos += 1
     else:
         for i in range(0, n, width):
             if columns > 0:
                 out[pos] = _OPEN
                 pos += 1
             for j in range(i, i + width):
-                if fixed:
-                    pos = _fixed(values[j], scale1, -k, out, pos)
-                else:
-                    pos = _general(values[j], k, scale1, scale2, out, pos, digits)
+                pos = _general(values[j], k, scale1, scale2, out, pos, digits)
                 out[pos] = _COMMA
                 pos += 1
             if columns > 0:
-                pos -= 1
-                out[pos] = _CLOSE
-                out[pos + 1] = _COMMA
-                pos += 2
-        pos -= n > 0
+                out[pos - 1] = _CLOSE
+                out[pos] = _COMMA
+                pos += 1
+    pos -= n > 0
     out[pos] = _CLOSE
     return out[:pos + 1]
 
