@@ -33,7 +33,7 @@ from scipy.stats import qmc
 
 from ..analysis import analyse
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout, TooLarge
-from ..kinematics import FourBar, Mechanism
+from ..kinematics import FourBar, Mechanism, motion
 from ..model import FloatArray, Linkage
 from .checks import LinkageCheck, check_fourbar
 from .cognates import cognates
@@ -551,9 +551,9 @@ def synthesise_path(spec: PathSpec) -> PathResult:
 
 
 def _engine_residuals(fb: FourBar, z: FloatArray, phi: FloatArray, targets: FloatArray) -> FloatArray:
-    """Distances [m] from the targets to the coupler point as the analysis engine places it."""
-    an = analyse(Linkage(cast(Mechanism, fb)), 1.0, phi=np.mod(phi, 2 * math.pi), points={"P": ("coupler", (float(z[7]), float(z[8])))})
-    local = an.motion.point_pos["P"]
+    """Distances [m] from the targets to the coupler point as the kinematics engine places it."""
+    mot = motion(cast(Mechanism, fb), np.mod(phi, 2 * math.pi), 1.0)
+    local = mot.point_on("coupler", (float(z[7]), float(z[8])))[0]
     rot = np.array([[math.cos(z[2]), -math.sin(z[2])], [math.sin(z[2]), math.cos(z[2])]])
     world = local @ rot.T + z[:2]
     return np.asarray(np.hypot(*(world - targets).T))
