@@ -278,8 +278,9 @@ class PathIn(StrictModel):
     min_transmission_angle_deg: float = Field(0.0, ge=0.0, le=89.0, description="Lowest admissible transmission angle.")
     rank_by: Literal["residual", "transmission_angle", "link_ratio", "starts"] = Field(
         "residual", description="How fits equally near the points are ordered (the first is the answer): least "
-        "residual, largest least transmission angle (its deviation from 90° taken both ways), least ratio of the "
-        "longest link to the shortest, or most starts reaching it.")
+        "residual (where residuals differ by round-off only, most starts reaching it), largest least transmission "
+        "angle (its deviation from 90° taken both ways), least ratio of the longest link to the shortest, or most "
+        "starts reaching it.")
 
     model_config = ConfigDict(json_schema_extra={"examples": [
         {"points_m": [[0.1512, 0.1621], [0.1698, 0.2037], [0.1319, 0.2318], [0.0685, 0.2331], [0.0075, 0.204],

@@ -44,8 +44,9 @@ MAX_STARTS = 256
 GRASHOF_MARGIN = 1e-3  # least slack of each Grashof inequality, in units of the targets' extent
 _LENGTHS = ("crank", "coupler", "rocker", "ground")
 _DESIGN = 9  # crank pivot x, y, ground angle, crank, coupler, rocker, ground, coupler point x, y
-# How fits equally near the targets are ordered: least residual, largest least transmission angle (its least
-# deviation from 90° taken both ways), least ratio of the longest link to the shortest, most starts reaching it.
+# How fits equally near the targets are ordered: least residual (where their residuals differ by round-off only,
+# most starts reaching it), largest least transmission angle (its least deviation from 90° taken both ways), least
+# ratio of the longest link to the shortest, most starts reaching it.
 RANKINGS = ("residual", "transmission_angle", "link_ratio", "starts")
 SCREEN_ITERATIONS = 40
 MAX_POLISHED = 4
@@ -527,7 +528,9 @@ def best_path(spec: PathSpec, parts: Sequence[PathStarts]) -> PathResult:
     level = f_min + 1e-9 / scale**2 + 1e-6 * f_min
     at_best = [fit for fit, (f, _, _, _) in zip(fits, solved) if f <= level]
     rest = sorted((fit for fit, (f, _, _, _) in zip(fits, solved) if f > level), key=_rank_key("residual"))
-    ranked = sorted(at_best, key=_rank_key(spec.rank_by)) + rest
+    # Fits as near the targets as the best (a fit and its cognate, say) differ in residual by round-off only:
+    # ordered by it they would be ordered by chance, so there "residual" ranks them by the starts reaching them.
+    ranked = sorted(at_best, key=_rank_key("starts" if spec.rank_by == "residual" else spec.rank_by)) + rest
     best = ranked[0]
     assert best.check is not None
     return PathResult(

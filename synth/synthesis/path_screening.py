@@ -173,28 +173,34 @@ def _evaluate(u: FloatArray, branch: float, targets: _Complex, offsets: FloatArr
 
 @compiled
 def _solve(a: FloatArray, rhs: FloatArray) -> None:  # pragma: no cover - compiled; run through screen
-    """``rhs`` overwritten with the solution of ``a`` x = ``rhs`` (``a`` overwritten too): Gaussian elimination
-    with partial pivoting; a zero pivot gives infinities or NaN, which the step's trial then rejects."""
+    """``rhs`` overwritten with the solution of ``a`` x = ``rhs`` for a symmetric positive definite ``a`` (its
+    lower triangle overwritten with its Cholesky factor): the damped normal equations are, their damping adds a
+    positive multiple of each diagonal entry. A pivot that is not positive (the damping lost to round-off) gives
+    NaN, which the step's trial then rejects."""
     m = rhs.shape[0]
     for k in range(m):
-        p = k
+        d = a[k, k]
+        for j in range(k):
+            d -= a[k, j] * a[k, j]
+        if not d > 0.0:
+            rhs[:] = np.nan
+            return
+        d = math.sqrt(d)
+        a[k, k] = d
         for i in range(k + 1, m):
-            if abs(a[i, k]) > abs(a[p, k]):
-                p = i
-        if p != k:
-            for j in range(m):
-                a[k, j], a[p, j] = a[p, j], a[k, j]
-            rhs[k], rhs[p] = rhs[p], rhs[k]
-        for i in range(k + 1, m):
-            f = a[i, k] / a[k, k]
-            if f != 0.0:
-                for j in range(k + 1, m):
-                    a[i, j] -= f * a[k, j]
-                rhs[i] -= f * rhs[k]
+            s = a[i, k]
+            for j in range(k):
+                s -= a[i, j] * a[k, j]
+            a[i, k] = s / d
+    for k in range(m):
+        s = rhs[k]
+        for j in range(k):
+            s -= a[k, j] * rhs[j]
+        rhs[k] = s / a[k, k]
     for k in range(m - 1, -1, -1):
         s = rhs[k]
         for j in range(k + 1, m):
-            s -= a[k, j] * rhs[j]
+            s -= a[j, k] * rhs[j]
         rhs[k] = s / a[k, k]
 
 
