@@ -307,3 +307,19 @@ def test_path_answers_its_cognate_and_ranks_its_fits(rank_by: str) -> None:
         ratios = [max(v) / min(v) for v in ((f.fourbar.crank, f.fourbar.coupler, f.fourbar.rocker, f.fourbar.ground)
                                             for f in level)]
         assert ratios == sorted(ratios)
+
+
+def test_path_ranks_fits_equally_near_by_the_starts_reaching_them() -> None:
+    # Ten points near a crank-rocker's coupler curve (3 mm of deliberate misfit): the best fit and its
+    # crank-driven cognate trace the same curve, so their residuals agree to round-off (Roberts' law) and the
+    # default ranking orders them by the starts that reached each, not by that round-off.
+    fb = synth.FourBar(0.30, 0.10, 0.35, 0.25, 1)
+    targets = _coupler_targets(fb, (0.15, 0.08), np.radians(np.linspace(0.0, 324.0, 10)), (0.0, 0.0), 0.0)
+    targets = targets + 0.003 * np.sin(np.arange(10))[:, None]
+    bounds, box, cp = synth.default_path_limits(targets)
+    result = synth.synthesise_path(synth.PathSpec(targets, None, bounds, box, cp, starts=64, seed=2))
+    best = result.fits[0].rms_residual
+    level = [f for f in result.fits if f.rms_residual <= best * (1 + 1e-6)]
+    assert len(level) >= 2 and best > 1e-5
+    assert [f.starts for f in level] == sorted((f.starts for f in level), reverse=True)
+    assert level[0].starts > level[-1].starts
