@@ -5,10 +5,12 @@ Run: ``.venv/bin/python -m bench.synthesis``. Prints medians. Crank-rocker: one 
 variant (psi = 40°, Q = 1.1) through the engine and through the in-process HTTP client, and
 ``scipy.optimize.differential_evolution`` (the kind of meta-heuristic other synthesis tools use) maximising the
 same objective over the same one-parameter family. Path: 10 points on a known coupler curve, 32 Sobol starts,
-the engine (every start screened at once, the best distinct designs polished by IPOPT) against the former
-multistart of one IPOPT solve per start (:mod:`bench.path_reference`), alternated in one process, both with the
-same best residual; the request through the in-process service, in units of the machine's compute unit (goal:
-at most 2); and SLSQP with finite differences from the same starts.
+the engine (every start screened by a compiled Levenberg-Marquardt loop, the best distinct designs polished by
+IPOPT) against the former multistart of one IPOPT solve per start (:mod:`bench.path_reference`), alternated in
+one process, both with the same best residual; the screening alone against its former numpy form, every start's
+step stacked in array calls (:mod:`bench.path_screening_numpy`), both ending at the same points; the request
+through the in-process service, in units of the machine's compute unit (goal: at most 2), with the engine's
+share of it; and SLSQP with finite differences from the same starts.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import math
 import statistics
 import time
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 from scipy.optimize import differential_evolution, minimize
@@ -26,9 +29,11 @@ from mechsynth_client.client import SynthClient
 from mechsynth_client.schemas.synthesis import CrankRockerIn
 from synth.synthesis.crank_rocker import _Evaluate
 from synth.synthesis.family import feasible
-from synth.synthesis.path import _DESIGN, _coupler_points, _program, _starts
+from synth.synthesis.path import _DESIGN, _coupler_points, _initial_points, _problem, _program, _starts
+from synth.synthesis.path_screening import Screened, screen
 from mechsynth_client.schemas.synthesis import PathIn
 from bench.path_reference import reference_starts
+from bench import path_screening_numpy
 from bench._timing import compute_unit, interleaved
 
 SPEC = synth.CrankRockerSpec(math.radians(40.0), 1.1, "rocker", 0.15)
@@ -126,18 +131,39 @@ def main() -> None:
           f"start, best RMS residual {math.sqrt(slsqp_best / 10):.2e} m")
 
 
+def _screenings(spec: synth.PathSpec) -> dict[str, Callable[[], object]]:
+    """The screening of every start, compiled and in its former numpy form, from the same initial points."""
+    targets, offsets, timed, frame, _, bounds = _problem(spec)
+    x0, branches = _initial_points(spec, range(spec.starts), frame, targets, offsets, timed)
+    m = x0.shape[1] - 2 * targets.shape[0]
+    unit_targets = (targets - frame.centre) / frame.scale
+    args = (x0[:, :m], branches, unit_targets, offsets, timed, bounds["lbx"][:m], bounds["ubx"][:m],
+            math.cos(spec.min_transmission_angle), synth.synthesis.path.GRASHOF_MARGIN,
+            synth.synthesis.path.SCREEN_ITERATIONS)
+    return {"compiled": lambda: screen(*args, time.monotonic() + 60.0, 60.0),
+            "numpy": lambda: path_screening_numpy.screen(*args, time.monotonic() + 60.0, 60.0)}
+
+
 def path_generation(spec: synth.PathSpec) -> None:
-    """The engine against the former multistart (one IPOPT solve per start), alternated in one process, and the
-    request through the in-process service, in compute units; both must reach the same best residual."""
+    """The engine against the former multistart (one IPOPT solve per start), alternated in one process; the
+    screening against its former numpy form; and the request through the in-process service, in compute units.
+    Both multistarts must reach the same best residual and both screenings the same points."""
     result = synth.synthesise_path(spec)
     everything = range(spec.starts)
     old = reference_starts(spec, everything)
     t = interleaved({"former": lambda: reference_starts(spec, everything),
                      "now": lambda: synth.synthesise_path(spec)}, 5)
+    screenings = _screenings(spec)
+    compiled, stacked = (cast(Screened, screenings[k]()) for k in ("compiled", "numpy"))
+    ends = np.isfinite(stacked.objectives)
+    assert np.array_equal(ends, np.isfinite(compiled.objectives)), "the screenings end differently"
+    assert np.allclose(compiled.unknowns[ends], stacked.unknowns[ends], rtol=1e-6, atol=1e-6), \
+        "the screenings end at different points"
+    s = interleaved(screenings, 7)
     body = PathIn(points_m=spec.targets.tolist(), starts=spec.starts, seed=spec.seed)
     with SynthClient.in_process() as client:
         answer = client.synthesise_path(body)
-        request = _median(lambda: client.synthesise_path(body), 5)
+        request = _median(lambda: client.synthesise_path(body), 7)
     unit = compute_unit()
     scale = float(np.ptp(spec.targets, axis=0).max())
     n = spec.targets.shape[0]
@@ -148,7 +174,10 @@ def path_generation(spec: synth.PathSpec) -> None:
     print(f"path generation (10 points, 32 starts; unit {unit * 1e3:.1f} ms): engine {t['now'][1] * 1e3:.1f} ms "
           f"({t['now'][1] / unit:.2f} units), former multistart {t['former'][1] * 1e3:.0f} ms "
           f"({t['former'][1] / unit:.1f} units) -> {t['former'][1] / t['now'][1]:.1f}x (medians, alternated); "
-          f"request {request / unit:.2f} units (goal <= 2)")
+          f"request {request / unit:.2f} units (goal <= 2), the engine {t['now'][1] / request:.0%} of it")
+    print(f"  screening of the 32 starts: compiled {s['compiled'][1] * 1e3:.1f} ms, former numpy form "
+          f"{s['numpy'][1] * 1e3:.1f} ms -> {s['numpy'][1] / s['compiled'][1]:.1f}x (medians, alternated; the same "
+          f"end points)")
     print(f"  best RMS residual former {math.sqrt(f_old / n):.2e} m, now {math.sqrt(f_new / n):.2e} m; "
           f"{len(answer.fits)} fits polished, {len(exact)} distinct exact fits answered with the cognates "
           f"(goal >= 2), {answer.starts_at_best}/32 starts in the answer's basin")
