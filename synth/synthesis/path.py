@@ -37,7 +37,7 @@ from ..kinematics import FourBar, Mechanism, motion
 from ..model import FloatArray, Linkage
 from .checks import LinkageCheck, check_fourbar
 from .cognates import cognates
-from .path_screening import screen
+from .path_screening import first_shifts, screen
 
 MAX_POINTS = 40
 MAX_STARTS = 256
@@ -308,11 +308,9 @@ def _first_angles(starts: FloatArray, targets: FloatArray, offsets: FloatArray, 
     steps = offsets if timed else 2 * math.pi * np.arange(n) / n
     shifts = np.linspace(0.0, 2 * math.pi, 72, endpoint=False)
     phi = shifts[:, None] + steps[None, :]
-    z = starts[:, :_DESIGN].T[:, :, None, None]   # each coordinate (k, 1, 1) against angles (72, n)
-    with np.errstate(all="ignore"):
-        px, py = _coupler_points(z, phi, branches[:, None, None])
-    miss = np.nan_to_num((px - targets[:, 0]) ** 2 + (py - targets[:, 1]) ** 2, nan=np.inf).sum(axis=2)
-    first = shifts[np.argmin(miss, axis=1)][:, None]
+    nearest = first_shifts(np.ascontiguousarray(starts[:, :_DESIGN], dtype=float),
+                           np.ascontiguousarray(branches, dtype=float), np.ascontiguousarray(targets, dtype=float), phi)
+    first = shifts[nearest.astype(np.intp)][:, None]
     return np.asarray(first if timed else first + steps[None, :])
 
 

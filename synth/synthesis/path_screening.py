@@ -286,6 +286,43 @@ def _march(u: FloatArray, branch: float, targets: _Complex, offsets: FloatArray,
     return data, violation / PENALTY_WEIGHT, run
 
 
+@compiled
+def first_shifts(designs: FloatArray, branches: FloatArray, targets: FloatArray, phi: FloatArray
+                 ) -> FloatArray:  # pragma: no cover - compiled; run through synth.synthesis.path._first_angles
+    """For each design (k, 9) on its branch (k,), the index of the row of crank angles ``phi`` (s, n) [rad] that
+    puts its coupler point nearest the ``targets`` (n, 2) in the sum of squares (a row where the loop cannot
+    close at some angle counts as infinitely far): the closed form of :func:`synth.synthesis.path._coupler_points`
+    one design and angle at a time, without the (k, s, n) arrays numpy would make of it."""
+    k, shifts, n = designs.shape[0], phi.shape[0], phi.shape[1]
+    out = np.zeros(k)
+    for j in range(k):
+        xo, yo, th, a, b, c, d, px, py = (designs[j, 0], designs[j, 1], designs[j, 2], designs[j, 3], designs[j, 4],
+                                          designs[j, 5], designs[j, 6], designs[j, 7], designs[j, 8])
+        br = branches[j]
+        qx, qy = xo + d * math.cos(th), yo + d * math.sin(th)
+        best, at = math.inf, 0
+        for s in range(shifts):
+            total = 0.0
+            for i in range(n):
+                ax, ay = xo + a * math.cos(th + phi[s, i]), yo + a * math.sin(th + phi[s, i])
+                ex, ey = qx - ax, qy - ay
+                dist = math.sqrt(ex * ex + ey * ey)
+                ux, uy = ex / dist, ey / dist
+                x = (b * b - c * c + dist * dist) / (2 * dist)
+                h2 = b * b - x * x
+                h = math.sqrt(h2 if h2 > 1e-18 else 1e-18)
+                bx, by = ax + x * ux - br * h * uy, ay + x * uy + br * h * ux
+                e2x, e2y = (bx - ax) / b, (by - ay) / b
+                mx = ax + px * e2x - py * e2y - targets[i, 0]
+                my = ay + px * e2y + py * e2x - targets[i, 1]
+                miss = mx * mx + my * my
+                total += miss if math.isfinite(miss) else math.inf
+            if total < best:
+                best, at = total, s
+        out[j] = at
+    return out
+
+
 def _linear_constraints(n: int, timed: bool, margin: float) -> tuple[FloatArray, FloatArray]:
     """The constraints linear in the unknowns, each row @ u + constant >= 0: Grashof margins, crank angles in
     order within one turn."""
