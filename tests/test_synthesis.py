@@ -323,3 +323,29 @@ def test_path_ranks_fits_equally_near_by_the_starts_reaching_them() -> None:
     assert len(level) >= 2 and best > 1e-5
     assert [f.starts for f in level] == sorted((f.starts for f in level), reverse=True)
     assert level[0].starts > level[-1].starts
+
+
+def test_compiled_screening_ends_where_the_stacked_numpy_one_does() -> None:
+    # The screening's compiled loop against its former form in numpy (bench/path_screening_numpy.py: every
+    # start's step stacked in array calls, a batched LU solve), an independent implementation of the same
+    # iteration: from the same 32 starts both end at the same points, to the round-off forty damped steps
+    # amplify (1e-6 in units of the points' extent), and break down on the same starts.
+    from bench import path_screening_numpy
+    from synth.synthesis.path import GRASHOF_MARGIN, SCREEN_ITERATIONS, _initial_points, _problem
+    from synth.synthesis.path_screening import screen
+
+    fb = synth.FourBar(0.30, 0.10, 0.35, 0.25, 1)
+    targets = _coupler_targets(fb, (0.15, 0.08), np.radians(np.linspace(0.0, 324.0, 10)), (0.0, 0.0), 0.0)
+    bounds, box, cp = synth.default_path_limits(targets)
+    spec = synth.PathSpec(targets, None, bounds, box, cp, starts=32)
+    points, offsets, timed, frame, _, lim = _problem(spec)
+    x0, branches = _initial_points(spec, range(32), frame, points, offsets, timed)
+    m = x0.shape[1] - 20
+    args = (x0[:, :m], branches, (points - frame.centre) / frame.scale, offsets, timed, lim["lbx"][:m],
+            lim["ubx"][:m], 1.0, GRASHOF_MARGIN, SCREEN_ITERATIONS, math.inf, 1.0)
+    compiled, stacked = screen(*args), path_screening_numpy.screen(*args)
+    ends = np.isfinite(stacked.objectives)
+    assert np.array_equal(ends, np.isfinite(compiled.objectives)) and ends.sum() >= 16
+    assert compiled.unknowns[ends] == pytest.approx(stacked.unknowns[ends], abs=1e-6)
+    assert compiled.objectives[ends] == pytest.approx(stacked.objectives[ends], rel=1e-6, abs=1e-14)
+    assert compiled.iterations == stacked.iterations
