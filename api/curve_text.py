@@ -60,6 +60,9 @@ _ASCII = _U(0x3030303030303030)
 _LANES2 = _U((0x7F << 32) | 0x7F)
 _LANES4 = _U((0xF << 48) | (0xF << 32) | (0xF << 16) | 0xF)
 
+#: Values whose words are made before they are placed: a chunk's 24 bytes a value stay in the cache.
+_CHUNK = 4096
+
 _ZERO, _DOT, _MINUS, _E = ord("0"), ord("."), ord("-"), ord("e")
 _COMMA, _OPEN, _CLOSE = ord(","), ord("["), ord("]")
 
@@ -236,29 +239,33 @@ def _write(values: np.ndarray, columns: int, pow10: np.ndarray) -> np.ndarray:
     scale1, scale2 = pow10[s1 - _POW10_LOW], pow10[-k - s1 - _POW10_LOW]
     places = -k
     words = POSITIONAL[0] <= k < 0                         # decimals of 1 to 12 places: the common case
-    head = np.empty(n if words else 0, dtype=np.uint64)
+    # the words of a chunk of rows at a time, so that they stay in the cache between the two passes
+    chunk = max(_CHUNK // width, 1) * width
+    head = np.empty(min(n, chunk) if words else 0, dtype=np.uint64)
     tail = np.empty_like(head)
-    sizes = np.empty(n if words else 0, dtype=np.int64)
-    if words:
-        _texts(values, scale1, places, head, tail, sizes)
+    sizes = np.empty(head.size, dtype=np.int64)
     out[0] = _OPEN
     pos = 1
-    if words and columns == 0:
-        for i in range(n):                                 # a curve of one value per sample
-            pos = _emit(out, pos, head[i], tail[i], sizes[i])
-            out[pos] = _COMMA
-            pos += 1
-    elif words:
-        for i in range(0, n, width):                       # rows: points and forces over the samples
-            out[pos] = _OPEN
-            pos += 1
-            for j in range(i, i + width):
-                pos = _emit(out, pos, head[j], tail[j], sizes[j])
-                out[pos] = _COMMA
-                pos += 1
-            out[pos - 1] = _CLOSE
-            out[pos] = _COMMA
-            pos += 1
+    if words:
+        for start in range(0, n, chunk):
+            stop = min(start + chunk, n)
+            _texts(values[start:stop], scale1, places, head, tail, sizes)
+            if columns == 0:
+                for i in range(stop - start):              # a curve of one value per sample
+                    pos = _emit(out, pos, head[i], tail[i], sizes[i])
+                    out[pos] = _COMMA
+                    pos += 1
+            else:
+                for i in range(0, stop - start, width):    # rows: points and forces over the samples
+                    out[pos] = _OPEN
+                    pos += 1
+                    for j in range(i, i + width):
+                        pos = _emit(out, pos, head[j], tail[j], sizes[j])
+                        out[pos] = _COMMA
+                        pos += 1
+                    out[pos - 1] = _CLOSE
+                    out[pos] = _COMMA
+                    pos += 1
     else:
         for i in range(0, n, width):
             if columns > 0:

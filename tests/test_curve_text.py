@@ -54,9 +54,10 @@ def _check(values: np.ndarray) -> None:
 
 @pytest.mark.parametrize("scale", [1e-30, 1e-14, 1e-9, 3e-4, 0.05, 0.4, 7.0, 359.9, 8e4, 3e7, 2e12, 1e30])
 def test_random_curves_read_back_within_half_the_quantum(scale: float) -> None:
-    # normal values spread over a few decades below the largest one, and a few exact small ones among them
+    # normal values spread over a few decades below the largest one, and a few exact zeros among them; more
+    # values than the writer takes in one chunk (4096), as one curve and as rows of two
     rng = np.random.default_rng(int(np.log10(scale) + 40))
-    values = rng.normal(scale=scale, size=3000) * rng.choice([1.0, 1e-2, 1e-5, 1e-9], size=3000)
+    values = rng.normal(scale=scale, size=9000) * rng.choice([1.0, 1e-2, 1e-5, 1e-9], size=9000)
     values[::97] = 0.0
     _check(values)
     _check(values.reshape(-1, 2))
