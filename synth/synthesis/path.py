@@ -278,11 +278,21 @@ class _Frame:
         return z
 
 
+@functools.lru_cache(maxsize=16)
+def _sobol(seed: int, starts: int) -> FloatArray:
+    """The first ``starts`` scrambled-Sobol points in the unit cube of the design and the first crank angle, read
+    only: most requests ask for the default seed and number of starts, and scipy's generator costs about as much
+    to set up as a quarter of the screening."""
+    unit = qmc.Sobol(_DESIGN + 1, scramble=True, seed=seed).random(starts)
+    unit.setflags(write=False)
+    return np.asarray(unit)
+
+
 def _starts(spec: PathSpec) -> FloatArray:
     """Scrambled-Sobol designs over the bounds: pivot, ground angle, lengths, coupler point; the first crank
     angle is then fitted to the targets."""
     lo, hi = _box(spec)
-    unit = qmc.Sobol(_DESIGN + 1, scramble=True, seed=spec.seed).random(spec.starts)
+    unit = _sobol(spec.seed, spec.starts)
     x = lo + unit * (hi - lo)
     # The crank's coordinate becomes a fraction of the longest crank that keeps the start a Grashof crank-rocker
     # with the sampled coupler, rocker and ground, so every start assembles at every angle.
