@@ -20,11 +20,18 @@ def _quantum(values: np.ndarray) -> Decimal:
     return Decimal(1).scaleb(e - 7)
 
 
-def _text(x: float, q: Decimal) -> str:
-    """The shortest decimal of round(x/q)·q (half away from zero), as the docs describe it: positional with at
-    least one digit each side of the point for quanta from 1e-12 to 1e6, else the integer without its trailing
-    zeros and an exponent."""
-    n = int((Decimal(x) / q).to_integral_value(ROUND_HALF_UP))
+def _texts(x: float, q: Decimal) -> set[str]:
+    """The shortest decimal of round(x/q)·q (half away from zero); both neighbours where x/q lies within 1e-6 of
+    a tie, which the writer's x·10^-k in float64 (0.5 ulp of up to 10^8) may round either way."""
+    exact = Decimal(x) / q
+    tie = abs(abs(exact) % 1 - Decimal("0.5")) < Decimal("1e-6")
+    n = int(exact.to_integral_value(ROUND_HALF_UP))
+    return {_text(n, q), _text(n - (1 if n > 0 else -1), q)} if tie else {_text(n, q)}
+
+
+def _text(n: int, q: Decimal) -> str:
+    """The shortest decimal of n·q, as the docs describe it: positional with at least one digit each side of the
+    point for quanta from 1e-12 to 1e6, else the integer without its trailing zeros and an exponent."""
     if n == 0:
         return "0.0"
     k = q.adjusted()
@@ -44,7 +51,9 @@ def _numbers(text: bytes) -> list[str]:
 def _check(values: np.ndarray) -> None:
     text = curve_bytes(values)
     q = _quantum(values)
-    assert _numbers(text) == [_text(float(x), q) for x in values.reshape(-1)]
+    written = _numbers(text)
+    assert len(written) == values.size
+    assert all(t in _texts(float(x), q) for t, x in zip(written, values.reshape(-1)))
     got = np.array(json.loads(text), dtype=float).reshape(values.shape)
     assert got.shape == values.shape
     # half the quantum, plus the float64 round-off of x/q (x·10^-k in float, 10^8 at most) and of reading back
@@ -105,3 +114,12 @@ def test_a_fragment_is_spliced_into_the_document_as_it_is() -> None:
     values = np.array([0.125, -3.5])
     document = orjson.dumps({"a": curve_fragment(values), "b": 1.5})
     assert document == b'{"a":[0.125,-3.5],"b":1.5}'
+
+
+def test_every_digit_of_the_integers_below_ten_to_the_eight() -> None:
+    # The digits come from multiplications and shifts (no division); integers below 10^8 in steps that visit
+    # every digit in every place, and the ends of the 2- and 4-digit groups, each written at the quantum 1e-8 of
+    # a curve whose largest value is just below 1 (the ninth digit, 10^8, is among the edge cases).
+    n = np.concatenate([np.arange(0, 10**8, 9973), [9, 10, 99, 100, 9999, 10_000, 999_999, 10**6],
+                        np.arange(10**8 - 200, 10**8)])
+    _check(n / 1e8)
