@@ -1,4 +1,6 @@
-"""Loops that cannot be vectorised (a step depends on the one before), compiled to machine code by numba.
+"""Loops numpy cannot run at their speed, compiled to machine code by numba: steps that each depend on the one
+before (a Runge-Kutta march, a start's Levenberg-Marquardt iterations) and per-value work with branches (a
+number's text).
 
 A Runge-Kutta march over a cycle is a few thousand dependent steps of a dozen flops each: as Python it is
 interpreter overhead, as an expression graph (CasADi's virtual machine) about a microsecond a step; compiled it is
