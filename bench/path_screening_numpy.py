@@ -6,7 +6,6 @@ Jacobian of all starts in array calls). The same residuals, penalties, damping a
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -14,7 +13,7 @@ from numpy.typing import NDArray
 
 from synth.errors import SolverTimeout
 from synth.model import FloatArray
-from synth.synthesis.path_screening import _DESIGN, _GRASHOF, PENALTY_WEIGHT, Screened
+from synth.synthesis.path_screening import _DESIGN, PENALTY_WEIGHT, Screened, _linear_constraints
 
 
 def coupler_jacobian(z: FloatArray, phi: FloatArray,
@@ -82,18 +81,9 @@ class _Residuals:
         self.n, self.m, self.timed = n, m, timed
         self.targets = targets[:, 0] + 1j * targets[:, 1]
         self.offsets, self.branches, self.cos_mu = offsets, branches, cos_mu
-        order = 0 if timed else n
-        # The constraints linear in the unknowns: Grashof margins, crank angles in order.
-        lin = np.zeros((6 + order, m))
-        lin[:6, 3:7] = _GRASHOF
-        if not timed:
-            i = np.arange(n - 1)
-            lin[6 + i, _DESIGN + i], lin[6 + i, _DESIGN + i + 1] = -1.0, 1.0
-            lin[6 + n - 1, _DESIGN], lin[6 + n - 1, _DESIGN + n - 1] = 1.0, -1.0
-        turn = np.zeros(order) if timed else np.r_[np.zeros(n - 1), 2 * math.pi]
-        self.lin = lin
-        self.lin0 = np.concatenate([np.full(6, -margin), turn])
-        self.rows = 2 * n + 4 + len(lin)
+        # The constraints linear in the unknowns (Grashof margins, crank angles in order), as the engine has them.
+        self.lin, self.lin0 = _linear_constraints(n, timed, margin)
+        self.rows = 2 * n + 4 + len(self.lin)
 
     def __call__(self, u: FloatArray, rows: NDArray[np.intp]) -> tuple[FloatArray, FloatArray]:
         """Residuals (k, rows) and Jacobian (k, rows, m) at unknowns ``u`` (k, m) of the starts ``rows``."""
