@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -174,12 +174,21 @@ def _non_finite(value: Any, path: str = "") -> str | None:
         return None if math.isfinite(float(value)) else path
     if isinstance(value, dict):
         for key, item in value.items():
+            # most of an answer's values are single figures and text: told apart here, without a call
+            kind = type(item)
+            if kind is float:
+                if math.isfinite(item):
+                    continue
+            elif kind in _LEAVES:
+                continue
             if (found := _non_finite(item, f"{path}.{key}" if path else str(key))) is not None:
                 return found
     elif isinstance(value, (list, tuple)):
         if value and _numbers(value) and _all_finite(value):
             return None
         for i, item in enumerate(value):
+            if type(item) in _LEAVES and (type(item) is not float or math.isfinite(item)):
+                continue
             if (found := _non_finite(item, f"{path}[{i}]")) is not None:
                 return found
     return None
@@ -337,18 +346,30 @@ _BYTES_PER_NUMBER = {"json": 20, "npz": 8}
 def count_numbers(value: Any) -> int:
     """Numbers in a response model's answer, counted from the arrays' shapes without writing anything."""
     if isinstance(value, BaseModel):
-        return sum(count_numbers(getattr(value, name)) for name in type(value).model_fields)
+        return _count_items(getattr(value, name) for name in type(value).model_fields)
     if isinstance(value, np.ndarray):
         return int(value.size)
     if isinstance(value, dict):
-        return sum(count_numbers(item) for item in value.values())
+        return _count_items(value.values())
     if isinstance(value, (list, tuple)):
         if value and isinstance(value[0], (int, float)) and not isinstance(value[0], bool):
             return len(value)
         if value and isinstance(value[0], (list, tuple)) and value[0] and isinstance(value[0][0], float):
             return len(value) * len(value[0])  # rows of numbers (points over the cycle)
-        return sum(count_numbers(item) for item in value)
+        return _count_items(value)
     return 1 if isinstance(value, (int, float)) and not isinstance(value, bool) else 0
+
+
+def _count_items(items: Iterable[Any]) -> int:
+    """:func:`count_numbers` summed over ``items``; a single figure or text is told apart without a call."""
+    n = 0
+    for item in items:
+        kind = type(item)
+        if kind is float or kind is int:
+            n += 1
+        elif kind not in _LEAVES:
+            n += count_numbers(item)
+    return n
 
 
 def check_answer_size(model: BaseModel, fmt: str, max_bytes: int) -> None:

@@ -206,3 +206,30 @@ def test_a_non_finite_number_in_a_list_of_numbers_is_named_by_its_place() -> Non
     with pytest.raises(synth.InvalidInput) as err:
         finite_answer({"rows": [[0.0, 1.0], [2.0, -math.inf]], "ok": [1, 2]})
     assert err.value.field == "rows[1][1]"
+
+
+def _numbers_in(value: Any) -> int:
+    """Numbers in a parsed JSON document (booleans are not numbers)."""
+    if isinstance(value, dict):
+        return sum(_numbers_in(v) for v in value.values())
+    if isinstance(value, list):
+        return sum(_numbers_in(v) for v in value)
+    return int(isinstance(value, (int, float)) and not isinstance(value, bool))
+
+
+def test_the_answer_size_bound_counts_every_number_the_answer_writes(client: SynthClient) -> None:
+    # The bound on an answer's size counts its numbers from the model, before writing it; the independent count
+    # is the numbers in the JSON it writes (single figures, text and flags, nulls, nested models, rows of points).
+    import json
+
+    from api.media import count_numbers
+    from mechsynth_client.schemas.optimise import CRANK_ROCKER_OPTIMISE_EXAMPLE, QUICK_SCAN, MachineOptimiseIn
+
+    models = [RotorOut(corrections=[CorrectionOut(mass_kg=1.0, radius_m=0.1, angle_deg=0.0, axial_position_m=0.0)],
+                       unbalance_before_kgm=1.0, moment_unbalance_before_kgm2=2.0, residual_unbalance_kgm=0.0,
+                       residual_moment_unbalance_kgm2=0.0),
+              client.analysis(AnalysisIn.model_validate(_example(AnalysisIn))),
+              client.optimise_machine(MachineOptimiseIn.model_validate({**CRANK_ROCKER_OPTIMISE_EXAMPLE,
+                                                                        **QUICK_SCAN}))]
+    for model in models:
+        assert count_numbers(model) == _numbers_in(json.loads(json_bytes(model))), type(model).__name__
