@@ -57,6 +57,8 @@ class Analysis:
     #: The mechanism's own motion (without centres of mass or trace points): what a re-analysis of the same
     #: mechanism with other masses passes as ``base_motion``.
     mechanism_motion: Motion | None = field(default=None, repr=False, compare=False)
+    # the summary once computed: balancing, the chain and their checks each ask for it (replace() starts anew)
+    _summary: list[Summary] = field(default_factory=list, init=False, repr=False, compare=False)
 
     @property
     def torque_check(self) -> float:
@@ -81,6 +83,11 @@ class Analysis:
 
     def summary(self) -> Summary:
         """RMS and peak shaking force, shaking moment, driving torque, and peak bearing force."""
+        if not self._summary:
+            self._summary.append(self._summarise())
+        return self._summary[0]
+
+    def _summarise(self) -> Summary:
         k = self.kinetostatics
         force = magnitude(k.shaking_force)
         bearings = self.bearing_forces()
