@@ -13,6 +13,7 @@ import numpy as np
 from scipy.sparse import csc_array
 from scipy.sparse.linalg import MatrixRankWarning, spsolve
 
+from ..compiled import compiled
 from ..errors import Infeasible, InvalidInput, SolverFailed, SolverTimeout
 from ..model import FloatArray
 from .cycle import ReducedCycle
@@ -235,6 +236,11 @@ def motor_constant_inertia(
 #: Newton iterations on the collocation's optimality system before IPOPT is asked instead.
 NEWTON_ITERATIONS = 40
 
+# What one compiled Newton iteration reports: its step is taken; there is no step (the band's row is
+# degenerate or the solve is not finite), so the root is not found; the recurrence cannot solve this system,
+# so the caller solves it by sparse LU and takes the step itself.
+_STEPPED, _NO_STEP, _NEEDS_LU = 0, 1, 2
+
 
 def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, guess: float, start: FloatArray,
                      least_speed: float, least_inertia: float) -> tuple[FloatArray, float] | None:
@@ -244,11 +250,11 @@ def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, gue
     Least J_c holds the speed band exactly: its optimum has the n periodic collocation equations and the
     coefficient at its limit, w_max·(1 - delta/2) = w_min·(1 + delta/2), with w_max and w_min the largest and
     least speeds at the samples; n + 1 equations in the n speeds and J_c. The Jacobian is cyclic bidiagonal in
-    the speeds with one column for J_c and one row for the band, solved in O(n) (:func:`_bordered_step`): a
-    step costs far less than an IPOPT iteration, at 3 600 samples too, and the root does not depend on where the
-    iterations start. It is the optimum when the
-    coefficient falls as J_c grows there (a larger J_c only narrows the band) and the speed and inertia bounds of
-    the program do not bind.
+    the speeds with one column for J_c and one row for the band, solved in O(n) (:func:`_border`): a step costs
+    far less than an IPOPT iteration, at 3 600 samples too, and the root does not depend on where the
+    iterations start. It is the optimum when the coefficient falls as J_c grows there (a larger J_c only narrows
+    the band) and the speed and inertia bounds of the program do not bind. Each iteration is one compiled call
+    (:func:`_newton_iteration`); the few systems its recurrence cannot solve go to a sparse LU here.
     """
     phi, _, _ = cycle.closed()
     h = np.diff(phi)
@@ -256,38 +262,32 @@ def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, gue
     n = inertia.size
     s, w_free = motor.slope, motor.no_load_speed
     up, down = 1.0 - 0.5 * delta, 1.0 + 0.5 * delta
-    nxt = np.roll(np.arange(n), -1)
     w, jc = np.array(start, dtype=float), float(guess)
     if not np.all(w > 0):
         return None
     scale = float(np.mean(w))
+    # the iteration's Jacobian (row i: diag[i] at speed i, sup[i] at speed i + 1, the last row's at speed 0, col[i]
+    # at J_c), its right-hand sides (-g, col) and its step, filled in place
+    diag, sup, col = np.empty(n), np.empty(n), np.empty(n)
+    rhs, step = np.empty((n, 2)), np.empty(n + 1)
+    lo = hi = 0
     # J_c held at its guess until the speeds are periodic: from a flat start the band's row means nothing
     free = False
     for _ in range(NEWTON_ITERATIONS):
-        total = inertia + jc
-        energy = 0.5 * total * w**2
-        power = torque + s * (w_free - w)
-        lo, hi = int(np.argmin(w)), int(np.argmax(w))
-        g = energy[nxt] - energy - 0.5 * h * (power + power[nxt])
-        band = up * w[hi] - down * w[lo]
-        # row i of the Jacobian: diag[i] at speed i, sup[i] at speed i + 1 (the last row's at speed 0), col[i] at J_c
-        diag = -total * w + 0.5 * h * s
-        sup = total[nxt] * w[nxt] + 0.5 * h * s
-        col = 0.5 * (w[nxt] ** 2 - w**2)
-        step = _bordered_step(diag, sup, col, g, band, hi, lo, up, down, free)
-        if step is None:
+        status, lo, hi, band, shrink, jc_next, moved = _newton_iteration(
+            inertia, torque, h, s, w_free, up, down, w, jc, free, least_inertia, diag, sup, col, rhs, step)
+        if status == _NEEDS_LU:
+            z = _sparse_cyclic_solve(diag, sup, rhs if free else rhs[:, :1])
+            if z is None or not _border(z, band, hi, lo, up, down, free, step):
+                return None
+            shrink, jc_next, moved = _advance(w, jc, step, least_inertia)
+        elif status == _NO_STEP:
             return None
-        # the speeds must stay positive and J_c above its bound: a step that would stop the machine or take
-        # more than half of J_c's room is shortened
-        shrink = 1.0
-        while (np.any(w + shrink * step[:n] <= 0.0) or jc + shrink * step[n] <= 0.5 * (jc + least_inertia)) \
-                and shrink > 1e-6:
-            shrink *= 0.5
-        w, jc = w + shrink * step[:n], jc + shrink * step[n]
+        jc = jc_next
         if not free:
-            free = shrink == 1.0 and np.max(np.abs(step[:n])) <= 1e-6 * scale
+            free = shrink == 1.0 and moved <= 1e-6 * scale
             continue
-        if shrink == 1.0 and np.max(np.abs(step[:n])) <= 1e-13 * scale and abs(step[n]) <= 1e-13 * max(abs(jc), guess):
+        if shrink == 1.0 and moved <= 1e-13 * scale and abs(step[n]) <= 1e-13 * max(abs(jc), guess):
             break
     else:
         return None
@@ -297,20 +297,161 @@ def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, gue
     sens = _cyclic_solve(diag, sup, -col[:, None])
     if sens is None or not up * sens[hi, 0] - down * sens[lo, 0] < 0:
         return None
-    return w, jc
+    # numpy's scalar, as the reports have always carried this inertia
+    return w, np.float64(jc)
+
+
+@compiled
+def _newton_iteration(inertia: FloatArray, torque: FloatArray, h: FloatArray, s: float, w_free: float, up: float,
+                      down: float, w: FloatArray, jc: float, free: bool, least_inertia: float, diag: FloatArray,
+                      sup: FloatArray, col: FloatArray, rhs: FloatArray, step: FloatArray
+                      ) -> tuple[int, int, int, float, float, float, float]:  # pragma: no cover - compiled
+    """One Newton iteration of :func:`_periodic_newton` at speeds ``w`` and J_c ``jc``: the collocation residuals
+    g (energy form, trapezoidal power), the band's residual and the Jacobian into ``diag``, ``sup``, ``col``, the
+    right-hand sides (-g, col) into ``rhs``, the step into ``step`` and, when it is taken, ``w`` moved along it.
+
+    Returns the status, the least and largest speeds' indices, the band's residual, the step's shrink factor,
+    the new J_c and the largest speed step (NaN when a step is not finite); with ``_NEEDS_LU`` only the status,
+    the indices and the band mean anything."""
+    n = w.shape[0]
+    lo, hi = _arg_least(w), _arg_largest(w)
+    band = up * w[hi] - down * w[lo]
+    for i in range(n):
+        k = i + 1 if i + 1 < n else 0
+        total, total_k = inertia[i] + jc, inertia[k] + jc
+        energy, energy_k = 0.5 * total * (w[i] * w[i]), 0.5 * total_k * (w[k] * w[k])
+        power, power_k = torque[i] + s * (w_free - w[i]), torque[k] + s * (w_free - w[k])
+        rhs[i, 0] = -(energy_k - energy - 0.5 * h[i] * (power + power_k))
+        diag[i] = -total * w[i] + 0.5 * h[i] * s
+        sup[i] = total_k * w[k] + 0.5 * h[i] * s
+        col[i] = 0.5 * (w[k] * w[k] - w[i] * w[i])
+        rhs[i, 1] = col[i]
+    z = np.empty((n, 2 if free else 1))
+    if not _recurrence(diag, sup, rhs[:, : z.shape[1]], z):
+        return _NEEDS_LU, lo, hi, band, 0.0, jc, 0.0
+    for i in range(n):
+        for c in range(z.shape[1]):
+            if not math.isfinite(z[i, c]):
+                return _NO_STEP, lo, hi, band, 0.0, jc, 0.0
+    if not _border(z, band, hi, lo, up, down, free, step):
+        return _NO_STEP, lo, hi, band, 0.0, jc, 0.0
+    shrink, jc_next, moved = _advance(w, jc, step, least_inertia)
+    return _STEPPED, lo, hi, band, shrink, jc_next, moved
+
+
+@compiled
+def _arg_least(x: FloatArray) -> int:  # pragma: no cover - compiled
+    """numpy's argmin: the first least value's index, or the first NaN's."""
+    at = 0
+    for i in range(x.shape[0]):
+        if x[i] != x[i]:
+            return i
+        if x[i] < x[at]:
+            at = i
+    return at
+
+
+@compiled
+def _arg_largest(x: FloatArray) -> int:  # pragma: no cover - compiled
+    """numpy's argmax: the first largest value's index, or the first NaN's."""
+    at = 0
+    for i in range(x.shape[0]):
+        if x[i] != x[i]:
+            return i
+        if x[i] > x[at]:
+            at = i
+    return at
+
+
+@compiled
+def _recurrence(diag: FloatArray, sup: FloatArray, rhs: FloatArray, z: FloatArray) -> bool:  # pragma: no cover
+    """z with diag[i]·z[i] + sup[i]·z[i+1] = rhs[i] (z[n] is z[0]) for each column of ``rhs`` (n, k) into ``z``,
+    in O(n): z[i+1] = rho[i]·z[i] + rhs[i]/sup[i] from z[0], closed on itself. False, ``z`` untouched, where the
+    recurrence's products grow too small to divide by or the cycle's gain is one (see :func:`_cyclic_solve`)."""
+    n, k = rhs.shape
+    beta = np.empty(n + 1)
+    beta[0] = 1.0
+    for i in range(n):
+        beta[i + 1] = beta[i] * (-diag[i] / sup[i])
+    for i in range(n + 1):
+        if not (math.isfinite(beta[i]) and abs(beta[i]) > 1e-6):
+            return False
+    if not abs(1.0 - beta[n]) > 1e-9:
+        return False
+    for c in range(k):
+        # z[i] = beta[i]·(z[0] + sum of rhs[j]/(sup[j]·beta[j+1]) for j < i), the sums accumulated in order
+        total = rhs[0, c] / (sup[0] * beta[1])
+        z[0, c] = total
+        for i in range(1, n):
+            z[i, c] = total
+            total = total + rhs[i, c] / (sup[i] * beta[i + 1])
+        start = beta[n] * total / (1.0 - beta[n])
+        z[0, c] = beta[0] * (start + 0.0)
+        for i in range(1, n):
+            z[i, c] = beta[i] * (start + z[i, c])
+    return True
+
+
+@compiled
+def _border(z: FloatArray, band: float, hi: int, lo: int, up: float, down: float, free: bool,
+            step: FloatArray) -> bool:  # pragma: no cover - compiled
+    """Newton's step (speeds, J_c) into ``step`` from the periodic system's solutions ``z`` (n, 1 or 2): held J_c,
+    the speeds' step is z[:, 0] and J_c's zero; free, it is p - y·q with p, q the solutions for -g and col and y
+    (J_c's step) what the band's equation up·w[hi] - down·w[lo] = ``band`` asks. False when the band's row is
+    degenerate."""
+    n = z.shape[0]
+    if not free:
+        for i in range(n):
+            step[i] = z[i, 0]
+        step[n] = 0.0
+        return True
+    across = up * z[hi, 1] - down * z[lo, 1]
+    if across == 0.0:
+        return False
+    y = (up * z[hi, 0] - down * z[lo, 0] + band) / across
+    for i in range(n):
+        step[i] = z[i, 0] - y * z[i, 1]
+    step[n] = y
+    return True
+
+
+@compiled
+def _advance(w: FloatArray, jc: float, step: FloatArray,
+             least_inertia: float) -> tuple[float, float, float]:  # pragma: no cover - compiled
+    """``w`` moved in place along the speeds' ``step``: the shrink factor, J_c moved along its step and the
+    largest speed step (NaN when one is not finite). The speeds must stay positive and J_c above its bound: a
+    step that would stop the machine or take more than half of J_c's room is halved until it does not."""
+    n = w.shape[0]
+    room = 0.5 * (jc + least_inertia)
+    lift = float(step[n])
+    shrink = 1.0
+    while shrink > 1e-6:
+        stops = jc + shrink * lift <= room
+        for i in range(n):
+            if w[i] + shrink * step[i] <= 0.0:
+                stops = True
+                break
+        if not stops:
+            break
+        shrink *= 0.5
+    moved = abs(float(step[0]))
+    for i in range(n):
+        w[i] = w[i] + shrink * step[i]
+        a = abs(float(step[i]))
+        if a != a or moved != moved:
+            moved = math.nan
+        elif a > moved:
+            moved = a
+    return shrink, jc + shrink * lift, moved
 
 
 def _cyclic_solve(diag: FloatArray, sup: FloatArray, rhs: FloatArray) -> FloatArray | None:
-    """z with diag[i]·z[i] + sup[i]·z[i+1] = rhs[i] (z[n] is z[0]) for each column of ``rhs`` (n, k), in O(n):
-    z[i+1] = rho[i]·z[i] + rhs[i]/sup[i] from z[0], closed on itself. The motor's damping keeps |rho| below one,
-    so the recurrence is stable; where its products grow too small to divide by, a sparse LU solves it."""
-    rho = -diag / sup
-    beta = np.concatenate(([1.0], np.cumprod(rho)))
-    if not (np.all(np.isfinite(beta)) and np.min(np.abs(beta)) > 1e-6 and abs(1.0 - beta[-1]) > 1e-9):
+    """z with diag[i]·z[i] + sup[i]·z[i+1] = rhs[i] (z[n] is z[0]) for each column of ``rhs`` (n, k), in O(n) by
+    :func:`_recurrence`. The motor's damping keeps |rho| = |diag/sup| below one, so the recurrence is stable;
+    where its products grow too small to divide by, a sparse LU solves it. None when the answer is not finite."""
+    z = np.empty(rhs.shape)
+    if not _recurrence(diag, sup, np.ascontiguousarray(rhs), z):
         return _sparse_cyclic_solve(diag, sup, rhs)
-    sums = np.vstack((np.zeros(rhs.shape[1]), np.cumsum(rhs / (sup * beta[1:])[:, None], axis=0)))
-    start = beta[-1] * sums[-1] / (1.0 - beta[-1])
-    z = beta[:-1, None] * (start[None, :] + sums[:-1])
     return z if np.all(np.isfinite(z)) else None
 
 
@@ -328,26 +469,6 @@ def _sparse_cyclic_solve(diag: FloatArray, sup: FloatArray, rhs: FloatArray) -> 
         except RuntimeError:  # SuperLU: "Factor is exactly singular"
             return None
     return z if np.all(np.isfinite(z)) else None
-
-
-def _bordered_step(diag: FloatArray, sup: FloatArray, col: FloatArray, g: FloatArray, band: float, hi: int,
-                   lo: int, up: float, down: float, free: bool) -> FloatArray | None:
-    """Newton's step (speeds, J_c) on the periodic equations ``g`` (cyclic bidiagonal ``diag``, ``sup`` in the
-    speeds, ``col`` in J_c) and, when J_c is ``free``, the band's equation ``band`` = up·w[hi] - down·w[lo]:
-    the speeds' step is p - y·q with p, q the periodic system's solutions for -g and ``col``, and y what the band
-    asks. J_c's step is zero while it is held."""
-    if not free:
-        z = _cyclic_solve(diag, sup, -g[:, None])
-        return None if z is None else np.append(z[:, 0], 0.0)
-    z = _cyclic_solve(diag, sup, np.column_stack((-g, col)))
-    if z is None:
-        return None
-    p, q = z[:, 0], z[:, 1]
-    across = up * q[hi] - down * q[lo]
-    if across == 0.0:
-        return None
-    y = (up * p[hi] - down * p[lo] + band) / across
-    return np.append(p - y * q, y)
 
 
 _MOTOR_NLPS = threading.local()
