@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InvalidInput
+from ..model import FloatArray
 from .cycle import ReducedCycle
 
 
@@ -40,18 +41,38 @@ def energy_extremes(cycle: ReducedCycle, c: float, *, samples_only: bool = False
     the vertex of its parabola: evaluated for all pieces at once. ``samples_only`` looks at the samples alone,
     as the seeds' graphical method does with its few positions.
     """
-    phi, inertia, torque = cycle.closed()
-    work = cycle.work_nodes()
-    h = np.diff(phi)
-    f0 = work - c * inertia
-    lin = h * torque[:-1] - c * np.diff(inertia)
-    quad = 0.5 * h * np.diff(torque)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(quad != 0, -lin / (2 * quad), -1.0)
-    inside = (t > 0) & (t < 1)
-    vertex = f0[:-1] + lin * t + quad * t**2
-    candidates = f0 if samples_only else np.concatenate((f0, vertex[inside]))
-    return float(candidates.max()), float(candidates.min())
+    return _EnergyPieces.of(cycle).extremes(c, samples_only=samples_only)
+
+
+@dataclass(frozen=True, slots=True)
+class _EnergyPieces:
+    """What A(phi) - c·J(phi) is made of on each piece of the cycle whatever ``c``: the work and inertia at the
+    closed samples, the pieces' work slope at their start times their length and their inertia rise, and the
+    coefficient of the work's parabola, so that both Wittenbauer tangents read the cycle once."""
+
+    work: FloatArray
+    inertia: FloatArray
+    slope_work: FloatArray
+    rise: FloatArray
+    quad: FloatArray
+
+    @staticmethod
+    def of(cycle: ReducedCycle) -> _EnergyPieces:
+        phi, inertia, torque = cycle.closed()
+        h = np.diff(phi)
+        return _EnergyPieces(cycle.work_nodes(), inertia, h * torque[:-1], np.diff(inertia), 0.5 * h * np.diff(torque))
+
+    def extremes(self, c: float, *, samples_only: bool = False) -> tuple[float, float]:
+        """Largest and smallest A - c·J [J] (see :func:`energy_extremes`)."""
+        f0 = self.work - c * self.inertia
+        lin = self.slope_work - c * self.rise
+        quad = self.quad
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(quad != 0, -lin / (2 * quad), -1.0)
+        inside = (t > 0) & (t < 1)
+        vertex = f0[:-1] + lin * t + quad * t**2
+        candidates = f0 if samples_only else np.concatenate((f0, vertex[inside]))
+        return float(candidates.max()), float(candidates.min())
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,12 +88,19 @@ class Tangents:
     slope_min: float
     intercept_min: float
 
+    @property
+    def constant_inertia(self) -> float:
+        """The constant inertia whose speed band the tangents bound [kg·m²]: their intercepts' gap over their
+        slopes' (see :func:`exact_constant_inertia`)."""
+        return (self.intercept_max - self.intercept_min) / (self.slope_max - self.slope_min)
+
 
 def wittenbauer_tangents(cycle: ReducedCycle, mean_speed: float, delta: float) -> Tangents:
     """Limit tangents of the energy-mass curve (A(phi), J_red(phi)) of a balanced cycle for speeds w_m(1 ± delta/2)."""
     w_min, w_max = speed_band(mean_speed, delta)
     c_max, c_min = 0.5 * w_max**2, 0.5 * w_min**2
-    return Tangents(c_max, energy_extremes(cycle, c_max)[0], c_min, energy_extremes(cycle, c_min)[1])
+    pieces = _EnergyPieces.of(cycle)
+    return Tangents(c_max, pieces.extremes(c_max)[0], c_min, pieces.extremes(c_min)[1])
 
 
 def exact_constant_inertia(cycle: ReducedCycle, mean_speed: float, delta: float) -> float:
@@ -81,8 +109,7 @@ def exact_constant_inertia(cycle: ReducedCycle, mean_speed: float, delta: float)
     J_c = [max(A - J·w_max²/2) - min(A - J·w_min²/2)] / (delta·w_m²), since w_max² - w_min² = 2·delta·w_m²
     (seed_formulas 7). Exact for the piecewise-linear cycle at any inertia variation.
     """
-    tan = wittenbauer_tangents(cycle, mean_speed, delta)
-    return (tan.intercept_max - tan.intercept_min) / (tan.slope_max - tan.slope_min)
+    return wittenbauer_tangents(cycle, mean_speed, delta).constant_inertia
 
 
 def mertsalov_constant_inertia(cycle: ReducedCycle, mean_speed: float, delta: float) -> float:

@@ -37,7 +37,6 @@ from ..flywheel import (
     SpeedProfile,
     cycle_from_reduced,
     design_flywheel,
-    exact_constant_inertia,
     motor_constant_inertia,
     wittenbauer_tangents,
 )
@@ -390,7 +389,9 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     # the motor sets the mean speed: the band is sized around its steady speed, the working speed is a check
     mean_speed = reduced.mean_speed(cycle)
     balanced, driving = cycle.balanced()
-    guess = max(exact_constant_inertia(balanced, mean_speed, spec.delta), 1e-9)
+    # the Wittenbauer tangents both report the band and give the NLP its start (the closed-form inertia)
+    tangents = wittenbauer_tangents(balanced, mean_speed, spec.delta)
+    guess = max(tangents.constant_inertia, 1e-9)
     nlp = motor_constant_inertia(cycle, reduced, mean_speed, spec.delta, guess=guess, time_limit_s=time_limit_s)
     used = max(nlp.constant_inertia, existing)
     # the NLP's periodic speed at the first sample starts the shooting next to the answer
@@ -427,7 +428,7 @@ def _flywheel(spec: MachineSpec, motor: Motor, cycle: ReducedCycle, machine_cycl
     result = FlywheelResult(
         cycle=balanced, mean_speed=mean_speed, target_delta=spec.delta, constant_inertia=existing,
         driving_torque=driving, cycle_work=cycle.cycle_work,
-        tangents=wittenbauer_tangents(balanced, mean_speed, spec.delta), methods=tuple(methods),
+        tangents=tangents, methods=tuple(methods),
         design_method=method.method, geometry=shape, motor_mean_speed=mean_speed,
     )
     if shape is None:
