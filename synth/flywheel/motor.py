@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import warnings
@@ -10,6 +11,7 @@ from typing import Protocol
 
 import casadi as ca
 import numpy as np
+import numpy.typing as npt
 from scipy.sparse import csc_array
 from scipy.sparse.linalg import MatrixRankWarning, spsolve
 
@@ -204,23 +206,25 @@ def motor_constant_inertia(
     """
     lower, upper = motor_speed_limits(cycle, motor, mean_speed, delta)
     floor = max(motor.no_load_speed - motor.max_torque / motor.slope, 0.0)
-    phi, _, _ = cycle.closed()
     n = cycle.samples
+    initial = np.clip(start, lower, upper) if start is not None else np.full(n, mean_speed)
+    least_speed = max(floor, 1e-6 * mean_speed)
+    least_inertia = 1e-9 * max(guess, 1.0) - float(cycle.inertia.min())
+    newton = _periodic_newton(cycle, motor, delta, guess, initial, least_speed, least_inertia)
+    if newton is not None:
+        return MotorSizing(newton[1], newton[0], "newton")
+    phi, _, _ = cycle.closed()
     # in units of the kinetic energy, so IPOPT sees residuals of order one whatever the machine's size
     e_scale = 0.5 * (guess + cycle.mean_inertia) * mean_speed**2
     scale = max(guess, 1e-9)
     params = np.concatenate([cycle.inertia, cycle.torque, np.diff(phi),
                              [motor.slope, motor.no_load_speed, delta, e_scale, mean_speed, scale]])
-    initial = np.clip(start, lower, upper) if start is not None else np.full(n, mean_speed)
     x0 = np.concatenate([initial, [initial.min(), initial.max(), guess]])
     lbx = np.full(n + 3, -np.inf)
-    lbx[n] = max(floor, 1e-6 * mean_speed)
-    lbx[n + 2] = 1e-9 * max(guess, 1.0) - float(cycle.inertia.min())
+    lbx[n] = least_speed
+    lbx[n + 2] = least_inertia
     lbg = np.concatenate([np.zeros(n), np.zeros(2 * n), [-np.inf]])
     ubg = np.concatenate([np.zeros(n), np.full(2 * n, np.inf), [0.0]])
-    newton = _periodic_newton(cycle, motor, delta, guess, initial, lbx[n], lbx[n + 2])
-    if newton is not None:
-        return MotorSizing(newton[1], newton[0], "newton")
     solver = _motor_nlp(n, float(time_limit_s))
     sol = solver(x0=x0, p=params, lbx=lbx, ubx=np.inf, lbg=lbg, ubg=ubg)
     stats = solver.stats()
@@ -459,9 +463,10 @@ def _sparse_cyclic_solve(diag: FloatArray, sup: FloatArray, rhs: FloatArray) -> 
     """The same system by sparse LU (O(n) for this pattern, where a dense one costs O(n³): seconds at 3 600
     samples); None when it is singular."""
     n = diag.size
-    rows = np.arange(n)
-    cols = np.concatenate([rows, np.roll(rows, -1)])
-    a = csc_array((np.concatenate([diag, sup]), (np.concatenate([rows, rows]), cols)), shape=(n, n))
+    indices, indptr = _cyclic_pattern(n)
+    data = np.empty(2 * n)
+    data[0], data[1], data[2::2], data[3::2] = diag[0], sup[-1], sup[:-1], diag[1:]
+    a = csc_array((data, indices, indptr), shape=(n, n))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MatrixRankWarning)
         try:
@@ -469,6 +474,20 @@ def _sparse_cyclic_solve(diag: FloatArray, sup: FloatArray, rhs: FloatArray) -> 
         except RuntimeError:  # SuperLU: "Factor is exactly singular"
             return None
     return z if np.all(np.isfinite(z)) else None
+
+
+@functools.lru_cache(maxsize=8)
+def _cyclic_pattern(n: int) -> tuple[npt.NDArray[np.intc], npt.NDArray[np.intc]]:
+    """Row indices and column pointers of the cyclic bidiagonal (n, n) matrix in canonical CSC form (rows sorted
+    in each column, SuperLU's index type): column j holds row j - 1 (sup) above row j (diag), column 0 row 0
+    (diag) above row n - 1 (sup). They depend on n alone, so they are built once per sample count (read-only)."""
+    rows = np.arange(n, dtype=np.intc)
+    indices = np.empty(2 * n, dtype=np.intc)
+    indices[0], indices[1], indices[2::2], indices[3::2] = 0, n - 1, rows[:-1], rows[1:]
+    indptr = np.arange(0, 2 * n + 1, 2, dtype=np.intc)
+    indices.flags.writeable = False
+    indptr.flags.writeable = False
+    return indices, indptr
 
 
 _MOTOR_NLPS = threading.local()

@@ -108,16 +108,18 @@ def _march(w0: float, params: FloatArray) -> FloatArray:  # pragma: no cover - c
 
 def _step_parameters(nodes: FloatArray, tables: tuple[FloatArray, FloatArray, FloatArray], c: float,
                      w_free: float, substeps: int) -> FloatArray:
-    """The (12, N·substeps) parameter columns of :func:`_march`: tables linear between samples."""
+    """The (12, N·substeps) parameter columns of :func:`_march`: tables linear between samples, written into one
+    array (rows by table and by the step's start, middle and end)."""
     t = np.arange(substeps) / substeps
-    frac = [t, t + 0.5 / substeps, t + 1.0 / substeps]
-    h = np.repeat(np.diff(nodes) / substeps, substeps)
-    rows = [h]
-    for v in tables:
-        start, rise = v[:-1, None], np.diff(v)[:, None]
-        rows += [(start + f[None, :] * rise).reshape(-1) for f in frac]
-    rows += [np.full(h.size, c), np.full(h.size, w_free)]
-    return np.vstack(rows)
+    frac = np.stack((t, t + 0.5 / substeps, t + 1.0 / substeps))
+    values = np.stack(tables)
+    out = np.empty((12, nodes.size - 1, substeps))
+    out[0] = (np.diff(nodes) / substeps)[:, None]
+    start, rise = values[:, None, :-1, None], np.diff(values, axis=1)[:, None, :, None]
+    out[1:10].reshape(3, 3, nodes.size - 1, substeps)[...] = start + frac[None, :, None, :] * rise
+    out[10] = c
+    out[11] = w_free
+    return out.reshape(12, -1)
 
 
 def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
