@@ -210,22 +210,31 @@ def teeth_limited(stages: Sequence[Stage], rules: ToothRules) -> tuple[tuple[Sta
     out: list[Stage] = []
     limits: list[TeethLimit] = []
     for k, s in enumerate(stages):
-        if not s.toothed or s.ratio is not None:
-            out.append(s)
-            continue
-        zp, zg = grid_pairs(s, rules)
-        if not zp.size:
-            out.append(s)
-            continue
-        ratio = zg / zp
-        i_lo, i_hi = int(np.argmin(ratio)), int(np.argmax(ratio))
-        lo, hi = float(ratio[i_lo]), float(ratio[i_hi])
-        if lo > s.ratio_min * (1 + 1e-12) or hi < s.ratio_max * (1 - 1e-12):
-            limits.append(TeethLimit(k, lo, hi, (int(zp[i_lo]), int(zg[i_lo])), (int(zp[i_hi]), int(zg[i_hi]))))
-            s = Stage(s.type, max(lo, s.ratio_min), min(hi, s.ratio_max), s.efficiency, s.volume_coefficient,
-                      s.toothed, None)
-        out.append(s)
+        narrowed, limit = _teeth_narrowed(s, rules)
+        if limit is not None:
+            limits.append(TeethLimit(k, *limit))
+        out.append(narrowed)
     return tuple(out), tuple(limits)
+
+
+@functools.lru_cache(maxsize=256)
+def _teeth_narrowed(s: Stage, rules: ToothRules) -> tuple[Stage, tuple[float, float, tuple[int, int],
+                                                                     tuple[int, int]] | None]:
+    """One stage narrowed as :func:`teeth_limited` narrows it, and the narrowing made (range and the pairs that
+    make it) or None: a family's members share their stages and rules, so each is narrowed once."""
+    if not s.toothed or s.ratio is not None:
+        return s, None
+    zp, zg = grid_pairs(s, rules)
+    if not zp.size:
+        return s, None
+    ratio = zg / zp
+    i_lo, i_hi = int(np.argmin(ratio)), int(np.argmax(ratio))
+    lo, hi = float(ratio[i_lo]), float(ratio[i_hi])
+    if lo > s.ratio_min * (1 + 1e-12) or hi < s.ratio_max * (1 - 1e-12):
+        limit = (lo, hi, (int(zp[i_lo]), int(zg[i_lo])), (int(zp[i_hi]), int(zg[i_hi])))
+        return Stage(s.type, max(lo, s.ratio_min), min(hi, s.ratio_max), s.efficiency, s.volume_coefficient,
+                     s.toothed, None), limit
+    return s, None
 
 
 def build_split_program(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
@@ -325,6 +334,74 @@ def _coefficients(objective: str, stages: Sequence[Stage], model: InertiaModel, 
     return np.array([(stages[k].volume_coefficient or 0.0) * torque[k] for _, k in kinds])
 
 
+@dataclass(frozen=True, slots=True)
+class _LogProgram:
+    """The parts of a split's log-space program that depend only on its layout: the stage count, the objective,
+    which stages are fixed and which monomials are present. ``cone_b`` holds the exponential cones' constant
+    rows (their coefficient rows are zero, to be filled)."""
+
+    a: sp.csc_matrix
+    p: sp.csc_matrix
+    q: FloatArray
+    cones: tuple[Any, ...]
+    cone_b: FloatArray
+
+
+@functools.lru_cache(maxsize=64)
+def _log_program(n: int, objective: str, fixed: tuple[bool, ...], keep: tuple[bool, ...]) -> _LogProgram:
+    """The layout's constraint matrix and cones, built once: a split asks the same program of every member of
+    a family but for its right-hand side (the total ratio, the bounds and the coefficients)."""
+    exps, _ = _exponents(n, objective)
+    exps = exps[np.array(keep, dtype=bool)]
+    terms = len(exps)
+    size = n + 1 + terms
+    eq_a = [np.concatenate([np.ones(n), np.zeros(1 + terms)])]
+    le_a = []
+    for k in range(n):
+        e = np.zeros(size)
+        e[k] = 1.0
+        if fixed[k]:
+            eq_a.append(e)
+        else:
+            le_a += [e, -e]
+    le_a.append(np.concatenate([np.zeros(n + 1), np.ones(terms)]))
+    # Clarabel's rows are b - A x in the cone; per monomial (a·y + log c - t, 1, w).
+    cone_a = np.zeros((3 * terms, size))
+    cone_a[0::3, :n] = -exps
+    cone_a[0::3, n] = 1.0
+    cone_a[2::3, n + 1 :] = -np.eye(terms)
+    cone_b = np.zeros(3 * terms)
+    cone_b[1::3] = 1.0
+    a = sp.csc_matrix(np.vstack([np.array(eq_a), np.array(le_a), cone_a]))
+    cones = [clarabel.ZeroConeT(len(eq_a)), clarabel.NonnegativeConeT(len(le_a))]
+    cones += [clarabel.ExponentialConeT() for _ in range(terms)]
+    q = np.zeros(size)
+    q[n] = 1.0
+    for arr in (a.data, a.indices, a.indptr, q, cone_b):
+        arr.setflags(write=False)
+    return _LogProgram(a, sp.csc_matrix((size, size)), q, tuple(cones), cone_b)
+
+
+def _log_program_of(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
+                    input_torque: float) -> tuple[_LogProgram, FloatArray]:
+    """A split's log-space program: the layout's part (built once) and this split's right-hand side b."""
+    coeff = _coefficients(objective, stages, model, input_torque)
+    keep = coeff > 0
+    program = _log_program(len(stages), objective, tuple(s.ratio is not None for s in stages),
+                           tuple(keep.tolist()))
+    eq_b = [math.log(total)]
+    le_b = []
+    for s in stages:
+        if s.ratio is not None:
+            eq_b.append(math.log(s.ratio))
+        else:
+            le_b += [math.log(s.ratio_max), -math.log(s.ratio_min)]
+    le_b.append(1.0)
+    cone_b = program.cone_b.copy()
+    cone_b[0::3] = np.log(coeff[keep])
+    return program, np.concatenate([eq_b, le_b, cone_b])
+
+
 def solve_split_log(total: float, stages: Sequence[Stage], objective: str, model: InertiaModel,
                     input_torque: float = 1.0, time_limit_s: float = 20.0) -> tuple[FloatArray, float, str, float]:
     """Solve a split's geometric program in log space with Clarabel.
@@ -340,47 +417,14 @@ def solve_split_log(total: float, stages: Sequence[Stage], objective: str, model
         raise InvalidInput(f"objective {objective!r} is not a geometric program; known: {OBJECTIVES}",
                            field="objective")
     n = len(stages)
-    exps, _ = _exponents(n, objective)
-    coeff = _coefficients(objective, stages, model, input_torque)
-    keep = coeff > 0
-    exps, logc = exps[keep], np.log(coeff[keep])
-    terms = len(logc)
-    size = n + 1 + terms
-    eq_a = [np.concatenate([np.ones(n), np.zeros(1 + terms)])]
-    eq_b = [math.log(total)]
-    le_a, le_b = [], []
-    for k, s in enumerate(stages):
-        e = np.zeros(size)
-        e[k] = 1.0
-        if s.ratio is not None:
-            eq_a.append(e)
-            eq_b.append(math.log(s.ratio))
-        else:
-            le_a += [e, -e]
-            le_b += [math.log(s.ratio_max), -math.log(s.ratio_min)]
-    le_a.append(np.concatenate([np.zeros(n + 1), np.ones(terms)]))
-    le_b.append(1.0)
-    # Clarabel's rows are b - A x in the cone; per monomial (a·y + log c - t, 1, w).
-    cone_a = np.zeros((3 * terms, size))
-    cone_a[0::3, :n] = -exps
-    cone_a[0::3, n] = 1.0
-    cone_a[2::3, n + 1 :] = -np.eye(terms)
-    cone_b = np.zeros(3 * terms)
-    cone_b[0::3] = logc
-    cone_b[1::3] = 1.0
-    a = sp.csc_matrix(np.vstack([np.array(eq_a), np.array(le_a), cone_a]))
-    b = np.concatenate([eq_b, le_b, cone_b])
-    cones = [clarabel.ZeroConeT(len(eq_b)), clarabel.NonnegativeConeT(len(le_b))]
-    cones += [clarabel.ExponentialConeT() for _ in range(terms)]
-    q = np.zeros(size)
-    q[n] = 1.0
+    program, b = _log_program_of(total, stages, objective, model, input_torque)
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.time_limit = float(time_limit_s)
     for key, value in _CLARABEL_TOLERANCES.items():
         setattr(settings, key, value)
     t0 = time.perf_counter()
-    solution = clarabel.DefaultSolver(sp.csc_matrix((size, size)), q, a, b, cones, settings).solve()
+    solution = clarabel.DefaultSolver(program.p, program.q, program.a, b, list(program.cones), settings).solve()
     elapsed = time.perf_counter() - t0
     status = solution.status
     if status in (clarabel.SolverStatus.PrimalInfeasible, clarabel.SolverStatus.AlmostPrimalInfeasible):
@@ -395,18 +439,43 @@ def solve_split_log(total: float, stages: Sequence[Stage], objective: str, model
     return np.exp(x[:n]), math.exp(x[n]), label, elapsed
 
 
+def _objective_rows(objective: str, ratios: FloatArray, stages: Sequence[Stage], model: InertiaModel,
+                    input_torque: float) -> FloatArray:
+    """The plain model's objective at every row of ``ratios`` (points x stages), each row computed by the same
+    operations, in the same order, as :func:`reduced_train_inertia` or :func:`gear_volume` compute one point."""
+    m, n = ratios.shape
+    u = ratios
+    if objective == "min_volume":
+        assert all(s.volume_coefficient is not None for s in stages)
+        eta = np.array([s.efficiency for s in stages])
+        coeff = np.array([s.volume_coefficient or 0.0 for s in stages])
+        torque = input_torque * np.concatenate([np.ones((m, 1)), np.cumprod(u * eta, axis=1)[:, :-1]], axis=1)
+        volumes: FloatArray = np.sum(coeff * torque * (u + 1) * (u**2 + 1) / u, axis=1)
+        return volumes
+    jp = model.pinion_inertia
+    shaft = np.zeros((m, n + 1))
+    shaft[:, 0] = jp + model.motor_inertia
+    shaft[:, 1:] = jp * u**4
+    shaft[:, 1:n] += jp
+    shaft[:, n] += model.load_inertia
+    if model.shaft_inertias:
+        shaft += np.asarray(model.shaft_inertias, dtype=float)
+    to_motor = np.concatenate([np.ones((m, 1)), np.cumprod(u, axis=1)], axis=1)
+    inertias: FloatArray = np.sum(shaft / to_motor**2, axis=1)
+    return inertias
+
+
 def _kkt_residual(objective: str, ratios: FloatArray, stages: Sequence[Stage], model: InertiaModel,
                   input_torque: float) -> float:
-    """First-order conditions of min f(exp x) s.t. sum x = log U, bounds: interior slopes equal, signs at bounds."""
+    """First-order conditions of min f(exp x) s.t. sum x = log U, bounds: interior slopes equal, signs at bounds.
+
+    The slopes are central differences of the plain model, all points evaluated at once."""
     x = np.log(ratios)
     f0 = _objective_value(objective, ratios, stages, model, input_torque)
     h = 1e-6
-    grad = np.empty(len(x))
-    for i in range(len(x)):
-        e = np.zeros(len(x))
-        e[i] = h
-        grad[i] = (_objective_value(objective, np.exp(x + e), stages, model, input_torque)
-                   - _objective_value(objective, np.exp(x - e), stages, model, input_torque)) / (2 * h)
+    step = h * np.eye(len(x))
+    values = _objective_rows(objective, np.exp(np.concatenate([x + step, x - step])), stages, model, input_torque)
+    grad = (values[: len(x)] - values[len(x) :]) / (2 * h)
     free = np.array([s.ratio is None for s in stages])
     lo = np.array([math.log(s.ratio_min) for s in stages])
     hi = np.array([math.log(s.ratio_max) for s in stages])

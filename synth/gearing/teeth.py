@@ -32,8 +32,9 @@ from __future__ import annotations
 import functools
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
@@ -223,14 +224,21 @@ def grid_pairs(stage: Stage, rules: ToothRules) -> tuple[IntArray, IntArray]:
     return zp[ok], zg[ok]
 
 
+@functools.cache
+def _toothed_types() -> Mapping[str, bool]:
+    """Whether each stage type of the shipped table is toothed (package data, fixed while the process runs)."""
+    return MappingProxyType({n: t.toothed for n, t in stage_types().items()})
+
+
 def _validate(target: float, stages: Sequence[Stage], rules: ToothRules, tolerance: float | None) -> None:
     if not (math.isfinite(target) and target > 0):
         raise InvalidInput(f"total_ratio must be positive, got {target}", field="total_ratio")
-    toothed = sorted(n for n, t in stage_types().items() if t.toothed)
+    toothed = _toothed_types()
     for i, s in enumerate(stages):
-        if not stage_types()[s.type].toothed:
+        if not toothed[s.type]:
+            names = sorted(n for n, t in toothed.items() if t)
             raise InvalidInput(f"stage type {s.type!r} has no pinion/gear tooth numbers to choose; toothed "
-                               f"types: {', '.join(toothed)}", field=f"stages[{i}].type")
+                               f"types: {', '.join(names)}", field=f"stages[{i}].type")
         if s.ratio is not None:
             raise InvalidInput("the tooth search chooses every stage's ratio; give a range instead of a ratio",
                                field=f"stages[{i}].ratio")
@@ -255,10 +263,11 @@ class _Set:
     den: IntArray
     teeth: IntArray
     idx: IntArray
+    ratio: FloatArray = field(init=False)
 
-    @property
-    def ratio(self) -> FloatArray:
-        return self.num / self.den
+    def __post_init__(self) -> None:
+        # every step of the search reads the ratios: divided out once
+        object.__setattr__(self, "ratio", self.num / self.den)
 
 
 def _dedupe(num: IntArray, den: IntArray, teeth: IntArray, idx: IntArray) -> _Set:
@@ -371,8 +380,8 @@ class _Table:
             # The query spans at most two cells, k - 1 and k with k = floor(x_lo): one look-up answers for both.
             np.clip(x_lo, 0.0, top, out=x_lo)
             return np.flatnonzero(self.pair[x_lo.astype(np.intp)])
-        ka = np.floor(x_lo - 1).astype(np.intp).clip(0, top)
-        kb = np.floor(x_lo - 1 + width).astype(np.intp).clip(0, top) + 1
+        ka = np.minimum(np.maximum(np.floor(x_lo - 1).astype(np.intp), 0), top)
+        kb = np.minimum(np.maximum(np.floor(x_lo - 1 + width).astype(np.intp), 0), top) + 1
         return np.flatnonzero(self.edges[kb] > self.edges[ka])
 
 
@@ -465,7 +474,8 @@ def _closest(table: _Table, stream: _Stream, target: float,
         ar = chunk.ratio
         # The nearest table products first: they bound the best error, so only near-ties are expanded.
         j = np.searchsorted(tb.ratio, target / ar)
-        near = np.stack([np.clip(j - 1, 0, len(tb.ratio) - 1), np.clip(j, 0, len(tb.ratio) - 1)], axis=1)
+        # j lies in [0, len]: each neighbour is clipped on the one side it can leave
+        near = np.stack([np.maximum(j - 1, 0), np.minimum(j, len(tb.ratio) - 1)], axis=1)
         best = min(best, float(np.min(np.abs(ar[:, None] * tb.ratio[near] / target - 1))))
         w = min(window, best + 2 * TIE)
         w_lo, w_hi = target * max(0.0, 1 - w - 2 * TIE), target * (1 + w + 2 * TIE)
@@ -477,7 +487,7 @@ def _closest(table: _Table, stream: _Stream, target: float,
         lo, hi = lo[ai], hi[ai]
         counts = hi - lo
         a_rows = np.repeat(ai, counts)
-        b_rows = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+        b_rows = np.repeat(lo - (np.cumsum(counts) - counts), counts) + np.arange(counts.sum())
         err = np.abs(ar[a_rows] * tb.ratio[b_rows] / target - 1)
         teeth = chunk.teeth[a_rows] + tb.teeth[b_rows]
         keep = err <= best + TIE
@@ -700,20 +710,27 @@ def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
     Returns (ratio error, total teeth, pairs, combinations) of the best combination by the same objective and
     tie rule as :func:`serial_tooth_numbers`, or None when none qualifies.
     """
-    pairs = _stage_sets(stages, rules, None)
-    grids = np.meshgrid(*[np.arange(len(p[0])) for p in pairs], indexing="ij")
-    idx = [g.ravel() for g in grids]
-    ratio = np.ones(idx[0].shape)
-    teeth = np.zeros(idx[0].shape, dtype=np.int64)
+    return _enumerate(target, _stage_sets(stages, rules, None), rules, tolerance)
+
+
+def _enumerate(target: float, pairs: Sequence[tuple[IntArray, IntArray]], rules: ToothRules,
+               tolerance: float | None) -> tuple[float, int, list[tuple[int, int]], int] | None:
+    """:func:`enumerate_tooth_numbers` over the stages' admissible pairs: every combination's ratio, teeth and
+    (reverted) tooth sums as an outer product over the stages, flattened in the stages' order."""
+    ratio: FloatArray = np.ones(())
+    teeth: IntArray = np.zeros((), dtype=np.int64)
     sums = []
-    for (zp, zg), i in zip(pairs, idx, strict=True):
-        ratio = ratio * (zg[i] / zp[i])
-        teeth = teeth + zp[i] + zg[i]
-        sums.append(zp[i] + zg[i])
+    for j, (zp, zg) in enumerate(pairs):
+        axis = (slice(None),) + (None,) * (len(pairs) - 1 - j)
+        ratio = ratio[..., None] * (zg / zp)[axis]
+        teeth = teeth[..., None] + (zp + zg)[axis]
+        sums.append((zp + zg)[axis])
+    ratio, teeth = ratio.ravel(), teeth.ravel()
     ok = np.ones(ratio.shape, dtype=bool)
     if rules.reverted:
+        full = ok.reshape(tuple(len(zp) for zp, _ in pairs))
         for s in sums[1:]:
-            ok &= s == sums[0]
+            full &= s == sums[0]
     err = np.abs(ratio / target - 1)
     if tolerance is not None:
         ok &= err <= tolerance * (1 + 1e-12) + 1e-15
@@ -728,7 +745,8 @@ def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
         fewest = teeth[cand].min()
         cand = cand[teeth[cand] == fewest]
         k = cand[np.argmin(err[cand])]
-    chosen = [(int(zp[i[k]]), int(zg[i[k]])) for (zp, zg), i in zip(pairs, idx, strict=True)]
+    rows = np.unravel_index(int(k), tuple(len(zp) for zp, _ in pairs))
+    chosen = [(int(zp[i]), int(zg[i])) for (zp, zg), i in zip(pairs, rows, strict=True)]
     return float(err[k]), int(teeth[k]), chosen, int(ratio.size)
 
 
@@ -821,7 +839,7 @@ def serial_tooth_numbers(target: float, stages: Sequence[Stage], rules: ToothRul
     checks = ToothChecks(None, None, None, None)
     combos = math.prod(len(p[0]) for p in pairs)
     if combos <= check_limit:
-        ref = enumerate_tooth_numbers(target, stages, rules, tolerance)
+        ref = _enumerate(target, pairs, rules, tolerance)
         assert ref is not None
         agrees = abs(ref[0] - err) <= TIE and ref[1] == teeth
         checks = ToothChecks(ref[3], ref[0], ref[1], agrees)
