@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import synth
+from synth.flywheel.geometry import _roots
 from tests.conftest import CASES
 
 
@@ -175,3 +176,14 @@ def test_a_rim_thickness_range_past_the_peak_holds_what_fits() -> None:
     assert body.mass == pytest.approx(_least_mass_nlp(spec, 0.99 * most, 1.0), rel=1e-6)
     with pytest.raises(synth.Infeasible):
         synth.design_flywheel(1.001 * most, spec, 1.0)
+
+
+def test_rim_quintics_roots_in_one_call_are_numpys_to_the_bit() -> None:
+    # the rim's quintics L⁵(t + t³) - C(1 + t)⁵ over a spread of limits and inertias; numpy.roots, one polynomial
+    # at a time, is the reference (the same companion matrices, so the same eigenvalues)
+    polys = [[-c, -5 * c, l5 - 10 * c, -10 * c, l5 - 5 * c, -c] for c in (1e-6, 0.02, 3.0) for l5 in (1e-4, 0.5, 2.0)]
+    for got, row in zip(_roots(polys), polys, strict=True):
+        want = np.roots(row)
+        assert np.array_equal(got.real, want.real) and np.array_equal(got.imag, want.imag)
+    # a zero last coefficient (a root at zero) is left to numpy.roots itself: roots 0, 1 and 2
+    np.testing.assert_allclose(np.sort(_roots([[1.0, -3.0, 2.0, 0.0]])[0].real), [0.0, 1.0, 2.0], atol=1e-12)

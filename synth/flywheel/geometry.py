@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
+import numpy.typing as npt
 
 from ..errors import Infeasible, InvalidInput
 
@@ -165,9 +166,8 @@ def _rim(rho: float, inertia: float, k1: tuple[float, float], k2: tuple[float, f
     candidates = [*k1, min(max(_RIM_PEAK, k1[0]), k1[1])]
     if math.isfinite(outer_limit):
         l5 = outer_limit**5
-        for c in (c_lo, c_hi):
-            # L⁵(t + t³) - C(1 + t)⁵, highest power first
-            roots = np.roots([-c, -5 * c, l5 - 10 * c, -10 * c, l5 - 5 * c, -c])
+        # L⁵(t + t³) - C(1 + t)⁵, highest power first
+        for roots in _roots([[-c, -5 * c, l5 - 10 * c, -10 * c, l5 - 5 * c, -c] for c in (c_lo, c_hi)]):
             candidates += [float(r.real) for r in roots
                            if abs(r.imag) <= 1e-9 * (1 + abs(r)) and k1[0] < r.real < k1[1]]
     feasible = [t for t in candidates if diameter(t) ** 5 * t * (1 + t * t) >= c_hi * (1 - 1e-9)]
@@ -175,6 +175,19 @@ def _rim(rho: float, inertia: float, k1: tuple[float, float], k2: tuple[float, f
     d = diameter(t)
     b = 4 * inertia / (math.pi * rho * d**4 * t * (1 + t * t))
     return d, t * d, min(max(b, k2[0] * d), k2[1] * d)
+
+
+def _roots(polynomials: list[list[float]]) -> list[npt.NDArray[np.inexact[Any]]]:
+    """The roots of each polynomial (highest power first) as :func:`numpy.roots` finds them, the eigenvalues of
+    its companion matrix, for all of them in one LAPACK call when none has a zero first or last coefficient."""
+    p = np.asarray(polynomials, dtype=float)
+    if not np.all(p[:, 0] != 0) or not np.all(p[:, -1] != 0):
+        return [np.roots(row) for row in p]
+    k, n = p.shape[0], p.shape[1] - 1
+    companion = np.zeros((k, n, n))
+    companion[:, np.arange(1, n), np.arange(n - 1)] = 1.0
+    companion[:, 0, :] = -p[:, 1:] / p[:, :1]
+    return list(np.linalg.eigvals(companion))
 
 
 def _least_mass(spec: GeometrySpec, inertia: float, outer_limit: float) -> tuple[float, float, float]:
