@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -44,6 +44,8 @@ class ReducedCycle:
     balance: Literal["driving", "resisting"] = "driving"
     driving_work: float | None = None
     resisting_work: float | None = None
+    # the work at the closed samples, read by the band, the motor's mean speed and the sizing alike: found once
+    _work: FloatArray | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         n = self.phi.shape[0]
@@ -74,9 +76,15 @@ class ReducedCycle:
         )
 
     def work_nodes(self) -> FloatArray:
-        """Work of the torque from ``phi[0]`` to every closed sample [J], (N+1,): exact for linear pieces."""
-        phi, _, torque = self.closed()
-        return np.concatenate(([0.0], np.cumsum(0.5 * (torque[1:] + torque[:-1]) * np.diff(phi))))
+        """Work of the torque from ``phi[0]`` to every closed sample [J], (N+1,): exact for linear pieces.
+        Read-only: the cycle keeps it."""
+        work = getattr(self, "_work", None)
+        if work is None:
+            phi, _, torque = self.closed()
+            work = np.concatenate(([0.0], np.cumsum(0.5 * (torque[1:] + torque[:-1]) * np.diff(phi))))
+            work.flags.writeable = False
+            object.__setattr__(self, "_work", work)
+        return work
 
     @property
     def cycle_work(self) -> float:
