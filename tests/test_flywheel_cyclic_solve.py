@@ -1,9 +1,7 @@
 """The periodic Newton solve's linear algebra: the cyclic bidiagonal system by its compiled recurrence and by
-sparse LU on a pattern built once per sample count, and the steady simulation's step table."""
+sparse LU on a pattern built once per sample count."""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
@@ -11,7 +9,6 @@ from scipy.sparse import csc_array
 from scipy.sparse.linalg import spsolve
 
 from synth.flywheel.motor import _cyclic_pattern, _cyclic_solve, _sparse_cyclic_solve
-from synth.machine.simulate import _step_parameters
 
 SAMPLES = (2, 3, 72, 360, 3600)
 
@@ -71,20 +68,3 @@ def test_recurrence_and_lu_solve_the_cyclic_system(n: int, damping: float) -> No
         np.testing.assert_allclose(z, np.linalg.solve(dense, rhs), rtol=1e-9, atol=1e-12)
     residual = diag[:, None] * z + sup[:, None] * np.roll(z, -1, axis=0) - rhs
     assert np.max(np.abs(residual)) <= 1e-9 * np.max(np.abs(rhs))
-
-
-@pytest.mark.parametrize("substeps", [1, 4])
-def test_step_table_is_the_tables_linear_between_samples(substeps: int) -> None:
-    n = 36
-    nodes = np.append(np.linspace(0.0, 2 * math.pi, n, endpoint=False), 2 * math.pi)
-    tables = (2 + np.sin(nodes), np.cos(nodes), 5 * np.sin(2 * nodes))
-    params = _step_parameters(nodes, tables, 3.0, 50.0, substeps)
-    assert params.shape == (12, n * substeps) and params.flags.c_contiguous
-    starts = np.repeat(nodes[:-1], substeps) + np.tile(np.arange(substeps), n) * params[0]
-    # independent: numpy's interpolation of each table at every step's start, middle and end
-    for k, v in enumerate(tables):
-        for j, f in enumerate((0.0, 0.5, 1.0)):
-            np.testing.assert_allclose(params[1 + 3 * k + j], np.interp(starts + f * params[0], nodes, v),
-                                       rtol=0, atol=1e-12)
-    assert math.isclose(float(np.sum(params[0])), 2 * math.pi, rel_tol=1e-13)
-    assert np.all(params[10] == 3.0) and np.all(params[11] == 50.0)

@@ -73,53 +73,44 @@ def _closed(values: FloatArray) -> FloatArray:
 
 
 @compiled
-def _march(w0: float, params: FloatArray) -> FloatArray:  # pragma: no cover - compiled; run through _cycle
-    """Classical Runge-Kutta over the columns of ``params`` of dw/dphi = f(phi, w), with its variational state.
+def _march(w0: float, nodes: FloatArray, tables: FloatArray, frac: FloatArray, c: float,
+           w_free: float) -> FloatArray:  # pragma: no cover - compiled; run through simulate_machine
+    """Classical Runge-Kutta of dw/dphi = f(phi, w) with its variational state, ``frac.shape[1]`` steps between
+    each two ``nodes`` [rad].
 
     f = (M(phi) + c·(w_free - w) - J'(phi)·w²/2) / (J(phi)·w). The state carries the variational equation
-    ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. Each step's column of parameters holds its length, J,
-    J' and M at its start, middle and end, and c, w_free; the answer (2, steps) is the state after every step.
+    ds/dphi = df/dw · s, s(0) = 1, for Newton's shooting. ``tables`` (3, N + 1) hold J, J' and M at the closed
+    nodes, linear between them; a step reads them at the fractions ``frac`` (3, substeps) of its interval (its
+    start, middle and end). The answer (2, N·substeps) is the state after every step.
     """
-    steps = params.shape[1]
-    out = np.empty((2, steps))
+    substeps = frac.shape[1]
+    out = np.empty((2, (nodes.shape[0] - 1) * substeps))
     w, s = w0, 1.0
-    for i in range(steps):
-        h, ja, jm, jb = params[0, i], params[1, i], params[2, i], params[3, i]
-        da, dm, db = params[4, i], params[5, i], params[6, i]
-        ma, mm, mb = params[7, i], params[8, i], params[9, i]
-        c, w_free = params[10, i], params[11, i]
-        r1 = (ma + c * (w_free - w) - 0.5 * da * w * w) / (ja * w)
-        s1 = ((-c - da * w) / (ja * w) - r1 / w) * s
-        w2, v2 = w + 0.5 * h * r1, s + 0.5 * h * s1
-        r2 = (mm + c * (w_free - w2) - 0.5 * dm * w2 * w2) / (jm * w2)
-        s2 = ((-c - dm * w2) / (jm * w2) - r2 / w2) * v2
-        w3, v3 = w + 0.5 * h * r2, s + 0.5 * h * s2
-        r3 = (mm + c * (w_free - w3) - 0.5 * dm * w3 * w3) / (jm * w3)
-        s3 = ((-c - dm * w3) / (jm * w3) - r3 / w3) * v3
-        w4, v4 = w + h * r3, s + h * s3
-        r4 = (mb + c * (w_free - w4) - 0.5 * db * w4 * w4) / (jb * w4)
-        s4 = ((-c - db * w4) / (jb * w4) - r4 / w4) * v4
-        w = w + h / 6 * (r1 + 2 * r2 + 2 * r3 + r4)
-        s = s + h / 6 * (s1 + 2 * s2 + 2 * s3 + s4)
-        out[0, i] = w
-        out[1, i] = s
+    for n in range(nodes.shape[0] - 1):
+        h = (nodes[n + 1] - nodes[n]) / substeps
+        j0, d0, m0 = tables[0, n], tables[1, n], tables[2, n]
+        rj, rd, rm = tables[0, n + 1] - j0, tables[1, n + 1] - d0, tables[2, n + 1] - m0
+        for k in range(substeps):
+            fa, fm, fb = frac[0, k], frac[1, k], frac[2, k]
+            ja, jm, jb = j0 + fa * rj, j0 + fm * rj, j0 + fb * rj
+            da, dm, db = d0 + fa * rd, d0 + fm * rd, d0 + fb * rd
+            ma, mm, mb = m0 + fa * rm, m0 + fm * rm, m0 + fb * rm
+            r1 = (ma + c * (w_free - w) - 0.5 * da * w * w) / (ja * w)
+            s1 = ((-c - da * w) / (ja * w) - r1 / w) * s
+            w2, v2 = w + 0.5 * h * r1, s + 0.5 * h * s1
+            r2 = (mm + c * (w_free - w2) - 0.5 * dm * w2 * w2) / (jm * w2)
+            s2 = ((-c - dm * w2) / (jm * w2) - r2 / w2) * v2
+            w3, v3 = w + 0.5 * h * r2, s + 0.5 * h * s2
+            r3 = (mm + c * (w_free - w3) - 0.5 * dm * w3 * w3) / (jm * w3)
+            s3 = ((-c - dm * w3) / (jm * w3) - r3 / w3) * v3
+            w4, v4 = w + h * r3, s + h * s3
+            r4 = (mb + c * (w_free - w4) - 0.5 * db * w4 * w4) / (jb * w4)
+            s4 = ((-c - db * w4) / (jb * w4) - r4 / w4) * v4
+            w = w + h / 6 * (r1 + 2 * r2 + 2 * r3 + r4)
+            s = s + h / 6 * (s1 + 2 * s2 + 2 * s3 + s4)
+            out[0, n * substeps + k] = w
+            out[1, n * substeps + k] = s
     return out
-
-
-def _step_parameters(nodes: FloatArray, tables: tuple[FloatArray, FloatArray, FloatArray], c: float,
-                     w_free: float, substeps: int) -> FloatArray:
-    """The (12, N·substeps) parameter columns of :func:`_march`: tables linear between samples, written into one
-    array (rows by table and by the step's start, middle and end)."""
-    t = np.arange(substeps) / substeps
-    frac = np.stack((t, t + 0.5 / substeps, t + 1.0 / substeps))
-    values = np.stack(tables)
-    out = np.empty((12, nodes.size - 1, substeps))
-    out[0] = (np.diff(nodes) / substeps)[:, None]
-    start, rise = values[:, None, :-1, None], np.diff(values, axis=1)[:, None, :, None]
-    out[1:10].reshape(3, 3, nodes.size - 1, substeps)[...] = start + frac[None, :, None, :] * rise
-    out[10] = c
-    out[11] = w_free
-    return out.reshape(12, -1)
 
 
 def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor, *,
@@ -157,13 +148,14 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         substeps = max(1, math.ceil(1440 / cycle.phi.size))
     if substeps < 1:
         raise InvalidInput("substeps must be at least 1", field="substeps")
-    params = _step_parameters(nodes, (j, dj, load), red.slope, red.no_load_speed, substeps)
+    t = np.arange(substeps) / substeps
+    tables, frac = np.stack((j, dj, load)), np.stack((t, t + 0.5 / substeps, t + 1.0 / substeps))
     if start is None:
         # the linear characteristic's steady angle-average speed starts the shooting close to the answer
         start = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
     w0 = float(start)
     for _ in range(40):
-        states = _march(w0, params)
+        states = _march(w0, nodes, tables, frac, red.slope, red.no_load_speed)
         if not (np.all(np.isfinite(states)) and np.all(states[0] > 0)):
             raise SolverFailed("no_periodic_motion", "the machine stalls: the motor cannot keep it turning")
         speeds, sens = np.concatenate(([w0], states[0])), float(states[1, -1])
@@ -185,7 +177,6 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
         raise SolverFailed("no_periodic_motion", "shooting for the periodic motion did not converge")
     omega = np.asarray(speeds, dtype=float)
     # every Runge-Kutta step is reported, so the extremes between samples are seen
-    t = np.arange(substeps) / substeps
     phi = np.append((nodes[:-1, None] + t[None, :] * np.diff(nodes)[:, None]).reshape(-1), nodes[-1])
     j, dj, load = (np.interp(phi, nodes, v) for v in (j, dj, load))
     alpha = (load + red.slope * (red.no_load_speed - omega) - 0.5 * dj * omega**2) / j
