@@ -93,7 +93,8 @@ def select_motor(
             classes = sorted({round(m.synchronous_speed / RPM) for m in catalogue or motor_catalogue()})
             raise InvalidInput(f"no catalogue motors at this synchronous speed; classes [rpm]: {classes}",
                                field="synchronous_rpm")
-    covering = [m for m in motors if m.rated_power >= required_power * (1 - 1e-12)]
+    least = required_power * (1 - 1e-12)
+    covering = [m for m in motors if m.rated_power >= least]
     if not covering:
         largest = max(m.rated_power for m in motors)
         raise Infeasible(f"no catalogue motor covers the required {required_power:.4g} W (largest {largest:.4g} W)",

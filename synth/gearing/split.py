@@ -471,11 +471,12 @@ def _kkt_residual(objective: str, ratios: FloatArray, stages: Sequence[Stage], m
 
     The slopes are central differences of the plain model, all points evaluated at once."""
     x = np.log(ratios)
-    f0 = _objective_value(objective, ratios, stages, model, input_torque)
     h = 1e-6
     step = h * np.eye(len(x))
-    values = _objective_rows(objective, np.exp(np.concatenate([x + step, x - step])), stages, model, input_torque)
-    grad = (values[: len(x)] - values[len(x) :]) / (2 * h)
+    points = np.concatenate([ratios[None, :], np.exp(np.concatenate([x + step, x - step]))])
+    values = _objective_rows(objective, points, stages, model, input_torque)
+    f0 = float(values[0])
+    grad = (values[1 : len(x) + 1] - values[len(x) + 1 :]) / (2 * h)
     free = np.array([s.ratio is None for s in stages])
     lo = np.array([math.log(s.ratio_min) for s in stages])
     hi = np.array([math.log(s.ratio_max) for s in stages])

@@ -715,39 +715,54 @@ def enumerate_tooth_numbers(target: float, stages: Sequence[Stage], rules: Tooth
 
 def _enumerate(target: float, pairs: Sequence[tuple[IntArray, IntArray]], rules: ToothRules,
                tolerance: float | None) -> tuple[float, int, list[tuple[int, int]], int] | None:
-    """:func:`enumerate_tooth_numbers` over the stages' admissible pairs: every combination's ratio, teeth and
-    (reverted) tooth sums as an outer product over the stages, flattened in the stages' order."""
+    """:func:`enumerate_tooth_numbers` over the stages' admissible pairs: every combination's ratio as an outer
+    product over the stages, flattened in the stages' order; tooth counts are summed for the candidates only."""
+    shape = tuple(len(zp) for zp, _ in pairs)
     ratio: FloatArray = np.ones(())
-    teeth: IntArray = np.zeros((), dtype=np.int64)
-    sums = []
-    for j, (zp, zg) in enumerate(pairs):
-        axis = (slice(None),) + (None,) * (len(pairs) - 1 - j)
-        ratio = ratio[..., None] * (zg / zp)[axis]
-        teeth = teeth[..., None] + (zp + zg)[axis]
-        sums.append((zp + zg)[axis])
-    ratio, teeth = ratio.ravel(), teeth.ravel()
-    ok = np.ones(ratio.shape, dtype=bool)
-    if rules.reverted:
-        full = ok.reshape(tuple(len(zp) for zp, _ in pairs))
-        for s in sums[1:]:
-            full &= s == sums[0]
-    err = np.abs(ratio / target - 1)
-    if tolerance is not None:
-        ok &= err <= tolerance * (1 + 1e-12) + 1e-15
-    if not ok.any():
+    for zp, zg in pairs:
+        ratio = ratio[..., None] * (zg / zp)
+    ratio = ratio.ravel()
+    err = ratio / target
+    err -= 1
+    np.abs(err, out=err)
+    if rules.reverted or tolerance is not None:
+        ok = np.ones(ratio.shape, dtype=bool)
+        if rules.reverted:
+            full = ok.reshape(shape)
+            sums = [(zp + zg)[(slice(None),) + (None,) * (len(pairs) - 1 - j)] for j, (zp, zg) in enumerate(pairs)]
+            for s in sums[1:]:
+                full &= s == sums[0]
+        if tolerance is not None:
+            ok &= err <= tolerance * (1 + 1e-12) + 1e-15
+        if not ok.any():
+            return None
+        cand = np.nonzero(ok)[0]
+    elif not ratio.size:
         return None
-    cand = np.nonzero(ok)[0]
     if tolerance is None:
-        best = err[cand].min()
-        cand = cand[err[cand] <= best + TIE]
-        k = cand[np.lexsort((err[cand], teeth[cand]))[0]]
+        if rules.reverted:
+            cand = cand[err[cand] <= err[cand].min() + TIE]
+        else:
+            # every combination is a candidate: no index of them all is made
+            cand = np.flatnonzero(err <= err.min() + TIE)
+        teeth = _teeth_of(cand, pairs, shape)
+        k = cand[np.lexsort((err[cand], teeth))[0]]
     else:
-        fewest = teeth[cand].min()
-        cand = cand[teeth[cand] == fewest]
+        teeth = _teeth_of(cand, pairs, shape)
+        fewest = teeth.min()
+        cand = cand[teeth == fewest]
         k = cand[np.argmin(err[cand])]
-    rows = np.unravel_index(int(k), tuple(len(zp) for zp, _ in pairs))
+    rows = np.unravel_index(int(k), shape)
     chosen = [(int(zp[i]), int(zg[i])) for (zp, zg), i in zip(pairs, rows, strict=True)]
-    return float(err[k]), int(teeth[k]), chosen, int(ratio.size)
+    return float(err[k]), sum(zp + zg for zp, zg in chosen), chosen, int(ratio.size)
+
+
+def _teeth_of(flat: IntArray, pairs: Sequence[tuple[IntArray, IntArray]], shape: tuple[int, ...]) -> IntArray:
+    """Total teeth of the combinations at flat positions ``flat`` of the stages' grid."""
+    teeth = np.zeros(len(flat), dtype=np.int64)
+    for (zp, zg), i in zip(pairs, np.unravel_index(flat, shape), strict=True):
+        teeth += zp[i] + zg[i]
+    return teeth
 
 
 def _check_reach(target: float, stages: Sequence[Stage], pairs: Sequence[tuple[IntArray, IntArray]],

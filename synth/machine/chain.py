@@ -292,6 +292,11 @@ def _balance_stage(spec: MachineSpec, before: Analysis | None,
                        "optimal (the best trade-off within a mass budget) or none", field="balancing.mode")
 
 
+def _ranged(s: Stage, ratio_min: float, ratio_max: float) -> Stage:
+    """The stage free within [ratio_min, ratio_max] (a direct construction: the chain asks it of every member)."""
+    return Stage(s.type, ratio_min, ratio_max, s.efficiency, s.volume_coefficient, s.toothed, None)
+
+
 def _teeth(spec: MachineSpec, drive: DriveResult,
            stages: Sequence[Stage]) -> tuple[ToothResult | None, tuple[float, ...], list[DesignWarning]]:
     """Tooth numbers near the split's ratios; where none lie within the room around them, the search over each
@@ -306,12 +311,12 @@ def _teeth(spec: MachineSpec, drive: DriveResult,
         if s.ratio is not None:
             # a fixed (standard) ratio is kept, to rounding
             lo, hi = s.ratio * (1 - 1e-9), s.ratio * (1 + 1e-9)
-            whole.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
+            whole.append(_ranged(s, lo, hi))
         else:
             lo = max(s.ratio_min, u * (1 - TOOTH_RATIO_ROOM))
             hi = min(s.ratio_max, u * (1 + TOOTH_RATIO_ROOM))
-            whole.append(replace(s, ratio=None))
-        near.append(replace(s, ratio=None, ratio_min=lo, ratio_max=hi))
+            whole.append(_ranged(s, s.ratio_min, s.ratio_max))
+        near.append(_ranged(s, lo, hi))
     target = math.prod(ratios[k] for k in toothed)
     rules, tolerance = spec.drive.tooth_rules, spec.drive.tooth_tolerance
     warnings: list[DesignWarning] = []
