@@ -67,11 +67,6 @@ class MachineMotion:
         return math.sqrt(self.time_mean(values**2))
 
 
-def _closed(values: FloatArray) -> FloatArray:
-    """A table with its first value repeated one revolution later."""
-    return np.append(values, values[0])
-
-
 @compiled
 def _march(w0: float, nodes: FloatArray, tables: FloatArray, frac: FloatArray, c: float,
            w_free: float) -> FloatArray:  # pragma: no cover - compiled; run through simulate_machine
@@ -138,9 +133,14 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     if not (math.isfinite(constant_inertia) and constant_inertia >= 0):
         raise InvalidInput("constant inertia must not be negative", field="constant_inertia_kgm2")
     nodes = np.append(cycle.phi, cycle.phi[0] + 2 * math.pi)
-    j = _closed(cycle.inertia + constant_inertia)
-    dj = _closed(cycle.inertia_slope)
-    load = _closed(cycle.load_torque)
+    # J, J' and M at the nodes, each closed on its first value: the march reads them as one (3, N + 1) table
+    n = cycle.phi.size
+    tables = np.empty((3, n + 1))
+    tables[0, :n] = cycle.inertia + constant_inertia
+    tables[1, :n] = cycle.inertia_slope
+    tables[2, :n] = cycle.load_torque
+    tables[:, n] = tables[:, 0]
+    j, dj, load = tables
     if not np.all(j > 0):
         raise InvalidInput("the machine has no inertia at some crank angles", field="constant_inertia_kgm2")
     red = motor.reduced()
@@ -149,7 +149,7 @@ def simulate_machine(cycle: MachineCycle, constant_inertia: float, motor: Motor,
     if substeps < 1:
         raise InvalidInput("substeps must be at least 1", field="substeps")
     t = np.arange(substeps) / substeps
-    tables, frac = np.stack((j, dj, load)), np.stack((t, t + 0.5 / substeps, t + 1.0 / substeps))
+    frac = np.stack((t, t + 0.5 / substeps, t + 1.0 / substeps))
     if start is None:
         # the linear characteristic's steady angle-average speed starts the shooting close to the answer
         start = red.no_load_speed + float(np.trapezoid(load, nodes)) / (red.slope * 2 * math.pi)
