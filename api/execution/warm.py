@@ -1,8 +1,8 @@
 """What a worker does before it takes its first request: import, build and run each capability's programs once.
 
 The solvers are compiled on first use (CasADi's flywheel motor NLP, the convex problems of
-balancing, the ISO 6336 tables, the numba loops of the steady simulation, of path synthesis and of
-the answers' curves), so without this
+balancing, the ISO 6336 tables, the numba loops of the steady simulation, of the flywheel's Newton
+iteration, of path synthesis and of the answers' curves), so without this
 the first heavy request after a start paid about as much again as its own work. A request worker runs :func:`warm_worker` once, right after it is forked and before its slot
 hands it a task (a replaced worker too): one small representative task per capability, at the sizes the README's
 requests use, so their programs are the ones later requests reuse. A failure here only costs the first request its speed:
