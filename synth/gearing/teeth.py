@@ -58,6 +58,8 @@ ENUMERATION_CHECK_LIMIT = 1_000_000
 # Products of the streamed half handled at once: bounds the search's memory whatever the tooth range.
 _CHUNK = 1 << 17
 _MAX_CELLS = 1 << 22
+_NEIGHBOURS = np.array([-1, 0], dtype=np.int64)
+_NEIGHBOURS.setflags(write=False)
 
 
 #: Pressure angles of the racks in use span 14.5 to 25 deg; beyond these bounds no rack is cut.
@@ -444,8 +446,9 @@ class _Stream:
         # Both sorted by ratio: the chunk's largest outer ratio sets the run's start, its smallest the end.
         first, stop = 0, len(self.last.num)
         if self.reach is not None:
-            first = int(np.searchsorted(self.last.ratio, self.reach[0] / outer.max(), side="left"))
-            stop = int(np.searchsorted(self.last.ratio, self.reach[1] / outer.min(), side="right"))
+            # (ascending: the chunk's largest outer ratio is its last, its smallest its first)
+            first = int(np.searchsorted(self.last.ratio, self.reach[0] / outer[-1], side="left"))
+            stop = int(np.searchsorted(self.last.ratio, self.reach[1] / outer[0], side="right"))
         if stop <= first:
             return self.take(start, np.zeros(0, dtype=np.intp))
         a = (log_lo - self.outer_log[sl] - table.base) * table.inv_step + 1.0
@@ -474,8 +477,8 @@ def _closest(table: _Table, stream: _Stream, target: float,
         ar = chunk.ratio
         # The nearest table products first: they bound the best error, so only near-ties are expanded.
         j = np.searchsorted(tb.ratio, target / ar)
-        # j lies in [0, len]: each neighbour is clipped on the one side it can leave
-        near = np.stack([np.maximum(j - 1, 0), np.minimum(j, len(tb.ratio) - 1)], axis=1)
+        # the neighbours j - 1 and j of each query, kept within the table
+        near = np.minimum(np.maximum(j[:, None] + _NEIGHBOURS, 0), len(tb.ratio) - 1)
         best = min(best, float(np.min(np.abs(ar[:, None] * tb.ratio[near] / target - 1))))
         w = min(window, best + 2 * TIE)
         w_lo, w_hi = target * max(0.0, 1 - w - 2 * TIE), target * (1 + w + 2 * TIE)
