@@ -262,7 +262,8 @@ def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, gue
     """
     phi, _, _ = cycle.closed()
     h = np.diff(phi)
-    inertia, torque = cycle.inertia, cycle.torque
+    # contiguous float tables, the one layout the compiled iteration is built for
+    inertia, torque = (np.ascontiguousarray(v, dtype=float) for v in (cycle.inertia, cycle.torque))
     n = inertia.size
     s, w_free = motor.slope, motor.no_load_speed
     up, down = 1.0 - 0.5 * delta, 1.0 + 0.5 * delta
@@ -282,7 +283,8 @@ def _periodic_newton(cycle: ReducedCycle, motor: ReducedMotor, delta: float, gue
             inertia, torque, h, s, w_free, up, down, w, jc, free, least_inertia, diag, sup, col, rhs, step)
         if status == _NEEDS_LU:
             z = _sparse_cyclic_solve(diag, sup, rhs if free else rhs[:, :1])
-            if z is None or not _border(z, band, hi, lo, up, down, free, step):
+            # in the layout the compiled iteration hands it, so no other variant of it is compiled
+            if z is None or not _border(np.ascontiguousarray(z), band, hi, lo, up, down, free, step):
                 return None
             shrink, jc_next, moved = _advance(w, jc, step, least_inertia)
         elif status == _NO_STEP:
