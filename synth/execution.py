@@ -53,9 +53,11 @@ class Executor(Protocol):
     #: task's dispatch and answer take a scheduler's round trips (Dask).
     spare_tasks: int
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
-        """Schedule ``fn(*args, **kwargs)``; past ``timeout`` seconds of running, the task fails with SolverTimeout."""
+        """Schedule ``fn(*args, **kwargs)``; past ``timeout`` seconds of running, the task fails with SolverTimeout.
+        ``prefer`` names the worker the task would rather run on (one that ran an earlier task of the same work
+        and kept what it computed: a future's ``worker``), where the executor has named workers."""
         ...
 
     def share(self, value: Any) -> Any:
@@ -138,7 +140,7 @@ class SerialExecutor:
     def __init__(self) -> None:
         self._pool = cf.ThreadPoolExecutor(max_workers=1, thread_name_prefix="synth-serial")
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
         """Queue ``fn(*args, **kwargs)`` on the one thread."""
         return self._pool.submit(run_task, fn, args, kwargs)
@@ -163,11 +165,13 @@ WARM_LIMIT_S = 120.0
 
 class _PoolFuture(cf.Future):  # type: ignore[type-arg]
     """A pool task's future: cancelling it while it runs stops its worker (a plain Future refuses that), and it
-    records when its task left the queue (``started_at``, ``time.monotonic()`` seconds; None while queued)."""
+    records when its task left the queue (``started_at``, ``time.monotonic()`` seconds; None while queued) and
+    the worker that took it (``worker``, its slot's name)."""
 
     def __init__(self) -> None:
         super().__init__()
         self.started_at: float | None = None
+        self.worker: str | None = None
 
     def cancel(self) -> bool:
         with self._condition:
@@ -190,11 +194,15 @@ class _Task:
     future: _PoolFuture
     lane: str
     group: str
+    prefer: str | None = None
 
 
 class _Scheduler:
-    """Tasks waiting for a worker: interactive ones first-in first-out; batch ones round-robin between their
-    groups (a study's owner), first-in first-out within a group, and at most ``batch_cap`` running at once."""
+    """Tasks waiting for a worker: interactive ones first-in first-out, except that a worker takes the tasks that
+    prefer it (or no worker) first, and one that prefers another worker only while that worker is busy (so that
+    no worker idles while a task waits, and an idle worker takes the tasks meant for it); batch ones round-robin
+    between their groups (a study's owner), first-in first-out within a group, and at most ``batch_cap`` running
+    at once."""
 
     def __init__(self, batch_cap: int) -> None:
         self._cond = threading.Condition()
@@ -203,6 +211,7 @@ class _Scheduler:
         self.batch_cap = batch_cap
         self.batch_running = 0
         self.closed = False
+        self._idle: set[str] = set()  # the workers waiting in take()
 
     def put(self, task: _Task) -> None:
         with self._cond:
@@ -214,22 +223,39 @@ class _Scheduler:
                 self._batch.setdefault(task.group, collections.deque()).append(task)
             self._cond.notify_all()
 
-    def take(self, lanes: tuple[str, ...], timeout: float) -> _Task | None:
-        """The next task of the first of ``lanes`` that has one, marked running; None after ``timeout`` [s]."""
+    def take(self, lanes: tuple[str, ...], timeout: float, worker: str | None = None) -> _Task | None:
+        """The next task of the first of ``lanes`` that has one for ``worker``, marked running; None after
+        ``timeout`` [s]."""
         deadline = time.monotonic() + timeout
         with self._cond:
-            while True:
-                task = self._pop(lanes)
-                remaining = deadline - time.monotonic()
-                if task is not None or self.closed or remaining <= 0:
-                    return task
-                self._cond.wait(remaining)
+            if worker is not None:
+                self._idle.add(worker)
+            try:
+                while True:
+                    task = self._pop(lanes, worker)
+                    remaining = deadline - time.monotonic()
+                    if task is not None or self.closed or remaining <= 0:
+                        return task
+                    self._cond.wait(remaining)
+            finally:
+                if worker is not None:
+                    self._idle.discard(worker)
+                if self._interactive:
+                    self._cond.notify_all()  # the tasks that prefer it may now go to another
 
-    def _pop(self, lanes: tuple[str, ...]) -> _Task | None:
+    def _pop(self, lanes: tuple[str, ...], worker: str | None) -> _Task | None:
         for lane in lanes:
             if lane == INTERACTIVE:
-                while self._interactive:
-                    task = self._interactive.popleft()
+                queue = self._interactive
+                while queue:
+                    # a few tasks wait at most (the requests' slots): the scans cost nothing beside a task
+                    k = next((i for i, t in enumerate(queue) if t.prefer is None or t.prefer == worker), None)
+                    if k is None:
+                        k = next((i for i, t in enumerate(queue) if t.prefer not in self._idle), None)
+                    if k is None:
+                        break  # each task waiting prefers another worker, which is idle and takes it
+                    task = queue[k]
+                    del queue[k]
                     if task.future.set_running_or_notify_cancel():
                         return task
             elif self.batch_running < self.batch_cap:
@@ -438,7 +464,7 @@ class _Slot:
                 if not self.warm:
                     self._warming()
                     continue
-                task = self.pool.scheduler.take(self.lanes, _IDLE_CHECK_S)
+                task = self.pool.scheduler.take(self.lanes, _IDLE_CHECK_S, self.thread.name)
                 if task is None:
                     continue
                 self.busy = True
@@ -454,6 +480,7 @@ class _Slot:
     def _run(self, task: _Task) -> None:
         future = task.future
         future.started_at = started = time.monotonic()
+        future.worker = self.thread.name
         deadline = math.inf if task.timeout is None else started + task.timeout
         # A worker that dies before it has received the task (killed while idle, an instant before) costs the
         # task nothing: it goes to the replacement.
@@ -589,11 +616,12 @@ class LocalPoolExecutor:
         # process still holds their pipes: a pool left running would hold the interpreter's exit for ever.
         atexit.register(_shutdown_at_exit, weakref.ref(self))
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
-        """Schedule ``fn(*args, **kwargs)`` on an interactive worker; errors come back as the engine's typed
+        """Schedule ``fn(*args, **kwargs)`` on an interactive worker, the worker named ``prefer`` (a future's
+        ``worker``) rather than another when both could take it; errors come back as the engine's typed
         errors."""
-        return self._put(INTERACTIVE, "", fn, args, kwargs, timeout)
+        return self._put(INTERACTIVE, "", fn, args, kwargs, timeout, prefer)
 
     def share(self, value: Any) -> Any:
         """``value`` itself: a task's arguments reach its worker through one pipe either way."""
@@ -604,9 +632,9 @@ class LocalPoolExecutor:
         return _Lane(self, lane, group)
 
     def _put(self, lane: str, group: str, fn: Callable[..., T], args: tuple[Any, ...], kwargs: dict[str, Any],
-             timeout: float | None) -> cf.Future[T]:
+             timeout: float | None, prefer: str | None = None) -> cf.Future[T]:
         future = _PoolFuture()
-        self.scheduler.put(_Task(fn, args, kwargs, timeout, future, lane, group))
+        self.scheduler.put(_Task(fn, args, kwargs, timeout, future, lane, group, prefer))
         return future
 
     def status(self) -> dict[str, Any]:
@@ -667,10 +695,10 @@ class _Lane:
         self.workers = (pool.batch_workers or pool.scheduler.batch_cap) if lane == BATCH else pool.workers
         self.spare_tasks = pool.spare_tasks
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
         """Schedule ``fn(*args, **kwargs)`` in this lane."""
-        return self.pool._put(self.lane_name, self.group, fn, args, kwargs, timeout)
+        return self.pool._put(self.lane_name, self.group, fn, args, kwargs, timeout, prefer)
 
     def share(self, value: Any) -> Any:
         """``value`` itself, as the pool shares it."""
@@ -706,9 +734,10 @@ class DaskExecutor:
         # in a list, so that a dict or a list is scattered whole rather than item by item
         return self.client.scatter([value], broadcast=True, hash=False)[0]
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
-        """Send ``fn(*args, **kwargs)`` to the cluster; the answer is bridged into a concurrent future."""
+        """Send ``fn(*args, **kwargs)`` to the cluster (the scheduler places it; ``prefer`` is not used); the answer
+        is bridged into a concurrent future."""
         remote = self.client.submit(_run_on_dask, fn, args, kwargs, pure=False)
         outer = _DaskLinked(remote)
         if timeout is not None:

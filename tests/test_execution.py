@@ -185,3 +185,27 @@ def test_a_warm_up_that_fails_leaves_a_worker_that_works() -> None:
         assert broken.submit(abs, -5.0, timeout=30).result(timeout=30) == 5.0
     finally:
         broken.shutdown()
+
+
+def test_a_task_goes_to_the_worker_it_prefers_when_that_one_is_free_and_to_another_when_it_is_busy() -> None:
+    # An optimisation's later stages prefer the worker that kept a member's analysis from an earlier one: an
+    # idle preferred worker takes the task (the other, idle too, leaves it), a busy one loses it to a free one.
+    two = LocalPoolExecutor(2, memory_limit_mb=1024)
+    try:
+        first = two.submit(os.getpid, timeout=30)
+        first.result(timeout=60)
+        names = sorted({"synth-worker-0", "synth-worker-1"})
+        for k in range(10):
+            prefer = names[k % 2]
+            future = two.submit(os.getpid, timeout=30, prefer=prefer)
+            future.result(timeout=30)
+            assert future.worker == prefer  # type: ignore[attr-defined]
+        busy = two.submit(time.sleep, 1.0, timeout=30, prefer=names[0])
+        while busy.worker is None:  # type: ignore[attr-defined]
+            time.sleep(0.01)
+        stolen = two.submit(os.getpid, timeout=30, prefer=names[0])
+        stolen.result(timeout=30)
+        assert stolen.worker == names[1] and not busy.done()  # type: ignore[attr-defined]
+        busy.result(timeout=30)
+    finally:
+        two.shutdown()

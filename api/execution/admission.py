@@ -222,6 +222,12 @@ class Solvers:
 
     async def run(self, deadline: float, fn: Callable[..., T], /, *args: Any, **kwargs: Any) -> T:
         """Run ``fn(*args, **kwargs)`` as a task that must finish by ``deadline`` (``time.monotonic()`` seconds)."""
+        return (await self.run_on(deadline, None, fn, *args, **kwargs))[0]
+
+    async def run_on(self, deadline: float, prefer: str | None, fn: Callable[..., T], /, *args: Any,
+                     **kwargs: Any) -> tuple[T, str | None]:
+        """:meth:`run` on the worker named ``prefer`` rather than another when both could take it (None: any);
+        the result and the name of the worker that ran it (None where workers have no names)."""
         if self.in_flight >= self.capacity:
             self.rejected += 1
             raise Overloaded(self.capacity, max(1, math.ceil(self.settings.request_deadline_s / 4)))
@@ -235,11 +241,11 @@ class Solvers:
             executor = self._executor
             if executor is None:  # starting the workers takes a second or two: never on the event loop
                 executor = await asyncio.to_thread(lambda: self.executor)
-            future = executor.submit(fn, *args, timeout=remaining, **kwargs)
+            future = executor.submit(fn, *args, timeout=remaining, prefer=prefer, **kwargs)
             waiter = asyncio.wrap_future(future)
             done, _ = await asyncio.wait({waiter}, timeout=remaining)
             if waiter in done:
-                return waiter.result()
+                return waiter.result(), getattr(future, "worker", None)
             # Read before cancelling: a task that never left the queue is "queued", one a worker took "running".
             ran = future.running() or getattr(future, "started_at", None) is not None
             waiter.cancel()  # cancels the task; a running one has its worker stopped and replaced
@@ -307,6 +313,12 @@ class RequestSolvers:
     async def run(self, fn: Callable[..., T], /, *args: Any, **kwargs: Any) -> T:
         """Run engine work in a worker and return its result (an engine object)."""
         return await self.solvers.run(self.deadline, fn, *args, **kwargs)
+
+    async def run_on(self, prefer: str | None, fn: Callable[..., T], /, *args: Any,
+                     **kwargs: Any) -> tuple[T, str | None]:
+        """:meth:`run` on the worker named ``prefer`` rather than another (one that kept what an earlier task of
+        the same work computed); the result and the worker that ran it."""
+        return await self.solvers.run_on(self.deadline, prefer, fn, *args, **kwargs)
 
     async def answer(self, render: Render, fn: Callable[..., Any], /, *args: Any,
                      headers: dict[str, str] | None = None, **kwargs: Any) -> Response:

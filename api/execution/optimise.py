@@ -7,13 +7,19 @@ members that could still win, one task each; rounds of cells (two at a time, eac
 found before it), one task per cell to cut it into plateaus and one per plateau searched; and the conclusion,
 which renders the answer in its worker. The members are put back in the order the engine's own loop makes them,
 so both give the same answer.
+
+A worker keeps what it computed for a member (analysis, balancing, drive, teeth) for the rest of the run, so a
+later stage of the same member asks for that worker (a bound member designed in full, a cell's walk from its
+upper end, a plateau searched from the ends its walk found); the pool gives it there when that worker is free,
+and to another worker (which computes the member again) rather than let one idle.
 """
 
 from __future__ import annotations
 
 import math
 import uuid
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, TypeVar
 
 from fastapi import Request, Response
 
@@ -44,6 +50,8 @@ from api.translate.optimise import machine_optimise_from
 from mechsynth_client.schemas.optimise import MachineOptimiseIn
 
 
+T = TypeVar("T")
+
 #: Members of the scan in one task: the workers take the tasks in turn, so they finish within about one task's
 #: work of each other, and each task pays the hand-off to a worker once.
 MEMBERS_PER_TASK = 4
@@ -56,6 +64,14 @@ def member_tasks(candidates: Sequence[float], sized: float) -> list[list[float]]
     others = [u for u in candidates if u != sized]
     k = max(1, math.ceil(len(others) / MEMBERS_PER_TASK))
     return [[sized], *(others[i::k] for i in range(k) if others[i::k])]
+
+
+def _parameters(scored: tuple[MemberScore, ...]) -> list[float]:
+    return [m.parameter for m in scored]
+
+
+def _plateau_ends(walk: tuple[Refinement, tuple[Plateau, ...]]) -> list[float]:
+    return [u for p in walk[1] for u in (p.lo, p.hi)]
 
 
 def price_optimisation(b: MachineOptimiseIn, lim: Limits, workers: int) -> float:
@@ -82,34 +98,48 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
     spec = machine_optimise_from(body, lim.max_stages)
     t = lim.solver_time_limit_s
     # the stages run as one optimisation: a worker that analysed, balanced and geared a member for an earlier
-    # stage takes them as they were (the scan's bound, then its steady machine; a walk's bisection, then a search)
+    # stage takes them as they were (the scan's bound, then its steady machine; a walk's bisection, then a search),
+    # and a stage goes to the worker that ran the one before it for the same members, when that worker is free
     run = uuid.uuid4().hex
     scan = await solvers.run(scan_family, spec)
     workers = solvers.solvers.workers
+    where: dict[float, str | None] = {}
+
+    async def stage(prefer: float | None, fn: Callable[..., T], *args: Any,
+                    kept: Callable[[T], Iterable[float]] | None = None) -> T:
+        # a member's stages up to its drive stay in the worker that computed them (in_run): the stage that needs
+        # them again goes there when it is free; ``kept`` the members whose stages this one computed
+        out: T
+        out, worker = await solvers.run_on(where.get(prefer) if prefer is not None else None,
+                                           in_run, run, fn, spec, *args, time_limit_s=t)
+        for u in kept(out) if kept is not None else ():
+            where.setdefault(u, worker)
+        return out
+
     tasks = member_tasks(scan.candidates, scan.chain_parameter)
-    parts = await in_turn([lambda share=share: solvers.run(  # type: ignore[misc]
-                               in_run, run, scan_members, spec, share, scan.chain_parameter, time_limit_s=t)
+    parts = await in_turn([lambda share=share: stage(  # type: ignore[misc]
+                               None, scan_members, share, scan.chain_parameter, kept=_parameters)
                            for share in tasks], workers)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
+    # the tasks a worker may wait for side by side, within the service's slots left to them (the request never holds
+    # more slots than the service has: a service of one worker and no queue runs them in turn), so that each worker
+    # takes the ones it kept the members of
+    at_once = max(1, solvers.solvers.capacity // max(1, workers))
     # rounds of the bounded members that could still win, as the engine runs them, one member a task
     while bound_round := await solvers.run(members_to_design, spec, scan, members):
-        found = await in_turn([lambda u=u: solvers.run(in_run, run, design_members, spec,  # type: ignore[misc]
-                                                       [u], time_limit_s=t)
-                               for u in bound_round], workers)
+        found = await in_turn([lambda u=u: stage(u, design_members, [u])  # type: ignore[misc]
+                               for u in bound_round], at_once)
         members = with_designed(members, (m for part in found for m in part))
 
-    # the cells' walks side by side on the workers, each cell's plateaus within the service's slots left to it: the
-    # request never holds more slots than the service has (a service of one worker and no queue runs them in turn)
-    plateaus_at_once = max(1, solvers.solvers.capacity // max(1, workers))
+    # the cells' walks side by side on the workers, each cell's plateaus searched as soon as its walk has found them
 
     async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
         # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
-        # cells' walks
-        walk = await solvers.run(in_run, run, cell_plateaus, spec, members, r, time_limit_s=t)
-        return walk, await in_turn([lambda p=p: solvers.run(in_run, run, search_plateau,  # type: ignore[misc]
-                                                            spec, scan, members, p, time_limit_s=t)
-                                    for p in walk[1]], plateaus_at_once)
+        # cells' walks; the walk asks for its upper end's choice, and finds its plateaus' ends, where it runs
+        walk = await stage(r.hi, cell_plateaus, members, r, kept=_plateau_ends)
+        return walk, await in_turn([lambda p=p: stage(p.hi, search_plateau, scan, members, p)  # type: ignore[misc]
+                                    for p in walk[1]], at_once)
 
     walks: list[tuple[Refinement, tuple[Plateau, ...]]] = []
     seen: list[tuple[MemberScore, ...]] = []

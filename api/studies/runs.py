@@ -120,10 +120,10 @@ class _Counted:
         self._executor = executor
         self._in_flight = in_flight
 
-    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None,
+    def submit(self, fn: Callable[..., T], /, *args: Any, timeout: float | None = None, prefer: str | None = None,
                **kwargs: Any) -> cf.Future[T]:
         """Submit to the executor and count the task."""
-        future = self._executor.submit(fn, *args, timeout=timeout, **kwargs)
+        future = self._executor.submit(fn, *args, timeout=timeout, prefer=prefer, **kwargs)
         self._in_flight.add(future)
         return future
 
