@@ -28,9 +28,8 @@ RUNAWAY_FLYWHEEL = {
     "mean_speed_rad_s": 9.8, "delta": 0.15,
     "motor": {"synchronous_speed_rpm": 1500, "rated_speed_rpm": 1440, "rated_torque_Nm": 60, "gear_ratio": 16},
 }
-# The README's crank-rocker optimised as a whole: seconds of work on the one worker, far past the deadline (and
-# within the service's bound on a request's estimated work, so it starts).
-LONG_OPTIMISATION = {"function": {"type": "crank_rocker", "swing_deg": 40, "time_ratio": 1.15,
+# The README's crank-rocker optimised as a whole.
+README_OPTIMISATION = {"function": {"type": "crank_rocker", "swing_deg": 40, "time_ratio": 1.15,
                                   "scale_length_m": 0.25,
                                   "linear_density_kg_m": {"crank": 4, "coupler": 3, "rocker": 5},
                                   "min_transmission_angle_deg": 35},
@@ -38,6 +37,10 @@ LONG_OPTIMISATION = {"function": {"type": "crank_rocker", "swing_deg": 40, "time
                      "speed_rpm": 120, "delta": 0.02,
                      "drive": {"stages": ["helical", "helical"], "synchronous_rpm": 1500},
                      "balancing": {"mode": "static"}, "objective": "added_mass"}
+# The same for the least machine mass (every member's wheels sized) at 720 crank angles, eight cells searched:
+# seconds of work on the one worker, far past the deadline (and within the service's bound on a request's estimated
+# work, so it starts).
+LONG_OPTIMISATION = {**README_OPTIMISATION, "objective": "machine_mass", "samples": 720, "search_cells": 8}
 FOURBAR = {"type": "fourbar", "ground_length_m": 0.3, "crank_length_m": 0.1, "coupler_length_m": 0.35,
            "rocker_length_m": 0.25}
 
@@ -92,9 +95,14 @@ def test_a_runaway_solve_answers_504_while_health_and_admission_answer_at_once(u
         start = time.monotonic()
         assert httpx.get(f"{url}/health", timeout=5).status_code == 200
         health.append(time.monotonic() - start)
-    start = time.monotonic()
-    busy = httpx.post(f"{url}/v1/analysis", json={"mechanism": FOURBAR, "samples": 36}, timeout=10)
-    refused_in = time.monotonic() - start
+    # the runaway is a chain of tasks: a request that arrives between two of them finds the slot free and is
+    # served; the next one arrives while the slot is held again and is refused at once
+    for _ in range(5):
+        start = time.monotonic()
+        busy = httpx.post(f"{url}/v1/analysis", json={"mechanism": FOURBAR, "samples": 36}, timeout=10)
+        refused_in = time.monotonic() - start
+        if busy.status_code != 200:
+            break
     ready = httpx.get(f"{url}/ready", timeout=5).json()
     thread.join(timeout=30)
     assert max(health) < 0.5
@@ -164,7 +172,7 @@ def test_an_optimisation_holds_no_more_slots_than_a_one_worker_service_without_a
     settings = Settings(workers=1, queue_size=0, request_deadline_s=300, solver_time_limit_s=300,
                         studies_db=str(tmp_path / "s.sqlite"))
     with TestClient(create_app(settings)) as c:
-        r = c.post("/v1/machines/optimise", json=LONG_OPTIMISATION)
+        r = c.post("/v1/machines/optimise", json=README_OPTIMISATION)
     assert r.status_code == 200, r.text
     gain = next(g for g in r.json()["gains"] if g["objective"] == "added_mass")
     assert r.json()["design"]["passed"] and gain["optimum"] == pytest.approx(1.2705, abs=5e-5)
