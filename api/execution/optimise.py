@@ -122,9 +122,9 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
                            for share in tasks], workers)
     by_parameter: dict[float, MemberScore] = {m.parameter: m for part in parts for m in part}
     members = tuple(by_parameter[u] for u in scan.candidates)
-    # the tasks a worker may wait for side by side, within the service's slots left to them (the request never holds
-    # more slots than the service has: a service of one worker and no queue runs them in turn), so that each worker
-    # takes the ones it kept the members of
+    # a round's tasks go to the pool together, so that each worker takes first those whose members it kept, within
+    # the service's slots left to them (the request never holds more slots than the service has: a service of one
+    # worker and no queue runs them in turn)
     at_once = max(1, solvers.solvers.capacity // max(1, workers))
     # rounds of the bounded members that could still win, as the engine runs them, one member a task
     while bound_round := await solvers.run(members_to_design, spec, scan, members):
@@ -132,11 +132,10 @@ async def answer_optimisation(body: MachineOptimiseIn, request: Request, solvers
                                for u in bound_round], at_once)
         members = with_designed(members, (m for part in found for m in part))
 
-    # the cells' walks side by side on the workers, each cell's plateaus searched as soon as its walk has found them
-
     async def search(r: Refinement) -> tuple[tuple[Refinement, tuple[Plateau, ...]], list[tuple[MemberScore, ...]]]:
-        # a cell's plateaus are searched, one task each, as soon as its walk has found them, beside the other
-        # cells' walks; the walk asks for its upper end's choice, and finds its plateaus' ends, where it runs
+        # the cells' walks side by side on the workers; a cell's plateaus are searched, one task each, as soon as
+        # its walk has found them, beside the other cells' walks. A walk asks for its upper end's choice (kept where
+        # that member was designed) and leaves its plateaus' ends where it ran
         walk = await stage(r.hi, cell_plateaus, members, r, kept=_plateau_ends)
         return walk, await in_turn([lambda p=p: stage(p.hi, search_plateau, scan, members, p)  # type: ignore[misc]
                                     for p in walk[1]], at_once)
