@@ -68,3 +68,17 @@ def test_recurrence_and_lu_solve_the_cyclic_system(n: int, damping: float) -> No
         np.testing.assert_allclose(z, np.linalg.solve(dense, rhs), rtol=1e-9, atol=1e-12)
     residual = diag[:, None] * z + sup[:, None] * np.roll(z, -1, axis=0) - rhs
     assert np.max(np.abs(residual)) <= 1e-9 * np.max(np.abs(rhs))
+
+
+def test_the_compiled_iteration_finds_the_band_s_speeds_as_numpy_does() -> None:
+    # The least and largest speeds (the band's row) by numpy's rule: the first of equal values, the first NaN.
+    import numpy as np
+
+    from synth.flywheel.motor import _arg_extremes
+
+    rng = np.random.default_rng(1)
+    for _ in range(500):
+        x = rng.integers(0, 5, rng.integers(1, 12)).astype(float)   # small integers: many ties
+        if rng.random() < 0.2:
+            x[rng.integers(0, x.size)] = np.nan
+        assert _arg_extremes(x) == (int(np.argmin(x)), int(np.argmax(x))), x

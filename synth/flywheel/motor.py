@@ -320,7 +320,7 @@ def _newton_iteration(inertia: FloatArray, torque: FloatArray, h: FloatArray, s:
     the new J_c and the largest speed step (NaN when a step is not finite); with ``_NEEDS_LU`` only the status,
     the indices and the band mean anything."""
     n = w.shape[0]
-    lo, hi = _arg_least(w), _arg_largest(w)
+    lo, hi = _arg_extremes(w)
     band = up * w[hi] - down * w[lo]
     for i in range(n):
         k = i + 1 if i + 1 < n else 0
@@ -346,27 +346,18 @@ def _newton_iteration(inertia: FloatArray, torque: FloatArray, h: FloatArray, s:
 
 
 @compiled
-def _arg_least(x: FloatArray) -> int:  # pragma: no cover - compiled
-    """numpy's argmin: the first least value's index, or the first NaN's."""
-    at = 0
+def _arg_extremes(x: FloatArray) -> tuple[int, int]:  # pragma: no cover - compiled
+    """numpy's (argmin, argmax) in one pass: the first least and first largest value's indices, or both the first
+    NaN's."""
+    lo = hi = 0
     for i in range(x.shape[0]):
         if x[i] != x[i]:
-            return i
-        if x[i] < x[at]:
-            at = i
-    return at
-
-
-@compiled
-def _arg_largest(x: FloatArray) -> int:  # pragma: no cover - compiled
-    """numpy's argmax: the first largest value's index, or the first NaN's."""
-    at = 0
-    for i in range(x.shape[0]):
-        if x[i] != x[i]:
-            return i
-        if x[i] > x[at]:
-            at = i
-    return at
+            return i, i
+        if x[i] < x[lo]:
+            lo = i
+        if x[i] > x[hi]:
+            hi = i
+    return lo, hi
 
 
 @compiled
